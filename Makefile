@@ -1,0 +1,47 @@
+# Set-up and checks. Everything a fresh machine needs is installed from here.
+PY ?= python3
+VENV := .venv
+VPY := $(VENV)/bin/python
+export VIRTUAL_ENV := $(abspath $(VENV))
+export PATH := $(abspath $(VENV))/bin:$(PATH)
+
+.PHONY: all install test test-rust test-python lint demo bench clean
+
+all: install
+
+$(VPY):
+	$(PY) -m venv $(VENV)
+	$(VPY) -m pip install --quiet --upgrade pip
+
+# Python dependencies (runtime + test + plot extras); redone when pyproject.toml changes.
+$(VENV)/.deps: pyproject.toml | $(VPY)
+	$(VPY) -m pip install --quiet "maturin>=1.7,<2" "numpy>=2" "scipy>=1.11" "matplotlib>=3.8" \
+		"pytest>=8" "mpmath>=1.3" "ruff==0.17.6"
+	touch $@
+
+# Release build of the Rust core, installed into the venv (cargo makes it incremental).
+install: $(VENV)/.deps
+	$(VENV)/bin/maturin develop --release --quiet --extras test,plot
+
+test-rust:
+	cargo test --release -p duhamel-core --quiet
+
+test-python: install
+	$(VPY) -m pytest -q
+
+lint: $(VENV)/.deps
+	cargo fmt --all -- --check
+	cargo clippy --workspace --all-targets --quiet -- -D warnings
+	$(VENV)/bin/ruff check python tests benchmarks
+	$(VENV)/bin/ruff format --check python tests benchmarks
+
+test: install test-rust test-python
+
+demo: install
+	$(VENV)/bin/duhamel demo --out results/
+
+bench: install
+	$(VPY) benchmarks/run.py --write BENCHMARKS.md
+
+clean:
+	rm -rf target $(VENV) results

@@ -1,0 +1,28 @@
+//! The one error type of the engine; variants carry structured fields.
+
+use thiserror::Error;
+
+/// Every failure the engine reports. Input errors name the parameter.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum CoreError {
+    /// A parameter has a value outside its domain.
+    #[error("`{name}` {problem}")]
+    InvalidInput { name: &'static str, problem: String },
+    /// Two arrays that must agree in length do not.
+    #[error("`{name}` has length {got}, expected {expected}")]
+    LengthMismatch {
+        name: &'static str,
+        got: usize,
+        expected: usize,
+    },
+    /// The state stopped being finite: the simulation diverged.
+    #[error("the state became non-finite at t = {time} (step {step}): the response diverges (negative damping, an unstable load or an overflow); the history up to t = {last_good_time} is kept")]
+    NonFinite {
+        time: f64,
+        step: usize,
+        last_good_time: f64,
+    },
+    /// A user-supplied load function failed or returned bad values.
+    #[error("load callback failed at t = {time}: {message}")]
+    Callback { time: f64, message: String },
+}

@@ -1,0 +1,155 @@
+//! Loads `f(t) = sum_l pattern_l * s_l(t)`: a fixed spatial (here: modal) pattern times a
+//! scalar time function evaluated in Rust.
+
+use crate::error::CoreError;
+
+/// A scalar function of time.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TimeFunction {
+    /// Heaviside step `H(t - t0)` (1 for `t >= t0`). Integrated exactly, also when `t0` falls
+    /// inside a step.
+    Step { t0: f64 },
+    /// `sin(omega t + phase)`.
+    Harmonic { omega: f64, phase: f64 },
+    /// Piecewise-linear interpolation of `(t, v)` samples (`t` strictly increasing); outside
+    /// `[t[0], t[last]]` the value is 0, or the last value after the end when `hold` is set.
+    Table { t: Vec<f64>, v: Vec<f64>, hold: bool },
+}
+
+impl TimeFunction {
+    /// Checks the parameters; `name` is the Python-side parameter for messages.
+    pub fn validate(&self) -> Result<(), CoreError> {
+        let bad = |name: &'static str, problem: &str| {
+            Err(CoreError::InvalidInput {
+                name,
+                problem: problem.to_string(),
+            })
+        };
+        match self {
+            TimeFunction::Step { t0 } if !t0.is_finite() => bad("t0", "must be finite"),
+            TimeFunction::Harmonic { omega, phase } if !(omega.is_finite() && phase.is_finite()) => {
+                bad("omega", "and `phase` must be finite")
+            }
+            TimeFunction::Table { t, v, .. } => {
+                if t.len() != v.len() {
+                    return Err(CoreError::LengthMismatch {
+                        name: "values",
+                        got: v.len(),
+                        expected: t.len(),
+                    });
+                }
+                if t.len() < 2 {
+                    return bad("t", "needs at least two samples");
+                }
+                if t.iter().chain(v.iter()).any(|x| !x.is_finite()) {
+                    return bad("t", "and `values` must be finite");
+                }
+                if t.windows(2).any(|w| w[1] <= w[0]) {
+                    return bad("t", "must be strictly increasing");
+                }
+                Ok(())
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Value at `t`. For a step, the value just after `t` (right-continuous).
+    pub fn eval(&self, t: f64) -> f64 {
+        match self {
+            TimeFunction::Step { t0 } => {
+                if t >= *t0 {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+            TimeFunction::Harmonic { omega, phase } => (omega * t + phase).sin(),
+            TimeFunction::Table { t: ts, v, hold } => table_eval(ts, v, *hold, t),
+        }
+    }
+
+    /// The load basis `(p0, Dp, DDp)` over the step `[t, t + dt]` for the parabola through the
+    /// start, middle and end values. A step function is held at its value at `t`; its jump
+    /// inside the step, if any, is added exactly by the caller (see [`TimeFunction::jump_in`]).
+    pub fn basis(&self, t: f64, dt: f64) -> [f64; 3] {
+        match self {
+            TimeFunction::Step { .. } => [self.eval(t), 0.0, 0.0],
+            _ => {
+                let (p0, pm, p1) = (self.eval(t), self.eval(t + 0.5 * dt), self.eval(t + dt));
+                [p0, p1 - p0, pm - 0.5 * (p0 + p1)]
+            }
+        }
+    }
+
+    /// For a step whose jump lies strictly inside `(t, t + dt)`, the time from the jump to
+    /// the end of the step.
+    pub fn jump_in(&self, t: f64, dt: f64) -> Option<f64> {
+        match self {
+            TimeFunction::Step { t0 } if *t0 > t && *t0 < t + dt => Some(t + dt - t0),
+            _ => None,
+        }
+    }
+}
+
+fn table_eval(ts: &[f64], v: &[f64], hold: bool, t: f64) -> f64 {
+    let last = ts.len() - 1;
+    if t < ts[0] {
+        return 0.0;
+    }
+    if t >= ts[last] {
+        return if hold || t == ts[last] { v[last] } else { 0.0 };
+    }
+    // first index with ts[i] > t
+    let i = ts.partition_point(|&x| x <= t);
+    let (t0, t1) = (ts[i - 1], ts[i]);
+    let w = (t - t0) / (t1 - t0);
+    v[i - 1] + w * (v[i] - v[i - 1])
+}
+
+/// A load in modal coordinates: `pattern[mode] * s(t)`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModalLoad {
+    /// Modal load per unit of the time function, one entry per retained mode.
+    pub pattern: Vec<f64>,
+    /// The time function.
+    pub time: TimeFunction,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn table_interpolates_and_ends() {
+        let f = TimeFunction::Table {
+            t: vec![0.0, 1.0, 3.0],
+            v: vec![0.0, 2.0, -2.0],
+            hold: false,
+        };
+        assert_eq!(f.eval(0.5), 1.0);
+        assert_eq!(f.eval(2.0), 0.0);
+        assert_eq!(f.eval(3.0), -2.0);
+        assert_eq!(f.eval(3.5), 0.0);
+        assert_eq!(f.eval(-1.0), 0.0);
+    }
+
+    #[test]
+    fn step_jump_inside() {
+        let f = TimeFunction::Step { t0: 0.25 };
+        assert_eq!(f.jump_in(0.0, 1.0), Some(0.75));
+        assert_eq!(f.jump_in(0.25, 1.0), None);
+        assert_eq!(f.basis(0.25, 1.0), [1.0, 0.0, 0.0]);
+        assert_eq!(f.basis(0.0, 1.0), [0.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn harmonic_basis_is_parabola() {
+        let f = TimeFunction::Harmonic {
+            omega: 2.0,
+            phase: 0.3,
+        };
+        let b = f.basis(0.1, 0.2);
+        assert!((b[0] - (0.5f64).sin()).abs() < 1e-15);
+        assert!((b[0] + b[1] - (0.9f64).sin()).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,282 @@
+//! `duhamel._core`: the thin PyO3 binding of `duhamel-core`.
+//!
+//! Inputs are checked and copied into Rust values first; the time loop then runs with the
+//! GIL released. A Python load callable is called with the GIL, once per evaluation time.
+
+use duhamel_core::linear::{self, Failure, History, LinearProblem, ModalForcing};
+use duhamel_core::loads::{ModalLoad, TimeFunction};
+use duhamel_core::{CoreError, Transfer};
+use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+
+/// A read-only float64 1-D view of `obj`, or a TypeError/ValueError naming `name`.
+fn f64_array1<'py>(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<PyReadonlyArray1<'py, f64>> {
+    let arr = obj.cast::<PyArray1<f64>>().map_err(|_| {
+        let what = match obj.getattr("dtype") {
+            Ok(dt) => format!("an array of dtype {dt} (ndim {})", obj.getattr("ndim").map_or("?".into(), |n| n.to_string())),
+            Err(_) => format!("{}", obj.get_type().name().map_or("?".into(), |n| n.to_string())),
+        };
+        PyTypeError::new_err(format!("`{name}` must be a 1-D numpy array of float64, got {what}"))
+    })?;
+    let ro = arr.readonly();
+    if !ro.is_c_contiguous() {
+        return Err(PyValueError::new_err(format!(
+            "`{name}` must be C-contiguous (pass numpy.ascontiguousarray({name}))"
+        )));
+    }
+    Ok(ro)
+}
+
+fn vec_of(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> {
+    Ok(f64_array1(obj, name)?.as_slice()?.to_vec())
+}
+
+fn core_err(e: CoreError) -> PyErr {
+    match e {
+        CoreError::InvalidInput { .. } | CoreError::LengthMismatch { .. } => {
+            PyValueError::new_err(e.to_string())
+        }
+        _ => PyRuntimeError::new_err(e.to_string()),
+    }
+}
+
+/// Exact matrices for arrays of modal stiffness `k = omega^2` and damping `c = 2 zeta omega`.
+///
+/// Returns `(A, B)` shaped `(n, 2, 2)` and `(n, 2, 3)`, or `(A, M)` with the cubic moments
+/// `(n, 2, 4)` when `moments` is true.
+#[pyfunction]
+#[pyo3(signature = (k, c, dt, moments=false))]
+fn transfer<'py>(
+    py: Python<'py>,
+    k: &Bound<'py, PyAny>,
+    c: &Bound<'py, PyAny>,
+    dt: f64,
+    moments: bool,
+) -> PyResult<(Bound<'py, PyArray3<f64>>, Bound<'py, PyArray3<f64>>)> {
+    let k = vec_of(k, "omega")?;
+    let c = vec_of(c, "zeta")?;
+    if k.len() != c.len() {
+        return Err(PyValueError::new_err(format!(
+            "`omega` and `zeta` must have the same length, got {} and {}",
+            k.len(),
+            c.len()
+        )));
+    }
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(PyValueError::new_err(format!("`dt` must be a positive finite number, got {dt}")));
+    }
+    if k.iter().any(|&x| !(x.is_finite() && x >= 0.0)) {
+        return Err(PyValueError::new_err("`omega` must be finite and >= 0"));
+    }
+    if c.iter().any(|x| !x.is_finite()) {
+        return Err(PyValueError::new_err("`zeta` must be finite"));
+    }
+    let width = if moments { 4 } else { 3 };
+    let (a, b) = py.detach(|| {
+        let mut a = Vec::with_capacity(4 * k.len());
+        let mut b = Vec::with_capacity(2 * width * k.len());
+        for (&kk, &cc) in k.iter().zip(&c) {
+            let tr = Transfer::new(kk, cc, dt);
+            a.extend(tr.a.iter().flatten());
+            if moments {
+                b.extend(tr.m.iter().flatten());
+            } else {
+                b.extend(tr.b().iter().flatten());
+            }
+        }
+        (a, b)
+    });
+    let n = k.len();
+    let a = PyArray1::from_vec(py, a).reshape([n, 2, 2])?;
+    let b = PyArray1::from_vec(py, b).reshape([n, 2, width])?;
+    Ok((a, b))
+}
+
+/// Parses `(pattern, kind, params)` load tuples.
+fn parse_loads(loads: &Bound<'_, PyAny>) -> PyResult<Vec<ModalLoad>> {
+    let mut out = Vec::new();
+    for item in loads.try_iter()? {
+        let item = item?;
+        let tup = item.cast::<PyTuple>().map_err(|_| PyTypeError::new_err("load spec must be a tuple"))?;
+        let pattern = vec_of(&tup.get_item(0)?, "load pattern")?;
+        let kind: String = tup.get_item(1)?.extract()?;
+        let params = tup.get_item(2)?;
+        let time = match kind.as_str() {
+            "step" => TimeFunction::Step { t0: params.get_item(0)?.extract()? },
+            "harmonic" => TimeFunction::Harmonic {
+                omega: params.get_item(0)?.extract()?,
+                phase: params.get_item(1)?.extract()?,
+            },
+            "table" => TimeFunction::Table {
+                t: vec_of(&params.get_item(0)?, "t")?,
+                v: vec_of(&params.get_item(1)?, "values")?,
+                hold: params.get_item(2)?.extract()?,
+            },
+            other => return Err(PyValueError::new_err(format!("unknown load kind {other:?}"))),
+        };
+        time.validate().map_err(core_err)?;
+        out.push(ModalLoad { pattern, time });
+    }
+    Ok(out)
+}
+
+/// Calls a Python function of time and projects its load vector on the modes.
+struct PyForcing {
+    func: Py<PyAny>,
+    /// `phi_t[m * n_dof + d]`: mode shapes, transposed.
+    phi_t: Vec<f64>,
+    n_dof: usize,
+    /// The Python exception that stopped the run, re-raised by the caller.
+    error: Option<PyErr>,
+}
+
+impl PyForcing {
+    fn eval(&self, py: Python<'_>, t: f64, out: &mut [f64]) -> Result<(), String> {
+        let res = self.func.call1(py, (t,)).map_err(|e| e.to_string())?;
+        let arr = res.bind(py);
+        let np = py.import("numpy").map_err(|e| e.to_string())?;
+        let arr = np
+            .call_method1("asarray", (arr, "float64"))
+            .map_err(|e| format!("the returned value is not a real vector ({e})"))?;
+        let arr = arr
+            .cast::<PyArray1<f64>>()
+            .map_err(|_| format!("returned an array with ndim {}, expected a vector of length {}", arr.getattr("ndim").map_or("?".into(), |n| n.to_string()), self.n_dof))?;
+        let ro = arr.readonly();
+        let f = ro.as_slice().map_err(|e| e.to_string())?;
+        if f.len() != self.n_dof {
+            return Err(format!("returned shape ({},), expected ({},)", f.len(), self.n_dof));
+        }
+        if let Some(i) = f.iter().position(|x| !x.is_finite()) {
+            return Err(format!("returned a non-finite value at dof {i}"));
+        }
+        for (m, o) in out.iter_mut().enumerate() {
+            let row = &self.phi_t[m * self.n_dof..(m + 1) * self.n_dof];
+            *o = row.iter().zip(f).map(|(p, x)| p * x).sum();
+        }
+        Ok(())
+    }
+}
+
+impl ModalForcing for PyForcing {
+    fn modal_loads(&mut self, times: &[f64], out: &mut [f64]) -> Result<(), CoreError> {
+        let n_modes = out.len() / times.len().max(1);
+        Python::attach(|py| {
+            for (j, &t) in times.iter().enumerate() {
+                if let Err(message) = self.eval(py, t, &mut out[j * n_modes..(j + 1) * n_modes]) {
+                    if let Some(err) = PyErr::take(py) {
+                        self.error = Some(err);
+                    }
+                    return Err(CoreError::Callback { time: t, message });
+                }
+            }
+            Ok(())
+        })
+    }
+}
+
+fn history_dict<'py>(py: Python<'py>, h: History) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let (nm, ns) = (h.n_modes, h.t.len());
+    d.set_item("t", PyArray1::from_vec(py, h.t))?;
+    let as2 = |v: Vec<f64>| -> PyResult<Bound<'py, PyArray2<f64>>> { PyArray1::from_vec(py, v).reshape([nm, ns]) };
+    d.set_item("q", as2(h.q)?)?;
+    d.set_item("v", as2(h.v)?)?;
+    d.set_item("a", as2(h.a)?)?;
+    Ok(d)
+}
+
+/// Integrates uncoupled modal oscillators exactly; see `duhamel.solve`.
+///
+/// Returns a dict with `t` and mode-major `q`, `v`, `a` (`(n_modes, n_saved)`), and `error`:
+/// None, or a dict with `kind`, `message`, `time`, `step` when the run stopped early (the
+/// arrays then hold the history up to the last good saved instant).
+#[pyfunction]
+#[pyo3(signature = (k, c, q0, v0, loads, dt, n_steps, save_every, threads=None, forcing=None, phi_t=None))]
+#[allow(clippy::too_many_arguments)]
+fn solve_linear<'py>(
+    py: Python<'py>,
+    k: &Bound<'py, PyAny>,
+    c: &Bound<'py, PyAny>,
+    q0: &Bound<'py, PyAny>,
+    v0: &Bound<'py, PyAny>,
+    loads: &Bound<'py, PyAny>,
+    dt: f64,
+    n_steps: usize,
+    save_every: usize,
+    threads: Option<usize>,
+    forcing: Option<Py<PyAny>>,
+    phi_t: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let k = vec_of(k, "omega2")?;
+    let c = vec_of(c, "c")?;
+    let q0 = vec_of(q0, "x0")?;
+    let v0 = vec_of(v0, "v0")?;
+    let loads = parse_loads(loads)?;
+    let mut py_forcing = match forcing {
+        Some(func) => {
+            let phi_t = phi_t.ok_or_else(|| PyValueError::new_err("`phi_t` is needed with `forcing`"))?;
+            let phi = vec_of(&phi_t.call_method0("ravel")?, "phi_t")?;
+            let n_dof = if k.is_empty() { 0 } else { phi.len() / k.len() };
+            if n_dof * k.len() != phi.len() {
+                return Err(PyValueError::new_err("`phi_t` must have n_modes rows"));
+            }
+            Some(PyForcing { func, phi_t: phi, n_dof, error: None })
+        }
+        None => None,
+    };
+    let problem = LinearProblem {
+        k: &k,
+        c: &c,
+        q0: &q0,
+        v0: &v0,
+        loads: &loads,
+        dt,
+        n_steps,
+        save_every,
+        threads,
+    };
+    let result = py.detach(|| {
+        let f = py_forcing.as_mut().map(|f| f as &mut dyn ModalForcing);
+        linear::integrate(&problem, f)
+    });
+    match result {
+        Ok(h) => {
+            let d = history_dict(py, h)?;
+            d.set_item("error", py.None())?;
+            Ok(d)
+        }
+        Err(Failure { error, partial }) => {
+            if let Some(err) = py_forcing.and_then(|f| f.error) {
+                if matches!(error, CoreError::Callback { .. }) {
+                    let wrapped = PyRuntimeError::new_err(error.to_string());
+                    wrapped.set_cause(py, Some(err));
+                    return Err(wrapped);
+                }
+            }
+            let (kind, time, step) = match &error {
+                CoreError::NonFinite { time, step, .. } => ("nonfinite", *time, *step),
+                CoreError::Callback { time, .. } => ("callback", *time, 0),
+                _ => return Err(core_err(error)),
+            };
+            let d = history_dict(py, partial)?;
+            let e = PyDict::new(py);
+            e.set_item("kind", kind)?;
+            e.set_item("message", error.to_string())?;
+            e.set_item("time", time)?;
+            e.set_item("step", step)?;
+            d.set_item("error", e)?;
+            Ok(d)
+        }
+    }
+}
+
+/// The native core of duhamel.
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(transfer, m)?)?;
+    m.add_function(wrap_pyfunction!(solve_linear, m)?)?;
+    Ok(())
+}

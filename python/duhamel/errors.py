@@ -1,0 +1,33 @@
+"""Exceptions raised by duhamel."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from duhamel.solution import Solution
+
+
+class DuhamelError(Exception):
+    """Base class of the errors duhamel raises besides ``ValueError``/``TypeError``."""
+
+
+class SolverError(DuhamelError, RuntimeError):
+    """A simulation stopped before ``t_end``.
+
+    Attributes
+    ----------
+    time : float
+        The time at which the run failed.
+    reason : str
+        ``"nonfinite"`` (the state overflowed or became NaN: a diverging response) or
+        ``"callback"`` (a load function failed).
+    partial : Solution
+        Everything computed up to the last good saved instant.
+    """
+
+    def __init__(self, message: str, *, time: float, reason: str, partial: Solution) -> None:
+        super().__init__(message)
+        self.time = time
+        self.reason = reason
+        self.partial = partial

@@ -1,0 +1,272 @@
+"""Time-dependent loads ``f(t)``, added to a model with ``System.add_load``.
+
+Built-in loads are a fixed spatial pattern times a scalar time function, both evaluated in
+Rust during the time loop. :class:`Callable` is the escape hatch: a Python function of time
+returning the whole load vector, called once per evaluation time.
+
+Within each step the time loop represents a load by the parabola through its values at the
+start, middle and end of the step; this is exact for loads that are polynomials of degree
+<= 2 in time within each step (constant, ramps, and :class:`Tabulated` records whose sample
+times fall on the step grid) and fourth-order accurate otherwise (e.g. :class:`Harmonic`).
+A :class:`Step` is integrated exactly even when its jump falls inside a step.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable as CallableT
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from duhamel._validate import as_float_array, dof_index
+from numpy.typing import ArrayLike, NDArray
+
+if TYPE_CHECKING:
+    from duhamel.system import System
+
+__all__ = ["BaseAcceleration", "Callable", "Harmonic", "Load", "Step", "Tabulated"]
+
+
+def _finite(value: Any, name: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+        raise TypeError(f"`{name}` must be a real number, got {type(value).__name__}")
+    out = float(value)
+    if not np.isfinite(out):
+        raise ValueError(f"`{name}` must be finite, got {out}")
+    return out
+
+
+def _table(t: ArrayLike, values: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    ts = as_float_array(t, "t", ndim=1)
+    vs = as_float_array(values, "values", ndim=1)
+    if ts.size < 2:
+        raise ValueError(f"`t` needs at least two samples, got {ts.size}")
+    if vs.shape != ts.shape:
+        raise ValueError(f"`values` must have the shape of `t` {ts.shape}, got {vs.shape}")
+    if np.any(np.diff(ts) <= 0):
+        i = int(np.argmax(np.diff(ts) <= 0))
+        raise ValueError(f"`t` must be strictly increasing (t[{i}] = {ts[i]}, t[{i + 1}] = {ts[i + 1]})")
+    return ts, vs
+
+
+def _table_eval(t: NDArray, ts: NDArray, vs: NDArray, hold: bool) -> NDArray:
+    out = np.interp(t, ts, vs)
+    out[t < ts[0]] = 0.0
+    if not hold:
+        out[t > ts[-1]] = 0.0
+    return out
+
+
+class Load:
+    """Base class: ``f(t) = pattern * s(t)``."""
+
+    def _validate(self, system: System) -> None:
+        self._pattern(system)
+
+    def _pattern(self, system: System) -> NDArray[np.float64]:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _time(self) -> tuple[str, tuple]:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _scalar(self, t: NDArray[np.float64]) -> NDArray[np.float64]:  # pragma: no cover
+        raise NotImplementedError
+
+    def evaluate(self, system: System, t: ArrayLike) -> NDArray[np.float64]:
+        """The load vectors at times `t`, shape ``(len(t), n_dof)`` (or ``(n_dof,)``).
+
+        Parameters
+        ----------
+        system : System
+            The model the load acts on.
+        t : float or array_like
+            Times.
+
+        Returns
+        -------
+        ndarray
+            Load vectors, one row per time.
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> sys = duhamel.System(np.eye(2), np.diag([1.0, 4.0]))
+        >>> duhamel.loads.Step(1, 5.0, t0=1.0).evaluate(sys, [0.0, 2.0])
+        array([[0., 0.],
+               [0., 5.]])
+        """
+        ts = np.asarray(t, dtype=np.float64)
+        s = self._scalar(np.atleast_1d(ts))
+        out = np.outer(s, self._pattern(system))
+        return out[0] if ts.ndim == 0 else out
+
+
+def _unit(system: System, dof: int, amplitude: float) -> NDArray[np.float64]:
+    p = np.zeros(system.n_dof)
+    p[dof_index(dof, "dof", system.n_dof)] = amplitude
+    return p
+
+
+@dataclass(frozen=True)
+class Step(Load):
+    """A force ``amplitude`` switched on at ``t0`` on one degree of freedom (Heaviside).
+
+    Integrated exactly, also when ``t0`` falls inside a time step.
+
+    Examples
+    --------
+    >>> import duhamel
+    >>> load = duhamel.loads.Step(dof=0, amplitude=1e3, t0=0.05)
+    """
+
+    dof: int
+    amplitude: float
+    t0: float = 0.0
+
+    def __post_init__(self) -> None:
+        _finite(self.amplitude, "amplitude")
+        _finite(self.t0, "t0")
+
+    def _pattern(self, system: System) -> NDArray[np.float64]:
+        return _unit(system, self.dof, float(self.amplitude))
+
+    def _time(self) -> tuple[str, tuple]:
+        return "step", (float(self.t0),)
+
+    def _scalar(self, t: NDArray) -> NDArray:
+        return (t >= self.t0).astype(np.float64)
+
+
+@dataclass(frozen=True)
+class Harmonic(Load):
+    """``amplitude * sin(omega t + phase)`` on one degree of freedom.
+
+    Examples
+    --------
+    >>> import duhamel
+    >>> load = duhamel.loads.Harmonic(dof=3, amplitude=10.0, omega=2 * 3.14159 * 5)
+    """
+
+    dof: int
+    amplitude: float
+    omega: float
+    phase: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("amplitude", "omega", "phase"):
+            _finite(getattr(self, name), name)
+
+    def _pattern(self, system: System) -> NDArray[np.float64]:
+        return _unit(system, self.dof, float(self.amplitude))
+
+    def _time(self) -> tuple[str, tuple]:
+        return "harmonic", (float(self.omega), float(self.phase))
+
+    def _scalar(self, t: NDArray) -> NDArray:
+        return np.sin(self.omega * t + self.phase)
+
+
+@dataclass(frozen=True, eq=False)
+class Tabulated(Load):
+    """A force history on one degree of freedom, linear between samples ``(t, values)``.
+
+    Zero before ``t[0]``; after ``t[-1]`` zero (as a record that has ended), or the last
+    value when ``hold=True``. Exact when the sample times fall on the step grid.
+
+    Examples
+    --------
+    >>> import duhamel
+    >>> ramp = duhamel.loads.Tabulated(0, t=[0.0, 1.0], values=[0.0, 100.0], hold=True)
+    """
+
+    dof: int
+    t: NDArray[np.float64]
+    values: NDArray[np.float64]
+    hold: bool = False
+
+    def __post_init__(self) -> None:
+        ts, vs = _table(self.t, self.values)
+        object.__setattr__(self, "t", ts)
+        object.__setattr__(self, "values", vs)
+
+    def _pattern(self, system: System) -> NDArray[np.float64]:
+        return _unit(system, self.dof, 1.0)
+
+    def _time(self) -> tuple[str, tuple]:
+        return "table", (self.t, self.values, bool(self.hold))
+
+    def _scalar(self, t: NDArray) -> NDArray:
+        return _table_eval(t, self.t, self.values, self.hold)
+
+
+@dataclass(frozen=True, eq=False)
+class BaseAcceleration(Load):
+    """Support (ground) acceleration ``a_g(t)``: the load ``f = -M r a_g(t)``.
+
+    ``direction_vector`` is the influence vector ``r`` (the displacement of each degree of
+    freedom for a unit rigid support displacement, e.g. ones on the horizontal dofs of a
+    shear building). The response is relative to the support. ``a_g`` is linear between
+    the samples ``(t, values)`` and zero outside them (the record has ended).
+
+    Examples
+    --------
+    >>> import numpy as np, duhamel
+    >>> t = np.arange(0.0, 10.0, 0.01)
+    >>> quake = duhamel.loads.BaseAcceleration(np.ones(5), t, 0.3 * 9.81 * np.sin(8 * t))
+    """
+
+    direction_vector: NDArray[np.float64]
+    t: NDArray[np.float64]
+    values: NDArray[np.float64]
+
+    def __post_init__(self) -> None:
+        r = as_float_array(self.direction_vector, "direction_vector", ndim=1)
+        ts, vs = _table(self.t, self.values)
+        object.__setattr__(self, "direction_vector", r)
+        object.__setattr__(self, "t", ts)
+        object.__setattr__(self, "values", vs)
+
+    def _pattern(self, system: System) -> NDArray[np.float64]:
+        r = self.direction_vector
+        if r.shape != (system.n_dof,):
+            raise ValueError(
+                f"`direction_vector` must have length n_dof = {system.n_dof}, got {r.shape[0]}"
+            )
+        return -np.asarray(system.M @ r, dtype=np.float64)
+
+    def _time(self) -> tuple[str, tuple]:
+        return "table", (self.t, self.values, False)
+
+    def _scalar(self, t: NDArray) -> NDArray:
+        return _table_eval(t, self.t, self.values, False)
+
+
+@dataclass(frozen=True, eq=False)
+class Callable(Load):
+    """Escape hatch: ``fn(t)`` returns the whole load vector (length ``n_dof``).
+
+    Called from the time loop, with the GIL, once per evaluation time (the start and middle
+    of every step), never per degree of freedom. Slower than the built-in loads; prefer
+    those where they fit.
+
+    Examples
+    --------
+    >>> import numpy as np, duhamel
+    >>> load = duhamel.loads.Callable(lambda t: np.array([np.exp(-t), 0.0]))
+    """
+
+    fn: CallableT[[float], ArrayLike] = field()
+
+    def __post_init__(self) -> None:
+        if not callable(self.fn):
+            raise TypeError(f"`fn` must be callable, got {type(self.fn).__name__}")
+
+    def _validate(self, system: System) -> None:
+        return None
+
+    def evaluate(self, system: System, t: ArrayLike) -> NDArray[np.float64]:
+        """The load vectors at times `t` (see :meth:`Load.evaluate`)."""
+        ts = np.asarray(t, dtype=np.float64)
+        rows = [np.asarray(self.fn(float(x)), dtype=np.float64) for x in np.atleast_1d(ts)]
+        out = np.stack(rows)
+        return out[0] if ts.ndim == 0 else out

@@ -1,0 +1,148 @@
+"""The result of :func:`duhamel.solve`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["ModalHistory", "Solution", "SolveStats"]
+
+
+@dataclass(frozen=True)
+class ModalHistory:
+    """Modal coordinates of the response (mass-normalised modes).
+
+    Attributes
+    ----------
+    q, v, a : ndarray, shape (n_saved, n_modes)
+        Modal coordinates, velocities and accelerations.
+    omega : ndarray, shape (n_modes,)
+        Natural frequencies of the retained modes (rad/s).
+    """
+
+    q: NDArray[np.float64]
+    v: NDArray[np.float64]
+    a: NDArray[np.float64]
+    omega: NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class SolveStats:
+    """Cost of a run.
+
+    Attributes
+    ----------
+    steps : int
+        Time steps taken.
+    wall_time : float
+        Seconds spent in the time loop (Rust, GIL released).
+    total_time : float
+        Seconds for the whole call, modal analysis and back-transformation included.
+    modes : int
+        Modal coordinates integrated.
+    """
+
+    steps: int
+    wall_time: float
+    total_time: float
+    modes: int
+
+    @property
+    def mode_steps_per_second(self) -> float:
+        """Throughput of the time loop: ``steps * modes / wall_time``."""
+        return self.steps * self.modes / self.wall_time if self.wall_time > 0 else float("inf")
+
+
+@dataclass(frozen=True)
+class Solution:
+    """Response history of a structural model.
+
+    Attributes
+    ----------
+    t : ndarray, shape (n_saved,)
+        Saved times.
+    x, v, a : ndarray, shape (n_saved, n_out)
+        Displacements, velocities and accelerations of the output degrees of freedom
+        (all, or those passed as ``dofs``).
+    dofs : ndarray of int, shape (n_out,)
+        Which degrees of freedom the columns of `x`, `v`, `a` are.
+    modal : ModalHistory
+        The modal history the physical response was recovered from.
+    stats : SolveStats
+        Steps and timings.
+
+    Examples
+    --------
+    >>> import numpy as np, duhamel
+    >>> sys = duhamel.System(np.eye(1), np.eye(1))
+    >>> sol = duhamel.solve(sys, duhamel.Semianalytic(), t_end=1.0, dt=0.1, x0=[1.0])
+    >>> sol.x.shape, sol.t[-1]
+    ((11, 1), np.float64(1.0))
+    """
+
+    t: NDArray[np.float64]
+    x: NDArray[np.float64]
+    v: NDArray[np.float64]
+    a: NDArray[np.float64]
+    dofs: NDArray[np.int64]
+    modal: ModalHistory
+    stats: SolveStats
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        return (
+            f"Solution(n_saved={self.t.size}, dofs={self.dofs.size}, modes={self.stats.modes}, "
+            f"t=[{self.t[0] if self.t.size else 0.0:g}, {self.t[-1] if self.t.size else 0.0:g}])"
+        )
+
+    def plot(self, dofs: Any = None, quantity: str = "x", ax: Any = None) -> Any:
+        """Plot the history of some output degrees of freedom with matplotlib.
+
+        Parameters
+        ----------
+        dofs : sequence of int, optional
+            Degrees of freedom (model numbering) to draw; default: up to the first four
+            output dofs.
+        quantity : {"x", "v", "a"}
+            Displacement, velocity or acceleration.
+        ax : matplotlib Axes, optional
+            Where to draw; a new figure otherwise.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> sys = duhamel.System(np.eye(1), np.eye(1))
+        >>> sol = duhamel.solve(sys, duhamel.Semianalytic(), t_end=6.0, dt=0.1, x0=[1.0])
+        >>> ax = sol.plot()
+        """
+        try:
+            import matplotlib.pyplot as plt
+        except ImportError as exc:  # pragma: no cover - depends on the install
+            raise ImportError("plotting needs matplotlib: pip install 'duhamel[plot]'") from exc
+        if quantity not in ("x", "v", "a"):
+            raise ValueError(f"`quantity` must be 'x', 'v' or 'a', got {quantity!r}")
+        data = getattr(self, quantity)
+        wanted = list(self.dofs[:4]) if dofs is None else list(np.atleast_1d(dofs))
+        cols = []
+        for d in wanted:
+            hits = np.flatnonzero(self.dofs == d)
+            if hits.size == 0:
+                raise ValueError(f"`dofs`: dof {d} is not among the saved dofs {self.dofs.tolist()}")
+            cols.append(int(hits[0]))
+        if ax is None:
+            _, ax = plt.subplots(figsize=(8, 4))
+        label = {"x": "displacement", "v": "velocity", "a": "acceleration"}[quantity]
+        for d, c in zip(wanted, cols, strict=True):
+            ax.plot(self.t, data[:, c], label=f"dof {d}")
+        ax.set_xlabel("t")
+        ax.set_ylabel(label)
+        ax.grid(True, alpha=0.3)
+        ax.legend()
+        return ax
