@@ -9,10 +9,15 @@ from numpy.typing import NDArray
 __version__: str
 
 def transfer(
+    omega: NDArray[np.float64], zeta: NDArray[np.float64], dt: float, moments: bool = False
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Exact ``A`` (n, 2, 2) and ``B`` (n, 2, 3) — or moments (n, 2, 4) — from natural
+    frequencies ``omega`` and damping ratios ``zeta``."""
+
+def transfer_kc(
     k: NDArray[np.float64], c: NDArray[np.float64], dt: float, moments: bool = False
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Exact ``A`` (n, 2, 2) and ``B`` (n, 2, 3) — or moments (n, 2, 4) — for modal
-    stiffness ``k = omega^2`` and damping ``c = 2 zeta omega``."""
+    """As :func:`transfer`, from modal stiffness ``k = omega^2`` and damping ``c``."""
 
 def solve_linear(
     k: NDArray[np.float64],

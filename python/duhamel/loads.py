@@ -18,8 +18,9 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from duhamel._validate import as_float_array, dof_index
 from numpy.typing import ArrayLike, NDArray
+
+from duhamel._validate import as_float_array, dof_index
 
 if TYPE_CHECKING:
     from duhamel.system import System
@@ -45,7 +46,9 @@ def _table(t: ArrayLike, values: ArrayLike) -> tuple[NDArray[np.float64], NDArra
         raise ValueError(f"`values` must have the shape of `t` {ts.shape}, got {vs.shape}")
     if np.any(np.diff(ts) <= 0):
         i = int(np.argmax(np.diff(ts) <= 0))
-        raise ValueError(f"`t` must be strictly increasing (t[{i}] = {ts[i]}, t[{i + 1}] = {ts[i + 1]})")
+        raise ValueError(
+            f"`t` must be strictly increasing (t[{i}] = {ts[i]}, t[{i + 1}] = {ts[i + 1]})"
+        )
     return ts, vs
 
 

@@ -11,9 +11,10 @@ damping regime (negative, zero, light, critical, heavy damping, rigid-body modes
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from duhamel import _core
 from duhamel._validate import positive_float
-from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["transfer_matrices", "transfer_moments"]
 
@@ -40,7 +41,7 @@ def _prepare(omega: ArrayLike, zeta: ArrayLike, dt: float) -> tuple[NDArray, NDA
     if not np.all(np.isfinite(z)):
         raise ValueError("`zeta` must be finite")
     dt = positive_float(dt, "dt")
-    return w * w, 2.0 * z * w, dt, scalar
+    return w, z, dt, scalar
 
 
 def transfer_matrices(
@@ -77,8 +78,8 @@ def transfer_matrices(
     >>> A.shape, B.shape
     ((3, 2, 2), (3, 2, 3))
     """
-    k, c, dt, scalar = _prepare(omega, zeta, dt)
-    a, b = _core.transfer(k, c, dt, False)
+    w, z, dt, scalar = _prepare(omega, zeta, dt)
+    a, b = _core.transfer(w, z, dt, False)
     return (a[0], b[0]) if scalar else (a, b)
 
 
@@ -108,6 +109,6 @@ def transfer_moments(
     >>> [round(float(m), 12) for m in M[0]]
     [0.5, 0.166666666667, 0.083333333333, 0.05]
     """
-    k, c, dt, scalar = _prepare(omega, zeta, dt)
-    a, m = _core.transfer(k, c, dt, True)
+    w, z, dt, scalar = _prepare(omega, zeta, dt)
+    a, m = _core.transfer(w, z, dt, True)
     return (a[0], m[0]) if scalar else (a, m)

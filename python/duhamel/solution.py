@@ -134,7 +134,9 @@ class Solution:
         for d in wanted:
             hits = np.flatnonzero(self.dofs == d)
             if hits.size == 0:
-                raise ValueError(f"`dofs`: dof {d} is not among the saved dofs {self.dofs.tolist()}")
+                raise ValueError(
+                    f"`dofs`: dof {d} is not among the saved dofs {self.dofs.tolist()}"
+                )
             cols.append(int(hits[0]))
         if ax is None:
             _, ax = plt.subplots(figsize=(8, 4))

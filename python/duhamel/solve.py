@@ -130,9 +130,7 @@ def solve(
     save_every = positive_int(save_every, "save_every")
     if threads is not None:
         threads = positive_int(threads, "threads")
-    out_dofs = (
-        np.arange(system.n_dof) if dofs is None else dof_list(dofs, "dofs", system.n_dof)
-    )
+    out_dofs = np.arange(system.n_dof) if dofs is None else dof_list(dofs, "dofs", system.n_dof)
 
     basis = system.modal(integrator.modes)
     phi = basis.phi

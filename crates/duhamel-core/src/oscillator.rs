@@ -81,11 +81,31 @@ impl Transfer {
     /// Exact matrices of `x'' + c x' + k x = p(t)` over a step `dt`.
     ///
     /// `k >= 0` is the modal stiffness `omega^2`, `c` the modal damping `2 zeta omega` (any
-    /// sign), both per unit modal mass; `dt > 0`.
+    /// sign), both per unit modal mass; `dt > 0`. `a^2 - h^2` is formed from error-free
+    /// products, so near-critical damping loses nothing to the rounding of `k dt^2`.
     pub fn new(k: f64, c: f64, dt: f64) -> Self {
-        let hh = k * dt * dt;
-        let a = 0.5 * c * dt;
-        let (mean0, d) = divided_differences(hh, a);
+        // a = c dt / 2 and hh = k dt^2 as unevaluated sums (hi + lo).
+        let (a, a_lo) = two_prod(0.5 * c, dt);
+        let (p, p_lo) = two_prod(k, dt);
+        let (hh, hh_lo) = two_prod(p, dt);
+        let hh_lo = hh_lo + p_lo * dt;
+        let (aa, aa_lo) = two_prod(a, a);
+        let delta = (aa - hh) + (aa_lo + 2.0 * a * a_lo - hh_lo);
+        Self::from_scaled(hh, a, delta, dt)
+    }
+
+    /// Exact matrices for a natural frequency `omega >= 0` (rad/s) and damping ratio `zeta`.
+    ///
+    /// `a^2 - h^2 = (zeta - 1)(zeta + 1) h^2` is exact to a few roundings near `zeta = 1`.
+    pub fn from_omega_zeta(omega: f64, zeta: f64, dt: f64) -> Self {
+        let h = omega * dt;
+        let hh = h * h;
+        Self::from_scaled(hh, zeta * h, (zeta - 1.0) * (zeta + 1.0) * hh, dt)
+    }
+
+    /// From the dimensionless `h^2`, `a` and `delta = a^2 - h^2`.
+    fn from_scaled(hh: f64, a: f64, delta: f64, dt: f64) -> Self {
+        let Kernel { a11, a22, d } = kernel(hh, a, delta);
         let d0 = d[0];
         let mut disp = [0.0; N_MOMENTS];
         let mut fact = 1.0;
@@ -102,17 +122,9 @@ impl Transfer {
         }
         let dt2 = dt * dt;
         Transfer {
-            a: [
-                [mean0 + a * d0, d0 * dt],
-                [-hh * d0 / dt, mean0 - a * d0],
-            ],
+            a: [[a11, d0 * dt], [-hh * d0 / dt, a22]],
             m: [disp.map(|v| v * dt2), vel.map(|v| v * dt)],
         }
-    }
-
-    /// Exact matrices for a natural frequency `omega >= 0` (rad/s) and damping ratio `zeta`.
-    pub fn from_omega_zeta(omega: f64, zeta: f64, dt: f64) -> Self {
-        Self::new(omega * omega, 2.0 * zeta * omega, dt)
     }
 
     /// Load-transfer matrix `B` for the paper's basis `(p0, Dp, DDp)`, with the load over the
@@ -126,11 +138,44 @@ impl Transfer {
     }
 }
 
-/// `(mean0, D)` with `mean0 = (e^z1 + e^z2)/2` and `D[j] = phi_j[z1, z2]`, `j = 0..=4`, for
-/// the eigenvalues of `X'' + 2a X' + hh X`.
-fn divided_differences(hh: f64, a: f64) -> (f64, [f64; 5]) {
-    // a^2 - h^2 with one rounding: exact cancellation near critical damping.
-    let delta = a.mul_add(a, -hh);
+/// `x * y` as `hi + lo` exactly (fused multiply-add).
+fn two_prod(x: f64, y: f64) -> (f64, f64) {
+    let hi = x * y;
+    (hi, x.mul_add(y, -hi))
+}
+
+/// Dimensionless step quantities: the diagonal of `A` and `D[j] = phi_j[z1, z2]`, `j = 0..=4`.
+struct Kernel {
+    a11: f64,
+    a22: f64,
+    d: [f64; 5],
+}
+
+impl Kernel {
+    /// Diagonal of `A` from `mean0 = (e^z1 + e^z2)/2`: `mean0 +- a D0`.
+    fn from_mean(mean0: f64, a: f64, d: [f64; 5]) -> Self {
+        Kernel {
+            a11: mean0 + a * d[0],
+            a22: mean0 - a * d[0],
+            d,
+        }
+    }
+
+    /// Diagonal of `A` for distinct real eigenvalues, in the eigen form that does not cancel
+    /// when one exponential is negligible (`mean0 - a D0` would).
+    fn from_real(z1: f64, z2: f64, d: [f64; 5]) -> Self {
+        let (e1, e2) = (z1.exp(), z2.exp());
+        let dz = z1 - z2;
+        Kernel {
+            a11: (z1 * e2 - z2 * e1) / dz,
+            a22: (z1 * e1 - z2 * e2) / dz,
+            d,
+        }
+    }
+}
+
+/// The kernel for `X'' + 2a X' + hh X`, with `delta = a^2 - hh` supplied accurately.
+fn kernel(hh: f64, a: f64, delta: f64) -> Kernel {
     if delta > 0.0 {
         // Real eigenvalues; a != 0 here since hh >= 0.
         let d = delta.sqrt();
@@ -138,19 +183,26 @@ fn divided_differences(hh: f64, a: f64) -> (f64, [f64; 5]) {
         let z_small = hh / z_big;
         let (big, small) = (z_big.abs(), z_small.abs());
         if big <= R_SERIES {
-            series(hh, a)
+            let (mean0, dd) = series(hh, a);
+            Kernel::from_mean(mean0, a, dd)
         } else if small >= R_UPWARD {
-            upward(hh, a, delta, Some((z_big, z_small)))
+            let (mean0, dd) = upward(hh, a, delta, Some((z_big, z_small)));
+            if delta >= 1.0 {
+                Kernel::from_real(z_big, z_small, dd)
+            } else {
+                Kernel::from_mean(mean0, a, dd)
+            }
         } else {
-            separated(z_big, z_small)
+            Kernel::from_real(z_big, z_small, separated(z_big, z_small))
         }
     } else {
         // Complex (or coincident) eigenvalues of modulus h.
-        if hh.sqrt() <= R_SERIES {
+        let (mean0, dd) = if hh.sqrt() <= R_SERIES {
             series(hh, a)
         } else {
             upward(hh, a, delta, None)
-        }
+        };
+        Kernel::from_mean(mean0, a, dd)
     }
 }
 
@@ -226,7 +278,7 @@ fn upward(hh: f64, a: f64, delta: f64, real: Option<(f64, f64)>) -> (f64, [f64; 
     (mean0, d)
 }
 
-/// `phi_0..phi_4` at one real or complex-free point `z`, by series for `|z| < 1` and by the
+/// `phi_0..phi_4` at one real point `z`, by series for `|z| < 1` and by the
 /// upward recurrence otherwise.
 fn phi_point(z: f64) -> [f64; 5] {
     let mut out = [0.0; 5];
@@ -251,7 +303,7 @@ fn phi_point(z: f64) -> [f64; 5] {
 }
 
 /// Divided differences for real eigenvalues that are far apart (one small, one large).
-fn separated(z_big: f64, z_small: f64) -> (f64, [f64; 5]) {
+fn separated(z_big: f64, z_small: f64) -> [f64; 5] {
     let pb = phi_point(z_big);
     let ps = phi_point(z_small);
     let dz = z_big - z_small;
@@ -259,7 +311,7 @@ fn separated(z_big: f64, z_small: f64) -> (f64, [f64; 5]) {
     for j in 0..5 {
         d[j] = (pb[j] - ps[j]) / dz;
     }
-    (0.5 * (pb[0] + ps[0]), d)
+    d
 }
 
 #[cfg(test)]

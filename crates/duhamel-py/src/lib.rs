@@ -42,43 +42,40 @@ fn core_err(e: CoreError) -> PyErr {
     }
 }
 
-/// Exact matrices for arrays of modal stiffness `k = omega^2` and damping `c = 2 zeta omega`.
-///
-/// Returns `(A, B)` shaped `(n, 2, 2)` and `(n, 2, 3)`, or `(A, M)` with the cubic moments
-/// `(n, 2, 4)` when `moments` is true.
-#[pyfunction]
-#[pyo3(signature = (k, c, dt, moments=false))]
-fn transfer<'py>(
+/// Exact matrices for arrays of two oscillator parameters; `make` builds one `Transfer`.
+fn transfer_batch<'py>(
     py: Python<'py>,
-    k: &Bound<'py, PyAny>,
-    c: &Bound<'py, PyAny>,
+    p1: (&Bound<'py, PyAny>, &str),
+    p2: (&Bound<'py, PyAny>, &str),
     dt: f64,
     moments: bool,
+    make: fn(f64, f64, f64) -> Transfer,
 ) -> PyResult<(Bound<'py, PyArray3<f64>>, Bound<'py, PyArray3<f64>>)> {
-    let k = vec_of(k, "omega")?;
-    let c = vec_of(c, "zeta")?;
-    if k.len() != c.len() {
+    let (n1, n2) = (p1.1, p2.1);
+    let x = vec_of(p1.0, n1)?;
+    let y = vec_of(p2.0, n2)?;
+    if x.len() != y.len() {
         return Err(PyValueError::new_err(format!(
-            "`omega` and `zeta` must have the same length, got {} and {}",
-            k.len(),
-            c.len()
+            "`{n1}` and `{n2}` must have the same length, got {} and {}",
+            x.len(),
+            y.len()
         )));
     }
     if !(dt.is_finite() && dt > 0.0) {
         return Err(PyValueError::new_err(format!("`dt` must be a positive finite number, got {dt}")));
     }
-    if k.iter().any(|&x| !(x.is_finite() && x >= 0.0)) {
-        return Err(PyValueError::new_err("`omega` must be finite and >= 0"));
+    if x.iter().any(|&v| !(v.is_finite() && v >= 0.0)) {
+        return Err(PyValueError::new_err(format!("`{n1}` must be finite and >= 0")));
     }
-    if c.iter().any(|x| !x.is_finite()) {
-        return Err(PyValueError::new_err("`zeta` must be finite"));
+    if y.iter().any(|v| !v.is_finite()) {
+        return Err(PyValueError::new_err(format!("`{n2}` must be finite")));
     }
     let width = if moments { 4 } else { 3 };
     let (a, b) = py.detach(|| {
-        let mut a = Vec::with_capacity(4 * k.len());
-        let mut b = Vec::with_capacity(2 * width * k.len());
-        for (&kk, &cc) in k.iter().zip(&c) {
-            let tr = Transfer::new(kk, cc, dt);
+        let mut a = Vec::with_capacity(4 * x.len());
+        let mut b = Vec::with_capacity(2 * width * x.len());
+        for (&u, &w) in x.iter().zip(&y) {
+            let tr = make(u, w, dt);
             a.extend(tr.a.iter().flatten());
             if moments {
                 b.extend(tr.m.iter().flatten());
@@ -88,10 +85,40 @@ fn transfer<'py>(
         }
         (a, b)
     });
-    let n = k.len();
+    let n = x.len();
     let a = PyArray1::from_vec(py, a).reshape([n, 2, 2])?;
     let b = PyArray1::from_vec(py, b).reshape([n, 2, width])?;
     Ok((a, b))
+}
+
+/// Exact matrices for arrays of natural frequency `omega` and damping ratio `zeta`.
+///
+/// Returns `(A, B)` shaped `(n, 2, 2)` and `(n, 2, 3)`, or `(A, M)` with the cubic moments
+/// `(n, 2, 4)` when `moments` is true.
+#[pyfunction]
+#[pyo3(signature = (omega, zeta, dt, moments=false))]
+fn transfer<'py>(
+    py: Python<'py>,
+    omega: &Bound<'py, PyAny>,
+    zeta: &Bound<'py, PyAny>,
+    dt: f64,
+    moments: bool,
+) -> PyResult<(Bound<'py, PyArray3<f64>>, Bound<'py, PyArray3<f64>>)> {
+    transfer_batch(py, (omega, "omega"), (zeta, "zeta"), dt, moments, Transfer::from_omega_zeta)
+}
+
+/// As `transfer`, from modal stiffness `k = omega^2` and damping `c = 2 zeta omega` per unit
+/// modal mass (the form modal analysis delivers; allows damped rigid-body modes).
+#[pyfunction]
+#[pyo3(signature = (k, c, dt, moments=false))]
+fn transfer_kc<'py>(
+    py: Python<'py>,
+    k: &Bound<'py, PyAny>,
+    c: &Bound<'py, PyAny>,
+    dt: f64,
+    moments: bool,
+) -> PyResult<(Bound<'py, PyArray3<f64>>, Bound<'py, PyArray3<f64>>)> {
+    transfer_batch(py, (k, "k"), (c, "c"), dt, moments, Transfer::new)
 }
 
 /// Parses `(pattern, kind, params)` load tuples.
@@ -277,6 +304,7 @@ fn solve_linear<'py>(
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(transfer, m)?)?;
+    m.add_function(wrap_pyfunction!(transfer_kc, m)?)?;
     m.add_function(wrap_pyfunction!(solve_linear, m)?)?;
     Ok(())
 }
