@@ -17,6 +17,7 @@ from __future__ import annotations
 import mpmath as mp
 import numpy as np
 import pytest
+
 from duhamel import _core
 from duhamel.oscillator import transfer_matrices, transfer_moments
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.sparse as sp
+
 from duhamel import _validate as v
 from duhamel.system import ModalBasis, System
 

@@ -7,6 +7,7 @@ import json
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import duhamel
 
@@ -36,7 +37,7 @@ def build_parser() -> argparse.ArgumentParser:
     demo = sub.add_parser(
         "demo",
         help="10-storey shear building under a synthetic earthquake",
-        description="Run the bundled example: a 10-storey shear building (T1 = 1.0 s, 5 %% "
+        description="Run the bundled example: a 10-storey shear building (T1 = 1.0 s, 5 % "
         "modal damping) under a synthetic 20 s ground-acceleration record scaled to "
         "PGA 0.3 g, integrated to 30 s with dt = 0.01 s. Prints a summary and writes "
         "OUT/demo.png and OUT/demo_summary.json.",
@@ -48,7 +49,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def format_summary(summary: dict) -> str:
+def format_summary(summary: dict[str, Any]) -> str:
     """Human-readable lines for a demo summary (see :meth:`duhamel.demo.DemoResult.summary`).
 
     Parameters
@@ -78,7 +79,7 @@ def format_summary(summary: dict) -> str:
             f"peak roof displ.    {100 * s['peak_roof_displacement_m']:+.2f} cm at "
             f"t = {s['peak_roof_displacement_time_s']:.2f} s (relative to the ground)",
             f"peak drift ratio    {100 * s['peak_drift_ratio']:.3f} % "
-            f"(storey {s['peak_drift_storey']}, h = 3.5 m)",
+            f"(storey {s['peak_drift_storey']}, h = {s['storey_height_m']:g} m)",
             f"peak base shear     {s['peak_base_shear_N'] / 1e6:.2f} MN "
             f"({s['peak_base_shear_over_weight']:.3f} W)",
             f"run                 {s['steps']} steps x {s['modes']} modes in "
@@ -88,8 +89,13 @@ def format_summary(summary: dict) -> str:
 
 
 def _demo(args: argparse.Namespace) -> int:
-    from duhamel.demo import plot_demo, run_demo
+    from duhamel.demo import _figure_class, plot_demo, run_demo
 
+    if not args.no_plot:
+        try:
+            _figure_class()  # fail before the run, not after it
+        except ImportError as exc:
+            return _fail(str(exc))
     out = Path(args.out)
     try:
         out.mkdir(parents=True, exist_ok=True)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import scipy.linalg
@@ -146,7 +147,7 @@ class DemoResult:
         """Largest ``|V_b|`` (N)."""
         return float(np.abs(self.base_shear).max())
 
-    def summary(self) -> dict[str, float | int | str]:
+    def summary(self) -> dict[str, Any]:
         """The headline numbers as a JSON-ready dict."""
         st = self.solution.stats
         weight = float(np.trace(np.asarray(self.system.M))) * G
@@ -157,6 +158,7 @@ class DemoResult:
             "peak_roof_displacement_time_s": self.roof_peak_time,
             "peak_drift_ratio": self.drift_peak,
             "peak_drift_storey": self.drift_storey,
+            "storey_height_m": self.storey_height,
             "peak_base_shear_N": self.base_shear_peak,
             "peak_base_shear_over_weight": self.base_shear_peak / weight,
             "steps": st.steps,
@@ -219,6 +221,17 @@ def run_demo(
     )
 
 
+def _figure_class() -> Any:
+    """``matplotlib.figure.Figure`` (no pyplot, no global backend state), or an ImportError."""
+    try:
+        from matplotlib.figure import Figure
+    except ImportError as exc:
+        raise ImportError(
+            "the demo plot needs matplotlib: pip install 'duhamel[plot]' (or use --no-plot)"
+        ) from exc
+    return Figure
+
+
 def plot_demo(result: DemoResult, path: str | Path) -> Path:
     """Write the three-panel figure (ground motion, roof history, peak profile) to `path`.
 
@@ -236,17 +249,9 @@ def plot_demo(result: DemoResult, path: str | Path) -> Path:
     ...     out.stat().st_size > 0
     True
     """
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError as exc:
-        raise ImportError(
-            "the demo plot needs matplotlib: pip install 'duhamel[plot]' (or use --no-plot)"
-        ) from exc
+    fig = _figure_class()(figsize=(8, 10), layout="constrained")
+    ax1, ax2, ax3 = fig.subplots(3, 1)
     sol, h = result.solution, result.storey_height
-    fig, (ax1, ax2, ax3) = plt.subplots(3, 1, figsize=(8, 10), layout="constrained")
     ax1.plot(result.t_g, result.a_g / G, lw=0.7)
     ax1.set(xlabel="t (s)", ylabel="a_g (g)", title="Synthetic ground acceleration")
     ax2.plot(sol.t, 100 * sol.x[:, -1], lw=0.9)
@@ -260,8 +265,5 @@ def plot_demo(result: DemoResult, path: str | Path) -> Path:
     for ax in (ax1, ax2, ax3):
         ax.grid(True, alpha=0.3)
     path = Path(path)
-    try:
-        fig.savefig(path, dpi=110)
-    finally:
-        plt.close(fig)
+    fig.savefig(path, dpi=110)
     return path

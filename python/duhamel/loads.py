@@ -53,10 +53,11 @@ def _table(t: ArrayLike, values: ArrayLike) -> tuple[NDArray[np.float64], NDArra
 
 
 def _table_eval(t: NDArray, ts: NDArray, vs: NDArray, hold: bool) -> NDArray:
+    """Right-continuous: 0 before ``ts[0]``; from ``ts[-1]`` on 0, or the last value if `hold`."""
     out = np.interp(t, ts, vs)
     out[t < ts[0]] = 0.0
     if not hold:
-        out[t > ts[-1]] = 0.0
+        out[t >= ts[-1]] = 0.0
     return out
 
 
@@ -173,8 +174,10 @@ class Harmonic(Load):
 class Tabulated(Load):
     """A force history on one degree of freedom, linear between samples ``(t, values)``.
 
-    Zero before ``t[0]``; after ``t[-1]`` zero (as a record that has ended), or the last
-    value when ``hold=True``. Exact when the sample times fall on the step grid.
+    Zero before ``t[0]``; from ``t[-1]`` on zero (a record that has ended), or the last
+    value when ``hold=True``. Loads are right-continuous: at a jump, the value after it.
+    Exact when the sample times fall on the step grid (a jump at the first or last sample
+    included).
 
     Examples
     --------

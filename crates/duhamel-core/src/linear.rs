@@ -172,7 +172,11 @@ impl Coefficients {
         let gl = problem
             .loads
             .iter()
-            .map(|load| std::array::from_fn(|r| b[r].iter().zip(&load.pattern).map(|(x, p)| x * p).collect()))
+            .map(|load| {
+                std::array::from_fn(|r| {
+                    b[r].iter().zip(&load.pattern).map(|(x, p)| x * p).collect()
+                })
+            })
             .collect();
         Coefficients { a, b, gl }
     }
@@ -241,7 +245,12 @@ impl Chunk<'_> {
         let r = self.start..self.start + len;
         let coef = sh.coef;
         let [a11, a12, a21, a22] = &coef.a;
-        let (a11, a12, a21, a22) = (&a11[r.clone()], &a12[r.clone()], &a21[r.clone()], &a22[r.clone()]);
+        let (a11, a12, a21, a22) = (
+            &a11[r.clone()],
+            &a12[r.clone()],
+            &a21[r.clone()],
+            &a22[r.clone()],
+        );
         let n_loads = sh.problem.loads.len();
         let mut jumps = blk.jumps.iter().peekable();
         for s in 0..blk.len {
@@ -336,7 +345,10 @@ pub fn integrate(
     let time = |n: usize| n as f64 * dt;
 
     // Mode chunks: enough for the threads, none smaller than MIN_CHUNK.
-    let chunk_len = n_modes.div_ceil(n_threads).max(MIN_CHUNK).min(n_modes.max(1));
+    let chunk_len = n_modes
+        .div_ceil(n_threads)
+        .max(MIN_CHUNK)
+        .min(n_modes.max(1));
     let mut chunks: Vec<Chunk> = Vec::new();
     {
         let (mut xr, mut vr) = (&mut x[..], &mut v[..]);

@@ -13,7 +13,11 @@ pub enum TimeFunction {
     Harmonic { omega: f64, phase: f64 },
     /// Piecewise-linear interpolation of `(t, v)` samples (`t` strictly increasing); outside
     /// `[t[0], t[last]]` the value is 0, or the last value after the end when `hold` is set.
-    Table { t: Vec<f64>, v: Vec<f64>, hold: bool },
+    Table {
+        t: Vec<f64>,
+        v: Vec<f64>,
+        hold: bool,
+    },
 }
 
 impl TimeFunction {
@@ -27,7 +31,9 @@ impl TimeFunction {
         };
         match self {
             TimeFunction::Step { t0 } if !t0.is_finite() => bad("t0", "must be finite"),
-            TimeFunction::Harmonic { omega, phase } if !(omega.is_finite() && phase.is_finite()) => {
+            TimeFunction::Harmonic { omega, phase }
+                if !(omega.is_finite() && phase.is_finite()) =>
+            {
                 bad("omega", "and `phase` must be finite")
             }
             TimeFunction::Table { t, v, .. } => {
@@ -68,14 +74,43 @@ impl TimeFunction {
         }
     }
 
+    /// Value just before `t` (left limit); differs from [`TimeFunction::eval`] only at a
+    /// jump (a step's `t0`, a table's first or last sample).
+    pub fn eval_before(&self, t: f64) -> f64 {
+        match self {
+            TimeFunction::Step { t0 } => {
+                if t > *t0 {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+            TimeFunction::Harmonic { .. } => self.eval(t),
+            TimeFunction::Table { t: ts, v, hold } => {
+                let last = ts.len() - 1;
+                if t <= ts[0] {
+                    0.0
+                } else if t == ts[last] && !hold {
+                    v[last]
+                } else {
+                    table_eval(ts, v, *hold, t)
+                }
+            }
+        }
+    }
+
     /// The load basis `(p0, Dp, DDp)` over the step `[t, t + dt]` for the parabola through the
-    /// start, middle and end values. A step function is held at its value at `t`; its jump
-    /// inside the step, if any, is added exactly by the caller (see [`TimeFunction::jump_in`]).
+    /// value just after `t`, the value at the middle and the value just before `t + dt`, so a
+    /// jump on a grid point is represented exactly. A step function is held at its value at
+    /// `t`; its jump inside the step, if any, is added exactly by the caller (see
+    /// [`TimeFunction::jump_in`]).
     pub fn basis(&self, t: f64, dt: f64) -> [f64; 3] {
         match self {
             TimeFunction::Step { .. } => [self.eval(t), 0.0, 0.0],
             _ => {
-                let (p0, pm, p1) = (self.eval(t), self.eval(t + 0.5 * dt), self.eval(t + dt));
+                let p0 = self.eval(t);
+                let pm = self.eval(t + 0.5 * dt);
+                let p1 = self.eval_before(t + dt);
                 [p0, p1 - p0, pm - 0.5 * (p0 + p1)]
             }
         }
@@ -91,13 +126,15 @@ impl TimeFunction {
     }
 }
 
+/// Right-continuous table value: 0 before the first sample, and after the last one unless
+/// `hold` (the value at the last sample itself is the value just after it: 0 unless `hold`).
 fn table_eval(ts: &[f64], v: &[f64], hold: bool, t: f64) -> f64 {
     let last = ts.len() - 1;
     if t < ts[0] {
         return 0.0;
     }
     if t >= ts[last] {
-        return if hold || t == ts[last] { v[last] } else { 0.0 };
+        return if hold { v[last] } else { 0.0 };
     }
     // first index with ts[i] > t
     let i = ts.partition_point(|&x| x <= t);
@@ -128,9 +165,14 @@ mod tests {
         };
         assert_eq!(f.eval(0.5), 1.0);
         assert_eq!(f.eval(2.0), 0.0);
-        assert_eq!(f.eval(3.0), -2.0);
+        // the record ends at t = 3: -2 just before, 0 from then on
+        assert_eq!(f.eval_before(3.0), -2.0);
+        assert_eq!(f.eval(3.0), 0.0);
         assert_eq!(f.eval(3.5), 0.0);
         assert_eq!(f.eval(-1.0), 0.0);
+        // a step [2, 3] sees the line from 0 to -2, a step [3, 4] sees zero
+        assert_eq!(f.basis(2.0, 1.0), [0.0, -2.0, 0.0]);
+        assert_eq!(f.basis(3.0, 1.0), [0.0, 0.0, 0.0]);
     }
 
     #[test]

@@ -6,7 +6,9 @@
 use duhamel_core::linear::{self, Failure, History, LinearProblem, ModalForcing};
 use duhamel_core::loads::{ModalLoad, TimeFunction};
 use duhamel_core::{CoreError, Transfer};
-use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
+use numpy::{
+    PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods,
+};
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
@@ -15,10 +17,18 @@ use pyo3::types::{PyDict, PyTuple};
 fn f64_array1<'py>(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<PyReadonlyArray1<'py, f64>> {
     let arr = obj.cast::<PyArray1<f64>>().map_err(|_| {
         let what = match obj.getattr("dtype") {
-            Ok(dt) => format!("an array of dtype {dt} (ndim {})", obj.getattr("ndim").map_or("?".into(), |n| n.to_string())),
-            Err(_) => format!("{}", obj.get_type().name().map_or("?".into(), |n| n.to_string())),
+            Ok(dt) => format!(
+                "an array of dtype {dt} (ndim {})",
+                obj.getattr("ndim").map_or("?".into(), |n| n.to_string())
+            ),
+            Err(_) => format!(
+                "{}",
+                obj.get_type().name().map_or("?".into(), |n| n.to_string())
+            ),
         };
-        PyTypeError::new_err(format!("`{name}` must be a 1-D numpy array of float64, got {what}"))
+        PyTypeError::new_err(format!(
+            "`{name}` must be a 1-D numpy array of float64, got {what}"
+        ))
     })?;
     let ro = arr.readonly();
     if !ro.is_c_contiguous() {
@@ -62,10 +72,14 @@ fn transfer_batch<'py>(
         )));
     }
     if !(dt.is_finite() && dt > 0.0) {
-        return Err(PyValueError::new_err(format!("`dt` must be a positive finite number, got {dt}")));
+        return Err(PyValueError::new_err(format!(
+            "`dt` must be a positive finite number, got {dt}"
+        )));
     }
     if x.iter().any(|&v| !(v.is_finite() && v >= 0.0)) {
-        return Err(PyValueError::new_err(format!("`{n1}` must be finite and >= 0")));
+        return Err(PyValueError::new_err(format!(
+            "`{n1}` must be finite and >= 0"
+        )));
     }
     if y.iter().any(|v| !v.is_finite()) {
         return Err(PyValueError::new_err(format!("`{n2}` must be finite")));
@@ -104,7 +118,14 @@ fn transfer<'py>(
     dt: f64,
     moments: bool,
 ) -> PyResult<(Bound<'py, PyArray3<f64>>, Bound<'py, PyArray3<f64>>)> {
-    transfer_batch(py, (omega, "omega"), (zeta, "zeta"), dt, moments, Transfer::from_omega_zeta)
+    transfer_batch(
+        py,
+        (omega, "omega"),
+        (zeta, "zeta"),
+        dt,
+        moments,
+        Transfer::from_omega_zeta,
+    )
 }
 
 /// As `transfer`, from modal stiffness `k = omega^2` and damping `c = 2 zeta omega` per unit
@@ -126,12 +147,16 @@ fn parse_loads(loads: &Bound<'_, PyAny>) -> PyResult<Vec<ModalLoad>> {
     let mut out = Vec::new();
     for item in loads.try_iter()? {
         let item = item?;
-        let tup = item.cast::<PyTuple>().map_err(|_| PyTypeError::new_err("load spec must be a tuple"))?;
+        let tup = item
+            .cast::<PyTuple>()
+            .map_err(|_| PyTypeError::new_err("load spec must be a tuple"))?;
         let pattern = vec_of(&tup.get_item(0)?, "load pattern")?;
         let kind: String = tup.get_item(1)?.extract()?;
         let params = tup.get_item(2)?;
         let time = match kind.as_str() {
-            "step" => TimeFunction::Step { t0: params.get_item(0)?.extract()? },
+            "step" => TimeFunction::Step {
+                t0: params.get_item(0)?.extract()?,
+            },
             "harmonic" => TimeFunction::Harmonic {
                 omega: params.get_item(0)?.extract()?,
                 phase: params.get_item(1)?.extract()?,
@@ -141,7 +166,11 @@ fn parse_loads(loads: &Bound<'_, PyAny>) -> PyResult<Vec<ModalLoad>> {
                 v: vec_of(&params.get_item(1)?, "values")?,
                 hold: params.get_item(2)?.extract()?,
             },
-            other => return Err(PyValueError::new_err(format!("unknown load kind {other:?}"))),
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "unknown load kind {other:?}"
+                )))
+            }
         };
         time.validate().map_err(core_err)?;
         out.push(ModalLoad { pattern, time });
@@ -160,26 +189,29 @@ struct PyForcing {
 }
 
 impl PyForcing {
-    fn eval(&self, py: Python<'_>, t: f64, out: &mut [f64]) -> Result<(), String> {
-        let res = self.func.call1(py, (t,)).map_err(|e| e.to_string())?;
-        let arr = res.bind(py);
-        let np = py.import("numpy").map_err(|e| e.to_string())?;
-        let arr = np
-            .call_method1("asarray", (arr, "float64"))
-            .map_err(|e| format!("the returned value is not a real vector ({e})"))?;
+    fn eval(&self, py: Python<'_>, t: f64, out: &mut [f64]) -> PyResult<()> {
+        let res = self.func.call1(py, (t,))?;
+        let np = py.import("numpy")?;
+        let arr = np.call_method1("asarray", (res.bind(py), "float64"))?;
+        let n_dof = self.n_dof;
+        let bad =
+            |what: String| PyValueError::new_err(format!("the `Callable` load {what} at t = {t}"));
         let arr = arr
             .cast::<PyArray1<f64>>()
-            .map_err(|_| format!("returned an array with ndim {}, expected a vector of length {}", arr.getattr("ndim").map_or("?".into(), |n| n.to_string()), self.n_dof))?;
+            .map_err(|_| bad(format!("returned a non-vector, expected shape ({n_dof},)")))?;
         let ro = arr.readonly();
-        let f = ro.as_slice().map_err(|e| e.to_string())?;
-        if f.len() != self.n_dof {
-            return Err(format!("returned shape ({},), expected ({},)", f.len(), self.n_dof));
+        let f = ro.as_slice()?;
+        if f.len() != n_dof {
+            return Err(bad(format!(
+                "returned shape ({},), expected ({n_dof},)",
+                f.len()
+            )));
         }
         if let Some(i) = f.iter().position(|x| !x.is_finite()) {
-            return Err(format!("returned a non-finite value at dof {i}"));
+            return Err(bad(format!("returned a non-finite value at dof {i}")));
         }
         for (m, o) in out.iter_mut().enumerate() {
-            let row = &self.phi_t[m * self.n_dof..(m + 1) * self.n_dof];
+            let row = &self.phi_t[m * n_dof..(m + 1) * n_dof];
             *o = row.iter().zip(f).map(|(p, x)| p * x).sum();
         }
         Ok(())
@@ -191,10 +223,9 @@ impl ModalForcing for PyForcing {
         let n_modes = out.len() / times.len().max(1);
         Python::attach(|py| {
             for (j, &t) in times.iter().enumerate() {
-                if let Err(message) = self.eval(py, t, &mut out[j * n_modes..(j + 1) * n_modes]) {
-                    if let Some(err) = PyErr::take(py) {
-                        self.error = Some(err);
-                    }
+                if let Err(err) = self.eval(py, t, &mut out[j * n_modes..(j + 1) * n_modes]) {
+                    let message = err.to_string();
+                    self.error = Some(err);
                     return Err(CoreError::Callback { time: t, message });
                 }
             }
@@ -207,7 +238,9 @@ fn history_dict<'py>(py: Python<'py>, h: History) -> PyResult<Bound<'py, PyDict>
     let d = PyDict::new(py);
     let (nm, ns) = (h.n_modes, h.t.len());
     d.set_item("t", PyArray1::from_vec(py, h.t))?;
-    let as2 = |v: Vec<f64>| -> PyResult<Bound<'py, PyArray2<f64>>> { PyArray1::from_vec(py, v).reshape([nm, ns]) };
+    let as2 = |v: Vec<f64>| -> PyResult<Bound<'py, PyArray2<f64>>> {
+        PyArray1::from_vec(py, v).reshape([nm, ns])
+    };
     d.set_item("q", as2(h.q)?)?;
     d.set_item("v", as2(h.v)?)?;
     d.set_item("a", as2(h.a)?)?;
@@ -243,13 +276,19 @@ fn solve_linear<'py>(
     let loads = parse_loads(loads)?;
     let mut py_forcing = match forcing {
         Some(func) => {
-            let phi_t = phi_t.ok_or_else(|| PyValueError::new_err("`phi_t` is needed with `forcing`"))?;
+            let phi_t =
+                phi_t.ok_or_else(|| PyValueError::new_err("`phi_t` is needed with `forcing`"))?;
             let phi = vec_of(&phi_t.call_method0("ravel")?, "phi_t")?;
             let n_dof = if k.is_empty() { 0 } else { phi.len() / k.len() };
             if n_dof * k.len() != phi.len() {
                 return Err(PyValueError::new_err("`phi_t` must have n_modes rows"));
             }
-            Some(PyForcing { func, phi_t: phi, n_dof, error: None })
+            Some(PyForcing {
+                func,
+                phi_t: phi,
+                n_dof,
+                error: None,
+            })
         }
         None => None,
     };
@@ -275,12 +314,13 @@ fn solve_linear<'py>(
             Ok(d)
         }
         Err(Failure { error, partial }) => {
-            if let Some(err) = py_forcing.and_then(|f| f.error) {
-                if matches!(error, CoreError::Callback { .. }) {
-                    let wrapped = PyRuntimeError::new_err(error.to_string());
-                    wrapped.set_cause(py, Some(err));
-                    return Err(wrapped);
-                }
+            // A failing Python load function: re-raise its own exception, noting the time.
+            if let (Some(err), CoreError::Callback { time, .. }) =
+                (py_forcing.and_then(|f| f.error), &error)
+            {
+                let note = format!("raised by the `Callable` load at t = {time}");
+                err.value(py).call_method1("add_note", (note,))?;
+                return Err(err);
             }
             let (kind, time, step) = match &error {
                 CoreError::NonFinite { time, step, .. } => ("nonfinite", *time, *step),
