@@ -314,16 +314,18 @@ impl Chunk<'_> {
 pub fn integrate(
     problem: &LinearProblem,
     mut forcing: Option<&mut dyn ModalForcing>,
-) -> Result<History, Failure> {
-    check(problem)?;
+) -> Result<History, Box<Failure>> {
+    check(problem).map_err(|e| Box::new(Failure::from(e)))?;
     let pool = match problem.threads {
         Some(n) => Some(
             rayon::ThreadPoolBuilder::new()
                 .num_threads(n.max(1))
                 .build()
-                .map_err(|e| CoreError::InvalidInput {
-                    name: "threads",
-                    problem: e.to_string(),
+                .map_err(|e| {
+                    Box::new(Failure::from(CoreError::InvalidInput {
+                        name: "threads",
+                        problem: e.to_string(),
+                    }))
                 })?,
         ),
         None => None,
@@ -471,10 +473,10 @@ pub fn integrate(
         None => Ok(history),
         Some((error, first_bad)) => {
             let keep = saved.iter().take_while(|&&n| n < first_bad).count();
-            Err(Failure {
+            Err(Box::new(Failure {
                 error,
                 partial: truncate(history, keep),
-            })
+            }))
         }
     }
 }

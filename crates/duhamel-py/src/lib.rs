@@ -13,6 +13,9 @@ use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
+/// `(A, B)` or `(A, M)` stacks returned to Python.
+type MatrixPair<'py> = (Bound<'py, PyArray3<f64>>, Bound<'py, PyArray3<f64>>);
+
 /// A read-only float64 1-D view of `obj`, or a TypeError/ValueError naming `name`.
 fn f64_array1<'py>(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<PyReadonlyArray1<'py, f64>> {
     let arr = obj.cast::<PyArray1<f64>>().map_err(|_| {
@@ -21,10 +24,7 @@ fn f64_array1<'py>(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<PyReadonlyAr
                 "an array of dtype {dt} (ndim {})",
                 obj.getattr("ndim").map_or("?".into(), |n| n.to_string())
             ),
-            Err(_) => format!(
-                "{}",
-                obj.get_type().name().map_or("?".into(), |n| n.to_string())
-            ),
+            Err(_) => obj.get_type().name().map_or("?".into(), |n| n.to_string()),
         };
         PyTypeError::new_err(format!(
             "`{name}` must be a 1-D numpy array of float64, got {what}"
@@ -60,7 +60,7 @@ fn transfer_batch<'py>(
     dt: f64,
     moments: bool,
     make: fn(f64, f64, f64) -> Transfer,
-) -> PyResult<(Bound<'py, PyArray3<f64>>, Bound<'py, PyArray3<f64>>)> {
+) -> PyResult<MatrixPair<'py>> {
     let (n1, n2) = (p1.1, p2.1);
     let x = vec_of(p1.0, n1)?;
     let y = vec_of(p2.0, n2)?;
@@ -117,7 +117,7 @@ fn transfer<'py>(
     zeta: &Bound<'py, PyAny>,
     dt: f64,
     moments: bool,
-) -> PyResult<(Bound<'py, PyArray3<f64>>, Bound<'py, PyArray3<f64>>)> {
+) -> PyResult<MatrixPair<'py>> {
     transfer_batch(
         py,
         (omega, "omega"),
@@ -138,7 +138,7 @@ fn transfer_kc<'py>(
     c: &Bound<'py, PyAny>,
     dt: f64,
     moments: bool,
-) -> PyResult<(Bound<'py, PyArray3<f64>>, Bound<'py, PyArray3<f64>>)> {
+) -> PyResult<MatrixPair<'py>> {
     transfer_batch(py, (k, "k"), (c, "c"), dt, moments, Transfer::new)
 }
 
@@ -313,7 +313,8 @@ fn solve_linear<'py>(
             d.set_item("error", py.None())?;
             Ok(d)
         }
-        Err(Failure { error, partial }) => {
+        Err(failure) => {
+            let Failure { error, partial } = *failure;
             // A failing Python load function: re-raise its own exception, noting the time.
             if let (Some(err), CoreError::Callback { time, .. }) =
                 (py_forcing.and_then(|f| f.error), &error)
