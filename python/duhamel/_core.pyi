@@ -32,4 +32,5 @@ def solve_linear(
     forcing: Callable[[float], NDArray[np.float64]] | None = None,
     phi_t: NDArray[np.float64] | None = None,
 ) -> dict[str, Any]:
-    """Exact modal time loop; returns ``t`` and mode-major ``q``, ``v``, ``a`` and ``error``."""
+    """Exact modal time loop; returns ``t``, time-major ``q`` and ``v``, ``load_values``,
+    ``forcing`` and ``error``."""

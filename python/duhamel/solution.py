@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -15,18 +16,43 @@ __all__ = ["ModalHistory", "Solution", "SolveStats"]
 class ModalHistory:
     """Modal coordinates of the response (mass-normalised modes).
 
+    The time loop stores the modal coordinates and velocities; the modal accelerations follow
+    exactly from the modal equations, ``a = p(t) - c v - omega^2 q``, and are computed on
+    first access.
+
     Attributes
     ----------
-    q, v, a : ndarray, shape (n_saved, n_modes)
-        Modal coordinates, velocities and accelerations.
+    q, v : ndarray, shape (n_saved, n_modes)
+        Modal coordinates and velocities.
     omega : ndarray, shape (n_modes,)
         Natural frequencies of the retained modes (rad/s).
+    c : ndarray, shape (n_modes,)
+        Modal damping ``2 zeta omega`` per unit modal mass.
+    p : ndarray, shape (n_saved, n_modes)
+        Modal load at the saved instants (the value just after each instant); computed on
+        first access.
+    a : ndarray, shape (n_saved, n_modes)
+        Modal accelerations; computed on first access.
     """
 
     q: NDArray[np.float64]
     v: NDArray[np.float64]
-    a: NDArray[np.float64]
     omega: NDArray[np.float64]
+    c: NDArray[np.float64]
+    load_values: NDArray[np.float64] = field(repr=False)
+    patterns: NDArray[np.float64] = field(repr=False)
+    forcing: NDArray[np.float64] | None = field(default=None, repr=False)
+
+    @cached_property
+    def p(self) -> NDArray[np.float64]:
+        """Modal load at the saved instants."""
+        p = self.load_values @ self.patterns.T
+        return p if self.forcing is None else p + self.forcing
+
+    @cached_property
+    def a(self) -> NDArray[np.float64]:
+        """Modal accelerations from the modal equations of motion."""
+        return self.p - self.c * self.v - self.omega**2 * self.q
 
 
 @dataclass(frozen=True)

@@ -164,16 +164,36 @@ def solve(
     )
     wall = _time.perf_counter() - loop_start
 
-    # Back-transform once, by matrix products, for the requested dofs only.
+    # Back-transform once, by matrix products, for the requested dofs only. Accelerations
+    # come from the modal equations: a = Phi_d (P s(t) + forcing - c v - omega^2 q).
     phi_out = phi[out_dofs, :]
-    q, v, a = raw["q"], raw["v"], raw["a"]
+    q, v = raw["q"], raw["v"]
+    patterns = (
+        np.stack([spec[0] for spec in specs], axis=1) if specs else np.zeros((phi.shape[1], 0))
+    )
+    # A diverged run's partial history ends near overflow: its accelerations may overflow.
+    quiet = raw["error"] is not None
+    with np.errstate(over="ignore" if quiet else "warn", invalid="ignore" if quiet else "warn"):
+        acc = raw["load_values"] @ (phi_out @ patterns).T
+        acc -= v @ (phi_out * basis.c).T
+        acc -= q @ (phi_out * basis.omega2).T
+        if raw["forcing"] is not None:
+            acc += raw["forcing"] @ phi_out.T
     solution = Solution(
         t=raw["t"],
-        x=q.T @ phi_out.T,
-        v=v.T @ phi_out.T,
-        a=a.T @ phi_out.T,
+        x=q @ phi_out.T,
+        v=v @ phi_out.T,
+        a=acc,
         dofs=np.asarray(out_dofs, dtype=np.int64),
-        modal=ModalHistory(q=q.T, v=v.T, a=a.T, omega=basis.omega),
+        modal=ModalHistory(
+            q=q,
+            v=v,
+            omega=basis.omega,
+            c=basis.c,
+            load_values=raw["load_values"],
+            patterns=patterns,
+            forcing=raw["forcing"],
+        ),
         stats=SolveStats(
             steps=n_steps if raw["error"] is None else int(raw["error"]["step"]),
             wall_time=wall,

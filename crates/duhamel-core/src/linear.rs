@@ -46,7 +46,12 @@ pub struct LinearProblem<'a> {
     pub threads: Option<usize>,
 }
 
-/// Saved modal history. Arrays are mode-major: entry `(mode, s)` at `mode * n_saved + s`.
+/// Saved modal history. Arrays are time-major: entry `(s, mode)` at `s * n_modes + mode`.
+///
+/// Modal accelerations are not stored: they follow exactly from the equation of motion,
+/// `a = p - c v - k q`, with the modal load `p = sum_l pattern_l load_values[s, l] + forcing`;
+/// recovering them afterwards for the wanted degrees of freedom only keeps the time loop
+/// within the machine's memory bandwidth.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct History {
     /// Number of modes.
@@ -57,8 +62,11 @@ pub struct History {
     pub q: Vec<f64>,
     /// Modal velocities.
     pub v: Vec<f64>,
-    /// Modal accelerations `p - c v - k q`.
-    pub a: Vec<f64>,
+    /// Value of each built-in load's time function at the saved times (the value just after
+    /// each saved time), `n_saved x n_loads`.
+    pub load_values: Vec<f64>,
+    /// Modal external forcing at the saved times, `n_saved x n_modes` (empty without forcing).
+    pub forcing: Vec<f64>,
 }
 
 impl History {
@@ -198,113 +206,184 @@ struct Block<'a> {
     slot: &'a [Option<usize>],
 }
 
-/// One contiguous range of modes, with its state and history.
-struct Chunk<'a> {
+/// One contiguous range of modes, with its own state and its columns of the history.
+struct Chunk {
     start: usize,
-    x: &'a mut [f64],
-    v: &'a mut [f64],
-    hq: &'a mut [f64],
-    hv: &'a mut [f64],
-    ha: &'a mut [f64],
-    nx: Vec<f64>,
-    nv: Vec<f64>,
+    x: Vec<f64>,
+    v: Vec<f64>,
+    out: HistoryWriter,
+}
+
+/// Writes one chunk's columns of the time-major history buffers.
+///
+/// The chunks of one run own disjoint column ranges `start..start + len` of the same
+/// `n_saved x n_modes` buffers, so they write through raw pointers instead of borrows.
+#[derive(Clone, Copy)]
+struct HistoryWriter {
+    q: *mut f64,
+    v: *mut f64,
+    n_modes: usize,
+    n_saved: usize,
+}
+
+// SAFETY: a `HistoryWriter` only writes (never reads) through its pointers, each chunk writes
+// only its own column range (see `rows`), and the buffers outlive the parallel section (they
+// are owned by `integrate`, which drops the chunks before touching them again).
+unsafe impl Send for HistoryWriter {}
+// SAFETY: as above; shared references never write.
+unsafe impl Sync for HistoryWriter {}
+
+impl HistoryWriter {
+    /// The `(q, v)` slices of row `slot`, columns `start..start + len`.
+    fn rows(&mut self, slot: usize, start: usize, len: usize) -> [&mut [f64]; 2] {
+        assert!(slot < self.n_saved && start + len <= self.n_modes);
+        let off = slot * self.n_modes + start;
+        // SAFETY: `off + len <= n_saved * n_modes`, the length of each buffer (checked above);
+        // the column range `start..start + len` belongs to this chunk alone, so no other
+        // thread reads or writes these elements while the slices live, and `&mut self`
+        // prevents two live slices from the same writer.
+        unsafe {
+            [
+                std::slice::from_raw_parts_mut(self.q.add(off), len),
+                std::slice::from_raw_parts_mut(self.v.add(off), len),
+            ]
+        }
+    }
 }
 
 struct Shared<'a> {
     problem: &'a LinearProblem<'a>,
     coef: &'a Coefficients,
     n_modes: usize,
-    n_saved: usize,
 }
 
-impl Chunk<'_> {
-    /// Writes the state at local step `s` into history slot `slot`.
-    fn save(&mut self, sh: &Shared, blk: &Block, s: usize, slot: usize) {
-        let n_loads = sh.problem.loads.len();
-        let ns = sh.n_saved;
-        for i in 0..self.x.len() {
-            let gi = self.start + i;
-            let mut p = 0.0;
-            for (l, load) in sh.problem.loads.iter().enumerate() {
-                p += load.pattern[gi] * blk.basis[s * n_loads + l][0];
-            }
-            if !blk.forcing.is_empty() {
-                p += blk.forcing[2 * s * sh.n_modes + gi];
-            }
-            let (x, v) = (self.x[i], self.v[i]);
-            self.hq[i * ns + slot] = x;
-            self.hv[i * ns + slot] = v;
-            self.ha[i * ns + slot] = p - sh.problem.c[gi] * v - sh.problem.k[gi] * x;
+/// Modes advanced together in registers (one AVX-512 vector, two AVX2 vectors).
+const LANES: usize = 8;
+
+/// What one step adds to every mode of a chunk, as slices over the chunk's modes.
+struct StepTerms<'s> {
+    /// `(b, gain_x, gain_v)`: the state gains `b * gain` of the shared load terms.
+    shared: &'s [(f64, &'s [f64], &'s [f64])],
+    /// External forcing at the start, middle and end of the step.
+    forcing: Option<[&'s [f64]; 3]>,
+    /// History rows `(q, v)` to fill with the state at the step start.
+    save: Option<[&'s mut [f64]; 2]>,
+}
+
+/// Per-chunk slices of the per-mode constants.
+struct ChunkCoef<'s> {
+    a: [&'s [f64]; 4],
+    b: [&'s [f64]; 6],
+}
+
+/// Advances modes `i0..i0 + N` of a chunk by one step; returns whether they stay finite.
+#[inline(always)]
+fn advance<const N: usize>(
+    x: &mut [f64],
+    v: &mut [f64],
+    i0: usize,
+    co: &ChunkCoef,
+    terms: &mut StepTerms,
+) -> bool {
+    let r = i0..i0 + N;
+    let mut xs = [0.0; N];
+    let mut vs = [0.0; N];
+    xs.copy_from_slice(&x[r.clone()]);
+    vs.copy_from_slice(&v[r.clone()]);
+    if let Some([hq, hv]) = terms.save.as_mut() {
+        hq[r.clone()].copy_from_slice(&xs);
+        hv[r.clone()].copy_from_slice(&vs);
+    }
+    let [a11, a12, a21, a22] = co.a.map(|s| &s[r.clone()]);
+    let mut nx = [0.0; N];
+    let mut nv = [0.0; N];
+    for j in 0..N {
+        nx[j] = a11[j] * xs[j] + a12[j] * vs[j];
+        nv[j] = a21[j] * xs[j] + a22[j] * vs[j];
+    }
+    for &(b, gx, gv) in terms.shared {
+        let (gx, gv) = (&gx[r.clone()], &gv[r.clone()]);
+        for j in 0..N {
+            nx[j] += gx[j] * b;
+            nv[j] += gv[j] * b;
         }
     }
+    if let Some([f0, fm, f1]) = terms.forcing.map(|f| f.map(|s| &s[r.clone()])) {
+        let b = co.b.map(|s| &s[r.clone()]);
+        for j in 0..N {
+            let (p0, dp, ddp) = (f0[j], f1[j] - f0[j], fm[j] - 0.5 * (f0[j] + f1[j]));
+            nx[j] += b[0][j] * p0 + b[1][j] * dp + b[2][j] * ddp;
+            nv[j] += b[3][j] * p0 + b[4][j] * dp + b[5][j] * ddp;
+        }
+    }
+    // A boolean AND-reduction vectorises; a floating-point sum would not.
+    let mut finite = true;
+    for j in 0..N {
+        finite &= nx[j].is_finite() & nv[j].is_finite();
+    }
+    x[r.clone()].copy_from_slice(&nx);
+    v[r].copy_from_slice(&nv);
+    finite
+}
 
+impl Chunk {
     /// Advances the chunk through the block; returns the first step index whose state is
     /// not finite.
     fn run(&mut self, sh: &Shared, blk: &Block) -> Option<usize> {
         let len = self.x.len();
         let r = self.start..self.start + len;
         let coef = sh.coef;
-        let [a11, a12, a21, a22] = &coef.a;
-        let (a11, a12, a21, a22) = (
-            &a11[r.clone()],
-            &a12[r.clone()],
-            &a21[r.clone()],
-            &a22[r.clone()],
-        );
+        let co = ChunkCoef {
+            a: std::array::from_fn(|i| &coef.a[i][r.clone()]),
+            b: std::array::from_fn(|i| &coef.b[i][r.clone()]),
+        };
         let n_loads = sh.problem.loads.len();
-        let mut jumps = blk.jumps.iter().peekable();
-        for s in 0..blk.len {
-            if let Some(slot) = blk.slot[s] {
-                self.save(sh, blk, s, slot);
+        let nm = sh.n_modes;
+        let mut out = self.out;
+        // Reused across steps: no allocation in the time loop.
+        let mut shared: Vec<(f64, &[f64], &[f64])> = Vec::new();
+        for s in 0..=blk.len {
+            let last = s == blk.len;
+            let save = blk.slot[s].map(|slot| out.rows(slot, self.start, len));
+            if last {
+                // The block's end: only the final state of the run is saved here.
+                if let Some([hq, hv]) = save {
+                    hq.copy_from_slice(&self.x);
+                    hv.copy_from_slice(&self.v);
+                }
+                break;
             }
-            for i in 0..len {
-                let (x, v) = (self.x[i], self.v[i]);
-                self.nx[i] = a11[i] * x + a12[i] * v;
-                self.nv[i] = a21[i] * x + a22[i] * v;
-            }
+            shared.clear();
             for (l, g) in coef.gl.iter().enumerate() {
-                let [p0, dp, ddp] = blk.basis[s * n_loads + l];
-                if p0 == 0.0 && dp == 0.0 && ddp == 0.0 {
-                    continue;
-                }
-                let (gx0, gx1, gx2) = (&g[0][r.clone()], &g[1][r.clone()], &g[2][r.clone()]);
-                let (gv0, gv1, gv2) = (&g[3][r.clone()], &g[4][r.clone()], &g[5][r.clone()]);
-                for i in 0..len {
-                    self.nx[i] += gx0[i] * p0 + gx1[i] * dp + gx2[i] * ddp;
-                    self.nv[i] += gv0[i] * p0 + gv1[i] * dp + gv2[i] * ddp;
+                for (j, &b) in blk.basis[s * n_loads + l].iter().enumerate() {
+                    if b != 0.0 {
+                        shared.push((b, &g[j][r.clone()], &g[j + 3][r.clone()]));
+                    }
                 }
             }
-            if !blk.forcing.is_empty() {
-                let nm = sh.n_modes;
-                let f0 = &blk.forcing[2 * s * nm + self.start..][..len];
-                let fm = &blk.forcing[(2 * s + 1) * nm + self.start..][..len];
-                let f1 = &blk.forcing[(2 * s + 2) * nm + self.start..][..len];
-                let b = &coef.b;
-                for i in 0..len {
-                    let gi = self.start + i;
-                    let (p0, dp, ddp) = (f0[i], f1[i] - f0[i], fm[i] - 0.5 * (f0[i] + f1[i]));
-                    self.nx[i] += b[0][gi] * p0 + b[1][gi] * dp + b[2][gi] * ddp;
-                    self.nv[i] += b[3][gi] * p0 + b[4][gi] * dp + b[5][gi] * ddp;
-                }
+            for (_, dx, dv) in blk.jumps.iter().filter(|j| j.0 == s) {
+                shared.push((1.0, &dx[r.clone()], &dv[r.clone()]));
             }
-            while let Some((_, dx, dv)) = jumps.next_if(|j| j.0 == s) {
-                for i in 0..len {
-                    self.nx[i] += dx[self.start + i];
-                    self.nv[i] += dv[self.start + i];
-                }
+            let mut terms = StepTerms {
+                shared: &shared,
+                forcing: (!blk.forcing.is_empty()).then(|| {
+                    std::array::from_fn(|h| &blk.forcing[(2 * s + h) * nm + self.start..][..len])
+                }),
+                save,
+            };
+            let mut finite = true;
+            let mut i0 = 0;
+            while i0 + LANES <= len {
+                finite &= advance::<LANES>(&mut self.x, &mut self.v, i0, &co, &mut terms);
+                i0 += LANES;
             }
-            let mut acc = 0.0;
-            for i in 0..len {
-                self.x[i] = self.nx[i];
-                self.v[i] = self.nv[i];
-                acc += self.nx[i].abs() + self.nv[i].abs();
+            while i0 < len {
+                finite &= advance::<1>(&mut self.x, &mut self.v, i0, &co, &mut terms);
+                i0 += 1;
             }
-            if !acc.is_finite() {
+            if !finite {
                 return Some(blk.n0 + s + 1);
             }
-        }
-        if let Some(slot) = blk.slot[blk.len] {
-            self.save(sh, blk, blk.len, slot);
         }
         None
     }
@@ -339,51 +418,43 @@ pub fn integrate(
     let saved = saved_steps(n_steps, problem.save_every);
     let n_saved = saved.len();
     let coef = Coefficients::new(problem);
-    let mut x = problem.q0.to_vec();
-    let mut v = problem.v0.to_vec();
-    let mut hq = vec![0.0; n_modes * n_saved];
-    let mut hv = vec![0.0; n_modes * n_saved];
-    let mut ha = vec![0.0; n_modes * n_saved];
+    let size = n_modes * n_saved;
+    let mut hq = zeroed(size)?;
+    let mut hv = zeroed(size)?;
+    let n_loads = problem.loads.len();
+    let mut load_values = vec![0.0; n_saved * n_loads];
+    let mut forcing_saved: Vec<f64> = Vec::new();
     let time = |n: usize| n as f64 * dt;
 
-    // Mode chunks: enough for the threads, none smaller than MIN_CHUNK.
+    // Mode chunks: enough for the threads, none smaller than MIN_CHUNK, whole cache lines.
     let chunk_len = n_modes
         .div_ceil(n_threads)
+        .next_multiple_of(LANES)
         .max(MIN_CHUNK)
         .min(n_modes.max(1));
+    let writer = HistoryWriter {
+        q: hq.as_mut_ptr(),
+        v: hv.as_mut_ptr(),
+        n_modes,
+        n_saved,
+    };
     let mut chunks: Vec<Chunk> = Vec::new();
-    {
-        let (mut xr, mut vr) = (&mut x[..], &mut v[..]);
-        let (mut qr, mut vhr, mut ar) = (&mut hq[..], &mut hv[..], &mut ha[..]);
-        let mut start = 0;
-        while start < n_modes {
-            let len = chunk_len.min(n_modes - start);
-            let (xc, xt) = xr.split_at_mut(len);
-            let (vc, vt) = vr.split_at_mut(len);
-            let (qc, qt) = qr.split_at_mut(len * n_saved);
-            let (vhc, vht) = vhr.split_at_mut(len * n_saved);
-            let (ac, at) = ar.split_at_mut(len * n_saved);
-            chunks.push(Chunk {
-                start,
-                x: xc,
-                v: vc,
-                hq: qc,
-                hv: vhc,
-                ha: ac,
-                nx: vec![0.0; len],
-                nv: vec![0.0; len],
-            });
-            (xr, vr, qr, vhr, ar) = (xt, vt, qt, vht, at);
-            start += len;
-        }
+    let mut start = 0;
+    while start < n_modes {
+        let len = chunk_len.min(n_modes - start);
+        chunks.push(Chunk {
+            start,
+            x: problem.q0[start..start + len].to_vec(),
+            v: problem.v0[start..start + len].to_vec(),
+            out: writer,
+        });
+        start += len;
     }
     let shared = Shared {
         problem,
         coef: &coef,
         n_modes,
-        n_saved,
     };
-    let n_loads = problem.loads.len();
     let mut basis: Vec<[f64; 3]> = Vec::with_capacity((BLOCK + 1) * n_loads);
     let mut forcing_buf: Vec<f64> = Vec::new();
     let mut times: Vec<f64> = Vec::new();
@@ -433,6 +504,17 @@ pub fn integrate(
                 slot.push(None);
             }
         }
+        // What the loads are at the saved instants (for the accelerations), kept here once.
+        for (s, sl) in slot.iter().enumerate() {
+            if let Some(k) = *sl {
+                for l in 0..n_loads {
+                    load_values[k * n_loads + l] = basis[s * n_loads + l][0];
+                }
+                if !forcing_buf.is_empty() {
+                    forcing_saved.extend_from_slice(&forcing_buf[2 * s * n_modes..][..n_modes]);
+                }
+            }
+        }
         let block = Block {
             n0,
             len,
@@ -467,7 +549,8 @@ pub fn integrate(
         t,
         q: hq,
         v: hv,
-        a: ha,
+        load_values,
+        forcing: forcing_saved,
     };
     match failure {
         None => Ok(history),
@@ -495,19 +578,70 @@ fn jump_response(problem: &LinearProblem, pattern: &[f64], rest: f64) -> (Vec<f6
         .unzip()
 }
 
-/// Keeps the first `keep` saved instants of a mode-major history.
-fn truncate(h: History, keep: usize) -> History {
-    let ns = h.n_saved();
-    let cut = |src: &[f64]| -> Vec<f64> {
-        (0..h.n_modes)
-            .flat_map(|m| src[m * ns..m * ns + keep].iter().copied())
-            .collect()
-    };
-    History {
-        n_modes: h.n_modes,
-        t: h.t[..keep].to_vec(),
-        q: cut(&h.q),
-        v: cut(&h.v),
-        a: cut(&h.a),
+/// A zeroed buffer, or a clean error when the memory cannot be had (instead of an abort).
+///
+/// The buffer comes from `alloc_zeroed` (fresh, lazily zeroed pages for large sizes, no
+/// memset) and is advised to use transparent huge pages: a history of a few hundred MB would
+/// otherwise cost one page fault per 4 KiB written inside the time loop.
+fn zeroed(len: usize) -> Result<Vec<f64>, Box<Failure>> {
+    if len == 0 {
+        return Ok(Vec::new());
     }
+    let too_big = || {
+        Box::new(Failure::from(CoreError::InvalidInput {
+            name: "save_every",
+            problem: format!(
+                "is too small: the modal history needs {:.1} GiB; save fewer steps or retain fewer modes",
+                2.0 * len as f64 * 8.0 / (1u64 << 30) as f64
+            ),
+        }))
+    };
+    let layout = std::alloc::Layout::array::<f64>(len).map_err(|_| too_big())?;
+    // SAFETY: `layout` has a non-zero size (len > 0).
+    let ptr = unsafe { std::alloc::alloc_zeroed(layout) }.cast::<f64>();
+    if ptr.is_null() {
+        return Err(too_big());
+    }
+    advise_huge_pages(ptr, len);
+    // SAFETY: `ptr` was allocated by the global allocator with the layout of `[f64; len]`
+    // (capacity `len`, alignment of f64), as `Vec` requires; its bytes are all zero, a valid
+    // `0.0_f64` for each of the `len` elements, so the length `len` is initialised.
+    Ok(unsafe { Vec::from_raw_parts(ptr, len, len) })
+}
+
+/// Asks Linux to back the 2 MiB-aligned interior of a buffer with transparent huge pages.
+#[cfg(target_os = "linux")]
+fn advise_huge_pages(ptr: *mut f64, len: usize) {
+    const HUGE: usize = 2 << 20;
+    let start = ptr as usize;
+    let end = start + len * std::mem::size_of::<f64>();
+    let first = start.next_multiple_of(HUGE);
+    let last = end - end % HUGE;
+    if last > first {
+        // SAFETY: [first, last) lies inside the live allocation [start, end) and is page
+        // aligned; MADV_HUGEPAGE is advisory and never changes the contents or validity of
+        // the memory. A failure (e.g. THP disabled) is harmless and ignored.
+        unsafe {
+            libc::madvise(
+                first as *mut libc::c_void,
+                last - first,
+                libc::MADV_HUGEPAGE,
+            );
+        }
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn advise_huge_pages(_ptr: *mut f64, _len: usize) {}
+
+/// Keeps the first `keep` saved instants of a time-major history.
+fn truncate(mut h: History, keep: usize) -> History {
+    let n_loads = h.load_values.len() / h.t.len().max(1);
+    let n = keep * h.n_modes;
+    h.t.truncate(keep);
+    h.q.truncate(n);
+    h.v.truncate(n);
+    h.load_values.truncate(keep * n_loads);
+    h.forcing.truncate(if h.forcing.is_empty() { 0 } else { n });
+    h
 }

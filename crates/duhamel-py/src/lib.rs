@@ -237,21 +237,29 @@ impl ModalForcing for PyForcing {
 fn history_dict<'py>(py: Python<'py>, h: History) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let (nm, ns) = (h.n_modes, h.t.len());
+    let n_loads = h.load_values.len() / ns.max(1);
     d.set_item("t", PyArray1::from_vec(py, h.t))?;
-    let as2 = |v: Vec<f64>| -> PyResult<Bound<'py, PyArray2<f64>>> {
-        PyArray1::from_vec(py, v).reshape([nm, ns])
+    let as2 = |v: Vec<f64>, cols: usize| -> PyResult<Bound<'py, PyArray2<f64>>> {
+        PyArray1::from_vec(py, v).reshape([ns, cols])
     };
-    d.set_item("q", as2(h.q)?)?;
-    d.set_item("v", as2(h.v)?)?;
-    d.set_item("a", as2(h.a)?)?;
+    d.set_item("q", as2(h.q, nm)?)?;
+    d.set_item("v", as2(h.v, nm)?)?;
+    d.set_item("load_values", as2(h.load_values, n_loads)?)?;
+    if h.forcing.is_empty() {
+        d.set_item("forcing", py.None())?;
+    } else {
+        d.set_item("forcing", as2(h.forcing, nm)?)?;
+    }
     Ok(d)
 }
 
 /// Integrates uncoupled modal oscillators exactly; see `duhamel.solve`.
 ///
-/// Returns a dict with `t` and mode-major `q`, `v`, `a` (`(n_modes, n_saved)`), and `error`:
-/// None, or a dict with `kind`, `message`, `time`, `step` when the run stopped early (the
-/// arrays then hold the history up to the last good saved instant).
+/// Returns a dict with `t`, time-major `q` and `v` (`(n_saved, n_modes)`), `load_values`
+/// (`(n_saved, n_loads)`: each load's time function at the saved instants), `forcing`
+/// (modal forcing at the saved instants, or None) and `error`: None, or a dict with `kind`,
+/// `message`, `time`, `step` when the run stopped early (the arrays then hold the history up
+/// to the last good saved instant).
 #[pyfunction]
 #[pyo3(signature = (k, c, q0, v0, loads, dt, n_steps, save_every, threads=None, forcing=None, phi_t=None))]
 #[allow(clippy::too_many_arguments)]
