@@ -173,16 +173,18 @@ def solve(
     )
     # A diverged run's partial history ends near overflow: its accelerations may overflow.
     quiet = raw["error"] is not None
+    n_out = phi_out.shape[0]
     with np.errstate(over="ignore" if quiet else "warn", invalid="ignore" if quiet else "warn"):
-        acc = raw["load_values"] @ (phi_out @ patterns).T
-        acc -= v @ (phi_out * basis.c).T
-        acc -= q @ (phi_out * basis.omega2).T
+        # One pass over each history array: [x | k-part of a] from q, [v | c-part] from v.
+        xq = q @ np.concatenate([phi_out, -phi_out * basis.omega2]).T
+        vv = v @ np.concatenate([phi_out, -phi_out * basis.c]).T
+        acc = xq[:, n_out:] + vv[:, n_out:] + raw["load_values"] @ (phi_out @ patterns).T
         if raw["forcing"] is not None:
             acc += raw["forcing"] @ phi_out.T
     solution = Solution(
         t=raw["t"],
-        x=q @ phi_out.T,
-        v=v @ phi_out.T,
+        x=xq[:, :n_out],
+        v=vv[:, :n_out],
         a=acc,
         dofs=np.asarray(out_dofs, dtype=np.int64),
         modal=ModalHistory(

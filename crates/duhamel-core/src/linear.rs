@@ -467,9 +467,10 @@ pub fn integrate(
         let len = BLOCK.min(n_steps - n0);
         // Loads of the block, shared by every mode.
         basis.clear();
-        for s in 0..=len {
-            let t = time(n0 + s);
-            basis.extend(problem.loads.iter().map(|l| l.time.basis(t, dt)));
+        basis.resize((len + 1) * n_loads, [0.0; 3]);
+        for (l, load) in problem.loads.iter().enumerate() {
+            load.time
+                .bases(|n| time(n0 + n), dt, len + 1, &mut basis, l, n_loads);
         }
         let mut jumps = Vec::new();
         for s in 0..len {

@@ -116,6 +116,38 @@ impl TimeFunction {
         }
     }
 
+    /// The bases of `len` consecutive steps `[t0 + n dt, t0 + (n + 1) dt]` (with the grid
+    /// times `t0 + n dt` computed as `time(n)`), appended to `out` with stride `stride`
+    /// starting at `out[offset]`. A harmonic is evaluated twice per step, not three times:
+    /// the end of one step is the start of the next.
+    pub fn bases(
+        &self,
+        time: impl Fn(usize) -> f64,
+        dt: f64,
+        len: usize,
+        out: &mut [[f64; 3]],
+        offset: usize,
+        stride: usize,
+    ) {
+        match self {
+            TimeFunction::Harmonic { .. } => {
+                let mut p0 = self.eval(time(0));
+                for n in 0..len {
+                    let t = time(n);
+                    let pm = self.eval(t + 0.5 * dt);
+                    let p1 = self.eval(time(n + 1));
+                    out[offset + n * stride] = [p0, p1 - p0, pm - 0.5 * (p0 + p1)];
+                    p0 = p1;
+                }
+            }
+            _ => {
+                for n in 0..len {
+                    out[offset + n * stride] = self.basis(time(n), dt);
+                }
+            }
+        }
+    }
+
     /// For a step whose jump lies strictly inside `(t, t + dt)`, the time from the jump to
     /// the end of the step.
     pub fn jump_in(&self, t: f64, dt: f64) -> Option<f64> {
