@@ -276,9 +276,21 @@ struct ChunkCoef<'s> {
     b: [&'s [f64]; 6],
 }
 
-/// Advances modes `i0..i0 + N` of a chunk by one step; returns whether they stay finite.
+/// `a * b + c`, fused where the target has FMA (one rounding), plain otherwise (a software
+/// `fma` call would be far slower than the two operations it replaces).
 #[inline(always)]
-fn advance<const N: usize>(
+fn fmadd(a: f64, b: f64, c: f64) -> f64 {
+    if cfg!(target_feature = "fma") {
+        a.mul_add(b, c)
+    } else {
+        a * b + c
+    }
+}
+
+/// Advances modes `i0..i0 + N` of a chunk by one step; with `CHECK`, returns whether they
+/// stay finite (otherwise `true`).
+#[inline(always)]
+fn advance<const N: usize, const CHECK: bool>(
     x: &mut [f64],
     v: &mut [f64],
     i0: usize,
@@ -298,14 +310,14 @@ fn advance<const N: usize>(
     let mut nx = [0.0; N];
     let mut nv = [0.0; N];
     for j in 0..N {
-        nx[j] = a11[j] * xs[j] + a12[j] * vs[j];
-        nv[j] = a21[j] * xs[j] + a22[j] * vs[j];
+        nx[j] = fmadd(a11[j], xs[j], a12[j] * vs[j]);
+        nv[j] = fmadd(a21[j], xs[j], a22[j] * vs[j]);
     }
     for &(b, gx, gv) in terms.shared {
         let (gx, gv) = (&gx[r.clone()], &gv[r.clone()]);
         for j in 0..N {
-            nx[j] += gx[j] * b;
-            nv[j] += gv[j] * b;
+            nx[j] = fmadd(gx[j], b, nx[j]);
+            nv[j] = fmadd(gv[j], b, nv[j]);
         }
     }
     if let Some([f0, fm, f1]) = terms.forcing.map(|f| f.map(|s| &s[r.clone()])) {
@@ -316,20 +328,38 @@ fn advance<const N: usize>(
             nv[j] += b[3][j] * p0 + b[4][j] * dp + b[5][j] * ddp;
         }
     }
-    // A boolean AND-reduction vectorises; a floating-point sum would not.
-    let mut finite = true;
-    for j in 0..N {
-        finite &= nx[j].is_finite() & nv[j].is_finite();
-    }
     x[r.clone()].copy_from_slice(&nx);
     v[r].copy_from_slice(&nv);
+    // A boolean AND-reduction vectorises; a floating-point sum would not.
+    let mut finite = true;
+    if CHECK {
+        for j in 0..N {
+            finite &= nx[j].is_finite() & nv[j].is_finite();
+        }
+    }
     finite
 }
 
 impl Chunk {
     /// Advances the chunk through the block; returns the first step index whose state is
     /// not finite.
+    ///
+    /// A linear step maps a non-finite state to a non-finite state, so finiteness is checked
+    /// once, at the end of the block; only if that fails is the block run again from its
+    /// start, checking every step, to find where the state first overflowed.
     fn run(&mut self, sh: &Shared, blk: &Block) -> Option<usize> {
+        let (x0, v0) = (self.x.clone(), self.v.clone());
+        self.steps::<false>(sh, blk);
+        if self.x.iter().chain(&self.v).all(|u| u.is_finite()) {
+            return None;
+        }
+        self.x.copy_from_slice(&x0);
+        self.v.copy_from_slice(&v0);
+        self.steps::<true>(sh, blk)
+    }
+
+    /// The steps of one block; with `CHECK`, stops at the first non-finite state.
+    fn steps<const CHECK: bool>(&mut self, sh: &Shared, blk: &Block) -> Option<usize> {
         let len = self.x.len();
         let r = self.start..self.start + len;
         let coef = sh.coef;
@@ -374,14 +404,14 @@ impl Chunk {
             let mut finite = true;
             let mut i0 = 0;
             while i0 + LANES <= len {
-                finite &= advance::<LANES>(&mut self.x, &mut self.v, i0, &co, &mut terms);
+                finite &= advance::<LANES, CHECK>(&mut self.x, &mut self.v, i0, &co, &mut terms);
                 i0 += LANES;
             }
             while i0 < len {
-                finite &= advance::<1>(&mut self.x, &mut self.v, i0, &co, &mut terms);
+                finite &= advance::<1, CHECK>(&mut self.x, &mut self.v, i0, &co, &mut terms);
                 i0 += 1;
             }
-            if !finite {
+            if CHECK && !finite {
                 return Some(blk.n0 + s + 1);
             }
         }
