@@ -4,6 +4,9 @@ VENV := .venv
 VPY := $(VENV)/bin/python
 export VIRTUAL_ENV := $(abspath $(VENV))
 export PATH := $(abspath $(VENV))/bin:$(PATH)
+# One BLAS thread: idle OpenBLAS workers spin and steal the cores of the Rust loop and of
+# other processes on small machines (100x slower small expm() calls measured on 2 cores).
+export OPENBLAS_NUM_THREADS ?= 1
 
 .PHONY: all install test test-rust test-python lint demo bench clean
 

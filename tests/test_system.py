@@ -234,15 +234,18 @@ def test_rigid_body_mode_with_mass_proportional_c_matrix():
     assert basis.zeta[0] == 0.0
 
 
-def test_non_classical_c_raises(chain3):
+def test_non_classical_c_splits_into_background_and_coupling(chain3):
     M, K = chain3
     C = np.zeros((3, 3))
-    C[0, 0] = 5.0  # single dashpot at dof 0
-    system = System(M, K, C)  # checked lazily by the modal analysis
-    with pytest.raises(ValueError, match=r"`C` is not diagonalised.*`zeta=` or `rayleigh=`"):
-        system.modal()
-    with pytest.raises(ValueError, match="`C`"):
-        system.modal(2)  # the check uses the retained modes
+    C[0, 0] = 5.0  # single dashpot at dof 0: not diagonalised by the modes
+    for n in (None, 2):  # the split uses the retained modes
+        basis = System(M, K, C).modal(n)
+        cm = basis.phi.T @ C @ basis.phi
+        np.testing.assert_allclose(basis.c, np.diag(cm), rtol=1e-12)
+        assert basis.c_coupling is not None
+        np.testing.assert_allclose(basis.c_coupling, cm - np.diag(np.diag(cm)), atol=1e-12)
+    classical = System(M, K, 0.1 * np.asarray(M) + 0.01 * np.asarray(K)).modal()
+    assert classical.c_coupling is None
 
 
 # ------------------------------------------------------------------------------ loads, repr

@@ -14,7 +14,7 @@ Examples
 (401, 2)
 """
 
-from duhamel import loads, oscillator
+from duhamel import elements, exact, loads, mass, oscillator
 from duhamel._core import __version__
 from duhamel.errors import DuhamelError, SolverError
 from duhamel.integrators import Semianalytic
@@ -32,7 +32,10 @@ __all__ = [
     "SolverError",
     "System",
     "__version__",
+    "elements",
+    "exact",
     "loads",
+    "mass",
     "oscillator",
     "solve",
 ]

@@ -42,17 +42,23 @@ class ModalHistory:
     load_values: NDArray[np.float64] = field(repr=False)
     patterns: NDArray[np.float64] = field(repr=False)
     forcing: NDArray[np.float64] | None = field(default=None, repr=False)
+    pseudo: NDArray[np.float64] | None = field(default=None, repr=False)
 
     @cached_property
     def p(self) -> NDArray[np.float64]:
-        """Modal load at the saved instants."""
+        """Modal external load at the saved instants."""
         p = self.load_values @ self.patterns.T
         return p if self.forcing is None else p + self.forcing
 
     @cached_property
+    def pseudo_force(self) -> NDArray[np.float64]:
+        """Modal pseudo-force (elements, couplings, mass change) at the saved states."""
+        return np.zeros_like(self.q) if self.pseudo is None else self.pseudo
+
+    @cached_property
     def a(self) -> NDArray[np.float64]:
         """Modal accelerations from the modal equations of motion."""
-        return self.p - self.c * self.v - self.omega**2 * self.q
+        return self.p + self.pseudo_force - self.c * self.v - self.omega**2 * self.q
 
 
 @dataclass(frozen=True)
@@ -69,12 +75,18 @@ class SolveStats:
         Seconds for the whole call, modal analysis and back-transformation included.
     modes : int
         Modal coordinates integrated.
+    newton_iterations : int
+        Newton iterations over the run (nonlinear problems).
+    closed_form_steps : int
+        Steps solved by the closed-form cubic (single-mode polynomial problems).
     """
 
     steps: int
     wall_time: float
     total_time: float
     modes: int
+    newton_iterations: int = 0
+    closed_form_steps: int = 0
 
     @property
     def mode_steps_per_second(self) -> float:

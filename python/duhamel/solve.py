@@ -11,6 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from duhamel import _core
 from duhamel._validate import as_float_array, dof_list, positive_float, positive_int
+from duhamel.elements import LinearCoupling
 from duhamel.errors import SolverError
 from duhamel.integrators import Semianalytic
 from duhamel.loads import Callable
@@ -57,6 +58,31 @@ class _ModalCallable:
                 raise ValueError(f"the `Callable` load returned NaN or inf at t = {t}")
             total += f
         return total
+
+
+def _is_linear(system: System, basis: ModalBasis) -> bool:
+    """Whether the exact linear loop applies: no elements, classical damping, constant mass."""
+    return not system.elements and basis.c_coupling is None and system.mass_law is None
+
+
+def _couplings(system: System, basis: ModalBasis) -> dict[str, NDArray | None]:
+    """Modal coupling matrices: LinearCoupling elements plus non-classical damping."""
+    total: dict[str, NDArray | None] = {"coupling_k": None, "coupling_c": basis.c_coupling}
+    for element in system.elements:
+        if isinstance(element, LinearCoupling):
+            for key, m in zip(("coupling_k", "coupling_c"), element.modal(basis.phi), strict=True):
+                if m is not None:
+                    prev = total[key]
+                    total[key] = m if prev is None else prev + m
+    return {k: None if v is None else np.ascontiguousarray(v) for k, v in total.items()}
+
+
+def _mass(system: System, integrator: Semianalytic) -> tuple | None:
+    attached = system.mass_law
+    if attached is None:
+        return None
+    kind, params = attached.law._spec()
+    return (kind, params, attached.form, attached.scale_stiffness, integrator.mass_treatment)
 
 
 def solve(
@@ -152,7 +178,7 @@ def solve(
     forcing = _ModalCallable(fns, system.n_dof) if fns else None
 
     loop_start = _time.perf_counter()
-    raw = _core.solve_linear(
+    common = (
         np.ascontiguousarray(basis.omega2, dtype=np.float64),
         np.ascontiguousarray(basis.c, dtype=np.float64),
         q0,
@@ -161,10 +187,21 @@ def solve(
         dt,
         n_steps,
         save_every,
-        threads,
-        forcing,
-        np.ascontiguousarray(phi.T) if forcing is not None else None,
     )
+    phi_t = np.ascontiguousarray(phi.T) if forcing is not None else None
+    if _is_linear(system, basis):
+        raw = _core.solve_linear(*common, threads, forcing, phi_t)
+    else:
+        raw = _core.solve_nonlinear(
+            *common,
+            np.ascontiguousarray(phi),
+            [e._spec() for e in system.elements if not isinstance(e, LinearCoupling)],
+            integrator._options(),
+            **_couplings(system, basis),
+            mass=_mass(system, integrator),
+            forcing=forcing,
+            phi_t=phi_t,
+        )
     wall = _time.perf_counter() - loop_start
 
     # Back-transform once, by matrix products, for the requested dofs only. Accelerations
@@ -182,8 +219,9 @@ def solve(
         xq = q @ np.concatenate([phi_out, -phi_out * basis.omega2]).T
         vv = v @ np.concatenate([phi_out, -phi_out * basis.c]).T
         acc = xq[:, n_out:] + vv[:, n_out:] + raw["load_values"] @ (phi_out @ patterns).T
-        if raw["forcing"] is not None:
-            acc += raw["forcing"] @ phi_out.T
+        for extra in ("forcing", "pseudo"):
+            if raw.get(extra) is not None:
+                acc += raw[extra] @ phi_out.T
     solution = Solution(
         t=raw["t"],
         x=xq[:, :n_out],
@@ -198,12 +236,15 @@ def solve(
             load_values=raw["load_values"],
             patterns=patterns,
             forcing=raw["forcing"],
+            pseudo=raw.get("pseudo"),
         ),
         stats=SolveStats(
             steps=n_steps if raw["error"] is None else int(raw["error"]["step"]),
             wall_time=wall,
             total_time=_time.perf_counter() - started,
             modes=phi.shape[1],
+            newton_iterations=int(raw.get("stats", {}).get("newton_iterations", 0)),
+            closed_form_steps=int(raw.get("stats", {}).get("closed_form_steps", 0)),
         ),
         meta={"dt": dt, "integrator": integrator},
     )

@@ -59,6 +59,11 @@ class ModalBasis:
         lives here only (e.g. ``c = alpha`` with Rayleigh damping ``(alpha, beta)``).
     zeta : ndarray, shape (n_modes,)
         Damping ratios ``c / (2 omega)`` where ``omega > 0``, else 0.0.
+    c_coupling : ndarray, shape (n_modes, n_modes), or None
+        For a damping matrix `C` that the undamped modes do not diagonalise (non-classical
+        damping): the off-diagonal part of ``phi.T @ C @ phi``. The integrators keep the
+        diagonal in the exact background and treat this remainder as a modal pseudo-force.
+        None for classical damping.
 
     Examples
     --------
@@ -76,6 +81,7 @@ class ModalBasis:
     omega: NDArray[np.float64]
     c: NDArray[np.float64]
     zeta: NDArray[np.float64]
+    c_coupling: NDArray[np.float64] | None = None
 
     @property
     def n_modes(self) -> int:
@@ -115,8 +121,10 @@ class System:
         Stiffness matrix: real, finite, symmetric, positive semidefinite (rigid-body modes
         are allowed; semidefiniteness is checked by the modal analysis).
     C : array_like or scipy.sparse matrix, shape (n_dof, n_dof), optional
-        Viscous damping matrix (real, finite, symmetric). It must be classical, i.e.
-        diagonalised by the undamped modes; this is checked by :meth:`modal`.
+        Viscous damping matrix (real, finite, symmetric). Classical damping (diagonalised by
+        the undamped modes) is integrated exactly; for non-classical damping the diagonal of
+        its modal projection stays in the exact background and the rest enters as a modal
+        pseudo-force (see :class:`ModalBasis`).
     zeta : float or array_like, optional
         Modal damping ratio(s): one value for every mode, or one per mode of the modal
         basis (the length must then equal the number of modes used). May be negative.
@@ -196,6 +204,10 @@ class System:
             alpha, beta = as_float_array(rayleigh, "rayleigh", shape=(2,)).tolist()
             self._rayleigh, self._damping = (alpha, beta), "rayleigh"
         self.loads: list[Any] = []
+        #: Force elements (nonlinear springs, dampers, couplings, contacts), see :meth:`add`.
+        self.elements: list[Any] = []
+        #: Time-varying mass law, see :meth:`set_mass_law` (None: constant mass).
+        self.mass_law: Any = None
         self._modal_cache: dict[int, ModalBasis] = {}
 
     # ---------------------------------------------------------------- properties
@@ -240,7 +252,12 @@ class System:
         return sp.issparse(self._M) or sp.issparse(self._K)
 
     def __repr__(self) -> str:
-        return f"System(n_dof={self.n_dof}, damping={self._damping!r}, loads={len(self.loads)})"
+        return (
+            f"System(n_dof={self.n_dof}, damping={self._damping!r}, loads={len(self.loads)}"
+            + (f", elements={len(self.elements)}" if self.elements else "")
+            + (", mass_law" if self.mass_law is not None else "")
+            + ")"
+        )
 
     # ---------------------------------------------------------------- loads
     def add_load(self, load: Any) -> System:
@@ -268,6 +285,72 @@ class System:
         self.loads.append(load)
         return self
 
+    def add(self, element: Any) -> System:
+        """Append a force element (see :mod:`duhamel.elements`), validated against this system.
+
+        Elements add a restoring force ``r(x, x', t)`` to the left-hand side,
+        ``M x'' + C x' + K x + r = f(t)``; the integrators treat it as a modal pseudo-force.
+
+        Returns
+        -------
+        System
+            ``self``, so calls can be chained.
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> duffing = duhamel.System(np.eye(1), np.eye(1)).add(duhamel.elements.Cubic(0, 4.0))
+        >>> len(duffing.elements)
+        1
+        """
+        validate = getattr(element, "_validate", None)
+        if not callable(validate):
+            raise TypeError(
+                f"`element` must be a duhamel.elements element, got {type(element).__name__}"
+            )
+        validate(self)
+        self.elements.append(element)
+        return self
+
+    def set_mass_law(
+        self, law: Any, *, form: str = "acceleration", scale_stiffness: bool = False
+    ) -> System:
+        """Make the mass time-varying: ``M(t) = M mu(t)`` for a law of :mod:`duhamel.mass`.
+
+        Parameters
+        ----------
+        law : duhamel.mass law
+            ``Exponential``, ``Harmonic`` or ``Tabulated``.
+        form : {"acceleration", "momentum"}
+            ``M(t) x''``, or ``d/dt (M(t) x')`` as in the paper's eqs. 28 and 35.
+        scale_stiffness : bool
+            Whether the stiffness scales with the mass too (gravity stiffness, e.g. the
+            pendulum's ``m g / l``).
+
+        Returns
+        -------
+        System
+            ``self``.
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> pendulum = duhamel.System(np.eye(1), np.eye(1)).set_mass_law(
+        ...     duhamel.mass.Exponential(rate=-0.1), form="momentum", scale_stiffness=True)
+        >>> pendulum.mass_law.form
+        'momentum'
+        """
+        from duhamel.mass import MassLaw, _Attached
+
+        if not isinstance(law, MassLaw):
+            raise TypeError(f"`law` must be a duhamel.mass law, got {type(law).__name__}")
+        if form not in ("acceleration", "momentum"):
+            raise ValueError(f"`form` must be 'acceleration' or 'momentum', got {form!r}")
+        if not isinstance(scale_stiffness, bool | np.bool_):
+            raise TypeError(f"`scale_stiffness` must be a bool, got {scale_stiffness!r}")
+        self.mass_law = _Attached(law, form, bool(scale_stiffness))
+        return self
+
     # ---------------------------------------------------------------- modal analysis
     def modal(self, n_modes: int | None = None) -> ModalBasis:
         """Undamped modal analysis ``K phi = omega^2 M phi`` (cached per `n_modes`).
@@ -289,8 +372,7 @@ class System:
         Raises
         ------
         ValueError
-            If `K` is not positive semidefinite, if `zeta` has the wrong length, or if the
-            damping matrix `C` is not diagonalised by the retained undamped modes.
+            If `K` is not positive semidefinite or `zeta` has the wrong length.
 
         Examples
         --------
@@ -356,20 +438,32 @@ class System:
             c = 2.0 * np.asarray(z) * np.sqrt(lam)
         else:
             c = np.zeros(n)
+        phi = _fix_signs(phi)
+        coupling = None
+        if self._damping == "matrix":
+            cm = phi.T @ (self._C @ phi)
+            cm = (cm + cm.T) / 2
+            c = np.diag(cm).copy()
+            off = cm - np.diag(c)
+            ref = max(float(np.max(np.abs(c))), np.finfo(float).tiny)
+            if n > 1 and float(np.max(np.abs(off))) > CLASSICAL_RTOL * ref:
+                coupling = _frozen(off)
         omega = np.sqrt(lam)
         zeta = np.divide(c, 2.0 * omega, out=np.zeros(n), where=omega > 0.0)
         return ModalBasis(
-            phi=_frozen(_fix_signs(phi)),
+            phi=_frozen(phi),
             omega2=_frozen(lam),
             omega=_frozen(omega),
             c=_frozen(np.broadcast_to(c, (n,))),
             zeta=_frozen(zeta),
+            c_coupling=coupling,
         )
 
     def _classical_damping(
         self, lam: NDArray[np.float64], phi: NDArray[np.float64], scale: float
     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        """Project C onto the modes; rotate within degenerate clusters; require diagonal."""
+        """Project C onto the modes, rotating within degenerate clusters so that a classical C
+        comes out diagonal there; a non-classical remainder is kept by the caller."""
 
         def project(p: NDArray[np.float64]) -> NDArray[np.float64]:
             cm = p.T @ (self._C @ p)
@@ -386,15 +480,5 @@ class System:
                 phi[:, i : j + 1] = phi[:, i : j + 1] @ y
                 lam[i : j + 1] = lam[i : j + 1].mean()
             i = j + 1
-        cm = project(phi)
-        diag = np.diag(cm)
-        off = float(np.max(np.abs(cm - np.diag(diag)))) if n > 1 else 0.0
-        ref = max(float(np.max(np.abs(diag))), np.finfo(float).tiny)
-        if off > CLASSICAL_RTOL * ref:
-            raise ValueError(
-                "`C` is not diagonalised by the undamped modes (largest off-diagonal modal "
-                f"damping term is {off / ref:.3g} relative to the diagonal); classical "
-                "(proportional) damping is required for now - pass `zeta=` or `rayleigh=`; "
-                "non-classical damping as a pseudo-force arrives with the LinearCoupling element"
-            )
+        diag = np.diag(project(phi))
         return lam, phi, diag.copy()

@@ -22,7 +22,15 @@ pub enum CoreError {
         step: usize,
         last_good_time: f64,
     },
-    /// A user-supplied load function failed or returned bad values.
-    #[error("load callback failed at t = {time}: {message}")]
+    /// The implicit step equation did not converge.
+    #[error("the step equation did not converge at t = {time}: residual {residual:.3e} after {iterations} Newton iterations (reduce `dt`, raise `max_iter` or loosen `tol`); the history up to t = {last_good_time} is kept")]
+    NoConvergence {
+        time: f64,
+        residual: f64,
+        iterations: usize,
+        last_good_time: f64,
+    },
+    /// A user-supplied load or element function failed or returned bad values.
+    #[error("callback failed at t = {time}: {message}")]
     Callback { time: f64, message: String },
 }

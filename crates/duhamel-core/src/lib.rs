@@ -3,10 +3,16 @@
 //!
 //! Pure Rust, no Python: the numerical engine behind the `duhamel` Python package.
 
+pub mod cubic;
+pub mod dense;
+pub mod elements;
 pub mod error;
 pub mod linear;
 pub mod loads;
+pub mod mass;
 pub mod oscillator;
+pub mod semianalytic;
+pub(crate) mod stepping;
 
 pub use error::CoreError;
 pub use oscillator::Transfer;

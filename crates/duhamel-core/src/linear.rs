@@ -10,18 +10,11 @@ use rayon::prelude::*;
 use crate::error::CoreError;
 use crate::loads::ModalLoad;
 use crate::oscillator::Transfer;
+use crate::stepping::{zeroed, BlockLoads};
+pub use crate::stepping::{Failure, History, ModalForcing};
 
-/// Steps per block: loads are evaluated for a whole block before the modes advance.
-const BLOCK: usize = 1024;
 /// Fewest modes per parallel chunk.
 const MIN_CHUNK: usize = 32;
-
-/// Modal loads computed outside the engine (e.g. a Python callable), sampled in blocks.
-pub trait ModalForcing {
-    /// Fills `out` (`times.len()` rows of `n_modes`, row-major) with the modal load vector at
-    /// each time.
-    fn modal_loads(&mut self, times: &[f64], out: &mut [f64]) -> Result<(), CoreError>;
-}
 
 /// A linear modal problem: what to integrate and what to keep.
 #[derive(Debug, Clone)]
@@ -46,64 +39,7 @@ pub struct LinearProblem<'a> {
     pub threads: Option<usize>,
 }
 
-/// Saved modal history. Arrays are time-major: entry `(s, mode)` at `s * n_modes + mode`.
-///
-/// Modal accelerations are not stored: they follow exactly from the equation of motion,
-/// `a = p - c v - k q`, with the modal load `p = sum_l pattern_l load_values[s, l] + forcing`;
-/// recovering them afterwards for the wanted degrees of freedom only keeps the time loop
-/// within the machine's memory bandwidth.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct History {
-    /// Number of modes.
-    pub n_modes: usize,
-    /// Saved times.
-    pub t: Vec<f64>,
-    /// Modal coordinates.
-    pub q: Vec<f64>,
-    /// Modal velocities.
-    pub v: Vec<f64>,
-    /// Value of each built-in load's time function at the saved times (the value just after
-    /// each saved time), `n_saved x n_loads`.
-    pub load_values: Vec<f64>,
-    /// Modal external forcing at the saved times, `n_saved x n_modes` (empty without forcing).
-    pub forcing: Vec<f64>,
-}
-
-impl History {
-    /// Number of saved instants.
-    pub fn n_saved(&self) -> usize {
-        self.t.len()
-    }
-}
-
-/// A run that stopped early: the reason and everything computed before it.
-#[derive(Debug, Clone)]
-pub struct Failure {
-    /// Why the run stopped.
-    pub error: CoreError,
-    /// The history up to the last good saved instant.
-    pub partial: History,
-}
-
-impl From<CoreError> for Failure {
-    fn from(error: CoreError) -> Self {
-        Failure {
-            error,
-            partial: History::default(),
-        }
-    }
-}
-
-/// The step indices that are saved: multiples of `save_every`, and the last step.
-fn saved_steps(n_steps: usize, save_every: usize) -> Vec<usize> {
-    let mut s: Vec<usize> = (0..=n_steps).step_by(save_every).collect();
-    if n_steps % save_every != 0 {
-        s.push(n_steps);
-    }
-    s
-}
-
-fn check(problem: &LinearProblem) -> Result<(), CoreError> {
+pub(crate) fn check(problem: &LinearProblem) -> Result<(), CoreError> {
     let n = problem.k.len();
     let lens = [
         ("c", problem.c.len()),
@@ -445,15 +381,12 @@ pub fn integrate(
         .map_or_else(rayon::current_num_threads, |p| p.current_num_threads());
     let dt = problem.dt;
     let n_steps = problem.n_steps;
-    let saved = saved_steps(n_steps, problem.save_every);
-    let n_saved = saved.len();
+    let mut loads = BlockLoads::new(problem);
+    let n_saved = loads.n_saved();
     let coef = Coefficients::new(problem);
     let size = n_modes * n_saved;
     let mut hq = zeroed(size)?;
     let mut hv = zeroed(size)?;
-    let n_loads = problem.loads.len();
-    let mut load_values = vec![0.0; n_saved * n_loads];
-    let mut forcing_saved: Vec<f64> = Vec::new();
     let time = |n: usize| n as f64 * dt;
 
     // Mode chunks: enough for the threads, none smaller than MIN_CHUNK, whole cache lines.
@@ -485,74 +418,22 @@ pub fn integrate(
         coef: &coef,
         n_modes,
     };
-    let mut basis: Vec<[f64; 3]> = Vec::with_capacity((BLOCK + 1) * n_loads);
-    let mut forcing_buf: Vec<f64> = Vec::new();
-    let mut times: Vec<f64> = Vec::new();
-    let mut slot: Vec<Option<usize>> = Vec::with_capacity(BLOCK + 1);
-    let mut next_saved = 0;
     let mut failure: Option<(CoreError, usize)> = None;
 
     let mut n0 = 0;
     while n0 < n_steps {
-        let len = BLOCK.min(n_steps - n0);
-        // Loads of the block, shared by every mode.
-        basis.clear();
-        basis.resize((len + 1) * n_loads, [0.0; 3]);
-        for (l, load) in problem.loads.iter().enumerate() {
-            load.time
-                .bases(|n| time(n0 + n), dt, len + 1, &mut basis, l, n_loads);
+        if let Err(e) = loads.prepare(problem, n0, forcing.as_deref_mut()) {
+            failure = Some((e, n0));
+            break;
         }
-        let mut jumps = Vec::new();
-        for s in 0..len {
-            let t = time(n0 + s);
-            for load in problem.loads {
-                if let Some(rest) = load.time.jump_in(t, dt) {
-                    let (dx, dv) = jump_response(problem, &load.pattern, rest);
-                    jumps.push((s, dx, dv));
-                }
-            }
-        }
-        forcing_buf.clear();
-        if let Some(f) = forcing.as_deref_mut() {
-            // Step starts and midpoints from the grid, not from accumulation.
-            times.clear();
-            times.extend((0..=2 * len).map(|j| time(n0 + j / 2) + 0.5 * (j % 2) as f64 * dt));
-            forcing_buf.resize(times.len() * n_modes, 0.0);
-            if let Err(e) = f.modal_loads(&times, &mut forcing_buf) {
-                failure = Some((e, n0));
-                break;
-            }
-        }
-        slot.clear();
-        // The end of the block is saved by the next block, or here if it is the last.
-        for s in 0..=len {
-            let n = n0 + s;
-            let last = n == n_steps;
-            if (s < len || last) && next_saved < n_saved && saved[next_saved] == n {
-                slot.push(Some(next_saved));
-                next_saved += 1;
-            } else {
-                slot.push(None);
-            }
-        }
-        // What the loads are at the saved instants (for the accelerations), kept here once.
-        for (s, sl) in slot.iter().enumerate() {
-            if let Some(k) = *sl {
-                for l in 0..n_loads {
-                    load_values[k * n_loads + l] = basis[s * n_loads + l][0];
-                }
-                if !forcing_buf.is_empty() {
-                    forcing_saved.extend_from_slice(&forcing_buf[2 * s * n_modes..][..n_modes]);
-                }
-            }
-        }
+        let len = loads.len;
         let block = Block {
             n0,
             len,
-            basis: &basis,
-            forcing: &forcing_buf,
-            jumps: &jumps,
-            slot: &slot,
+            basis: &loads.basis,
+            forcing: &loads.forcing,
+            jumps: &loads.jumps,
+            slot: &loads.slot,
         };
         let run = |ch: &mut Chunk| ch.run(&shared, &block);
         let bad = match (&pool, chunks.len()) {
@@ -574,105 +455,5 @@ pub fn integrate(
         n0 += len;
     }
     drop(chunks);
-    let t: Vec<f64> = saved.iter().map(|&n| time(n)).collect();
-    let history = History {
-        n_modes,
-        t,
-        q: hq,
-        v: hv,
-        load_values,
-        forcing: forcing_saved,
-    };
-    match failure {
-        None => Ok(history),
-        Some((error, first_bad)) => {
-            let keep = saved.iter().take_while(|&&n| n < first_bad).count();
-            Err(Box::new(Failure {
-                error,
-                partial: truncate(history, keep),
-            }))
-        }
-    }
-}
-
-/// Response at the end of the step to a unit step load applied `rest` before the end.
-fn jump_response(problem: &LinearProblem, pattern: &[f64], rest: f64) -> (Vec<f64>, Vec<f64>) {
-    problem
-        .k
-        .iter()
-        .zip(problem.c)
-        .zip(pattern)
-        .map(|((&k, &c), &p)| {
-            let tr = Transfer::new(k, c, rest);
-            (p * tr.m[0][0], p * tr.m[1][0])
-        })
-        .unzip()
-}
-
-/// A zeroed buffer, or a clean error when the memory cannot be had (instead of an abort).
-///
-/// The buffer comes from `alloc_zeroed` (fresh, lazily zeroed pages for large sizes, no
-/// memset) and is advised to use transparent huge pages: a history of a few hundred MB would
-/// otherwise cost one page fault per 4 KiB written inside the time loop.
-fn zeroed(len: usize) -> Result<Vec<f64>, Box<Failure>> {
-    if len == 0 {
-        return Ok(Vec::new());
-    }
-    let too_big = || {
-        Box::new(Failure::from(CoreError::InvalidInput {
-            name: "save_every",
-            problem: format!(
-                "is too small: the modal history needs {:.1} GiB; save fewer steps or retain fewer modes",
-                2.0 * len as f64 * 8.0 / (1u64 << 30) as f64
-            ),
-        }))
-    };
-    let layout = std::alloc::Layout::array::<f64>(len).map_err(|_| too_big())?;
-    // SAFETY: `layout` has a non-zero size (len > 0).
-    let ptr = unsafe { std::alloc::alloc_zeroed(layout) }.cast::<f64>();
-    if ptr.is_null() {
-        return Err(too_big());
-    }
-    advise_huge_pages(ptr, len);
-    // SAFETY: `ptr` was allocated by the global allocator with the layout of `[f64; len]`
-    // (capacity `len`, alignment of f64), as `Vec` requires; its bytes are all zero, a valid
-    // `0.0_f64` for each of the `len` elements, so the length `len` is initialised.
-    Ok(unsafe { Vec::from_raw_parts(ptr, len, len) })
-}
-
-/// Asks Linux to back the 2 MiB-aligned interior of a buffer with transparent huge pages.
-#[cfg(target_os = "linux")]
-fn advise_huge_pages(ptr: *mut f64, len: usize) {
-    const HUGE: usize = 2 << 20;
-    let start = ptr as usize;
-    let end = start + len * std::mem::size_of::<f64>();
-    let first = start.next_multiple_of(HUGE);
-    let last = end - end % HUGE;
-    if last > first {
-        // SAFETY: [first, last) lies inside the live allocation [start, end) and is page
-        // aligned; MADV_HUGEPAGE is advisory and never changes the contents or validity of
-        // the memory. A failure (e.g. THP disabled) is harmless and ignored.
-        unsafe {
-            libc::madvise(
-                first as *mut libc::c_void,
-                last - first,
-                libc::MADV_HUGEPAGE,
-            );
-        }
-    }
-}
-
-#[cfg(not(target_os = "linux"))]
-fn advise_huge_pages(_ptr: *mut f64, _len: usize) {}
-
-/// Keeps the first `keep` saved instants of a time-major history.
-fn truncate(mut h: History, keep: usize) -> History {
-    let n_loads = h.load_values.len() / h.t.len().max(1);
-    let n = keep * h.n_modes;
-    h.t.truncate(keep);
-    h.q.truncate(n);
-    h.v.truncate(n);
-    h.load_values.truncate(keep * n_loads);
-    h.forcing.truncate(if h.forcing.is_empty() { 0 } else { n });
-    h
+    loads.finish(n_modes, hq, hv, Vec::new(), failure)
 }

@@ -1,0 +1,138 @@
+//! Real roots of a cubic `c0 + c1 x + c2 x^2 + c3 x^3`, for the closed-form solution of the
+//! single-degree-of-freedom step equation (the paper's cubic).
+
+/// The real root of `c0 + c1 x + c2 x^2 + c3 x^3` nearest to `guess`, or `None` when there is
+/// none (a constant non-zero polynomial). Degenerate leading coefficients fall back to the
+/// quadratic and linear formulas; each root is polished by Newton steps on the polynomial.
+pub fn nearest_root(c: [f64; 4], guess: f64) -> Option<f64> {
+    let scale = c.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    if scale == 0.0 || !scale.is_finite() {
+        return None;
+    }
+    let [c0, c1, c2, c3] = c.map(|v| v / scale);
+    let mut roots = [0.0; 3];
+    let n = if c3.abs() > 1e-14 * (c2.abs() + c1.abs() + c0.abs()) {
+        cubic_roots(c2 / c3, c1 / c3, c0 / c3, &mut roots)
+    } else if c2.abs() > 1e-14 * (c1.abs() + c0.abs()) {
+        quadratic_roots(c2, c1, c0, &mut roots)
+    } else if c1 != 0.0 {
+        roots[0] = -c0 / c1;
+        1
+    } else {
+        0
+    };
+    roots[..n]
+        .iter()
+        .map(|&r| polish([c0, c1, c2, c3], r))
+        .min_by(|a, b| (a - guess).abs().total_cmp(&(b - guess).abs()))
+}
+
+/// Real roots of `x^3 + a x^2 + b x + c` (trigonometric form for three real roots, Cardano
+/// otherwise).
+fn cubic_roots(a: f64, b: f64, c: f64, out: &mut [f64; 3]) -> usize {
+    let a3 = a / 3.0;
+    let q = (a * a - 3.0 * b) / 9.0;
+    let r = (2.0 * a * a * a - 9.0 * a * b + 27.0 * c) / 54.0;
+    let q3 = q * q * q;
+    if r * r < q3 {
+        let theta = (r / q3.sqrt()).clamp(-1.0, 1.0).acos();
+        let m = -2.0 * q.sqrt();
+        let tau = std::f64::consts::TAU;
+        out[0] = m * (theta / 3.0).cos() - a3;
+        out[1] = m * ((theta + tau) / 3.0).cos() - a3;
+        out[2] = m * ((theta - tau) / 3.0).cos() - a3;
+        3
+    } else {
+        let big_a = -r.signum() * (r.abs() + (r * r - q3).sqrt()).cbrt();
+        let big_b = if big_a == 0.0 { 0.0 } else { q / big_a };
+        out[0] = big_a + big_b - a3;
+        1
+    }
+}
+
+/// Real roots of `a x^2 + b x + c` without cancellation.
+fn quadratic_roots(a: f64, b: f64, c: f64, out: &mut [f64; 3]) -> usize {
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        // A near-double root lost to rounding: keep the vertex.
+        out[0] = -b / (2.0 * a);
+        return 1;
+    }
+    let q = -0.5 * (b + b.signum() * disc.sqrt());
+    out[0] = q / a;
+    if q != 0.0 {
+        out[1] = c / q;
+        2
+    } else {
+        1
+    }
+}
+
+/// Two Newton steps on the polynomial (the closed forms lose a few digits near multiple
+/// roots and for badly scaled coefficients).
+fn polish(c: [f64; 4], mut x: f64) -> f64 {
+    for _ in 0..2 {
+        let p = ((c[3] * x + c[2]) * x + c[1]) * x + c[0];
+        let dp = (3.0 * c[3] * x + 2.0 * c[2]) * x + c[1];
+        if dp == 0.0 || !dp.is_finite() {
+            break;
+        }
+        let step = p / dp;
+        if !step.is_finite() {
+            break;
+        }
+        x -= step;
+    }
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn poly_from_roots(r: [f64; 3], lead: f64) -> [f64; 4] {
+        let [a, b, c] = r;
+        [
+            -lead * a * b * c,
+            lead * (a * b + b * c + a * c),
+            -lead * (a + b + c),
+            lead,
+        ]
+    }
+
+    #[test]
+    fn three_real_roots_pick_the_nearest() {
+        let c = poly_from_roots([-2.0, 0.5, 3.0], 1.7);
+        assert!((nearest_root(c, 0.4).unwrap() - 0.5).abs() < 1e-14);
+        assert!((nearest_root(c, 2.0).unwrap() - 3.0).abs() < 1e-14);
+        assert!((nearest_root(c, -9.0).unwrap() + 2.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn one_real_root_and_scaling() {
+        // x^3 + x - 10 = 0 has the single real root 2
+        for s in [1e-12, 1.0, 1e12] {
+            let c = [-10.0 * s, s, 0.0, s];
+            assert!((nearest_root(c, 0.0).unwrap() - 2.0).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn degenerate_leading_terms() {
+        assert!((nearest_root([-6.0, 3.0, 0.0, 0.0], 0.0).unwrap() - 2.0).abs() < 1e-15);
+        let q = nearest_root([2.0, -3.0, 1.0, 0.0], 1.9).unwrap(); // roots 1, 2
+        assert!((q - 2.0).abs() < 1e-14);
+        assert!(nearest_root([1.0, 0.0, 0.0, 0.0], 0.0).is_none());
+        // a tiny cubic term on a well-posed linear equation
+        let r = nearest_root([-1.0, 1.0, 0.0, 1e-20], 0.0).unwrap();
+        assert!((r - 1.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn duffing_like_residual() {
+        // u + w u^3 = L: monotone, one root
+        let (w, l) = (0.01, 2.5);
+        let u = nearest_root([-l, 1.0, 0.0, w], l).unwrap();
+        assert!((u + w * u * u * u - l).abs() < 1e-14);
+    }
+}

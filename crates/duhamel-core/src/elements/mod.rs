@@ -1,0 +1,53 @@
+//! Elements: restoring forces `r(x, x', t)` on the left-hand side,
+//! `M x'' + C x' + K x + r(x, x', t) = f(t)`, with their tangents.
+//!
+//! The integrators own the time discretisation; an element only returns its force and, on
+//! request, `dr/dx` and `dr/dx'` at its own degrees of freedom.
+
+use crate::error::CoreError;
+
+mod contact;
+mod polynomial;
+mod spring;
+
+pub use contact::Contact;
+pub use polynomial::Polynomial;
+pub use spring::{Damper, Spring};
+
+/// Local tangent matrices, row-major `n x n` for an element with `n` dofs.
+pub struct Tangent<'a> {
+    /// `dr/dx`, added into.
+    pub kx: &'a mut [f64],
+    /// `dr/dx'`, added into.
+    pub cv: &'a mut [f64],
+}
+
+/// A force element acting on a few degrees of freedom.
+pub trait Element: Send + Sync {
+    /// The global degrees of freedom the element acts on, in its local order.
+    fn dofs(&self) -> &[usize];
+
+    /// Adds the restoring force at local displacements `x` and velocities `v` (both of length
+    /// `dofs().len()`) at time `t` into `r`; with `tangent`, adds `dr/dx` and `dr/dx'`.
+    fn eval(
+        &self,
+        x: &[f64],
+        v: &[f64],
+        t: f64,
+        r: &mut [f64],
+        tangent: Option<Tangent<'_>>,
+    ) -> Result<(), CoreError>;
+
+    /// `Some(d)` when the force is a polynomial of total degree `d` in `(x, x')` with
+    /// coefficients independent of `t`: such forces are integrated exactly by the `exact`
+    /// quadrature (for `d <= 3` with a linear interpolant) and allow the closed-form cubic.
+    fn polynomial_degree(&self) -> Option<u32>;
+
+    /// Whether the force depends on the velocities.
+    fn uses_velocity(&self) -> bool;
+
+    /// Whether `eval` fills the tangents; when not, the integrators use finite differences.
+    fn has_tangent(&self) -> bool {
+        true
+    }
+}

@@ -1,0 +1,120 @@
+//! A polynomial restoring force at one degree of freedom, `r = sum_i c_i x^i`.
+//!
+//! The Duffing hardening/softening spring `r = k3 x^3` is [`Polynomial::cubic`]. The force is
+//! evaluated by Horner's scheme together with its derivative `dr/dx`.
+
+use super::{Element, Tangent};
+use crate::error::CoreError;
+
+/// Restoring force `r = c_0 + c_1 x + c_2 x^2 + ...` at one dof (`c_0` is a constant force).
+///
+/// Trailing zero coefficients are trimmed at construction, so [`Element::polynomial_degree`]
+/// is the true degree (`0` for an empty or all-zero list, which is the zero force).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Polynomial {
+    dofs: [usize; 1],
+    coefficients: Vec<f64>,
+}
+
+impl Polynomial {
+    /// `r = sum_i coefficients[i] * x^i` at `dof`. Coefficients must be finite (any sign).
+    pub fn new(dof: usize, coefficients: Vec<f64>) -> Result<Self, CoreError> {
+        Self::build(dof, coefficients, "coefficients")
+    }
+
+    /// The Duffing spring `r = k3 x^3` at `dof`; `k3 < 0` is a softening spring.
+    pub fn cubic(dof: usize, k3: f64) -> Result<Self, CoreError> {
+        Self::build(dof, vec![0.0, 0.0, 0.0, k3], "k3")
+    }
+
+    fn build(
+        dof: usize,
+        mut coefficients: Vec<f64>,
+        name: &'static str,
+    ) -> Result<Self, CoreError> {
+        if let Some((i, c)) = coefficients
+            .iter()
+            .enumerate()
+            .find(|(_, c)| !c.is_finite())
+        {
+            return Err(CoreError::InvalidInput {
+                name,
+                problem: format!("must be finite (entry {i} is {c})"),
+            });
+        }
+        while coefficients.last() == Some(&0.0) {
+            coefficients.pop();
+        }
+        Ok(Self {
+            dofs: [dof],
+            coefficients,
+        })
+    }
+
+    /// The degree of freedom the force acts on.
+    pub fn dof(&self) -> usize {
+        self.dofs[0]
+    }
+
+    /// The coefficients `c_0, c_1, ...` with trailing zeros trimmed.
+    pub fn coefficients(&self) -> &[f64] {
+        &self.coefficients
+    }
+
+    /// The force and its derivative `(r(x), dr/dx(x))` by Horner's scheme.
+    pub fn force_and_slope(&self, x: f64) -> (f64, f64) {
+        let mut r = 0.0;
+        let mut dr = 0.0;
+        for &c in self.coefficients.iter().rev() {
+            dr = dr * x + r;
+            r = r * x + c;
+        }
+        (r, dr)
+    }
+}
+
+impl Element for Polynomial {
+    fn dofs(&self) -> &[usize] {
+        &self.dofs
+    }
+
+    fn eval(
+        &self,
+        x: &[f64],
+        _v: &[f64],
+        _t: f64,
+        r: &mut [f64],
+        tangent: Option<Tangent<'_>>,
+    ) -> Result<(), CoreError> {
+        debug_assert!(x.len() == 1 && r.len() == 1);
+        let (f, df) = self.force_and_slope(x[0]);
+        r[0] += f;
+        if let Some(tg) = tangent {
+            tg.kx[0] += df;
+        }
+        Ok(())
+    }
+
+    fn polynomial_degree(&self) -> Option<u32> {
+        Some(self.coefficients.len().saturating_sub(1) as u32)
+    }
+
+    fn uses_velocity(&self) -> bool {
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn horner_matches_direct_sum() {
+        let p = Polynomial::new(0, vec![1.5, -2.0, 0.5, 3.0, 0.0, 0.0]).unwrap();
+        assert_eq!(p.coefficients().len(), 4);
+        let x = 0.7_f64;
+        let (f, df) = p.force_and_slope(x);
+        assert!((f - (1.5 - 2.0 * x + 0.5 * x * x + 3.0 * x.powi(3))).abs() < 1e-14);
+        assert!((df - (-2.0 + x + 9.0 * x * x)).abs() < 1e-14);
+    }
+}

@@ -1,0 +1,382 @@
+//! The modal pseudo-force: everything that is not the constant symmetric background.
+//!
+//! With `rho = Phi^T r(Phi q, Phi v, t) + Kc q + Cc v` (elements and linear couplings), the
+//! modal equations are `q'' + c q' + k q = p + Q` with
+//!
+//! * constant mass: `Q = -rho`;
+//! * mass `M0 mu(t)`, eliminated (divide by `mu`; NOTES.md section 3):
+//!   `Q = (1/mu - 1)(p - c v - k q) - rho/mu - [momentum] (mu'/mu) v`, without the `k q` term
+//!   when the stiffness scales with the mass;
+//! * mass estimated: `Q = -rho - (mu - 1) a - [momentum] mu' v - [scaled] (mu - 1) k q`, with
+//!   `a` an estimate of the acceleration.
+
+use crate::elements::{Element, Tangent};
+use crate::error::CoreError;
+use crate::mass::{MassForm, MassTreatment, TimeVaryingMass};
+
+/// An element with the mode-shape rows of its degrees of freedom.
+struct Slot<'a> {
+    element: &'a dyn Element,
+    /// `phi_e[j * n_modes + m]`: mode `m` at the element's local dof `j`.
+    phi_e: Vec<f64>,
+    x: Vec<f64>,
+    v: Vec<f64>,
+    r: Vec<f64>,
+    kx: Vec<f64>,
+    cv: Vec<f64>,
+}
+
+/// Modal tangents of a pseudo-force: `dQ/dq`, `dQ/dv` (row-major `n x n`) and `dQ/da`.
+pub struct Jacobian {
+    pub kq: Vec<f64>,
+    pub cq: Vec<f64>,
+    pub da: f64,
+}
+
+impl Jacobian {
+    pub fn new(n: usize) -> Self {
+        Jacobian {
+            kq: vec![0.0; n * n],
+            cq: vec![0.0; n * n],
+            da: 0.0,
+        }
+    }
+}
+
+/// Evaluates the modal pseudo-force and its tangents.
+pub struct PseudoForce<'a> {
+    n: usize,
+    slots: Vec<Slot<'a>>,
+    coupling_k: Option<&'a [f64]>,
+    coupling_c: Option<&'a [f64]>,
+    mass: Option<&'a TimeVaryingMass>,
+    k: &'a [f64],
+    c: &'a [f64],
+    rho: Vec<f64>,
+    jac_rho: Jacobian,
+    /// Whether the pseudo-force depends on the velocities at all.
+    pub uses_velocity: bool,
+    /// Whether every force is a polynomial of degree <= 3 with analytic tangents.
+    pub polynomial: bool,
+}
+
+impl<'a> PseudoForce<'a> {
+    /// `phi` is the `n_dof x n_modes` mode-shape matrix (row-major).
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        phi: &[f64],
+        n_dof: usize,
+        elements: &'a [&'a dyn Element],
+        coupling_k: Option<&'a [f64]>,
+        coupling_c: Option<&'a [f64]>,
+        mass: Option<&'a TimeVaryingMass>,
+        k: &'a [f64],
+        c: &'a [f64],
+    ) -> Result<Self, CoreError> {
+        let n = k.len();
+        let mut slots = Vec::with_capacity(elements.len());
+        for &element in elements {
+            let dofs = element.dofs();
+            if let Some(&d) = dofs.iter().find(|&&d| d >= n_dof) {
+                return Err(CoreError::InvalidInput {
+                    name: "dof",
+                    problem: format!(
+                        "{d} of an element is not a degree of freedom (n_dof = {n_dof})"
+                    ),
+                });
+            }
+            let nl = dofs.len();
+            let phi_e = dofs
+                .iter()
+                .flat_map(|&d| phi[d * n..(d + 1) * n].iter().copied())
+                .collect();
+            slots.push(Slot {
+                element,
+                phi_e,
+                x: vec![0.0; nl],
+                v: vec![0.0; nl],
+                r: vec![0.0; nl],
+                kx: vec![0.0; nl * nl],
+                cv: vec![0.0; nl * nl],
+            });
+        }
+        for (name, m) in [("coupling K", coupling_k), ("coupling C", coupling_c)] {
+            if let Some(m) = m {
+                if m.len() != n * n {
+                    return Err(CoreError::LengthMismatch {
+                        name,
+                        got: m.len(),
+                        expected: n * n,
+                    });
+                }
+            }
+        }
+        let uses_velocity = elements.iter().any(|e| e.uses_velocity())
+            || coupling_c.is_some()
+            || mass.is_some_and(|m| {
+                m.form == MassForm::Momentum
+                    || (m.treatment == MassTreatment::Eliminate && c.iter().any(|&x| x != 0.0))
+            });
+        let polynomial = elements
+            .iter()
+            .all(|e| e.has_tangent() && e.polynomial_degree().is_some_and(|d| d <= 3));
+        Ok(PseudoForce {
+            n,
+            slots,
+            coupling_k,
+            coupling_c,
+            mass,
+            k,
+            c,
+            rho: vec![0.0; n],
+            jac_rho: Jacobian::new(n),
+            uses_velocity,
+            polynomial,
+        })
+    }
+
+    /// `rho` (and its tangents when `tangent`) at the modal state `(q, v)`.
+    fn rho(&mut self, q: &[f64], v: &[f64], t: f64, tangent: bool) -> Result<(), CoreError> {
+        let n = self.n;
+        self.rho.fill(0.0);
+        if tangent {
+            self.jac_rho.kq.fill(0.0);
+            self.jac_rho.cq.fill(0.0);
+        }
+        for slot in &mut self.slots {
+            let nl = slot.x.len();
+            for j in 0..nl {
+                let row = &slot.phi_e[j * n..(j + 1) * n];
+                slot.x[j] = row.iter().zip(q).map(|(p, x)| p * x).sum();
+                slot.v[j] = row.iter().zip(v).map(|(p, x)| p * x).sum();
+            }
+            slot.r.fill(0.0);
+            let want = tangent && slot.element.has_tangent();
+            if want {
+                slot.kx.fill(0.0);
+                slot.cv.fill(0.0);
+            }
+            let tan = want.then(|| Tangent {
+                kx: &mut slot.kx,
+                cv: &mut slot.cv,
+            });
+            slot.element.eval(&slot.x, &slot.v, t, &mut slot.r, tan)?;
+            if tangent && !slot.element.has_tangent() {
+                finite_difference(slot, t)?;
+            }
+            project(&slot.phi_e, n, nl, &slot.r, &mut self.rho);
+            if tangent {
+                congruence(&slot.phi_e, n, nl, &slot.kx, &mut self.jac_rho.kq);
+                congruence(&slot.phi_e, n, nl, &slot.cv, &mut self.jac_rho.cq);
+            }
+        }
+        for (mat, state, jac) in [
+            (self.coupling_k, q, &mut self.jac_rho.kq),
+            (self.coupling_c, v, &mut self.jac_rho.cq),
+        ] {
+            if let Some(mat) = mat {
+                for (i, ri) in self.rho.iter_mut().enumerate() {
+                    *ri += mat[i * n..(i + 1) * n]
+                        .iter()
+                        .zip(state)
+                        .map(|(a, b)| a * b)
+                        .sum::<f64>();
+                }
+                if tangent {
+                    for (j, m) in jac.iter_mut().zip(mat) {
+                        *j += m;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The pseudo-force `Q` at `(q, v)` and time `t`, with the modal external load `p` and,
+    /// for the estimated-mass treatment, the acceleration estimate `a`; with `jac`, its
+    /// tangents.
+    #[allow(clippy::too_many_arguments)]
+    pub fn eval(
+        &mut self,
+        q: &[f64],
+        v: &[f64],
+        t: f64,
+        p: &[f64],
+        a: Option<&[f64]>,
+        out: &mut [f64],
+        jac: Option<&mut Jacobian>,
+    ) -> Result<(), CoreError> {
+        let treatment = self.mass.map(|m| m.treatment);
+        self.eval_as(treatment, q, v, t, p, a, out, jac)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn eval_as(
+        &mut self,
+        treatment: Option<MassTreatment>,
+        q: &[f64],
+        v: &[f64],
+        t: f64,
+        p: &[f64],
+        a: Option<&[f64]>,
+        out: &mut [f64],
+        jac: Option<&mut Jacobian>,
+    ) -> Result<(), CoreError> {
+        let n = self.n;
+        let want = jac.is_some();
+        self.rho(q, v, t, want)?;
+        let Some(mass) = self.mass else {
+            for (o, r) in out.iter_mut().zip(&self.rho) {
+                *o = -r;
+            }
+            if let Some(j) = jac {
+                for (d, s) in j.kq.iter_mut().zip(&self.jac_rho.kq) {
+                    *d = -s;
+                }
+                for (d, s) in j.cq.iter_mut().zip(&self.jac_rho.cq) {
+                    *d = -s;
+                }
+                j.da = 0.0;
+            }
+            return Ok(());
+        };
+        let (mu, dmu) = mass.law.eval(t);
+        let momentum = mass.form == MassForm::Momentum;
+        let scaled = mass.scale_stiffness;
+        match treatment.unwrap_or(MassTreatment::Eliminate) {
+            MassTreatment::Eliminate => {
+                let g = 1.0 / mu - 1.0;
+                for i in 0..n {
+                    let kq = if scaled { 0.0 } else { self.k[i] * q[i] };
+                    let mom = if momentum { dmu / mu * v[i] } else { 0.0 };
+                    out[i] = g * (p[i] - self.c[i] * v[i] - kq) - self.rho[i] / mu - mom;
+                }
+                if let Some(j) = jac {
+                    scale_into(&mut j.kq, &self.jac_rho.kq, -1.0 / mu);
+                    scale_into(&mut j.cq, &self.jac_rho.cq, -1.0 / mu);
+                    for i in 0..n {
+                        if !scaled {
+                            j.kq[i * n + i] -= g * self.k[i];
+                        }
+                        j.cq[i * n + i] -= g * self.c[i] + if momentum { dmu / mu } else { 0.0 };
+                    }
+                    j.da = 0.0;
+                }
+            }
+            MassTreatment::Estimate => {
+                let a = a.ok_or(CoreError::InvalidInput {
+                    name: "mass_treatment",
+                    problem: "'estimate' needs an acceleration estimate".into(),
+                })?;
+                for i in 0..n {
+                    let kq = if scaled {
+                        (mu - 1.0) * self.k[i] * q[i]
+                    } else {
+                        0.0
+                    };
+                    let mom = if momentum { dmu * v[i] } else { 0.0 };
+                    out[i] = -self.rho[i] - (mu - 1.0) * a[i] - mom - kq;
+                }
+                if let Some(j) = jac {
+                    scale_into(&mut j.kq, &self.jac_rho.kq, -1.0);
+                    scale_into(&mut j.cq, &self.jac_rho.cq, -1.0);
+                    for i in 0..n {
+                        if scaled {
+                            j.kq[i * n + i] -= (mu - 1.0) * self.k[i];
+                        }
+                        if momentum {
+                            j.cq[i * n + i] -= dmu;
+                        }
+                    }
+                    j.da = -(mu - 1.0);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The pseudo-force that makes `q'' = p + Q - c v - k q` the true acceleration at a
+    /// state (the eliminated form, whatever the treatment used for stepping).
+    pub fn at_state(
+        &mut self,
+        q: &[f64],
+        v: &[f64],
+        t: f64,
+        p: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), CoreError> {
+        self.eval_as(Some(MassTreatment::Eliminate), q, v, t, p, None, out, None)
+    }
+}
+
+fn scale_into(dst: &mut [f64], src: &[f64], f: f64) {
+    for (d, s) in dst.iter_mut().zip(src) {
+        *d = f * s;
+    }
+}
+
+/// `out += Phi_e^T r` (modal projection of a local force).
+fn project(phi_e: &[f64], n: usize, nl: usize, r: &[f64], out: &mut [f64]) {
+    for j in 0..nl {
+        let row = &phi_e[j * n..(j + 1) * n];
+        for (o, p) in out.iter_mut().zip(row) {
+            *o += p * r[j];
+        }
+    }
+}
+
+/// `out += Phi_e^T T Phi_e` (modal projection of a local tangent).
+fn congruence(phi_e: &[f64], n: usize, nl: usize, t: &[f64], out: &mut [f64]) {
+    for a in 0..nl {
+        for b in 0..nl {
+            let tab = t[a * nl + b];
+            if tab == 0.0 {
+                continue;
+            }
+            let (ra, rb) = (&phi_e[a * n..(a + 1) * n], &phi_e[b * n..(b + 1) * n]);
+            for (i, &pa) in ra.iter().enumerate() {
+                let f = pa * tab;
+                for (o, &pb) in out[i * n..(i + 1) * n].iter_mut().zip(rb) {
+                    *o += f * pb;
+                }
+            }
+        }
+    }
+}
+
+/// Central-difference tangents of an element that has none (a Python callable without a
+/// Jacobian): `2 n_loc` extra evaluations per direction.
+fn finite_difference(slot: &mut Slot, t: f64) -> Result<(), CoreError> {
+    let nl = slot.x.len();
+    let mut rp = vec![0.0; nl];
+    let mut rm = vec![0.0; nl];
+    slot.kx.fill(0.0);
+    slot.cv.fill(0.0);
+    for which in 0..2 {
+        for j in 0..nl {
+            let base = if which == 0 { slot.x[j] } else { slot.v[j] };
+            let h = f64::EPSILON.cbrt() * (1.0 + base.abs());
+            let eval_at = |value: f64, out: &mut [f64]| -> Result<(), CoreError> {
+                let (mut x, mut v) = (slot.x.clone(), slot.v.clone());
+                if which == 0 {
+                    x[j] = value;
+                } else {
+                    v[j] = value;
+                }
+                out.fill(0.0);
+                slot.element.eval(&x, &v, t, out, None)
+            };
+            eval_at(base + h, &mut rp)?;
+            eval_at(base - h, &mut rm)?;
+            let dst = if which == 0 {
+                &mut slot.kx
+            } else {
+                &mut slot.cv
+            };
+            for i in 0..nl {
+                dst[i * nl + j] = (rp[i] - rm[i]) / (2.0 * h);
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,163 @@
+//! How the state is approximated inside a step (the paper's schemes a, b, c, eq. 20) and how
+//! the pseudo-force along it is integrated against `A(dt - tau)` (the quadratures).
+
+use crate::oscillator::Transfer;
+
+/// The approximation of `x(tau)`, `x'(tau)` inside the step (NOTES.md section 2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scheme {
+    /// `x' = (v0 + v1)/2` constant, `x = x0 + tau (v0 + v1)/2`.
+    A,
+    /// `x` linear from `x0` to `x1`, `x' = (x1 - x0)/dt` (unconditionally stable).
+    B,
+    /// `x` the parabola through `x0` with slope `v0` and `x1`;
+    /// `x' = v0 + 2 (tau/dt) (x1 - x0 - v0 dt)/dt`.
+    C,
+}
+
+/// How the pseudo-force along the interpolant is integrated over the step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Quadrature {
+    /// Linear in time between its values at the start and the end of the step.
+    Trapezoid,
+    /// The parabola through its values at the start, middle and end (the paper's `B`).
+    Parabolic,
+    /// The cubic through four equally spaced values: exact for forces that are polynomials
+    /// of degree <= 3 along a linear interpolant (schemes a and b), with Duhamel moments up
+    /// to `s^3`.
+    Exact,
+}
+
+impl Quadrature {
+    /// Nodes `s = tau/dt` and the monomial coefficients of their Lagrange polynomials.
+    fn rule(self) -> (&'static [f64], &'static [[f64; 4]]) {
+        match self {
+            Quadrature::Trapezoid => (&[0.0, 1.0], &[[1.0, -1.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]]),
+            Quadrature::Parabolic => (
+                &[0.0, 0.5, 1.0],
+                &[
+                    [1.0, -3.0, 2.0, 0.0],
+                    [0.0, 4.0, -4.0, 0.0],
+                    [0.0, -1.0, 2.0, 0.0],
+                ],
+            ),
+            Quadrature::Exact => (
+                &[0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0],
+                &[
+                    [1.0, -5.5, 9.0, -4.5],
+                    [0.0, 9.0, -22.5, 13.5],
+                    [0.0, -4.5, 18.0, -13.5],
+                    [0.0, 1.0, -4.5, 4.5],
+                ],
+            ),
+        }
+    }
+}
+
+/// One quadrature node: where it lies and how the interpolated state depends on the end
+/// state `(q1, v1)` there.
+#[derive(Debug, Clone, Copy)]
+pub struct Node {
+    /// `s = tau/dt`.
+    pub s: f64,
+    /// `dq(s)/dq1, dq(s)/dv1, dv(s)/dq1, dv(s)/dv1`.
+    pub d: [f64; 4],
+}
+
+impl Scheme {
+    /// The state `(q, v)` at `s` for one mode.
+    pub fn state(self, s: f64, dt: f64, q0: f64, v0: f64, q1: f64, v1: f64) -> (f64, f64) {
+        match self {
+            Scheme::A => {
+                let vm = 0.5 * (v0 + v1);
+                (q0 + s * dt * vm, vm)
+            }
+            Scheme::B => (q0 + s * (q1 - q0), (q1 - q0) / dt),
+            Scheme::C => {
+                let e = q1 - q0 - v0 * dt;
+                (q0 + s * dt * v0 + s * s * e, v0 + 2.0 * s * e / dt)
+            }
+        }
+    }
+
+    /// Derivatives of the state at `s` with respect to `(q1, v1)`.
+    fn derivatives(self, s: f64, dt: f64) -> [f64; 4] {
+        match self {
+            Scheme::A => [0.0, 0.5 * s * dt, 0.0, 0.5],
+            Scheme::B => [s, 0.0, 1.0 / dt, 0.0],
+            Scheme::C => [s * s, 0.0, 2.0 * s / dt, 0.0],
+        }
+    }
+}
+
+/// Nodes and per-mode weights: the end state gains `wx[i][m] Q_i[m]` and `wv[i][m] Q_i[m]`
+/// from the pseudo-force value `Q_i` at node `i`.
+pub struct Rule {
+    /// The nodes.
+    pub nodes: Vec<Node>,
+    /// Displacement weights per node and mode.
+    pub wx: Vec<Vec<f64>>,
+    /// Velocity weights per node and mode.
+    pub wv: Vec<Vec<f64>>,
+}
+
+impl Rule {
+    /// The rule for a scheme and quadrature, with the exact moments of each mode.
+    pub fn new(scheme: Scheme, quadrature: Quadrature, dt: f64, transfers: &[Transfer]) -> Self {
+        let (nodes, lagrange) = quadrature.rule();
+        let weight = |row: usize, l: &[f64; 4]| -> Vec<f64> {
+            transfers
+                .iter()
+                .map(|tr| (0..4).map(|k| l[k] * tr.m[row][k]).sum())
+                .collect()
+        };
+        Rule {
+            nodes: nodes
+                .iter()
+                .map(|&s| Node {
+                    s,
+                    d: scheme.derivatives(s, dt),
+                })
+                .collect(),
+            wx: lagrange.iter().map(|l| weight(0, l)).collect(),
+            wv: lagrange.iter().map(|l| weight(1, l)).collect(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lagrange_rules_reproduce_their_nodes() {
+        for q in [
+            Quadrature::Trapezoid,
+            Quadrature::Parabolic,
+            Quadrature::Exact,
+        ] {
+            let (nodes, l) = q.rule();
+            for (i, li) in l.iter().enumerate() {
+                for (j, &s) in nodes.iter().enumerate() {
+                    let v = li[0] + li[1] * s + li[2] * s * s + li[3] * s * s * s;
+                    let want = if i == j { 1.0 } else { 0.0 };
+                    assert!((v - want).abs() < 1e-14, "{q:?} {i} {j}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn schemes_match_their_end_conditions() {
+        let (dt, q0, v0, q1, v1) = (0.3, 1.0, -2.0, 0.7, 0.5);
+        for sch in [Scheme::A, Scheme::B, Scheme::C] {
+            let (q, _) = sch.state(0.0, dt, q0, v0, q1, v1);
+            assert!((q - q0).abs() < 1e-15);
+        }
+        assert!((Scheme::B.state(1.0, dt, q0, v0, q1, v1).0 - q1).abs() < 1e-15);
+        let (q, v) = Scheme::C.state(1.0, dt, q0, v0, q1, v1);
+        assert!((q - q1).abs() < 1e-15);
+        assert!((Scheme::C.state(0.0, dt, q0, v0, q1, v1).1 - v0).abs() < 1e-15);
+        assert!(v.is_finite());
+    }
+}

@@ -1,0 +1,461 @@
+//! One implicit step: `z = z_lin + sum_i W_i Q_i(z)` for the end state `z = (q1, v1)`.
+//!
+//! Which half of `z` is unknown depends on the scheme: the pseudo-force along schemes b and
+//! c depends on `q1` only, along scheme a on `v1` only; the other half then follows
+//! explicitly. The estimated-mass treatment depends on both. The equation is solved by
+//! Newton's method with the elements' analytic tangents, or, for one mode with polynomial
+//! forces of degree <= 3, as the cubic it is (the paper's closed form).
+
+use super::pseudo::{Jacobian, PseudoForce};
+use super::scheme::{Rule, Scheme};
+use crate::cubic::nearest_root;
+use crate::dense::solve_in_place;
+use crate::error::CoreError;
+
+/// How the step equation is solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Solver {
+    /// The closed-form cubic where it applies, Newton otherwise.
+    Auto,
+    /// Always Newton.
+    Newton,
+}
+
+/// Which part of the end state the pseudo-force depends on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Unknown {
+    Q1,
+    V1,
+    Both,
+}
+
+/// Which nodes to evaluate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Nodes {
+    /// Those whose state does not depend on the unknowns (once per step).
+    Constant,
+    /// Those whose state does.
+    Varying,
+}
+
+/// The start of a step and its linear (load-only) prediction.
+pub struct StepInput<'s> {
+    pub t: f64,
+    pub q0: &'s [f64],
+    pub v0: &'s [f64],
+    /// End state of the linear step (background and external loads only).
+    pub q_lin: &'s [f64],
+    pub v_lin: &'s [f64],
+    /// Modal external load basis `(p0, Dp, DDp)` over the step.
+    pub pb: [&'s [f64]; 3],
+}
+
+/// Reusable buffers and settings of the step solver.
+pub struct Stepper<'r> {
+    n: usize,
+    rule: &'r Rule,
+    scheme: Scheme,
+    dt: f64,
+    tol: f64,
+    max_iter: usize,
+    unknown: Unknown,
+    closed_form: bool,
+    constant: Vec<bool>,
+    q1: Vec<f64>,
+    v1: Vec<f64>,
+    qn: Vec<f64>,
+    vn: Vec<f64>,
+    pn: Vec<f64>,
+    acc: Vec<f64>,
+    start: Vec<f64>,
+    values: Vec<Vec<f64>>,
+    jacs: Vec<Jacobian>,
+    res: Vec<f64>,
+    mat: Vec<f64>,
+}
+
+impl<'r> Stepper<'r> {
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        rule: &'r Rule,
+        scheme: Scheme,
+        dt: f64,
+        tol: f64,
+        max_iter: usize,
+        solver: Solver,
+        pf: &PseudoForce,
+        estimate: bool,
+    ) -> Self {
+        let n = rule.wx[0].len();
+        let unknown = match (estimate, scheme) {
+            (true, _) => Unknown::Both,
+            (false, Scheme::A) => Unknown::V1,
+            (false, _) => Unknown::Q1,
+        };
+        // A node whose state does not depend on the unknowns is evaluated once per step.
+        let constant = rule
+            .nodes
+            .iter()
+            .map(|node| {
+                let [dqq, dqv, dvq, dvv] = node.d;
+                match unknown {
+                    Unknown::Q1 => dqq == 0.0 && (dvq == 0.0 || !pf.uses_velocity),
+                    Unknown::V1 => dqv == 0.0 && (dvv == 0.0 || !pf.uses_velocity),
+                    Unknown::Both => false,
+                }
+            })
+            .collect();
+        let m = if unknown == Unknown::Both { 2 * n } else { n };
+        let nodes = rule.nodes.len();
+        Stepper {
+            n,
+            rule,
+            scheme,
+            dt,
+            tol,
+            max_iter,
+            unknown,
+            closed_form: solver == Solver::Auto
+                && n == 1
+                && unknown != Unknown::Both
+                && pf.polynomial,
+            constant,
+            q1: vec![0.0; n],
+            v1: vec![0.0; n],
+            qn: vec![0.0; n],
+            vn: vec![0.0; n],
+            pn: vec![0.0; n],
+            acc: vec![0.0; n],
+            start: vec![0.0; n],
+            values: vec![vec![0.0; n]; nodes],
+            jacs: (0..nodes).map(|_| Jacobian::new(n)).collect(),
+            res: vec![0.0; m],
+            mat: vec![0.0; m * m],
+        }
+    }
+
+    /// Whether steps use the closed-form cubic.
+    pub fn uses_closed_form(&self) -> bool {
+        self.closed_form
+    }
+
+    /// Evaluates the pseudo-force at the selected nodes for the current `(q1, v1)`.
+    fn nodes(
+        &mut self,
+        pf: &mut PseudoForce,
+        inp: &StepInput,
+        tangent: bool,
+        which: Nodes,
+    ) -> Result<(), CoreError> {
+        let dt = self.dt;
+        for (i, node) in self.rule.nodes.iter().enumerate() {
+            if self.constant[i] != (which == Nodes::Constant) {
+                continue;
+            }
+            let s = node.s;
+            for m in 0..self.n {
+                (self.qn[m], self.vn[m]) = self
+                    .scheme
+                    .state(s, dt, inp.q0[m], inp.v0[m], self.q1[m], self.v1[m]);
+                self.pn[m] = inp.pb[0][m] + inp.pb[1][m] * s + 4.0 * inp.pb[2][m] * s * (1.0 - s);
+                self.acc[m] = (self.v1[m] - inp.v0[m]) / dt;
+            }
+            let jac = if tangent {
+                Some(&mut self.jacs[i])
+            } else {
+                None
+            };
+            let a = (self.unknown == Unknown::Both).then_some(&self.acc[..]);
+            pf.eval(
+                &self.qn,
+                &self.vn,
+                inp.t + s * dt,
+                &self.pn,
+                a,
+                &mut self.values[i],
+                jac,
+            )?;
+        }
+        Ok(())
+    }
+
+    /// `row` 0: `q_lin + sum wx Q`; row 1: `v_lin + sum wv Q`, for mode `m`.
+    fn explicit(&self, inp: &StepInput, row: usize, m: usize) -> f64 {
+        let (base, w) = if row == 0 {
+            (inp.q_lin, &self.rule.wx)
+        } else {
+            (inp.v_lin, &self.rule.wv)
+        };
+        base[m]
+            + w.iter()
+                .zip(&self.values)
+                .map(|(wi, qi)| wi[m] * qi[m])
+                .sum::<f64>()
+    }
+
+    /// Residual of the active unknowns; returns its max norm.
+    fn residual(&mut self, inp: &StepInput) -> f64 {
+        let n = self.n;
+        let mut norm = 0.0_f64;
+        for m in 0..n {
+            let rows: &[(usize, usize)] = match self.unknown {
+                Unknown::Q1 => &[(0, 0)],
+                Unknown::V1 => &[(1, 0)],
+                Unknown::Both => &[(0, 0), (1, 1)],
+            };
+            for &(row, block) in rows {
+                let z = if row == 0 { self.q1[m] } else { self.v1[m] };
+                let r = z - self.explicit(inp, row, m);
+                self.res[block * n + m] = r;
+                norm = norm.max(r.abs());
+            }
+        }
+        norm
+    }
+
+    /// Newton matrix `I - sum_i W_i dQ_i/dz` on the active unknowns.
+    fn jacobian(&mut self) {
+        let n = self.n;
+        let dt = self.dt;
+        let m = self.res.len();
+        self.mat.fill(0.0);
+        for i in 0..m {
+            self.mat[i * m + i] = 1.0;
+        }
+        for (node, ((wx, wv), jac)) in self
+            .rule
+            .nodes
+            .iter()
+            .zip(self.rule.wx.iter().zip(&self.rule.wv).zip(&self.jacs))
+        {
+            let [dqq, dqv, dvq, dvv] = node.d;
+            // dQ/dq1 and dQ/dv1 at this node, entry (r, c)
+            let d_dq1 = |r: usize, c: usize| jac.kq[r * n + c] * dqq + jac.cq[r * n + c] * dvq;
+            let d_dv1 = |r: usize, c: usize| {
+                jac.kq[r * n + c] * dqv
+                    + jac.cq[r * n + c] * dvv
+                    + if r == c { jac.da / dt } else { 0.0 }
+            };
+            for r in 0..n {
+                match self.unknown {
+                    Unknown::Q1 => {
+                        for c in 0..n {
+                            self.mat[r * m + c] -= wx[r] * d_dq1(r, c);
+                        }
+                    }
+                    Unknown::V1 => {
+                        for c in 0..n {
+                            self.mat[r * m + c] -= wv[r] * d_dv1(r, c);
+                        }
+                    }
+                    Unknown::Both => {
+                        for c in 0..n {
+                            let (a, b) = (d_dq1(r, c), d_dv1(r, c));
+                            self.mat[r * m + c] -= wx[r] * a;
+                            self.mat[r * m + n + c] -= wx[r] * b;
+                            self.mat[(n + r) * m + c] -= wv[r] * a;
+                            self.mat[(n + r) * m + n + c] -= wv[r] * b;
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Solves the step; writes the end state into `q_out`, `v_out`. Returns the Newton
+    /// iterations used (0 for the closed form).
+    pub fn solve(
+        &mut self,
+        pf: &mut PseudoForce,
+        inp: &StepInput,
+        q_out: &mut [f64],
+        v_out: &mut [f64],
+    ) -> Result<usize, CoreError> {
+        let n = self.n;
+        // Predictor: the linear step plus the pseudo-force of the start state held constant.
+        // A constant first node is the start state itself (s = 0, and the force does not
+        // depend on the only thing that differs, the velocity of schemes a and b).
+        self.q1.copy_from_slice(inp.q0);
+        self.v1.copy_from_slice(inp.v0);
+        self.nodes(pf, inp, false, Nodes::Constant)?;
+        if self.constant[0] {
+            self.start.copy_from_slice(&self.values[0]);
+        } else {
+            self.acc.fill(0.0);
+            pf.eval(
+                inp.q0,
+                inp.v0,
+                inp.t,
+                inp.pb[0],
+                Some(&self.acc),
+                &mut self.start,
+                None,
+            )?;
+        }
+        for m in 0..n {
+            let wx: f64 = self.rule.wx.iter().map(|w| w[m]).sum();
+            let wv: f64 = self.rule.wv.iter().map(|w| w[m]).sum();
+            self.q1[m] = inp.q_lin[m] + wx * self.start[m];
+            self.v1[m] = inp.v_lin[m] + wv * self.start[m];
+        }
+        let iterations = if self.closed_form && self.closed(pf, inp)? {
+            0
+        } else {
+            let it = self.newton(pf, inp)?;
+            // Node values at the converged state (Newton's last ones precede its update).
+            self.nodes(pf, inp, false, Nodes::Varying)?;
+            it
+        };
+        // The other half of the end state, explicitly, from the node values.
+        for m in 0..n {
+            match self.unknown {
+                Unknown::Q1 => self.v1[m] = self.explicit(inp, 1, m),
+                Unknown::V1 => self.q1[m] = self.explicit(inp, 0, m),
+                Unknown::Both => {}
+            }
+        }
+        q_out.copy_from_slice(&self.q1);
+        v_out.copy_from_slice(&self.v1);
+        Ok(iterations)
+    }
+
+    /// The pseudo-force start values of the last step (the start state's `Q`), when the
+    /// first node was that state: saves an evaluation for the saved history.
+    pub fn start_pseudo(&self) -> Option<&[f64]> {
+        self.constant[0].then_some(&self.start[..])
+    }
+
+    fn unknown_value(&self, m: usize) -> f64 {
+        if self.unknown == Unknown::V1 {
+            self.v1[m]
+        } else {
+            self.q1[m]
+        }
+    }
+
+    fn set_unknown(&mut self, m: usize, u: f64) {
+        if self.unknown == Unknown::V1 {
+            self.v1[m] = u;
+        } else {
+            self.q1[m] = u;
+        }
+    }
+
+    fn newton(&mut self, pf: &mut PseudoForce, inp: &StepInput) -> Result<usize, CoreError> {
+        let n = self.n;
+        let m = self.res.len();
+        let scale0 = inp
+            .q0
+            .iter()
+            .chain(inp.v0)
+            .chain(inp.q_lin)
+            .chain(inp.v_lin)
+            .fold(0.0_f64, |a, b| a.max(b.abs()));
+        let mut norm = f64::INFINITY;
+        for iter in 1..=self.max_iter {
+            self.nodes(pf, inp, true, Nodes::Varying)?;
+            norm = self.residual(inp);
+            self.jacobian();
+            let mut delta: Vec<f64> = self.res.iter().map(|r| -r).collect();
+            if !solve_in_place(m, &self.mat, &mut delta) {
+                break;
+            }
+            let mut size = 0.0_f64;
+            let mut zmax = 0.0_f64;
+            for (k, d) in delta.iter().enumerate() {
+                let (block, i) = (k / n, k % n);
+                let z = if self.unknown == Unknown::Both && block == 1 {
+                    self.v1[i] += d;
+                    self.v1[i]
+                } else if self.unknown == Unknown::Both {
+                    self.q1[i] += d;
+                    self.q1[i]
+                } else {
+                    let u = self.unknown_value(i) + d;
+                    self.set_unknown(i, u);
+                    u
+                };
+                size = size.max(d.abs());
+                zmax = zmax.max(z.abs());
+            }
+            if size <= self.tol * zmax.max(scale0) || size == 0.0 {
+                return Ok(iter);
+            }
+        }
+        Err(CoreError::NoConvergence {
+            time: inp.t + self.dt,
+            residual: norm,
+            iterations: self.max_iter,
+            last_good_time: inp.t,
+        })
+    }
+
+    /// `dQ_i/du` at node `i` for one mode (the unknown's direction).
+    fn node_slope(&self, i: usize) -> f64 {
+        let [dqq, dqv, dvq, dvv] = self.rule.nodes[i].d;
+        let j = &self.jacs[i];
+        match self.unknown {
+            Unknown::V1 => j.kq[0] * dqv + j.cq[0] * dvv,
+            _ => j.kq[0] * dqq + j.cq[0] * dvq,
+        }
+    }
+
+    /// The closed-form cubic for one mode; `false` when it has no real root.
+    ///
+    /// With polynomial forces of degree <= 3 and a state affine in the unknown `u`, the
+    /// residual and every node's pseudo-force are cubics in `u`: values and analytic slopes
+    /// at two points determine them exactly (Hermite), so two evaluations give the cubic,
+    /// its root nearest the predictor, and the node values there.
+    fn closed(&mut self, pf: &mut PseudoForce, inp: &StepInput) -> Result<bool, CoreError> {
+        let u_pred = self.unknown_value(0);
+        let u_start = if self.unknown == Unknown::V1 {
+            inp.v0[0]
+        } else {
+            inp.q0[0]
+        };
+        let h = (u_pred - u_start)
+            .abs()
+            .max(1e-6 * u_pred.abs().max(u_start.abs()))
+            .max(1e-100);
+        let nodes = self.rule.nodes.len();
+        // (value, slope) of the residual and of each node's Q at delta = 0 and delta = 1.
+        let mut r = [[0.0; 2]; 2];
+        let mut qv = [[[0.0; 2]; 2]; 4];
+        for (k, delta) in [0.0, 1.0].into_iter().enumerate() {
+            self.set_unknown(0, u_pred + h * delta);
+            self.nodes(pf, inp, true, Nodes::Varying)?;
+            self.residual(inp);
+            self.jacobian();
+            r[k] = [self.res[0], self.mat[0] * h];
+            for (i, slot) in qv.iter_mut().enumerate().take(nodes) {
+                if !self.constant[i] {
+                    slot[k] = [self.values[i][0], self.node_slope(i) * h];
+                }
+            }
+        }
+        let [c0, c1, c2, c3] = hermite(r[0], r[1]);
+        let Some(delta) = nearest_root([c0, c1, c2, c3], 0.0).filter(|d| d.is_finite()) else {
+            self.set_unknown(0, u_pred);
+            return Ok(false);
+        };
+        self.set_unknown(0, u_pred + h * delta);
+        for (i, data) in qv.iter().enumerate().take(nodes) {
+            if !self.constant[i] {
+                let [a0, a1, a2, a3] = hermite(data[0], data[1]);
+                self.values[i][0] = ((a3 * delta + a2) * delta + a1) * delta + a0;
+            }
+        }
+        Ok(true)
+    }
+}
+
+/// Monomial coefficients on `[0, 1]` of the cubic with value and slope `f0` at 0, `f1` at 1.
+fn hermite(f0: [f64; 2], f1: [f64; 2]) -> [f64; 4] {
+    let ([y0, d0], [y1, d1]) = (f0, f1);
+    [
+        y0,
+        d0,
+        3.0 * (y1 - y0) - 2.0 * d0 - d1,
+        2.0 * (y0 - y1) + d0 + d1,
+    ]
+}

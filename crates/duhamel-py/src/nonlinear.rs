@@ -1,0 +1,191 @@
+//! Binding of the nonlinear semi-analytic integrator.
+
+use duhamel_core::elements::Element;
+use duhamel_core::linear::{LinearProblem, ModalForcing};
+use duhamel_core::mass::{MassForm, MassLaw, MassTreatment, TimeVaryingMass};
+use duhamel_core::semianalytic::{self, NonlinearProblem, Options, Quadrature, Scheme, Solver};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::elements;
+use crate::run::{finish, parse_loads, PyForcing};
+use crate::vec_of;
+
+fn parse_options(options: &Bound<'_, PyAny>) -> PyResult<Options> {
+    let scheme = match options.get_item(0)?.extract::<String>()?.as_str() {
+        "a" => Scheme::A,
+        "b" => Scheme::B,
+        "c" => Scheme::C,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "`scheme` must be 'a', 'b' or 'c', got {other:?}"
+            )))
+        }
+    };
+    let quadrature = match options.get_item(1)?.extract::<String>()?.as_str() {
+        "trapezoid" => Quadrature::Trapezoid,
+        "parabolic" => Quadrature::Parabolic,
+        "exact" => Quadrature::Exact,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "`quadrature` must be 'trapezoid', 'parabolic' or 'exact', got {other:?}"
+            )))
+        }
+    };
+    let solver = match options.get_item(4)?.extract::<String>()?.as_str() {
+        "auto" => Solver::Auto,
+        "newton" => Solver::Newton,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "`solver` must be 'auto' or 'newton', got {other:?}"
+            )))
+        }
+    };
+    Ok(Options {
+        scheme,
+        quadrature,
+        tol: options.get_item(2)?.extract()?,
+        max_iter: options.get_item(3)?.extract()?,
+        solver,
+    })
+}
+
+fn parse_mass(mass: &Bound<'_, PyAny>) -> PyResult<TimeVaryingMass> {
+    let kind: String = mass.get_item(0)?.extract()?;
+    let p = mass.get_item(1)?;
+    let law = match kind.as_str() {
+        "exponential" => MassLaw::Exponential {
+            rate: p.get_item(0)?.extract()?,
+            scale: p.get_item(1)?.extract()?,
+        },
+        "harmonic" => MassLaw::Harmonic {
+            amplitude: p.get_item(0)?.extract()?,
+            frequency: p.get_item(1)?.extract()?,
+        },
+        "table" => MassLaw::Table {
+            t: vec_of(&p.get_item(0)?, "t")?,
+            mu: vec_of(&p.get_item(1)?, "mu")?,
+        },
+        other => return Err(PyValueError::new_err(format!("unknown mass law {other:?}"))),
+    };
+    let form = match mass.get_item(2)?.extract::<String>()?.as_str() {
+        "acceleration" => MassForm::Acceleration,
+        "momentum" => MassForm::Momentum,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "`form` must be 'acceleration' or 'momentum', got {other:?}"
+            )))
+        }
+    };
+    let treatment = match mass.get_item(4)?.extract::<String>()?.as_str() {
+        "eliminate" => MassTreatment::Eliminate,
+        "estimate" => MassTreatment::Estimate,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "`mass_treatment` must be 'eliminate' or 'estimate', got {other:?}"
+            )))
+        }
+    };
+    Ok(TimeVaryingMass {
+        law,
+        form,
+        scale_stiffness: mass.get_item(3)?.extract()?,
+        treatment,
+    })
+}
+
+fn optional_matrix(obj: Option<&Bound<'_, PyAny>>, name: &str) -> PyResult<Option<Vec<f64>>> {
+    obj.map(|m| vec_of(&m.call_method0("ravel")?, name))
+        .transpose()
+}
+
+/// Integrates a nonlinear modal problem; see `duhamel.solve`.
+///
+/// `phi` is the `(n_dof, n_modes)` mode-shape matrix, `elements` a list of `(kind, ...)`
+/// tuples, `coupling_k`/`coupling_c` modal coupling matrices, `mass` a
+/// `(kind, params, form, scale_stiffness, treatment)` tuple and `options`
+/// `(scheme, quadrature, tol, max_iter, solver)`. Returns the history dict of `solve_linear`
+/// with `pseudo` (the modal pseudo-force at the saved states) and `stats`.
+#[pyfunction]
+#[pyo3(signature = (k, c, q0, v0, loads, dt, n_steps, save_every, phi, elements, options, coupling_k=None, coupling_c=None, mass=None, forcing=None, phi_t=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn solve_nonlinear<'py>(
+    py: Python<'py>,
+    k: &Bound<'py, PyAny>,
+    c: &Bound<'py, PyAny>,
+    q0: &Bound<'py, PyAny>,
+    v0: &Bound<'py, PyAny>,
+    loads: &Bound<'py, PyAny>,
+    dt: f64,
+    n_steps: usize,
+    save_every: usize,
+    phi: &Bound<'py, PyAny>,
+    elements: &Bound<'py, PyAny>,
+    options: &Bound<'py, PyAny>,
+    coupling_k: Option<&Bound<'py, PyAny>>,
+    coupling_c: Option<&Bound<'py, PyAny>>,
+    mass: Option<&Bound<'py, PyAny>>,
+    forcing: Option<Py<PyAny>>,
+    phi_t: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let k = vec_of(k, "omega2")?;
+    let c = vec_of(c, "c")?;
+    let q0 = vec_of(q0, "x0")?;
+    let v0 = vec_of(v0, "v0")?;
+    let loads = parse_loads(loads)?;
+    let phi_v = vec_of(&phi.call_method0("ravel")?, "phi")?;
+    let n_dof = if k.is_empty() {
+        0
+    } else {
+        phi_v.len() / k.len()
+    };
+    let (boxed, python) = elements::parse(elements)?;
+    let refs: Vec<&dyn Element> = boxed.iter().map(|b| b.as_ref()).collect();
+    let coupling_k = optional_matrix(coupling_k, "coupling_k")?;
+    let coupling_c = optional_matrix(coupling_c, "coupling_c")?;
+    let mass = mass.map(parse_mass).transpose()?;
+    let options = parse_options(options)?;
+    let mut py_forcing = PyForcing::new(forcing, phi_t, k.len())?;
+    let problem = NonlinearProblem {
+        base: LinearProblem {
+            k: &k,
+            c: &c,
+            q0: &q0,
+            v0: &v0,
+            loads: &loads,
+            dt,
+            n_steps,
+            save_every,
+            threads: Some(1),
+        },
+        phi: &phi_v,
+        n_dof,
+        elements: &refs,
+        coupling_k: coupling_k.as_deref(),
+        coupling_c: coupling_c.as_deref(),
+        mass: mass.as_ref(),
+        options,
+    };
+    let result = py.detach(|| {
+        let f = py_forcing.as_mut().map(|f| f as &mut dyn ModalForcing);
+        semianalytic::integrate(&problem, f)
+    });
+    let (result, stats) = match result {
+        Ok((h, s)) => (Ok(h), Some(s)),
+        Err(e) => (Err(e), None),
+    };
+    let py_error = py_forcing.and_then(|f| f.error).or_else(|| {
+        python
+            .iter()
+            .find_map(|e| e.error.lock().unwrap_or_else(|p| p.into_inner()).take())
+    });
+    let d = finish(py, result, py_error)?;
+    let st = PyDict::new(py);
+    if let Some(s) = stats {
+        st.set_item("newton_iterations", s.newton_iterations)?;
+        st.set_item("closed_form_steps", s.closed_form_steps)?;
+    }
+    d.set_item("stats", st)?;
+    Ok(d)
+}

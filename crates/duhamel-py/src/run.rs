@@ -1,0 +1,239 @@
+//! The linear time loop's binding and what every run shares: loads, Python load functions,
+//! and the conversion of a history or a failure into Python objects.
+
+use duhamel_core::linear::{self, Failure, History, LinearProblem, ModalForcing};
+use duhamel_core::loads::{ModalLoad, TimeFunction};
+use duhamel_core::CoreError;
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+
+use crate::{core_err, vec_of};
+
+/// Parses `(pattern, kind, params)` load tuples.
+pub(crate) fn parse_loads(loads: &Bound<'_, PyAny>) -> PyResult<Vec<ModalLoad>> {
+    let mut out = Vec::new();
+    for item in loads.try_iter()? {
+        let item = item?;
+        let tup = item
+            .cast::<PyTuple>()
+            .map_err(|_| PyTypeError::new_err("load spec must be a tuple"))?;
+        let pattern = vec_of(&tup.get_item(0)?, "load pattern")?;
+        let kind: String = tup.get_item(1)?.extract()?;
+        let params = tup.get_item(2)?;
+        let time = match kind.as_str() {
+            "step" => TimeFunction::Step {
+                t0: params.get_item(0)?.extract()?,
+            },
+            "harmonic" => TimeFunction::Harmonic {
+                omega: params.get_item(0)?.extract()?,
+                phase: params.get_item(1)?.extract()?,
+            },
+            "table" => TimeFunction::Table {
+                t: vec_of(&params.get_item(0)?, "t")?,
+                v: vec_of(&params.get_item(1)?, "values")?,
+                hold: params.get_item(2)?.extract()?,
+            },
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "unknown load kind {other:?}"
+                )))
+            }
+        };
+        time.validate().map_err(core_err)?;
+        out.push(ModalLoad { pattern, time });
+    }
+    Ok(out)
+}
+
+/// Calls a Python function of time and projects its load vector on the modes.
+pub(crate) struct PyForcing {
+    func: Py<PyAny>,
+    /// `phi_t[m * n_dof + d]`: mode shapes, transposed.
+    phi_t: Vec<f64>,
+    n_dof: usize,
+    /// The Python exception that stopped the run, re-raised by the caller.
+    pub(crate) error: Option<PyErr>,
+}
+
+impl PyForcing {
+    /// The forcing of a Python function of time, projected with `phi_t` (`n_modes x n_dof`).
+    pub(crate) fn new(
+        func: Option<Py<PyAny>>,
+        phi_t: Option<&Bound<'_, PyAny>>,
+        n_modes: usize,
+    ) -> PyResult<Option<Self>> {
+        let Some(func) = func else {
+            return Ok(None);
+        };
+        let phi_t =
+            phi_t.ok_or_else(|| PyValueError::new_err("`phi_t` is needed with `forcing`"))?;
+        let phi = vec_of(&phi_t.call_method0("ravel")?, "phi_t")?;
+        let n_dof = phi.len().checked_div(n_modes).unwrap_or(0);
+        if n_dof * n_modes != phi.len() {
+            return Err(PyValueError::new_err("`phi_t` must have n_modes rows"));
+        }
+        Ok(Some(PyForcing {
+            func,
+            phi_t: phi,
+            n_dof,
+            error: None,
+        }))
+    }
+}
+
+impl PyForcing {
+    fn eval(&self, py: Python<'_>, t: f64, out: &mut [f64]) -> PyResult<()> {
+        let res = self.func.call1(py, (t,))?;
+        let np = py.import("numpy")?;
+        let arr = np.call_method1("asarray", (res.bind(py), "float64"))?;
+        let n_dof = self.n_dof;
+        let bad =
+            |what: String| PyValueError::new_err(format!("the `Callable` load {what} at t = {t}"));
+        let arr = arr
+            .cast::<PyArray1<f64>>()
+            .map_err(|_| bad(format!("returned a non-vector, expected shape ({n_dof},)")))?;
+        let ro = arr.readonly();
+        let f = ro.as_slice()?;
+        if f.len() != n_dof {
+            return Err(bad(format!(
+                "returned shape ({},), expected ({n_dof},)",
+                f.len()
+            )));
+        }
+        if let Some(i) = f.iter().position(|x| !x.is_finite()) {
+            return Err(bad(format!("returned a non-finite value at dof {i}")));
+        }
+        for (m, o) in out.iter_mut().enumerate() {
+            let row = &self.phi_t[m * n_dof..(m + 1) * n_dof];
+            *o = row.iter().zip(f).map(|(p, x)| p * x).sum();
+        }
+        Ok(())
+    }
+}
+
+impl ModalForcing for PyForcing {
+    fn modal_loads(&mut self, times: &[f64], out: &mut [f64]) -> Result<(), CoreError> {
+        let n_modes = out.len() / times.len().max(1);
+        Python::attach(|py| {
+            for (j, &t) in times.iter().enumerate() {
+                if let Err(err) = self.eval(py, t, &mut out[j * n_modes..(j + 1) * n_modes]) {
+                    let message = err.to_string();
+                    self.error = Some(err);
+                    return Err(CoreError::Callback { time: t, message });
+                }
+            }
+            Ok(())
+        })
+    }
+}
+
+pub(crate) fn history_dict<'py>(py: Python<'py>, h: History) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let (nm, ns) = (h.n_modes, h.t.len());
+    let n_loads = h.load_values.len() / ns.max(1);
+    d.set_item("t", PyArray1::from_vec(py, h.t))?;
+    let as2 = |v: Vec<f64>, cols: usize| -> PyResult<Bound<'py, PyArray2<f64>>> {
+        PyArray1::from_vec(py, v).reshape([ns, cols])
+    };
+    d.set_item("q", as2(h.q, nm)?)?;
+    d.set_item("v", as2(h.v, nm)?)?;
+    d.set_item("load_values", as2(h.load_values, n_loads)?)?;
+    for (key, values) in [("forcing", h.forcing), ("pseudo", h.pseudo)] {
+        if values.is_empty() {
+            d.set_item(key, py.None())?;
+        } else {
+            d.set_item(key, as2(values, nm)?)?;
+        }
+    }
+    Ok(d)
+}
+
+/// Integrates uncoupled modal oscillators exactly; see `duhamel.solve`.
+///
+/// Returns a dict with `t`, time-major `q` and `v` (`(n_saved, n_modes)`), `load_values`
+/// (`(n_saved, n_loads)`: each load's time function at the saved instants), `forcing`
+/// (modal forcing at the saved instants, or None) and `error`: None, or a dict with `kind`,
+/// `message`, `time`, `step` when the run stopped early (the arrays then hold the history up
+/// to the last good saved instant).
+#[pyfunction]
+#[pyo3(signature = (k, c, q0, v0, loads, dt, n_steps, save_every, threads=None, forcing=None, phi_t=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn solve_linear<'py>(
+    py: Python<'py>,
+    k: &Bound<'py, PyAny>,
+    c: &Bound<'py, PyAny>,
+    q0: &Bound<'py, PyAny>,
+    v0: &Bound<'py, PyAny>,
+    loads: &Bound<'py, PyAny>,
+    dt: f64,
+    n_steps: usize,
+    save_every: usize,
+    threads: Option<usize>,
+    forcing: Option<Py<PyAny>>,
+    phi_t: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let k = vec_of(k, "omega2")?;
+    let c = vec_of(c, "c")?;
+    let q0 = vec_of(q0, "x0")?;
+    let v0 = vec_of(v0, "v0")?;
+    let loads = parse_loads(loads)?;
+    let mut py_forcing = PyForcing::new(forcing, phi_t, k.len())?;
+    let problem = LinearProblem {
+        k: &k,
+        c: &c,
+        q0: &q0,
+        v0: &v0,
+        loads: &loads,
+        dt,
+        n_steps,
+        save_every,
+        threads,
+    };
+    let result = py.detach(|| {
+        let f = py_forcing.as_mut().map(|f| f as &mut dyn ModalForcing);
+        linear::integrate(&problem, f)
+    });
+    finish(py, result, py_forcing.and_then(|f| f.error))
+}
+
+/// The Python result of a run: the history dict, with `error` None or describing why the run
+/// stopped early (the arrays then hold what was computed). A failing Python callback
+/// re-raises its own exception, noting the time; input errors raise ValueError.
+pub(crate) fn finish<'py>(
+    py: Python<'py>,
+    result: Result<History, Box<Failure>>,
+    py_error: Option<PyErr>,
+) -> PyResult<Bound<'py, PyDict>> {
+    match result {
+        Ok(h) => {
+            let d = history_dict(py, h)?;
+            d.set_item("error", py.None())?;
+            Ok(d)
+        }
+        Err(failure) => {
+            let Failure { error, partial } = *failure;
+            // A failing Python load function: re-raise its own exception, noting the time.
+            if let (Some(err), CoreError::Callback { time, .. }) = (py_error, &error) {
+                let note = format!("raised by the `Callable` load at t = {time}");
+                err.value(py).call_method1("add_note", (note,))?;
+                return Err(err);
+            }
+            let (kind, time, step) = match &error {
+                CoreError::NonFinite { time, step, .. } => ("nonfinite", *time, *step),
+                CoreError::Callback { time, .. } => ("callback", *time, 0),
+                CoreError::NoConvergence { time, .. } => ("convergence", *time, 0),
+                _ => return Err(core_err(error)),
+            };
+            let d = history_dict(py, partial)?;
+            let e = PyDict::new(py);
+            e.set_item("kind", kind)?;
+            e.set_item("message", error.to_string())?;
+            e.set_item("time", time)?;
+            e.set_item("step", step)?;
+            d.set_item("error", e)?;
+            Ok(d)
+        }
+    }
+}

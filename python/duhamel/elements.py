@@ -1,0 +1,293 @@
+"""Force elements: restoring forces ``r(x, x', t)`` on the left-hand side,
+``M x'' + C x' + K x + r(x, x', t) = f(t)``, added with :meth:`duhamel.System.add`.
+
+Every element except :class:`Callable` is evaluated in Rust with analytic tangents. The
+integrator treats the element forces as modal pseudo-forces; :class:`LinearCoupling` is
+projected on the modes once.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable as CallableT
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import ArrayLike, NDArray
+
+from duhamel._validate import as_float_array, as_square_matrix, dof_index, finite_float
+
+if TYPE_CHECKING:
+    from duhamel.system import System
+
+__all__ = [
+    "Callable",
+    "Contact",
+    "Cubic",
+    "Damper",
+    "Element",
+    "LinearCoupling",
+    "Polynomial",
+    "Spring",
+]
+
+
+class Element:
+    """Base class of the elements."""
+
+    def _validate(self, system: System) -> None:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _spec(self) -> tuple:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+
+def _nonneg(value: Any, name: str) -> float:
+    v = finite_float(value, name)
+    if v < 0:
+        raise ValueError(f"`{name}` must be >= 0, got {v}")
+    return v
+
+
+def _pair(i: int, j: int | None, system: System) -> None:
+    dof_index(i, "i", system.n_dof)
+    if j is not None:
+        dof_index(j, "j", system.n_dof)
+        if j == i:
+            raise ValueError(f"`j` must differ from `i` (both {i}); use j=None for ground")
+
+
+@dataclass(frozen=True)
+class Polynomial(Element):
+    """``r = sum_k coefficients[k] x^k`` at one degree of freedom.
+
+    Examples
+    --------
+    >>> import duhamel
+    >>> softening = duhamel.elements.Polynomial(0, [0.0, 0.0, 0.0, -0.5])
+    """
+
+    dof: int
+    coefficients: tuple[float, ...]
+
+    def __post_init__(self) -> None:
+        c = as_float_array(self.coefficients, "coefficients", ndim=1)
+        object.__setattr__(self, "coefficients", tuple(float(v) for v in c))
+
+    def _validate(self, system: System) -> None:
+        dof_index(self.dof, "dof", system.n_dof)
+
+    def _spec(self) -> tuple:
+        return ("polynomial", int(self.dof), np.array(self.coefficients, dtype=np.float64))
+
+
+@dataclass(frozen=True)
+class Cubic(Element):
+    """Duffing spring to ground, ``r = k3 x^3`` (``k3 < 0`` softens).
+
+    Examples
+    --------
+    >>> import numpy as np, duhamel
+    >>> duffing = duhamel.System(np.eye(1), np.eye(1)).add(duhamel.elements.Cubic(0, 4.0))
+    """
+
+    dof: int
+    k3: float
+
+    def __post_init__(self) -> None:
+        finite_float(self.k3, "k3")
+
+    def _validate(self, system: System) -> None:
+        dof_index(self.dof, "dof", system.n_dof)
+
+    def _spec(self) -> tuple:
+        return ("polynomial", int(self.dof), np.array([0.0, 0.0, 0.0, float(self.k3)]))
+
+
+@dataclass(frozen=True)
+class Spring(Element):
+    """Spring ``s = k d + k3 d^3`` on ``d = x_i - x_j`` (``j=None``: to ground).
+
+    Examples
+    --------
+    >>> import duhamel
+    >>> link = duhamel.elements.Spring(3, 4, k=0.0, k3=2e9)
+    """
+
+    i: int
+    j: int | None = None
+    k: float = 0.0
+    k3: float = 0.0
+
+    def __post_init__(self) -> None:
+        finite_float(self.k, "k")
+        finite_float(self.k3, "k3")
+
+    def _validate(self, system: System) -> None:
+        _pair(self.i, self.j, system)
+
+    def _spec(self) -> tuple:
+        j = None if self.j is None else int(self.j)
+        return ("spring", int(self.i), j, float(self.k), float(self.k3))
+
+
+@dataclass(frozen=True)
+class Damper(Element):
+    """Linear viscous damper ``c (v_i - v_j)`` (``j=None``: to ground).
+
+    Examples
+    --------
+    >>> import duhamel
+    >>> dashpot = duhamel.elements.Damper(0, c=0.2)
+    """
+
+    i: int
+    j: int | None = None
+    c: float = 0.0
+
+    def __post_init__(self) -> None:
+        _nonneg(self.c, "c")
+
+    def _validate(self, system: System) -> None:
+        _pair(self.i, self.j, system)
+
+    def _spec(self) -> tuple:
+        j = None if self.j is None else int(self.j)
+        return ("damper", int(self.i), j, float(self.c))
+
+
+@dataclass(frozen=True, eq=False)
+class LinearCoupling(Element):
+    """Any linear stiffness ``K`` and/or damping ``C`` (n_dof x n_dof, dense or sparse, need
+    not be symmetric) that the modes do not diagonalise: cross-coupled bearing stiffness
+    (``k12 = -k21``), non-classical damping, gyroscopic ``speed * G``. Projected on the
+    modes once; enters as a modal pseudo-force ``-(Phi^T K Phi q + Phi^T C Phi q')``.
+
+    Examples
+    --------
+    >>> import numpy as np, duhamel
+    >>> cross = duhamel.elements.LinearCoupling(K=np.array([[0.0, 1e7], [-1e7, 0.0]]))
+    """
+
+    K: Any = None
+    C: Any = None
+
+    def __post_init__(self) -> None:
+        if self.K is None and self.C is None:
+            raise ValueError("`LinearCoupling` needs `K`, `C` or both")
+        for name in ("K", "C"):
+            m = getattr(self, name)
+            if m is not None and not sp.issparse(m):
+                object.__setattr__(self, name, as_float_array(m, name, ndim=2))
+
+    def _validate(self, system: System) -> None:
+        for name in ("K", "C"):
+            m = getattr(self, name)
+            if m is not None and m.shape != (system.n_dof, system.n_dof):
+                raise ValueError(
+                    f"`{name}` of LinearCoupling must be ({system.n_dof}, {system.n_dof}), "
+                    f"got {m.shape}"
+                )
+            if m is not None and sp.issparse(m):
+                as_square_matrix(m, name, n=system.n_dof)
+
+    def modal(self, phi: NDArray[np.float64]) -> tuple[NDArray | None, NDArray | None]:
+        """The modal matrices ``Phi^T K Phi`` and ``Phi^T C Phi`` (None where absent)."""
+        return tuple(  # type: ignore[return-value]
+            None if m is None else np.ascontiguousarray(phi.T @ (m @ phi)) for m in (self.K, self.C)
+        )
+
+    def _spec(self) -> tuple:  # projected in solve()
+        return ("coupling",)
+
+
+@dataclass(frozen=True)
+class Contact(Element):
+    """Radial rub/impact of a shaft centre ``(x, y)`` in a stator of radial ``clearance``.
+
+    Normal force ``stiffness * (rho - clearance)`` beyond the clearance (``rho`` the radial
+    displacement), smoothed over ``smoothing`` (a length; default ``1e-3 * clearance``) so
+    that Newton converges; Coulomb friction ``friction * F_n`` opposing the tangential
+    (whirl) velocity, smoothed with ``tanh(v_t / velocity_smoothing)`` (default 1e-3 m/s).
+
+    Examples
+    --------
+    >>> import duhamel
+    >>> rub = duhamel.elements.Contact(0, 1, clearance=2e-4, stiffness=5e7, friction=0.2)
+    """
+
+    dof_x: int
+    dof_y: int
+    clearance: float
+    stiffness: float
+    friction: float = 0.0
+    smoothing: float | None = None
+    velocity_smoothing: float | None = None
+
+    def __post_init__(self) -> None:
+        g = _nonneg(self.clearance, "clearance")
+        if finite_float(self.stiffness, "stiffness") <= 0:
+            raise ValueError(f"`stiffness` must be positive, got {self.stiffness}")
+        _nonneg(self.friction, "friction")
+        if self.smoothing is None:
+            object.__setattr__(self, "smoothing", 1e-3 * g if g > 0 else 1e-9)
+        if self.velocity_smoothing is None:
+            object.__setattr__(self, "velocity_smoothing", 1e-3)
+        for name in ("smoothing", "velocity_smoothing"):
+            if finite_float(getattr(self, name), name) <= 0:
+                raise ValueError(f"`{name}` must be positive, got {getattr(self, name)}")
+
+    def _validate(self, system: System) -> None:
+        dof_index(self.dof_x, "dof_x", system.n_dof)
+        dof_index(self.dof_y, "dof_y", system.n_dof)
+        if self.dof_x == self.dof_y:
+            raise ValueError(f"`dof_y` must differ from `dof_x` (both {self.dof_x})")
+
+    def _spec(self) -> tuple:
+        return (
+            "contact",
+            int(self.dof_x),
+            int(self.dof_y),
+            float(self.clearance),
+            float(self.stiffness),
+            float(self.friction),
+            float(self.smoothing),  # type: ignore[arg-type]
+            float(self.velocity_smoothing),  # type: ignore[arg-type]
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class Callable(Element):
+    """Escape hatch: ``fn(x, v, t)`` returns the restoring force at `dofs` (whole arrays of
+    the local displacements and velocities); ``jacobian(x, v, t)`` may return
+    ``(dr/dx, dr/dv)`` (square matrices), otherwise tangents come from finite differences.
+    Called with the GIL once per evaluation, never per degree of freedom.
+
+    Examples
+    --------
+    >>> import numpy as np, duhamel
+    >>> hysteretic = duhamel.elements.Callable(lambda x, v, t: 0.1 * np.tanh(x / 1e-3), [0])
+    """
+
+    fn: CallableT[[NDArray, NDArray, float], ArrayLike]
+    dofs: tuple[int, ...]
+    jacobian: CallableT[[NDArray, NDArray, float], tuple[ArrayLike, ArrayLike]] | None = None
+
+    def __post_init__(self) -> None:
+        if not callable(self.fn):
+            raise TypeError(f"`fn` must be callable, got {type(self.fn).__name__}")
+        if self.jacobian is not None and not callable(self.jacobian):
+            raise TypeError(f"`jacobian` must be callable, got {type(self.jacobian).__name__}")
+        object.__setattr__(self, "dofs", tuple(int(d) for d in np.atleast_1d(self.dofs)))
+        if not self.dofs:
+            raise ValueError("`dofs` must name at least one degree of freedom")
+
+    def _validate(self, system: System) -> None:
+        for d in self.dofs:
+            dof_index(d, "dofs", system.n_dof)
+        if len(set(self.dofs)) != len(self.dofs):
+            raise ValueError(f"`dofs` has duplicates: {list(self.dofs)}")
+
+    def _spec(self) -> tuple:
+        return ("callable", list(self.dofs), self.fn, self.jacobian)
