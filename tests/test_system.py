@@ -251,26 +251,21 @@ def test_non_classical_c_splits_into_background_and_coupling(chain3):
 # ------------------------------------------------------------------------------ loads, repr
 
 
-class _Load:
-    def __init__(self, dof: int) -> None:
-        self.dof = dof
-
-    def _validate(self, system: System) -> None:
-        v.dof_index(self.dof, "dof", system.n_dof)
-
-
 def test_add_load_chains_and_validates(chain3):
+    from duhamel.loads import Harmonic, Step
+
     system = System(*chain3, rayleigh=(0.1, 0.0))
-    assert system.add_load(_Load(0)).add_load(_Load(2)) is system
+    assert system.add_load(Step(0, 1.0)).add_load(Harmonic(2, 1.0, 3.0)) is system
     assert len(system.loads) == 2 and isinstance(system.loads, list)
     assert repr(system) == "System(n_dof=3, damping='rayleigh', loads=2)"
     with pytest.raises(ValueError, match=r"`dof` must be .*\[0, 2\]"):
-        system.add_load(_Load(3))
+        system.add_load(Step(3, 1.0))
     with pytest.raises(ValueError, match="`dof`"):
-        system.add_load(_Load(-1))
+        system.add_load(Step(-1, 1.0))
     assert len(system.loads) == 2
-    system.add_load(object())  # anything without _validate is accepted as is
-    assert len(system.loads) == 3
+    with pytest.raises(TypeError, match="`load`"):
+        system.add_load(object())
+    assert len(system.loads) == 2
 
 
 def test_attributes(chain3):

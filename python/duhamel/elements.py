@@ -279,9 +279,13 @@ class Callable(Element):
             raise TypeError(f"`fn` must be callable, got {type(self.fn).__name__}")
         if self.jacobian is not None and not callable(self.jacobian):
             raise TypeError(f"`jacobian` must be callable, got {type(self.jacobian).__name__}")
-        object.__setattr__(self, "dofs", tuple(int(d) for d in np.atleast_1d(self.dofs)))
-        if not self.dofs:
-            raise ValueError("`dofs` must name at least one degree of freedom")
+        dofs = np.atleast_1d(np.asarray(self.dofs, dtype=object))
+        if dofs.ndim != 1 or not dofs.size:
+            raise ValueError(f"`dofs` must be a non-empty list of integers, got {self.dofs!r}")
+        for d in dofs:
+            if isinstance(d, bool | np.bool_) or not isinstance(d, int | np.integer):
+                raise TypeError(f"`dofs` must contain integers, got {d!r}")
+        object.__setattr__(self, "dofs", tuple(int(d) for d in dofs))
 
     def _validate(self, system: System) -> None:
         for d in self.dofs:

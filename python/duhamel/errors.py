@@ -20,8 +20,9 @@ class SolverError(DuhamelError, RuntimeError):
     time : float
         The time at which the run failed.
     reason : str
-        ``"nonfinite"`` (the state overflowed or became NaN: a diverging response) or
-        ``"callback"`` (a load function failed).
+        ``"nonfinite"`` (the state overflowed or became NaN: a diverging response),
+        ``"convergence"`` (the implicit step equation did not converge) or ``"callback"``
+        (a Python load or element function failed).
     partial : Solution
         Everything computed up to the last good saved instant.
     """

@@ -60,6 +60,11 @@ class _ModalCallable:
         return total
 
 
+def _completed(error: dict, dt: float) -> int:
+    """Steps completed before a failure at ``error["time"]`` (the end of the failed step)."""
+    return max(0, round(float(error["time"]) / dt) - 1)
+
+
 def _is_linear(system: System, basis: ModalBasis) -> bool:
     """Whether the exact linear loop applies: no elements, classical damping, constant mass."""
     return not system.elements and basis.c_coupling is None and system.mass_law is None
@@ -239,7 +244,7 @@ def solve(
             pseudo=raw.get("pseudo"),
         ),
         stats=SolveStats(
-            steps=n_steps if raw["error"] is None else int(raw["error"]["step"]),
+            steps=n_steps if raw["error"] is None else _completed(raw["error"], dt),
             wall_time=wall,
             total_time=_time.perf_counter() - started,
             modes=phi.shape[1],

@@ -263,8 +263,8 @@ class System:
     def add_load(self, load: Any) -> System:
         """Append a load to :attr:`loads`, validating it against this system first.
 
-        If `load` has a ``_validate(system)`` method it is called, so that, e.g., an
-        out-of-range dof raises here rather than at solve time.
+        The load is checked against this system here, so that, e.g., an out-of-range dof
+        raises now rather than at solve time.
 
         Returns
         -------
@@ -273,15 +273,19 @@ class System:
 
         Examples
         --------
-        >>> import numpy as np
-        >>> from duhamel.system import System
-        >>> system = System(np.eye(2), np.eye(2)).add_load("any object")
-        >>> len(system.loads)
+        >>> import numpy as np, duhamel
+        >>> system = duhamel.System(np.eye(2), np.eye(2))
+        >>> len(system.add_load(duhamel.loads.Step(dof=1, amplitude=5.0)).loads)
         1
         """
-        validate = getattr(load, "_validate", None)
-        if callable(validate):
-            validate(self)
+        from duhamel.loads import Load
+
+        if not isinstance(load, Load):
+            raise TypeError(
+                f"`load` must be a duhamel.loads load (Step, Harmonic, Tabulated, "
+                f"BaseAcceleration, Callable), got {type(load).__name__}"
+            )
+        load._validate(self)
         self.loads.append(load)
         return self
 
@@ -303,12 +307,13 @@ class System:
         >>> len(duffing.elements)
         1
         """
-        validate = getattr(element, "_validate", None)
-        if not callable(validate):
+        from duhamel.elements import Element
+
+        if not isinstance(element, Element):
             raise TypeError(
                 f"`element` must be a duhamel.elements element, got {type(element).__name__}"
             )
-        validate(self)
+        element._validate(self)
         self.elements.append(element)
         return self
 

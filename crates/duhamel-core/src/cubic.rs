@@ -9,10 +9,12 @@ pub fn nearest_root(c: [f64; 4], guess: f64) -> Option<f64> {
     if scale == 0.0 || !scale.is_finite() {
         return None;
     }
-    let [c0, c1, c2, c3] = c.map(|v| v / scale);
+    let inv = 1.0 / scale;
+    let [c0, c1, c2, c3] = c.map(|v| v * inv);
     let mut roots = [0.0; 3];
     let n = if c3.abs() > 1e-14 * (c2.abs() + c1.abs() + c0.abs()) {
-        cubic_roots(c2 / c3, c1 / c3, c0 / c3, &mut roots)
+        let i3 = 1.0 / c3;
+        cubic_roots(c2 * i3, c1 * i3, c0 * i3, &mut roots)
     } else if c2.abs() > 1e-14 * (c1.abs() + c0.abs()) {
         quadratic_roots(c2, c1, c0, &mut roots)
     } else if c1 != 0.0 {
@@ -43,11 +45,27 @@ fn cubic_roots(a: f64, b: f64, c: f64, out: &mut [f64; 3]) -> usize {
         out[2] = m * ((theta - tau) / 3.0).cos() - a3;
         3
     } else {
-        let big_a = -r.signum() * (r.abs() + (r * r - q3).sqrt()).cbrt();
+        let big_a = -r.signum() * cbrt(r.abs() + (r * r - q3).sqrt());
         let big_b = if big_a == 0.0 { 0.0 } else { q / big_a };
         out[0] = big_a + big_b - a3;
         1
     }
+}
+
+/// Cube root of `x >= 0` to about 1e-15: a bit-level first guess (within a few percent)
+/// and two Halley steps (cubic convergence). The roots are polished on the polynomial
+/// afterwards, so this need not be correctly rounded; it is several times faster than the
+/// portable software `cbrt`.
+fn cbrt(x: f64) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    let mut y = f64::from_bits(x.to_bits() / 3 + 0x2A9F_7893_782D_A1CE);
+    for _ in 0..2 {
+        let y3 = y * y * y;
+        y *= (y3 + 2.0 * x) / (2.0 * y3 + x);
+    }
+    y
 }
 
 /// Real roots of `a x^2 + b x + c` without cancellation.
@@ -126,6 +144,15 @@ mod tests {
         // a tiny cubic term on a well-posed linear equation
         let r = nearest_root([-1.0, 1.0, 0.0, 1e-20], 0.0).unwrap();
         assert!((r - 1.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn fast_cube_root() {
+        for x in [1e-300, 1e-20, 0.3, 1.0, 27.0, 8e15, 1e300] {
+            let y = cbrt(x);
+            assert!((y * y * y - x).abs() <= 1e-14 * x, "{x}: {y}");
+        }
+        assert_eq!(cbrt(0.0), 0.0);
     }
 
     #[test]

@@ -103,7 +103,23 @@ impl MassLaw {
                 format!("reaches {worst} (<= 0) before t_end = {t_end}; a mass must stay positive"),
             );
         }
+        let most = self.max_on(t_end);
+        if !most.is_finite() {
+            return bad(
+                "mass law",
+                format!("overflows (reaches {most}) before t_end = {t_end}"),
+            );
+        }
         Ok(())
+    }
+
+    /// Largest value on `[0, t_end]` (exact for these laws).
+    fn max_on(&self, t_end: f64) -> f64 {
+        match self {
+            MassLaw::Exponential { rate, scale } => scale * (rate * t_end).exp().max(1.0),
+            MassLaw::Harmonic { amplitude, .. } => 1.0 + amplitude.abs(),
+            MassLaw::Table { mu, .. } => mu.iter().copied().fold(0.0, f64::max),
+        }
     }
 
     /// Smallest value on `[0, t_end]` (exact for these laws).
@@ -115,8 +131,15 @@ impl MassLaw {
         }
     }
 
-    /// `(mu(t), mu'(t))`.
+    /// `(mu(t), mu'(t))`; where `mu'` jumps (a table's breakpoint), the derivative from the
+    /// right.
     pub fn eval(&self, t: f64) -> (f64, f64) {
+        self.eval_side(t, false)
+    }
+
+    /// `(mu(t), mu'(t))` with the derivative from the left when `left` (the end of a step
+    /// that ends on a breakpoint belongs to the segment before it).
+    pub fn eval_side(&self, t: f64, left: bool) -> (f64, f64) {
         match self {
             MassLaw::Exponential { rate, scale } => {
                 let m = scale * (rate * t).exp();
@@ -131,13 +154,20 @@ impl MassLaw {
             }
             MassLaw::Table { t: ts, mu } => {
                 let last = ts.len() - 1;
-                if t <= ts[0] {
+                // The segment (i - 1, i) that t belongs to on the requested side; a time within
+                // rounding of a breakpoint (a grid time n * dt) counts as on it.
+                let tol = 1e-12 * t.abs().max(ts[last].abs()).max(f64::MIN_POSITIVE);
+                let i = if left {
+                    ts.partition_point(|&x| x < t - tol)
+                } else {
+                    ts.partition_point(|&x| x <= t + tol)
+                };
+                if i == 0 {
                     return (mu[0], 0.0);
                 }
-                if t >= ts[last] {
+                if i > last {
                     return (mu[last], 0.0);
                 }
-                let i = ts.partition_point(|&x| x <= t);
                 let slope = (mu[i] - mu[i - 1]) / (ts[i] - ts[i - 1]);
                 (mu[i - 1] + slope * (t - ts[i - 1]), slope)
             }
@@ -169,6 +199,15 @@ mod tests {
         };
         assert_eq!(t.eval(0.5), (0.75, -0.5));
         assert_eq!(t.eval(2.0), (0.5, 0.0));
+        // at a breakpoint the slope depends on the side
+        let v = MassLaw::Table {
+            t: vec![0.0, 1.0, 2.0],
+            mu: vec![1.0, 0.5, 1.5],
+        };
+        assert_eq!(v.eval_side(1.0, true), (0.5, -0.5));
+        assert_eq!(v.eval_side(1.0, false), (0.5, 1.0));
+        assert_eq!(v.eval_side(0.0, false).1, -0.5);
+        assert_eq!(v.eval_side(2.0, true).1, 1.0);
     }
 
     #[test]

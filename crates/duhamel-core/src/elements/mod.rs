@@ -50,4 +50,20 @@ pub trait Element: Send + Sync {
     fn has_tangent(&self) -> bool {
         true
     }
+
+    /// For one mode whose shape takes the values `phi` at the element's dofs, the
+    /// coefficients `a[i][j]` of the modal force `phi^T r(phi q, phi v) = sum a[i][j] q^i v^j`
+    /// (`i + j <= 3`), when the force is such a polynomial. Single-mode problems use them to
+    /// write the step equation as an explicit cubic (the paper's closed form).
+    fn modal_cubic(&self, _phi: &[f64]) -> Option<ModalCubic> {
+        None
+    }
+}
+
+/// Coefficients `a[i][j]` of `sum a[i][j] q^i v^j` (`i + j <= 3`).
+pub type ModalCubic = [[f64; 4]; 4];
+
+/// `phi_i - phi_j` for a two-node element (`phi_j = 0` when grounded).
+pub(crate) fn relative(phi: &[f64]) -> f64 {
+    phi[0] - phi.get(1).copied().unwrap_or(0.0)
 }

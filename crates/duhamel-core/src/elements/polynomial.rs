@@ -99,6 +99,20 @@ impl Element for Polynomial {
         Some(self.coefficients.len().saturating_sub(1) as u32)
     }
 
+    fn modal_cubic(&self, phi: &[f64]) -> Option<super::ModalCubic> {
+        // phi * sum c_k (phi q)^k
+        if self.coefficients.len() > 4 {
+            return None;
+        }
+        let mut a = [[0.0; 4]; 4];
+        let mut p = phi[0];
+        for (k, c) in self.coefficients.iter().enumerate() {
+            a[k][0] = c * p;
+            p *= phi[0];
+        }
+        Some(a)
+    }
+
     fn uses_velocity(&self) -> bool {
         false
     }

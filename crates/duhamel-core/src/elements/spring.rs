@@ -115,6 +115,15 @@ impl Element for Spring {
         Some(if self.k3 != 0.0 { 3 } else { 1 })
     }
 
+    fn modal_cubic(&self, phi: &[f64]) -> Option<super::ModalCubic> {
+        // d = dphi q: dphi (k d + k3 d^3)
+        let d = super::relative(phi);
+        let mut a = [[0.0; 4]; 4];
+        a[1][0] = self.k * d * d;
+        a[3][0] = self.k3 * d * d * d * d;
+        Some(a)
+    }
+
     fn uses_velocity(&self) -> bool {
         false
     }
@@ -172,6 +181,13 @@ impl Element for Damper {
 
     fn polynomial_degree(&self) -> Option<u32> {
         Some(1)
+    }
+
+    fn modal_cubic(&self, phi: &[f64]) -> Option<super::ModalCubic> {
+        let d = super::relative(phi);
+        let mut a = [[0.0; 4]; 4];
+        a[0][1] = self.c * d * d;
+        Some(a)
     }
 
     fn uses_velocity(&self) -> bool {

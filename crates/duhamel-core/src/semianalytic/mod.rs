@@ -4,6 +4,7 @@
 //! time-varying mass — enters as a modal pseudo-force approximated over the step.
 
 mod pseudo;
+mod scalar;
 mod scheme;
 mod step;
 
@@ -253,7 +254,7 @@ pub fn integrate(
             match solved {
                 Ok(iters) => {
                     stats.newton_iterations += iters;
-                    if iters == 0 && stepper.uses_closed_form() {
+                    if iters == 0 && stepper.analytic() {
                         stats.closed_form_steps += 1;
                     }
                 }

@@ -10,7 +10,7 @@
 //! * mass estimated: `Q = -rho - (mu - 1) a - [momentum] mu' v - [scaled] (mu - 1) k q`, with
 //!   `a` an estimate of the acceleration.
 
-use crate::elements::{Element, Tangent};
+use crate::elements::{Element, ModalCubic, Tangent};
 use crate::error::CoreError;
 use crate::mass::{MassForm, MassTreatment, TimeVaryingMass};
 
@@ -58,6 +58,8 @@ pub struct PseudoForce<'a> {
     pub uses_velocity: bool,
     /// Whether every force is a polynomial of degree <= 3 with analytic tangents.
     pub polynomial: bool,
+    /// Evaluate the mass law's derivative from the left (at the end of a step).
+    left: bool,
 }
 
 impl<'a> PseudoForce<'a> {
@@ -132,6 +134,7 @@ impl<'a> PseudoForce<'a> {
             jac_rho: Jacobian::new(n),
             uses_velocity,
             polynomial,
+            left: false,
         })
     }
 
@@ -192,6 +195,12 @@ impl<'a> PseudoForce<'a> {
         Ok(())
     }
 
+    /// Whether the next evaluations are at the end of a step (the mass law's derivative is
+    /// then taken from the left, where it jumps).
+    pub fn set_left_limit(&mut self, left: bool) {
+        self.left = left;
+    }
+
     /// The pseudo-force `Q` at `(q, v)` and time `t`, with the modal external load `p` and,
     /// for the estimated-mass treatment, the acceleration estimate `a`; with `jac`, its
     /// tangents.
@@ -240,7 +249,7 @@ impl<'a> PseudoForce<'a> {
             }
             return Ok(());
         };
-        let (mu, dmu) = mass.law.eval(t);
+        let (mu, dmu) = mass.law.eval_side(t, self.left);
         let momentum = mass.form == MassForm::Momentum;
         let scaled = mass.scale_stiffness;
         match treatment.unwrap_or(MassTreatment::Eliminate) {
@@ -295,6 +304,51 @@ impl<'a> PseudoForce<'a> {
         Ok(())
     }
 
+    /// For one mode with polynomial forces only (and no estimated mass): the coefficients of
+    /// `rho(q, v) = sum a[i][j] q^i v^j`, elements and couplings together.
+    pub fn scalar_model(&self) -> Option<ModalCubic> {
+        if self.n != 1
+            || self
+                .mass
+                .is_some_and(|m| m.treatment == MassTreatment::Estimate)
+        {
+            return None;
+        }
+        let mut a = [[0.0; 4]; 4];
+        for slot in &self.slots {
+            let e = slot.element.modal_cubic(&slot.phi_e)?;
+            for (ai, ei) in a.iter_mut().zip(&e) {
+                for (x, y) in ai.iter_mut().zip(ei) {
+                    *x += y;
+                }
+            }
+        }
+        a[1][0] += self.coupling_k.map_or(0.0, |m| m[0]);
+        a[0][1] += self.coupling_c.map_or(0.0, |m| m[0]);
+        Some(a)
+    }
+
+    /// For one mode: `Q = alpha rho + beta q + gamma v + delta` at time `t` with the modal
+    /// external load `p` (see the module documentation); returns `[alpha, beta, gamma, delta]`.
+    pub fn scalar_terms(&self, t: f64, p: f64, left: bool) -> [f64; 4] {
+        let Some(mass) = self.mass else {
+            return [-1.0, 0.0, 0.0, 0.0];
+        };
+        let (mu, dmu) = mass.law.eval_side(t, left);
+        let g = 1.0 / mu - 1.0;
+        let beta = if mass.scale_stiffness {
+            0.0
+        } else {
+            -g * self.k[0]
+        };
+        let mom = if mass.form == MassForm::Momentum {
+            dmu / mu
+        } else {
+            0.0
+        };
+        [-1.0 / mu, beta, -g * self.c[0] - mom, g * p]
+    }
+
     /// The pseudo-force that makes `q'' = p + Q - c v - k q` the true acceleration at a
     /// state (the eliminated form, whatever the treatment used for stepping).
     pub fn at_state(
@@ -305,6 +359,7 @@ impl<'a> PseudoForce<'a> {
         p: &[f64],
         out: &mut [f64],
     ) -> Result<(), CoreError> {
+        self.left = false;
         self.eval_as(Some(MassTreatment::Eliminate), q, v, t, p, None, out, None)
     }
 }

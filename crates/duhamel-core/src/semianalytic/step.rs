@@ -7,9 +7,11 @@
 //! forces of degree <= 3, as the cubic it is (the paper's closed form).
 
 use super::pseudo::{Jacobian, PseudoForce};
+use super::scalar::{compose, eval, shift, value, Cubic};
 use super::scheme::{Rule, Scheme};
 use crate::cubic::nearest_root;
 use crate::dense::solve_in_place;
+use crate::elements::ModalCubic;
 use crate::error::CoreError;
 
 /// How the step equation is solved.
@@ -60,6 +62,10 @@ pub struct Stepper<'r> {
     max_iter: usize,
     unknown: Unknown,
     closed_form: bool,
+    /// One mode with polynomial forces: the modal force's coefficients (fully analytic step).
+    scalar: Option<ModalCubic>,
+    /// Whether the last step left the start state's pseudo-force in `start`.
+    start_known: bool,
     constant: Vec<bool>,
     q1: Vec<f64>,
     v1: Vec<f64>,
@@ -119,6 +125,12 @@ impl<'r> Stepper<'r> {
                 && n == 1
                 && unknown != Unknown::Both
                 && pf.polynomial,
+            scalar: if solver == Solver::Auto && unknown != Unknown::Both {
+                pf.scalar_model()
+            } else {
+                None
+            },
+            start_known: false,
             constant,
             q1: vec![0.0; n],
             v1: vec![0.0; n],
@@ -132,11 +144,6 @@ impl<'r> Stepper<'r> {
             res: vec![0.0; m],
             mat: vec![0.0; m * m],
         }
-    }
-
-    /// Whether steps use the closed-form cubic.
-    pub fn uses_closed_form(&self) -> bool {
-        self.closed_form
     }
 
     /// Evaluates the pseudo-force at the selected nodes for the current `(q1, v1)`.
@@ -207,7 +214,10 @@ impl<'r> Stepper<'r> {
                 let z = if row == 0 { self.q1[m] } else { self.v1[m] };
                 let r = z - self.explicit(inp, row, m);
                 self.res[block * n + m] = r;
-                norm = norm.max(r.abs());
+                // NaN must not vanish in the max (f64::max drops it).
+                if r.is_nan() || r.abs() > norm {
+                    norm = r.abs();
+                }
             }
         }
         norm
@@ -272,16 +282,25 @@ impl<'r> Stepper<'r> {
         v_out: &mut [f64],
     ) -> Result<usize, CoreError> {
         let n = self.n;
+        if let Some(a) = self.scalar {
+            if self.solve_scalar(&a, pf, inp) {
+                q_out.copy_from_slice(&self.q1);
+                v_out.copy_from_slice(&self.v1);
+                return Ok(0);
+            }
+        }
         // Predictor: the linear step plus the pseudo-force of the start state held constant.
         // A constant first node is the start state itself (s = 0, and the force does not
         // depend on the only thing that differs, the velocity of schemes a and b).
         self.q1.copy_from_slice(inp.q0);
         self.v1.copy_from_slice(inp.v0);
         self.nodes(pf, inp, false, Nodes::Constant)?;
+        self.start_known = self.constant[0];
         if self.constant[0] {
             self.start.copy_from_slice(&self.values[0]);
         } else {
             self.acc.fill(0.0);
+            pf.set_left_limit(false);
             pf.eval(
                 inp.q0,
                 inp.v0,
@@ -322,7 +341,82 @@ impl<'r> Stepper<'r> {
     /// The pseudo-force start values of the last step (the start state's `Q`), when the
     /// first node was that state: saves an evaluation for the saved history.
     pub fn start_pseudo(&self) -> Option<&[f64]> {
-        self.constant[0].then_some(&self.start[..])
+        self.start_known.then_some(&self.start[..])
+    }
+
+    /// Whether steps are solved analytically (closed form, no Newton).
+    pub fn analytic(&self) -> bool {
+        self.scalar.is_some() || self.closed_form
+    }
+
+    /// One mode with polynomial forces: the step equation and every node's pseudo-force
+    /// are cubics in the unknown, written down directly from the modal force's
+    /// coefficients; the root nearest the predictor solves the step (the paper's cubic).
+    /// Returns `false` (nothing changed) when the cubic has no real root.
+    fn solve_scalar(&mut self, a: &ModalCubic, pf: &PseudoForce, inp: &StepInput) -> bool {
+        let (dt, t) = (self.dt, inp.t);
+        let (q0, v0) = (inp.q0[0], inp.v0[0]);
+        let on_v = self.unknown == Unknown::V1;
+        let (w_u, w_o) = if on_v {
+            (&self.rule.wv, &self.rule.wx)
+        } else {
+            (&self.rule.wx, &self.rule.wv)
+        };
+        let mut cubics = [[0.0; 4]; 4];
+        let mut r: Cubic = [0.0; 4];
+        for (i, node) in self.rule.nodes.iter().enumerate() {
+            let s = node.s;
+            // The state at the node is affine in the unknown u: value at u = 0 plus slope.
+            let (qa, va) = if on_v {
+                self.scheme.state(s, dt, q0, v0, q0, 0.0)
+            } else {
+                self.scheme.state(s, dt, q0, v0, 0.0, v0)
+            };
+            let [dqq, dqv, dvq, dvv] = node.d;
+            let (qb, vb) = if on_v { (dqv, dvv) } else { (dqq, dvq) };
+            let p = inp.pb[0][0] + inp.pb[1][0] * s + 4.0 * inp.pb[2][0] * s * (1.0 - s);
+            let [al, be, ga, de] = pf.scalar_terms(t + s * dt, p, s == 1.0);
+            let mut qi = compose(a, [qa, qb], [va, vb]);
+            for c in qi.iter_mut() {
+                *c *= al;
+            }
+            qi[0] += be * qa + ga * va + de;
+            qi[1] += be * qb + ga * vb;
+            for (rc, c) in r.iter_mut().zip(&qi) {
+                *rc += w_u[i][0] * c;
+            }
+            cubics[i] = qi;
+        }
+        let base = if on_v { inp.v_lin[0] } else { inp.q_lin[0] };
+        let residual = [-base - r[0], 1.0 - r[1], -r[2], -r[3]];
+        // Predictor and the start state's pseudo-force (kept for the saved history).
+        let [al, be, ga, de] = pf.scalar_terms(t, inp.pb[0][0], false);
+        let q_start = al * value(a, q0, v0) + be * q0 + ga * v0 + de;
+        self.start[0] = q_start;
+        self.start_known = true;
+        let w_sum: f64 = w_u.iter().map(|w| w[0]).sum();
+        let u_pred = base + w_sum * q_start;
+        let u_start = if on_v { v0 } else { q0 };
+        let h = (u_pred - u_start)
+            .abs()
+            .max(1e-6 * u_pred.abs().max(u_start.abs()))
+            .max(1e-100);
+        let Some(delta) = nearest_root(shift(&residual, u_pred, h), 0.0).filter(|d| d.is_finite())
+        else {
+            return false;
+        };
+        let u = u_pred + h * delta;
+        let other_base = if on_v { inp.q_lin[0] } else { inp.v_lin[0] };
+        let other = other_base
+            + (0..self.rule.nodes.len())
+                .map(|i| w_o[i][0] * eval(&cubics[i], u))
+                .sum::<f64>();
+        if on_v {
+            (self.v1[0], self.q1[0]) = (u, other);
+        } else {
+            (self.q1[0], self.v1[0]) = (u, other);
+        }
+        true
     }
 
     fn unknown_value(&self, m: usize) -> f64 {
@@ -341,8 +435,36 @@ impl<'r> Stepper<'r> {
         }
     }
 
-    fn newton(&mut self, pf: &mut PseudoForce, inp: &StepInput) -> Result<usize, CoreError> {
+    /// The active unknowns as one vector.
+    fn get_z(&self, out: &mut Vec<f64>) {
+        out.clear();
+        match self.unknown {
+            Unknown::Q1 => out.extend_from_slice(&self.q1),
+            Unknown::V1 => out.extend_from_slice(&self.v1),
+            Unknown::Both => {
+                out.extend_from_slice(&self.q1);
+                out.extend_from_slice(&self.v1);
+            }
+        }
+    }
+
+    /// Sets the active unknowns to `z + lambda d`.
+    fn set_z(&mut self, z: &[f64], d: &[f64], lambda: f64) {
         let n = self.n;
+        for (k, (zk, dk)) in z.iter().zip(d).enumerate() {
+            let u = zk + lambda * dk;
+            match (self.unknown, k / n) {
+                (Unknown::Both, 1) => self.v1[k - n] = u,
+                (Unknown::Both, _) | (Unknown::Q1, _) => self.q1[k] = u,
+                (Unknown::V1, _) => self.v1[k] = u,
+            }
+        }
+    }
+
+    /// Newton's method with the analytic tangents, damped by backtracking when a full step
+    /// increases the residual (a stick-slip friction law, for instance, can make plain
+    /// Newton cycle).
+    fn newton(&mut self, pf: &mut PseudoForce, inp: &StepInput) -> Result<usize, CoreError> {
         let m = self.res.len();
         let scale0 = inp
             .q0
@@ -352,35 +474,42 @@ impl<'r> Stepper<'r> {
             .chain(inp.v_lin)
             .fold(0.0_f64, |a, b| a.max(b.abs()));
         let mut norm = f64::INFINITY;
+        let (mut z0, mut delta) = (Vec::with_capacity(m), vec![0.0; m]);
+        let mut last: Option<f64> = None;
         for iter in 1..=self.max_iter {
             self.nodes(pf, inp, true, Nodes::Varying)?;
             norm = self.residual(inp);
+            if let Some(prev) = last {
+                let floor = 64.0 * f64::EPSILON * scale0;
+                let mut lambda = 1.0;
+                while (norm.is_nan() || norm > prev * (1.0 - 1e-4 * lambda))
+                    && prev > floor
+                    && lambda > 1.0 / 64.0
+                {
+                    lambda *= 0.5;
+                    self.set_z(&z0, &delta, lambda);
+                    self.nodes(pf, inp, true, Nodes::Varying)?;
+                    norm = self.residual(inp);
+                }
+            }
             self.jacobian();
-            let mut delta: Vec<f64> = self.res.iter().map(|r| -r).collect();
+            for (d, r) in delta.iter_mut().zip(&self.res) {
+                *d = -r;
+            }
             if !solve_in_place(m, &self.mat, &mut delta) {
                 break;
             }
-            let mut size = 0.0_f64;
-            let mut zmax = 0.0_f64;
-            for (k, d) in delta.iter().enumerate() {
-                let (block, i) = (k / n, k % n);
-                let z = if self.unknown == Unknown::Both && block == 1 {
-                    self.v1[i] += d;
-                    self.v1[i]
-                } else if self.unknown == Unknown::Both {
-                    self.q1[i] += d;
-                    self.q1[i]
-                } else {
-                    let u = self.unknown_value(i) + d;
-                    self.set_unknown(i, u);
-                    u
-                };
-                size = size.max(d.abs());
-                zmax = zmax.max(z.abs());
-            }
+            self.get_z(&mut z0);
+            self.set_z(&z0, &delta, 1.0);
+            let size = delta.iter().fold(0.0_f64, |a, d| a.max(d.abs()));
+            let zmax = z0
+                .iter()
+                .zip(&delta)
+                .fold(0.0_f64, |a, (z, d)| a.max((z + d).abs()));
             if size <= self.tol * zmax.max(scale0) || size == 0.0 {
                 return Ok(iter);
             }
+            last = Some(norm);
         }
         Err(CoreError::NoConvergence {
             time: inp.t + self.dt,
