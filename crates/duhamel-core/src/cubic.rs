@@ -4,6 +4,7 @@
 /// The real root of `c0 + c1 x + c2 x^2 + c3 x^3` nearest to `guess`, or `None` when there is
 /// none (a constant non-zero polynomial). Degenerate leading coefficients fall back to the
 /// quadratic and linear formulas; each root is polished by Newton steps on the polynomial.
+#[inline]
 pub fn nearest_root(c: [f64; 4], guess: f64) -> Option<f64> {
     let scale = c.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     if scale == 0.0 || !scale.is_finite() {
@@ -23,18 +24,22 @@ pub fn nearest_root(c: [f64; 4], guess: f64) -> Option<f64> {
     } else {
         0
     };
-    roots[..n]
-        .iter()
-        .map(|&r| polish([c0, c1, c2, c3], r))
-        .min_by(|a, b| (a - guess).abs().total_cmp(&(b - guess).abs()))
+    // The nearest root, then polished (polishing cannot move it past another root).
+    let mut best: Option<f64> = None;
+    for &r in &roots[..n] {
+        if best.is_none_or(|b| (r - guess).abs() < (b - guess).abs()) {
+            best = Some(r);
+        }
+    }
+    best.map(|r| polish([c0, c1, c2, c3], r))
 }
 
 /// Real roots of `x^3 + a x^2 + b x + c` (trigonometric form for three real roots, Cardano
 /// otherwise).
 fn cubic_roots(a: f64, b: f64, c: f64, out: &mut [f64; 3]) -> usize {
-    let a3 = a / 3.0;
-    let q = (a * a - 3.0 * b) / 9.0;
-    let r = (2.0 * a * a * a - 9.0 * a * b + 27.0 * c) / 54.0;
+    let a3 = a * (1.0 / 3.0);
+    let q = (a * a - 3.0 * b) * (1.0 / 9.0);
+    let r = (2.0 * a * a * a - 9.0 * a * b + 27.0 * c) * (1.0 / 54.0);
     let q3 = q * q * q;
     if r * r < q3 {
         let theta = (r / q3.sqrt()).clamp(-1.0, 1.0).acos();
@@ -86,22 +91,17 @@ fn quadratic_roots(a: f64, b: f64, c: f64, out: &mut [f64; 3]) -> usize {
     }
 }
 
-/// Two Newton steps on the polynomial (the closed forms lose a few digits near multiple
-/// roots and for badly scaled coefficients).
-fn polish(c: [f64; 4], mut x: f64) -> f64 {
-    for _ in 0..2 {
-        let p = ((c[3] * x + c[2]) * x + c[1]) * x + c[0];
-        let dp = (3.0 * c[3] * x + 2.0 * c[2]) * x + c[1];
-        if dp == 0.0 || !dp.is_finite() {
-            break;
-        }
-        let step = p / dp;
-        if !step.is_finite() {
-            break;
-        }
-        x -= step;
+/// One Newton step on the polynomial (the closed forms lose a few digits to cancellation
+/// and near multiple roots; one step squares that relative error).
+fn polish(c: [f64; 4], x: f64) -> f64 {
+    let p = ((c[3] * x + c[2]) * x + c[1]) * x + c[0];
+    let dp = (3.0 * c[3] * x + 2.0 * c[2]) * x + c[1];
+    let step = p / dp;
+    if step.is_finite() {
+        x - step
+    } else {
+        x
     }
-    x
 }
 
 #[cfg(test)]

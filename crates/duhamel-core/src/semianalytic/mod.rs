@@ -259,6 +259,18 @@ pub fn integrate(
                     }
                 }
                 Err(e) => {
+                    // A step equation whose residual is no longer finite is a diverging
+                    // response (an overflowing state), not a convergence problem.
+                    let e = match e {
+                        CoreError::NoConvergence { residual, .. } if !residual.is_finite() => {
+                            CoreError::NonFinite {
+                                time: t + dt,
+                                step: step + 1,
+                                last_good_time: t,
+                            }
+                        }
+                        other => other,
+                    };
                     failure = Some((e, step + 1));
                     break 'blocks;
                 }

@@ -195,6 +195,11 @@ impl<'a> PseudoForce<'a> {
         Ok(())
     }
 
+    /// Whether a mass law is attached.
+    pub fn has_mass(&self) -> bool {
+        self.mass.is_some()
+    }
+
     /// Whether the next evaluations are at the end of a step (the mass law's derivative is
     /// then taken from the left, where it jumps).
     pub fn set_left_limit(&mut self, left: bool) {

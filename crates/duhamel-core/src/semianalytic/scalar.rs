@@ -62,19 +62,6 @@ fn degrees(a: &ModalCubic) -> (usize, usize) {
     d
 }
 
-/// `sum a[i][j] q^i v^j` at a point.
-pub fn value(a: &ModalCubic, q: f64, v: f64) -> f64 {
-    let qp = [1.0, q, q * q, q * q * q];
-    let vp = [1.0, v, v * v, v * v * v];
-    let mut s = 0.0;
-    for (i, row) in a.iter().enumerate() {
-        for (j, &aij) in row.iter().enumerate().take(4 - i) {
-            s += aij * qp[i] * vp[j];
-        }
-    }
-    s
-}
-
 /// Value at `u` (Horner).
 pub fn eval(c: &Cubic, u: f64) -> f64 {
     ((c[3] * u + c[2]) * u + c[1]) * u + c[0]
