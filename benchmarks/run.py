@@ -1,4 +1,4 @@
-"""First duhamel benchmark: a linear 100-mode system, 1e5 steps, mode-steps per second.
+"""duhamel benchmarks: a linear 100-mode system (mode-steps/s) and nonlinear cases (ns/step).
 
 The model is a fixed-free chain of 100 unit masses joined by springs ``k = 1e6 N/m`` with 2 %
 modal damping (natural frequencies 2.5 Hz ... 318 Hz), loaded by a harmonic force at the free
@@ -14,7 +14,12 @@ modes. In one run on one machine it times:
 * ``scipy.signal.lsim`` on the same system in physical first-order form (200 states, the
   100-dof load vector as input, linear interpolation of the input between samples).
 
-Throughput is reported as mode-steps per second (modes x steps / seconds). Usage::
+Throughput is reported as mode-steps per second (modes x steps / seconds).
+
+The nonlinear section (``nonlinear.py``, run after the linear one) times a single-dof
+Duffing oscillator over 1e6 steps (closed-form steps, Newton steps, and
+``scipy.integrate.solve_ivp`` with DOP853 at a matched error) and a 20-dof chain with four
+cubic springs over 1e5 steps (5 retained modes and all 20), in nanoseconds per step. Usage::
 
     python benchmarks/run.py                          # print the tables
     python benchmarks/run.py --write BENCHMARKS.md    # also write the markdown report
@@ -45,6 +50,7 @@ from collections.abc import Callable  # noqa: E402
 from dataclasses import dataclass, field  # noqa: E402
 from pathlib import Path  # noqa: E402
 
+import nonlinear  # noqa: E402  (benchmarks/nonlinear.py, next to this script)
 import numpy as np  # noqa: E402
 import scipy  # noqa: E402
 import scipy.signal  # noqa: E402
@@ -552,7 +558,7 @@ def findings(res: Results) -> list[str]:
     return lines
 
 
-def markdown(res: Results, command: str) -> str:
+def markdown(res: Results, command: str, nl: nonlinear.NonlinearResults | None = None) -> str:
     s = res.setup
     assert res.primary is not None
     n_saved = s.n_steps + 1
@@ -637,6 +643,8 @@ def markdown(res: Results, command: str) -> str:
         f"| lsim (dt) vs duhamel (dt/10), tip displacement | {res.ref_diff_lsim:.2e} |",
         "",
     ]
+    if nl is not None:
+        out += [*nonlinear.nonlinear_markdown(nl), ""]
     return "\n".join(out)
 
 
@@ -668,6 +676,19 @@ def main(argv: list[str] | None = None) -> int:
         default=60.0,
         help="if lsim would take longer on all steps, time it on fewer steps and scale",
     )
+    parser.add_argument(
+        "--ivp-max-seconds",
+        type=float,
+        default=120.0,
+        help="if solve_ivp (Duffing) would take longer on the whole span, time it on a "
+        "shorter span and scale",
+    )
+    parser.add_argument(
+        "--nonlinear-repeats",
+        type=int,
+        default=None,
+        help="repeats (best of) of the nonlinear cases (default 3)",
+    )
     args = parser.parse_args(argv)
 
     setup = Setup(n_steps=2000, repeats=1) if args.quick else Setup()
@@ -679,11 +700,20 @@ def main(argv: list[str] | None = None) -> int:
     def log(msg: str) -> None:
         print(msg, file=sys.stderr, flush=True)
 
+    nl_setup = nonlinear.QUICK if args.quick else nonlinear.NonlinearSetup()
+    if args.nonlinear_repeats is not None:
+        nl_setup = nonlinear.NonlinearSetup(
+            **{**nl_setup.__dict__, "repeats": args.nonlinear_repeats}
+        )
+
     res = run(setup, args.quick, args.lsim_max_seconds, log)
+    nl = nonlinear.run_nonlinear(nl_setup, args.ivp_max_seconds, log)
+    res.load_after = loadavg()
     print_report(res)
+    nonlinear.print_nonlinear(nl)
     if args.write:
         command = shlex.join(getattr(sys, "orig_argv", [sys.executable, *sys.argv]))
-        Path(args.write).write_text(markdown(res, command))
+        Path(args.write).write_text(markdown(res, command, nl))
         log(f"wrote {args.write}")
     return 0
 
