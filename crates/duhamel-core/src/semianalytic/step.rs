@@ -157,6 +157,9 @@ pub struct Stepper<'r> {
     jacs: Vec<Jacobian>,
     res: Vec<f64>,
     mat: Vec<f64>,
+    /// Newton's buffers, kept between steps.
+    z0: Vec<f64>,
+    delta: Vec<f64>,
 }
 
 impl<'r> Stepper<'r> {
@@ -223,6 +226,8 @@ impl<'r> Stepper<'r> {
             jacs: (0..nodes).map(|_| Jacobian::new(n)).collect(),
             res: vec![0.0; m],
             mat: vec![0.0; m * m],
+            z0: Vec::with_capacity(m),
+            delta: vec![0.0; m],
         }
     }
 
@@ -486,46 +491,65 @@ impl<'r> Stepper<'r> {
             .chain(inp.v_lin)
             .fold(0.0_f64, |a, b| a.max(b.abs()));
         let mut norm = f64::INFINITY;
-        let (mut z0, mut delta) = (Vec::with_capacity(m), vec![0.0; m]);
+        let (mut z0, mut delta) = (
+            std::mem::take(&mut self.z0),
+            std::mem::take(&mut self.delta),
+        );
+        delta.resize(m, 0.0);
+        let result = self.newton_iterations(pf, inp, &mut z0, &mut delta, scale0, &mut norm);
+        (self.z0, self.delta) = (z0, delta);
+        result
+    }
+
+    fn newton_iterations(
+        &mut self,
+        pf: &mut PseudoForce,
+        inp: &StepInput,
+        z0: &mut Vec<f64>,
+        delta: &mut [f64],
+        scale0: f64,
+        norm: &mut f64,
+    ) -> Result<usize, CoreError> {
+        let m = self.res.len();
         let mut last: Option<f64> = None;
         for iter in 1..=self.max_iter {
             self.nodes(pf, inp, true, Nodes::Varying)?;
-            norm = self.residual(inp);
+            *norm = self.residual(inp);
             if let Some(prev) = last {
                 let floor = 64.0 * f64::EPSILON * scale0;
                 let mut lambda = 1.0;
-                while (norm.is_nan() || norm > prev * (1.0 - 1e-4 * lambda))
+                while (norm.is_nan() || *norm > prev * (1.0 - 1e-4 * lambda))
                     && prev > floor
                     && lambda > 1.0 / 64.0
                 {
                     lambda *= 0.5;
-                    self.set_z(&z0, &delta, lambda);
+                    self.set_z(z0, delta, lambda);
                     self.nodes(pf, inp, true, Nodes::Varying)?;
-                    norm = self.residual(inp);
+                    *norm = self.residual(inp);
                 }
             }
             self.jacobian();
             for (d, r) in delta.iter_mut().zip(&self.res) {
                 *d = -r;
             }
-            if !solve_in_place(m, &self.mat, &mut delta) {
+            if !solve_in_place(m, &self.mat, delta) {
                 break;
             }
-            self.get_z(&mut z0);
-            self.set_z(&z0, &delta, 1.0);
+            self.get_z(z0);
+            self.set_z(z0, delta, 1.0);
             let size = delta.iter().fold(0.0_f64, |a, d| a.max(d.abs()));
             let zmax = z0
                 .iter()
-                .zip(&delta)
+                .zip(delta.iter())
                 .fold(0.0_f64, |a, (z, d)| a.max((z + d).abs()));
             if size <= self.tol * zmax.max(scale0) || size == 0.0 {
                 return Ok(iter);
             }
-            last = Some(norm);
+            last = Some(*norm);
         }
         Err(CoreError::NoConvergence {
             time: inp.t + self.dt,
-            residual: norm,
+            residual: *norm,
             iterations: self.max_iter,
             last_good_time: inp.t,
         })
