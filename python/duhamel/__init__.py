@@ -14,24 +14,39 @@ Examples
 (401, 2)
 """
 
-from duhamel import elements, exact, loads, mass, oscillator
+from duhamel import analysis, elements, exact, loads, mass, oscillator
 from duhamel._core import __version__
 from duhamel.errors import DuhamelError, SolverError
-from duhamel.integrators import Semianalytic
+from duhamel.integrators import (
+    HHT,
+    CentralDifference,
+    CubicHermite,
+    DirectIntegrator,
+    GeneralizedAlpha,
+    Newmark,
+    Semianalytic,
+)
 from duhamel.solution import ModalHistory, Solution, SolveStats
 from duhamel.solve import solve
 from duhamel.system import ModalBasis, System
 
 __all__ = [
+    "HHT",
+    "CentralDifference",
+    "CubicHermite",
+    "DirectIntegrator",
     "DuhamelError",
+    "GeneralizedAlpha",
     "ModalBasis",
     "ModalHistory",
+    "Newmark",
     "Semianalytic",
     "Solution",
     "SolveStats",
     "SolverError",
     "System",
     "__version__",
+    "analysis",
     "elements",
     "exact",
     "loads",

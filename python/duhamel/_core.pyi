@@ -34,3 +34,36 @@ def solve_linear(
 ) -> dict[str, Any]:
     """Exact modal time loop; returns ``t``, time-major ``q`` and ``v``, ``load_values``,
     ``forcing`` and ``error``."""
+
+def solve_direct(
+    m: tuple[Any, ...],
+    k: tuple[Any, ...],
+    x0: NDArray[np.float64],
+    v0: NDArray[np.float64],
+    loads: Sequence[tuple[NDArray[np.float64], str, tuple[Any, ...]]],
+    dt: float,
+    n_steps: int,
+    save_every: int,
+    out_dofs: NDArray[np.int64],
+    method: tuple[Any, ...],
+    tol: float,
+    max_iter: int,
+    c: tuple[Any, ...] | None = None,
+    k_fixed: tuple[Any, ...] | None = None,
+    elements: Sequence[tuple[Any, ...]] | None = None,
+    mass: tuple[Any, ...] | None = None,
+    forcing: Callable[[float], NDArray[np.float64]] | None = None,
+    a0: NDArray[np.float64] | None = None,
+) -> dict[str, Any]:
+    """Direct integration of the physical equations. Matrices are ``("dense", array)`` or
+    ``("csr", n, indptr, indices, data)``; `method` is ``("alpha", alpha_m, alpha_f, gamma,
+    beta)`` or ``("hermite", points)``. Returns ``t``, time-major ``x``, ``v``, ``a`` for
+    `out_dofs`, ``error`` and ``stats`` (``newton_iterations``, ``factorizations``)."""
+
+def element_stiffness(
+    elements: Sequence[tuple[Any, ...]],
+    x: NDArray[np.float64],
+    v: NDArray[np.float64],
+    t: float,
+) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
+    """The elements' tangent stiffness ``dr/dx`` at ``(x, v, t)`` as COO triplets."""

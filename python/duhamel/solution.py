@@ -74,11 +74,17 @@ class SolveStats:
     total_time : float
         Seconds for the whole call, modal analysis and back-transformation included.
     modes : int
-        Modal coordinates integrated.
+        Modal coordinates integrated (0 for the direct integrators, which step the physical
+        coordinates).
     newton_iterations : int
         Newton iterations over the run (nonlinear problems).
     closed_form_steps : int
         Steps solved by the closed-form cubic (single-mode polynomial problems).
+    factorizations : int
+        Direct integrators: LU factorisations of the iteration (effective stiffness)
+        matrix over the run; 1 for a linear problem with constant mass (the mass matrix,
+        factorised once for the initial acceleration, is not counted). 0 for the
+        semi-analytic integrator.
     """
 
     steps: int
@@ -87,6 +93,7 @@ class SolveStats:
     modes: int
     newton_iterations: int = 0
     closed_form_steps: int = 0
+    factorizations: int = 0
 
     @property
     def mode_steps_per_second(self) -> float:
@@ -107,8 +114,9 @@ class Solution:
         (all, or those passed as ``dofs``).
     dofs : ndarray of int, shape (n_out,)
         Which degrees of freedom the columns of `x`, `v`, `a` are.
-    modal : ModalHistory
-        The modal history the physical response was recovered from.
+    modal : ModalHistory or None
+        The modal history the physical response was recovered from (semi-analytic
+        integrator); None for the direct integrators, which step the physical coordinates.
     stats : SolveStats
         Steps and timings.
 
@@ -126,7 +134,7 @@ class Solution:
     v: NDArray[np.float64]
     a: NDArray[np.float64]
     dofs: NDArray[np.int64]
-    modal: ModalHistory
+    modal: ModalHistory | None
     stats: SolveStats
     meta: dict[str, Any] = field(default_factory=dict)
 

@@ -10,10 +10,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel import _core
+from duhamel._direct import solve_direct
 from duhamel._validate import as_float_array, dof_list, positive_float, positive_int
 from duhamel.elements import LinearCoupling
 from duhamel.errors import SolverError
-from duhamel.integrators import Semianalytic
+from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import Callable
 from duhamel.solution import ModalHistory, Solution, SolveStats
 from duhamel.system import ModalBasis, System
@@ -37,7 +38,7 @@ def _initial(value: ArrayLike | None, name: str, system: System, basis: ModalBas
 
 
 class _ModalCallable:
-    """Sums the Python load functions; called by the core with the GIL."""
+    """Sums the Python load functions (physical load vectors); called by the core with the GIL."""
 
     def __init__(self, fns: list[Any], n_dof: int) -> None:
         self.fns = fns
@@ -92,7 +93,7 @@ def _mass(system: System, integrator: Semianalytic) -> tuple | None:
 
 def solve(
     system: System,
-    integrator: Semianalytic,
+    integrator: Semianalytic | DirectIntegrator,
     *,
     t_end: float,
     dt: float,
@@ -108,8 +109,10 @@ def solve(
     ----------
     system : System
         The model, with its loads.
-    integrator : Semianalytic
-        The time integrator and its options (modal reduction).
+    integrator : Semianalytic, Newmark, HHT, GeneralizedAlpha, CentralDifference or CubicHermite
+        The time integrator and its options. :class:`Semianalytic` steps the modal
+        oscillators exactly (modal reduction possible); the others step the physical
+        equations directly (docs/direct.md).
     t_end : float
         End time; the run takes ``floor(t_end / dt)`` steps of length `dt` (``t_end`` itself
         when it is a multiple of `dt`).
@@ -118,26 +121,30 @@ def solve(
         representation of the loads within a step.
     x0, v0 : array_like, shape (n_dof,), optional
         Initial displacements and velocities (zero by default). With modal reduction they
-        are projected on the retained modes.
+        are projected on the retained modes. Direct integrators start from them as given,
+        with the initial acceleration from the equation of motion.
     save_every : int
         Keep every `save_every`-th step (the last step is always kept).
     dofs : sequence of int, optional
-        Degrees of freedom to recover (default: all). The modal history is always kept.
+        Degrees of freedom to recover (default: all). The modal history is always kept
+        (semi-analytic); direct integrators keep only these.
     threads : int, optional
-        Worker threads of the time loop (default: all cores).
+        Worker threads of the semi-analytic linear time loop (default: all cores); the
+        direct integrators run on one thread.
 
     Returns
     -------
     Solution
-        ``t``, ``x``, ``v``, ``a``, ``modal`` and ``stats``.
+        ``t``, ``x``, ``v``, ``a``, ``modal`` (None for direct integrators) and ``stats``.
 
     Raises
     ------
     ValueError, TypeError
         Bad input; the message names the parameter.
     SolverError
-        The response became non-finite (a diverging system) or a load function failed; the
-        exception's ``partial`` attribute holds the solution up to the last good instant.
+        The response became non-finite (a diverging system), a step equation did not
+        converge, or a load or element function failed; the exception's ``partial``
+        attribute holds the solution up to the last good instant.
 
     Examples
     --------
@@ -154,10 +161,10 @@ def solve(
     started = _time.perf_counter()
     if not isinstance(system, System):
         raise TypeError(f"`system` must be a duhamel.System, got {type(system).__name__}")
-    if not isinstance(integrator, Semianalytic):
+    if not isinstance(integrator, Semianalytic | DirectIntegrator):
         raise TypeError(
-            f"`integrator` must be a duhamel integrator such as duhamel.Semianalytic(), "
-            f"got {type(integrator).__name__}"
+            f"`integrator` must be a duhamel integrator such as duhamel.Semianalytic() or "
+            f"duhamel.Newmark(), got {type(integrator).__name__}"
         )
     dt = positive_float(dt, "dt")
     n_steps = _steps(t_end, dt)
@@ -165,6 +172,21 @@ def solve(
     if threads is not None:
         threads = positive_int(threads, "threads")
     out_dofs = np.arange(system.n_dof) if dofs is None else dof_list(dofs, "dofs", system.n_dof)
+    if isinstance(integrator, DirectIntegrator):
+        n = system.n_dof
+        fns = [load.fn for load in system.loads if isinstance(load, Callable)]
+        return solve_direct(
+            system,
+            integrator,
+            dt=dt,
+            n_steps=n_steps,
+            x0=np.zeros(n) if x0 is None else as_float_array(x0, "x0", ndim=1, shape=(n,)),
+            v0=np.zeros(n) if v0 is None else as_float_array(v0, "v0", ndim=1, shape=(n,)),
+            save_every=save_every,
+            out_dofs=out_dofs,
+            forcing=_ModalCallable(fns, n) if fns else None,
+            started=started,
+        )
 
     basis = system.modal(integrator.modes)
     phi = basis.phi

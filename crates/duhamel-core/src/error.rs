@@ -16,7 +16,7 @@ pub enum CoreError {
         expected: usize,
     },
     /// The state stopped being finite: the simulation diverged.
-    #[error("the state became non-finite at t = {time} (step {step}): the response diverges (negative damping, an unstable load or an overflow); the history up to t = {last_good_time} is kept")]
+    #[error("the state became non-finite at t = {time} (step {step}): the response diverges (negative damping, an unstable load, a step beyond the integrator's stability limit or an overflow); the history up to t = {last_good_time} is kept")]
     NonFinite {
         time: f64,
         step: usize,

@@ -5,6 +5,7 @@
 
 pub mod cubic;
 pub mod dense;
+pub mod direct;
 pub mod elements;
 pub mod error;
 pub mod linear;

@@ -48,26 +48,27 @@ impl History {
     }
 }
 
-/// A run that stopped early: the reason and everything computed before it.
+/// A run that stopped early: the reason and everything computed before it (a modal
+/// [`History`], or another integrator's history type).
 #[derive(Debug, Clone)]
-pub struct Failure {
+pub struct Failure<H = History> {
     /// Why the run stopped.
     pub error: CoreError,
     /// The history up to the last good saved instant.
-    pub partial: History,
+    pub partial: H,
 }
 
-impl From<CoreError> for Failure {
+impl<H: Default> From<CoreError> for Failure<H> {
     fn from(error: CoreError) -> Self {
         Failure {
             error,
-            partial: History::default(),
+            partial: H::default(),
         }
     }
 }
 
 /// The step indices that are saved: multiples of `save_every`, and the last step.
-fn saved_steps(n_steps: usize, save_every: usize) -> Vec<usize> {
+pub(crate) fn saved_steps(n_steps: usize, save_every: usize) -> Vec<usize> {
     let mut s: Vec<usize> = (0..=n_steps).step_by(save_every).collect();
     if n_steps % save_every != 0 {
         s.push(n_steps);

@@ -51,7 +51,7 @@ fn parse_options(options: &Bound<'_, PyAny>) -> PyResult<Options> {
     })
 }
 
-fn parse_mass(mass: &Bound<'_, PyAny>) -> PyResult<TimeVaryingMass> {
+pub(crate) fn parse_mass(mass: &Bound<'_, PyAny>) -> PyResult<TimeVaryingMass> {
     let kind: String = mass.get_item(0)?.extract()?;
     let p = mass.get_item(1)?;
     let law = match kind.as_str() {
@@ -78,7 +78,13 @@ fn parse_mass(mass: &Bound<'_, PyAny>) -> PyResult<TimeVaryingMass> {
             )))
         }
     };
-    let treatment = match mass.get_item(4)?.extract::<String>()?.as_str() {
+    // Direct integrators pass no treatment: the mass law enters their equation as it is.
+    let treatment = if mass.len()? < 5 {
+        "eliminate".to_string()
+    } else {
+        mass.get_item(4)?.extract::<String>()?
+    };
+    let treatment = match treatment.as_str() {
         "eliminate" => MassTreatment::Eliminate,
         "estimate" => MassTreatment::Estimate,
         other => {

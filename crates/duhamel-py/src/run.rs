@@ -47,11 +47,13 @@ pub(crate) fn parse_loads(loads: &Bound<'_, PyAny>) -> PyResult<Vec<ModalLoad>> 
     Ok(out)
 }
 
-/// Calls a Python function of time and projects its load vector on the modes.
+/// Calls a Python function of time and projects its load vector on the modes (or, for the
+/// direct integrators, passes the physical load vector on as it is).
 pub(crate) struct PyForcing {
     func: Py<PyAny>,
-    /// `phi_t[m * n_dof + d]`: mode shapes, transposed.
-    phi_t: Vec<f64>,
+    /// `phi_t[m * n_dof + d]`: mode shapes, transposed; `None` for physical loads (no
+    /// projection: the direct integrators).
+    phi_t: Option<Vec<f64>>,
     n_dof: usize,
     /// The Python exception that stopped the run, re-raised by the caller.
     pub(crate) error: Option<PyErr>,
@@ -76,10 +78,20 @@ impl PyForcing {
         }
         Ok(Some(PyForcing {
             func,
-            phi_t: phi,
+            phi_t: Some(phi),
             n_dof,
             error: None,
         }))
+    }
+
+    /// The forcing of a Python function of time returning physical loads, used as they are.
+    pub(crate) fn physical(func: Option<Py<PyAny>>, n_dof: usize) -> Option<Self> {
+        func.map(|func| PyForcing {
+            func,
+            phi_t: None,
+            n_dof,
+            error: None,
+        })
     }
 }
 
@@ -105,9 +117,14 @@ impl PyForcing {
         if let Some(i) = f.iter().position(|x| !x.is_finite()) {
             return Err(bad(format!("returned a non-finite value at dof {i}")));
         }
-        for (m, o) in out.iter_mut().enumerate() {
-            let row = &self.phi_t[m * n_dof..(m + 1) * n_dof];
-            *o = row.iter().zip(f).map(|(p, x)| p * x).sum();
+        match &self.phi_t {
+            Some(phi_t) => {
+                for (m, o) in out.iter_mut().enumerate() {
+                    let row = &phi_t[m * n_dof..(m + 1) * n_dof];
+                    *o = row.iter().zip(f).map(|(p, x)| p * x).sum();
+                }
+            }
+            None => out.copy_from_slice(f),
         }
         Ok(())
     }
@@ -126,6 +143,17 @@ impl ModalForcing for PyForcing {
             }
             Ok(())
         })
+    }
+}
+
+/// A saved history that becomes the dict `duhamel.solve` reads.
+pub(crate) trait IntoDict {
+    fn into_dict(self, py: Python<'_>) -> PyResult<Bound<'_, PyDict>>;
+}
+
+impl IntoDict for History {
+    fn into_dict(self, py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+        history_dict(py, self)
     }
 }
 
@@ -201,14 +229,14 @@ pub(crate) fn solve_linear<'py>(
 /// The Python result of a run: the history dict, with `error` None or describing why the run
 /// stopped early (the arrays then hold what was computed). A failing Python callback
 /// re-raises its own exception, noting the time; input errors raise ValueError.
-pub(crate) fn finish<'py>(
+pub(crate) fn finish<'py, H: IntoDict>(
     py: Python<'py>,
-    result: Result<History, Box<Failure>>,
+    result: Result<H, Box<Failure<H>>>,
     py_error: Option<PyErr>,
 ) -> PyResult<Bound<'py, PyDict>> {
     match result {
         Ok(h) => {
-            let d = history_dict(py, h)?;
+            let d = h.into_dict(py)?;
             d.set_item("error", py.None())?;
             Ok(d)
         }
@@ -226,7 +254,7 @@ pub(crate) fn finish<'py>(
                 CoreError::NoConvergence { time, .. } => ("convergence", *time, 0),
                 _ => return Err(core_err(error)),
             };
-            let d = history_dict(py, partial)?;
+            let d = partial.into_dict(py)?;
             let e = PyDict::new(py);
             e.set_item("kind", kind)?;
             e.set_item("message", error.to_string())?;

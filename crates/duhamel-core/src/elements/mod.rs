@@ -67,3 +67,43 @@ pub type ModalCubic = [[f64; 4]; 4];
 pub(crate) fn relative(phi: &[f64]) -> f64 {
     phi[0] - phi.get(1).copied().unwrap_or(0.0)
 }
+
+/// Central-difference tangents `dr/dx`, `dr/dx'` (row-major, overwritten) of an element that
+/// has none (a Python callable without a Jacobian): `2 n_loc` extra evaluations per direction.
+pub(crate) fn numeric_tangent(
+    element: &dyn Element,
+    x: &[f64],
+    v: &[f64],
+    t: f64,
+    kx: &mut [f64],
+    cv: &mut [f64],
+) -> Result<(), CoreError> {
+    let nl = x.len();
+    let mut rp = vec![0.0; nl];
+    let mut rm = vec![0.0; nl];
+    let (mut xs, mut vs) = (x.to_vec(), v.to_vec());
+    kx.fill(0.0);
+    cv.fill(0.0);
+    for which in 0..2 {
+        for j in 0..nl {
+            let base = if which == 0 { x[j] } else { v[j] };
+            let h = f64::EPSILON.cbrt() * (1.0 + base.abs());
+            for (value, out) in [(base + h, &mut rp), (base - h, &mut rm)] {
+                if which == 0 {
+                    xs[j] = value;
+                } else {
+                    vs[j] = value;
+                }
+                out.fill(0.0);
+                element.eval(&xs, &vs, t, out, None)?;
+            }
+            xs[j] = x[j];
+            vs[j] = v[j];
+            let dst = if which == 0 { &mut *kx } else { &mut *cv };
+            for i in 0..nl {
+                dst[i * nl + j] = (rp[i] - rm[i]) / (2.0 * h);
+            }
+        }
+    }
+    Ok(())
+}

@@ -10,7 +10,7 @@
 //! * mass estimated: `Q = -rho - (mu - 1) a - [momentum] mu' v - [scaled] (mu - 1) k q`, with
 //!   `a` an estimate of the acceleration.
 
-use crate::elements::{Element, ModalCubic, Tangent};
+use crate::elements::{numeric_tangent, Element, ModalCubic, Tangent};
 use crate::error::CoreError;
 use crate::mass::{MassForm, MassTreatment, TimeVaryingMass};
 
@@ -165,7 +165,14 @@ impl<'a> PseudoForce<'a> {
             });
             slot.element.eval(&slot.x, &slot.v, t, &mut slot.r, tan)?;
             if tangent && !slot.element.has_tangent() {
-                finite_difference(slot, t)?;
+                numeric_tangent(
+                    slot.element,
+                    &slot.x,
+                    &slot.v,
+                    t,
+                    &mut slot.kx,
+                    &mut slot.cv,
+                )?;
             }
             project(&slot.phi_e, n, nl, &slot.r, &mut self.rho);
             if tangent {
@@ -402,41 +409,4 @@ fn congruence(phi_e: &[f64], n: usize, nl: usize, t: &[f64], out: &mut [f64]) {
             }
         }
     }
-}
-
-/// Central-difference tangents of an element that has none (a Python callable without a
-/// Jacobian): `2 n_loc` extra evaluations per direction.
-fn finite_difference(slot: &mut Slot, t: f64) -> Result<(), CoreError> {
-    let nl = slot.x.len();
-    let mut rp = vec![0.0; nl];
-    let mut rm = vec![0.0; nl];
-    slot.kx.fill(0.0);
-    slot.cv.fill(0.0);
-    for which in 0..2 {
-        for j in 0..nl {
-            let base = if which == 0 { slot.x[j] } else { slot.v[j] };
-            let h = f64::EPSILON.cbrt() * (1.0 + base.abs());
-            let eval_at = |value: f64, out: &mut [f64]| -> Result<(), CoreError> {
-                let (mut x, mut v) = (slot.x.clone(), slot.v.clone());
-                if which == 0 {
-                    x[j] = value;
-                } else {
-                    v[j] = value;
-                }
-                out.fill(0.0);
-                slot.element.eval(&x, &v, t, out, None)
-            };
-            eval_at(base + h, &mut rp)?;
-            eval_at(base - h, &mut rm)?;
-            let dst = if which == 0 {
-                &mut slot.kx
-            } else {
-                &mut slot.cv
-            };
-            for i in 0..nl {
-                dst[i * nl + j] = (rp[i] - rm[i]) / (2.0 * h);
-            }
-        }
-    }
-    Ok(())
 }

@@ -1,0 +1,265 @@
+//! The physical equation of motion, term by term:
+//!
+//! `mu M x'' + [momentum] mu' M x' + C x' + s K x + Kc x + r(x, x', t) = f(t)`
+//!
+//! with `mu(t)` the mass law (1 without one), `s = mu` when the stiffness scales with the
+//! mass (else 1) and `Kc` the stiffness that does not scale (linear couplings).
+
+use super::assembly::{IterationMatrix, Matrix};
+use super::DirectProblem;
+use crate::elements::{numeric_tangent, Element, Tangent};
+use crate::error::CoreError;
+use crate::mass::MassForm;
+use crate::stepping::ModalForcing;
+
+/// Index of each constant matrix in the iteration matrix's sources.
+pub(crate) const M: usize = 0;
+pub(crate) const K: usize = 1;
+pub(crate) const C: usize = 2;
+pub(crate) const KC: usize = 3;
+
+/// Mass-law coefficients at one time: `mu`, the momentum term's `mu'` (0 in the acceleration
+/// form) and the stiffness scale `s`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Coefs {
+    pub mu: f64,
+    pub dmu: f64,
+    pub s: f64,
+}
+
+/// An element with buffers for its local state, force and tangents.
+pub(crate) struct Slot<'a> {
+    pub element: &'a dyn Element,
+    pub x: Vec<f64>,
+    pub v: Vec<f64>,
+    pub r: Vec<f64>,
+    pub kx: Vec<f64>,
+    pub cv: Vec<f64>,
+}
+
+/// Evaluates the terms of the equation of motion.
+pub(crate) struct Model<'a> {
+    pub p: &'a DirectProblem<'a>,
+    pub n: usize,
+    pub slots: Vec<Slot<'a>>,
+    /// Whether any element force depends on the velocities.
+    pub velocity_elements: bool,
+    scratch: Vec<f64>,
+}
+
+impl<'a> Model<'a> {
+    pub fn new(p: &'a DirectProblem<'a>) -> Self {
+        let slots = p
+            .elements
+            .iter()
+            .map(|&element| {
+                let nl = element.dofs().len();
+                Slot {
+                    element,
+                    x: vec![0.0; nl],
+                    v: vec![0.0; nl],
+                    r: vec![0.0; nl],
+                    kx: vec![0.0; nl * nl],
+                    cv: vec![0.0; nl * nl],
+                }
+            })
+            .collect();
+        let n = p.x0.len();
+        Model {
+            p,
+            n,
+            slots,
+            velocity_elements: p.elements.iter().any(|e| e.uses_velocity()),
+            scratch: vec![0.0; n],
+        }
+    }
+
+    /// The constant matrices in the order of [`M`], [`K`], [`C`], [`KC`] (absent ones as
+    /// `None`), for an iteration matrix.
+    pub fn matrices(&self) -> Vec<&'a Matrix> {
+        let mut out = vec![self.p.m, self.p.k];
+        out.extend(self.p.c);
+        out.extend(self.p.k_fixed);
+        out
+    }
+
+    /// Index of the optional matrices among [`Model::matrices`].
+    pub fn index(&self, which: usize) -> Option<usize> {
+        match which {
+            M => Some(0),
+            K => Some(1),
+            C => self.p.c.map(|_| 2),
+            KC => self.p.k_fixed.map(|_| 2 + usize::from(self.p.c.is_some())),
+            _ => None,
+        }
+    }
+
+    /// An iteration matrix of `nb x nb` blocks fed by these matrices and elements.
+    pub fn iteration_matrix(&self, nb: usize) -> Result<IterationMatrix<'a>, CoreError> {
+        let dofs: Vec<&[usize]> = self.p.elements.iter().map(|e| e.dofs()).collect();
+        IterationMatrix::new(self.n, nb, &self.matrices(), &dofs)
+    }
+
+    /// Adds `coef` times constant matrix `which` (if present) into block `block`.
+    pub fn add(&self, it: &mut IterationMatrix, which: usize, block: (usize, usize), coef: f64) {
+        if let Some(i) = self.index(which) {
+            it.add_matrix(i, block, coef);
+        }
+    }
+
+    /// Adds the elements' last evaluated tangents: `ck dr/dx + cc dr/dx'`.
+    pub fn add_tangents(&self, it: &mut IterationMatrix, block: (usize, usize), ck: f64, cc: f64) {
+        for (e, slot) in self.slots.iter().enumerate() {
+            let dofs = slot.element.dofs();
+            it.add_local(e, dofs, &slot.kx, block, ck);
+            it.add_local(e, dofs, &slot.cv, block, cc);
+        }
+    }
+
+    /// Mass-law coefficients at `t` (the derivative from the left when `left`: the end of a
+    /// step that ends on a breakpoint of a tabulated law belongs to the segment before it).
+    pub fn coefs(&self, t: f64, left: bool) -> Coefs {
+        match self.p.mass {
+            None => Coefs {
+                mu: 1.0,
+                dmu: 0.0,
+                s: 1.0,
+            },
+            Some(m) => {
+                let (mu, dmu) = m.law.eval_side(t, left && t > 0.0);
+                Coefs {
+                    mu,
+                    dmu: if m.form == MassForm::Momentum {
+                        dmu
+                    } else {
+                        0.0
+                    },
+                    s: if m.scale_stiffness { mu } else { 1.0 },
+                }
+            }
+        }
+    }
+
+    /// `out += mu' M v + C v + s K x + Kc x` (the linear part of the internal force).
+    pub fn linear_force(&self, x: &[f64], v: &[f64], k: Coefs, out: &mut [f64]) {
+        let p = self.p;
+        p.m.mul_add(k.dmu, v, out);
+        if let Some(c) = p.c {
+            c.mul_add(1.0, v, out);
+        }
+        p.k.mul_add(k.s, x, out);
+        if let Some(kc) = p.k_fixed {
+            kc.mul_add(1.0, x, out);
+        }
+    }
+
+    /// `out += r(x, v, t)`; with `tangent`, leaves `dr/dx`, `dr/dx'` of each element in its
+    /// slot (central differences for elements without analytic tangents).
+    pub fn element_force(
+        &mut self,
+        x: &[f64],
+        v: &[f64],
+        t: f64,
+        tangent: bool,
+        out: &mut [f64],
+    ) -> Result<(), CoreError> {
+        for slot in &mut self.slots {
+            let dofs = slot.element.dofs();
+            for (j, &d) in dofs.iter().enumerate() {
+                slot.x[j] = x[d];
+                slot.v[j] = v[d];
+            }
+            slot.r.fill(0.0);
+            let analytic = tangent && slot.element.has_tangent();
+            if analytic {
+                slot.kx.fill(0.0);
+                slot.cv.fill(0.0);
+            }
+            let tan = analytic.then(|| Tangent {
+                kx: &mut slot.kx,
+                cv: &mut slot.cv,
+            });
+            slot.element.eval(&slot.x, &slot.v, t, &mut slot.r, tan)?;
+            if tangent && !slot.element.has_tangent() {
+                numeric_tangent(
+                    slot.element,
+                    &slot.x,
+                    &slot.v,
+                    t,
+                    &mut slot.kx,
+                    &mut slot.cv,
+                )?;
+            }
+            for (j, &d) in dofs.iter().enumerate() {
+                out[d] += slot.r[j];
+            }
+        }
+        Ok(())
+    }
+
+    /// The internal force `F = mu' M v + C v + s K x + Kc x + r(x, v, t)` into `out`.
+    pub fn internal(
+        &mut self,
+        x: &[f64],
+        v: &[f64],
+        t: f64,
+        k: Coefs,
+        tangent: bool,
+        out: &mut [f64],
+    ) -> Result<(), CoreError> {
+        out.fill(0.0);
+        self.linear_force(x, v, k, out);
+        self.element_force(x, v, t, tangent, out)
+    }
+
+    /// The external load at each of `times` into consecutive rows of `out` (`n` each): the
+    /// built-in loads' values (right-continuous) plus the Python forcing, if any.
+    pub fn external(
+        &self,
+        times: &[f64],
+        forcing: Option<&mut (dyn ModalForcing + '_)>,
+        out: &mut [f64],
+    ) -> Result<(), CoreError> {
+        let n = self.n;
+        match forcing {
+            Some(f) => f.modal_loads(times, out)?,
+            None => out.fill(0.0),
+        }
+        for (row, &t) in out.chunks_exact_mut(n).zip(times) {
+            for load in self.p.loads {
+                let s = load.time.eval(t);
+                if s != 0.0 {
+                    for (o, p) in row.iter_mut().zip(&load.pattern) {
+                        *o += s * p;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The acceleration from the equation of motion at a state:
+    /// `a = M^-1 (f - F(x, v, t)) / mu`, with `m_lu` the factorised constant `M`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn acceleration(
+        &mut self,
+        m_lu: &super::assembly::Factorization,
+        x: &[f64],
+        v: &[f64],
+        t: f64,
+        k: Coefs,
+        f: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), CoreError> {
+        let mut scratch = std::mem::take(&mut self.scratch);
+        let res = self.internal(x, v, t, k, false, &mut scratch);
+        if res.is_ok() {
+            for ((o, fi), s) in out.iter_mut().zip(f).zip(&scratch) {
+                *o = (fi - s) / k.mu;
+            }
+            m_lu.solve_in_place(out);
+        }
+        self.scratch = scratch;
+        res
+    }
+}
