@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
 use crate::nonlinear::parse_mass;
-use crate::run::{finish, parse_loads, IntoDict, PyForcing};
+use crate::run::{finish_run, parse_loads, IntoDict, PyForcing};
 use crate::{core_err, elements, vec_of};
 
 impl IntoDict for DirectHistory {
@@ -164,23 +164,10 @@ pub(crate) fn solve_direct<'py>(
         let f = py_forcing.as_mut().map(|f| f as &mut dyn ModalForcing);
         direct::integrate(&problem, f)
     });
-    let (result, stats) = match result {
-        Ok((h, s)) => (Ok(h), Some(s)),
-        Err(e) => (Err(e), None),
-    };
-    let py_error = py_forcing.and_then(|f| f.error).or_else(|| {
-        python
-            .iter()
-            .find_map(|e| e.error.lock().unwrap_or_else(|p| p.into_inner()).take())
-    });
-    let d = finish(py, result, py_error)?;
-    let st = PyDict::new(py);
-    if let Some(s) = stats {
+    finish_run(py, result, py_forcing, &python, |s, st| {
         st.set_item("newton_iterations", s.newton_iterations)?;
-        st.set_item("factorizations", s.factorizations)?;
-    }
-    d.set_item("stats", st)?;
-    Ok(d)
+        st.set_item("factorizations", s.factorizations)
+    })
 }
 
 /// The elements' stiffness `dr/dx` at the state `(x, v)` and time `t`, as COO triplets

@@ -9,7 +9,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::elements;
-use crate::run::{finish, parse_loads, PyForcing};
+use crate::run::{finish_run, parse_loads, PyForcing};
 use crate::vec_of;
 
 fn parse_options(options: &Bound<'_, PyAny>) -> PyResult<Options> {
@@ -177,21 +177,8 @@ pub(crate) fn solve_nonlinear<'py>(
         let f = py_forcing.as_mut().map(|f| f as &mut dyn ModalForcing);
         semianalytic::integrate(&problem, f)
     });
-    let (result, stats) = match result {
-        Ok((h, s)) => (Ok(h), Some(s)),
-        Err(e) => (Err(e), None),
-    };
-    let py_error = py_forcing.and_then(|f| f.error).or_else(|| {
-        python
-            .iter()
-            .find_map(|e| e.error.lock().unwrap_or_else(|p| p.into_inner()).take())
-    });
-    let d = finish(py, result, py_error)?;
-    let st = PyDict::new(py);
-    if let Some(s) = stats {
+    finish_run(py, result, py_forcing, &python, |s, st| {
         st.set_item("newton_iterations", s.newton_iterations)?;
-        st.set_item("closed_form_steps", s.closed_form_steps)?;
-    }
-    d.set_item("stats", st)?;
-    Ok(d)
+        st.set_item("closed_form_steps", s.closed_form_steps)
+    })
 }

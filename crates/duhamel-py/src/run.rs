@@ -265,3 +265,31 @@ pub(crate) fn finish<'py, H: IntoDict>(
         }
     }
 }
+
+/// The Python result of a run that reports statistics: the history dict (see [`finish`])
+/// with `stats` set by `fill`; a Python exception raised by the load function or by a Python
+/// element is re-raised.
+pub(crate) fn finish_run<'py, H: IntoDict, S>(
+    py: Python<'py>,
+    result: Result<(H, S), Box<Failure<H>>>,
+    forcing: Option<PyForcing>,
+    python: &[std::sync::Arc<crate::elements::PyElement>],
+    fill: impl FnOnce(&S, &Bound<'py, PyDict>) -> PyResult<()>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (result, stats) = match result {
+        Ok((h, s)) => (Ok(h), Some(s)),
+        Err(e) => (Err(e), None),
+    };
+    let py_error = forcing.and_then(|f| f.error).or_else(|| {
+        python
+            .iter()
+            .find_map(|e| e.error.lock().unwrap_or_else(|p| p.into_inner()).take())
+    });
+    let d = finish(py, result, py_error)?;
+    let st = PyDict::new(py);
+    if let Some(s) = &stats {
+        fill(s, &st)?;
+    }
+    d.set_item("stats", st)?;
+    Ok(d)
+}

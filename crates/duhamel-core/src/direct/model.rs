@@ -7,7 +7,7 @@
 
 use super::assembly::{IterationMatrix, Matrix};
 use super::DirectProblem;
-use crate::elements::{numeric_tangent, Element, Tangent};
+use crate::elements::Evaluation;
 use crate::error::CoreError;
 use crate::mass::MassForm;
 use crate::stepping::ModalForcing;
@@ -28,14 +28,7 @@ pub(crate) struct Coefs {
 }
 
 /// An element with buffers for its local state, force and tangents.
-pub(crate) struct Slot<'a> {
-    pub element: &'a dyn Element,
-    pub x: Vec<f64>,
-    pub v: Vec<f64>,
-    pub r: Vec<f64>,
-    pub kx: Vec<f64>,
-    pub cv: Vec<f64>,
-}
+pub(crate) type Slot<'a> = Evaluation<'a>;
 
 /// Evaluates the terms of the equation of motion.
 pub(crate) struct Model<'a> {
@@ -52,17 +45,7 @@ impl<'a> Model<'a> {
         let slots = p
             .elements
             .iter()
-            .map(|&element| {
-                let nl = element.dofs().len();
-                Slot {
-                    element,
-                    x: vec![0.0; nl],
-                    v: vec![0.0; nl],
-                    r: vec![0.0; nl],
-                    kx: vec![0.0; nl * nl],
-                    cv: vec![0.0; nl * nl],
-                }
-            })
+            .map(|&element| Evaluation::new(element))
             .collect();
         let n = p.x0.len();
         Model {
@@ -169,27 +152,7 @@ impl<'a> Model<'a> {
                 slot.x[j] = x[d];
                 slot.v[j] = v[d];
             }
-            slot.r.fill(0.0);
-            let analytic = tangent && slot.element.has_tangent();
-            if analytic {
-                slot.kx.fill(0.0);
-                slot.cv.fill(0.0);
-            }
-            let tan = analytic.then(|| Tangent {
-                kx: &mut slot.kx,
-                cv: &mut slot.cv,
-            });
-            slot.element.eval(&slot.x, &slot.v, t, &mut slot.r, tan)?;
-            if tangent && !slot.element.has_tangent() {
-                numeric_tangent(
-                    slot.element,
-                    &slot.x,
-                    &slot.v,
-                    t,
-                    &mut slot.kx,
-                    &mut slot.cv,
-                )?;
-            }
+            slot.evaluate(t, tangent)?;
             for (j, &d) in dofs.iter().enumerate() {
                 out[d] += slot.r[j];
             }

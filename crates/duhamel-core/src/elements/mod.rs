@@ -68,6 +68,58 @@ pub(crate) fn relative(phi: &[f64]) -> f64 {
     phi[0] - phi.get(1).copied().unwrap_or(0.0)
 }
 
+/// An element with buffers for its local state, force and tangents: what both integrators
+/// evaluate per element.
+pub(crate) struct Evaluation<'a> {
+    pub element: &'a dyn Element,
+    pub x: Vec<f64>,
+    pub v: Vec<f64>,
+    pub r: Vec<f64>,
+    pub kx: Vec<f64>,
+    pub cv: Vec<f64>,
+}
+
+impl<'a> Evaluation<'a> {
+    pub fn new(element: &'a dyn Element) -> Self {
+        let nl = element.dofs().len();
+        Evaluation {
+            element,
+            x: vec![0.0; nl],
+            v: vec![0.0; nl],
+            r: vec![0.0; nl],
+            kx: vec![0.0; nl * nl],
+            cv: vec![0.0; nl * nl],
+        }
+    }
+
+    /// The force at the stored local state (overwrites `r`) and, with `tangent`, its
+    /// tangents (analytic, or central differences for an element without them).
+    pub fn evaluate(&mut self, t: f64, tangent: bool) -> Result<(), CoreError> {
+        self.r.fill(0.0);
+        let analytic = tangent && self.element.has_tangent();
+        if analytic {
+            self.kx.fill(0.0);
+            self.cv.fill(0.0);
+        }
+        let tan = analytic.then(|| Tangent {
+            kx: &mut self.kx,
+            cv: &mut self.cv,
+        });
+        self.element.eval(&self.x, &self.v, t, &mut self.r, tan)?;
+        if tangent && !analytic {
+            numeric_tangent(
+                self.element,
+                &self.x,
+                &self.v,
+                t,
+                &mut self.kx,
+                &mut self.cv,
+            )?;
+        }
+        Ok(())
+    }
+}
+
 /// Central-difference tangents `dr/dx`, `dr/dx'` (row-major, overwritten) of an element that
 /// has none (a Python callable without a Jacobian): `2 n_loc` extra evaluations per direction.
 pub(crate) fn numeric_tangent(

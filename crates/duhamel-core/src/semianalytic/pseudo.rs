@@ -10,20 +10,15 @@
 //! * mass estimated: `Q = -rho - (mu - 1) a - [momentum] mu' v - [scaled] (mu - 1) k q`, with
 //!   `a` an estimate of the acceleration.
 
-use crate::elements::{numeric_tangent, Element, ModalCubic, Tangent};
+use crate::elements::{Element, Evaluation, ModalCubic};
 use crate::error::CoreError;
 use crate::mass::{MassForm, MassTreatment, TimeVaryingMass};
 
 /// An element with the mode-shape rows of its degrees of freedom.
 struct Slot<'a> {
-    element: &'a dyn Element,
+    eval: Evaluation<'a>,
     /// `phi_e[j * n_modes + m]`: mode `m` at the element's local dof `j`.
     phi_e: Vec<f64>,
-    x: Vec<f64>,
-    v: Vec<f64>,
-    r: Vec<f64>,
-    kx: Vec<f64>,
-    cv: Vec<f64>,
 }
 
 /// Modal tangents of a pseudo-force: `dQ/dq`, `dQ/dv` (row-major `n x n`) and `dQ/da`.
@@ -87,19 +82,13 @@ impl<'a> PseudoForce<'a> {
                     ),
                 });
             }
-            let nl = dofs.len();
             let phi_e = dofs
                 .iter()
                 .flat_map(|&d| phi[d * n..(d + 1) * n].iter().copied())
                 .collect();
             slots.push(Slot {
-                element,
+                eval: Evaluation::new(element),
                 phi_e,
-                x: vec![0.0; nl],
-                v: vec![0.0; nl],
-                r: vec![0.0; nl],
-                kx: vec![0.0; nl * nl],
-                cv: vec![0.0; nl * nl],
             });
         }
         for (name, m) in [("coupling K", coupling_k), ("coupling C", coupling_c)] {
@@ -147,37 +136,18 @@ impl<'a> PseudoForce<'a> {
             self.jac_rho.cq.fill(0.0);
         }
         for slot in &mut self.slots {
-            let nl = slot.x.len();
+            let e = &mut slot.eval;
+            let nl = e.x.len();
             for j in 0..nl {
                 let row = &slot.phi_e[j * n..(j + 1) * n];
-                slot.x[j] = row.iter().zip(q).map(|(p, x)| p * x).sum();
-                slot.v[j] = row.iter().zip(v).map(|(p, x)| p * x).sum();
+                e.x[j] = row.iter().zip(q).map(|(p, x)| p * x).sum();
+                e.v[j] = row.iter().zip(v).map(|(p, x)| p * x).sum();
             }
-            slot.r.fill(0.0);
-            let want = tangent && slot.element.has_tangent();
-            if want {
-                slot.kx.fill(0.0);
-                slot.cv.fill(0.0);
-            }
-            let tan = want.then(|| Tangent {
-                kx: &mut slot.kx,
-                cv: &mut slot.cv,
-            });
-            slot.element.eval(&slot.x, &slot.v, t, &mut slot.r, tan)?;
-            if tangent && !slot.element.has_tangent() {
-                numeric_tangent(
-                    slot.element,
-                    &slot.x,
-                    &slot.v,
-                    t,
-                    &mut slot.kx,
-                    &mut slot.cv,
-                )?;
-            }
-            project(&slot.phi_e, n, nl, &slot.r, &mut self.rho);
+            e.evaluate(t, tangent)?;
+            project(&slot.phi_e, n, nl, &e.r, &mut self.rho);
             if tangent {
-                congruence(&slot.phi_e, n, nl, &slot.kx, &mut self.jac_rho.kq);
-                congruence(&slot.phi_e, n, nl, &slot.cv, &mut self.jac_rho.cq);
+                congruence(&slot.phi_e, n, nl, &e.kx, &mut self.jac_rho.kq);
+                congruence(&slot.phi_e, n, nl, &e.cv, &mut self.jac_rho.cq);
             }
         }
         for (mat, state, jac) in [
@@ -328,7 +298,7 @@ impl<'a> PseudoForce<'a> {
         }
         let mut a = [[0.0; 4]; 4];
         for slot in &self.slots {
-            let e = slot.element.modal_cubic(&slot.phi_e)?;
+            let e = slot.eval.element.modal_cubic(&slot.phi_e)?;
             for (ai, ei) in a.iter_mut().zip(&e) {
                 for (x, y) in ai.iter_mut().zip(ei) {
                     *x += y;
