@@ -19,7 +19,7 @@ $(VPY):
 # Python dependencies (runtime + test + plot extras); redone when pyproject.toml changes.
 $(VENV)/.deps: pyproject.toml | $(VPY)
 	$(VPY) -m pip install --quiet "maturin>=1.7,<2" "numpy>=2" "scipy>=1.11" "matplotlib>=3.8" \
-		"pytest>=8" "mpmath>=1.3" "ruff==0.17.6"
+		"tqdm>=4.66" "pytest>=8" "mpmath>=1.3" "ruff==0.17.6"
 	touch $@
 
 # Release build of the Rust core, installed into the venv (cargo makes it incremental).
@@ -41,7 +41,7 @@ lint: $(VENV)/.deps
 test: install test-rust test-python
 
 demo: install
-	$(VENV)/bin/duhamel demo --out results/
+	$(VENV)/bin/duhamel reproduce --out results/
 
 bench: install
 	$(VPY) benchmarks/run.py --write BENCHMARKS.md

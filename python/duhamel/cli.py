@@ -46,7 +46,37 @@ def build_parser() -> argparse.ArgumentParser:
         "--out", default="results", metavar="DIR", help="output directory (default: results)"
     )
     demo.add_argument("--no-plot", action="store_true", help="do not write demo.png")
+    from duhamel.paper.report import NAMES
+
+    reproduce = sub.add_parser(
+        "reproduce",
+        help="reproduce the paper's figures and check its claims (report.md)",
+        description="Run the examples of Holl, Belyaev and Irschik (1999), sections 3 and "
+        "4.1-4.3: write one PNG per figure and OUT/report.md, a table per example with "
+        "our numbers, the paper's claim and whether it holds. See docs/paper.md.",
+    )
+    reproduce.add_argument(
+        "--out", default="results", metavar="DIR", help="output directory (default: results)"
+    )
+    reproduce.add_argument(
+        "--only",
+        type=_names,
+        metavar="LIST",
+        help=f"comma-separated examples to run, from: {','.join(NAMES)} (default: all)",
+    )
+    reproduce.add_argument(
+        "--quiet", action="store_true", help="no progress bar and no summary on stdout"
+    )
     return parser
+
+
+def _names(text: str) -> tuple[str, ...]:
+    from duhamel.paper.report import parse_names
+
+    try:
+        return parse_names(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def format_summary(summary: dict[str, Any]) -> str:
@@ -119,6 +149,32 @@ def _demo(args: argparse.Namespace) -> int:
     return 0
 
 
+def _reproduce(args: argparse.Namespace) -> int:
+    from duhamel.paper.report import reproduce
+
+    command = "duhamel reproduce --out " + str(args.out)
+    if args.only:
+        command += " --only " + ",".join(args.only)
+    progress = not args.quiet and sys.stderr.isatty()
+    try:
+        run = reproduce(args.out, args.only, progress=progress, command=command)
+    except ImportError as exc:
+        return _fail(str(exc))
+    except OSError as exc:
+        where = exc.filename if exc.filename is not None else args.out
+        return _fail(f"cannot write to '{where}': {exc.strerror or exc}")
+    if not args.quiet:
+        for result in run.results:
+            counts = [c.holds for c in result.claims]
+            print(
+                f"{result.example.key:9s} {counts.count(True)} hold, "
+                f"{counts.count(False)} do not hold, {counts.count(None)} for information "
+                f"({result.seconds:.1f} s)"
+            )
+        print(f"wrote {len(run.files)} files to {args.out} in {run.seconds:.1f} s: {run.report}")
+    return 0
+
+
 def _fail(message: str) -> int:
     print(f"duhamel: error: {message}", file=sys.stderr)
     return 1
@@ -152,5 +208,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return exc.code if isinstance(exc.code, int) else 1
     if args.command == "demo":
         return _demo(args)
+    if args.command == "reproduce":
+        return _reproduce(args)
     parser.error(f"unknown command {args.command!r}")  # pragma: no cover - argparse checks
     return 2  # pragma: no cover
