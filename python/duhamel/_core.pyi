@@ -54,11 +54,14 @@ def solve_direct(
     mass: tuple[Any, ...] | None = None,
     forcing: Callable[[float], NDArray[np.float64]] | None = None,
     a0: NDArray[np.float64] | None = None,
+    scaled: Sequence[tuple[Any, Any, tuple[str, tuple[float, ...]]]] | None = None,
 ) -> dict[str, Any]:
     """Direct integration of the physical equations. Matrices are ``("dense", array)`` or
     ``("csr", n, indptr, indices, data)``; `method` is ``("alpha", alpha_m, alpha_f, gamma,
-    beta)`` or ``("hermite", points)``. Returns ``t``, time-major ``x``, ``v``, ``a`` for
-    `out_dofs`, ``error`` and ``stats`` (``newton_iterations``, ``factorizations``)."""
+    beta)`` or ``("hermite", points)``; `scaled` lists ``(K spec or None, C spec or None,
+    speed law spec)`` couplings multiplied by a speed law. Returns ``t``, time-major ``x``,
+    ``v``, ``a`` for `out_dofs`, ``error`` and ``stats`` (``newton_iterations``,
+    ``factorizations``)."""
 
 def element_stiffness(
     elements: Sequence[tuple[Any, ...]],
@@ -67,3 +70,37 @@ def element_stiffness(
     t: float,
 ) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
     """The elements' tangent stiffness ``dr/dx`` at ``(x, v, t)`` as COO triplets."""
+
+def solve_nonlinear(
+    k: NDArray[np.float64],
+    c: NDArray[np.float64],
+    q0: NDArray[np.float64],
+    v0: NDArray[np.float64],
+    loads: Sequence[tuple[NDArray[np.float64], str, tuple[Any, ...]]],
+    dt: float,
+    n_steps: int,
+    save_every: int,
+    phi: NDArray[np.float64],
+    elements: Sequence[tuple[Any, ...]],
+    options: tuple[Any, ...],
+    coupling_k: NDArray[np.float64] | None = None,
+    coupling_c: NDArray[np.float64] | None = None,
+    mass: tuple[Any, ...] | None = None,
+    forcing: Callable[[float], NDArray[np.float64]] | None = None,
+    phi_t: NDArray[np.float64] | None = None,
+    scaled: Sequence[tuple[Any, Any, tuple[str, tuple[float, ...]]]] | None = None,
+) -> dict[str, Any]:
+    """Nonlinear semi-analytic loop; `scaled` lists ``(modal K or None, modal C or None,
+    speed law spec)`` couplings multiplied by a speed law. Returns the dict of
+    :func:`solve_linear` with ``pseudo`` and ``stats``."""
+
+def speed_law(
+    spec: tuple[str, tuple[float, ...]], t: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """``(omega, omega', theta)`` of the speed law ``("constant", (omega,))`` or
+    ``("runup", (omega0, omega1, t1))`` at times `t`."""
+
+def time_function(
+    kind: str, params: tuple[Any, ...], t: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """The engine's time function of a load spec at times `t` (right limits at jumps)."""

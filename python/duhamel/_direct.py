@@ -75,16 +75,27 @@ def _add(a: Any, b: Any) -> Any:
     return np.asarray(a) + np.asarray(b)
 
 
+def _times(m: Any, factor: float) -> Any:
+    return m if m is None or factor == 1.0 else factor * m
+
+
 def physical_matrices(system: System) -> dict[str, Any]:
-    """M, K, C and the stiffness that does not scale with a mass law, as core specs."""
+    """M, K, C, the stiffness that does not scale with a mass law, and the couplings scaled
+    by a time-varying speed law (``(K, C, law spec)``), as core specs."""
     # Modal damping ratios give a full C: everything is then dense.
     sparse = system.is_sparse and system.damping != "zeta"
     c = damping_matrix(system)
     kc = None
+    scaled = []
     for element in system.elements:
         if isinstance(element, LinearCoupling):
-            kc = _add(kc, element.K)
-            c = _add(c, element.C)
+            factor = element.constant_factor()
+            if factor is None:
+                km, cm = (None if m is None else _matrix(m, sparse) for m in (element.K, element.C))
+                scaled.append((km, cm, element.scale._spec()))
+                continue
+            kc = _add(kc, _times(element.K, factor))
+            c = _add(c, _times(element.C, factor))
     k = system.K
     law = system.mass_law
     if kc is not None and (law is None or not law.scale_stiffness):
@@ -94,6 +105,7 @@ def physical_matrices(system: System) -> dict[str, Any]:
         "k": _matrix(k, sparse),
         "c": None if c is None else _matrix(c, sparse),
         "k_fixed": None if kc is None else _matrix(kc, sparse),
+        "scaled": scaled,
         "sparse": sparse,
     }
 
@@ -113,12 +125,19 @@ def highest_frequency(
     """``omega_max``: the square root of the largest eigenvalue magnitude of ``(K_t, M)``.
 
     ``K_t`` is the stiffness plus the linear couplings' and the elements' tangent stiffness at
-    the initial state; with a mass law, the part of it that does not scale with the mass is
+    the initial state (a coupling scaled by a speed law counts with the largest magnitude of
+    its law on the run); with a mass law, the part of it that does not scale with the mass is
     divided by the smallest ``mu`` over the run.
     """
     n = system.n_dof
     k = _to_scipy(mats["k"], n)
     rest = _to_scipy(mats["k_fixed"], n)
+    for element in system.elements:
+        if isinstance(element, LinearCoupling) and element.constant_factor() is None:
+            if element.K is not None:
+                # the speed laws are monotonic: the extremes are at the ends of the run
+                worst = float(np.max(np.abs(element.scale.omega(np.array([0.0, t_end])))))
+                rest = rest + worst * sp.csr_array(element.K)
     if elements:
         rows, cols, vals = _core.element_stiffness(elements, x0, v0, 0.0)
         rest = rest + sp.csr_array((vals, (rows, cols)), shape=(n, n))
@@ -189,8 +208,8 @@ def solve_direct(
     for load in system.loads if loads else []:
         if isinstance(load, Callable):
             continue
-        kind, params = load._time()
-        specs.append((np.ascontiguousarray(load._pattern(system), dtype=np.float64), kind, params))
+        for pattern, kind, params in load._specs(system):
+            specs.append((np.ascontiguousarray(pattern, dtype=np.float64), kind, params))
     law = system.mass_law
     mass = None
     if law is not None:
@@ -212,6 +231,7 @@ def solve_direct(
         int(integrator.max_iter),
         c=mats["c"],
         k_fixed=mats["k_fixed"],
+        scaled=mats["scaled"],
         elements=elements,
         mass=mass,
         forcing=forcing,

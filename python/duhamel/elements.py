@@ -164,14 +164,24 @@ class LinearCoupling(Element):
     (``k12 = -k21``), non-classical damping, gyroscopic ``speed * G``. Projected on the
     modes once; enters as a modal pseudo-force ``-(Phi^T K Phi q + Phi^T C Phi q')``.
 
+    ``scale`` (optional) multiplies both by a speed law ``s(t)`` (:mod:`duhamel.speed`; a
+    number is a constant factor): the force ``s(t) (K x + C x')``, e.g. the gyroscopic term
+    ``omega(t) G x'`` of a run-up as ``LinearCoupling(C=G, scale=LinearRunUp(...))``. A
+    constant scale is folded into the matrices; a time-varying one is evaluated wherever the
+    integrator evaluates the force (the direct integrators assemble ``s(t) K`` and
+    ``s(t) C`` into their iteration matrix at every step).
+
     Examples
     --------
     >>> import numpy as np, duhamel
     >>> cross = duhamel.elements.LinearCoupling(K=np.array([[0.0, 1e7], [-1e7, 0.0]]))
+    >>> G = np.array([[0.0, 0.4], [-0.4, 0.0]])
+    >>> gyro = duhamel.elements.LinearCoupling(C=G, scale=duhamel.speed.LinearRunUp(0, 300, 5))
     """
 
     K: Any = None
     C: Any = None
+    scale: Any = None
 
     def __post_init__(self) -> None:
         if self.K is None and self.C is None:
@@ -180,6 +190,15 @@ class LinearCoupling(Element):
             m = getattr(self, name)
             if m is not None and not sp.issparse(m):
                 object.__setattr__(self, name, as_float_array(m, name, ndim=2))
+        if self.scale is not None:
+            from duhamel.speed import as_speed_law
+
+            object.__setattr__(self, "scale", as_speed_law(self.scale, "scale"))
+
+    def constant_factor(self) -> float | None:
+        """The factor multiplying ``K`` and ``C`` when it does not change with time (1 without
+        a scale), else None."""
+        return 1.0 if self.scale is None else self.scale.constant_value()
 
     def _validate(self, system: System) -> None:
         for name in ("K", "C"):
@@ -193,7 +212,8 @@ class LinearCoupling(Element):
                 as_square_matrix(m, name, n=system.n_dof)
 
     def modal(self, phi: NDArray[np.float64]) -> tuple[NDArray | None, NDArray | None]:
-        """The modal matrices ``Phi^T K Phi`` and ``Phi^T C Phi`` (None where absent)."""
+        """The modal matrices ``Phi^T K Phi`` and ``Phi^T C Phi`` (None where absent), without
+        the scale."""
         return tuple(  # type: ignore[return-value]
             None if m is None else np.ascontiguousarray(phi.T @ (m @ phi)) for m in (self.K, self.C)
         )

@@ -9,6 +9,9 @@ start, middle and end of the step; this is exact for loads that are polynomials 
 <= 2 in time within each step (constant, ramps, and :class:`Tabulated` records whose sample
 times fall on the step grid) and fourth-order accurate otherwise (e.g. :class:`Harmonic`).
 A :class:`Step` is integrated exactly even when its jump falls inside a step.
+
+:class:`Unbalance` is the rotating force of an eccentric mass driven by a speed law
+(:mod:`duhamel.speed`; :class:`ConstantSpeed` and :class:`LinearRunUp` are re-exported here).
 """
 
 from __future__ import annotations
@@ -20,12 +23,25 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._validate import as_float_array, dof_index
+from duhamel import _core
+from duhamel._validate import as_float_array, dof_index, finite_float
+from duhamel.speed import ConstantSpeed, LinearRunUp, SpeedLaw, as_speed_law
 
 if TYPE_CHECKING:
     from duhamel.system import System
 
-__all__ = ["BaseAcceleration", "Callable", "Harmonic", "Load", "Step", "Tabulated"]
+__all__ = [
+    "BaseAcceleration",
+    "Callable",
+    "ConstantSpeed",
+    "Harmonic",
+    "LinearRunUp",
+    "Load",
+    "SpeedLaw",
+    "Step",
+    "Tabulated",
+    "Unbalance",
+]
 
 
 def _finite(value: Any, name: str) -> float:
@@ -75,6 +91,12 @@ class Load:
 
     def _scalar(self, t: NDArray[np.float64]) -> NDArray[np.float64]:  # pragma: no cover
         raise NotImplementedError
+
+    def _specs(self, system: System) -> list[tuple[NDArray[np.float64], str, tuple]]:
+        """The load as ``(physical pattern, kind, params)`` terms for the core (one for a
+        pattern times one time function; :class:`Unbalance` has two)."""
+        kind, params = self._time()
+        return [(self._pattern(system), kind, params)]
 
     def evaluate(self, system: System, t: ArrayLike) -> NDArray[np.float64]:
         """The load vectors at times `t`, shape ``(len(t), n_dof)`` (or ``(n_dof,)``).
@@ -275,4 +297,75 @@ class Callable(Load):
         ts = np.asarray(t, dtype=np.float64)
         rows = [np.asarray(self.fn(float(x)), dtype=np.float64) for x in np.atleast_1d(ts)]
         out = np.stack(rows)
+        return out[0] if ts.ndim == 0 else out
+
+
+@dataclass(frozen=True, eq=False)
+class Unbalance(Load):
+    """The rotating force of an unbalance ``m_e`` (mass times eccentricity, kg m) on the
+    shaft-centre degrees of freedom ``(dof_x, dof_y)``, driven by `speed` (rad/s: a number
+    for a constant speed, or a law from :mod:`duhamel.speed` such as :class:`LinearRunUp`).
+
+    With ``Theta = theta(t) + phase`` (``theta`` the rotation angle, the integral of the
+    speed ``omega``) the mass sits at ``e (cos Theta, sin Theta)`` from the shaft centre, and
+    the shaft carries minus ``m`` times its acceleration relative to the centre:
+
+    ``f_x = m_e (omega^2 cos Theta + omega' sin Theta)``,
+    ``f_y = m_e (omega^2 sin Theta - omega' cos Theta)``.
+
+    At constant speed these are the harmonic loads ``m_e omega^2 sin(omega t + phase + pi/2)``
+    and ``m_e omega^2 sin(omega t + phase)``. The load is evaluated in Rust; within a step
+    :class:`~duhamel.Semianalytic` represents it by a parabola like any load (fourth order),
+    and integrates exactly the jump of ``m_e omega'`` at the end of a run-up (and of the
+    force's first two derivatives) wherever it falls.
+
+    Examples
+    --------
+    >>> import numpy as np, duhamel
+    >>> rotor = duhamel.System(np.eye(2), 1e4 * np.eye(2), zeta=0.02)
+    >>> run_up = duhamel.loads.LinearRunUp(omega0=0.0, omega1=200.0, t1=2.0)
+    >>> _ = rotor.add_load(duhamel.loads.Unbalance(0, 1, m_e=1e-4, speed=run_up))
+    >>> rotor.loads[0].evaluate(rotor, 0.0)   # at rest: only the tangential omega' term
+    array([ 0.  , -0.01])
+    """
+
+    dof_x: int
+    dof_y: int
+    m_e: float
+    speed: Any
+    phase: float = 0.0
+
+    def __post_init__(self) -> None:
+        if finite_float(self.m_e, "m_e") < 0.0:
+            raise ValueError(f"`m_e` must be >= 0 (mass times eccentricity), got {self.m_e!r}")
+        object.__setattr__(self, "m_e", float(self.m_e))
+        object.__setattr__(self, "phase", finite_float(self.phase, "phase"))
+        object.__setattr__(self, "speed", as_speed_law(self.speed, "speed"))
+
+    def _validate(self, system: System) -> None:
+        dx = dof_index(self.dof_x, "dof_x", system.n_dof)
+        dy = dof_index(self.dof_y, "dof_y", system.n_dof)
+        if dx == dy:
+            raise ValueError(f"`dof_y` must differ from `dof_x` (both {dx})")
+
+    def _axis_spec(self, axis: str) -> tuple:
+        return (self.speed._spec(), self.phase, axis)
+
+    def _specs(self, system: System) -> list[tuple[NDArray[np.float64], str, tuple]]:
+        self._validate(system)
+        out = []
+        for dof, axis in ((self.dof_x, "x"), (self.dof_y, "y")):
+            pattern = np.zeros(system.n_dof)
+            pattern[int(dof)] = self.m_e
+            out.append((pattern, "unbalance", self._axis_spec(axis)))
+        return out
+
+    def evaluate(self, system: System, t: ArrayLike) -> NDArray[np.float64]:
+        """The load vectors at times `t` (see :meth:`Load.evaluate`), as the engine computes
+        them (right-continuous at the end of a run-up)."""
+        ts = np.asarray(t, dtype=np.float64)
+        flat = np.ascontiguousarray(np.atleast_1d(ts).ravel())
+        out = np.zeros((flat.size, system.n_dof))
+        for pattern, kind, params in self._specs(system):
+            out += np.outer(_core.time_function(kind, params, flat), pattern)
         return out[0] if ts.ndim == 0 else out

@@ -71,16 +71,30 @@ def _is_linear(system: System, basis: ModalBasis) -> bool:
     return not system.elements and basis.c_coupling is None and system.mass_law is None
 
 
-def _couplings(system: System, basis: ModalBasis) -> dict[str, NDArray | None]:
-    """Modal coupling matrices: LinearCoupling elements plus non-classical damping."""
+def _couplings(system: System, basis: ModalBasis) -> dict[str, Any]:
+    """Modal coupling matrices: LinearCoupling elements plus non-classical damping (constant
+    ones summed, a constant scale folded in), and the couplings scaled by a time-varying
+    speed law as ``(K, C, law spec)``."""
     total: dict[str, NDArray | None] = {"coupling_k": None, "coupling_c": basis.c_coupling}
+    scaled = []
     for element in system.elements:
         if isinstance(element, LinearCoupling):
-            for key, m in zip(("coupling_k", "coupling_c"), element.modal(basis.phi), strict=True):
+            mats = element.modal(basis.phi)
+            factor = element.constant_factor()
+            if factor is None:
+                k, c = (None if m is None else np.ascontiguousarray(m) for m in mats)
+                scaled.append((k, c, element.scale._spec()))
+                continue
+            for key, m in zip(("coupling_k", "coupling_c"), mats, strict=True):
                 if m is not None:
+                    m = m if factor == 1.0 else factor * m
                     prev = total[key]
                     total[key] = m if prev is None else prev + m
-    return {k: None if v is None else np.ascontiguousarray(v) for k, v in total.items()}
+    out: dict[str, Any] = {
+        k: None if v is None else np.ascontiguousarray(v) for k, v in total.items()
+    }
+    out["scaled"] = scaled
+    return out
 
 
 def _mass(system: System, integrator: Semianalytic) -> tuple | None:
@@ -199,9 +213,8 @@ def solve(
         if isinstance(load, Callable):
             fns.append(load.fn)
             continue
-        pattern = np.ascontiguousarray(phi.T @ load._pattern(system))
-        kind, params = load._time()
-        specs.append((pattern, kind, params))
+        for physical, kind, params in load._specs(system):
+            specs.append((np.ascontiguousarray(phi.T @ physical), kind, params))
     forcing = _ModalCallable(fns, system.n_dof) if fns else None
 
     loop_start = _time.perf_counter()

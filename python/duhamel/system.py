@@ -283,7 +283,7 @@ class System:
         if not isinstance(load, Load):
             raise TypeError(
                 f"`load` must be a duhamel.loads load (Step, Harmonic, Tabulated, "
-                f"BaseAcceleration, Callable), got {type(load).__name__}"
+                f"BaseAcceleration, Unbalance, Callable), got {type(load).__name__}"
             )
         load._validate(self)
         self.loads.append(load)

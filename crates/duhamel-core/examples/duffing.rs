@@ -40,6 +40,7 @@ fn main() {
             elements: &elements,
             coupling_k: None,
             coupling_c: None,
+            scaled: &[],
             mass: None,
             options: Options {
                 scheme: Scheme::B,

@@ -13,6 +13,7 @@ pub mod loads;
 pub mod mass;
 pub mod oscillator;
 pub mod semianalytic;
+pub mod speed;
 pub(crate) mod stepping;
 
 pub use error::CoreError;

@@ -2,6 +2,14 @@
 //! scalar time function evaluated in Rust.
 
 use crate::error::CoreError;
+use crate::speed::SpeedLaw;
+
+/// A direction in the plane of a rotor's cross-section.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Axis {
+    X,
+    Y,
+}
 
 /// A scalar function of time.
 #[derive(Debug, Clone, PartialEq)]
@@ -17,6 +25,20 @@ pub enum TimeFunction {
         t: Vec<f64>,
         v: Vec<f64>,
         hold: bool,
+    },
+    /// One component of the force of a rotating eccentric mass, per unit `m e`, with
+    /// `Theta = theta(t) + phase` (`theta` the angle of the speed law):
+    /// x: `omega^2 cos Theta + omega' sin Theta`, y: `omega^2 sin Theta - omega' cos Theta`.
+    ///
+    /// The mass sits at `e (cos Theta, sin Theta)` from the shaft centre; its acceleration
+    /// relative to the centre is `e (-Theta'' sin - Theta'^2 cos, Theta'' cos - Theta'^2 sin)`
+    /// and the shaft carries the reaction, minus `m` times it. Where `omega'` jumps (the end
+    /// of a run-up) the force jumps by `m e omega'`; inside a step that jump and the jumps of
+    /// the first two derivatives are integrated exactly (see [`TimeFunction::jump_in`]).
+    Unbalance {
+        law: SpeedLaw,
+        phase: f64,
+        axis: Axis,
     },
 }
 
@@ -35,6 +57,13 @@ impl TimeFunction {
                 if !(omega.is_finite() && phase.is_finite()) =>
             {
                 bad("omega", "and `phase` must be finite")
+            }
+            TimeFunction::Unbalance { law, phase, .. } => {
+                law.validate()?;
+                if !phase.is_finite() {
+                    return bad("phase", "must be finite");
+                }
+                Ok(())
             }
             TimeFunction::Table { t, v, .. } => {
                 if t.len() != v.len() {
@@ -71,6 +100,7 @@ impl TimeFunction {
             }
             TimeFunction::Harmonic { omega, phase } => (omega * t + phase).sin(),
             TimeFunction::Table { t: ts, v, hold } => table_eval(ts, v, *hold, t),
+            TimeFunction::Unbalance { law, phase, axis } => unbalance(law, *phase, *axis, t, false),
         }
     }
 
@@ -86,6 +116,7 @@ impl TimeFunction {
                 }
             }
             TimeFunction::Harmonic { .. } => self.eval(t),
+            TimeFunction::Unbalance { law, phase, axis } => unbalance(law, *phase, *axis, t, true),
             TimeFunction::Table { t: ts, v, hold } => {
                 let last = ts.len() - 1;
                 if t <= ts[0] {
@@ -103,14 +134,28 @@ impl TimeFunction {
     /// value just after `t`, the value at the middle and the value just before `t + dt`, so a
     /// jump on a grid point is represented exactly. A step function is held at its value at
     /// `t`; its jump inside the step, if any, is added exactly by the caller (see
-    /// [`TimeFunction::jump_in`]).
+    /// [`TimeFunction::jump_in`]). For an unbalance load whose speed law breaks inside the
+    /// step, the parabola represents the smooth part only (the jump's polynomial, which the
+    /// caller adds exactly, is taken off the samples after the break).
     pub fn basis(&self, t: f64, dt: f64) -> [f64; 3] {
         match self {
             TimeFunction::Step { .. } => [self.eval(t), 0.0, 0.0],
             _ => {
                 let p0 = self.eval(t);
-                let pm = self.eval(t + 0.5 * dt);
-                let p1 = self.eval_before(t + dt);
+                let mut pm = self.eval(t + 0.5 * dt);
+                let mut p1 = self.eval_before(t + dt);
+                if let Some((tj, j)) = self.break_in(t, dt) {
+                    let poly = |s: f64| {
+                        let d = s - tj;
+                        if d >= 0.0 {
+                            j[0] + d * (j[1] + d * j[2])
+                        } else {
+                            0.0
+                        }
+                    };
+                    pm -= poly(t + 0.5 * dt);
+                    p1 -= poly(t + dt);
+                }
                 [p0, p1 - p0, pm - 0.5 * (p0 + p1)]
             }
         }
@@ -148,13 +193,55 @@ impl TimeFunction {
         }
     }
 
-    /// For a step whose jump lies strictly inside `(t, t + dt)`, the time from the jump to
-    /// the end of the step.
-    pub fn jump_in(&self, t: f64, dt: f64) -> Option<f64> {
+    /// For a function that breaks strictly inside `(t, t + dt)`, at `tj`: the time from the
+    /// break to the end of the step, `t + dt - tj`, and the coefficients `j` of the part
+    /// `(j0 + j1 (s - tj) + j2 (s - tj)^2) H(s - tj)` that the caller integrates exactly (the
+    /// rest is smooth enough for the parabola: twice continuously differentiable). A step:
+    /// `j = (1, 0, 0)`; an unbalance at the end of a run-up: the jumps of the force and of its
+    /// first two derivatives (the second halved).
+    pub fn jump_in(&self, t: f64, dt: f64) -> Option<(f64, [f64; 3])> {
+        self.break_in(t, dt).map(|(tj, j)| (t + dt - tj, j))
+    }
+
+    /// The time of a break inside `(t, t + dt)` and its jump coefficients (see
+    /// [`TimeFunction::jump_in`]).
+    fn break_in(&self, t: f64, dt: f64) -> Option<(f64, [f64; 3])> {
         match self {
-            TimeFunction::Step { t0 } if *t0 > t && *t0 < t + dt => Some(t + dt - t0),
+            TimeFunction::Step { t0 } if *t0 > t && *t0 < t + dt => Some((*t0, [1.0, 0.0, 0.0])),
+            TimeFunction::Unbalance { law, phase, axis } => {
+                let tj = law.breakpoint_in(t, dt)?;
+                // f_x + i f_y = (w^2 - i w') z, z = exp(i Theta), with w'' = 0 on each side:
+                // f' = (3 w w' + i w^3) z, f'' = (3 w'^2 - w^4 + 6 i w^2 w') z. At the break
+                // w' drops from `a` to 0 (w, Theta continuous).
+                let a = law.domega_side(tj, true) - law.domega_side(tj, false);
+                let w = law.omega(tj);
+                let (s, c) = (law.theta(tj) + phase).sin_cos();
+                // jumps as complex multiples of z: i a, -3 w a, (-1.5 a^2 - 3 i w^2 a)
+                let parts = [
+                    (0.0, a),
+                    (-3.0 * w * a, 0.0),
+                    (-1.5 * a * a, -3.0 * w * w * a),
+                ];
+                let j = parts.map(|(re, im)| match axis {
+                    Axis::X => re * c - im * s,
+                    Axis::Y => re * s + im * c,
+                });
+                Some((tj, j))
+            }
             _ => None,
         }
+    }
+}
+
+/// The unbalance force per unit `m e` (see [`TimeFunction::Unbalance`]); `left` takes the
+/// angular acceleration from the left where it jumps.
+fn unbalance(law: &SpeedLaw, phase: f64, axis: Axis, t: f64, left: bool) -> f64 {
+    let w = law.omega(t);
+    let dw = law.domega_side(t, left);
+    let (s, c) = (law.theta(t) + phase).sin_cos();
+    match axis {
+        Axis::X => w * w * c + dw * s,
+        Axis::Y => w * w * s - dw * c,
     }
 }
 
@@ -210,10 +297,62 @@ mod tests {
     #[test]
     fn step_jump_inside() {
         let f = TimeFunction::Step { t0: 0.25 };
-        assert_eq!(f.jump_in(0.0, 1.0), Some(0.75));
+        assert_eq!(f.jump_in(0.0, 1.0), Some((0.75, [1.0, 0.0, 0.0])));
         assert_eq!(f.jump_in(0.25, 1.0), None);
         assert_eq!(f.basis(0.25, 1.0), [1.0, 0.0, 0.0]);
         assert_eq!(f.basis(0.0, 1.0), [0.0, 0.0, 0.0]);
+    }
+
+    /// The part an unbalance leaves to the parabola at the end of a run-up is twice
+    /// continuously differentiable: one-sided finite differences of `f - jump polynomial`
+    /// agree across the break, those of `f` jump by the coefficients.
+    #[test]
+    fn unbalance_break_coefficients() {
+        let law = SpeedLaw::LinearRunUp {
+            omega0: 3.0,
+            omega1: 8.0,
+            t1: 1.37,
+        };
+        for axis in [Axis::X, Axis::Y] {
+            let f = TimeFunction::Unbalance {
+                law,
+                phase: 0.4,
+                axis,
+            };
+            let (rest, j) = f.jump_in(1.3, 0.1).unwrap();
+            assert!((rest - 0.03).abs() < 1e-14);
+            let h = 1e-4;
+            let right = |k: f64| f.eval(1.37 + k * h);
+            let left = |k: f64| f.eval_before(1.37 - k * h);
+            // one-sided value, first and second derivatives (second order)
+            let d_right = [
+                right(0.0),
+                (-3.0 * right(0.0) + 4.0 * right(1.0) - right(2.0)) / (2.0 * h),
+                (2.0 * right(0.0) - 5.0 * right(1.0) + 4.0 * right(2.0) - right(3.0)) / (h * h),
+            ];
+            let d_left = [
+                left(0.0),
+                (3.0 * left(0.0) - 4.0 * left(1.0) + left(2.0)) / (2.0 * h),
+                (2.0 * left(0.0) - 5.0 * left(1.0) + 4.0 * left(2.0) - left(3.0)) / (h * h),
+            ];
+            let want = [j[0], j[1], 2.0 * j[2]];
+            for k in 0..3 {
+                let got = d_right[k] - d_left[k];
+                assert!(
+                    (got - want[k]).abs() <= 1e-5 * want[k].abs().max(1.0),
+                    "{axis:?} derivative {k}: {got} vs {}",
+                    want[k]
+                );
+            }
+        }
+        // a constant speed never breaks
+        let c = TimeFunction::Unbalance {
+            law: SpeedLaw::Constant(5.0),
+            phase: 0.0,
+            axis: Axis::X,
+        };
+        assert_eq!(c.jump_in(0.0, 10.0), None);
+        assert!((c.eval(0.3) - 25.0 * (1.5f64).cos()).abs() < 1e-13);
     }
 
     #[test]

@@ -162,8 +162,8 @@ impl BlockLoads {
         for s in 0..len {
             let t = self.time(n0 + s);
             for load in problem.loads {
-                if let Some(rest) = load.time.jump_in(t, dt) {
-                    let (dx, dv) = jump_response(problem, &load.pattern, rest);
+                if let Some((rest, j)) = load.time.jump_in(t, dt) {
+                    let (dx, dv) = jump_response(problem, &load.pattern, rest, j);
                     self.jumps.push((s, dx, dv));
                 }
             }
@@ -239,12 +239,16 @@ impl BlockLoads {
     }
 }
 
-/// Response at the end of the step to a unit step load applied `rest` before the end.
+/// Response at the end of the step to the load `j0 + j1 s + j2 s^2` (`s` the time since it
+/// started) applied `rest` before the end: with the moments `M_k` of `(s/rest)^k` over `rest`,
+/// `sum_k j_k rest^k M_k`.
 pub(crate) fn jump_response(
     problem: &LinearProblem,
     pattern: &[f64],
     rest: f64,
+    j: [f64; 3],
 ) -> (Vec<f64>, Vec<f64>) {
+    let w = [j[0], j[1] * rest, j[2] * rest * rest];
     problem
         .k
         .iter()
@@ -252,7 +256,8 @@ pub(crate) fn jump_response(
         .zip(pattern)
         .map(|((&k, &c), &p)| {
             let tr = Transfer::new(k, c, rest);
-            (p * tr.m[0][0], p * tr.m[1][0])
+            let row = |r: usize| p * (0..3).map(|i| w[i] * tr.m[r][i]).sum::<f64>();
+            (row(0), row(1))
         })
         .unzip()
 }

@@ -34,6 +34,7 @@ fn problem<'a>(
         k,
         c: None,
         k_fixed: None,
+        scaled: &[],
         elements: &[],
         loads,
         mass: None,

@@ -1,7 +1,9 @@
 //! Binding of the direct integrators (generalized-alpha family, cubic Hermite element).
 
 use duhamel_core::direct::assembly::Matrix;
-use duhamel_core::direct::{self, AlphaParams, DirectHistory, DirectProblem, Method};
+use duhamel_core::direct::{
+    self, AlphaParams, DirectHistory, DirectProblem, Method, ScaledCoupling,
+};
 use duhamel_core::elements::{Element, Tangent};
 use duhamel_core::linear::ModalForcing;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
@@ -10,7 +12,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
 use crate::nonlinear::parse_mass;
-use crate::run::{finish_run, parse_loads, IntoDict, PyForcing};
+use crate::run::{finish_run, parse_loads, parse_speed, IntoDict, PyForcing};
 use crate::{core_err, elements, vec_of};
 
 impl IntoDict for DirectHistory {
@@ -97,11 +99,13 @@ fn optional_matrix(obj: Option<&Bound<'_, PyAny>>, name: &str) -> PyResult<Optio
 ///
 /// Matrices are `("dense", array)` or `("csr", n, indptr, indices, data)`; `method` is
 /// `("alpha", alpha_m, alpha_f, gamma, beta)` or `("hermite", points)`; `a0` overrides the
-/// initial acceleration (generalized-alpha methods only). Returns a dict with
+/// initial acceleration (generalized-alpha methods only); `scaled` is a list of
+/// `(K spec or None, C spec or None, speed law spec)` couplings scaled by a speed law.
+/// Returns a dict with
 /// `t` and time-major `x`, `v`, `a` for `out_dofs`, `error` (as `solve_linear`) and `stats`
 /// (`newton_iterations`, `factorizations`).
 #[pyfunction]
-#[pyo3(signature = (m, k, x0, v0, loads, dt, n_steps, save_every, out_dofs, method, tol, max_iter, c=None, k_fixed=None, elements=None, mass=None, forcing=None, a0=None))]
+#[pyo3(signature = (m, k, x0, v0, loads, dt, n_steps, save_every, out_dofs, method, tol, max_iter, c=None, k_fixed=None, elements=None, mass=None, forcing=None, a0=None, scaled=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn solve_direct<'py>(
     py: Python<'py>,
@@ -123,8 +127,28 @@ pub(crate) fn solve_direct<'py>(
     mass: Option<&Bound<'py, PyAny>>,
     forcing: Option<Py<PyAny>>,
     a0: Option<&Bound<'py, PyAny>>,
+    scaled: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let m = parse_matrix(m, "M")?;
+    let mut scaled_mats = Vec::new();
+    if let Some(list) = scaled {
+        for item in list.try_iter()? {
+            let item = item?;
+            let opt = |i: usize, name: &str| -> PyResult<Option<Matrix>> {
+                let m = item.get_item(i)?;
+                optional_matrix((!m.is_none()).then_some(&m), name)
+            };
+            scaled_mats.push((opt(0, "K")?, opt(1, "C")?, parse_speed(&item.get_item(2)?)?));
+        }
+    }
+    let scaled: Vec<ScaledCoupling> = scaled_mats
+        .iter()
+        .map(|(k, c, law)| ScaledCoupling {
+            k: k.as_ref(),
+            c: c.as_ref(),
+            law: *law,
+        })
+        .collect();
     let a0 = a0.map(|a| vec_of(a, "a0")).transpose()?;
     let k = parse_matrix(k, "K")?;
     let c = optional_matrix(c, "C")?;
@@ -146,6 +170,7 @@ pub(crate) fn solve_direct<'py>(
         k: &k,
         c: c.as_ref(),
         k_fixed: k_fixed.as_ref(),
+        scaled: &scaled,
         elements: &refs,
         loads: &loads,
         mass: mass.as_ref(),

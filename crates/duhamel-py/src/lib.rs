@@ -155,5 +155,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(nonlinear::solve_nonlinear, m)?)?;
     m.add_function(wrap_pyfunction!(direct::solve_direct, m)?)?;
     m.add_function(wrap_pyfunction!(direct::element_stiffness, m)?)?;
+    m.add_function(wrap_pyfunction!(run::speed_law, m)?)?;
+    m.add_function(wrap_pyfunction!(run::time_function, m)?)?;
     Ok(())
 }

@@ -3,13 +3,15 @@
 use duhamel_core::elements::Element;
 use duhamel_core::linear::{LinearProblem, ModalForcing};
 use duhamel_core::mass::{MassForm, MassLaw, MassTreatment, TimeVaryingMass};
-use duhamel_core::semianalytic::{self, NonlinearProblem, Options, Quadrature, Scheme, Solver};
+use duhamel_core::semianalytic::{
+    self, NonlinearProblem, Options, Quadrature, ScaledCoupling, Scheme, Solver,
+};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::elements;
-use crate::run::{finish_run, parse_loads, PyForcing};
+use crate::run::{finish_run, parse_loads, parse_speed, PyForcing};
 use crate::vec_of;
 
 fn parse_options(options: &Bound<'_, PyAny>) -> PyResult<Options> {
@@ -110,11 +112,12 @@ fn optional_matrix(obj: Option<&Bound<'_, PyAny>>, name: &str) -> PyResult<Optio
 ///
 /// `phi` is the `(n_dof, n_modes)` mode-shape matrix, `elements` a list of `(kind, ...)`
 /// tuples, `coupling_k`/`coupling_c` modal coupling matrices, `mass` a
-/// `(kind, params, form, scale_stiffness, treatment)` tuple and `options`
-/// `(scheme, quadrature, tol, max_iter, solver)`. Returns the history dict of `solve_linear`
+/// `(kind, params, form, scale_stiffness, treatment)` tuple, `options`
+/// `(scheme, quadrature, tol, max_iter, solver)` and `scaled` a list of
+/// `(modal K or None, modal C or None, speed law spec)` couplings scaled by a speed law. Returns the history dict of `solve_linear`
 /// with `pseudo` (the modal pseudo-force at the saved states) and `stats`.
 #[pyfunction]
-#[pyo3(signature = (k, c, q0, v0, loads, dt, n_steps, save_every, phi, elements, options, coupling_k=None, coupling_c=None, mass=None, forcing=None, phi_t=None))]
+#[pyo3(signature = (k, c, q0, v0, loads, dt, n_steps, save_every, phi, elements, options, coupling_k=None, coupling_c=None, mass=None, forcing=None, phi_t=None, scaled=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn solve_nonlinear<'py>(
     py: Python<'py>,
@@ -134,6 +137,7 @@ pub(crate) fn solve_nonlinear<'py>(
     mass: Option<&Bound<'py, PyAny>>,
     forcing: Option<Py<PyAny>>,
     phi_t: Option<&Bound<'py, PyAny>>,
+    scaled: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let k = vec_of(k, "omega2")?;
     let c = vec_of(c, "c")?;
@@ -152,6 +156,29 @@ pub(crate) fn solve_nonlinear<'py>(
     let coupling_c = optional_matrix(coupling_c, "coupling_c")?;
     let mass = mass.map(parse_mass).transpose()?;
     let options = parse_options(options)?;
+    let mut scaled_mats = Vec::new();
+    if let Some(list) = scaled {
+        for item in list.try_iter()? {
+            let item = item?;
+            let opt = |i: usize, name: &str| -> PyResult<Option<Vec<f64>>> {
+                let m = item.get_item(i)?;
+                optional_matrix((!m.is_none()).then_some(&m), name)
+            };
+            scaled_mats.push((
+                opt(0, "scaled coupling K")?,
+                opt(1, "scaled coupling C")?,
+                parse_speed(&item.get_item(2)?)?,
+            ));
+        }
+    }
+    let scaled: Vec<ScaledCoupling> = scaled_mats
+        .iter()
+        .map(|(k, c, law)| ScaledCoupling {
+            k: k.as_deref(),
+            c: c.as_deref(),
+            law: *law,
+        })
+        .collect();
     let mut py_forcing = PyForcing::new(forcing, phi_t, k.len())?;
     let problem = NonlinearProblem {
         base: LinearProblem {
@@ -170,6 +197,7 @@ pub(crate) fn solve_nonlinear<'py>(
         elements: &refs,
         coupling_k: coupling_k.as_deref(),
         coupling_c: coupling_c.as_deref(),
+        scaled: &scaled,
         mass: mass.as_ref(),
         options,
     };

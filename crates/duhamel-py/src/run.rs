@@ -2,7 +2,8 @@
 //! and the conversion of a history or a failure into Python objects.
 
 use duhamel_core::linear::{self, Failure, History, LinearProblem, ModalForcing};
-use duhamel_core::loads::{ModalLoad, TimeFunction};
+use duhamel_core::loads::{Axis, ModalLoad, TimeFunction};
+use duhamel_core::speed::SpeedLaw;
 use duhamel_core::CoreError;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -10,6 +11,106 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
 use crate::{core_err, vec_of};
+
+/// Parses a speed law spec `("constant", (omega,))` or `("runup", (omega0, omega1, t1))`
+/// and checks it (errors name the parameter).
+pub(crate) fn parse_speed(spec: &Bound<'_, PyAny>) -> PyResult<SpeedLaw> {
+    let kind: String = spec.get_item(0)?.extract()?;
+    let p = spec.get_item(1)?;
+    let law = match kind.as_str() {
+        "constant" => SpeedLaw::Constant(p.get_item(0)?.extract()?),
+        "runup" => SpeedLaw::LinearRunUp {
+            omega0: p.get_item(0)?.extract()?,
+            omega1: p.get_item(1)?.extract()?,
+            t1: p.get_item(2)?.extract()?,
+        },
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "unknown speed law {other:?}"
+            )))
+        }
+    };
+    law.validate().map_err(core_err)?;
+    Ok(law)
+}
+
+/// The speed law `spec` (see [`parse_speed`]) at the times `t`: `(omega, omega', theta)`
+/// arrays, `omega'` right-continuous.
+#[pyfunction]
+pub(crate) fn speed_law<'py>(
+    py: Python<'py>,
+    spec: &Bound<'py, PyAny>,
+    t: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let law = parse_speed(spec)?;
+    let t = vec_of(t, "t")?;
+    let omega: Vec<f64> = t.iter().map(|&x| law.omega(x)).collect();
+    let domega: Vec<f64> = t.iter().map(|&x| law.domega(x)).collect();
+    let theta: Vec<f64> = t.iter().map(|&x| law.theta(x)).collect();
+    PyTuple::new(
+        py,
+        [
+            PyArray1::from_vec(py, omega),
+            PyArray1::from_vec(py, domega),
+            PyArray1::from_vec(py, theta),
+        ],
+    )
+}
+
+/// The values of the time function of load spec `(kind, params)` at the times `t` (right
+/// limits at jumps), as the engine evaluates them.
+#[pyfunction]
+pub(crate) fn time_function<'py>(
+    py: Python<'py>,
+    kind: &str,
+    params: &Bound<'py, PyAny>,
+    t: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let f = parse_time(kind, params)?;
+    let t = vec_of(t, "t")?;
+    Ok(PyArray1::from_vec(
+        py,
+        t.iter().map(|&x| f.eval(x)).collect(),
+    ))
+}
+
+/// The time function of a load spec, checked.
+fn parse_time(kind: &str, params: &Bound<'_, PyAny>) -> PyResult<TimeFunction> {
+    let time = match kind {
+        "step" => TimeFunction::Step {
+            t0: params.get_item(0)?.extract()?,
+        },
+        "harmonic" => TimeFunction::Harmonic {
+            omega: params.get_item(0)?.extract()?,
+            phase: params.get_item(1)?.extract()?,
+        },
+        "table" => TimeFunction::Table {
+            t: vec_of(&params.get_item(0)?, "t")?,
+            v: vec_of(&params.get_item(1)?, "values")?,
+            hold: params.get_item(2)?.extract()?,
+        },
+        "unbalance" => TimeFunction::Unbalance {
+            law: parse_speed(&params.get_item(0)?)?,
+            phase: params.get_item(1)?.extract()?,
+            axis: match params.get_item(2)?.extract::<String>()?.as_str() {
+                "x" => Axis::X,
+                "y" => Axis::Y,
+                other => {
+                    return Err(PyValueError::new_err(format!(
+                        "unbalance axis must be 'x' or 'y', got {other:?}"
+                    )))
+                }
+            },
+        },
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "unknown load kind {other:?}"
+            )))
+        }
+    };
+    time.validate().map_err(core_err)?;
+    Ok(time)
+}
 
 /// Parses `(pattern, kind, params)` load tuples.
 pub(crate) fn parse_loads(loads: &Bound<'_, PyAny>) -> PyResult<Vec<ModalLoad>> {
@@ -21,27 +122,7 @@ pub(crate) fn parse_loads(loads: &Bound<'_, PyAny>) -> PyResult<Vec<ModalLoad>> 
             .map_err(|_| PyTypeError::new_err("load spec must be a tuple"))?;
         let pattern = vec_of(&tup.get_item(0)?, "load pattern")?;
         let kind: String = tup.get_item(1)?.extract()?;
-        let params = tup.get_item(2)?;
-        let time = match kind.as_str() {
-            "step" => TimeFunction::Step {
-                t0: params.get_item(0)?.extract()?,
-            },
-            "harmonic" => TimeFunction::Harmonic {
-                omega: params.get_item(0)?.extract()?,
-                phase: params.get_item(1)?.extract()?,
-            },
-            "table" => TimeFunction::Table {
-                t: vec_of(&params.get_item(0)?, "t")?,
-                v: vec_of(&params.get_item(1)?, "values")?,
-                hold: params.get_item(2)?.extract()?,
-            },
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "unknown load kind {other:?}"
-                )))
-            }
-        };
-        time.validate().map_err(core_err)?;
+        let time = parse_time(&kind, &tup.get_item(2)?)?;
         out.push(ModalLoad { pattern, time });
     }
     Ok(out)

@@ -41,7 +41,11 @@ def check_system(system: Any) -> System:
 
 
 def _nonlinear_reason(element: Any) -> str | None:
-    if isinstance(element, el.Damper | el.LinearCoupling):
+    if isinstance(element, el.LinearCoupling):
+        if element.constant_factor() is None:
+            return "has a time-varying scale (a speed law): the coefficients are not constant"
+        return None
+    if isinstance(element, el.Damper):
         return None
     if isinstance(element, el.Spring | el.Cubic):
         return None if element.k3 == 0.0 else "is nonlinear (k3 != 0)"
@@ -130,10 +134,11 @@ def modal_model(system: System, modes: int | None = None) -> ModalModel:
     for element in system.elements:
         if isinstance(element, el.LinearCoupling):
             kk, cc = element.modal(phi)
+            factor = element.constant_factor()  # not None: checked by check_system
             if kk is not None:
-                k_q += kk
+                k_q += factor * kk
             if cc is not None:
-                c_q += cc
+                c_q += factor * cc
             continue
         if isinstance(element, el.Polynomial):
             coeffs = element.coefficients

@@ -10,7 +10,8 @@
 //!
 //! `mu_f M [(1 - am) a1 + am a0] + (1 - af) F1 + af F0 = (1 - af) f1 + af f0`,
 //!
-//! `F = mu' M v + C v + s K x + Kc x + r(x, v, t)` the internal force, `f` the external load at
+//! `F = mu' M v + C v + s K x + Kc x + sum_j w_j(t) (K_j x + C_j v) + r(x, v, t)` the internal
+//! force (`w_j` the speed laws of scaled couplings), `f` the external load at
 //! the step's ends. Newmark is `am = af = 0`; HHT is `am = 0`, `af = -alpha`. Weighting the
 //! forces (rather than evaluating them at a weighted state) keeps a linear element identical to
 //! the same term in `K` or `C` and sees the loads only at the grid times. The equation as a
@@ -64,7 +65,7 @@ impl<'a> Alpha<'a> {
         let p = model.p;
         let n = model.n;
         let newton = !p.elements.is_empty() && (par.beta != 0.0 || model.velocity_elements);
-        let constant = p.mass.is_none() && !newton;
+        let constant = p.mass.is_none() && !newton && !model.varying_scale;
         let [x0, v0, a0] = state;
         let k0 = model.coefs(0.0, false);
         let mut fint = vec![0.0; n];
@@ -96,8 +97,9 @@ impl<'a> Alpha<'a> {
         })
     }
 
-    /// Assembles and factorises `dR/da1` with the elements' last evaluated tangents.
-    fn factorize(&mut self, model: &Model, k1: Coefs, mu_f: f64) -> Result<(), CoreError> {
+    /// Assembles and factorises `dR/da1` at the step's end time `t1` with the elements' last
+    /// evaluated tangents.
+    fn factorize(&mut self, model: &Model, k1: Coefs, mu_f: f64, t1: f64) -> Result<(), CoreError> {
         let AlphaParams {
             alpha_m: am,
             alpha_f: af,
@@ -112,6 +114,9 @@ impl<'a> Alpha<'a> {
         model.add(it, C, (0, 0), cv);
         model.add(it, K, (0, 0), kx * k1.s);
         model.add(it, KC, (0, 0), kx);
+        for (j, w) in model.scales(t1).enumerate() {
+            model.add_scaled(it, j, (0, 0), kx * w, cv * w);
+        }
         if self.newton {
             model.add_tangents(it, (0, 0), kx, cv);
         }
@@ -195,7 +200,7 @@ impl Stepper for Alpha<'_> {
                 model.internal(&self.x1, &self.v1, t1, k1, true, &mut self.fint1)?;
             }
             if factor {
-                self.factorize(model, k1, mu_f)?;
+                self.factorize(model, k1, mu_f, t1)?;
                 factor = false;
             }
             last = res;

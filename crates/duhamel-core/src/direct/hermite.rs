@@ -5,7 +5,7 @@
 //! `x(s) = H00(s) x0 + H10(s) w0 + H01(s) x1 + H11(s) w1`
 //!
 //! (the cubic Hermite basis), and the residual `E = mu M x'' + (mu' M + C) x' + (s K + Kc) x
-//! + r(x, x', t) - f(t)` of the equation of motion along it is made orthogonal to the weights
+//! + sum_j w_j(t) (K_j x + C_j x') + r(x, x', t) - f(t)` of the equation of motion along it is made orthogonal to the weights
 //! `{1, 2s - 1}` (the span of `{1, t}`):
 //!
 //! `R_i = sum_g W_g psi_i(s_g) E(s_g) = 0`, `i = 0, 1`,
@@ -105,6 +105,10 @@ pub(crate) struct Hermite<'a> {
     rg: Vec<f64>,
     /// Per test function: what multiplies M, C, K and Kc.
     acc: [[Vec<f64>; 4]; 2],
+    /// Speed laws of the scaled couplings at the Gauss points, `[g * n_scaled + j]`.
+    scales: Vec<f64>,
+    /// Per test function and scaled coupling: what multiplies `K_j` and `C_j`.
+    acc_scaled: [Vec<[Vec<f64>; 2]>; 2],
 }
 
 impl<'a> Hermite<'a> {
@@ -124,13 +128,20 @@ impl<'a> Hermite<'a> {
             .collect::<Vec<_>>();
         let newton = !p.elements.is_empty();
         let zeros = || std::array::from_fn(|_| vec![0.0; n]);
+        let n_scaled = p.scaled.len();
+        let n_points = points.len();
+        let scaled_zeros = || {
+            (0..n_scaled)
+                .map(|_| [vec![0.0; n], vec![0.0; n]])
+                .collect::<Vec<_>>()
+        };
         Ok(Hermite {
             dt: p.dt,
             tol: p.tol,
             max_iter: p.max_iter,
             it: model.iteration_matrix(2)?,
             lu: None,
-            constant: p.mass.is_none() && !newton,
+            constant: p.mass.is_none() && !newton && !model.varying_scale,
             newton,
             factorizations: 0,
             f: vec![0.0; points.len() * n],
@@ -142,6 +153,8 @@ impl<'a> Hermite<'a> {
             vg: vec![0.0; n],
             rg: vec![0.0; n],
             acc: [zeros(), zeros()],
+            scales: Vec::with_capacity(n_points * n_scaled),
+            acc_scaled: [scaled_zeros(), scaled_zeros()],
         })
     }
 
@@ -161,6 +174,10 @@ impl<'a> Hermite<'a> {
         for acc in self.acc.iter_mut().flatten() {
             acc.fill(0.0);
         }
+        for acc in self.acc_scaled.iter_mut().flatten().flatten() {
+            acc.fill(0.0);
+        }
+        let n_scaled = self.acc_scaled[0].len();
         self.r.fill(0.0);
         if assemble {
             self.it.clear();
@@ -182,6 +199,14 @@ impl<'a> Hermite<'a> {
                     acc[2][i] += c * k.s * self.xg[i];
                     acc[3][i] += c * self.xg[i];
                     self.r[ti * n + i] -= c * fg;
+                }
+                for (ti, accs) in self.acc_scaled.iter_mut().enumerate() {
+                    let c = pt.w * pt.psi[ti];
+                    for (j, acc) in accs.iter_mut().enumerate() {
+                        let cw = c * self.scales[g * n_scaled + j];
+                        acc[0][i] += cw * self.xg[i];
+                        acc[1][i] += cw * self.vg[i];
+                    }
                 }
             }
             if model.slots.is_empty() {
@@ -220,6 +245,14 @@ impl<'a> Hermite<'a> {
             if let Some(kc) = p.k_fixed {
                 kc.mul_add(1.0, &acc[3], r);
             }
+            for (sc, acc) in p.scaled.iter().zip(&self.acc_scaled[ti]) {
+                if let Some(m) = sc.k {
+                    m.mul_add(1.0, &acc[0], r);
+                }
+                if let Some(m) = sc.c {
+                    m.mul_add(1.0, &acc[1], r);
+                }
+            }
         }
         if assemble {
             self.assemble_constant(model);
@@ -247,6 +280,16 @@ impl<'a> Hermite<'a> {
                 for (which, coef) in [M, C, K, KC].into_iter().zip(cm) {
                     model.add(&mut self.it, which, (ti, tj), coef);
                 }
+                let n_scaled = self.acc_scaled[0].len();
+                for j in 0..n_scaled {
+                    let (mut ck, mut cc) = (0.0, 0.0);
+                    for (g, pt) in self.points.iter().enumerate() {
+                        let cw = pt.w * pt.psi[ti] * self.scales[g * n_scaled + j];
+                        ck += cw * pt.h[0][col];
+                        cc += cw * pt.h[1][col] / h;
+                    }
+                    model.add_scaled(&mut self.it, j, (ti, tj), ck, cc);
+                }
             }
         }
     }
@@ -268,6 +311,10 @@ impl Stepper for Hermite<'_> {
         self.coefs.clear();
         self.coefs
             .extend(times.iter().map(|&tg| model.coefs(tg, false)));
+        self.scales.clear();
+        for &tg in &times {
+            self.scales.extend(model.scales(tg));
+        }
         let w0: Vec<f64> = v.iter().map(|vi| h * vi).collect();
         // Predictor: Taylor with the acceleration at the start.
         for i in 0..n {

@@ -1,8 +1,9 @@
 //! Direct time integration of the physical equations of motion,
 //!
-//! `mu(t) M x'' + [momentum] mu'(t) M x' + C x' + s(t) K x + Kc x + r(x, x', t) = f(t)`,
+//! `mu(t) M x'' + [momentum] mu'(t) M x' + C x' + s(t) K x + Kc x
+//! + sum_j w_j(t) (K_j x + C_j x') + r(x, x', t) = f(t)`
 //!
-//! on the same elements, loads and mass laws as the semi-analytic integrator: the reference
+//! (`w_j` speed laws scaling linear couplings), on the same elements, loads and mass laws as the semi-analytic integrator: the reference
 //! methods users compare against. Two families share the problem, the assembly (dense or
 //! sparse, [`assembly`]) and the driver here:
 //!
@@ -25,6 +26,7 @@ use crate::elements::Element;
 use crate::error::CoreError;
 use crate::loads::ModalLoad;
 use crate::mass::TimeVaryingMass;
+use crate::speed::SpeedLaw;
 use crate::stepping::{saved_steps, zeroed, Failure, ModalForcing};
 use assembly::{IterationMatrix, Matrix};
 use model::Model;
@@ -60,6 +62,9 @@ pub struct DirectProblem<'a> {
     pub c: Option<&'a Matrix>,
     /// Stiffness that never scales (linear couplings), if any.
     pub k_fixed: Option<&'a Matrix>,
+    /// Couplings multiplied by a speed law: the force `s(t) (K x + C x')` (the gyroscopic
+    /// `omega(t) G x'` of a run-up). They never scale with the mass law.
+    pub scaled: &'a [ScaledCoupling<'a>],
     /// Force elements.
     pub elements: &'a [&'a dyn Element],
     /// Built-in loads with physical patterns (`n_dof` entries).
@@ -88,6 +93,17 @@ pub struct DirectProblem<'a> {
     pub tol: f64,
     /// Newton iterations per step before giving up.
     pub max_iter: usize,
+}
+
+/// Physical coupling matrices multiplied by a speed law `s(t)`.
+#[derive(Debug, Clone, Copy)]
+pub struct ScaledCoupling<'a> {
+    /// Stiffness part, if any.
+    pub k: Option<&'a Matrix>,
+    /// Damping part, if any.
+    pub c: Option<&'a Matrix>,
+    /// The time scale.
+    pub law: SpeedLaw,
 }
 
 /// Saved history of a direct integration, time-major `(n_saved, n_out)` arrays.
@@ -152,6 +168,18 @@ fn validate(p: &DirectProblem) -> Result<(), CoreError> {
     }
     if let Some(k) = p.k_fixed {
         k.validate("K", n)?;
+    }
+    for s in p.scaled {
+        if let Some(k) = s.k {
+            k.validate("K", n)?;
+        }
+        if let Some(c) = s.c {
+            c.validate("C", n)?;
+        }
+        if s.k.is_none() && s.c.is_none() {
+            return bad("scale", "belongs to a coupling without `K` or `C`".into());
+        }
+        s.law.validate()?;
     }
     if let Some(a0) = p.a0 {
         if a0.len() != n {

@@ -1,9 +1,11 @@
 //! The physical equation of motion, term by term:
 //!
-//! `mu M x'' + [momentum] mu' M x' + C x' + s K x + Kc x + r(x, x', t) = f(t)`
+//! `mu M x'' + [momentum] mu' M x' + C x' + s K x + Kc x + sum_j w_j (K_j x + C_j x')
+//! + r(x, x', t) = f(t)`
 //!
 //! with `mu(t)` the mass law (1 without one), `s = mu` when the stiffness scales with the
-//! mass (else 1) and `Kc` the stiffness that does not scale (linear couplings).
+//! mass (else 1), `Kc` the stiffness that does not scale (linear couplings) and `w_j(t)` the
+//! speed laws of the scaled couplings `(K_j, C_j)`.
 
 use super::assembly::{IterationMatrix, Matrix};
 use super::DirectProblem;
@@ -37,6 +39,11 @@ pub(crate) struct Model<'a> {
     pub slots: Vec<Slot<'a>>,
     /// Whether any element force depends on the velocities.
     pub velocity_elements: bool,
+    /// Whether a scaled coupling's speed law varies in time (the iteration matrix then
+    /// changes from step to step).
+    pub varying_scale: bool,
+    /// Index among [`Model::matrices`] of each scaled coupling's `K` and `C`.
+    scaled_index: Vec<(Option<usize>, Option<usize>)>,
     scratch: Vec<f64>,
 }
 
@@ -48,22 +55,64 @@ impl<'a> Model<'a> {
             .map(|&element| Evaluation::new(element))
             .collect();
         let n = p.x0.len();
+        let mut next = 2 + usize::from(p.c.is_some()) + usize::from(p.k_fixed.is_some());
+        let mut take = |present: bool| {
+            present.then(|| {
+                next += 1;
+                next - 1
+            })
+        };
+        let scaled_index = p
+            .scaled
+            .iter()
+            .map(|s| (take(s.k.is_some()), take(s.c.is_some())))
+            .collect();
         Model {
             p,
             n,
             slots,
             velocity_elements: p.elements.iter().any(|e| e.uses_velocity()),
+            varying_scale: p.scaled.iter().any(|s| s.law.constant_value().is_none()),
+            scaled_index,
             scratch: vec![0.0; n],
         }
     }
 
-    /// The constant matrices in the order of [`M`], [`K`], [`C`], [`KC`] (absent ones as
-    /// `None`), for an iteration matrix.
+    /// The constant matrices in the order of [`M`], [`K`], [`C`], [`KC`] (absent ones left
+    /// out), then each scaled coupling's `K` and `C`, for an iteration matrix.
     pub fn matrices(&self) -> Vec<&'a Matrix> {
         let mut out = vec![self.p.m, self.p.k];
         out.extend(self.p.c);
         out.extend(self.p.k_fixed);
+        for s in self.p.scaled {
+            out.extend(s.k);
+            out.extend(s.c);
+        }
         out
+    }
+
+    /// Adds `ck K_j + cc C_j` of scaled coupling `j` into block `block` (the caller includes
+    /// the speed law's value in the coefficients).
+    pub fn add_scaled(
+        &self,
+        it: &mut IterationMatrix,
+        j: usize,
+        block: (usize, usize),
+        ck: f64,
+        cc: f64,
+    ) {
+        let (ik, ic) = self.scaled_index[j];
+        if let Some(i) = ik {
+            it.add_matrix(i, block, ck);
+        }
+        if let Some(i) = ic {
+            it.add_matrix(i, block, cc);
+        }
+    }
+
+    /// The speed laws' values at `t`, one per scaled coupling.
+    pub fn scales(&self, t: f64) -> impl Iterator<Item = f64> + '_ {
+        self.p.scaled.iter().map(move |s| s.law.omega(t))
     }
 
     /// Index of the optional matrices among [`Model::matrices`].
@@ -123,8 +172,9 @@ impl<'a> Model<'a> {
         }
     }
 
-    /// `out += mu' M v + C v + s K x + Kc x` (the linear part of the internal force).
-    pub fn linear_force(&self, x: &[f64], v: &[f64], k: Coefs, out: &mut [f64]) {
+    /// `out += mu' M v + C v + s K x + Kc x + sum_j w_j(t) (K_j x + C_j v)` (the linear part
+    /// of the internal force).
+    pub fn linear_force(&self, x: &[f64], v: &[f64], t: f64, k: Coefs, out: &mut [f64]) {
         let p = self.p;
         p.m.mul_add(k.dmu, v, out);
         if let Some(c) = p.c {
@@ -133,6 +183,15 @@ impl<'a> Model<'a> {
         p.k.mul_add(k.s, x, out);
         if let Some(kc) = p.k_fixed {
             kc.mul_add(1.0, x, out);
+        }
+        for s in p.scaled {
+            let w = s.law.omega(t);
+            if let Some(m) = s.k {
+                m.mul_add(w, x, out);
+            }
+            if let Some(m) = s.c {
+                m.mul_add(w, v, out);
+            }
         }
     }
 
@@ -160,7 +219,8 @@ impl<'a> Model<'a> {
         Ok(())
     }
 
-    /// The internal force `F = mu' M v + C v + s K x + Kc x + r(x, v, t)` into `out`.
+    /// The internal force `F = mu' M v + C v + s K x + Kc x + sum_j w_j (K_j x + C_j v)
+    /// + r(x, v, t)` into `out`.
     pub fn internal(
         &mut self,
         x: &[f64],
@@ -171,7 +231,7 @@ impl<'a> Model<'a> {
         out: &mut [f64],
     ) -> Result<(), CoreError> {
         out.fill(0.0);
-        self.linear_force(x, v, k, out);
+        self.linear_force(x, v, t, k, out);
         self.element_force(x, v, t, tangent, out)
     }
 

@@ -16,6 +16,7 @@ use crate::error::CoreError;
 use crate::linear::{check, LinearProblem};
 use crate::mass::{MassTreatment, TimeVaryingMass};
 use crate::oscillator::Transfer;
+use crate::speed::SpeedLaw;
 use crate::stepping::{zeroed, BlockLoads, Failure, History, ModalForcing};
 use pseudo::PseudoForce;
 use step::{StepInput, Stepper};
@@ -49,10 +50,24 @@ pub struct NonlinearProblem<'a> {
     pub coupling_k: Option<&'a [f64]>,
     /// Modal damping coupling `Phi^T C_c Phi`, if any.
     pub coupling_c: Option<&'a [f64]>,
+    /// Couplings multiplied by a speed law (the gyroscopic `omega(t) G` of a run-up).
+    pub scaled: &'a [ScaledCoupling<'a>],
     /// Time-varying mass, if any.
     pub mass: Option<&'a TimeVaryingMass>,
     /// Integrator settings.
     pub options: Options,
+}
+
+/// A modal coupling whose pseudo-force is `-s(t) (K q + C v)`, `s` a speed law:
+/// `LinearCoupling(K, C, scale=...)`.
+#[derive(Debug, Clone, Copy)]
+pub struct ScaledCoupling<'a> {
+    /// Modal stiffness coupling `Phi^T K Phi` (`n_modes x n_modes`, row-major), if any.
+    pub k: Option<&'a [f64]>,
+    /// Modal damping coupling `Phi^T C Phi`, if any.
+    pub c: Option<&'a [f64]>,
+    /// The time scale.
+    pub law: SpeedLaw,
 }
 
 /// Run statistics of a nonlinear integration.
@@ -91,6 +106,9 @@ fn validate(problem: &NonlinearProblem) -> Result<(), CoreError> {
         mass.law
             .validate(problem.base.dt * problem.base.n_steps as f64)?;
     }
+    for s in problem.scaled {
+        s.law.validate()?;
+    }
     Ok(())
 }
 
@@ -121,6 +139,7 @@ pub fn integrate(
         problem.elements,
         problem.coupling_k,
         problem.coupling_c,
+        problem.scaled,
         problem.mass,
         base.k,
         base.c,

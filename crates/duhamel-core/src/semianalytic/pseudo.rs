@@ -1,7 +1,8 @@
 //! The modal pseudo-force: everything that is not the constant symmetric background.
 //!
-//! With `rho = Phi^T r(Phi q, Phi v, t) + Kc q + Cc v` (elements and linear couplings), the
-//! modal equations are `q'' + c q' + k q = p + Q` with
+//! With `rho = Phi^T r(Phi q, Phi v, t) + Kc q + Cc v + sum_j s_j(t) (K_j q + C_j v)`
+//! (elements, constant linear couplings and couplings scaled by a speed law `s_j`), the modal
+//! equations are `q'' + c q' + k q = p + Q` with
 //!
 //! * constant mass: `Q = -rho`;
 //! * mass `M0 mu(t)`, eliminated (divide by `mu`; NOTES.md section 3):
@@ -13,6 +14,8 @@
 use crate::elements::{Element, Evaluation, ModalCubic};
 use crate::error::CoreError;
 use crate::mass::{MassForm, MassTreatment, TimeVaryingMass};
+
+use super::ScaledCoupling;
 
 /// An element with the mode-shape rows of its degrees of freedom.
 struct Slot<'a> {
@@ -44,6 +47,7 @@ pub struct PseudoForce<'a> {
     slots: Vec<Slot<'a>>,
     coupling_k: Option<&'a [f64]>,
     coupling_c: Option<&'a [f64]>,
+    scaled: &'a [ScaledCoupling<'a>],
     mass: Option<&'a TimeVaryingMass>,
     k: &'a [f64],
     c: &'a [f64],
@@ -66,6 +70,7 @@ impl<'a> PseudoForce<'a> {
         elements: &'a [&'a dyn Element],
         coupling_k: Option<&'a [f64]>,
         coupling_c: Option<&'a [f64]>,
+        scaled: &'a [ScaledCoupling<'a>],
         mass: Option<&'a TimeVaryingMass>,
         k: &'a [f64],
         c: &'a [f64],
@@ -91,7 +96,14 @@ impl<'a> PseudoForce<'a> {
                 phi_e,
             });
         }
-        for (name, m) in [("coupling K", coupling_k), ("coupling C", coupling_c)] {
+        let pairs = [("coupling K", coupling_k), ("coupling C", coupling_c)]
+            .into_iter()
+            .chain(
+                scaled
+                    .iter()
+                    .flat_map(|s| [("scaled coupling K", s.k), ("scaled coupling C", s.c)]),
+            );
+        for (name, m) in pairs {
             if let Some(m) = m {
                 if m.len() != n * n {
                     return Err(CoreError::LengthMismatch {
@@ -104,6 +116,7 @@ impl<'a> PseudoForce<'a> {
         }
         let uses_velocity = elements.iter().any(|e| e.uses_velocity())
             || coupling_c.is_some()
+            || scaled.iter().any(|s| s.c.is_some())
             || mass.is_some_and(|m| {
                 m.form == MassForm::Momentum
                     || (m.treatment == MassTreatment::Eliminate && c.iter().any(|&x| x != 0.0))
@@ -116,6 +129,7 @@ impl<'a> PseudoForce<'a> {
             slots,
             coupling_k,
             coupling_c,
+            scaled,
             mass,
             k,
             c,
@@ -150,21 +164,24 @@ impl<'a> PseudoForce<'a> {
                 congruence(&slot.phi_e, n, nl, &e.cv, &mut self.jac_rho.cq);
             }
         }
-        for (mat, state, jac) in [
-            (self.coupling_k, q, &mut self.jac_rho.kq),
-            (self.coupling_c, v, &mut self.jac_rho.cq),
-        ] {
-            if let Some(mat) = mat {
-                for (i, ri) in self.rho.iter_mut().enumerate() {
-                    *ri += mat[i * n..(i + 1) * n]
-                        .iter()
-                        .zip(state)
-                        .map(|(a, b)| a * b)
-                        .sum::<f64>();
-                }
-                if tangent {
-                    for (j, m) in jac.iter_mut().zip(mat) {
-                        *j += m;
+        let constant = [(1.0, self.coupling_k, self.coupling_c)];
+        let scaled = self.scaled.iter().map(|s| (s.law.omega(t), s.k, s.c));
+        for (factor, mk, mc) in constant.into_iter().chain(scaled) {
+            for (mat, state, jac) in [(mk, q, &mut self.jac_rho.kq), (mc, v, &mut self.jac_rho.cq)]
+            {
+                if let Some(mat) = mat {
+                    for (i, ri) in self.rho.iter_mut().enumerate() {
+                        *ri += factor
+                            * mat[i * n..(i + 1) * n]
+                                .iter()
+                                .zip(state)
+                                .map(|(a, b)| a * b)
+                                .sum::<f64>();
+                    }
+                    if tangent {
+                        for (j, m) in jac.iter_mut().zip(mat) {
+                            *j += factor * m;
+                        }
                     }
                 }
             }
@@ -287,12 +304,15 @@ impl<'a> PseudoForce<'a> {
     }
 
     /// For one mode with polynomial forces only (and no estimated mass): the coefficients of
-    /// `rho(q, v) = sum a[i][j] q^i v^j`, elements and couplings together.
+    /// `rho(q, v) = sum a[i][j] q^i v^j`, elements and couplings together. None as well when
+    /// a coupling's scale varies in time (the coefficients would change from node to node:
+    /// such a step is solved by the generic closed form or by Newton).
     pub fn scalar_model(&self) -> Option<ModalCubic> {
         if self.n != 1
             || self
                 .mass
                 .is_some_and(|m| m.treatment == MassTreatment::Estimate)
+            || self.scaled.iter().any(|s| s.law.constant_value().is_none())
         {
             return None;
         }
@@ -307,6 +327,11 @@ impl<'a> PseudoForce<'a> {
         }
         a[1][0] += self.coupling_k.map_or(0.0, |m| m[0]);
         a[0][1] += self.coupling_c.map_or(0.0, |m| m[0]);
+        for s in self.scaled {
+            let w = s.law.constant_value()?;
+            a[1][0] += w * s.k.map_or(0.0, |m| m[0]);
+            a[0][1] += w * s.c.map_or(0.0, |m| m[0]);
+        }
         Some(a)
     }
 
