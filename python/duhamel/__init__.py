@@ -14,7 +14,7 @@ Examples
 (401, 2)
 """
 
-from duhamel import analysis, elements, exact, loads, mass, oscillator
+from duhamel import analysis, elements, exact, loads, mass, oscillator, rotor, speed
 from duhamel._core import __version__
 from duhamel.errors import DuhamelError, SolverError
 from duhamel.integrators import (
@@ -52,5 +52,7 @@ __all__ = [
     "loads",
     "mass",
     "oscillator",
+    "rotor",
     "solve",
+    "speed",
 ]

@@ -1,0 +1,50 @@
+"""Rotor models: Timoshenko shafts, rigid disks and bearings assembled into a duhamel System.
+
+SI units. Four degrees of freedom per node, ``(x, y, theta_x, theta_y)``: node ``i`` owns
+``4 i .. 4 i + 3``; the shaft axis is z, shaft ``i`` joins nodes ``i`` and ``i + 1``, rotations
+are right-handed about x and y, the shaft spins about +z, and forward whirl turns from +x to +y
+(Friswell et al., *Dynamics of Rotating Machines*, 2010). See docs/rotor.md.
+
+Examples
+--------
+>>> import numpy as np, duhamel
+>>> from duhamel import rotor as R
+>>> model = R.Rotor([R.Shaft(0.3, 0.05, material=R.STEEL)] * 4,
+...                 [R.Disk(2, mass=20.0, Ip=0.2, Id=0.1)],
+...                 [R.Bearing(0, 1e7, 1e7), R.Bearing(4, 1e7, 1e7)], zeta=0.02)
+>>> system = model.system(R.rpm(3000), [R.Unbalance(2, m_e=1e-4), R.Gravity()])
+>>> sol = duhamel.solve(system, duhamel.Semianalytic(modes=10), t_end=0.05, dt=1e-4)
+>>> sol.x.shape
+(501, 20)
+"""
+
+from duhamel.rotor._speed import constant_speed, rpm
+from duhamel.rotor.components import Bearing, Disk
+from duhamel.rotor.loads import Gravity, RotorLoad, SuddenForce, Unbalance, VectorStep
+from duhamel.rotor.material import STEEL, Material
+from duhamel.rotor.model import DIRECTIONS, Campbell, Modes, Rotor, RotorMatrices
+from duhamel.rotor.plot import plot_campbell, plot_orbit
+from duhamel.rotor.shaft import Shaft, cowper_shear_coefficient
+
+__all__ = [
+    "DIRECTIONS",
+    "STEEL",
+    "Bearing",
+    "Campbell",
+    "Disk",
+    "Gravity",
+    "Material",
+    "Modes",
+    "Rotor",
+    "RotorLoad",
+    "RotorMatrices",
+    "Shaft",
+    "SuddenForce",
+    "Unbalance",
+    "VectorStep",
+    "constant_speed",
+    "cowper_shear_coefficient",
+    "plot_campbell",
+    "plot_orbit",
+    "rpm",
+]
