@@ -12,6 +12,7 @@ import math
 import matplotlib
 import numpy as np
 import pytest
+from scipy.integrate import solve_ivp
 
 import duhamel
 from duhamel import exact
@@ -28,10 +29,13 @@ from duhamel.paper import (
     figs5to7,
     fit_order,
     reproduce,
+    rotor_orbits,
+    table1,
 )
 from duhamel.paper import duffing as pd
 from duhamel.paper import figures as pf
 from duhamel.paper import pendulum as pp
+from duhamel.paper import rotor as pr
 from duhamel.paper.report import parse_names, render_report
 
 matplotlib.use("Agg")
@@ -220,6 +224,162 @@ def test_fig8_order_two(f8):
     assert [c.holds for c in f8.claims()] == [True, True, None]
 
 
+# ------------------------------------------------------------------- section 4.4: the rotor
+
+
+def test_paper_rotor_layout_and_loads():
+    """The paper's data on our layout: dofs 1, 2, 13, 14 are the bearings' x and y with the
+    paper's stiffness; the cubic law uses each bearing's static deflection under the weight;
+    the eccentricity turns at 1500 rpm with a force of 5e4 N; the mass law is xi sin(Omega t)."""
+    assert [pr.paper_dof(j) for j in (1, 2, 13, 14)] == [(0, "x"), (0, "y"), (3, "x"), (3, "y")]
+    assert pr.paper_dof(20) == (4, "theta_y")
+    with pytest.raises(ValueError, match=r"`j` must be an integer in 1\.\.20"):
+        pr.paper_dof(21)
+    rotor = pr.paper_rotor(0.1)
+    assert (rotor.n_dof, len(rotor.shafts), len(rotor.disks)) == (20, 4, 3)
+    assert [b.node for b in rotor.bearings] == [0, 3]
+    K = rotor.matrices().K
+    for j in (1, 13):  # the paper's k12 = -k21 at (j, j + 1), 1-based
+        assert K[j - 1, j] == 1e7 and K[j, j - 1] == -1e7
+    static = np.linalg.solve(K, duhamel.rotor.Gravity().vector(rotor))
+    np.testing.assert_allclose(pr.static_scale(), np.abs(static[1::4]), rtol=1e-12)
+    k3 = {e.dof: e.k3 for e in rotor.nonlinear_elements()}
+    assert set(k3) == {0, 1, 12, 13}
+    assert k3[1] == pytest.approx(1e9 * 0.1 / static[1] ** 2, rel=1e-12)
+    assert k3[13] == pytest.approx(1e9 * 0.1 / static[13] ** 2, rel=1e-12)
+    system = pr.paper_system(0.1, 0.05)
+    force = sum(load.evaluate(system, np.linspace(0.0, 0.04, 9)) for load in system.loads)
+    weight = duhamel.rotor.Gravity().vector(rotor)
+    np.testing.assert_allclose(np.hypot(*(force - weight)[:, 8:10].T), 5e4, rtol=1e-12)
+    assert system.mass_law.law == duhamel.mass.Harmonic(0.05, 1500 * math.pi / 30)
+    assert system.mass_law.form == "acceleration" and pr.paper_system(0.0, 0.0).mass_law is None
+    fixed = pr.paper_system(0.0, 0.0, eccentricity="fixed")
+    assert [(s.dof, s.amplitude) for s in fixed.loads[:1]] == [(8, 5e4)]
+    with pytest.raises(ValueError, match="`eccentricity` must be one of"):
+        pr.paper_system(0.0, 0.0, eccentricity="bogus")
+
+
+def test_paper_rotor_matches_an_ode_reference():
+    """The whole example (cubic bearings, cross-coupled stiffness, gyroscopic terms, Rayleigh
+    damping, gravity, the turning eccentricity, M(t) = M0 [1 + xi sin(Omega t)] x'') against
+    DOP853 of the equations written out here from the rotor's matrices: second order."""
+    rotor = pr.paper_rotor(0.0)
+    M, K, C, G = rotor.matrices()
+    omega, xi, n = 1500 * math.pi / 30, 0.1, 20
+    r = np.zeros(n)
+    r[1::4] = 1.0
+    fg = -9.81 * M @ r
+    x_stat = np.abs(np.linalg.solve(K, fg))
+    k3 = {d: 1e9 * 0.1 / x_stat[4 * (d // 4) + 1] ** 2 for d in (0, 1, 12, 13)}
+    m_e, minv = 5e4 / omega**2, np.linalg.inv(M)
+
+    def rhs(t, z):
+        x, v = z[:n], z[n:]
+        f = fg.copy()
+        f[8] += m_e * omega**2 * math.cos(omega * t)
+        f[9] += m_e * omega**2 * math.sin(omega * t)
+        for d, k in k3.items():
+            f[d] -= k * x[d] ** 3
+        mu = 1.0 + xi * math.sin(omega * t)
+        return np.concatenate([v, minv @ (f - (C + omega * G) @ v - K @ x) / mu])
+
+    t_end, samples = 0.04, 40
+    grid = np.linspace(0.0, t_end, samples + 1)
+    ref = (
+        solve_ivp(
+            rhs, (0.0, t_end), np.zeros(2 * n), method="DOP853", rtol=1e-11, atol=1e-16, t_eval=grid
+        )
+        .y[:n]
+        .T
+    )
+    mask = np.zeros(n, dtype=bool)
+    mask[0::4] = mask[1::4] = True
+    system = pr.paper_system(0.1, xi)
+    for integrator in (duhamel.Semianalytic(), duhamel.Newmark()):
+        steps = [200, 400, 800, 1600]
+        errors = []
+        for k in steps:
+            x = duhamel.solve(system, integrator, t_end=t_end, dt=t_end / k).x[:: k // samples]
+            errors.append(np.abs(x[:, mask] - ref[:, mask]).max() / np.abs(ref[:, mask]).max())
+        order = fit_order([t_end / k for k in steps], errors)
+        shown = ", ".join(f"{e:.2e}" for e in errors)
+        print(f"\npaper's rotor, {type(integrator).__name__}: errors {shown}, order {order:.3f}")
+        assert order == pytest.approx(2.0, abs=0.1)
+
+
+def test_rotor_orbits_small():
+    data = rotor_orbits(xis=(0.05,), t_end=0.01, dt=2e-4)
+    assert sorted(data.orbits) == [(0.0, 0.0), (0.0, 0.05), (0.1, 0.0), (0.1, 0.05)]
+    assert data.betas == [0.0, 0.1] and data.xis == [0.0, 0.05]
+    for orbit in data.orbits.values():
+        assert orbit.shape == (51, 4, 2) and np.all(orbit[0] == 0.0)  # from rest
+    nodes = [node for _, node in pr.POSITIONS]
+    np.testing.assert_array_equal(data.x_stat, pr.static_scale()[nodes])
+    # the scale: each position's own static deflection under the weight
+    sol = duhamel.solve(pr.paper_system(0.0, 0.0), duhamel.Semianalytic(), t_end=0.01, dt=2e-4)
+    np.testing.assert_allclose(
+        data.orbits[(0.0, 0.0)][:, :, 1], sol.x[:, [4 * k + 1 for k in nodes]] / data.x_stat
+    )
+    assert np.all(data.mass_influence(0.0, 0.0) == 0.0)
+    assert np.all(data.mass_influence(0.1, 0.05) > 0.0)
+    assert [c.holds for c in data.claims()][:2] == [None, None] and len(data.claims()) == 4
+    # Figs. 10-13: one panel per beta, one orbit per xi, x / x_stat against y / x_stat
+    for index, plot in enumerate((pf.plot_fig10, pf.plot_fig11, pf.plot_fig12, pf.plot_fig13)):
+        fig = plot(data)
+        assert [ax.get_title() for ax in fig.axes] == [r"$\beta$ = 0", r"$\beta$ = 0.1"]
+        assert fig.axes[0].get_ylabel() == r"$y\,/\,x_{stat}$"
+        orbit = fig.axes[1].get_lines()[1]  # beta = 0.1, xi = 0.05
+        np.testing.assert_array_equal(orbit.get_xdata(), data.orbits[(0.1, 0.05)][:, index, 0])
+        np.testing.assert_array_equal(orbit.get_ydata(), data.orbits[(0.1, 0.05)][:, index, 1])
+    assert "node 2" in "".join(t.get_text() for t in pf.plot_fig9(data).axes[0].texts)
+
+
+def test_table1_small():
+    """Modal reduction on the paper's case: the error against the full model falls as modes
+    are added (3 and 5 modes both miss the bearings' quasi-static response), and is larger at
+    the bearings than at the disks; the semi-analytic method is more accurate than Newmark at
+    the same step."""
+    data = table1(t_end=0.02, repeats=2, refine=4)
+    assert data.modes == (20, 15, 10, 5, 3) and data.steps == 200
+    worst = {m: float(e.max()) for m, e in data.errors.items()}
+    shown = ", ".join(f"{m}: {e:.3g} / {data.relative_cpu(m):.0f} %" for m, e in worst.items())
+    print(f"\nTable 1 (0.02 s), modes: error / relative loop time {shown}")
+    assert worst[20] == 0.0 and np.all(data.linear_errors[20] == 0.0)
+    assert 0.0 < worst[15] < worst[10] < worst[5]
+    for m in (15, 10, 5, 3):
+        assert data.errors[m][:2].max() > data.errors[m][2:].max()
+    assert data.relative_cpu(20) == 100.0 and data.seconds[3].shape == (2,)
+    assert data.newmark_seconds.shape == (2,) and data.newmark_ratio > 0.0
+    assert data.accuracy["semi-analytic"] < data.accuracy["Newmark"]
+    k, seconds, reached = data.newmark_equal
+    assert reached and k > 1 and seconds > 0.0
+    assert data.accuracy[f"Newmark dt/{k}"] <= data.accuracy["semi-analytic"]
+    assert data.accuracy[f"Newmark dt/{k - 1}"] > data.accuracy["semi-analytic"]
+    verdicts = [c.holds for c in data.claims()]
+    assert verdicts[:5] == [None] * 5 and len(verdicts) == 11
+    assert verdicts[7] is True and verdicts[9] is True  # higher errors at bearings; accuracy
+
+
+def test_reproduce_rotor_writes_files(tmp_path):
+    run = reproduce(
+        tmp_path,
+        only=["rotor", "table1"],
+        options={
+            "rotor": {"xis": (0.1,), "t_end": 0.01, "dt": 2e-4},
+            "table1": {"modes": (20, 10), "t_end": 0.01, "repeats": 1, "refine": 2},
+        },
+    )
+    names = sorted(p.name for p in run.files)
+    assert names == sorted([pf.FIGURES[f"fig{i}"] for i in range(9, 14)] + ["report.md"])
+    for path in run.files[:-1]:
+        assert path.read_bytes()[:8] == PNG
+    text = run.report.read_text()
+    assert "## Figs. 9-13" in text and "## Table 1" in text and "## Fig. 3" not in text
+    assert "![fig12](fig12_orbit_left_rotor.png)" in text
+    only13 = reproduce(tmp_path / "b", only=["fig13"], options={"rotor": {"t_end": 0.004}})
+    assert [p.name for p in only13.files] == [pf.FIGURES["fig13"], "report.md"]
+
+
 # ---------------------------------------------------------------------------------- figures
 
 
@@ -248,7 +408,11 @@ def test_parse_names_and_claim():
     assert parse_names("fig8,cpu, fig1") == ("fig1", "cpu", "fig8")
     with pytest.raises(ValueError, match="unknown example 'bogus'"):
         parse_names("fig1,bogus")
-    assert NAMES == ("fig1", "fig2", "fig3", "cpu", "fig4", "fig5", "fig6", "fig7", "fig8")
+    assert NAMES == (
+        *("fig1", "fig2", "fig3", "cpu", "fig4", "fig5", "fig6", "fig7", "fig8"),
+        *("rotor", "fig9", "fig10", "fig11", "fig12", "fig13", "table1"),
+    )
+    assert parse_names("table1,rotor") == ("rotor", "table1")
     assert Claim("x", "p", "o", False).verdict == "does not hold"
     assert Claim("x", "p", "o", None).verdict == "(information)"
 
@@ -262,7 +426,7 @@ def test_reproduce_writes_report_and_figures(tmp_path):
     text = run.report.read_text()
     assert "## Figs. 5-7" in text and "## CPU time against Newmark" in text
     assert "![fig6](fig6_displacement_velocity.png)" in text
-    assert "Section 4.4" in text and "## Fig. 3" not in text
+    assert "## Fig. 3" not in text and "## Figs. 9-13" not in text
     assert run.report.parent == tmp_path / "a" / "b"
 
 

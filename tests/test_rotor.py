@@ -8,11 +8,13 @@ frequency-domain unbalance response and static deflections from ``numpy.linalg.s
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
 import pytest
 import scipy.linalg
+from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, fsolve
 
 import duhamel
@@ -505,29 +507,141 @@ def test_unbalance_and_sudden_force_loads():
     assert [(s.dof, s.amplitude, s.t0) for s in steps] == [(rotor.dof(1, "y"), -5e4, 0.01)]
 
 
-class _RunUp:
-    """The duck-typed contract of a speed law: ``constant_value()`` is None while it varies."""
-
-    def constant_value(self):
-        return None
-
-
-def test_run_up_is_refused_until_wired():
+def test_constant_speed_unbalance_equals_the_harmonic_loads():
+    """A constant-speed Unbalance is now one duhamel.loads.Unbalance on the node's (x, y); it
+    is the same force as the two Harmonic loads it replaced (x with phase + pi/2), so the
+    responses agree to round-off, with either integrator and with a ConstantSpeed law."""
     rotor = make_rotor()
-    laws = [_RunUp()]
-    try:
-        from duhamel import speed
-    except ImportError:  # the engine's speed laws are not there: the stub stands for them
-        pass
-    else:
-        laws.append(speed.LinearRunUp(omega0=0.0, omega1=SPEED, t1=1.0))
-        gyro = rotor.system(speed.ConstantSpeed(SPEED)).elements[0]
-        assert np.array_equal(gyro.C, SPEED * rotor.matrices().G)
-    for law in laws:
-        with pytest.raises(NotImplementedError, match="run-up"):
-            rotor.system(law)
-        with pytest.raises(NotImplementedError, match="run-up"):
-            rotor.system(SPEED, [Unbalance(2, 1e-3, speed=law)])
+    m_e, phase = 2e-4, 0.7
+    (load,) = Unbalance(3, m_e, phase=phase).loads(rotor, SPEED)
+    assert isinstance(load, duhamel.loads.Unbalance)
+    assert (load.dof_x, load.dof_y, load.m_e, load.phase) == (12, 13, m_e, phase)
+    old = [
+        duhamel.loads.Harmonic(12, m_e * SPEED**2, SPEED, phase + math.pi / 2),
+        duhamel.loads.Harmonic(13, m_e * SPEED**2, SPEED, phase),
+    ]
+    for integrator in (duhamel.Semianalytic(), duhamel.Newmark()):
+        runs = []
+        for speed, loads in (
+            (SPEED, [Unbalance(3, m_e, phase=phase)]),
+            (duhamel.speed.ConstantSpeed(SPEED), [Unbalance(3, m_e, phase=phase)]),
+            (SPEED, old),
+        ):
+            sol = duhamel.solve(rotor.system(speed, loads), integrator, t_end=0.02, dt=2e-5)
+            runs.append(sol.x)
+        scale = np.abs(runs[2]).max()
+        diff = max(np.abs(run - runs[2]).max() for run in runs[:2]) / scale
+        print(f"\n{type(integrator).__name__}: Unbalance load vs two Harmonic loads: {diff:.1e}")
+        assert diff < 1e-12
+
+
+# A small rotor for the run-up: 2 Timoshenko elements, a disk at the middle node, anisotropic
+# bearings with cross-coupled stiffness and damping, Rayleigh damping. First critical speeds
+# 332 and 351 rad/s; run up from rest to 600 rad/s in 0.4 s, then 0.1 s at constant speed.
+RUN_W1, RUN_T1, RUN_TEND, RUN_ME = 600.0, 0.4, 0.5, 1e-4
+RUN_GRID = 100  # reference samples over the run
+
+
+def small_rotor():
+    b = {"kxx": 2e6, "kyy": 3e6, "kxy": 2e5, "kyx": -2e5, "cxx": 200.0, "cyy": 200.0}
+    return Rotor(
+        [Shaft(0.3, 0.03, material=MAT)] * 2,
+        [Disk.from_geometry(1, 0.04, 0.2, 0.03, MAT)],
+        [Bearing(0, **b), Bearing(2, **b)],
+        rayleigh=(5.0, 1e-5),
+    )
+
+
+@functools.lru_cache
+def run_up_reference():
+    """DOP853 (rtol 1e-11, restarted at t1) on M x'' + (C + omega(t) G) x' + K x = f_u(t),
+    with the run-up and the unbalance force of an eccentric mass written out here."""
+    rotor = small_rotor()
+    M, K, C, G = rotor.matrices()
+    minv, n, accel = np.linalg.inv(M), rotor.n_dof, RUN_W1 / RUN_T1
+    dx, dy = rotor.dof(1, "x"), rotor.dof(1, "y")
+
+    def rhs(t, z):
+        x, v = z[:n], z[n:]
+        if t < RUN_T1:
+            w, dw, th = accel * t, accel, 0.5 * accel * t * t
+        else:
+            w, dw, th = RUN_W1, 0.0, 0.5 * RUN_W1 * RUN_T1 + RUN_W1 * (t - RUN_T1)
+        f = np.zeros(n)
+        f[dx] = RUN_ME * (w * w * math.cos(th) + dw * math.sin(th))
+        f[dy] = RUN_ME * (w * w * math.sin(th) - dw * math.cos(th))
+        return np.concatenate([v, minv @ (f - (C + w * G) @ v - K @ x)])
+
+    grid = np.linspace(0.0, RUN_TEND, RUN_GRID + 1)
+    rows, z = [], np.zeros(2 * n)
+    for a, b in ((0.0, RUN_T1), (RUN_T1, RUN_TEND)):
+        at = grid[(grid >= a) & (grid <= b)] if a == 0.0 else grid[grid > a]
+        r = solve_ivp(rhs, (a, b), z, method="DOP853", rtol=1e-11, atol=1e-16, t_eval=at)
+        assert r.success, r.message
+        rows.append(r.y.T[:, :n])
+        z = r.y[:, -1]
+    return grid, np.concatenate(rows)
+
+
+@pytest.mark.parametrize("integrator", [duhamel.Semianalytic(), duhamel.Newmark()], ids=repr)
+def test_run_up_through_the_critical_speed_matches_an_ode_reference(integrator):
+    """Rotor.system(LinearRunUp) and Unbalance on the run-up law: the gyroscopic force
+    omega(t) G x' and the unbalance with phase theta(t) and the tangential omega' term, through
+    the first critical speed, against DOP853 of the same time-varying ODE; second order in dt
+    (t1 on the step grid, as the direct integrators need)."""
+    rotor = small_rotor()
+    assert rotor.natural_frequencies(0.0)[0] < RUN_W1 / 1.5  # the run passes the critical
+    law = duhamel.speed.LinearRunUp(0.0, RUN_W1, RUN_T1)
+    system = rotor.system(law, [Unbalance(1, RUN_ME)])
+    gyro = system.elements[0]
+    assert gyro.scale is law and np.array_equal(gyro.C, rotor.matrices().G) and gyro.K is None
+    assert [type(load) for load in system.loads] == [duhamel.loads.Unbalance]
+    t, ref = run_up_reference()
+    mask = translations(rotor.n_dof)
+    # the disk's orbit peaks after the first critical, during the run-up, not at full speed
+    amplitude = np.hypot(ref[:, 4], ref[:, 5])
+    crossing = rotor.natural_frequencies(0.0)[0] / (RUN_W1 / RUN_T1)
+    assert crossing < t[np.argmax(amplitude)] < RUN_T1
+    steps = [2000, 4000, 8000, 16000]
+    errs = []
+    for n in steps:
+        sol = duhamel.solve(system, integrator, t_end=RUN_TEND, dt=RUN_TEND / n)
+        x = sol.x[:: n // RUN_GRID]
+        errs.append(np.abs(x[:, mask] - ref[:, mask]).max() / np.abs(ref[:, mask]).max())
+    dts = [RUN_TEND / n for n in steps]
+    assert_order(f"run-up through the critical, {type(integrator).__name__}", dts, errs, 2.0)
+
+
+def test_run_up_speed_checks():
+    rotor = make_rotor()
+    law = duhamel.speed.LinearRunUp(omega0=0.0, omega1=SPEED, t1=1.0)
+    # constant laws are constant speeds: the gyroscopic matrix is folded in
+    for constant in (
+        duhamel.speed.ConstantSpeed(SPEED),
+        duhamel.speed.LinearRunUp(SPEED, SPEED, 1.0),
+    ):
+        gyro = rotor.system(constant).elements[0]
+        assert gyro.scale is None and np.array_equal(gyro.C, SPEED * rotor.matrices().G)
+    # an unbalance with its own law agrees with the rotor's, or is refused
+    (load,) = rotor.system(law, [Unbalance(2, 1e-3, speed=law)]).loads
+    assert load.speed == law
+    with pytest.raises(ValueError, match="differs"):
+        rotor.system(SPEED, [Unbalance(2, 1e-3, speed=law)])
+    with pytest.raises(ValueError, match="differs"):
+        rotor.system(law, [Unbalance(2, 1e-3, speed=SPEED)])
+    # what needs one constant speed says so
+    with pytest.raises(ValueError, match="`speed` must be a constant speed"):
+        rotor.modes(law)
+    with pytest.raises(ValueError, match="`speed` must be a constant speed"):
+        Unbalance.from_force(2, 5e4, law)
+    assert rotor.modes(duhamel.speed.ConstantSpeed(SPEED)).speed == SPEED
+
+    class Varying:  # a duck-typed law the engine cannot evaluate
+        def constant_value(self):
+            return None
+
+    with pytest.raises(TypeError, match=r"must be a number .* or a duhamel.speed law"):
+        rotor.system(Varying())
 
 
 # --------------------------------------------------------------------------------------------

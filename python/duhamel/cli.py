@@ -52,8 +52,9 @@ def build_parser() -> argparse.ArgumentParser:
         "reproduce",
         help="reproduce the paper's figures and check its claims (report.md)",
         description="Run the examples of Holl, Belyaev and Irschik (1999), sections 3 and "
-        "4.1-4.3: write one PNG per figure and OUT/report.md, a table per example with "
-        "our numbers, the paper's claim and whether it holds. See docs/paper.md.",
+        "4 (the rotor of section 4.4 included): write one PNG per figure and OUT/report.md, "
+        "a table per example with our numbers, the paper's claim and whether it holds. See "
+        "docs/paper.md.",
     )
     reproduce.add_argument(
         "--out", default="results", metavar="DIR", help="output directory (default: results)"

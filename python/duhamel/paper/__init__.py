@@ -9,7 +9,9 @@ report needs, with a ``claims()`` method comparing them with the paper's stateme
   against Newmark;
 - :func:`fig4`: pendulum with decaying mass;
 - :func:`figs5to7`: Figs. 5-7 (exponentially varying mass, eq. 44); :func:`fig8`: its
-  convergence for several steps.
+  convergence for several steps;
+- :func:`rotor_orbits`: Figs. 9-13, the nonlinear rotor with variable mass (section 4.4);
+  :func:`table1`: its modal reduction (Table 1) and Newmark at the same step.
 
 Every function takes size parameters (grid points, steps, repeats) so that a smaller
 version runs fast. :mod:`duhamel.paper.figures` draws the figures and :func:`reproduce`
@@ -29,6 +31,7 @@ from duhamel.paper.bessel import BesselData, Fig8Data, fig8, figs5to7
 from duhamel.paper.duffing import CpuData, DuffingRun, Fig3Data, cpu_ratios, fig3
 from duhamel.paper.pendulum import Fig4Data, fig4
 from duhamel.paper.report import NAMES, Reproduction, reproduce
+from duhamel.paper.rotor import RotorOrbits, Table1Data, rotor_orbits, table1
 from duhamel.paper.stability import Fig1Data, Fig2Data, fig1, fig2
 
 __all__ = [
@@ -43,6 +46,8 @@ __all__ = [
     "Fig4Data",
     "Fig8Data",
     "Reproduction",
+    "RotorOrbits",
+    "Table1Data",
     "cpu_ratios",
     "fig1",
     "fig2",
@@ -52,4 +57,6 @@ __all__ = [
     "figs5to7",
     "fit_order",
     "reproduce",
+    "rotor_orbits",
+    "table1",
 ]

@@ -1,7 +1,7 @@
 """Rotor loads: unbalance, gravity and a sudden force, expanded into :mod:`duhamel.loads`.
 
-A rotor load is not itself a :class:`duhamel.loads.Load` (an unbalance is two harmonic
-forces, a weight depends on the mass matrix): :meth:`RotorLoad.loads` expands it on a
+A rotor load is not itself a :class:`duhamel.loads.Load` (an unbalance lives on a node's two
+translations, a weight depends on the mass matrix): :meth:`RotorLoad.loads` expands it on a
 :class:`~duhamel.rotor.Rotor`, and :meth:`duhamel.rotor.Rotor.system` does that for the
 loads passed to it.
 """
@@ -15,8 +15,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._validate import as_float_array, finite_float, positive_float
-from duhamel.loads import Harmonic, Load, Step
-from duhamel.rotor._speed import constant_speed
+from duhamel.loads import Load, Step
+from duhamel.loads import Unbalance as UnbalanceLoad
+from duhamel.rotor._speed import constant_speed, speed_or_law
+from duhamel.speed import SpeedLaw
 
 if TYPE_CHECKING:
     from duhamel.rotor.model import Rotor
@@ -67,17 +69,18 @@ class VectorStep(Load):
         return (t >= self.t0).astype(np.float64)
 
 
-def _resolve_speed(own: Any, given: Any) -> float:
-    """The unbalance's constant speed: its own, or the rotor's; both must agree."""
+def _resolve_speed(own: Any, given: Any) -> float | SpeedLaw:
+    """The unbalance's speed (a float, or a varying law): its own, or the rotor's; both must
+    agree when both are given."""
     if own is None and given is None:
         raise ValueError(
             "the unbalance needs a speed: give `speed` to Unbalance or to Rotor.system"
         )
-    a = None if own is None else constant_speed(own)
-    b = None if given is None else constant_speed(given)
+    a = None if own is None else speed_or_law(own)
+    b = None if given is None else speed_or_law(given)
     if a is not None and b is not None and a != b:
         raise ValueError(
-            f"the unbalance's speed {a!r} rad/s differs from the rotor's {b!r} rad/s; give "
+            f"the unbalance's speed {a!r} differs from the rotor's {b!r} (rad/s); give "
             "the speed once (Unbalance(speed=None) takes the rotor's)"
         )
     return a if a is not None else b  # type: ignore[return-value]
@@ -87,11 +90,12 @@ def _resolve_speed(own: Any, given: Any) -> float:
 class Unbalance(RotorLoad):
     """A mass unbalance ``m_e`` (kg m: mass times eccentricity) at a node.
 
-    The unbalance turns with the shaft: at constant speed ``Omega`` the force on the node is
+    The unbalance turns with the shaft. At constant speed ``Omega`` the force on the node is
     ``m_e Omega^2 (cos(Omega t + phase), sin(Omega t + phase))`` on ``(x, y)``, a forward
-    rotating force expanded into two :class:`duhamel.loads.Harmonic` loads (the x one with
-    phase ``phase + pi/2``). Switched on at ``t = 0``: from rest, this is the paper's sudden
-    eccentricity.
+    rotating force; along a speed law (a run-up) its phase is the rotation angle
+    ``theta(t) + phase`` and it gains the tangential term of the angular acceleration
+    (``duhamel.loads.Unbalance``, docs/speed.md). Switched on at ``t = 0``: from rest, this
+    is a sudden eccentricity.
 
     Parameters
     ----------
@@ -100,8 +104,8 @@ class Unbalance(RotorLoad):
     m_e : float
         Unbalance, mass times eccentricity (kg m), ``> 0``.
     speed : float or speed law, optional
-        Spin speed (rad/s); default: the speed given to :meth:`Rotor.system`. A varying
-        speed law (run-up) is accepted here but :meth:`loads` refuses it for now.
+        Spin speed (rad/s) or a :mod:`duhamel.speed` law (``LinearRunUp``); default: the
+        speed given to :meth:`Rotor.system`. When both are given they must be the same.
     phase : float
         Angle of the unbalance at ``t = 0`` from the x axis towards y (rad).
 
@@ -111,6 +115,18 @@ class Unbalance(RotorLoad):
     >>> u = Unbalance.from_force(node=2, force=5e4, speed=rpm(1500))
     >>> round(u.m_e, 6)
     2.026424
+
+    Through a critical speed: the rotor and the unbalance follow one law.
+
+    >>> import duhamel
+    >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft
+    >>> rotor = Rotor([Shaft(0.4, 0.05, material=STEEL)] * 2, [Disk(1, 30.0, 0.3, 0.15)],
+    ...               [Bearing(0, 1e7, 1e7), Bearing(2, 1e7, 1e7)], zeta=0.02)
+    >>> run_up = duhamel.speed.LinearRunUp(omega0=0.0, omega1=rpm(6000), t1=1.0)
+    >>> system = rotor.system(run_up, [Unbalance(1, m_e=1e-4)])
+    >>> load = system.loads[0]
+    >>> (load.dof_x, load.dof_y), load.speed is run_up
+    ((4, 5), True)
     """
 
     node: int
@@ -124,8 +140,8 @@ class Unbalance(RotorLoad):
         object.__setattr__(self, "node", int(self.node))
         object.__setattr__(self, "m_e", positive_float(self.m_e, "m_e"))
         object.__setattr__(self, "phase", finite_float(self.phase, "phase"))
-        if self.speed is not None and not hasattr(self.speed, "constant_value"):
-            object.__setattr__(self, "speed", constant_speed(self.speed))
+        if self.speed is not None:
+            object.__setattr__(self, "speed", speed_or_law(self.speed))
 
     @classmethod
     def from_force(cls, node: int, force: float, speed: float, phase: float = 0.0) -> Unbalance:
@@ -137,22 +153,16 @@ class Unbalance(RotorLoad):
         return cls(node, positive_float(force, "force") / w**2, w, phase)
 
     def loads(self, rotor: Rotor, speed: Any = None) -> list[Load]:
-        """Two harmonic loads on the node's x and y (constant speed).
+        """One :class:`duhamel.loads.Unbalance` on the node's x and y, driven by the speed
+        (a constant, or the law of a run-up).
 
-        Raises
-        ------
-        NotImplementedError
-            For a varying speed law (run-up), until it is wired to the engine's run-up
-            unbalance load (the seam: return ``duhamel.loads.Unbalance(dof_x, dof_y, m_e,
-            law, phase)`` here).
+        At constant speed it equals the two harmonic loads
+        ``Harmonic(dof_x, m_e W^2, W, phase + pi/2)`` and ``Harmonic(dof_y, m_e W^2, W,
+        phase)`` (docs/speed.md).
         """
         w = _resolve_speed(self.speed, speed)
-        amplitude = self.m_e * w**2
         dx, dy = rotor.dof(self.node, "x"), rotor.dof(self.node, "y")
-        return [
-            Harmonic(dx, amplitude, w, self.phase + np.pi / 2.0),
-            Harmonic(dy, amplitude, w, self.phase),
-        ]
+        return [UnbalanceLoad(dx, dy, self.m_e, w, self.phase)]
 
 
 @dataclass(frozen=True)

@@ -23,10 +23,11 @@ from numpy.typing import ArrayLike, NDArray
 from duhamel._validate import as_float_array, finite_float
 from duhamel.elements import Element, LinearCoupling
 from duhamel.loads import Load
-from duhamel.rotor._speed import constant_speed
+from duhamel.rotor._speed import constant_speed, speed_or_law
 from duhamel.rotor.components import Bearing, Disk
 from duhamel.rotor.loads import Gravity, RotorLoad
 from duhamel.rotor.shaft import Shaft
+from duhamel.speed import SpeedLaw
 from duhamel.system import System
 
 __all__ = ["DIRECTIONS", "Campbell", "Modes", "Rotor", "RotorMatrices"]
@@ -411,26 +412,30 @@ class Rotor:
         *,
         sparse: bool = False,
     ) -> System:
-        """The rotor at constant `speed` as a :class:`duhamel.System`.
+        """The rotor at `speed` (constant, or a run-up) as a :class:`duhamel.System`.
 
         * Background (integrated exactly by :class:`duhamel.Semianalytic`): ``M``,
           ``K_sym`` = shaft stiffness + symmetric part of the bearing stiffness, and the
           damping: ``zeta``/``rayleigh`` as given, or, when the bearings have (symmetric)
           damping, ``C = structural + symmetric bearing damping`` as a matrix (its modal
           diagonal stays exact, the rest is a pseudo-force, see ``duhamel.System``).
-        * ``LinearCoupling(C=speed G)``: the gyroscopic terms (omitted at zero speed).
+        * The gyroscopic terms: ``LinearCoupling(C=speed G)`` at a constant speed (omitted
+          at zero speed), ``LinearCoupling(C=G, scale=law)`` along a varying speed law
+          (``duhamel.speed.LinearRunUp``: the force ``omega(t) G x'``).
         * ``LinearCoupling(K=skew(K_b), C=skew(C_b))``: the skew-symmetric parts of the
           bearing stiffness and damping (omitted when zero).
         * The bearings' nonlinear parts: ``Cubic`` on x and y for a cubic law, ``Contact``
           for a rub.
         * `loads`: rotor loads (:class:`Unbalance`, :class:`Gravity`, :class:`SuddenForce`;
-          an ``Unbalance`` without its own speed takes `speed`) and plain
+          an ``Unbalance`` without its own speed takes `speed`, a run-up included) and plain
           :mod:`duhamel.loads`.
 
         Parameters
         ----------
         speed : float or speed law
-            Spin speed (rad/s), or a constant speed law (``duhamel.speed.ConstantSpeed``).
+            Spin speed (rad/s), or a :mod:`duhamel.speed` law (``ConstantSpeed``, or
+            ``LinearRunUp`` for a run-up or run-down; the bearing coefficients stay
+            constant).
         loads : iterable
             Loads to add.
         sparse : bool
@@ -444,12 +449,11 @@ class Rotor:
 
         Raises
         ------
-        NotImplementedError
-            For a varying speed law (run-up): not wired yet (docs/rotor.md, "Run-up"; the
-            seam is ``LinearCoupling(C=G, scale=law)`` for the gyroscopic term and
-            :meth:`Unbalance.loads` for the unbalance).
         ValueError
-            If a node has no mass (``rho = 0`` shafts without a disk there).
+            If a node has no mass (``rho = 0`` shafts without a disk there), or an
+            ``Unbalance`` has a speed other than `speed`.
+        TypeError
+            If `speed` is neither a number nor a speed law.
 
         Examples
         --------
@@ -462,12 +466,20 @@ class Rotor:
         ...               rayleigh=(0.0, 1e-5))
         >>> system = rotor.system(rpm(3000), [Unbalance(2, m_e=1e-4)])
         >>> system
-        System(n_dof=20, damping='matrix', loads=2, elements=2)
+        System(n_dof=20, damping='matrix', loads=1, elements=2)
         >>> sol = duhamel.solve(system, duhamel.Semianalytic(modes=8), t_end=0.1, dt=1e-4)
         >>> sol.x.shape
         (1001, 20)
+
+        A run-up from rest to 3000 rpm in 0.1 s, then at constant speed:
+
+        >>> run_up = duhamel.speed.LinearRunUp(omega0=0.0, omega1=rpm(3000), t1=0.1)
+        >>> system = rotor.system(run_up, [Unbalance(2, m_e=1e-4)])
+        >>> system.elements[0].scale is run_up
+        True
+        >>> sol = duhamel.solve(system, duhamel.Newmark(), t_end=0.15, dt=1e-4)
         """
-        w = constant_speed(speed)  # the run-up seam: a varying law raises here
+        w = speed_or_law(speed)  # a float, or a varying SpeedLaw
         massless = self._massless_nodes()
         if massless:
             raise ValueError(
@@ -488,9 +500,11 @@ class Rotor:
             system = System(conv(M), conv(k_sym), zeta=self._zeta)
         else:
             system = System(conv(M), conv(k_sym))
-        gyro = w * a["G"]
-        if _nonzero(gyro):
-            system.add(LinearCoupling(C=conv(gyro)))
+        if isinstance(w, SpeedLaw):  # a run-up: the engine scales G by omega(t)
+            if _nonzero(a["G"]):
+                system.add(LinearCoupling(C=conv(a["G"]), scale=w))
+        elif _nonzero(w * a["G"]):
+            system.add(LinearCoupling(C=conv(w * a["G"])))
         if _nonzero(k_skew) or _nonzero(c_skew):
             system.add(
                 LinearCoupling(
@@ -558,7 +572,7 @@ class Rotor:
         -------
         Modes
         """
-        w = finite_float(speed, "speed")
+        w = constant_speed(speed)
         M, K, C, G = self.matrices(w)
         lam, shapes = _complex_modes(M, C + w * G, K)
         if n is not None:
