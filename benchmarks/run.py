@@ -19,7 +19,14 @@ Throughput is reported as mode-steps per second (modes x steps / seconds).
 The nonlinear section (``nonlinear.py``, run after the linear one) times a single-dof
 Duffing oscillator over 1e6 steps (closed-form steps, Newton steps, and
 ``scipy.integrate.solve_ivp`` with DOP853 at a matched error) and a 20-dof chain with four
-cubic springs over 1e5 steps (5 retained modes and all 20), in nanoseconds per step. Usage::
+cubic springs over 1e5 steps (5 retained modes and all 20), in nanoseconds per step.
+
+The work-precision section (``precision.py``, run last) measures the maximum error against
+CPU time of every integrator (Semianalytic with each quadrature, Newmark, HHT,
+generalized-alpha, CubicHermite) and of ``scipy.integrate.solve_ivp`` (DOP853, Radau) at
+several step sizes or tolerances, on the Duffing oscillator over ten periods and on the
+20-dof chain with cubic springs over 10 s, with the time each method needs to reach an
+error of 1e-3 and 1e-6 (log-log interpolation). Usage::
 
     python benchmarks/run.py                          # print the tables
     python benchmarks/run.py --write BENCHMARKS.md    # also write the markdown report
@@ -52,6 +59,7 @@ from pathlib import Path  # noqa: E402
 
 import nonlinear  # noqa: E402  (benchmarks/nonlinear.py, next to this script)
 import numpy as np  # noqa: E402
+import precision  # noqa: E402  (benchmarks/precision.py)
 import scipy  # noqa: E402
 import scipy.signal  # noqa: E402
 from numpy.typing import NDArray  # noqa: E402
@@ -61,6 +69,7 @@ from duhamel.oscillator import transfer_matrices  # noqa: E402
 
 TARGET = 2e8  # mode-steps per second on one core, few dofs saved (issue acceptance)
 AGREEMENT_RTOL = 1e-10  # numpy loop vs duhamel, relative to the largest modal coordinate
+FIGURE = "docs/figures/work_precision_duffing.png"  # relative to the repository root
 
 
 # ------------------------------------------------------------------------------- the model
@@ -558,7 +567,13 @@ def findings(res: Results) -> list[str]:
     return lines
 
 
-def markdown(res: Results, command: str, nl: nonlinear.NonlinearResults | None = None) -> str:
+def markdown(
+    res: Results,
+    command: str,
+    nl: nonlinear.NonlinearResults | None = None,
+    wp: precision.PrecisionResults | None = None,
+    figure_link: str | None = None,
+) -> str:
     s = res.setup
     assert res.primary is not None
     n_saved = s.n_steps + 1
@@ -645,6 +660,8 @@ def markdown(res: Results, command: str, nl: nonlinear.NonlinearResults | None =
     ]
     if nl is not None:
         out += [*nonlinear.nonlinear_markdown(nl), ""]
+    if wp is not None:
+        out += [*precision.precision_markdown(wp, figure_link), ""]
     return "\n".join(out)
 
 
@@ -689,6 +706,22 @@ def main(argv: list[str] | None = None) -> int:
         default=None,
         help="repeats (best of) of the nonlinear cases (default 3)",
     )
+    parser.add_argument(
+        "--precision-repeats",
+        type=int,
+        default=None,
+        help="timing passes of the work-precision section (default 3)",
+    )
+    parser.add_argument(
+        "--figure",
+        metavar="PNG",
+        default=None,
+        help="write the Duffing work-precision plot to PNG (default with --write and without "
+        "--quick: docs/figures/work_precision_duffing.png; 'none' for no plot)",
+    )
+    parser.add_argument(
+        "--no-precision", action="store_true", help="skip the work-precision section"
+    )
     args = parser.parse_args(argv)
 
     setup = Setup(n_steps=2000, repeats=1) if args.quick else Setup()
@@ -706,15 +739,34 @@ def main(argv: list[str] | None = None) -> int:
             **{**nl_setup.__dict__, "repeats": args.nonlinear_repeats}
         )
 
+    wp_setup = precision.QUICK if args.quick else precision.PrecisionSetup()
+    if args.precision_repeats is not None:
+        wp_setup = precision.PrecisionSetup(
+            **{**wp_setup.__dict__, "repeats": args.precision_repeats}
+        )
+    figure = args.figure
+    if figure is None and args.write and not args.quick:
+        figure = str(Path(__file__).resolve().parent.parent / FIGURE)
+    if figure is not None and figure.lower() == "none":
+        figure = None
+
     res = run(setup, args.quick, args.lsim_max_seconds, log)
     nl = nonlinear.run_nonlinear(nl_setup, args.ivp_max_seconds, log)
+    wp = None if args.no_precision else precision.run_precision(wp_setup, log, figure)
     res.load_after = loadavg()
     print_report(res)
     nonlinear.print_nonlinear(nl)
+    if wp is not None:
+        precision.print_precision(wp)
     if args.write:
         command = shlex.join(getattr(sys, "orig_argv", [sys.executable, *sys.argv]))
-        Path(args.write).write_text(markdown(res, command, nl))
+        link = None
+        if wp is not None and wp.figure:
+            link = os.path.relpath(wp.figure, Path(args.write).resolve().parent)
+        Path(args.write).write_text(markdown(res, command, nl, wp, link))
         log(f"wrote {args.write}")
+        if wp is not None and wp.figure:
+            log(f"wrote {wp.figure}")
     return 0
 
 
