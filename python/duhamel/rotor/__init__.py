@@ -24,6 +24,7 @@ from duhamel.rotor.loads import Gravity, RotorLoad, SuddenForce, Unbalance, Vect
 from duhamel.rotor.material import STEEL, Material
 from duhamel.rotor.model import DIRECTIONS, Campbell, Modes, Rotor, RotorMatrices
 from duhamel.rotor.plot import plot_campbell, plot_orbit
+from duhamel.rotor.ross import RossDofs, RossModel, from_ross
 from duhamel.rotor.shaft import Shaft, cowper_shear_coefficient
 
 __all__ = [
@@ -35,6 +36,8 @@ __all__ = [
     "Gravity",
     "Material",
     "Modes",
+    "RossDofs",
+    "RossModel",
     "Rotor",
     "RotorLoad",
     "RotorMatrices",
@@ -44,6 +47,7 @@ __all__ = [
     "VectorStep",
     "constant_speed",
     "cowper_shear_coefficient",
+    "from_ross",
     "plot_campbell",
     "plot_orbit",
     "rpm",

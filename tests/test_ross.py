@@ -1,0 +1,313 @@
+"""duhamel.rotor.from_ross against ROSS itself (PyPI ``ross-rotordynamics``, the optional extra
+``duhamel[ross]``): its matrices, its ``run_time_response`` (the ``lsim`` path and the Newmark
+path) and its ``run_modal``, on ROSS's example rotor (``ross.rotor_example()``: 6 Timoshenko
+shaft elements, 2 disks, 2 bearings; 7 nodes, 42 ROSS dofs, 28 lateral) at 500 rad/s, on a
+variant with damped, cross-coupled bearings, and on ROSS's compressor (frequency-dependent
+seals, 224 lateral dofs). Tests that need ROSS are skipped when it is not installed; the
+others use stand-ins with ROSS's interface. Measured numbers are printed
+(``pytest -s tests/test_ross.py``).
+
+Metric of the time responses: the largest difference over all translational dofs and all
+samples, divided by the largest translation of the reference (ROSS's ``lsim`` response).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import io
+import warnings
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+import duhamel
+from duhamel.rotor import Bearing, Disk, Material, Rotor, Shaft, from_ross
+
+SPEED = 500.0  # rad/s, as ROSS's own time-response examples
+M_E = 1e-3  # kg m, unbalance at the disk of node 2
+NODE = 2
+REASON = "ROSS (ross-rotordynamics, the duhamel[ross] extra) is not installed"
+
+
+@functools.cache
+def _ross():
+    with warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
+        warnings.simplefilter("ignore")  # ROSS's ccp dependency warns about REFPROP
+        return pytest.importorskip("ross", reason=REASON)
+
+
+@pytest.fixture
+def ross():
+    return _ross()
+
+
+def quiet(fn, *args, **kwargs):
+    """Call a ROSS function without its prints ("Running direct method")."""
+    with contextlib.redirect_stdout(io.StringIO()):
+        return fn(*args, **kwargs)
+
+
+def damped_cross_coupled(ross):
+    """ROSS's example rotor on bearings with cross-coupled stiffness and damping."""
+    base = ross.rotor_example()
+    bearings = [
+        ross.BearingElement(
+            n, kxx=1e6, kyy=0.8e6, kxy=2e5, kyx=-3e5, cxx=800.0, cyy=600.0, cxy=50.0, cyx=-80.0
+        )
+        for n in (0, 6)
+    ]
+    return ross.Rotor(base.shaft_elements, base.disk_elements, bearings)
+
+
+def unbalance_force(ross_rotor, dofs, t):
+    """ROSS's force array of the unbalance at NODE: ``m_e W^2 (cos W t, sin W t)``."""
+    F = np.zeros((t.size, ross_rotor.ndof))
+    F[:, dofs.ross_index[dofs(NODE, "x")]] = M_E * SPEED**2 * np.cos(SPEED * t)
+    F[:, dofs.ross_index[dofs(NODE, "y")]] = M_E * SPEED**2 * np.sin(SPEED * t)
+    return F
+
+
+def translations(dofs):
+    return np.array([i for i, s in enumerate(dofs.labels) if s.split("_")[0] in ("x", "y")])
+
+
+def first_order_frequencies(M, K, C, G, speed):
+    """Damped natural frequencies (Im lambda > 0, ascending) of the first-order system."""
+    n = M.shape[0]
+    A = np.block(
+        [
+            [np.zeros((n, n)), np.eye(n)],
+            [-np.linalg.solve(M, K), -np.linalg.solve(M, C + speed * G)],
+        ]
+    )
+    lam = scipy.linalg.eigvals(A)
+    return np.sort(lam.imag[lam.imag > 1e-6 * np.abs(lam).max()])
+
+
+def ross_lateral_frequencies(ross_rotor, dofs, speed, count):
+    """ROSS's run_modal damped frequencies of the lateral modes (axial and torsional modes,
+    which from_ross drops, left out by their shapes)."""
+    modal = ross_rotor.run_modal(speed, num_modes=2 * count + 16)
+    shapes = modal.evectors[: ross_rotor.ndof, : modal.wd.size]
+    lateral = np.linalg.norm(shapes[dofs.ross_index], axis=0) / np.linalg.norm(shapes, axis=0)
+    return np.asarray(modal.wd)[lateral > 0.5][:count], np.asarray(modal.wd)[lateral <= 0.5]
+
+
+# ------------------------------------------------------------------------------ matrices
+def test_lateral_matrices_are_ross_and_duhamel_rotor_ones(ross):
+    """The System's matrices are ROSS's lateral block, ROSS's own 4-dof conversion, and what
+    duhamel.rotor builds for the same geometry: so ROSS's (x, y, alpha, beta) are duhamel's
+    (x, y, theta_x, theta_y) with no sign change, G included."""
+    from ross.utils import convert_6dof_to_4dof
+
+    for rr, bearing_kw in (
+        (ross.rotor_example(), {"kxx": 1e6, "kyy": 0.8e6}),
+        (
+            damped_cross_coupled(ross),
+            dict(kxx=1e6, kyy=0.8e6, kxy=2e5, kyx=-3e5, cxx=800.0, cyy=600.0, cxy=50.0, cyx=-80.0),
+        ),
+    ):
+        model = from_ross(rr, SPEED)
+        M, K, C, G = model.matrices
+        keep = model.dofs.ross_index
+        assert model.system.n_dof == 28 and rr.ndof == 42
+        assert model.dofs.labels[:4] == ("x_0", "y_0", "alpha_0", "beta_0")
+        ix = np.ix_(keep, keep)
+        for mine, theirs in zip(
+            (M, K, C, G), (rr.M(SPEED), rr.K(SPEED), rr.C(SPEED), rr.G()), strict=True
+        ):
+            np.testing.assert_array_equal(mine, theirs[ix])
+        four = convert_6dof_to_4dof(rr)
+        for mine, theirs in zip(
+            (M, K, C, G), (four.M(SPEED), four.K(SPEED), four.C(SPEED), four.G()), strict=True
+        ):
+            np.testing.assert_array_equal(mine, theirs)
+        # the same rotor built with duhamel.rotor from ROSS's element data
+        sh = rr.shaft_elements[0]
+        mat = Material(E=sh.material.E, rho=sh.material.rho, G=sh.material.G_s)
+        shafts = [Shaft(s.L, s.odl, s.idl, material=mat) for s in rr.shaft_elements]
+        disks = [Disk(d.n, d.m, d.Ip, d.Id) for d in rr.disk_elements]
+        bearings = [Bearing(n, **bearing_kw) for n in (0, 6)]
+        ours = Rotor(shafts, disks, bearings).matrices(SPEED)
+        worst = max(
+            float(np.abs(a - b).max() / np.abs(b).max())
+            for a, b in zip((M, K, G), (ours.M, ours.K, ours.G), strict=True)
+        )
+        print(f"\nROSS lateral matrices vs duhamel.rotor, same geometry: {worst:.2e} (relative)")
+        assert worst < 1e-13
+        np.testing.assert_allclose(C, ours.C, rtol=0, atol=1e-12 * np.abs(C).max())
+
+
+def test_system_structure(ross):
+    """Background M, K_sym (and sym C); speed G and the skew bearing parts as couplings."""
+    system, _, (M, K, C, G) = from_ross(ross.rotor_example(), SPEED)
+    assert system.damping == "none" and len(system.elements) == 1  # undamped, gyroscopic only
+    np.testing.assert_array_equal(system.M, M)
+    np.testing.assert_array_equal(system.K, K)  # symmetric bearings
+    np.testing.assert_array_equal(system.elements[0].C, SPEED * G)
+    system0, _, _ = from_ross(ross.rotor_example(), 0.0)
+    assert system0.elements == []  # at rest, symmetric bearings: a classical system
+    system, _, (M, K, C, G) = from_ross(damped_cross_coupled(ross), SPEED)
+    assert system.damping == "matrix"
+    np.testing.assert_array_equal(system.M, M)
+    np.testing.assert_array_equal(system.K, (K + K.T) / 2)
+    np.testing.assert_array_equal(system.C, (C + C.T) / 2)
+    gyro, skew = system.elements
+    np.testing.assert_array_equal(gyro.C, SPEED * G)
+    np.testing.assert_array_equal(skew.K, (K - K.T) / 2)
+    np.testing.assert_array_equal(skew.C, (C - C.T) / 2)
+    sparse, _, _ = from_ross(damped_cross_coupled(ross), SPEED, sparse=True)
+    assert sparse.is_sparse
+
+
+def test_dof_map(ross):
+    rr = ross.rotor_example()
+    _, dofs, _ = from_ross(rr, SPEED)
+    assert dofs.n_ross == 42 and dofs.n_dof == 28
+    assert (dofs(2, "x"), dofs(2, "y"), dofs(2, "alpha"), dofs(2, "beta")) == (8, 9, 10, 11)
+    assert dofs(2, "theta_x") == 10 and dofs.index(6, "theta_y") == 27
+    # ROSS's own numbering of each kept dof
+    for node in range(7):
+        for direction in ("x", "y", "alpha", "beta"):
+            ross_dof = rr.shaft_elements[min(node, 5)].dof_global_index[f"{direction}_{node}"]
+            assert dofs.system_index(ross_dof) == dofs(node, direction)
+    with pytest.raises(ValueError, match="axial/torsional"):
+        dofs(2, "theta")
+    with pytest.raises(ValueError, match="no dof"):
+        dofs(9, "x")
+    with pytest.raises(ValueError, match="drops"):
+        dofs.system_index(2)  # z of node 0
+    x = np.arange(2 * 28.0).reshape(2, 28)
+    np.testing.assert_array_equal(dofs.from_ross(dofs.to_ross(x)), x)
+    assert not dofs.to_ross(x)[:, [2, 5]].any()
+    t = np.linspace(0.0, 1.0, 11)
+    F = np.zeros((11, 42))
+    F[:, 12] = 1.0  # x of node 2
+    (load,) = dofs.loads(F, t)
+    assert load.dof == 8
+    F[:, 14] = 1.0  # z of node 2
+    with pytest.raises(ValueError, match="axial or torsional"):
+        dofs.loads(F, t)
+
+
+# ------------------------------------------------------------------------------ time response
+@pytest.mark.parametrize("variant", ["example", "damped_cross_coupled"])
+def test_time_response_matches_ross_run_time_response(ross, variant):
+    """Unbalance at the disk from rest, 0.1 s (8 revolutions) with dt = 25 us: duhamel's
+    Semianalytic and Newmark against ROSS's run_time_response (lsim, its default path, and
+    Newmark) on the same force, to plotting accuracy (metric: module docstring)."""
+    rr = ross.rotor_example() if variant == "example" else damped_cross_coupled(ross)
+    dt, n = 2.5e-5, 4000
+    t = np.arange(n + 1) * dt
+    system, dofs, _ = from_ross(rr, SPEED)
+    system.add_load(dofs.unbalance(NODE, M_E, SPEED))
+    F = unbalance_force(rr, dofs, t)
+    lsim = dofs.from_ross(quiet(rr.run_time_response, SPEED, F, t).yout)
+    newmark = dofs.from_ross(quiet(rr.run_time_response, SPEED, F, t, method="newmark").yout)
+    tr = translations(dofs)
+    scale = np.abs(lsim[:, tr]).max()
+
+    def diff(a, b):
+        return float(np.abs(a[:, tr] - b[:, tr]).max() / scale)
+
+    sa = duhamel.solve(system, duhamel.Semianalytic(), t_end=t[-1], dt=dt).x
+    nm = duhamel.solve(system, duhamel.Newmark(), t_end=t[-1], dt=dt).x
+    # the same load as ROSS's samples, linear between them (what lsim integrates)
+    tabulated, _, _ = from_ross(rr, SPEED)
+    for load in dofs.loads(F, t):
+        tabulated.add_load(load)
+    sa_tab = duhamel.solve(tabulated, duhamel.Semianalytic(), t_end=t[-1], dt=dt).x
+    got = {
+        "Semianalytic vs lsim": diff(sa, lsim),
+        "Semianalytic (ROSS's samples) vs lsim": diff(sa_tab, lsim),
+        "Newmark vs lsim": diff(nm, lsim),
+        "Newmark vs ROSS Newmark": diff(nm, newmark),
+        "ROSS Newmark vs lsim": diff(newmark, lsim),
+    }
+    print(
+        f"\n{variant} (peak {scale * 1e6:.1f} um): "
+        + ", ".join(f"{k} {v:.2e}" for k, v in got.items())
+    )
+    assert got["Semianalytic vs lsim"] < 2e-4
+    assert got["Semianalytic (ROSS's samples) vs lsim"] < 2e-4
+    # both Newmark runs are second order, 0.1-0.5 % off at this step: 1 % of the peak
+    assert got["Newmark vs lsim"] < 1e-2
+    assert got["Newmark vs ROSS Newmark"] < 1e-2
+
+
+# ------------------------------------------------------------------------------ modes
+@pytest.mark.filterwarnings("ignore:File was created with ROSS")  # the compressor's file
+@pytest.mark.parametrize("variant", ["example", "damped_cross_coupled", "compressor"])
+def test_natural_frequencies_match_ross_run_modal(ross, variant):
+    """Damped natural frequencies of the duhamel model's first-order system against ROSS's
+    run_modal (its lateral modes; ROSS also lists axial and torsional ones)."""
+    rr = {
+        "example": ross.rotor_example,
+        "damped_cross_coupled": lambda: damped_cross_coupled(ross),
+        "compressor": ross.compressor_example,
+    }[variant]()
+    speed = SPEED if variant != "compressor" else 1000.0
+    system, dofs, (M, K, C, G) = from_ross(rr, speed)
+    assert system.n_dof == 4 * len(rr.nodes)
+    count = 8
+    ours = first_order_frequencies(M, K, C, G, speed)[:count]
+    theirs, dropped = ross_lateral_frequencies(rr, dofs, speed, count)
+    rel = float(np.max(np.abs(ours - theirs) / theirs))
+    print(
+        f"\n{variant}: {np.round(ours, 3).tolist()} rad/s, ROSS {np.round(theirs, 3).tolist()}; "
+        f"relative difference {rel:.1e}; ROSS's axial/torsional modes left out: "
+        f"{np.round(dropped[dropped < ours[-1]], 2).tolist()}"
+    )
+    assert theirs.size == count
+    assert rel < 1e-8
+
+
+# ------------------------------------------------------------------------------ without ROSS
+def fake_rotor(M, K, C=None, G=None, names=None):
+    n = M.shape[0]
+    names = names or {f"{d}_0": i for i, d in enumerate(("x", "y", "z", "alpha", "beta", "theta"))}
+    return SimpleNamespace(
+        elements=[SimpleNamespace(dof_global_index=names)],
+        M=lambda frequency=None: M,
+        K=lambda frequency: K,
+        C=lambda frequency: np.zeros((n, n)) if C is None else C,
+        G=lambda: np.zeros((n, n)) if G is None else G,
+    )
+
+
+def test_refuses_what_it_cannot_map():
+    M, K = np.eye(6), np.diag([1e4, 1e4, 1e3, 10.0, 10.0, 5.0])
+    model = from_ross(fake_rotor(M, K), 0.0)
+    assert model.dofs.labels == ("x_0", "y_0", "alpha_0", "beta_0")
+    coupled = K.copy()
+    coupled[0, 2] = coupled[2, 0] = 50.0  # x coupled to z
+    with pytest.raises(ValueError, match="couples the lateral dofs"):
+        from_ross(fake_rotor(M, coupled), 0.0)
+    skew = M.copy()
+    skew[0, 1] = 0.1
+    with pytest.raises(ValueError, match="mass matrix is not symmetric"):
+        from_ross(fake_rotor(skew, K), 0.0)
+    with pytest.raises(ValueError, match="cannot map"):
+        from_ross(fake_rotor(np.eye(5), np.eye(5)), 0.0)
+    with pytest.raises(TypeError, match="ROSS Rotor"):
+        from_ross(object(), 0.0)
+    with pytest.raises(ValueError, match="constant speed"):
+        from_ross(fake_rotor(M, K), duhamel.speed.LinearRunUp(0.0, 100.0, 1.0))
+
+
+def test_frequency_and_speed_reach_ross():
+    """`frequency` (default: the speed) goes to M, K and C; ROSS >= 3 also gets `speed=`."""
+    seen = []
+
+    def K(frequency, speed=None):
+        seen.append((frequency, speed))
+        return np.diag([1e4, 1e4, 1e3, 10.0, 10.0, 5.0])
+
+    rotor = fake_rotor(np.eye(6), None)
+    rotor.K = K
+    from_ross(rotor, 300.0)
+    from_ross(rotor, 300.0, frequency=120.0)
+    assert seen == [(300.0, 300.0), (120.0, 300.0)]
