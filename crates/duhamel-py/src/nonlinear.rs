@@ -11,7 +11,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::elements;
-use crate::run::{finish_run, parse_loads, parse_speed, PyForcing};
+use crate::run::{finish_run, modal_inputs, parse_speed, PyForcing};
 use crate::vec_of;
 
 fn parse_options(options: &Bound<'_, PyAny>) -> PyResult<Options> {
@@ -139,11 +139,7 @@ pub(crate) fn solve_nonlinear<'py>(
     phi_t: Option<&Bound<'py, PyAny>>,
     scaled: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let k = vec_of(k, "omega2")?;
-    let c = vec_of(c, "c")?;
-    let q0 = vec_of(q0, "x0")?;
-    let v0 = vec_of(v0, "v0")?;
-    let loads = parse_loads(loads)?;
+    let (k, c, q0, v0, loads) = modal_inputs(k, c, q0, v0, loads)?;
     let phi_v = vec_of(&phi.call_method0("ravel")?, "phi")?;
     let n_dof = if k.is_empty() {
         0

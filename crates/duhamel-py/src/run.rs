@@ -112,6 +112,26 @@ fn parse_time(kind: &str, params: &Bound<'_, PyAny>) -> PyResult<TimeFunction> {
     Ok(time)
 }
 
+/// The modal stiffness, damping, initial state and loads every modal run takes.
+pub(crate) type ModalInputs = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>, Vec<ModalLoad>);
+
+/// Extracts [`ModalInputs`], naming the Python parameter on a bad array.
+pub(crate) fn modal_inputs(
+    k: &Bound<'_, PyAny>,
+    c: &Bound<'_, PyAny>,
+    q0: &Bound<'_, PyAny>,
+    v0: &Bound<'_, PyAny>,
+    loads: &Bound<'_, PyAny>,
+) -> PyResult<ModalInputs> {
+    Ok((
+        vec_of(k, "omega2")?,
+        vec_of(c, "c")?,
+        vec_of(q0, "x0")?,
+        vec_of(v0, "v0")?,
+        parse_loads(loads)?,
+    ))
+}
+
 /// Parses `(pattern, kind, params)` load tuples.
 pub(crate) fn parse_loads(loads: &Bound<'_, PyAny>) -> PyResult<Vec<ModalLoad>> {
     let mut out = Vec::new();
@@ -283,11 +303,7 @@ pub(crate) fn solve_linear<'py>(
     forcing: Option<Py<PyAny>>,
     phi_t: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let k = vec_of(k, "omega2")?;
-    let c = vec_of(c, "c")?;
-    let q0 = vec_of(q0, "x0")?;
-    let v0 = vec_of(v0, "v0")?;
-    let loads = parse_loads(loads)?;
+    let (k, c, q0, v0, loads) = modal_inputs(k, c, q0, v0, loads)?;
     let mut py_forcing = PyForcing::new(forcing, phi_t, k.len())?;
     let problem = LinearProblem {
         k: &k,

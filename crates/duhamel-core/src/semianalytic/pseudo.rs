@@ -57,6 +57,9 @@ pub struct PseudoForce<'a> {
     pub uses_velocity: bool,
     /// Whether every force is a polynomial of degree <= 3 with analytic tangents.
     pub polynomial: bool,
+    /// Whether the pseudo-force is affine in the state (linear elements and couplings, any
+    /// mass law): the step equation is then linear and one Newton step solves it.
+    pub linear: bool,
     /// Evaluate the mass law's derivative from the left (at the end of a step).
     left: bool,
 }
@@ -124,6 +127,9 @@ impl<'a> PseudoForce<'a> {
         let polynomial = elements
             .iter()
             .all(|e| e.has_tangent() && e.polynomial_degree().is_some_and(|d| d <= 3));
+        let linear = elements
+            .iter()
+            .all(|e| e.has_tangent() && e.polynomial_degree().is_some_and(|d| d <= 1));
         Ok(PseudoForce {
             n,
             slots,
@@ -137,6 +143,7 @@ impl<'a> PseudoForce<'a> {
             jac_rho: Jacobian::new(n),
             uses_velocity,
             polynomial,
+            linear,
             left: false,
         })
     }

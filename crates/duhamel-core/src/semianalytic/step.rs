@@ -140,6 +140,8 @@ pub struct Stepper<'r> {
     tol: f64,
     max_iter: usize,
     unknown: Unknown,
+    /// The step equation is linear (affine pseudo-force): one Newton step is exact.
+    linear: bool,
     closed_form: bool,
     /// One mode with polynomial forces: the fully analytic step.
     scalar: Option<ScalarPlan>,
@@ -203,6 +205,7 @@ impl<'r> Stepper<'r> {
             tol,
             max_iter,
             unknown,
+            linear: pf.linear,
             closed_form: solver == Solver::Auto
                 && n == 1
                 && unknown != Unknown::Both
@@ -542,7 +545,8 @@ impl<'r> Stepper<'r> {
                 .iter()
                 .zip(delta.iter())
                 .fold(0.0_f64, |a, (z, d)| a.max((z + d).abs()));
-            if size <= self.tol * zmax.max(scale0) || size == 0.0 {
+            // An affine residual with its exact Jacobian is solved by this one step.
+            if self.linear || size <= self.tol * zmax.max(scale0) || size == 0.0 {
                 return Ok(iter);
             }
             last = Some(*norm);
