@@ -19,6 +19,7 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
 from numpy.typing import ArrayLike, NDArray
+from scipy.optimize import linear_sum_assignment
 
 from duhamel._validate import as_float_array, finite_float
 from duhamel.elements import Element, LinearCoupling
@@ -44,6 +45,9 @@ NODE_RTOL = 1e-4
 PLANAR_RTOL = 1e-6
 #: Eigenvalues within this relative distance form a cluster (a degenerate pair).
 CLUSTER_RTOL = 1e-8
+#: Campbell mode tracking: weight of the relative eigenvalue distance added to ``1 - MAC`` in
+#: the assignment cost, so that it only breaks ties between equally similar shapes.
+TRACK_TIE_WEIGHT = 1e-6
 
 
 class RotorMatrices(NamedTuple):
@@ -81,12 +85,16 @@ class Modes:
         (straight-line orbits). Within a pair of equal eigenvalues (an axisymmetric rotor,
         or any rotor at zero speed with isotropic bearings) the shapes are chosen as the
         backward and the forward circular orbits.
+    length_scale : float
+        Length (m) that weights the rotations against the translations in :meth:`mac` and in
+        the whirl (the rotor's mean element length; 1 by default).
     """
 
     speed: float
     eigenvalues: NDArray[np.complex128]
     shapes: NDArray[np.complex128]
     whirl: tuple[str, ...]
+    length_scale: float = 1.0
 
     @property
     def n_modes(self) -> int:
@@ -108,27 +116,75 @@ class Modes:
         """Logarithmic decrement ``-2 pi Re(lambda) / Im(lambda)`` (negative: unstable)."""
         return -2.0 * np.pi * self.eigenvalues.real / self.eigenvalues.imag
 
+    def mac(self, other: Modes) -> NDArray[np.float64]:
+        """Modal assurance criterion between these mode shapes and `other`'s.
+
+        ``MAC[i, j] = |u_i^H v_j|^2 / (|u_i|^2 |v_j|^2)`` on the complex displacement shapes
+        (``u_i = shapes[:, i]``, ``v_j = other.shapes[:, j]``), with the rotations multiplied
+        by :attr:`length_scale` so that every entry is a length. 1 for proportional shapes, 0
+        for orthogonal ones (a forward and a backward circular orbit of an isotropic rotor).
+
+        Parameters
+        ----------
+        other : Modes
+            Modes of a model with the same degrees of freedom (e.g. at another speed).
+
+        Returns
+        -------
+        ndarray, shape (n_modes, other.n_modes)
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft
+        >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.3, 0.16)],
+        ...               [Bearing(0, 1e7, 1e7), Bearing(4, 1e7, 1e7)])
+        >>> a, b = rotor.modes(100.0, n=2), rotor.modes(150.0, n=2)
+        >>> a.whirl, np.round(a.mac(b), 6).tolist()
+        (('backward', 'forward'), [[1.0, 0.0], [0.0, 1.0]])
+        """
+        if not isinstance(other, Modes):
+            raise TypeError(f"`other` must be Modes, got {type(other).__name__}")
+        if other.shapes.shape[0] != self.shapes.shape[0]:
+            raise ValueError(
+                f"`other` has {other.shapes.shape[0]} degrees of freedom, these modes "
+                f"{self.shapes.shape[0]}"
+            )
+        return _mac(self.shapes, other.shapes, self.length_scale)
+
 
 @dataclass(frozen=True, eq=False)
 class Campbell:
-    """Damped natural frequencies against speed (modes sorted by frequency at each speed;
-    no mode tracking across crossings). Missing modes (fewer oscillatory modes at a speed)
-    are NaN, whirl ``""``.
+    """Damped natural frequencies against speed, from :meth:`Rotor.campbell`.
+
+    Tracked (``tracked=True``): column ``j`` follows one branch (one physical mode) through
+    crossings. Untracked: column ``j`` is the ``j``-th lowest frequency at each speed. Rows are
+    in the order of `speeds` as given. Missing entries (fewer oscillatory modes at a speed, or,
+    tracked, a branch that is not among the lowest ``n_modes`` there) are NaN, whirl ``""``.
 
     Attributes
     ----------
     speeds : ndarray, shape (n_speeds,)
         rad/s.
-    frequencies, damping_ratios : ndarray, shape (n_speeds, n_modes)
+    frequencies, damping_ratios : ndarray, shape (n_speeds, n_columns)
         rad/s, and ``-Re(lambda)/|lambda|``.
-    whirl : ndarray of str, shape (n_speeds, n_modes)
+    whirl : ndarray of str, shape (n_speeds, n_columns)
         As :attr:`Modes.whirl`.
+    mac : ndarray, shape (n_speeds, n_columns), optional
+        :meth:`Modes.mac` between the shape in each cell and the shape of the same column at
+        the next lower speed of `speeds` (tracked: the matched pair); NaN at the lowest speed
+        and where either is missing. Near 1 along a well-resolved branch; a low value flags a
+        crossing or veering that the speed grid does not resolve (refine it there).
+    tracked : bool
+        Whether the columns are tracked branches.
     """
 
     speeds: NDArray[np.float64]
     frequencies: NDArray[np.float64]
     damping_ratios: NDArray[np.float64]
     whirl: NDArray[np.str_]
+    mac: NDArray[np.float64] | None = None
+    tracked: bool = False
 
     def plot(self, **kwargs: Any) -> Any:
         """Plot with :func:`duhamel.rotor.plot_campbell` (same keywords); returns the Axes."""
@@ -164,7 +220,9 @@ class Rotor:
     disks : sequence of Disk
         Rigid disks at nodes (several at a node add up).
     bearings : sequence of Bearing
-        Bearings at nodes (several at a node add up).
+        Bearings at nodes (several at a node add up), with constant coefficients or
+        coefficients tabulated against the spin speed (``Bearing(..., speeds=...)``), which
+        every method that takes a speed evaluates there.
     zeta : float or array_like, optional
         Keyword only. Modal damping ratio of every mode of the symmetric background
         ``(K_sym, M)`` (one value, or one per mode: ``n_dof`` values), as
@@ -309,43 +367,75 @@ class Rotor:
             s = slice(4 * disk.node, 4 * disk.node + 4)
             M[s, s] += md
             G[s, s] += gd
+        # the constant-coefficient bearings, once; speed-dependent ones per speed
         Kb, Cb = np.zeros((n, n)), np.zeros((n, n))
         for b in self.bearings:
-            ix = [4 * b.node, 4 * b.node + 1]
-            Kb[np.ix_(ix, ix)] += b.stiffness
-            Cb[np.ix_(ix, ix)] += b.damping
+            if not b.is_speed_dependent:
+                ix = [4 * b.node, 4 * b.node + 1]
+                Kb[np.ix_(ix, ix)] += b.stiffness
+                Cb[np.ix_(ix, ix)] += b.damping
         out = {"M": M, "K_shaft": K, "G": G, "K_bearing": Kb, "C_bearing": Cb}
         for a in out.values():
             a.setflags(write=False)
         return out
 
+    @cached_property
+    def _speed_bearings(self) -> tuple[Bearing, ...]:
+        return tuple(b for b in self.bearings if b.is_speed_dependent)
+
+    @property
+    def has_speed_dependent_bearings(self) -> bool:
+        """Whether any bearing has coefficients tabulated against the spin speed."""
+        return bool(self._speed_bearings)
+
+    def _bearing_matrices(self, speed: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Full bearing stiffness and damping ``(K_b, C_b)`` at `speed` (the cached
+        constant part when no bearing depends on the speed)."""
+        a = self._assembled
+        if not self._speed_bearings:
+            return a["K_bearing"], a["C_bearing"]
+        kb, cb = a["K_bearing"].copy(), a["C_bearing"].copy()
+        for b in self._speed_bearings:
+            ix = np.ix_([4 * b.node, 4 * b.node + 1], [4 * b.node, 4 * b.node + 1])
+            kb[ix] += b.stiffness_at(speed)
+            cb[ix] += b.damping_at(speed)
+        return kb, cb
+
     def _massless_nodes(self) -> list[int]:
         diag = np.diag(self._assembled["M"]).reshape(self.n_nodes, 4)
         return [int(i) for i in np.flatnonzero(np.any(diag <= 0.0, axis=1))]
 
-    def _k_sym(self) -> NDArray[np.float64]:
-        kb = self._assembled["K_bearing"]
+    def _k_sym(self, kb: NDArray[np.float64]) -> NDArray[np.float64]:
         return self._assembled["K_shaft"] + (kb + kb.T) / 2.0
 
-    def structural_damping(self) -> NDArray[np.float64]:
+    def structural_damping(self, speed: float = 0.0) -> NDArray[np.float64]:
         """The structural damping matrix (without the bearings): ``alpha M + beta K_sym``,
         or ``M Phi diag(2 zeta omega) Phi^T M`` from the mass-normalised undamped modes of
-        ``(K_sym, M)`` (rigid-body modes get none), or zero."""
-        return self._structural_damping.copy()
+        ``(K_sym, M)`` (rigid-body modes get none), or zero.
+
+        ``K_sym`` (shaft + symmetric part of the bearing stiffness) is taken at spin speed
+        `speed` (rad/s), which matters only with speed-dependent bearings."""
+        w = finite_float(speed, "speed")
+        if not self._speed_bearings:
+            return self._structural_damping.copy()
+        return self._structural(self._k_sym(self._bearing_matrices(w)[0]))
 
     @cached_property
     def _structural_damping(self) -> NDArray[np.float64]:
+        return self._structural(self._k_sym(self._assembled["K_bearing"]))
+
+    def _structural(self, k_sym: NDArray[np.float64]) -> NDArray[np.float64]:
         M = self._assembled["M"]
         if self._rayleigh is not None:
             a, b = self._rayleigh
-            return a * M + b * self._k_sym()
+            return a * M + b * k_sym
         if self._zeta is not None:
             if self._massless_nodes():
                 raise ValueError(
                     "modal damping `zeta` needs mass at every node; the rotor has massless "
                     f"nodes {self._massless_nodes()} (use `rayleigh` or give them mass)"
                 )
-            lam, phi = scipy.linalg.eigh(self._k_sym(), M)
+            lam, phi = scipy.linalg.eigh(k_sym, M)
             scale = max(float(np.max(np.abs(lam))), 1.0)
             omega = np.sqrt(np.where(lam > 1e-12 * scale, lam, 0.0))
             mphi = M @ phi
@@ -358,9 +448,10 @@ class Rotor:
         Parameters
         ----------
         speed : float
-            Spin speed (rad/s) at which speed-dependent coefficients would be evaluated; the
-            present bearings have constant coefficients, so ``(M, K, C, G)`` do not depend on
-            it (as ROSS's ``M(), K(speed), C(speed), G()``).
+            Spin speed (rad/s) at which speed-dependent bearing coefficients are evaluated
+            (and, through ``K_sym``, Rayleigh or modal structural damping); with
+            constant-coefficient bearings ``(M, K, C, G)`` do not depend on it (as ROSS's
+            ``M(), K(speed), C(speed), G()``).
 
         Returns
         -------
@@ -377,15 +468,17 @@ class Rotor:
         >>> float(K[0, 1]), float(K[1, 0]), bool((G == -G.T).all())
         (100000.0, -100000.0, True)
         """
-        finite_float(speed, "speed")
+        w = finite_float(speed, "speed")
         a = self._assembled
-        K = a["K_shaft"] + a["K_bearing"]
-        C = self.structural_damping() + a["C_bearing"]
+        kb, cb = self._bearing_matrices(w)
+        K = a["K_shaft"] + kb
+        C = self.structural_damping(w) + cb
         return RotorMatrices(a["M"].copy(), K, C, a["G"].copy())
 
-    def static_deflection(self, g: float = 9.81) -> NDArray[np.float64]:
+    def static_deflection(self, g: float = 9.81, *, speed: float = 0.0) -> NDArray[np.float64]:
         """Linear static deflection under the rotor's own weight (along ``-y``), ``K^-1 f_g``,
-        with the full linear stiffness (nonlinear bearing parts left out).
+        with the full linear stiffness (nonlinear bearing parts left out) at spin speed
+        `speed` (rad/s, keyword only; it matters only with speed-dependent bearings).
 
         Examples
         --------
@@ -394,8 +487,15 @@ class Rotor:
         ...               bearings=[Bearing(0, 1e6, 1e6), Bearing(1, 1e6, 1e6)])
         >>> round(float(rotor.static_deflection()[1]) * 1e6, 3)   # at a bearing: -m g / (2 k)
         -75.218
+
+        Bearings twice as stiff at 1000 rad/s as at rest:
+
+        >>> fluid = [Bearing(n, [1e6, 2e6], [1e6, 2e6], speeds=[0, 1000]) for n in (0, 1)]
+        >>> rotor = Rotor([Shaft(1.0, 0.05, material=STEEL)], bearings=fluid)
+        >>> round(float(rotor.static_deflection(speed=1000.0)[1]) * 1e6, 3)
+        -37.609
         """
-        K = self.matrices().K
+        K = self.matrices(constant_speed(speed)).K
         f = Gravity(g=g).vector(self)
         try:
             return np.asarray(scipy.linalg.solve(K, f), dtype=np.float64)
@@ -435,7 +535,8 @@ class Rotor:
         speed : float or speed law
             Spin speed (rad/s), or a :mod:`duhamel.speed` law (``ConstantSpeed``, or
             ``LinearRunUp`` for a run-up or run-down; the bearing coefficients stay
-            constant).
+            constant, so a varying law needs constant-coefficient bearings). Speed-dependent
+            bearings are evaluated at a constant speed.
         loads : iterable
             Loads to add.
         sparse : bool
@@ -450,8 +551,11 @@ class Rotor:
         Raises
         ------
         ValueError
-            If a node has no mass (``rho = 0`` shafts without a disk there), or an
-            ``Unbalance`` has a speed other than `speed`.
+            If a node has no mass (``rho = 0`` shafts without a disk there), an
+            ``Unbalance`` has a speed other than `speed`, or `speed` varies (a run-up) and a
+            bearing has speed-dependent coefficients: the engine's couplings are constant
+            matrices times a scalar law and cannot follow coefficients that change with the
+            speed.
         TypeError
             If `speed` is neither a number nor a speed law.
 
@@ -480,6 +584,17 @@ class Rotor:
         >>> sol = duhamel.solve(system, duhamel.Newmark(), t_end=0.15, dt=1e-4)
         """
         w = speed_or_law(speed)  # a float, or a varying SpeedLaw
+        if isinstance(w, SpeedLaw) and self._speed_bearings:
+            nodes = sorted({b.node for b in self._speed_bearings})
+            raise ValueError(
+                f"`speed` is the varying speed law {w!r}, but the bearings at nodes {nodes} "
+                "have speed-dependent coefficients: the transient engine applies constant "
+                "bearing matrices (its couplings are constant matrices times a scalar speed "
+                "law), so it cannot follow coefficients that change with the speed. Use a "
+                "constant speed, or constant-coefficient bearings (e.g. from "
+                "Bearing.stiffness_at / damping_at at a representative speed)"
+            )
+        w_const = w if isinstance(w, float) else 0.0  # where the bearings are evaluated
         massless = self._massless_nodes()
         if massless:
             raise ValueError(
@@ -487,13 +602,13 @@ class Rotor:
                 "time integration needs mass at every degree of freedom"
             )
         a = self._assembled
-        M, k_sym = a["M"], self._k_sym()
-        kb, cb = a["K_bearing"], a["C_bearing"]
+        kb, cb = self._bearing_matrices(w_const)
+        M, k_sym = a["M"], self._k_sym(kb)
         k_skew, c_skew = (kb - kb.T) / 2.0, (cb - cb.T) / 2.0
         c_sym = (cb + cb.T) / 2.0
         conv = sp.csr_array if sparse else (lambda m: m)
         if _nonzero(c_sym):
-            system = System(conv(M), conv(k_sym), conv(self.structural_damping() + c_sym))
+            system = System(conv(M), conv(k_sym), conv(self.structural_damping(w_const) + c_sym))
         elif self._rayleigh is not None:
             system = System(conv(M), conv(k_sym), rayleigh=self._rayleigh)
         elif self._zeta is not None:
@@ -512,7 +627,7 @@ class Rotor:
                     C=conv(c_skew) if _nonzero(c_skew) else None,
                 )
             )
-        for element in self.nonlinear_elements():
+        for element in self.nonlinear_elements(w_const):
             system.add(element)
         for load in loads:
             if isinstance(load, RotorLoad):
@@ -527,12 +642,15 @@ class Rotor:
                 )
         return system
 
-    def nonlinear_elements(self) -> list[Element]:
+    def nonlinear_elements(self, speed: float = 0.0) -> list[Element]:
         """The bearings' nonlinear parts as :mod:`duhamel.elements` (global dofs).
 
         A cubic law without its own ``x_stat`` uses the magnitude of the bearing's vertical
-        deflection in :meth:`static_deflection` (``g = 9.81``).
+        deflection in :meth:`static_deflection` (``g = 9.81``). `speed` (rad/s) is where
+        speed-dependent bearings are evaluated (the static deflection, and ``kxx``, ``kyy`` of
+        a cubic law); it does not matter otherwise.
         """
+        w = constant_speed(speed)
         out: list[Element] = []
         static: NDArray[np.float64] | None = None
         for b in self.bearings:
@@ -540,14 +658,14 @@ class Rotor:
             x_stat = b.x_stat
             if b.beta != 0.0 and x_stat is None:
                 if static is None:
-                    static = self.static_deflection()
+                    static = self.static_deflection(speed=w)
                 x_stat = abs(float(static[dy]))
                 if x_stat == 0.0:
                     raise ValueError(
                         f"the bearing at node {b.node} does not deflect under the weight; "
                         "give its cubic law an `x_stat`"
                     )
-            out.extend(b.elements(dx, dy, x_stat))
+            out.extend(b.elements(dx, dy, x_stat, speed=w))
         return out
 
     # ------------------------------------------------------------------ eigenvalues
@@ -564,7 +682,7 @@ class Rotor:
         Parameters
         ----------
         speed : float
-            Spin speed (rad/s).
+            Spin speed (rad/s); speed-dependent bearings take their coefficients there.
         n : int, optional
             Keep the lowest `n` modes (default: all oscillatory ones).
 
@@ -586,43 +704,169 @@ class Rotor:
         if w < 0.0:  # spinning about -z: the whirl sense relative to the spin flips
             flip = {"forward": "backward", "backward": "forward"}
             whirl = tuple(flip.get(k, k) for k in whirl)
-        return Modes(speed=w, eigenvalues=lam, shapes=shapes, whirl=whirl)
+        return Modes(speed=w, eigenvalues=lam, shapes=shapes, whirl=whirl, length_scale=ell)
 
     def natural_frequencies(self, speed: float = 0.0, n: int | None = None) -> NDArray[np.float64]:
         """Damped natural frequencies (rad/s, ascending) at constant `speed`:
         ``Im(lambda)`` of :meth:`modes`."""
         return self.modes(speed, n).frequencies
 
-    def campbell(self, speeds: ArrayLike, n_modes: int | None = None) -> Campbell:
-        """Damped natural frequencies at each of `speeds` (rad/s).
+    def campbell(
+        self, speeds: ArrayLike, n_modes: int | None = None, *, track: bool = True
+    ) -> Campbell:
+        """Damped natural frequencies at each of `speeds` (rad/s), modes tracked by shape.
+
+        With ``track=True`` (the default) the modes at each speed are matched to those at the
+        next lower speed by their shapes: the cost ``1 - MAC`` (:meth:`Modes.mac`: rotations
+        weighted by the mean element length) of every pair is minimised over one-to-one
+        assignments (``scipy.optimize.linear_sum_assignment``; the relative eigenvalue
+        distance, weighted ``1e-6``, only breaks ties). Column ``j`` then follows one branch
+        through crossings: where a forward whirl branch crosses a backward one, the columns
+        do not swap. All oscillatory modes are tracked; `n_modes` then selects what is shown.
+        With ``track=False``, column ``j`` is the ``j``-th lowest frequency at each speed.
 
         Parameters
         ----------
         speeds : array_like
-            Spin speeds (rad/s).
+            Spin speeds (rad/s), in any order: the tracking walks them in ascending order and
+            the rows come back in the order given (repeated speeds are allowed). Across zero
+            speed a branch keeps its orbit sense, so its whirl label (relative to the spin)
+            changes from backward to forward there.
         n_modes : int, optional
-            Number of modes per speed (default: the most found at any speed).
+            Show the lowest `n_modes` modes at each speed (default: all oscillatory modes).
+            Untracked: ``n_modes`` columns. Tracked: one column per branch that is among the
+            lowest ``n_modes`` at some speed, NaN where it is not (so a branch may enter or
+            leave the window where it crosses the ``n_modes``-th mode, and there may be more
+            than ``n_modes`` columns); every row shows the same frequencies as untracked.
+        track : bool
+            Keyword only. Track modes through crossings (default), or sort them by
+            frequency at each speed (the behaviour before tracking existed).
 
         Returns
         -------
         Campbell
+            Tracked columns are ordered by where their branch enters: first the branches at
+            the lowest speed, ascending, then branches that appear (modes that become
+            oscillatory, or enter the ``n_modes`` window) at higher speeds. A mode that stops
+            being oscillatory ends its branch (NaN from there); ``Campbell.mac`` flags poorly
+            resolved crossings.
+
+        Examples
+        --------
+        A disk at mid-span: the backward whirl of the tilt mode falls through the forward
+        whirl of the translational mode near 4000 rad/s.
+
+        >>> import numpy as np
+        >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft
+        >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
+        ...               [Bearing(0, 1e7, 1e7), Bearing(4, 1e7, 1e7)])
+        >>> speeds = np.linspace(0.0, 5000.0, 26)
+        >>> tracked = rotor.campbell(speeds, n_modes=4)
+        >>> tracked.frequencies.shape
+        (26, 4)
+        >>> [np.unique(tracked.whirl[:, j]).tolist() for j in range(4)]
+        [['backward'], ['forward'], ['backward'], ['forward']]
+        >>> np.round(tracked.frequencies[-1], 1).tolist()    # at 5000 rad/s
+        [263.9, 266.1, 216.1, 2167.8]
+        >>> untracked = rotor.campbell(speeds, n_modes=4, track=False)
+        >>> np.unique(untracked.whirl[1:, 1]).tolist()       # the second lowest: two branches
+        ['backward', 'forward']
+        >>> round(float(np.nanmin(tracked.mac)), 3)          # every matched pair
+        0.993
         """
         ws = as_float_array(speeds, "speeds", ndim=1)
+        if n_modes is not None and (
+            isinstance(n_modes, bool) or not isinstance(n_modes, int | np.integer) or n_modes < 1
+        ):
+            raise ValueError(f"`n_modes` must be a positive integer, got {n_modes!r}")
+        if not isinstance(track, bool | np.bool_):
+            raise TypeError(f"`track` must be a bool, got {type(track).__name__}")
+        order = np.argsort(ws, kind="stable")  # the path the tracking walks
+        if track:
+            return self._tracked_campbell(ws, order, n_modes)
         found = [self.modes(float(w), n_modes) for w in ws]
-        m = max((f.n_modes for f in found), default=0) if n_modes is None else n_modes
+        m = max((f.n_modes for f in found), default=0) if n_modes is None else int(n_modes)
         freq = np.full((ws.size, m), np.nan)
         zeta = np.full((ws.size, m), np.nan)
         whirl = np.full((ws.size, m), "", dtype="<U8")
+        mac = np.full((ws.size, m), np.nan)
         for i, f in enumerate(found):
             k = min(f.n_modes, m)
             freq[i, :k] = f.frequencies[:k]
             zeta[i, :k] = f.damping_ratios[:k]
             whirl[i, :k] = f.whirl[:k]
-        return Campbell(speeds=ws, frequencies=freq, damping_ratios=zeta, whirl=whirl)
+        for p in range(1, ws.size):
+            prev, cur = found[order[p - 1]], found[order[p]]
+            k = min(prev.n_modes, cur.n_modes, m)
+            mac[order[p], :k] = _mac_columns(
+                prev.shapes[:, :k], cur.shapes[:, :k], cur.length_scale
+            )
+        return Campbell(ws, freq, zeta, whirl, mac=mac, tracked=False)
 
-    def plot_campbell(self, speeds: ArrayLike, n_modes: int | None = None, **kwargs: Any) -> Any:
+    def _tracked_campbell(
+        self, ws: NDArray[np.float64], order: NDArray[np.intp], n_modes: int | None
+    ) -> Campbell:
+        path = [self.modes(float(ws[i])) for i in order]
+        # branch[p][k]: the branch of mode k at the p-th lowest speed; pair[p][k]: its MAC
+        # with its predecessor on the branch (NaN for a branch that starts there)
+        branch: list[NDArray[np.intp]] = []
+        pair: list[NDArray[np.float64]] = []
+        n_branches = 0
+        for p, cur in enumerate(path):
+            ids = np.full(cur.n_modes, -1, dtype=np.intp)
+            macs = np.full(cur.n_modes, np.nan)
+            if p > 0 and path[p - 1].n_modes and cur.n_modes:
+                prev = path[p - 1]
+                mac = prev.mac(cur)
+                lp, lc = prev.eigenvalues[:, None], cur.eigenvalues[None, :]
+                dist = np.abs(lp - lc) / np.maximum(np.abs(lp), np.abs(lc))
+                rows, cols = linear_sum_assignment(1.0 - mac + TRACK_TIE_WEIGHT * dist)
+                ids[cols] = branch[p - 1][rows]
+                macs[cols] = mac[rows, cols]
+            new = ids < 0  # modes without a predecessor start branches
+            ids[new] = n_branches + np.arange(int(new.sum()))
+            n_branches += int(new.sum())
+            branch.append(ids)
+            pair.append(macs)
+        # the columns: branches among the lowest n_modes somewhere, in order of entry: by
+        # speed, then frequency, equal frequencies (a degenerate pair) by the next speed's
+        entry: dict[int, tuple[int, int, float]] = {}
+        for p, (f, ids) in enumerate(zip(path, branch, strict=True)):
+            freqs = f.frequencies
+            cluster = np.concatenate(
+                [[0], np.cumsum(np.diff(freqs) > CLUSTER_RTOL * np.abs(freqs[1:]))]
+            )
+            for k, b in enumerate(ids[:n_modes] if n_modes is not None else ids):
+                if int(b) not in entry:
+                    later = np.flatnonzero(branch[p + 1] == b) if p + 1 < len(path) else []
+                    after = float(path[p + 1].frequencies[later[0]]) if len(later) else np.inf
+                    entry[int(b)] = (p, int(cluster[k]), after)
+        column = {b: j for j, b in enumerate(sorted(entry, key=entry.__getitem__))}
+        m = len(column)
+        freq = np.full((ws.size, m), np.nan)
+        zeta = np.full((ws.size, m), np.nan)
+        whirl = np.full((ws.size, m), "", dtype="<U8")
+        mac = np.full((ws.size, m), np.nan)
+        for p, (f, ids, macs) in enumerate(zip(path, branch, pair, strict=True)):
+            k = f.n_modes if n_modes is None else min(f.n_modes, int(n_modes))
+            row = order[p]
+            cols = [column[int(b)] for b in ids[:k]]
+            freq[row, cols] = f.frequencies[:k]
+            zeta[row, cols] = f.damping_ratios[:k]
+            whirl[row, cols] = f.whirl[:k]
+            mac[row, cols] = macs[:k]
+        return Campbell(ws, freq, zeta, whirl, mac=mac, tracked=True)
+
+    def plot_campbell(
+        self,
+        speeds: ArrayLike,
+        n_modes: int | None = None,
+        *,
+        track: bool = True,
+        **kwargs: Any,
+    ) -> Any:
         """:meth:`campbell` then :func:`duhamel.rotor.plot_campbell`; returns the Axes."""
-        return self.campbell(speeds, n_modes).plot(**kwargs)
+        return self.campbell(speeds, n_modes, track=track).plot(**kwargs)
 
 
 def _complex_modes(
@@ -659,6 +903,33 @@ def _complex_modes(
     lam, vec = lam[keep], vec[:, keep]
     order = np.argsort(lam.imag, kind="stable")
     return lam[order], _normalise(vec[:, order])
+
+
+def _weighted(shapes: NDArray[np.complex128], ell: float) -> NDArray[np.complex128]:
+    """`shapes` with the rotations (dofs ``4 i + 2``, ``4 i + 3``) multiplied by `ell`."""
+    out = shapes.copy()
+    out[2::4] *= ell
+    out[3::4] *= ell
+    return out
+
+
+def _mac(a: NDArray[np.complex128], b: NDArray[np.complex128], ell: float) -> NDArray[np.float64]:
+    """``|a_i^H b_j|^2 / (|a_i|^2 |b_j|^2)`` for every pair of columns, rotations weighted by
+    `ell` (clipped to 1 against round-off)."""
+    a, b = _weighted(a, ell), _weighted(b, ell)
+    num = np.abs(a.conj().T @ b) ** 2
+    den = np.outer(np.sum(np.abs(a) ** 2, axis=0), np.sum(np.abs(b) ** 2, axis=0))
+    return np.minimum(num / den, 1.0)
+
+
+def _mac_columns(
+    a: NDArray[np.complex128], b: NDArray[np.complex128], ell: float
+) -> NDArray[np.float64]:
+    """:func:`_mac` of the pairs of columns ``(a_j, b_j)`` only."""
+    a, b = _weighted(a, ell), _weighted(b, ell)
+    num = np.abs(np.sum(a.conj() * b, axis=0)) ** 2
+    den = np.sum(np.abs(a) ** 2, axis=0) * np.sum(np.abs(b) ** 2, axis=0)
+    return np.minimum(num / den, 1.0)
 
 
 def _orbit_forms(

@@ -42,8 +42,11 @@ def plot_campbell(
 ) -> Any:
     """Campbell diagram: damped natural frequencies against speed, with the ``kX`` lines.
 
-    Frequencies sorted at each speed are joined by thin lines (no mode tracking); markers
-    show the whirl (forward ▲ red, backward ▼ blue). Speed and frequency share `units`
+    Each column of the Campbell is joined by a thin line: a tracked branch
+    (``campbell.tracked``, the default of :meth:`duhamel.rotor.Rotor.campbell`), or the
+    ``j``-th lowest frequency at each speed (``track=False``, whose lines jump between
+    branches at crossings); lines break where a column is NaN. Markers show the whirl
+    (forward ▲ red, backward ▼ blue). Speed and frequency share `units`
     (``"rad/s"``, ``"Hz"``, or ``"rpm"`` with frequencies in cycles per minute), so the 1X
     line has slope 1; critical speeds are its crossings with forward-whirl branches.
 
