@@ -316,7 +316,8 @@ def test_rotor_orbits_small():
     nodes = [node for _, node in pr.POSITIONS]
     np.testing.assert_array_equal(data.x_stat, pr.static_scale()[nodes])
     # the scale: each position's own static deflection under the weight
-    sol = duhamel.solve(pr.paper_system(0.0, 0.0), duhamel.Semianalytic(), t_end=0.01, dt=2e-4)
+    paper_route = duhamel.Semianalytic(coupling=pr.COUPLING)
+    sol = duhamel.solve(pr.paper_system(0.0, 0.0), paper_route, t_end=0.01, dt=2e-4)
     np.testing.assert_allclose(
         data.orbits[(0.0, 0.0)][:, :, 1], sol.x[:, [4 * k + 1 for k in nodes]] / data.x_stat
     )

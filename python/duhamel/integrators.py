@@ -20,6 +20,7 @@ _CHOICES = {
     "quadrature": ("trapezoid", "parabolic", "exact"),
     "mass_treatment": ("eliminate", "estimate"),
     "solver": ("auto", "newton"),
+    "coupling": ("auto", "exact", "pseudo-force"),
 }
 
 
@@ -30,9 +31,11 @@ class Semianalytic:
     Every modal oscillator of the linear background system is advanced with its exact
     transition and load-transfer matrices, so a linear time-invariant system is integrated
     exactly (to round-off) whatever the step, for loads that are polynomials of degree <= 2
-    in time within each step. Everything else — element forces, non-classical damping,
-    cross-coupled and gyroscopic terms, time-varying mass — enters as a modal pseudo-force
-    whose evolution over the step is approximated.
+    in time within each step. Linear couplings of the modes (non-classical damping,
+    gyroscopic and cross-coupled terms) are integrated exactly too, in the first-order
+    modes of the coupled system (see `coupling`). Everything else — element forces,
+    time-varying mass, couplings that follow a time-varying speed — enters as a modal
+    pseudo-force whose evolution over the step is approximated.
 
     Parameters
     ----------
@@ -59,13 +62,24 @@ class Semianalytic:
     solver : {"auto", "newton"}
         "auto" solves a single-mode step with polynomial forces of degree <= 3 in closed form
         (the cubic of the paper); "newton" always iterates.
+    coupling : {"auto", "exact", "pseudo-force"}
+        Modal couplings of a *linear* system — non-classical damping, gyroscopic and
+        cross-coupled (circulatory) terms, i.e. constant :class:`duhamel.elements.LinearCoupling`
+        elements and a damping matrix that the modes do not diagonalise. "exact" integrates
+        the coupled system exactly in its first-order (complex) modes, like the uncoupled
+        one (docs/kernel.md); "pseudo-force" treats the couplings as the paper does, as
+        pseudo-forces (second order in ``dt``); "auto" (default) is "exact" when the system
+        is linear with constant couplings and its first-order eigenvectors are well
+        conditioned (condition number <= 1e10), "pseudo-force" otherwise (nonlinear
+        elements, a mass law, couplings scaled by a time-varying speed law, a nearly
+        defective system). ``solve`` raises ValueError when "exact" cannot be honoured.
 
     Examples
     --------
     >>> import duhamel
     >>> duhamel.Semianalytic()
     Semianalytic(modes=None, scheme='b', quadrature='trapezoid', tol=1e-10, max_iter=25, \
-mass_treatment='eliminate', solver='auto')
+mass_treatment='eliminate', solver='auto', coupling='auto')
     >>> duhamel.Semianalytic(modes=5, quadrature="exact").quadrature
     'exact'
     """
@@ -77,6 +91,7 @@ mass_treatment='eliminate', solver='auto')
     max_iter: int = 25
     mass_treatment: str = "eliminate"
     solver: str = "auto"
+    coupling: str = "auto"
 
     def __post_init__(self) -> None:
         m = self.modes

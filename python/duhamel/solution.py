@@ -12,13 +12,14 @@ from numpy.typing import NDArray
 __all__ = ["ModalHistory", "Solution", "SolveStats"]
 
 
-@dataclass(frozen=True)
 class ModalHistory:
     """Modal coordinates of the response (mass-normalised modes).
 
     The time loop stores the modal coordinates and velocities; the modal accelerations follow
-    exactly from the modal equations, ``a = p(t) - c v - omega^2 q``, and are computed on
-    first access.
+    exactly from the modal equations, ``a = p(t) - c v - omega^2 q - r``, with ``r`` the
+    pseudo-force, and are computed on first access. A coupled linear run (integrated exactly
+    in its first-order modes, see :class:`duhamel.Semianalytic`'s ``coupling``) stores the
+    first-order coordinates instead, and ``q``, ``v`` are rebuilt from them on first access.
 
     Attributes
     ----------
@@ -31,18 +32,68 @@ class ModalHistory:
     p : ndarray, shape (n_saved, n_modes)
         Modal load at the saved instants (the value just after each instant); computed on
         first access.
+    pseudo_force : ndarray, shape (n_saved, n_modes)
+        Everything outside the uncoupled background, as a modal force: element forces,
+        couplings (``-(K_c q + C_c v)``), mass change; zeros for an uncoupled linear run.
     a : ndarray, shape (n_saved, n_modes)
         Modal accelerations; computed on first access.
+
+    Examples
+    --------
+    >>> import numpy as np, duhamel
+    >>> sys = duhamel.System(np.eye(2), np.diag([1.0, 4.0]))
+    >>> sol = duhamel.solve(sys, duhamel.Semianalytic(), t_end=1.0, dt=0.5, x0=[1.0, 0.0])
+    >>> sol.modal.q.shape, sol.modal.a.shape
+    ((3, 2), (3, 2))
     """
 
-    q: NDArray[np.float64]
-    v: NDArray[np.float64]
-    omega: NDArray[np.float64]
-    c: NDArray[np.float64]
-    load_values: NDArray[np.float64] = field(repr=False)
-    patterns: NDArray[np.float64] = field(repr=False)
-    forcing: NDArray[np.float64] | None = field(default=None, repr=False)
-    pseudo: NDArray[np.float64] | None = field(default=None, repr=False)
+    def __init__(
+        self,
+        q: NDArray[np.float64] | None,
+        v: NDArray[np.float64] | None,
+        omega: NDArray[np.float64],
+        c: NDArray[np.float64],
+        load_values: NDArray[np.float64],
+        patterns: NDArray[np.float64],
+        forcing: NDArray[np.float64] | None = None,
+        pseudo: NDArray[np.float64] | None = None,
+        *,
+        first_order: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+        coupling: tuple[NDArray[np.float64] | None, NDArray[np.float64] | None] | None = None,
+    ) -> None:
+        if (q is None or v is None) and first_order is None:
+            raise ValueError("`q` and `v`, or `first_order`, must be given")
+        if q is not None:
+            self.__dict__["q"] = q
+        if v is not None:
+            self.__dict__["v"] = v
+        self.omega = omega
+        self.c = c
+        self.load_values = load_values
+        self.patterns = patterns
+        self.forcing = forcing
+        self.pseudo = pseudo
+        self._first_order = first_order
+        self._coupling = coupling
+
+    def __repr__(self) -> str:
+        return f"ModalHistory(n_saved={self.load_values.shape[0]}, n_modes={self.omega.size})"
+
+    @cached_property
+    def _qv(self) -> NDArray[np.float64]:
+        assert self._first_order is not None
+        z, back = self._first_order
+        return z @ back
+
+    @cached_property
+    def q(self) -> NDArray[np.float64]:
+        """Modal coordinates."""
+        return self._qv[:, : self.omega.size]
+
+    @cached_property
+    def v(self) -> NDArray[np.float64]:
+        """Modal velocities."""
+        return self._qv[:, self.omega.size :]
 
     @cached_property
     def p(self) -> NDArray[np.float64]:
@@ -53,6 +104,14 @@ class ModalHistory:
     @cached_property
     def pseudo_force(self) -> NDArray[np.float64]:
         """Modal pseudo-force (elements, couplings, mass change) at the saved states."""
+        if self._coupling is not None:
+            kc, cc = self._coupling
+            out = np.zeros_like(self.q)
+            if kc is not None:
+                out -= self.q @ kc.T
+            if cc is not None:
+                out -= self.v @ cc.T
+            return out
         return np.zeros_like(self.q) if self.pseudo is None else self.pseudo
 
     @cached_property
@@ -85,6 +144,15 @@ class SolveStats:
         matrix over the run; 1 for a linear problem with constant mass (the mass matrix,
         factorised once for the initial acceleration, is not counted). 0 for the
         semi-analytic integrator.
+    coupling : str or None
+        Semi-analytic integrator: how modal couplings (non-classical damping, gyroscopic
+        and cross-coupled terms) were integrated: "exact" (first-order modes), or
+        "pseudo-force"; None when there were none (or for a direct integrator).
+    eigenvector_condition : float or None
+        For ``coupling == "exact"``: the 1-norm condition number ``kappa`` of the
+        first-order eigenvector matrix (a few for well-separated modes; the round-off of the
+        run grows like ``kappa^2`` times the unit round-off near a defective system, which
+        is why ``kappa`` above ``duhamel._coupled.CONDITION_LIMIT`` = 1e4 is refused).
     """
 
     steps: int
@@ -94,6 +162,8 @@ class SolveStats:
     newton_iterations: int = 0
     closed_form_steps: int = 0
     factorizations: int = 0
+    coupling: str | None = None
+    eigenvector_condition: float | None = None
 
     @property
     def mode_steps_per_second(self) -> float:

@@ -10,6 +10,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel import _core
+from duhamel._coupled import (
+    CONDITION_LIMIT,
+    FirstOrderModes,
+    back_transform,
+    first_order_modes,
+    keep_finite_rows,
+    output_maps,
+)
 from duhamel._direct import solve_direct
 from duhamel._validate import as_float_array, dof_list, positive_float, positive_int
 from duhamel.elements import LinearCoupling
@@ -71,6 +79,55 @@ def _is_linear(system: System, basis: ModalBasis) -> bool:
     return not system.elements and basis.c_coupling is None and system.mass_law is None
 
 
+def _has_couplings(system: System, basis: ModalBasis) -> bool:
+    """Whether the modes are coupled: LinearCoupling elements or non-classical damping."""
+    return basis.c_coupling is not None or any(
+        isinstance(e, LinearCoupling) for e in system.elements
+    )
+
+
+def _constant_couplings_only(system: System, basis: ModalBasis) -> bool:
+    """Whether the system is linear with constant modal couplings (and has some): no mass
+    law, and every element a :class:`LinearCoupling` with a constant factor."""
+    if system.mass_law is not None:
+        return False
+    for element in system.elements:
+        if not isinstance(element, LinearCoupling) or element.constant_factor() is None:
+            return False
+    return bool(system.elements) or basis.c_coupling is not None
+
+
+def _first_order(
+    system: System, basis: ModalBasis, integrator: Semianalytic
+) -> tuple[FirstOrderModes, dict[str, Any]] | None:
+    """The first-order modes for the exact coupled route, or None for the pseudo-force
+    route; raises when ``coupling="exact"`` cannot be honoured."""
+    if integrator.coupling == "pseudo-force" or not _has_couplings(system, basis):
+        return None
+    if not _constant_couplings_only(system, basis):
+        if integrator.coupling == "exact":
+            raise ValueError(
+                "`coupling`='exact' needs a linear system whose couplings are constant: no "
+                "nonlinear elements, no mass law, no coupling scaled by a time-varying speed "
+                "law (those enter as pseudo-forces; use coupling='auto' or 'pseudo-force')"
+            )
+        return None
+    couplings = _couplings(system, basis)
+    modes = first_order_modes(
+        basis.omega2, basis.c, couplings["coupling_k"], couplings["coupling_c"]
+    )
+    if modes.condition > CONDITION_LIMIT:
+        if integrator.coupling == "exact":
+            raise ValueError(
+                f"`coupling`='exact': the coupled system is (nearly) defective, its first-order "
+                f"eigenvector matrix has condition number {modes.condition:.3g} > "
+                f"{CONDITION_LIMIT:g}, so its modes would lose digits (about condition^2 * "
+                f"1e-17 of the response); use coupling='pseudo-force'"
+            )
+        return None
+    return modes, couplings
+
+
 def _couplings(system: System, basis: ModalBasis) -> dict[str, Any]:
     """Modal coupling matrices: LinearCoupling elements plus non-classical damping (constant
     ones summed, a constant scale folded in), and the couplings scaled by a time-varying
@@ -103,6 +160,17 @@ def _mass(system: System, integrator: Semianalytic) -> tuple | None:
         return None
     kind, params = attached.law._spec()
     return (kind, params, attached.form, attached.scale_stiffness, integrator.mass_treatment)
+
+
+def _back_transform(
+    raw: dict[str, Any], basis: ModalBasis, phi_out: NDArray
+) -> tuple[NDArray, NDArray, NDArray]:
+    """``x``, ``v`` and the state part of ``a`` from the modal history, by matrix products."""
+    n_out = phi_out.shape[0]
+    # One pass over each history array: [x | k-part of a] from q, [v | c-part] from v.
+    xq = raw["q"] @ np.concatenate([phi_out, -phi_out * basis.omega2]).T
+    vv = raw["v"] @ np.concatenate([phi_out, -phi_out * basis.c]).T
+    return xq[:, :n_out], vv[:, :n_out], xq[:, n_out:] + vv[:, n_out:]
 
 
 def solve(
@@ -229,8 +297,24 @@ def solve(
         save_every,
     )
     phi_t = np.ascontiguousarray(phi.T) if forcing is not None else None
+    coupled = None if _is_linear(system, basis) else _first_order(system, basis, integrator)
     if _is_linear(system, basis):
         raw = _core.solve_linear(*common, threads, forcing, phi_t)
+    elif coupled is not None:
+        fo = coupled[0]
+        eta0 = fo.initial(q0, qd0)
+        parts = [fo.lam.real, fo.lam.imag, fo.gain.real, fo.gain.imag, eta0.real, eta0.imag]
+        out_map, out_loads = output_maps(basis, phi[out_dofs, :], specs, *coupled)
+        raw = _core.solve_coupled(
+            *common,
+            *(np.ascontiguousarray(x, dtype=np.float64).ravel() for x in parts),
+            out_map=out_map.ravel(),
+            out_loads=out_loads.ravel(),
+            n_out=out_map.shape[1],
+            threads=threads,
+            forcing=forcing,
+            phi_t=phi_t,
+        )
     else:
         raw = _core.solve_nonlinear(
             *common,
@@ -247,37 +331,39 @@ def solve(
     # Back-transform once, by matrix products, for the requested dofs only. Accelerations
     # come from the modal equations: a = Phi_d (P s(t) + forcing - c v - omega^2 q).
     phi_out = phi[out_dofs, :]
-    q, v = raw["q"], raw["v"]
     patterns = (
         np.stack([spec[0] for spec in specs], axis=1) if specs else np.zeros((phi.shape[1], 0))
     )
     # A diverged run's partial history ends near overflow: its accelerations may overflow.
     quiet = raw["error"] is not None
-    n_out = phi_out.shape[0]
+    if quiet and coupled is not None:
+        keep_finite_rows(raw, len(out_dofs))
     with np.errstate(over="ignore" if quiet else "warn", invalid="ignore" if quiet else "warn"):
-        # One pass over each history array: [x | k-part of a] from q, [v | c-part] from v.
-        xq = q @ np.concatenate([phi_out, -phi_out * basis.omega2]).T
-        vv = v @ np.concatenate([phi_out, -phi_out * basis.c]).T
-        acc = xq[:, n_out:] + vv[:, n_out:] + raw["load_values"] @ (phi_out @ patterns).T
+        if coupled is None:
+            x, vel, acc = _back_transform(raw, basis, phi_out)
+            modal = ModalHistory(
+                q=raw["q"],
+                v=raw["v"],
+                omega=basis.omega,
+                c=basis.c,
+                load_values=raw["load_values"],
+                patterns=patterns,
+                forcing=raw["forcing"],
+                pseudo=raw.get("pseudo"),
+            )
+            acc += raw["load_values"] @ (phi_out @ patterns).T
+        else:
+            x, vel, acc, modal = back_transform(raw, basis, phi_out, patterns, *coupled)
         for extra in ("forcing", "pseudo"):
             if raw.get(extra) is not None:
                 acc += raw[extra] @ phi_out.T
     solution = Solution(
         t=raw["t"],
-        x=xq[:, :n_out],
-        v=vv[:, :n_out],
+        x=x,
+        v=vel,
         a=acc,
         dofs=np.asarray(out_dofs, dtype=np.int64),
-        modal=ModalHistory(
-            q=q,
-            v=v,
-            omega=basis.omega,
-            c=basis.c,
-            load_values=raw["load_values"],
-            patterns=patterns,
-            forcing=raw["forcing"],
-            pseudo=raw.get("pseudo"),
-        ),
+        modal=modal,
         stats=SolveStats(
             steps=n_steps if raw["error"] is None else _completed(raw["error"], dt),
             wall_time=wall,
@@ -285,6 +371,12 @@ def solve(
             modes=phi.shape[1],
             newton_iterations=int(raw.get("stats", {}).get("newton_iterations", 0)),
             closed_form_steps=int(raw.get("stats", {}).get("closed_form_steps", 0)),
+            coupling=(
+                None
+                if not _has_couplings(system, basis)
+                else ("exact" if coupled is not None else "pseudo-force")
+            ),
+            eigenvector_condition=None if coupled is None else coupled[0].condition,
         ),
         meta={"dt": dt, "integrator": integrator},
     )

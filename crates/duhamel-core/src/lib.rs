@@ -3,6 +3,8 @@
 //!
 //! Pure Rust, no Python: the numerical engine behind the `duhamel` Python package.
 
+pub mod coupled;
+pub mod cphi;
 pub mod cubic;
 pub mod dense;
 pub mod direct;

@@ -163,8 +163,8 @@ impl TimeFunction {
 
     /// The bases of `len` consecutive steps `[t0 + n dt, t0 + (n + 1) dt]` (with the grid
     /// times `t0 + n dt` computed as `time(n)`), appended to `out` with stride `stride`
-    /// starting at `out[offset]`. A harmonic is evaluated twice per step, not three times:
-    /// the end of one step is the start of the next.
+    /// starting at `out[offset]`. A harmonic (or a constant-speed unbalance) is evaluated
+    /// twice per step, not three times: the end of one step is the start of the next.
     pub fn bases(
         &self,
         time: impl Fn(usize) -> f64,
@@ -174,8 +174,17 @@ impl TimeFunction {
         offset: usize,
         stride: usize,
     ) {
+        // Smooth functions: the end of one step is the start of the next, evaluated once.
+        let smooth = matches!(
+            self,
+            TimeFunction::Harmonic { .. }
+                | TimeFunction::Unbalance {
+                    law: SpeedLaw::Constant(_),
+                    ..
+                }
+        );
         match self {
-            TimeFunction::Harmonic { .. } => {
+            _ if smooth => {
                 let mut p0 = self.eval(time(0));
                 for n in 0..len {
                     let t = time(n);
@@ -191,6 +200,60 @@ impl TimeFunction {
                 }
             }
         }
+    }
+
+    /// [`TimeFunction::bases`] of two functions at once when they are the x and y parts of
+    /// one constant-speed unbalance (same speed and phase): one sine and cosine per sample
+    /// serve both, with values identical to evaluating each. Returns false (writing nothing)
+    /// for any other pair. `self` is written at `out[offset.0 + n * stride]`, `other` at
+    /// `out[offset.1 + n * stride]`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn pair_bases(
+        &self,
+        other: &TimeFunction,
+        time: impl Fn(usize) -> f64,
+        dt: f64,
+        len: usize,
+        out: &mut [[f64; 3]],
+        offset: (usize, usize),
+        stride: usize,
+    ) -> bool {
+        let (
+            TimeFunction::Unbalance {
+                law: law @ SpeedLaw::Constant(w),
+                phase,
+                axis: a,
+            },
+            TimeFunction::Unbalance {
+                law: SpeedLaw::Constant(w2),
+                phase: phase2,
+                axis: b,
+            },
+        ) = (self, other)
+        else {
+            return false;
+        };
+        if w != w2 || phase != phase2 || a == b {
+            return false;
+        }
+        let w2 = w * w;
+        // (x, y) = w^2 (cos, sin) of the angle, exactly as `unbalance` with `omega' = 0`.
+        let eval = |t: f64| {
+            let (s, c) = (law.theta(t) + phase).sin_cos();
+            match a {
+                Axis::X => (w2 * c, w2 * s),
+                Axis::Y => (w2 * s, w2 * c),
+            }
+        };
+        let mut p0 = eval(time(0));
+        for n in 0..len {
+            let pm = eval(time(n) + 0.5 * dt);
+            let p1 = eval(time(n + 1));
+            out[offset.0 + n * stride] = [p0.0, p1.0 - p0.0, pm.0 - 0.5 * (p0.0 + p1.0)];
+            out[offset.1 + n * stride] = [p0.1, p1.1 - p0.1, pm.1 - 0.5 * (p0.1 + p1.1)];
+            p0 = p1;
+        }
+        true
     }
 
     /// For a function that breaks strictly inside `(t, t + dt)`, at `tj`: the time from the
@@ -306,6 +369,46 @@ mod tests {
     /// The part an unbalance leaves to the parabola at the end of a run-up is twice
     /// continuously differentiable: one-sided finite differences of `f - jump polynomial`
     /// agree across the break, those of `f` jump by the coefficients.
+    #[test]
+    fn unbalance_pair_bases_equal_single_bases() {
+        let law = SpeedLaw::Constant(157.3);
+        let make = |axis| TimeFunction::Unbalance {
+            law,
+            phase: 0.3,
+            axis,
+        };
+        let (x, y) = (make(Axis::X), make(Axis::Y));
+        let time = |n: usize| 0.5 + n as f64 * 1e-3;
+        let (len, stride) = (40, 3);
+        for (a, b) in [(&x, &y), (&y, &x)] {
+            let mut single = vec![[0.0; 3]; len * stride];
+            a.bases(time, 1e-3, len, &mut single, 0, stride);
+            b.bases(time, 1e-3, len, &mut single, 2, stride);
+            let mut pair = vec![[0.0; 3]; len * stride];
+            assert!(a.pair_bases(b, time, 1e-3, len, &mut pair, (0, 2), stride));
+            assert_eq!(single, pair);
+        }
+        // Not a pair: same axis, another phase, a run-up.
+        let mut out = vec![[0.0; 3]; len * stride];
+        assert!(!x.pair_bases(&x, time, 1e-3, len, &mut out, (0, 2), stride));
+        let other = TimeFunction::Unbalance {
+            law,
+            phase: 0.4,
+            axis: Axis::Y,
+        };
+        assert!(!x.pair_bases(&other, time, 1e-3, len, &mut out, (0, 2), stride));
+        let runup = TimeFunction::Unbalance {
+            law: SpeedLaw::LinearRunUp {
+                omega0: 0.0,
+                omega1: 100.0,
+                t1: 1.0,
+            },
+            phase: 0.3,
+            axis: Axis::Y,
+        };
+        assert!(!x.pair_bases(&runup, time, 1e-3, len, &mut out, (0, 2), stride));
+    }
+
     #[test]
     fn unbalance_break_coefficients() {
         let law = SpeedLaw::LinearRunUp {

@@ -39,6 +39,12 @@ pub struct History {
     /// Modal pseudo-force (everything not in the linear background) at the saved states,
     /// `n_saved x n_modes` (empty for a linear run).
     pub pseudo: Vec<f64>,
+    /// First-order (complex) modal coordinates of a coupled run, `n_saved x 2 n_first`: the
+    /// real parts then the imaginary parts of each row; `q` and `v` are then empty (see
+    /// [`crate::coupled`]). Empty otherwise.
+    pub eta: Vec<f64>,
+    /// Outputs mapped from `eta` during a coupled run (`n_saved x n_cols`), or empty.
+    pub out: Vec<f64>,
 }
 
 impl History {
@@ -85,8 +91,14 @@ pub(crate) struct BlockLoads {
     /// `basis[s * n_loads + l]`: the basis `(p0, Dp, DDp)` of load `l` over local step `s`;
     /// row `s = len` holds the values at the end of the block (only `[0]` is meaningful).
     pub basis: Vec<[f64; 3]>,
-    /// Exact jumps of step loads inside a step: `(local step, dx per mode, dv per mode)`.
+    /// Exact jumps of step loads inside a step: `(local step, dx per mode, dv per mode)`
+    /// (empty when built by [`BlockLoads::raw`]).
     pub jumps: Vec<(usize, Vec<f64>, Vec<f64>)>,
+    /// The same jumps as found: `(local step, load, time from the break to the step end,
+    /// jump coefficients)`, for engines with their own modes.
+    pub raw_jumps: Vec<(usize, usize, f64, [f64; 3])>,
+    /// Whether `jumps` holds the uncoupled modal oscillators' responses.
+    modal_jumps: bool,
     /// Modal samples of the external forcing at `t_n, t_n + dt/2, ..., t_end` (row-major), or
     /// empty.
     pub forcing: Vec<f64>,
@@ -99,7 +111,7 @@ pub(crate) struct BlockLoads {
     n_loads: usize,
     dt: f64,
     n_steps: usize,
-    load_values: Vec<f64>,
+    pub(crate) load_values: Vec<f64>,
     forcing_saved: Vec<f64>,
 }
 
@@ -112,6 +124,8 @@ impl BlockLoads {
             len: 0,
             basis: Vec::new(),
             jumps: Vec::new(),
+            raw_jumps: Vec::new(),
+            modal_jumps: true,
             forcing: Vec::new(),
             slot: Vec::new(),
             load_values: vec![0.0; saved.len() * n_loads],
@@ -123,6 +137,15 @@ impl BlockLoads {
             dt: problem.dt,
             n_steps: problem.n_steps,
             forcing_saved: Vec::new(),
+        }
+    }
+
+    /// Block loads whose in-step jumps are left raw (`raw_jumps`), for an engine whose modes
+    /// are not the uncoupled oscillators of `problem.k`, `problem.c`.
+    pub fn raw(problem: &LinearProblem) -> Self {
+        BlockLoads {
+            modal_jumps: false,
+            ..Self::new(problem)
         }
     }
 
@@ -148,23 +171,40 @@ impl BlockLoads {
         self.len = len;
         self.basis.clear();
         self.basis.resize((len + 1) * n_loads, [0.0; 3]);
-        for (l, load) in problem.loads.iter().enumerate() {
-            load.time.bases(
-                |n| (n0 + n) as f64 * dt,
-                dt,
-                len + 1,
-                &mut self.basis,
-                l,
-                n_loads,
-            );
+        let time = |n: usize| (n0 + n) as f64 * dt;
+        let mut l = 0;
+        while l < n_loads {
+            let load = &problem.loads[l].time;
+            // The x and y parts of an unbalance share their sines and cosines.
+            if let Some(next) = problem.loads.get(l + 1) {
+                let pair = (l, l + 1);
+                if load.pair_bases(
+                    &next.time,
+                    time,
+                    dt,
+                    len + 1,
+                    &mut self.basis,
+                    pair,
+                    n_loads,
+                ) {
+                    l += 2;
+                    continue;
+                }
+            }
+            load.bases(time, dt, len + 1, &mut self.basis, l, n_loads);
+            l += 1;
         }
         self.jumps.clear();
+        self.raw_jumps.clear();
         for s in 0..len {
             let t = self.time(n0 + s);
-            for load in problem.loads {
+            for (l, load) in problem.loads.iter().enumerate() {
                 if let Some((rest, j)) = load.time.jump_in(t, dt) {
-                    let (dx, dv) = jump_response(problem, &load.pattern, rest, j);
-                    self.jumps.push((s, dx, dv));
+                    if self.modal_jumps {
+                        let (dx, dv) = jump_response(problem, &load.pattern, rest, j);
+                        self.jumps.push((s, dx, dv));
+                    }
+                    self.raw_jumps.push((s, l, rest, j));
                 }
             }
         }
@@ -215,6 +255,29 @@ impl BlockLoads {
         pseudo: Vec<f64>,
         failure: Option<(CoreError, usize)>,
     ) -> Result<History, Box<Failure>> {
+        self.finish_with_eta(n_modes, q, v, pseudo, Vec::new(), failure)
+    }
+
+    /// [`BlockLoads::finish`] for a run that saved first-order coordinates (`eta`, see
+    /// [`History::eta`]) instead of `q`, `v`.
+    pub fn finish_first_order(
+        self,
+        n_modes: usize,
+        eta: Vec<f64>,
+        failure: Option<(CoreError, usize)>,
+    ) -> Result<History, Box<Failure>> {
+        self.finish_with_eta(n_modes, Vec::new(), Vec::new(), Vec::new(), eta, failure)
+    }
+
+    fn finish_with_eta(
+        self,
+        n_modes: usize,
+        q: Vec<f64>,
+        v: Vec<f64>,
+        pseudo: Vec<f64>,
+        eta: Vec<f64>,
+        failure: Option<(CoreError, usize)>,
+    ) -> Result<History, Box<Failure>> {
         let dt = self.dt;
         let t: Vec<f64> = self.saved.iter().map(|&n| n as f64 * dt).collect();
         let history = History {
@@ -225,6 +288,8 @@ impl BlockLoads {
             load_values: self.load_values,
             forcing: self.forcing_saved,
             pseudo,
+            eta,
+            out: Vec::new(),
         };
         match failure {
             None => Ok(history),
@@ -321,7 +386,9 @@ fn advise_huge_pages(_ptr: *mut f64, _len: usize) {}
 /// Keeps the first `keep` saved instants of a time-major history.
 pub(crate) fn truncate(mut h: History, keep: usize) -> History {
     let n_loads = h.load_values.len() / h.t.len().max(1);
+    let n_eta = h.eta.len() / h.t.len().max(1);
     let n = keep * h.n_modes;
+    h.eta.truncate(keep * n_eta);
     h.t.truncate(keep);
     h.q.truncate(n);
     h.v.truncate(n);

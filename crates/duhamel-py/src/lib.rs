@@ -3,6 +3,7 @@
 //! Inputs are checked and copied into Rust values first; the time loop then runs with the
 //! GIL released. A Python load callable is called with the GIL, once per evaluation time.
 
+mod coupled;
 mod direct;
 mod elements;
 mod nonlinear;
@@ -152,6 +153,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(transfer, m)?)?;
     m.add_function(wrap_pyfunction!(transfer_kc, m)?)?;
     m.add_function(wrap_pyfunction!(run::solve_linear, m)?)?;
+    m.add_function(wrap_pyfunction!(coupled::solve_coupled, m)?)?;
     m.add_function(wrap_pyfunction!(nonlinear::solve_nonlinear, m)?)?;
     m.add_function(wrap_pyfunction!(direct::solve_direct, m)?)?;
     m.add_function(wrap_pyfunction!(direct::element_stiffness, m)?)?;

@@ -266,8 +266,20 @@ pub(crate) fn history_dict<'py>(py: Python<'py>, h: History) -> PyResult<Bound<'
     let as2 = |v: Vec<f64>, cols: usize| -> PyResult<Bound<'py, PyArray2<f64>>> {
         PyArray1::from_vec(py, v).reshape([ns, cols])
     };
-    d.set_item("q", as2(h.q, nm)?)?;
-    d.set_item("v", as2(h.v, nm)?)?;
+    if h.eta.is_empty() {
+        d.set_item("q", as2(h.q, nm)?)?;
+        d.set_item("v", as2(h.v, nm)?)?;
+    } else {
+        // A coupled run: first-order coordinates instead of q, v.
+        let width = h.eta.len() / ns.max(1);
+        d.set_item("eta", as2(h.eta, width)?)?;
+        d.set_item("q", py.None())?;
+        d.set_item("v", py.None())?;
+    }
+    if !h.out.is_empty() {
+        let width = h.out.len() / ns.max(1);
+        d.set_item("out", as2(h.out, width)?)?;
+    }
     d.set_item("load_values", as2(h.load_values, n_loads)?)?;
     for (key, values) in [("forcing", h.forcing), ("pseudo", h.pseudo)] {
         if values.is_empty() {
