@@ -100,6 +100,33 @@ def test_single_dof_exact_in_every_damping_regime(zeta, dt):
     assert max(errs) < 1e-10
 
 
+@pytest.mark.parametrize("hold", [False, True])
+@pytest.mark.parametrize("coupled", [False, True], ids=["uncoupled", "coupled"])
+def test_record_ends_inside_a_step_are_exact(hold, coupled):
+    """A record whose first and last samples miss the step grid: mid-step (0.37, 1.83 with
+    dt = 0.3) or by one rounding (1.8 against 6 * 0.3 = 1.7999999999999998). The jumps at its
+    ends (to and from zero, or the held value) are integrated exactly, like a Step's, on the
+    uncoupled and on the coupled (first-order modes) route."""
+    m = np.diag([2.0, 1.0])
+    k = np.array([[30.0, -10.0], [-10.0, 10.0]])
+    for t_rec in ([0.37, 0.9, 1.83], [0.0, 0.9, 1.8]):
+        sys = duhamel.System(m, k, zeta=0.03)
+        if coupled:
+            sys.add(duhamel.elements.LinearCoupling(C=np.array([[0.0, 0.4], [-0.4, 0.0]])))
+        sys.add_load(loads.Tabulated(0, t=t_rec, values=[5.0, -3.0, 4.0], hold=hold))
+        sol = duhamel.solve(sys, duhamel.Semianalytic(), t_end=4.2, dt=0.3, x0=[0.1, 0.0])
+        assert sol.stats.coupling == ("exact" if coupled else None)
+        c = m @ sys.modal().phi @ np.diag(sys.modal().c) @ sys.modal().phi.T @ m
+        if coupled:
+            c = c + np.array([[0.0, 0.4], [-0.4, 0.0]])
+        x, v, _ = expm_reference(
+            sys, c, total_load(sys), np.array([0.1, 0.0]), np.zeros(2), sol.t, np.array(t_rec)
+        )
+        errs = rel_err(sol.x, x), rel_err(sol.v, v)
+        print(f"record {t_rec}, hold={hold}, coupled={coupled}: x {errs[0]:.1e} v {errs[1]:.1e}")
+        assert max(errs) < 1e-12
+
+
 def free_free_chain(n=12):
     """A free-free chain (one rigid-body mode) of unequal masses; shortest period ~0.006 s."""
     rng = np.random.default_rng(7)

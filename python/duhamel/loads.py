@@ -8,7 +8,8 @@ Within each step the time loop represents a load by the parabola through its val
 start, middle and end of the step; this is exact for loads that are polynomials of degree
 <= 2 in time within each step (constant, ramps, and :class:`Tabulated` records whose sample
 times fall on the step grid) and fourth-order accurate otherwise (e.g. :class:`Harmonic`).
-A :class:`Step` is integrated exactly even when its jump falls inside a step.
+A :class:`Step` is integrated exactly even when its jump falls inside a step, and so are the
+jumps at the ends of a :class:`Tabulated` record.
 
 :class:`Unbalance` is the rotating force of an eccentric mass driven by a speed law
 (:mod:`duhamel.speed`; :class:`ConstantSpeed` and :class:`LinearRunUp` are re-exported here).
@@ -198,8 +199,10 @@ class Tabulated(Load):
 
     Zero before ``t[0]``; from ``t[-1]`` on zero (a record that has ended), or the last
     value when ``hold=True``. Loads are right-continuous: at a jump, the value after it.
-    Exact when the sample times fall on the step grid (a jump at the first or last sample
-    included).
+    Exact when the sample times fall on the step grid. The jumps at the first and last
+    samples are integrated exactly wherever they fall (also when the record's times miss
+    the grid, if only by a rounding); an interior sample off the grid is a kink inside a
+    step, represented by the step's parabola.
 
     Examples
     --------

@@ -19,8 +19,10 @@ pub enum TimeFunction {
     Step { t0: f64 },
     /// `sin(omega t + phase)`.
     Harmonic { omega: f64, phase: f64 },
-    /// Piecewise-linear interpolation of `(t, v)` samples (`t` strictly increasing); outside
-    /// `[t[0], t[last]]` the value is 0, or the last value after the end when `hold` is set.
+    /// Piecewise-linear interpolation of `(t, v)` samples (`t` strictly increasing, at least
+    /// two); outside `[t[0], t[last]]` the value is 0, or the last value after the end when
+    /// `hold` is set. The jumps at the record's ends are integrated exactly also when they
+    /// fall inside a step (a record whose times miss the step grid, if only by a rounding).
     Table {
         t: Vec<f64>,
         v: Vec<f64>,
@@ -271,6 +273,22 @@ impl TimeFunction {
     fn break_in(&self, t: f64, dt: f64) -> Option<(f64, [f64; 3])> {
         match self {
             TimeFunction::Step { t0 } if *t0 > t && *t0 < t + dt => Some((*t0, [1.0, 0.0, 0.0])),
+            TimeFunction::Table { t: ts, v, hold } => {
+                // The record's ends: from 0 to its first segment, and from its last segment to
+                // 0 (or, held, to its last value). Interior kinks are left to the parabola. A
+                // record shorter than a step breaks at its start only.
+                let inside = |x: f64| x > t && x < t + dt;
+                let slope = |i: usize| (v[i + 1] - v[i]) / (ts[i + 1] - ts[i]);
+                let last = ts.len() - 1;
+                if inside(ts[0]) {
+                    Some((ts[0], [v[0], slope(0), 0.0]))
+                } else if inside(ts[last]) {
+                    let drop = if *hold { 0.0 } else { -v[last] };
+                    Some((ts[last], [drop, -slope(last - 1), 0.0]))
+                } else {
+                    None
+                }
+            }
             TimeFunction::Unbalance { law, phase, axis } => {
                 let tj = law.breakpoint_in(t, dt)?;
                 // f_x + i f_y = (w^2 - i w') z, z = exp(i Theta), with w'' = 0 on each side:
