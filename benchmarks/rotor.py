@@ -83,6 +83,7 @@ NEWMARK_TARGET = 50.0  # issue 6: at least 50x faster than ROSS's Newmark path .
 LSIM_TARGET = 10.0  # ... and 10x faster than its lsim path, at equal or better accuracy
 RUB_TARGET = 10.0  # rub: an error at least 10x smaller than the lagged-force Newmark
 MAX_REFINE = 64  # largest dt/k tried to match an accuracy
+WARM_UP = 4  # untimed duhamel calls before the linear timings (see `linear`)
 EXACT_28 = "duhamel Semianalytic, 28 modes (exact coupling)"
 EXACT_28_1T = "duhamel Semianalytic, 28 modes (exact coupling), one thread"
 EXACT_RED = "duhamel Semianalytic, 12 modes (exact coupling)"
@@ -347,6 +348,12 @@ def linear(model: Model, res: Results, log: Callable[[str], None]) -> None:
     def errors(x: NDArray) -> tuple[float, float]:
         d = np.abs(x[:, rows] - X).max(axis=1) / scale
         return float(d.max()), float(d[:early].max())
+
+    # The first calls of a fresh process that allocate ~100 MB histories run 2-3x slower
+    # (the kernel assembling transparent huge pages, measured); untimed warm-up calls, as
+    # ROSS's numba step is compiled before it is timed.
+    for _ in range(WARM_UP):
+        run_duhamel(model, duhamel.Semianalytic(), s.dt, s.n_steps, 1)
 
     cases: list[tuple[str, Any, str, int | None]] = [
         (EXACT_28, duhamel.Semianalytic(), "default; stepping and output on two threads", None),
@@ -643,7 +650,9 @@ def report(res: Results) -> str:
         f"{s.dt * 1e3:g} ms. Error: largest translational difference from the exact solution "
         f"(expm cross-check {res.exact_check:.0e}) over all {s.n_steps} steps, and over the "
         "first 0.2 s, relative to the largest translation. Times: the whole call, best of "
-        f"{s.repeats} (duhamel) or {min(s.repeats, 2)} (ROSS).",
+        f"{s.repeats} (duhamel) or {min(s.repeats, 2)} (ROSS), after {WARM_UP} untimed "
+        "duhamel calls (the first calls of a process that allocate ~100 MB of history run 2-3x "
+        "slower while the kernel assembles huge pages) and ROSS's numba compilation.",
         "",
         f"| method | us/step | total [s] | duhamel loop [s] | error, {span} | error, 0.2 s "
         "| notes |",
