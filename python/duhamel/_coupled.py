@@ -18,6 +18,7 @@ for a pair and 1 for a real eigenvalue.
 from __future__ import annotations
 
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -155,21 +156,23 @@ def output_maps(
     specs: list,
     modes: FirstOrderModes,
     couplings: dict[str, Any],
-) -> tuple[NDArray, NDArray]:
-    """The maps from ``[Re eta | Im eta]`` and from the load values to ``[x | v | a]`` of the
-    output dofs: ``x = Phi q``, ``v = Phi q'``, ``a = Phi (p - D q' - S q)``."""
-    m, n_out = basis.omega2.size, phi_out.shape[0]
+) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """The maps from ``[Re eta | Im eta]`` to ``[x | v]`` of the output dofs (``x = Phi q``,
+    ``v = Phi q'``), applied by the engine during the run, and the maps from
+    ``[Re eta | Im eta]`` and from the load values to their accelerations
+    ``a = Phi (p - D q' - S q)``, applied on first access."""
+    m = basis.omega2.size
     kc, cc = couplings["coupling_k"], couplings["coupling_c"]
     S = np.diag(basis.omega2) + (0.0 if kc is None else kc)
     D = np.diag(basis.c) + (0.0 if cc is None else cc)
     tq, tv = modes.back[:, :m], modes.back[:, m:]
-    out_map = np.concatenate(
-        [tq @ phi_out.T, tv @ phi_out.T, -(tq @ S.T + tv @ D.T) @ phi_out.T], axis=1
-    )
-    out_loads = np.zeros((len(specs), 3 * n_out))
+    out_map = np.ascontiguousarray(np.concatenate([tq @ phi_out.T, tv @ phi_out.T], axis=1))
+    out_loads = np.zeros((len(specs), out_map.shape[1]))
+    acc_map = -(tq @ S.T + tv @ D.T) @ phi_out.T
+    acc_loads = np.zeros((len(specs), phi_out.shape[0]))
     for i, spec in enumerate(specs):
-        out_loads[i, 2 * n_out :] = phi_out @ spec[0]
-    return np.ascontiguousarray(out_map), out_loads
+        acc_loads[i] = phi_out @ spec[0]
+    return out_map, out_loads, acc_map, acc_loads
 
 
 def back_transform(
@@ -179,21 +182,31 @@ def back_transform(
     patterns: NDArray,
     modes: FirstOrderModes,
     couplings: dict[str, Any],
-) -> tuple[NDArray, NDArray, NDArray, ModalHistory]:
-    """``x``, ``v``, ``a`` (the engine mapped them during the run, load terms included) and
-    the modal history, whose ``q``, ``v`` are rebuilt from the first-order coordinates on
-    demand."""
+    acc_maps: tuple[NDArray, NDArray],
+) -> tuple[NDArray, NDArray, Callable[[], NDArray], ModalHistory]:
+    """``x``, ``v`` (the engine mapped them during the run), the accelerations as a function
+    evaluated on first access (load and forcing terms included), and the modal history,
+    whose ``q``, ``v`` are rebuilt from the first-order coordinates on demand."""
     n_out = phi_out.shape[0]
-    out = raw["out"]
+    out, eta = raw["out"], raw["eta"]
+    values, forcing = raw["load_values"], raw["forcing"]
+    acc_map, acc_loads = acc_maps
+
+    def acceleration() -> NDArray:
+        a = eta @ acc_map + values @ acc_loads
+        if forcing is not None:
+            a += forcing @ phi_out.T
+        return a
+
     modal = ModalHistory(
         q=None,
         v=None,
         omega=basis.omega,
         c=basis.c,
-        load_values=raw["load_values"],
+        load_values=values,
         patterns=patterns,
-        forcing=raw["forcing"],
-        first_order=(raw["eta"], modes.back),
+        forcing=forcing,
+        first_order=(eta, modes.back),
         coupling=(couplings["coupling_k"], couplings["coupling_c"]),
     )
-    return out[:, :n_out], out[:, n_out : 2 * n_out], out[:, 2 * n_out :], modal
+    return out[:, :n_out], out[:, n_out : 2 * n_out], acceleration, modal

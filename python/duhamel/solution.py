@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
 
@@ -171,7 +172,6 @@ class SolveStats:
         return self.steps * self.modes / self.wall_time if self.wall_time > 0 else float("inf")
 
 
-@dataclass(frozen=True)
 class Solution:
     """Response history of a structural model.
 
@@ -181,7 +181,8 @@ class Solution:
         Saved times.
     x, v, a : ndarray, shape (n_saved, n_out)
         Displacements, velocities and accelerations of the output degrees of freedom
-        (all, or those passed as ``dofs``).
+        (all, or those passed as ``dofs``). A coupled linear run (first-order modes) computes
+        ``a`` from its history on first access; the others compute it with ``x`` and ``v``.
     dofs : ndarray of int, shape (n_out,)
         Which degrees of freedom the columns of `x`, `v`, `a` are.
     modal : ModalHistory or None
@@ -189,6 +190,8 @@ class Solution:
         integrator); None for the direct integrators, which step the physical coordinates.
     stats : SolveStats
         Steps and timings.
+    meta : dict
+        The step and the integrator.
 
     Examples
     --------
@@ -199,14 +202,35 @@ class Solution:
     ((11, 1), np.float64(1.0))
     """
 
-    t: NDArray[np.float64]
-    x: NDArray[np.float64]
-    v: NDArray[np.float64]
-    a: NDArray[np.float64]
-    dofs: NDArray[np.int64]
-    modal: ModalHistory | None
-    stats: SolveStats
-    meta: dict[str, Any] = field(default_factory=dict)
+    def __init__(
+        self,
+        t: NDArray[np.float64],
+        x: NDArray[np.float64],
+        v: NDArray[np.float64],
+        a: NDArray[np.float64] | Callable[[], NDArray[np.float64]],
+        dofs: NDArray[np.int64],
+        modal: ModalHistory | None,
+        stats: SolveStats,
+        meta: dict[str, Any] | None = None,
+    ) -> None:
+        self.t = t
+        self.x = x
+        self.v = v
+        if callable(a):
+            self._a_source: Callable[[], NDArray[np.float64]] | None = a
+        else:
+            self._a_source = None
+            self.__dict__["a"] = a
+        self.dofs = dofs
+        self.modal = modal
+        self.stats = stats
+        self.meta = {} if meta is None else meta
+
+    @cached_property
+    def a(self) -> NDArray[np.float64]:
+        """Accelerations of the output degrees of freedom."""
+        assert self._a_source is not None
+        return self._a_source()
 
     def __repr__(self) -> str:
         return (

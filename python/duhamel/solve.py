@@ -304,7 +304,7 @@ def solve(
         fo = coupled[0]
         eta0 = fo.initial(q0, qd0)
         parts = [fo.lam.real, fo.lam.imag, fo.gain.real, fo.gain.imag, eta0.real, eta0.imag]
-        out_map, out_loads = output_maps(basis, phi[out_dofs, :], specs, *coupled)
+        out_map, out_loads, *acc_maps = output_maps(basis, phi[out_dofs, :], specs, *coupled)
         raw = _core.solve_coupled(
             *common,
             *(np.ascontiguousarray(x, dtype=np.float64).ravel() for x in parts),
@@ -353,10 +353,13 @@ def solve(
             )
             acc += raw["load_values"] @ (phi_out @ patterns).T
         else:
-            x, vel, acc, modal = back_transform(raw, basis, phi_out, patterns, *coupled)
-        for extra in ("forcing", "pseudo"):
-            if raw.get(extra) is not None:
-                acc += raw[extra] @ phi_out.T
+            x, vel, acc, modal = back_transform(
+                raw, basis, phi_out, patterns, *coupled, tuple(acc_maps)
+            )
+        if coupled is None:
+            for extra in ("forcing", "pseudo"):
+                if raw.get(extra) is not None:
+                    acc += raw[extra] @ phi_out.T
     solution = Solution(
         t=raw["t"],
         x=x,
