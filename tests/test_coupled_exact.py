@@ -18,6 +18,7 @@ import warnings
 
 import numpy as np
 import pytest
+import scipy.integrate
 import scipy.linalg as sla
 import scipy.sparse as sp
 
@@ -592,14 +593,25 @@ def _run(system, coupling="auto", **kw):
     return duhamel.solve(system, duhamel.Semianalytic(coupling=coupling), **kw)
 
 
-def test_nonlinear_element_falls_back_to_pseudo_force():
+def test_nonlinear_element_on_the_exact_background():
+    """Elements on a coupled system: the couplings stay exact (first-order modes), only the
+    element forces are pseudo-forces (scheme b, trapezoid); other schemes fall back."""
     system, _, _ = build_coupled("System(C=nonclassical)+LinearCoupling(K)")
     system.add(E.Cubic(0, 1e4))
     sol = _run(system)
-    assert sol.stats.coupling == "pseudo-force" and sol.stats.eigenvector_condition is None
+    assert sol.stats.coupling == "exact" and sol.stats.eigenvector_condition is not None
     assert sol.stats.newton_iterations > 0
-    with pytest.raises(ValueError, match="`coupling`"):
-        _run(system, "exact")
+    for opts in ({"scheme": "a"}, {"quadrature": "parabolic"}):
+        other = duhamel.solve(system, duhamel.Semianalytic(**opts), t_end=0.5, dt=0.05, x0=X0_5)
+        assert other.stats.coupling == "pseudo-force"
+        with pytest.raises(ValueError, match=r"`coupling`.*scheme='b'"):
+            duhamel.solve(
+                system,
+                duhamel.Semianalytic(coupling="exact", **opts),
+                t_end=0.5,
+                dt=0.05,
+                x0=X0_5,
+            )
     # Without couplings there is nothing to integrate exactly: no coupling route, no error.
     only_cubic = duhamel.System(M5, K5, rayleigh=RAYLEIGH).add(E.Cubic(0, 1e4))
     for coupling in ("auto", "exact", "pseudo-force"):
@@ -898,3 +910,75 @@ def test_pseudo_force_converges_to_exact_at_second_order(variant):
         assert sol.stats.coupling == "pseudo-force"
         errs.append(rel(sol.x[:: 2**k], exact.x))
     assert_order(f"pseudo-force -> exact [{variant}]", dts, errs, 2.0, 0.1)
+
+
+# --------------------------------------------------------------------------------------------
+# 13. Nonlinear elements on the exact coupled background
+# --------------------------------------------------------------------------------------------
+def _gyro_cubic():
+    """Two 2-dof 'disks' with gyroscopic and circulatory coupling and hardening cubic
+    springs on the first one, under a suddenly applied force."""
+    m = np.diag([1.0, 1.0, 0.5, 0.5])
+    k = np.array([[400.0, 0, -100, 0], [0, 400, 0, -100], [-100, 0, 300, 0], [0, -100, 0, 300]])
+    g = np.zeros((4, 4))
+    g[0, 1], g[1, 0], g[2, 3], g[3, 2] = 6.0, -6.0, 3.0, -3.0
+    kx = np.zeros((4, 4))
+    kx[0, 1], kx[1, 0] = 20.0, -20.0
+
+    def build():
+        s = duhamel.System(m, k, zeta=0.02)
+        s.add(E.LinearCoupling(K=kx, C=g))
+        s.add(E.Cubic(0, 5e4))
+        s.add(E.Cubic(1, 5e4))
+        return s.add_load(L.Step(0, 5.0))
+
+    basis = build().modal()
+    c = m @ basis.phi @ np.diag(basis.c) @ basis.phi.T @ m + g
+    minv = np.linalg.inv(m)
+
+    def rhs(t, y):
+        x, v = y[:4], y[4:]
+        f = np.array([5.0 - 5e4 * x[0] ** 3, -5e4 * x[1] ** 3, 0.0, 0.0])
+        return np.concatenate([v, minv @ (f - c @ v - (k + kx) @ x)])
+
+    return build, rhs
+
+
+def test_nonlinear_on_exact_background_converges_and_beats_the_pseudo_force_route():
+    build, rhs = _gyro_cubic()
+    x0 = np.array([0.05, 0.0, 0.0, 0.02])
+    t_end, dts = 3.0, [0.02, 0.01, 0.005, 0.0025]
+    errs = {"auto": [], "pseudo-force": []}
+    for dt in dts:
+        t = np.arange(round(t_end / dt) + 1) * dt
+        ref = scipy.integrate.solve_ivp(
+            rhs,
+            (0, t_end),
+            np.concatenate([x0, np.zeros(4)]),
+            method="DOP853",
+            rtol=1e-12,
+            atol=1e-14,
+            t_eval=t,
+        ).y
+        for route in errs:
+            sol = duhamel.solve(
+                build(), duhamel.Semianalytic(coupling=route), t_end=t_end, dt=dt, x0=x0
+            )
+            assert sol.stats.coupling == ("exact" if route == "auto" else "pseudo-force")
+            errs[route].append(rel(sol.x, ref[:4].T))
+            if route == "auto" and dt == dts[-1]:
+                # accelerations and the modal history satisfy the equations of motion
+                i = 77
+                y = np.concatenate([sol.x[i], sol.v[i]])
+                a_ref = rhs(sol.t[i], y)[4:]
+                assert np.abs(sol.a[i] - a_ref).max() <= 1e-12 * np.abs(sol.a).max()
+                phi = sol.modal.q @ build().modal().phi.T
+                assert np.abs(phi - sol.x).max() <= 1e-13 * np.abs(sol.x).max()
+    slope = np.polyfit(np.log(dts), np.log(errs["auto"]), 1)[0]
+    ratio = np.array(errs["pseudo-force"]) / np.array(errs["auto"])
+    print(
+        f"\ngyroscopic + cubic vs DOP853: exact background {np.array(errs['auto'])}, slope "
+        f"{slope:.3f}; pseudo-force route {np.array(errs['pseudo-force'])}; ratio {ratio}"
+    )
+    assert abs(slope - 2.0) < 0.1
+    assert np.all(ratio > 5.0)

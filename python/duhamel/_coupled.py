@@ -142,7 +142,7 @@ def keep_finite_rows(raw: dict[str, Any], n_out: int) -> None:
         return
     keep = int(np.argmin(finite))
     old = float(raw["t"][-1])
-    for key in ("t", "out", "eta", "load_values", "forcing"):
+    for key in ("t", "out", "eta", "load_values", "forcing", "pseudo"):
         if raw.get(key) is not None:
             raw[key] = raw[key][:keep]
     new = f"the history up to t = {float(raw['t'][-1])!r} is kept" if keep else "nothing is kept"
@@ -189,13 +189,14 @@ def back_transform(
     whose ``q``, ``v`` are rebuilt from the first-order coordinates on demand."""
     n_out = phi_out.shape[0]
     out, eta = raw["out"], raw["eta"]
-    values, forcing = raw["load_values"], raw["forcing"]
+    values, forcing, pseudo = raw["load_values"], raw["forcing"], raw.get("pseudo")
     acc_map, acc_loads = acc_maps
 
     def acceleration() -> NDArray:
         a = eta @ acc_map + values @ acc_loads
-        if forcing is not None:
-            a += forcing @ phi_out.T
+        for extra in (forcing, pseudo):
+            if extra is not None:
+                a += extra @ phi_out.T
         return a
 
     modal = ModalHistory(
@@ -206,6 +207,7 @@ def back_transform(
         load_values=values,
         patterns=patterns,
         forcing=forcing,
+        pseudo=pseudo,
         first_order=(eta, modes.back),
         coupling=(couplings["coupling_k"], couplings["coupling_c"]),
     )

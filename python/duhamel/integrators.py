@@ -63,16 +63,18 @@ class Semianalytic:
         "auto" solves a single-mode step with polynomial forces of degree <= 3 in closed form
         (the cubic of the paper); "newton" always iterates.
     coupling : {"auto", "exact", "pseudo-force"}
-        Modal couplings of a *linear* system — non-classical damping, gyroscopic and
-        cross-coupled (circulatory) terms, i.e. constant :class:`duhamel.elements.LinearCoupling`
+        Modal couplings — non-classical damping, gyroscopic and cross-coupled
+        (circulatory) terms, i.e. constant :class:`duhamel.elements.LinearCoupling`
         elements and a damping matrix that the modes do not diagonalise. "exact" integrates
-        the coupled system exactly in its first-order (complex) modes, like the uncoupled
-        one (docs/kernel.md); "pseudo-force" treats the couplings as the paper does, as
-        pseudo-forces (second order in ``dt``); "auto" (default) is "exact" when the system
-        is linear with constant couplings and its first-order eigenvectors are well
-        conditioned (condition number <= 1e10), "pseudo-force" otherwise (nonlinear
-        elements, a mass law, couplings scaled by a time-varying speed law, a nearly
-        defective system). ``solve`` raises ValueError when "exact" cannot be honoured.
+        the coupled linear background exactly in its first-order (complex) modes
+        (docs/coupled.md): a linear system is then exact like an uncoupled one, and with
+        nonlinear elements only the element forces are pseudo-forces (scheme "b",
+        "trapezoid" quadrature). "pseudo-force" treats the couplings as the paper does, as
+        pseudo-forces (second order in ``dt``). "auto" (default) is "exact" where it
+        applies and the first-order eigenvectors are well conditioned (condition number
+        <= 1e4), "pseudo-force" otherwise (a mass law, couplings scaled by a time-varying
+        speed law, another scheme or quadrature with elements, a nearly defective system).
+        ``solve`` raises ValueError when "exact" cannot be honoured.
 
     Examples
     --------

@@ -105,15 +105,14 @@ class ModalHistory:
     @cached_property
     def pseudo_force(self) -> NDArray[np.float64]:
         """Modal pseudo-force (elements, couplings, mass change) at the saved states."""
+        out = np.zeros_like(self.q) if self.pseudo is None else self.pseudo.copy()
         if self._coupling is not None:
             kc, cc = self._coupling
-            out = np.zeros_like(self.q)
             if kc is not None:
                 out -= self.q @ kc.T
             if cc is not None:
                 out -= self.v @ cc.T
-            return out
-        return np.zeros_like(self.q) if self.pseudo is None else self.pseudo
+        return out
 
     @cached_property
     def a(self) -> NDArray[np.float64]:
@@ -147,7 +146,8 @@ class SolveStats:
         semi-analytic integrator.
     coupling : str or None
         Semi-analytic integrator: how modal couplings (non-classical damping, gyroscopic
-        and cross-coupled terms) were integrated: "exact" (first-order modes), or
+        and cross-coupled terms) were integrated: "exact" (the first-order modes of the
+        coupled background; element forces, if any, as pseudo-forces on it), or
         "pseudo-force"; None when there were none (or for a direct integrator).
     eigenvector_condition : float or None
         For ``coupling == "exact"``: the 1-norm condition number ``kappa`` of the

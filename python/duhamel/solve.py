@@ -87,14 +87,13 @@ def _has_couplings(system: System, basis: ModalBasis) -> bool:
 
 
 def _constant_couplings_only(system: System, basis: ModalBasis) -> bool:
-    """Whether the system is linear with constant modal couplings (and has some): no mass
-    law, and every element a :class:`LinearCoupling` with a constant factor."""
+    """Whether the modal couplings are constant (no LinearCoupling scaled by a time-varying
+    speed law) and the mass too."""
     if system.mass_law is not None:
         return False
-    for element in system.elements:
-        if not isinstance(element, LinearCoupling) or element.constant_factor() is None:
-            return False
-    return bool(system.elements) or basis.c_coupling is not None
+    return all(
+        e.constant_factor() is not None for e in system.elements if isinstance(e, LinearCoupling)
+    )
 
 
 def _first_order(
@@ -104,12 +103,23 @@ def _first_order(
     route; raises when ``coupling="exact"`` cannot be honoured."""
     if integrator.coupling == "pseudo-force" or not _has_couplings(system, basis):
         return None
+    nonlinear = any(not isinstance(e, LinearCoupling) for e in system.elements)
+    why = None
     if not _constant_couplings_only(system, basis):
+        why = (
+            "needs constant couplings and mass: no mass law, no coupling scaled by a "
+            "time-varying speed law"
+        )
+    elif nonlinear and (integrator.scheme, integrator.quadrature) != ("b", "trapezoid"):
+        why = (
+            "with nonlinear elements needs scheme='b' and quadrature='trapezoid' (the element "
+            "forces on the exact coupled background)"
+        )
+    if why is not None:
         if integrator.coupling == "exact":
             raise ValueError(
-                "`coupling`='exact' needs a linear system whose couplings are constant: no "
-                "nonlinear elements, no mass law, no coupling scaled by a time-varying speed "
-                "law (those enter as pseudo-forces; use coupling='auto' or 'pseudo-force')"
+                f"`coupling`='exact' {why} (those cases enter as pseudo-forces; use "
+                "coupling='auto' or 'pseudo-force')"
             )
         return None
     couplings = _couplings(system, basis)
@@ -305,6 +315,7 @@ def solve(
         eta0 = fo.initial(q0, qd0)
         parts = [fo.lam.real, fo.lam.imag, fo.gain.real, fo.gain.imag, eta0.real, eta0.imag]
         out_map, out_loads, *acc_maps = output_maps(basis, phi[out_dofs, :], specs, *coupled)
+        element_specs = [e._spec() for e in system.elements if not isinstance(e, LinearCoupling)]
         raw = _core.solve_coupled(
             *common,
             *(np.ascontiguousarray(x, dtype=np.float64).ravel() for x in parts),
@@ -314,6 +325,11 @@ def solve(
             threads=threads,
             forcing=forcing,
             phi_t=phi_t,
+            phi=np.ascontiguousarray(phi) if element_specs else None,
+            elements=element_specs or None,
+            back=fo.back.ravel() if element_specs else None,
+            tol=float(integrator.tol),
+            max_iter=int(integrator.max_iter),
         )
     else:
         raw = _core.solve_nonlinear(

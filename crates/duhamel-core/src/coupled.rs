@@ -23,6 +23,7 @@ use faer::linalg::matmul::matmul;
 use faer::{Accum, MatMut, MatRef, Par};
 use num_complex::Complex64;
 
+use crate::coupled_step::{Corrector, Nonlinear};
 use crate::cphi;
 use crate::error::CoreError;
 use crate::linear::{check, LinearProblem};
@@ -243,13 +244,16 @@ type Job<'b> = (&'b [f64], Vec<f64>, &'b mut [f64]);
 ///
 /// With `outputs`, the saved rows are also mapped to outputs ([`History::out`]), block by
 /// block, on a second thread while the next block is stepped (unless `problem.threads` is
-/// 1 or the machine has one core).
+/// 1 or the machine has one core). With `nonlinear`, element forces enter every step as a
+/// pseudo-force on the exact coupled background ([`crate::coupled_step`]); the pseudo-force
+/// at the saved states is kept in [`History::pseudo`]. Also returns the Newton iterations.
 pub fn integrate(
     problem: &LinearProblem,
     modes: &FirstOrderModes,
     outputs: Option<&Outputs>,
+    nonlinear: Option<&Nonlinear>,
     mut forcing: Option<&mut dyn ModalForcing>,
-) -> Result<History, Box<Failure>> {
+) -> Result<(History, usize), Box<Failure>> {
     check(problem).map_err(|e| Box::new(Failure::from(e)))?;
     let m = problem.k.len();
     modes.check(m).map_err(|e| Box::new(Failure::from(e)))?;
@@ -260,9 +264,31 @@ pub fn integrate(
             .map_err(|e| Box::new(Failure::from(e)))?;
     }
     let co = Constants::new(problem, modes);
+    let mut corrector = match nonlinear {
+        Some(nl) => {
+            let lambda: Vec<Complex64> = (0..r).map(|k| modes.lambda(k)).collect();
+            let c = Corrector::new(
+                nl,
+                problem.k,
+                problem.c,
+                &lambda,
+                (modes.gain_re, modes.gain_im),
+                (modes.eta0_re, modes.eta0_im),
+                problem.dt,
+            )
+            .map_err(|e| Box::new(Failure::from(e)))?;
+            Some(c)
+        }
+        None => None,
+    };
     let mut loads = BlockLoads::raw(problem);
     let n_saved = loads.n_saved();
     let mut eta = zeroed(n_saved * 2 * r)?;
+    let mut pseudo = if corrector.is_some() {
+        zeroed(n_saved * m)?
+    } else {
+        Vec::new()
+    };
     let n_cols = outputs.map_or(0, |o| o.n_cols);
     let mut out = zeroed(n_saved * n_cols)?;
     let threads = problem
@@ -294,7 +320,15 @@ pub fn integrate(
             let rows = loads.slot.iter().flatten().count();
             let (eta_blk, tail) = std::mem::take(&mut eta_rest).split_at_mut(rows * 2 * r);
             eta_rest = tail;
-            let failed = stepper.block(problem, modes, &co, &loads, n0, row0, eta_blk);
+            let failed = stepper.block(
+                problem,
+                modes,
+                &co,
+                &loads,
+                (n0, row0),
+                eta_blk,
+                corrector.as_mut().map(|c| (c, &mut pseudo[..])),
+            );
             if let Some(o) = outputs {
                 let (out_blk, tail) = std::mem::take(&mut out_rest).split_at_mut(rows * n_cols);
                 out_rest = tail;
@@ -315,7 +349,8 @@ pub fn integrate(
         }
         None
     });
-    let mut result = loads.finish_first_order(m, eta, failure);
+    let iterations = corrector.as_ref().map_or(0, |c| c.iterations);
+    let mut result = loads.finish_first_order(m, eta, pseudo, failure);
     // Attach the outputs (truncated like the rest on failure).
     match &mut result {
         Ok(h) => h.out = out,
@@ -325,7 +360,7 @@ pub fn integrate(
             f.partial.out = out;
         }
     }
-    result
+    result.map(|h| (h, iterations))
 }
 
 /// The stepping state: current coordinates and per-step work arrays.
@@ -359,9 +394,9 @@ impl Stepper {
         modes: &FirstOrderModes,
         co: &Constants,
         loads: &BlockLoads,
-        n0: usize,
-        row0: usize,
+        (n0, row0): (usize, usize),
         eta: &mut [f64],
+        mut nonlinear: Option<(&mut Corrector, &mut [f64])>,
     ) -> Option<(CoreError, usize)> {
         let r = self.xr.len();
         let m = problem.k.len();
@@ -417,6 +452,13 @@ impl Stepper {
                 let row = &mut eta[(slot - row0) * 2 * r..][..2 * r];
                 row[..r].copy_from_slice(xr);
                 row[r..].copy_from_slice(xi);
+                if let Some((c, pseudo)) = nonlinear.as_mut() {
+                    // The element pseudo-force at the saved state (for the accelerations).
+                    let t = (n0 + s) as f64 * problem.dt;
+                    if let Err(e) = c.at_state(xr, xi, t, &mut pseudo[slot * m..][..m]) {
+                        return Some((e, n0 + s));
+                    }
+                }
             }
             if s == len {
                 break;
@@ -444,6 +486,25 @@ impl Stepper {
             while i0 < r {
                 finite &= advance::<1>(xr, xi, i0, &co.e, &terms);
                 i0 += 1;
+            }
+            if let (true, Some((c, _))) = (finite, nonlinear.as_mut()) {
+                let t = (n0 + s) as f64 * problem.dt;
+                if let Err(e) = c.correct(t, xr, xi) {
+                    let step = n0 + s + 1;
+                    // A residual that is no longer finite is a diverging response.
+                    let e = match e {
+                        CoreError::NoConvergence { residual, .. } if !residual.is_finite() => {
+                            CoreError::NonFinite {
+                                time: step as f64 * problem.dt,
+                                step,
+                                last_good_time: (step - 1) as f64 * problem.dt,
+                            }
+                        }
+                        other => other,
+                    };
+                    return Some((e, step));
+                }
+                finite = xr.iter().chain(xi.iter()).all(|x| x.is_finite());
             }
             if !finite {
                 let step = n0 + s + 1;
@@ -519,7 +580,7 @@ mod tests {
             loads: &[0.0; 4],
             n_cols: 2,
         };
-        let h = integrate(&problem, &modes, Some(&outputs), None).unwrap();
+        let (h, _) = integrate(&problem, &modes, Some(&outputs), None, None).unwrap();
         let reference = linear::integrate(&problem, None).unwrap();
         assert_eq!(h.t, reference.t);
         for (s, row) in h.out.chunks_exact(2).enumerate() {

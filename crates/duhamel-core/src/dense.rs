@@ -64,6 +64,68 @@ fn eliminate(n: usize, m: &mut [f64], b: &mut [f64]) -> bool {
     b.iter().all(|v| v.is_finite())
 }
 
+/// An LU factorisation with partial pivoting of a row-major `n x n` matrix, kept to solve
+/// with it again (a modified Newton iteration reuses it over iterations and steps).
+#[derive(Debug, Clone, Default)]
+pub struct DenseLu {
+    n: usize,
+    lu: Vec<f64>,
+    piv: Vec<usize>,
+}
+
+impl DenseLu {
+    /// Factorises `a`; `None` when it is numerically singular.
+    pub fn factor(n: usize, a: &[f64]) -> Option<Self> {
+        debug_assert_eq!(a.len(), n * n);
+        let mut lu = a.to_vec();
+        let mut piv: Vec<usize> = (0..n).collect();
+        for k in 0..n {
+            let (p, pivot) = (k..n)
+                .map(|i| (i, lu[i * n + k].abs()))
+                .fold((k, -1.0), |best, c| if c.1 > best.1 { c } else { best });
+            if pivot.is_nan() || pivot <= 0.0 || pivot.is_infinite() {
+                return None;
+            }
+            if p != k {
+                for j in 0..n {
+                    lu.swap(k * n + j, p * n + j);
+                }
+                piv.swap(k, p);
+            }
+            let inv = 1.0 / lu[k * n + k];
+            for i in k + 1..n {
+                let f = lu[i * n + k] * inv;
+                lu[i * n + k] = f;
+                if f != 0.0 {
+                    for j in k + 1..n {
+                        lu[i * n + j] -= f * lu[k * n + j];
+                    }
+                }
+            }
+        }
+        Some(DenseLu { n, lu, piv })
+    }
+
+    /// Solves `a x = b` in place of `b` (`work`: scratch of length `n`); false if the
+    /// solution is not finite.
+    pub fn solve(&self, b: &mut [f64], work: &mut [f64]) -> bool {
+        let n = self.n;
+        for (w, &p) in work.iter_mut().zip(&self.piv) {
+            *w = b[p];
+        }
+        for i in 0..n {
+            let s: f64 = (0..i).map(|j| self.lu[i * n + j] * work[j]).sum();
+            work[i] -= s;
+        }
+        for i in (0..n).rev() {
+            let s: f64 = (i + 1..n).map(|j| self.lu[i * n + j] * work[j]).sum();
+            work[i] = (work[i] - s) / self.lu[i * n + i];
+        }
+        b[..n].copy_from_slice(&work[..n]);
+        b.iter().all(|v| v.is_finite())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -80,6 +142,26 @@ mod tests {
             assert!((ri - bi).abs() < 1e-14);
         }
         assert!(!solve_in_place(2, &[1.0, 2.0, 2.0, 4.0], &mut [1.0, 1.0]));
+    }
+
+    #[test]
+    fn kept_factorisation_solves_like_elimination() {
+        let n = 6;
+        let a: Vec<f64> = (0..n * n)
+            .map(|k| ((k * 13 % 7) as f64 - 3.0) + if k % (n + 1) == 0 { 0.5 } else { 0.0 })
+            .collect();
+        let lu = DenseLu::factor(n, &a).expect("regular");
+        let mut work = vec![0.0; n];
+        for seed in 0..3 {
+            let rhs: Vec<f64> = (0..n).map(|i| ((i + seed) as f64).cos()).collect();
+            let (mut x, mut y) = (rhs.clone(), rhs.clone());
+            assert!(lu.solve(&mut x, &mut work));
+            assert!(solve_in_place(n, &a, &mut y));
+            for (xi, yi) in x.iter().zip(&y) {
+                assert!((xi - yi).abs() < 1e-12 * (1.0 + yi.abs()));
+            }
+        }
+        assert!(DenseLu::factor(2, &[1.0, 2.0, 2.0, 4.0]).is_none());
     }
 
     #[test]

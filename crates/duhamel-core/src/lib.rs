@@ -4,6 +4,7 @@
 //! Pure Rust, no Python: the numerical engine behind the `duhamel` Python package.
 
 pub mod coupled;
+pub mod coupled_step;
 pub mod cphi;
 pub mod cubic;
 pub mod dense;

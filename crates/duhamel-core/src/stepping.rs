@@ -264,9 +264,10 @@ impl BlockLoads {
         self,
         n_modes: usize,
         eta: Vec<f64>,
+        pseudo: Vec<f64>,
         failure: Option<(CoreError, usize)>,
     ) -> Result<History, Box<Failure>> {
-        self.finish_with_eta(n_modes, Vec::new(), Vec::new(), Vec::new(), eta, failure)
+        self.finish_with_eta(n_modes, Vec::new(), Vec::new(), pseudo, eta, failure)
     }
 
     fn finish_with_eta(

@@ -1,11 +1,14 @@
 //! Binding of the coupled linear engine (first-order complex modes).
 
 use duhamel_core::coupled::{self, FirstOrderModes, Outputs};
+use duhamel_core::coupled_step::Nonlinear;
+use duhamel_core::elements::Element;
 use duhamel_core::linear::{LinearProblem, ModalForcing};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::run::{finish, modal_inputs, PyForcing};
+use crate::elements;
+use crate::run::{finish_run, modal_inputs, PyForcing};
 use crate::vec_of;
 
 /// Integrates a linear system with modal couplings (non-classical damping, gyroscopic and
@@ -18,9 +21,13 @@ use crate::vec_of;
 /// `solve_linear` with `eta` (`(n_saved, 2 r)`: real parts, then imaginary parts) instead of
 /// `q` and `v` (None). With `out_map` (`2 r x n_out`, flattened) and `out_loads`
 /// (`n_loads x n_out`), also `out` (`(n_saved, n_out)`): `[Re eta | Im eta] @ out_map +
-/// load_values @ out_loads`, computed during the run.
+/// load_values @ out_loads`, computed during the run. With `elements` (specs as for
+/// `solve_nonlinear`), `phi` (`(n_dof, n_modes)`) and `back` (`2 r x 2 n_modes`: `[Re eta |
+/// Im eta] @ back = [q | v]`), the elements' forces enter as a pseudo-force (scheme b,
+/// trapezoid, Newton with `tol`, `max_iter`); `pseudo` then holds it at the saved states and
+/// `stats` the Newton iterations.
 #[pyfunction]
-#[pyo3(signature = (k, c, q0, v0, loads, dt, n_steps, save_every, lambda_re, lambda_im, gain_re, gain_im, eta0_re, eta0_im, out_map=None, out_loads=None, n_out=0, threads=None, forcing=None, phi_t=None))]
+#[pyo3(signature = (k, c, q0, v0, loads, dt, n_steps, save_every, lambda_re, lambda_im, gain_re, gain_im, eta0_re, eta0_im, out_map=None, out_loads=None, n_out=0, threads=None, forcing=None, phi_t=None, phi=None, elements=None, back=None, tol=1e-10, max_iter=25))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn solve_coupled<'py>(
     py: Python<'py>,
@@ -44,6 +51,11 @@ pub(crate) fn solve_coupled<'py>(
     threads: Option<usize>,
     forcing: Option<Py<PyAny>>,
     phi_t: Option<&Bound<'py, PyAny>>,
+    phi: Option<&Bound<'py, PyAny>>,
+    elements: Option<&Bound<'py, PyAny>>,
+    back: Option<&Bound<'py, PyAny>>,
+    tol: f64,
+    max_iter: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (k, c, q0, v0, loads) = modal_inputs(k, c, q0, v0, loads)?;
     let lambda_re = vec_of(lambda_re, "lambda_re")?;
@@ -82,9 +94,33 @@ pub(crate) fn solve_coupled<'py>(
         }),
         _ => None,
     };
+    let phi_v = phi
+        .map(|p| vec_of(&p.call_method0("ravel")?, "phi"))
+        .transpose()?;
+    let back_v = back
+        .map(|b| vec_of(&b.call_method0("ravel")?, "back"))
+        .transpose()?;
+    let (boxed, python) = match elements {
+        Some(e) => elements::parse(e)?,
+        None => Default::default(),
+    };
+    let refs: Vec<&dyn Element> = boxed.iter().map(|b| b.as_ref()).collect();
+    let nonlinear = match (&phi_v, &back_v, refs.is_empty()) {
+        (Some(phi), Some(back), false) => Some(Nonlinear {
+            phi,
+            n_dof: phi.len().checked_div(k.len()).unwrap_or(0),
+            elements: &refs,
+            back,
+            tol,
+            max_iter,
+        }),
+        _ => None,
+    };
     let result = py.detach(|| {
         let f = py_forcing.as_mut().map(|f| f as &mut dyn ModalForcing);
-        coupled::integrate(&problem, &modes, outputs.as_ref(), f)
+        coupled::integrate(&problem, &modes, outputs.as_ref(), nonlinear.as_ref(), f)
     });
-    finish(py, result, py_forcing.and_then(|f| f.error))
+    finish_run(py, result, py_forcing, &python, |iterations, st| {
+        st.set_item("newton_iterations", iterations)
+    })
 }

@@ -3,7 +3,7 @@
 //! forces, linear couplings (non-classical damping, cross-coupled and gyroscopic terms),
 //! time-varying mass — enters as a modal pseudo-force approximated over the step.
 
-mod pseudo;
+pub(crate) mod pseudo;
 mod scalar;
 mod scheme;
 mod step;

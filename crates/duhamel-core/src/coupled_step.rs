@@ -1,0 +1,357 @@
+//! Nonlinear forces on top of the exact coupled background: the step correction of the
+//! first-order (complex) modes by the pseudo-force of the elements.
+//!
+//! Over a step the coupled linear background (non-classical damping, gyroscopic and
+//! circulatory terms) is integrated exactly in its first-order modes ([`crate::coupled`]);
+//! only the element forces `Q = -Phi^T r(Phi q, Phi q', t)` enter as a pseudo-force, with the
+//! paper's scheme b (displacement linear from `q0` to `q1`, velocity `(q1 - q0)/dt`) and the
+//! trapezoidal rule (`Q` linear in time between its values at the step's ends):
+//!
+//! ```text
+//! eta_k(1) = eta_lin_k + w_a(lambda_k) g_k . Q(q0, vb, t) + w_b(lambda_k) g_k . Q(q1, vb, t + dt)
+//! ```
+//!
+//! with `w_a = int e^(lambda (dt - s)) (1 - s/dt) ds`, `w_b = int e^(lambda (dt - s)) s/dt ds`
+//! and `vb = (q1 - q0)/dt`. The unknown is `q1` (the real modal displacements at the step's
+//! end, linear in `eta`): `R(q1) = q1 - q1_lin - H_a Q0 - H_b Q1 = 0` is solved by Newton with
+//! the elements' tangents, `H_a`, `H_b` (`m x m`) being what a unit modal load does to `q1`.
+
+use num_complex::Complex64;
+
+use crate::cphi;
+use crate::dense::DenseLu;
+use crate::elements::Element;
+use crate::error::CoreError;
+use crate::semianalytic::pseudo::{Jacobian, PseudoForce};
+
+/// The nonlinear part of a coupled problem.
+pub struct Nonlinear<'a> {
+    /// Mode shapes, `n_dof x n_modes` row-major (mass-normalised).
+    pub phi: &'a [f64],
+    /// Number of physical degrees of freedom.
+    pub n_dof: usize,
+    /// Force elements.
+    pub elements: &'a [&'a dyn Element],
+    /// `[Re eta | Im eta] @ back = [q | q']`, `2 r x 2 m` row-major.
+    pub back: &'a [f64],
+    /// Relative tolerance of the Newton updates.
+    pub tol: f64,
+    /// Newton iterations per step before giving up.
+    pub max_iter: usize,
+}
+
+/// The per-run state of the correction.
+pub(crate) struct Corrector<'a> {
+    pf: PseudoForce<'a>,
+    m: usize,
+    r: usize,
+    dt: f64,
+    back: &'a [f64],
+    /// `w_a g_k`, `w_b g_k` per first-order mode (`r x m` complex, row-major).
+    ga: Vec<Complex64>,
+    gb: Vec<Complex64>,
+    /// `H_a`, `H_b`: `q1` per unit modal load at the start / end (`m x m`, row-major).
+    ha: Vec<f64>,
+    hb: Vec<f64>,
+    tol: f64,
+    max_iter: usize,
+    /// Current modal displacement (the step's start).
+    pub q: Vec<f64>,
+    /// The last step's end pseudo-force (the next step's first guess).
+    last: Vec<f64>,
+    /// Newton iterations over the run.
+    pub iterations: usize,
+    zeros: Vec<f64>,
+    work: Work,
+    /// The factorised iteration matrix, kept over iterations and steps (modified Newton);
+    /// refreshed when the iteration contracts slowly.
+    lu: Option<DenseLu>,
+    /// How many times it was factorised.
+    pub factorizations: usize,
+}
+
+struct Work {
+    q1: Vec<f64>,
+    q1_lin: Vec<f64>,
+    vb: Vec<f64>,
+    f0: Vec<f64>,
+    f1: Vec<f64>,
+    j0: Jacobian,
+    j1: Jacobian,
+    mat: Vec<f64>,
+    rhs: Vec<f64>,
+    scratch: Vec<f64>,
+    v: Vec<f64>,
+}
+
+impl<'a> Corrector<'a> {
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(
+        nl: &Nonlinear<'a>,
+        k: &'a [f64],
+        c: &'a [f64],
+        lambda: &[Complex64],
+        gain: (&[f64], &[f64]),
+        eta0: (&[f64], &[f64]),
+        dt: f64,
+    ) -> Result<Self, CoreError> {
+        let (m, r) = (k.len(), lambda.len());
+        if nl.back.len() != 4 * r * m {
+            return Err(CoreError::LengthMismatch {
+                name: "back",
+                got: nl.back.len(),
+                expected: 4 * r * m,
+            });
+        }
+        if !(nl.tol.is_finite() && nl.tol > 0.0) || nl.max_iter == 0 {
+            return Err(CoreError::InvalidInput {
+                name: "tol",
+                problem: "must be positive (and `max_iter` at least 1)".into(),
+            });
+        }
+        let pf = PseudoForce::new(nl.phi, nl.n_dof, nl.elements, None, None, &[], None, k, c)?;
+        let mut ga = Vec::with_capacity(r * m);
+        let mut gb = Vec::with_capacity(r * m);
+        for (kk, &lam) in lambda.iter().enumerate() {
+            let mu = cphi::moments(lam, dt);
+            let (wa, wb) = (mu[0] - mu[1], mu[1]);
+            for i in 0..m {
+                let g = Complex64::new(gain.0[kk * m + i], gain.1[kk * m + i]);
+                ga.push(wa * g);
+                gb.push(wb * g);
+            }
+        }
+        let h = |gw: &[Complex64]| {
+            let mut out = vec![0.0; m * m];
+            for kk in 0..r {
+                let (re_row, im_row) = (
+                    &nl.back[kk * 2 * m..][..m],
+                    &nl.back[(r + kk) * 2 * m..][..m],
+                );
+                for j in 0..m {
+                    let x = gw[kk * m + j];
+                    for i in 0..m {
+                        out[i * m + j] += x.re * re_row[i] + x.im * im_row[i];
+                    }
+                }
+            }
+            out
+        };
+        let (ha, hb) = (h(&ga), h(&gb));
+        let mut corrector = Corrector {
+            pf,
+            m,
+            r,
+            dt,
+            back: nl.back,
+            ga,
+            gb,
+            ha,
+            hb,
+            tol: nl.tol,
+            max_iter: nl.max_iter,
+            q: vec![0.0; m],
+            last: vec![0.0; m],
+            iterations: 0,
+            zeros: vec![0.0; m],
+            lu: None,
+            factorizations: 0,
+            work: Work {
+                q1: vec![0.0; m],
+                q1_lin: vec![0.0; m],
+                vb: vec![0.0; m],
+                f0: vec![0.0; m],
+                f1: vec![0.0; m],
+                j0: Jacobian::new(m),
+                j1: Jacobian::new(m),
+                mat: vec![0.0; m * m],
+                rhs: vec![0.0; m],
+                scratch: vec![0.0; m],
+                v: vec![0.0; m],
+            },
+        };
+        let mut q = vec![0.0; m];
+        corrector.map(eta0.0, eta0.1, 0, &mut q);
+        corrector.q = q;
+        Ok(corrector)
+    }
+
+    /// `part` 0: `q`, 1: `q'` of the first-order coordinates `(re, im)`.
+    pub(crate) fn map(&self, re: &[f64], im: &[f64], part: usize, out: &mut [f64]) {
+        let (m, r) = (self.m, self.r);
+        out.fill(0.0);
+        for kk in 0..r {
+            let (a, b) = (re[kk], im[kk]);
+            let row_re = &self.back[kk * 2 * m + part * m..][..m];
+            let row_im = &self.back[(r + kk) * 2 * m + part * m..][..m];
+            for i in 0..m {
+                out[i] += a * row_re[i] + b * row_im[i];
+            }
+        }
+    }
+
+    /// The element pseudo-force at the state of the first-order coordinates `(re, im)` and
+    /// time `t` into `out`.
+    pub(crate) fn at_state(
+        &mut self,
+        re: &[f64],
+        im: &[f64],
+        t: f64,
+        out: &mut [f64],
+    ) -> Result<(), CoreError> {
+        let (mut q, mut v) = (
+            std::mem::take(&mut self.work.q1_lin),
+            std::mem::take(&mut self.work.v),
+        );
+        self.map(re, im, 0, &mut q);
+        self.map(re, im, 1, &mut v);
+        let result = self.pf.at_state(&q, &v, t, &self.zeros, out);
+        self.work.q1_lin = q;
+        self.work.v = v;
+        result
+    }
+
+    /// Corrects the linear step `eta_lin` (in `re`, `im`) of the step `[t, t + dt]` into the
+    /// step's end; returns the Newton iterations.
+    pub(crate) fn correct(
+        &mut self,
+        t: f64,
+        re: &mut [f64],
+        im: &mut [f64],
+    ) -> Result<usize, CoreError> {
+        let (m, dt) = (self.m, self.dt);
+        let mut w = std::mem::replace(
+            &mut self.work,
+            Work {
+                q1: Vec::new(),
+                q1_lin: Vec::new(),
+                vb: Vec::new(),
+                f0: Vec::new(),
+                f1: Vec::new(),
+                j0: Jacobian::new(0),
+                j1: Jacobian::new(0),
+                mat: Vec::new(),
+                rhs: Vec::new(),
+                scratch: Vec::new(),
+                v: Vec::new(),
+            },
+        );
+        let result = self.newton(t, re, im, &mut w);
+        self.work = w;
+        let iters = result?;
+        // The step's end from the converged displacement: both pseudo-forces there.
+        let w = &mut self.work;
+        for i in 0..m {
+            w.vb[i] = (w.q1[i] - self.q[i]) / dt;
+        }
+        self.pf
+            .eval(&self.q, &w.vb, t, &self.zeros, None, &mut w.f0, None)?;
+        self.pf.set_left_limit(true);
+        let end = self
+            .pf
+            .eval(&w.q1, &w.vb, t + dt, &self.zeros, None, &mut w.f1, None);
+        self.pf.set_left_limit(false);
+        end?;
+        for kk in 0..self.r {
+            let mut x = Complex64::new(0.0, 0.0);
+            for i in 0..m {
+                x += self.ga[kk * m + i] * w.f0[i] + self.gb[kk * m + i] * w.f1[i];
+            }
+            re[kk] += x.re;
+            im[kk] += x.im;
+        }
+        self.last.copy_from_slice(&w.f1);
+        let mut q = std::mem::take(&mut self.q);
+        self.map(re, im, 0, &mut q);
+        self.q = q;
+        Ok(iters)
+    }
+
+    fn newton(&mut self, t: f64, re: &[f64], im: &[f64], w: &mut Work) -> Result<usize, CoreError> {
+        let (m, dt) = (self.m, self.dt);
+        self.map(re, im, 0, &mut w.q1_lin);
+        // First guess: the linear step plus the last pseudo-force held over the step.
+        for i in 0..m {
+            w.q1[i] = w.q1_lin[i]
+                + (0..m)
+                    .map(|j| (self.ha[i * m + j] + self.hb[i * m + j]) * self.last[j])
+                    .sum::<f64>();
+        }
+        let mut residual = f64::INFINITY;
+        let mut refresh = self.lu.is_none();
+        let mut previous = f64::INFINITY;
+        for it in 1..=self.max_iter {
+            for i in 0..m {
+                w.vb[i] = (w.q1[i] - self.q[i]) / dt;
+            }
+            let (j0, j1) = if refresh {
+                (Some(&mut w.j0), Some(&mut w.j1))
+            } else {
+                (None, None)
+            };
+            self.pf
+                .eval(&self.q, &w.vb, t, &self.zeros, None, &mut w.f0, j0)?;
+            self.pf.set_left_limit(true);
+            let end = self
+                .pf
+                .eval(&w.q1, &w.vb, t + dt, &self.zeros, None, &mut w.f1, j1);
+            self.pf.set_left_limit(false);
+            end?;
+            // R = q1 - q1_lin - Ha f0 - Hb f1
+            for i in 0..m {
+                let mut ri = w.q1[i] - w.q1_lin[i];
+                for j in 0..m {
+                    ri -= self.ha[i * m + j] * w.f0[j] + self.hb[i * m + j] * w.f1[j];
+                }
+                w.rhs[i] = -ri;
+            }
+            residual = w.rhs.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+            if refresh {
+                // J = I - Ha (C0 / dt) - Hb (K1 + C1 / dt)
+                for i in 0..m {
+                    for j in 0..m {
+                        let mut s = 0.0;
+                        for l in 0..m {
+                            s += self.ha[i * m + l] * w.j0.cq[l * m + j] / dt
+                                + self.hb[i * m + l]
+                                    * (w.j1.kq[l * m + j] + w.j1.cq[l * m + j] / dt);
+                        }
+                        w.mat[i * m + j] = if i == j { 1.0 } else { 0.0 } - s;
+                    }
+                }
+                self.lu = DenseLu::factor(m, &w.mat);
+                self.factorizations += 1;
+                refresh = false;
+            }
+            let Some(lu) = self.lu.as_ref() else { break };
+            if !lu.solve(&mut w.rhs, &mut w.scratch) {
+                break;
+            }
+            let mut step = 0.0_f64;
+            let mut size = 0.0_f64;
+            for i in 0..m {
+                w.q1[i] += w.rhs[i];
+                step = step.max(w.rhs[i].abs());
+                size = size.max(w.q1[i].abs());
+            }
+            self.iterations += 1;
+            if !step.is_finite() {
+                break;
+            }
+            if step <= self.tol * size || step == 0.0 {
+                return Ok(it);
+            }
+            // A slowly contracting iteration: the kept tangent is stale, refresh it.
+            if step > 0.1 * previous {
+                refresh = true;
+            }
+            previous = step;
+        }
+        Err(CoreError::NoConvergence {
+            time: t + dt,
+            residual,
+            iterations: self.max_iter,
+            last_good_time: t,
+        })
+    }
+}
