@@ -25,8 +25,9 @@ at least as accurate as the ROSS path, and timed over the same 10 s.
 
 **Rub.** The same rotor and unbalance, plus a ``duhamel.elements.Contact`` at the disk of
 node 2 (radial clearance 80 um, stiffness 5e7 N/m, friction 0.1): the disk rubs from the
-first revolution. duhamel (``Semianalytic`` with all 28 modes, 20 and 12; ``Newmark``,
-implicit) is compared with the lagged-force Newmark that ROSS uses for nonlinear forces: ROSS's
+first revolution. duhamel (``Semianalytic`` with all 28 modes, 20 and 12: the contact force a
+pseudo-force on the exactly integrated gyroscopic background; ``Newmark``, implicit) is
+compared with the lagged-force Newmark that ROSS uses for nonlinear forces: ROSS's
 own ``run_time_response(method="newmark", add_to_RHS=...)`` evaluates the extra force at the
 state of the previous step (the same contact law, written in Python), and a numpy
 implementation of the same lagged scheme with a consistent initial acceleration (ROSS starts
