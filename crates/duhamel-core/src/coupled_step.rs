@@ -70,6 +70,7 @@ pub(crate) struct Corrector<'a> {
     pub factorizations: usize,
 }
 
+#[derive(Default)]
 struct Work {
     q1: Vec<f64>,
     q1_lin: Vec<f64>,
@@ -219,39 +220,23 @@ impl<'a> Corrector<'a> {
         re: &mut [f64],
         im: &mut [f64],
     ) -> Result<usize, CoreError> {
-        let (m, dt) = (self.m, self.dt);
-        let mut w = std::mem::replace(
-            &mut self.work,
-            Work {
-                q1: Vec::new(),
-                q1_lin: Vec::new(),
-                vb: Vec::new(),
-                f0: Vec::new(),
-                f1: Vec::new(),
-                j0: Jacobian::new(0),
-                j1: Jacobian::new(0),
-                mat: Vec::new(),
-                rhs: Vec::new(),
-                scratch: Vec::new(),
-                v: Vec::new(),
-            },
-        );
-        let result = self.newton(t, re, im, &mut w);
+        let mut w = std::mem::take(&mut self.work);
+        let result = self.correct_with(t, re, im, &mut w);
         self.work = w;
-        let iters = result?;
+        result
+    }
+
+    fn correct_with(
+        &mut self,
+        t: f64,
+        re: &mut [f64],
+        im: &mut [f64],
+        w: &mut Work,
+    ) -> Result<usize, CoreError> {
+        let m = self.m;
+        let iters = self.newton(t, re, im, w)?;
         // The step's end from the converged displacement: both pseudo-forces there.
-        let w = &mut self.work;
-        for i in 0..m {
-            w.vb[i] = (w.q1[i] - self.q[i]) / dt;
-        }
-        self.pf
-            .eval(&self.q, &w.vb, t, &self.zeros, None, &mut w.f0, None)?;
-        self.pf.set_left_limit(true);
-        let end = self
-            .pf
-            .eval(&w.q1, &w.vb, t + dt, &self.zeros, None, &mut w.f1, None);
-        self.pf.set_left_limit(false);
-        end?;
+        self.ends(t, w, false)?;
         for kk in 0..self.r {
             let mut x = Complex64::new(0.0, 0.0);
             for i in 0..m {
@@ -265,6 +250,30 @@ impl<'a> Corrector<'a> {
         self.map(re, im, 0, &mut q);
         self.q = q;
         Ok(iters)
+    }
+
+    /// The pseudo-force at the step's start and end along scheme b for the end displacement
+    /// `w.q1` (into `w.f0`, `w.f1`; with `tangents`, their tangents into `w.j0`, `w.j1`).
+    fn ends(&mut self, t: f64, w: &mut Work, tangents: bool) -> Result<(), CoreError> {
+        let dt = self.dt;
+        for ((vb, q1), q0) in w.vb.iter_mut().zip(&w.q1).zip(&self.q) {
+            *vb = (q1 - q0) / dt;
+        }
+        let (j0, j1) = if tangents {
+            (Some(&mut w.j0), Some(&mut w.j1))
+        } else {
+            (None, None)
+        };
+        self.pf
+            .eval(&self.q, &w.vb, t, &self.zeros, None, &mut w.f0, j0)?;
+        // The end of the step: a mass law's derivative from the left (none here, but the
+        // pseudo-force keeps the convention).
+        self.pf.set_left_limit(true);
+        let end = self
+            .pf
+            .eval(&w.q1, &w.vb, t + dt, &self.zeros, None, &mut w.f1, j1);
+        self.pf.set_left_limit(false);
+        end
     }
 
     fn newton(&mut self, t: f64, re: &[f64], im: &[f64], w: &mut Work) -> Result<usize, CoreError> {
@@ -281,22 +290,7 @@ impl<'a> Corrector<'a> {
         let mut refresh = self.lu.is_none();
         let mut previous = f64::INFINITY;
         for it in 1..=self.max_iter {
-            for i in 0..m {
-                w.vb[i] = (w.q1[i] - self.q[i]) / dt;
-            }
-            let (j0, j1) = if refresh {
-                (Some(&mut w.j0), Some(&mut w.j1))
-            } else {
-                (None, None)
-            };
-            self.pf
-                .eval(&self.q, &w.vb, t, &self.zeros, None, &mut w.f0, j0)?;
-            self.pf.set_left_limit(true);
-            let end = self
-                .pf
-                .eval(&w.q1, &w.vb, t + dt, &self.zeros, None, &mut w.f1, j1);
-            self.pf.set_left_limit(false);
-            end?;
+            self.ends(t, w, refresh)?;
             // R = q1 - q1_lin - Ha f0 - Hb f1
             for i in 0..m {
                 let mut ri = w.q1[i] - w.q1_lin[i];

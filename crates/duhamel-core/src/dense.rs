@@ -34,12 +34,9 @@ pub fn solve_in_place(n: usize, a: &[f64], b: &mut [f64]) -> bool {
 /// Gaussian elimination with partial pivoting, in place (`m` is overwritten).
 fn eliminate(n: usize, m: &mut [f64], b: &mut [f64]) -> bool {
     for k in 0..n {
-        let (p, pivot) = (k..n)
-            .map(|i| (i, m[i * n + k].abs()))
-            .fold((k, -1.0), |best, c| if c.1 > best.1 { c } else { best });
-        if pivot.is_nan() || pivot <= 0.0 || pivot.is_infinite() {
+        let Some(p) = pivot_row(m, n, k) else {
             return false;
-        }
+        };
         if p != k {
             for j in 0..n {
                 m.swap(k * n + j, p * n + j);
@@ -64,6 +61,15 @@ fn eliminate(n: usize, m: &mut [f64], b: &mut [f64]) -> bool {
     b.iter().all(|v| v.is_finite())
 }
 
+/// The row at or below `k` with the largest entry in column `k` (partial pivoting), or None
+/// when that entry is zero or not finite (a numerically singular matrix).
+fn pivot_row(m: &[f64], n: usize, k: usize) -> Option<usize> {
+    let (p, pivot) = (k..n)
+        .map(|i| (i, m[i * n + k].abs()))
+        .fold((k, -1.0), |best, c| if c.1 > best.1 { c } else { best });
+    (pivot.is_finite() && pivot > 0.0).then_some(p)
+}
+
 /// An LU factorisation with partial pivoting of a row-major `n x n` matrix, kept to solve
 /// with it again (a modified Newton iteration reuses it over iterations and steps).
 #[derive(Debug, Clone, Default)]
@@ -80,12 +86,7 @@ impl DenseLu {
         let mut lu = a.to_vec();
         let mut piv: Vec<usize> = (0..n).collect();
         for k in 0..n {
-            let (p, pivot) = (k..n)
-                .map(|i| (i, lu[i * n + k].abs()))
-                .fold((k, -1.0), |best, c| if c.1 > best.1 { c } else { best });
-            if pivot.is_nan() || pivot <= 0.0 || pivot.is_infinite() {
-                return None;
-            }
+            let p = pivot_row(&lu, n, k)?;
             if p != k {
                 for j in 0..n {
                     lu.swap(k * n + j, p * n + j);

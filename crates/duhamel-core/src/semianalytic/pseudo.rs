@@ -25,6 +25,7 @@ struct Slot<'a> {
 }
 
 /// Modal tangents of a pseudo-force: `dQ/dq`, `dQ/dv` (row-major `n x n`) and `dQ/da`.
+#[derive(Default)]
 pub struct Jacobian {
     pub kq: Vec<f64>,
     pub cq: Vec<f64>,
