@@ -231,8 +231,10 @@ def test_time_response_matches_ross_run_time_response(ross, variant):
         f"\n{variant} (peak {scale * 1e6:.1f} um): "
         + ", ".join(f"{k} {v:.2e}" for k, v in got.items())
     )
-    assert got["Semianalytic vs lsim"] < 2e-4
-    assert got["Semianalytic (ROSS's samples) vs lsim"] < 2e-4
+    # lsim interpolates the harmonic input linearly (second order): 1.3e-5 of the peak here
+    assert got["Semianalytic vs lsim"] < 5e-5
+    # on ROSS's own samples both are exact (the rotor in its first-order modes): round-off
+    assert got["Semianalytic (ROSS's samples) vs lsim"] < 1e-8
     # both Newmark runs are second order, 0.1-0.5 % off at this step: 1 % of the peak
     assert got["Newmark vs lsim"] < 1e-2
     assert got["Newmark vs ROSS Newmark"] < 1e-2
