@@ -54,8 +54,6 @@ class FirstOrderModes:
     ----------
     lam : complex ndarray, shape (r,)
         Eigenvalues kept (``Im >= 0``; the conjugates are implied).
-    gain : complex ndarray, shape (r, m)
-        Rows of ``V^-1 B``: the drive of each first-order coordinate by the modal loads.
     inverse : complex ndarray, shape (r, 2m)
         Rows of ``V^-1``, for the initial state ``(sigma q0, v0)``.
     sigma : ndarray, shape (m,)
@@ -67,11 +65,16 @@ class FirstOrderModes:
     """
 
     lam: NDArray[np.complex128]
-    gain: NDArray[np.complex128]
     inverse: NDArray[np.complex128]
     sigma: NDArray[np.float64]
     back: NDArray[np.float64]
     condition: float
+
+    @property
+    def gain(self) -> NDArray[np.complex128]:
+        """Rows of ``V^-1 B``, shape (r, m): the drive of each first-order coordinate by the
+        modal loads (``B = [[0], [I]]``: the velocity columns of ``V^-1``)."""
+        return self.inverse[:, self.sigma.size :]
 
     def initial(self, q0: NDArray[np.float64], v0: NDArray[np.float64]) -> NDArray[np.complex128]:
         """First-order coordinates of the modal state ``(q0, v0)``."""
@@ -124,7 +127,6 @@ def first_order_modes(
     Wk = W[keep, :]
     return FirstOrderModes(
         lam=lam[keep],
-        gain=np.ascontiguousarray(Wk[:, m:]),
         inverse=Wk,
         sigma=sigma,
         back=np.ascontiguousarray(back),

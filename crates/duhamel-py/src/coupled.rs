@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::elements;
+use crate::nonlinear::optional_matrix;
 use crate::run::{finish_run, modal_inputs, PyForcing};
 use crate::vec_of;
 
@@ -94,12 +95,8 @@ pub(crate) fn solve_coupled<'py>(
         }),
         _ => None,
     };
-    let phi_v = phi
-        .map(|p| vec_of(&p.call_method0("ravel")?, "phi"))
-        .transpose()?;
-    let back_v = back
-        .map(|b| vec_of(&b.call_method0("ravel")?, "back"))
-        .transpose()?;
+    let phi_v = optional_matrix(phi, "phi")?;
+    let back_v = optional_matrix(back, "back")?;
     let (boxed, python) = match elements {
         Some(e) => elements::parse(e)?,
         None => Default::default(),

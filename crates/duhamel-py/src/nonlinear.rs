@@ -103,7 +103,10 @@ pub(crate) fn parse_mass(mass: &Bound<'_, PyAny>) -> PyResult<TimeVaryingMass> {
     })
 }
 
-fn optional_matrix(obj: Option<&Bound<'_, PyAny>>, name: &str) -> PyResult<Option<Vec<f64>>> {
+pub(crate) fn optional_matrix(
+    obj: Option<&Bound<'_, PyAny>>,
+    name: &str,
+) -> PyResult<Option<Vec<f64>>> {
     obj.map(|m| vec_of(&m.call_method0("ravel")?, name))
         .transpose()
 }
