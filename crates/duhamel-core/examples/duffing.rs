@@ -2,10 +2,8 @@
 //! `cargo run --release --example duffing [steps] [auto|newton]`.
 
 use duhamel_core::elements::{Element, Polynomial};
-use duhamel_core::linear::LinearProblem;
-use duhamel_core::semianalytic::{
-    integrate, NonlinearProblem, Options, Quadrature, Scheme, Solver,
-};
+use duhamel_core::pseudo::{integrate, NonlinearProblem, Options, Quadrature, Scheme, Solver};
+use duhamel_core::{ModalProblem, Unattended};
 
 fn main() {
     let steps: usize = std::env::args()
@@ -21,12 +19,13 @@ fn main() {
             continue;
         }
         let problem = NonlinearProblem {
-            base: LinearProblem {
+            base: ModalProblem {
                 k: &[1.0],
                 c: &[0.0],
                 q0: &[1.0],
                 v0: &[0.0],
                 loads: &[],
+                t0: 0.0,
                 dt,
                 n_steps: steps,
                 save_every: std::env::var("SAVE_EVERY")
@@ -51,11 +50,11 @@ fn main() {
             },
         };
         let start = std::time::Instant::now();
-        let (history, stats) = integrate(&problem, None).expect("runs");
+        let (history, stats) = integrate(&problem, None, &mut Unattended).expect("runs");
         let ns = start.elapsed().as_secs_f64() * 1e9 / steps as f64;
         println!(
             "{name}: {ns:.1} ns/step, final x = {:.6}, newton iterations {}",
-            history.q.last().copied().unwrap_or(f64::NAN),
+            history.q().last().copied().unwrap_or(f64::NAN),
             stats.newton_iterations
         );
     }

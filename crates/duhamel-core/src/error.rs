@@ -2,7 +2,14 @@
 
 use thiserror::Error;
 
-/// Every failure the engine reports. Input errors name the parameter.
+/// Every failure the engine reports. Input errors name the parameter; run failures name the
+/// step and time at which the run stopped.
+///
+/// Steps are numbered from 1: step `n` advances the state from `t0 + (n - 1) dt` to
+/// `t0 + n dt`. A run failure's `step` is the step that could not be completed; the run's
+/// partial history holds the saved states before it. Code deep inside a step (an element, a
+/// Newton iteration) does not know its step index and leaves `step` at 0: the time-stepping
+/// driver fills it in ([`CoreError::located`]) before the error leaves the engine.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum CoreError {
     /// A parameter has a value outside its domain.
@@ -23,14 +30,74 @@ pub enum CoreError {
         last_good_time: f64,
     },
     /// The implicit step equation did not converge.
-    #[error("the step equation did not converge at t = {time}: residual {residual:.3e} after {iterations} Newton iterations (reduce `dt`, raise `max_iter` or loosen `tol`); the history up to t = {last_good_time} is kept")]
+    #[error("the step equation did not converge at t = {time} (step {step}): residual {residual:.3e} after {iterations} Newton iterations (reduce `dt`, raise `max_iter` or loosen `tol`); the history up to t = {last_good_time} is kept")]
     NoConvergence {
         time: f64,
+        step: usize,
         residual: f64,
         iterations: usize,
         last_good_time: f64,
     },
     /// A user-supplied load or element function failed or returned bad values.
-    #[error("callback failed at t = {time}: {message}")]
-    Callback { time: f64, message: String },
+    #[error("callback failed at t = {time} (step {step}): {message}")]
+    Callback {
+        time: f64,
+        step: usize,
+        message: String,
+    },
+    /// The caller asked the run to stop (Ctrl-C): the history up to `time` is kept.
+    #[error("interrupted at t = {time} (before step {step}); the history up to t = {time} is kept")]
+    Interrupted { time: f64, step: usize },
+}
+
+impl CoreError {
+    /// The step a run failure stopped at (None for input errors).
+    pub fn step(&self) -> Option<usize> {
+        match self {
+            CoreError::NonFinite { step, .. }
+            | CoreError::NoConvergence { step, .. }
+            | CoreError::Callback { step, .. }
+            | CoreError::Interrupted { step, .. } => Some(*step),
+            _ => None,
+        }
+    }
+
+    /// The failure of step `step`, with the step's times from `time(n)` (the time of grid
+    /// point `n`). A step equation whose residual is no longer finite is a diverging response
+    /// (an overflowing state), not a convergence problem: it becomes [`CoreError::NonFinite`].
+    pub fn located(self, step: usize, time: impl Fn(usize) -> f64) -> CoreError {
+        let (end, start) = (time(step), time(step.saturating_sub(1)));
+        match self {
+            CoreError::NonFinite { .. } => CoreError::NonFinite {
+                time: end,
+                step,
+                last_good_time: start,
+            },
+            CoreError::NoConvergence { residual, .. } if !residual.is_finite() => {
+                CoreError::NonFinite {
+                    time: end,
+                    step,
+                    last_good_time: start,
+                }
+            }
+            CoreError::NoConvergence {
+                residual,
+                iterations,
+                ..
+            } => CoreError::NoConvergence {
+                time: end,
+                step,
+                residual,
+                iterations,
+                last_good_time: start,
+            },
+            CoreError::Callback { time, message, .. } => CoreError::Callback {
+                time,
+                step,
+                message,
+            },
+            CoreError::Interrupted { .. } => CoreError::Interrupted { time: start, step },
+            input => input,
+        }
+    }
 }

@@ -1,23 +1,29 @@
 //! duhamel-core: semi-analytic ("BEM in time", Duhamel) transient integration of discretised
 //! structural systems `M x'' + C x' + K x = f(t)`, after Holl, Belyaev and Irschik (1999).
 //!
-//! Pure Rust, no Python: the numerical engine behind the `duhamel` Python package.
+//! Pure Rust, no Python: the numerical engine behind the `duhamel` Python package. Every modal
+//! route is one composition run by one loop ([`driver`]): a [`problem`] goes through a
+//! [`background`] propagator, an optional corrector ([`pseudo`]) and an [`output`]; the
+//! reference integrators of [`direct`] step the physical equations.
 
-pub mod coupled;
-pub mod coupled_step;
-pub mod cphi;
+pub mod background;
 pub mod cubic;
 pub mod dense;
 pub mod direct;
+pub mod driver;
 pub mod elements;
 pub mod error;
-pub mod linear;
+pub mod history;
 pub mod loads;
 pub mod mass;
-pub mod oscillator;
-pub mod semianalytic;
+pub mod output;
+pub mod problem;
+pub mod pseudo;
 pub mod speed;
-pub(crate) mod stepping;
 
+pub use background::oscillator;
+pub use background::oscillator::Transfer;
+pub use driver::{Control, Unattended};
 pub use error::CoreError;
-pub use oscillator::Transfer;
+pub use history::{Coordinates, Failure, History, Stats};
+pub use problem::ModalProblem;

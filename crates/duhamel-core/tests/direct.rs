@@ -1,10 +1,19 @@
 //! Direct integrators: known discrete solutions and exactness properties.
 
 use duhamel_core::direct::assembly::Matrix;
-use duhamel_core::direct::{integrate, AlphaParams, DirectProblem, Method};
+use duhamel_core::direct::{self, AlphaParams, DirectHistory, DirectProblem, Method, Stats};
 use duhamel_core::elements::{Element, Spring};
 use duhamel_core::loads::{ModalLoad, TimeFunction};
-use duhamel_core::CoreError;
+use duhamel_core::loads::ModalForcing;
+use duhamel_core::{CoreError, Failure, Unattended};
+
+/// A direct integration, unwatched.
+fn integrate(
+    p: &DirectProblem,
+    forcing: Option<&mut dyn ModalForcing>,
+) -> Result<(DirectHistory, Stats), Box<Failure<DirectHistory>>> {
+    direct::integrate(p, forcing, &mut Unattended)
+}
 
 const NEWMARK: Method = Method::Alpha(AlphaParams {
     alpha_m: 0.0,
@@ -41,6 +50,7 @@ fn problem<'a>(
         x0,
         v0,
         a0: None,
+        t0: 0.0,
         dt: 0.3,
         n_steps: 40,
         save_every: 1,

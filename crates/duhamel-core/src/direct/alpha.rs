@@ -24,7 +24,7 @@ use super::assembly::{Factorization, IterationMatrix};
 use super::model::{Coefs, Model, C, K, KC, M};
 use super::{AlphaParams, Stepper};
 use crate::error::CoreError;
-use crate::stepping::ModalForcing;
+use crate::loads::ModalForcing;
 
 /// One generalized-alpha step with modified Newton on `a1`.
 pub(crate) struct Alpha<'a> {
@@ -236,6 +236,7 @@ impl Stepper for Alpha<'_> {
             }
             if iters >= self.max_iter {
                 return Err(CoreError::NoConvergence {
+                    step: 0,
                     time: t1,
                     residual: update / scale,
                     iterations: iters,

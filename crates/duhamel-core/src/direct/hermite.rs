@@ -19,7 +19,7 @@ use super::assembly::{Factorization, IterationMatrix};
 use super::model::{Coefs, Model, C, K, KC, M};
 use super::Stepper;
 use crate::error::CoreError;
-use crate::stepping::ModalForcing;
+use crate::loads::ModalForcing;
 
 /// Most Gauss points per step.
 pub(crate) const MAX_POINTS: usize = 8;
@@ -366,6 +366,7 @@ impl Stepper for Hermite<'_> {
             }
             if iters >= self.max_iter {
                 return Err(CoreError::NoConvergence {
+                    step: 0,
                     time: t + h,
                     residual: update / scale,
                     iterations: iters,

@@ -27,7 +27,10 @@ use crate::error::CoreError;
 use crate::loads::ModalLoad;
 use crate::mass::TimeVaryingMass;
 use crate::speed::SpeedLaw;
-use crate::stepping::{saved_steps, zeroed, Failure, ModalForcing};
+use crate::driver::{Control, Pacer};
+use crate::history::{size, zeroed, Failure};
+use crate::loads::ModalForcing;
+use crate::problem::SaveGrid;
 use assembly::{IterationMatrix, Matrix};
 use model::Model;
 
@@ -79,6 +82,8 @@ pub struct DirectProblem<'a> {
     /// state variable; `None` (the usual case) takes it from the equation of motion. Setting
     /// it lets the amplification matrix on `(x, v, a)` be found by stepping unit states.
     pub a0: Option<&'a [f64]>,
+    /// Start time.
+    pub t0: f64,
     /// Step length (> 0).
     pub dt: f64,
     /// Number of steps (>= 1).
@@ -201,6 +206,9 @@ fn validate(p: &DirectProblem) -> Result<(), CoreError> {
     if !(p.dt.is_finite() && p.dt > 0.0) {
         return bad("dt", "must be a positive finite number".into());
     }
+    if !p.t0.is_finite() {
+        return bad("t0", "must be finite".into());
+    }
     if p.n_steps == 0 {
         return bad("t_end", "must be at least one step `dt`".into());
     }
@@ -232,7 +240,7 @@ fn validate(p: &DirectProblem) -> Result<(), CoreError> {
         load.time.validate()?;
     }
     if let Some(mass) = p.mass {
-        mass.law.validate(p.dt * p.n_steps as f64)?;
+        mass.law.validate(p.t0 + p.dt * p.n_steps as f64)?;
     }
     if !(p.tol.is_finite() && p.tol > 0.0) {
         return bad("tol", format!("must be a positive number, got {}", p.tol));
@@ -270,14 +278,14 @@ fn validate(p: &DirectProblem) -> Result<(), CoreError> {
 
 /// Where the saved rows go.
 struct Recorder {
-    saved: Vec<usize>,
+    grid: SaveGrid,
     next: usize,
     h: DirectHistory,
 }
 
 impl Recorder {
     fn wants(&self, step: usize) -> bool {
-        self.saved.get(self.next) == Some(&step)
+        self.next < self.grid.count() && self.grid.step(self.next) == step
     }
 
     fn push(&mut self, out: &[usize], t: f64, x: &[f64], v: &[f64], a: &[f64]) {
@@ -302,34 +310,39 @@ impl Recorder {
 }
 
 /// Integrates the problem; `forcing` adds physical loads computed outside the engine (its
-/// rows have `n_dof` entries).
+/// rows have `n_dof` entries); `control` may stop or watch the run (checked about every
+/// [`crate::driver::CHECK_INTERVAL`]).
 pub fn integrate(
     problem: &DirectProblem,
     mut forcing: Option<&mut dyn ModalForcing>,
+    control: &mut dyn Control,
 ) -> Result<(DirectHistory, Stats), Box<Failure<DirectHistory>>> {
-    validate(problem).map_err(|e| Box::new(Failure::from(e)))?;
+    let fail = |e: CoreError| Box::new(Failure::from(e));
+    validate(problem).map_err(fail)?;
     let n = problem.x0.len();
     let n_out = problem.out_dofs.len();
-    let saved = saved_steps(problem.n_steps, problem.save_every);
-    let size = saved.len() * n_out;
-    let fail = |e: CoreError| Box::new(Failure::from(e));
+    let grid = SaveGrid::new(problem.n_steps, problem.save_every);
+    let cells = size(grid.count(), n_out, "the history").map_err(fail)?;
+    let buffer = |what| zeroed(cells, what).map_err(fail);
     let mut rec = Recorder {
         h: DirectHistory {
             n_out,
-            t: Vec::with_capacity(saved.len()),
-            x: zeroed(size).map_err(|_| fail(too_big(size)))?,
-            v: zeroed(size).map_err(|_| fail(too_big(size)))?,
-            a: zeroed(size).map_err(|_| fail(too_big(size)))?,
+            t: Vec::new(),
+            x: buffer("the displacement history")?,
+            v: buffer("the velocity history")?,
+            a: buffer("the acceleration history")?,
         },
-        saved,
+        grid,
         next: 0,
     };
     let mut model = Model::new(problem);
     let mut stats = Stats::default();
     let dt = problem.dt;
+    let time = |n: usize| problem.t0 + n as f64 * dt;
 
     let outcome = (|| -> Result<(), (CoreError, usize)> {
         let at0 = |e| (e, 0);
+        let t0 = time(0);
         // The mass matrix, factorised once: the initial acceleration (and the saved ones of
         // the Hermite element) from the equation of motion.
         let mut mm = IterationMatrix::new(n, 1, &[problem.m], &[]).map_err(at0)?;
@@ -338,20 +351,20 @@ pub fn integrate(
         let (mut x, mut v, mut a) = (problem.x0.to_vec(), problem.v0.to_vec(), vec![0.0; n]);
         let mut f = vec![0.0; n];
         model
-            .external(&[0.0], forcing.as_deref_mut(), &mut f)
+            .external(&[t0], forcing.as_deref_mut(), &mut f)
             .map_err(at0)?;
-        let k0 = model.coefs(0.0, false);
+        let k0 = model.coefs(t0, false);
         match problem.a0 {
             Some(a0) => a.copy_from_slice(a0),
             None => model
-                .acceleration(&m_lu, &x, &v, 0.0, k0, &f, &mut a)
+                .acceleration(&m_lu, &x, &v, t0, k0, &f, &mut a)
                 .map_err(at0)?,
         }
         if !a.iter().all(|u| u.is_finite()) {
             return Err(at0(CoreError::NonFinite {
-                time: 0.0,
+                time: t0,
                 step: 0,
-                last_good_time: 0.0,
+                last_good_time: t0,
             }));
         }
         let mut stepper: Box<dyn Stepper> = match problem.method {
@@ -363,8 +376,10 @@ pub fn integrate(
             }
         };
         let mut a_out = a.clone();
+        let mut pacer = Pacer::default();
+        let (mut block_end, mut block_len) = (0, 0);
         for step in 0..=problem.n_steps {
-            let t = step as f64 * dt;
+            let t = time(step);
             if rec.wants(step) {
                 if stepper.equation_acceleration() && step > 0 {
                     let k = model.coefs(t, true);
@@ -379,8 +394,21 @@ pub fn integrate(
                 }
                 rec.push(problem.out_dofs, t, &x, &v, &a_out);
             }
-            if step == problem.n_steps {
-                break;
+            if step == block_end {
+                // A block boundary: watch, and stop if asked.
+                control.progress(step, problem.n_steps, t);
+                if step > 0 {
+                    pacer.done(block_len);
+                }
+                if step == problem.n_steps {
+                    break;
+                }
+                if step > 0 && control.interrupted() {
+                    let e = CoreError::Interrupted { time: 0.0, step: 0 };
+                    return Err((e, step + 1));
+                }
+                block_len = pacer.next(problem.n_steps - step);
+                block_end = step + block_len;
             }
             let iters = stepper
                 .step(
@@ -393,44 +421,26 @@ pub fn integrate(
             stats.newton_iterations += iters;
             stats.factorizations = stepper.factorizations();
             if !x.iter().chain(&v).chain(&a).all(|u| u.is_finite()) {
-                return Err((
-                    CoreError::NonFinite {
-                        time: t + dt,
-                        step: step + 1,
-                        last_good_time: t,
-                    },
-                    step + 1,
-                ));
+                let e = CoreError::NonFinite {
+                    time: 0.0,
+                    step: 0,
+                    last_good_time: 0.0,
+                };
+                return Err((e, step + 1));
             }
         }
         Ok(())
     })();
     match outcome {
         Ok(()) => Ok((rec.finish(), stats)),
-        Err((error, step)) => {
-            let error = match error {
-                // A non-finite state found inside a step: name the step.
-                CoreError::NonFinite { .. } if step > 0 => CoreError::NonFinite {
-                    time: step as f64 * dt,
-                    step,
-                    last_good_time: (step - 1) as f64 * dt,
-                },
-                other => other,
-            };
-            Err(Box::new(Failure {
-                error,
-                partial: rec.finish(),
-            }))
-        }
-    }
-}
-
-fn too_big(size: usize) -> CoreError {
-    CoreError::InvalidInput {
-        name: "save_every",
-        problem: format!(
-            "is too small: the history needs {:.1} GiB; save fewer steps or fewer `dofs`",
-            3.0 * size as f64 * 8.0 / (1u64 << 30) as f64
-        ),
+        Err((error, step)) => Err(Box::new(Failure {
+            // Failures of the initial state (step 0) keep their own times.
+            error: if step > 0 {
+                error.located(step, time)
+            } else {
+                error
+            },
+            partial: rec.finish(),
+        })),
     }
 }

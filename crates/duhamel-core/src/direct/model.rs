@@ -12,7 +12,7 @@ use super::DirectProblem;
 use crate::elements::Evaluation;
 use crate::error::CoreError;
 use crate::mass::MassForm;
-use crate::stepping::ModalForcing;
+use crate::loads::ModalForcing;
 
 /// Index of each constant matrix in the iteration matrix's sources.
 pub(crate) const M: usize = 0;

@@ -1,7 +1,7 @@
 //! How the state is approximated inside a step (the paper's schemes a, b, c, eq. 20) and how
 //! the pseudo-force along it is integrated against `A(dt - tau)` (the quadratures).
 
-use crate::oscillator::Transfer;
+use crate::background::oscillator::Transfer;
 
 /// The approximation of `x(tau)`, `x'(tau)` inside the step (NOTES.md section 2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -123,6 +123,26 @@ impl Rule {
             wv: lagrange.iter().map(|l| weight(1, l)).collect(),
         }
     }
+}
+
+/// Which part of the end state the pseudo-force depends on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Unknown {
+    Q1,
+    V1,
+    Both,
+}
+
+/// The start of a step and its linear (load-only) prediction.
+pub struct StepInput<'s> {
+    pub t: f64,
+    pub q0: &'s [f64],
+    pub v0: &'s [f64],
+    /// End state of the linear step (background and external loads only).
+    pub q_lin: &'s [f64],
+    pub v_lin: &'s [f64],
+    /// Modal external load basis `(p0, Dp, DDp)` over the step.
+    pub pb: [&'s [f64]; 3],
 }
 
 #[cfg(test)]

@@ -1,94 +1,23 @@
-//! Exact stepping of uncoupled modal oscillators (linear time-invariant systems).
+//! Exact stepping of uncoupled modal oscillators: the background propagator of a linear
+//! time-invariant system with classical damping.
 //!
 //! Each mode `q'' + c q' + k q = p(t)` is advanced by `y(n+1) = A y(n) + B (p0, Dp, DDp)` with
-//! the exact matrices of [`crate::oscillator`]. The modes are independent, so the time loop
-//! runs in blocks of steps: the loads of a block are evaluated once (shared by all modes),
-//! then the modes are advanced in parallel chunks, each chunk vectorised over its modes.
+//! the exact matrices of [`crate::background::oscillator`]. The modes are independent, so the
+//! route advances a whole block of steps at a time: the loads of the block are evaluated once
+//! (shared by all modes), then the modes are advanced in parallel chunks, each chunk
+//! vectorised over its modes.
 
 use rayon::prelude::*;
 
+use crate::background::oscillator::Transfer;
+use crate::driver::{conclude, drive, Control, Route, StepFailure};
 use crate::error::CoreError;
-use crate::loads::ModalLoad;
-use crate::oscillator::Transfer;
-use crate::stepping::{zeroed, BlockLoads};
-pub use crate::stepping::{Failure, History, ModalForcing};
+use crate::history::{size, zeroed, Coordinates, Failure, History};
+use crate::loads::{BlockLoads, ModalForcing};
+use crate::problem::ModalProblem;
 
 /// Fewest modes per parallel chunk.
 const MIN_CHUNK: usize = 32;
-
-/// A linear modal problem: what to integrate and what to keep.
-#[derive(Debug, Clone)]
-pub struct LinearProblem<'a> {
-    /// Modal stiffness `omega^2` per unit modal mass, one per mode (>= 0).
-    pub k: &'a [f64],
-    /// Modal damping `2 zeta omega` per unit modal mass, one per mode.
-    pub c: &'a [f64],
-    /// Initial modal coordinates.
-    pub q0: &'a [f64],
-    /// Initial modal velocities.
-    pub v0: &'a [f64],
-    /// Built-in loads, already projected on the modes.
-    pub loads: &'a [ModalLoad],
-    /// Step length (> 0).
-    pub dt: f64,
-    /// Number of steps (>= 1).
-    pub n_steps: usize,
-    /// Keep every `save_every`-th step (and always the last).
-    pub save_every: usize,
-    /// Worker threads; `None` uses rayon's global pool.
-    pub threads: Option<usize>,
-}
-
-pub(crate) fn check(problem: &LinearProblem) -> Result<(), CoreError> {
-    let n = problem.k.len();
-    let lens = [
-        ("c", problem.c.len()),
-        ("x0", problem.q0.len()),
-        ("v0", problem.v0.len()),
-    ];
-    for (name, got) in lens {
-        if got != n {
-            return Err(CoreError::LengthMismatch {
-                name,
-                got,
-                expected: n,
-            });
-        }
-    }
-    let bad = |name, problem: &str| {
-        Err(CoreError::InvalidInput {
-            name,
-            problem: problem.to_string(),
-        })
-    };
-    if !(problem.dt.is_finite() && problem.dt > 0.0) {
-        return bad("dt", "must be a positive finite number");
-    }
-    if problem.n_steps == 0 {
-        return bad("t_end", "must be at least one step `dt`");
-    }
-    if problem.save_every == 0 {
-        return bad("save_every", "must be a positive integer");
-    }
-    if problem.k.iter().any(|&k| !(k.is_finite() && k >= 0.0)) {
-        return bad("omega2", "must be finite and >= 0");
-    }
-    let all = problem.c.iter().chain(problem.q0).chain(problem.v0);
-    if all.clone().any(|x| !x.is_finite()) {
-        return bad("x0", "(initial state) and modal damping must be finite");
-    }
-    for load in problem.loads {
-        if load.pattern.len() != n {
-            return Err(CoreError::LengthMismatch {
-                name: "load pattern",
-                got: load.pattern.len(),
-                expected: n,
-            });
-        }
-        load.time.validate()?;
-    }
-    Ok(())
-}
 
 /// Per-mode constants: `A`, `B` and, per load, `pattern * B`.
 struct Coefficients {
@@ -99,7 +28,7 @@ struct Coefficients {
 }
 
 impl Coefficients {
-    fn new(problem: &LinearProblem) -> Self {
+    fn new(problem: &ModalProblem) -> Self {
         let n = problem.k.len();
         let mut a: [Vec<f64>; 4] = std::array::from_fn(|_| Vec::with_capacity(n));
         let mut b: [Vec<f64>; 6] = std::array::from_fn(|_| Vec::with_capacity(n));
@@ -124,22 +53,6 @@ impl Coefficients {
             .collect();
         Coefficients { a, b, gl }
     }
-}
-
-/// What one block shares between the mode chunks.
-struct Block<'a> {
-    n0: usize,
-    len: usize,
-    /// `basis[s * n_loads + l]`: the load basis of load `l` over local step `s`; one more row
-    /// (`s = len`) holds the values at the end of the block (only `[0]` is used).
-    basis: &'a [[f64; 3]],
-    /// Modal samples of the external forcing at `t_n, t_n + dt/2, ..., t_end` (row-major), or
-    /// empty.
-    forcing: &'a [f64],
-    /// Exact jumps of step loads inside a step: `(local step, dx per mode, dv per mode)`.
-    jumps: &'a [(usize, Vec<f64>, Vec<f64>)],
-    /// Saved slot of each step index in this block (plus the end), if saved.
-    slot: &'a [Option<usize>],
 }
 
 /// One contiguous range of modes, with its own state and its columns of the history.
@@ -188,7 +101,7 @@ impl HistoryWriter {
 }
 
 struct Shared<'a> {
-    problem: &'a LinearProblem<'a>,
+    n_loads: usize,
     coef: &'a Coefficients,
     n_modes: usize,
 }
@@ -283,7 +196,7 @@ impl Chunk {
     /// A linear step maps a non-finite state to a non-finite state, so finiteness is checked
     /// once, at the end of the block; only if that fails is the block run again from its
     /// start, checking every step, to find where the state first overflowed.
-    fn run(&mut self, sh: &Shared, blk: &Block) -> Option<usize> {
+    fn run(&mut self, sh: &Shared, blk: &BlockLoads) -> Option<usize> {
         let (x0, v0) = (self.x.clone(), self.v.clone());
         self.steps::<false>(sh, blk);
         if self.x.iter().chain(&self.v).all(|u| u.is_finite()) {
@@ -295,7 +208,7 @@ impl Chunk {
     }
 
     /// The steps of one block; with `CHECK`, stops at the first non-finite state.
-    fn steps<const CHECK: bool>(&mut self, sh: &Shared, blk: &Block) -> Option<usize> {
+    fn steps<const CHECK: bool>(&mut self, sh: &Shared, blk: &BlockLoads) -> Option<usize> {
         let len = self.x.len();
         let r = self.start..self.start + len;
         let coef = sh.coef;
@@ -303,22 +216,13 @@ impl Chunk {
             a: std::array::from_fn(|i| &coef.a[i][r.clone()]),
             b: std::array::from_fn(|i| &coef.b[i][r.clone()]),
         };
-        let n_loads = sh.problem.loads.len();
+        let n_loads = sh.n_loads;
         let nm = sh.n_modes;
         let mut out = self.out;
         // Reused across steps: no allocation in the time loop.
         let mut shared: Vec<(f64, &[f64], &[f64])> = Vec::new();
-        for s in 0..=blk.len {
-            let last = s == blk.len;
+        for s in 0..blk.len {
             let save = blk.slot[s].map(|slot| out.rows(slot, self.start, len));
-            if last {
-                // The block's end: only the final state of the run is saved here.
-                if let Some([hq, hv]) = save {
-                    hq.copy_from_slice(&self.x);
-                    hv.copy_from_slice(&self.v);
-                }
-                break;
-            }
             shared.clear();
             for (l, g) in coef.gl.iter().enumerate() {
                 for (j, &b) in blk.basis[s * n_loads + l].iter().enumerate() {
@@ -355,39 +259,80 @@ impl Chunk {
     }
 }
 
-/// Integrates the problem; `forcing` adds modal loads computed outside the engine.
+impl Chunk {
+    /// Saves the chunk's current state in row `slot`.
+    fn save(&mut self, slot: usize) {
+        let [hq, hv] = self.out.rows(slot, self.start, self.x.len());
+        hq.copy_from_slice(&self.x);
+        hv.copy_from_slice(&self.v);
+    }
+}
+
+/// The uncoupled background without a corrector: whole blocks, mode chunks in parallel.
+struct Uncoupled {
+    chunks: Vec<Chunk>,
+    coef: Coefficients,
+    pool: Option<rayon::ThreadPool>,
+}
+
+impl Route for Uncoupled {
+    fn block(&mut self, problem: &ModalProblem, loads: &BlockLoads) -> Result<(), StepFailure> {
+        let shared = Shared {
+            n_loads: problem.loads.len(),
+            coef: &self.coef,
+            n_modes: problem.n_modes(),
+        };
+        let run = |ch: &mut Chunk| ch.run(&shared, loads);
+        let bad = match (&self.pool, self.chunks.len()) {
+            (_, 1) => self.chunks.iter_mut().filter_map(run).min(),
+            (Some(p), _) => p.install(|| self.chunks.par_iter_mut().filter_map(run).min()),
+            (None, _) => self.chunks.par_iter_mut().filter_map(run).min(),
+        };
+        match bad {
+            None => Ok(()),
+            Some(step) => Err(StepFailure {
+                error: CoreError::NonFinite {
+                    time: 0.0,
+                    step,
+                    last_good_time: 0.0,
+                },
+                step,
+            }),
+        }
+    }
+
+    fn save_current(
+        &mut self,
+        _problem: &ModalProblem,
+        _loads: &BlockLoads,
+        slot: usize,
+    ) -> Result<(), CoreError> {
+        for chunk in &mut self.chunks {
+            chunk.save(slot);
+        }
+        Ok(())
+    }
+}
+
+/// Integrates the uncoupled linear problem exactly; `forcing` adds modal loads computed
+/// outside the engine, `control` may stop or watch the run.
 pub fn integrate(
-    problem: &LinearProblem,
-    mut forcing: Option<&mut dyn ModalForcing>,
+    problem: &ModalProblem,
+    forcing: Option<&mut dyn ModalForcing>,
+    control: &mut dyn Control,
 ) -> Result<History, Box<Failure>> {
-    check(problem).map_err(|e| Box::new(Failure::from(e)))?;
-    let pool = match problem.threads {
-        Some(n) => Some(
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n.max(1))
-                .build()
-                .map_err(|e| {
-                    Box::new(Failure::from(CoreError::InvalidInput {
-                        name: "threads",
-                        problem: e.to_string(),
-                    }))
-                })?,
-        ),
-        None => None,
-    };
-    let n_modes = problem.k.len();
+    let fail = |e: CoreError| Box::new(Failure::from(e));
+    problem.check().map_err(fail)?;
+    let pool = problem.pool().map_err(fail)?;
+    let n_modes = problem.n_modes();
     let n_threads = pool
         .as_ref()
         .map_or_else(rayon::current_num_threads, |p| p.current_num_threads());
-    let dt = problem.dt;
-    let n_steps = problem.n_steps;
-    let mut loads = BlockLoads::new(problem);
+    let loads = BlockLoads::new(problem, true, forcing.is_some()).map_err(fail)?;
     let n_saved = loads.n_saved();
-    let coef = Coefficients::new(problem);
-    let size = n_modes * n_saved;
-    let mut hq = zeroed(size)?;
-    let mut hv = zeroed(size)?;
-    let time = |n: usize| n as f64 * dt;
+    let cells = size(n_saved, n_modes, "the modal history").map_err(fail)?;
+    let mut hq = zeroed(cells, "the modal history (q)").map_err(fail)?;
+    let mut hv = zeroed(cells, "the modal history (v)").map_err(fail)?;
 
     // Mode chunks: enough for the threads, none smaller than MIN_CHUNK, whole cache lines.
     let chunk_len = n_modes
@@ -413,47 +358,23 @@ pub fn integrate(
         });
         start += len;
     }
-    let shared = Shared {
-        problem,
-        coef: &coef,
-        n_modes,
+    let mut route = Uncoupled {
+        chunks,
+        coef: Coefficients::new(problem),
+        pool,
     };
-    let mut failure: Option<(CoreError, usize)> = None;
-
-    let mut n0 = 0;
-    while n0 < n_steps {
-        if let Err(e) = loads.prepare(problem, n0, forcing.as_deref_mut()) {
-            failure = Some((e, n0));
-            break;
-        }
-        let len = loads.len;
-        let block = Block {
-            n0,
-            len,
-            basis: &loads.basis,
-            forcing: &loads.forcing,
-            jumps: &loads.jumps,
-            slot: &loads.slot,
-        };
-        let run = |ch: &mut Chunk| ch.run(&shared, &block);
-        let bad = match (&pool, chunks.len()) {
-            (_, 1) => chunks.iter_mut().filter_map(run).min(),
-            (Some(p), _) => p.install(|| chunks.par_iter_mut().filter_map(run).min()),
-            (None, _) => chunks.par_iter_mut().filter_map(run).min(),
-        };
-        if let Some(step) = bad {
-            failure = Some((
-                CoreError::NonFinite {
-                    time: time(step),
-                    step,
-                    last_good_time: time(step - 1),
-                },
-                step,
-            ));
-            break;
-        }
-        n0 += len;
-    }
-    drop(chunks);
-    loads.finish(n_modes, hq, hv, Vec::new(), failure)
+    let (loads, ending) = drive(problem, &mut route, loads, forcing, control);
+    // The chunks' writers point into `hq`, `hv`: drop them before the buffers move.
+    drop(route);
+    let (t, load_values, forcing) = loads.into_saved(problem).map_err(fail)?;
+    let history = History {
+        n_modes,
+        t,
+        coordinates: Coordinates::Modal { q: hq, v: hv },
+        load_values,
+        forcing,
+        pseudo: None,
+        outputs: None,
+    };
+    conclude(history, ending)
 }

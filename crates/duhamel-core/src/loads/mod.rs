@@ -1,6 +1,10 @@
 //! Loads `f(t) = sum_l pattern_l * s_l(t)`: a fixed spatial (here: modal) pattern times a
 //! scalar time function evaluated in Rust.
 
+pub mod block;
+
+pub use block::{BlockLoads, ModalForcing};
+
 use crate::error::CoreError;
 use crate::speed::SpeedLaw;
 

@@ -19,15 +19,16 @@
 //! (eigenvalues, which of each conjugate pair to keep, and the way back to `(q, q')`) is done
 //! by the caller; the engine only advances the given coordinates and saves them.
 
-use faer::linalg::matmul::matmul;
-use faer::{Accum, MatMut, MatRef, Par};
 use num_complex::Complex64;
 
-use crate::coupled_step::{Corrector, Nonlinear};
-use crate::cphi;
+use crate::background::cphi;
+use crate::driver::{conclude, drive, Control, Route, StepFailure};
 use crate::error::CoreError;
-use crate::linear::{check, LinearProblem};
-use crate::stepping::{zeroed, BlockLoads, Failure, History, ModalForcing};
+use crate::history::{size, zeroed, Coordinates, Failure, History, Stats};
+use crate::loads::{BlockLoads, ModalForcing};
+use crate::output::{Mapper, Outputs};
+use crate::problem::ModalProblem;
+use crate::pseudo::first_order::{Corrector, Nonlinear};
 
 /// The first-order modes of the coupled system, as complex numbers split into real and
 /// imaginary parts (`r` coordinates, `m = problem.k.len()` real modes).
@@ -109,7 +110,7 @@ struct Constants {
 }
 
 impl Constants {
-    fn new(problem: &LinearProblem, modes: &FirstOrderModes) -> Self {
+    fn new(problem: &ModalProblem, modes: &FirstOrderModes) -> Self {
         let r = modes.lambda_re.len();
         let mut e = [vec![0.0; r], vec![0.0; r]];
         let mut w: [[Vec<f64>; 2]; 3] = std::array::from_fn(|_| [vec![0.0; r], vec![0.0; r]]);
@@ -179,192 +180,12 @@ fn advance<const N: usize>(
     finite
 }
 
-/// Physical outputs computed from the first-order coordinates during the run: each saved
-/// row of `[Re eta | Im eta]` (and of the load values) is mapped to `n_cols` outputs, e.g.
-/// displacements, velocities and accelerations of the wanted degrees of freedom.
-#[derive(Debug, Clone)]
-pub struct Outputs<'a> {
-    /// `map[k * n_cols + o]`: output `o` per unit of entry `k` of `[Re eta | Im eta]`
-    /// (`2 r x n_cols`, row-major).
-    pub map: &'a [f64],
-    /// `loads[l * n_cols + o]`: output `o` per unit value of load `l`'s time function
-    /// (`n_loads x n_cols`).
-    pub loads: &'a [f64],
-    /// Number of outputs.
-    pub n_cols: usize,
-}
-
-impl Outputs<'_> {
-    fn check(&self, width: usize, n_loads: usize) -> Result<(), CoreError> {
-        for (name, got, expected) in [
-            ("output map", self.map.len(), width * self.n_cols),
-            ("output load map", self.loads.len(), n_loads * self.n_cols),
-        ] {
-            if got != expected {
-                return Err(CoreError::LengthMismatch {
-                    name,
-                    got,
-                    expected,
-                });
-            }
-        }
-        Ok(())
-    }
-
-    /// `out = eta @ map + values @ loads` for a block of saved rows (faer's matrix product:
-    /// measured twice as fast here as a register-blocked row loop).
-    fn apply(&self, eta: &[f64], values: &[f64], out: &mut [f64]) {
-        let n = self.n_cols;
-        let rows = out.len() / n.max(1);
-        if rows == 0 || n == 0 {
-            return;
-        }
-        let width = eta.len() / rows;
-        let n_loads = values.len() / rows;
-        let mut dst = MatMut::from_row_major_slice_mut(out, rows, n);
-        let lhs = MatRef::from_row_major_slice(eta, rows, width);
-        let rhs = MatRef::from_row_major_slice(self.map, width, n);
-        matmul(&mut dst, Accum::Replace, lhs, rhs, 1.0, Par::Seq);
-        if n_loads > 0 {
-            let lhs = MatRef::from_row_major_slice(values, rows, n_loads);
-            let rhs = MatRef::from_row_major_slice(self.loads, n_loads, n);
-            matmul(&mut dst, Accum::Add, lhs, rhs, 1.0, Par::Seq);
-        }
-    }
-}
-
-/// A block of saved rows to map to outputs: first-order coordinates, load values, where
-/// the outputs go.
-type Job<'b> = (&'b [f64], Vec<f64>, &'b mut [f64]);
-
-/// Integrates the coupled problem exactly in its first-order modes; `forcing` adds modal
-/// loads computed outside the engine. `problem.k`, `problem.c` are the diagonal of the real
-/// modal background (checked, and defining the number of real modes); the saved history
-/// holds `eta` (see [`History::eta`]) and the load values, not `q`, `v`.
-///
-/// With `outputs`, the saved rows are also mapped to outputs ([`History::out`]), block by
-/// block, on a second thread while the next block is stepped (unless `problem.threads` is
-/// 1 or the machine has one core). With `nonlinear`, element forces enter every step as a
-/// pseudo-force on the exact coupled background ([`crate::coupled_step`]); the pseudo-force
-/// at the saved states is kept in [`History::pseudo`]. Also returns the Newton iterations.
-pub fn integrate(
-    problem: &LinearProblem,
-    modes: &FirstOrderModes,
-    outputs: Option<&Outputs>,
-    nonlinear: Option<&Nonlinear>,
-    mut forcing: Option<&mut dyn ModalForcing>,
-) -> Result<(History, usize), Box<Failure>> {
-    check(problem).map_err(|e| Box::new(Failure::from(e)))?;
-    let m = problem.k.len();
-    modes.check(m).map_err(|e| Box::new(Failure::from(e)))?;
-    let r = modes.lambda_re.len();
-    let n_loads = problem.loads.len();
-    if let Some(o) = outputs {
-        o.check(2 * r, n_loads)
-            .map_err(|e| Box::new(Failure::from(e)))?;
-    }
-    let co = Constants::new(problem, modes);
-    let mut corrector = match nonlinear {
-        Some(nl) => {
-            let lambda: Vec<Complex64> = (0..r).map(|k| modes.lambda(k)).collect();
-            let c = Corrector::new(
-                nl,
-                problem.k,
-                problem.c,
-                &lambda,
-                (modes.gain_re, modes.gain_im),
-                (modes.eta0_re, modes.eta0_im),
-                problem.dt,
-            )
-            .map_err(|e| Box::new(Failure::from(e)))?;
-            Some(c)
-        }
-        None => None,
-    };
-    let mut loads = BlockLoads::raw(problem);
-    let n_saved = loads.n_saved();
-    let mut eta = zeroed(n_saved * 2 * r)?;
-    let mut pseudo = if corrector.is_some() {
-        zeroed(n_saved * m)?
-    } else {
-        Vec::new()
-    };
-    let n_cols = outputs.map_or(0, |o| o.n_cols);
-    let mut out = zeroed(n_saved * n_cols)?;
-    let threads = problem
-        .threads
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let pipelined = outputs.is_some() && threads > 1;
-
-    let failure = std::thread::scope(|scope| {
-        let (tx, rx) = std::sync::mpsc::channel::<Job>();
-        if pipelined {
-            let o = outputs.expect("pipelined implies outputs");
-            scope.spawn(move || {
-                for (e, v, dst) in rx {
-                    o.apply(e, &v, dst);
-                }
-            });
-        } else {
-            drop(rx);
-        }
-        let mut eta_rest: &mut [f64] = &mut eta;
-        let mut out_rest: &mut [f64] = &mut out;
-        let mut stepper = Stepper::new(modes);
-        let mut row0 = 0;
-        let mut n0 = 0;
-        while n0 < problem.n_steps {
-            if let Err(e) = loads.prepare(problem, n0, forcing.as_deref_mut()) {
-                return Some((e, n0));
-            }
-            let rows = loads.slot.iter().flatten().count();
-            let (eta_blk, tail) = std::mem::take(&mut eta_rest).split_at_mut(rows * 2 * r);
-            eta_rest = tail;
-            let failed = stepper.block(
-                problem,
-                modes,
-                &co,
-                &loads,
-                (n0, row0),
-                eta_blk,
-                corrector.as_mut().map(|c| (c, &mut pseudo[..])),
-            );
-            if let Some(o) = outputs {
-                let (out_blk, tail) = std::mem::take(&mut out_rest).split_at_mut(rows * n_cols);
-                out_rest = tail;
-                let values = loads.load_values[row0 * n_loads..][..rows * n_loads].to_vec();
-                let eta_blk: &[f64] = eta_blk;
-                if pipelined {
-                    // The worker lives until `tx` is dropped, so the send cannot fail.
-                    let _ = tx.send((eta_blk, values, out_blk));
-                } else {
-                    o.apply(eta_blk, &values, out_blk);
-                }
-            }
-            if failed.is_some() {
-                return failed;
-            }
-            row0 += rows;
-            n0 += loads.len;
-        }
-        None
-    });
-    let iterations = corrector.as_ref().map_or(0, |c| c.iterations);
-    let mut result = loads.finish_first_order(m, eta, pseudo, failure);
-    // Attach the outputs (truncated like the rest on failure).
-    match &mut result {
-        Ok(h) => h.out = out,
-        Err(f) => {
-            let keep = f.partial.t.len();
-            out.truncate(keep * n_cols);
-            f.partial.out = out;
-        }
-    }
-    result.map(|h| (h, iterations))
-}
-
-/// The stepping state: current coordinates and per-step work arrays.
-struct Stepper {
+/// The first-order background, with the elements' corrector if any, and the mapped outputs:
+/// the route of a coupled problem.
+struct FirstOrder<'s, 'a: 's> {
+    modes: &'s FirstOrderModes<'a>,
+    co: Constants,
+    /// Current coordinates.
     xr: Vec<f64>,
     xi: Vec<f64>,
     /// The forcing's contribution to each step of the block (`len x r`), or empty.
@@ -372,32 +193,54 @@ struct Stepper {
     fi: Vec<f64>,
     /// This block's in-step jumps: `(local step, response re, response im)`.
     jumps: Vec<(usize, Vec<f64>, Vec<f64>)>,
+    /// The history rows not written yet.
+    eta_rest: &'s mut [f64],
+    corrector: Option<Corrector<'a>>,
+    /// The pseudo-force at the saved states (`n_saved x m`), with a corrector.
+    pseudo: &'s mut [f64],
+    mapper: Option<Mapper<'s>>,
 }
 
-impl Stepper {
-    fn new(modes: &FirstOrderModes) -> Self {
-        Stepper {
-            xr: modes.eta0_re.to_vec(),
-            xi: modes.eta0_im.to_vec(),
-            fr: Vec::new(),
-            fi: Vec::new(),
-            jumps: Vec::new(),
+impl<'s> FirstOrder<'s, '_> {
+    /// The next `rows` history rows.
+    fn take_rows(&mut self, rows: usize) -> &'s mut [f64] {
+        let width = 2 * self.xr.len();
+        let (rows, tail) = std::mem::take(&mut self.eta_rest).split_at_mut(rows * width);
+        self.eta_rest = tail;
+        rows
+    }
+
+    /// Maps `rows` saved rows, the first being history row `first`.
+    fn map(&mut self, loads: &BlockLoads, rows: &'s [f64], first: usize, count: usize) {
+        if let Some(mapper) = self.mapper.as_mut() {
+            let n_loads = loads.load_values.len() / loads.n_saved().max(1);
+            let values = loads.load_values[first * n_loads..][..count * n_loads].to_vec();
+            mapper.map(rows, values, count);
         }
     }
 
-    /// Steps one block, saving its rows (the first being history row `row0`) into `eta`;
-    /// returns the failure if the state stops being finite.
-    #[allow(clippy::too_many_arguments)]
-    fn block(
+    /// Writes the current state into `row` (and the pseudo-force there into its slot).
+    fn save(&mut self, row: &mut [f64], slot: usize, t: f64) -> Result<(), CoreError> {
+        let r = self.xr.len();
+        row[..r].copy_from_slice(&self.xr);
+        row[r..].copy_from_slice(&self.xi);
+        if let Some(c) = self.corrector.as_mut() {
+            let m = c.n_modes();
+            c.at_state(&self.xr, &self.xi, t, &mut self.pseudo[slot * m..][..m])?;
+        }
+        Ok(())
+    }
+
+    /// Steps the block, saving into `eta` (its first row being history row `row0`).
+    fn steps(
         &mut self,
-        problem: &LinearProblem,
-        modes: &FirstOrderModes,
-        co: &Constants,
+        problem: &ModalProblem,
         loads: &BlockLoads,
-        (n0, row0): (usize, usize),
+        row0: usize,
         eta: &mut [f64],
-        mut nonlinear: Option<(&mut Corrector, &mut [f64])>,
-    ) -> Option<(CoreError, usize)> {
+    ) -> Result<(), StepFailure> {
+        let n0 = loads.n0;
+        let modes = self.modes;
         let r = self.xr.len();
         let m = problem.k.len();
         let n_loads = problem.loads.len();
@@ -419,7 +262,7 @@ impl Stepper {
                         h[(2 * s + 1) * r + k],
                         h[(2 * s + 2) * r + k],
                     );
-                    let w = |j: usize| Complex64::new(co.w[j][0][k], co.w[j][1][k]);
+                    let w = |j: usize| Complex64::new(self.co.w[j][0][k], self.co.w[j][1][k]);
                     let x = w(0) * p0 + w(1) * (p1 - p0) + w(2) * (pm - (p0 + p1) * 0.5);
                     self.fr.push(x.re);
                     self.fi.push(x.im);
@@ -438,30 +281,30 @@ impl Stepper {
                 .unzip();
             self.jumps.push((s, dr, di));
         }
-        let Stepper {
+        let FirstOrder {
             xr,
             xi,
             fr,
             fi,
             jumps,
+            co,
+            corrector,
+            pseudo,
+            ..
         } = self;
         // Reused across the steps of the block: no allocation per step.
         let mut terms: Vec<(f64, &[f64], &[f64])> = Vec::new();
-        for s in 0..=len {
+        for s in 0..len {
             if let Some(slot) = loads.slot[s] {
                 let row = &mut eta[(slot - row0) * 2 * r..][..2 * r];
                 row[..r].copy_from_slice(xr);
                 row[r..].copy_from_slice(xi);
-                if let Some((c, pseudo)) = nonlinear.as_mut() {
+                if let Some(c) = corrector.as_mut() {
                     // The element pseudo-force at the saved state (for the accelerations).
-                    let t = (n0 + s) as f64 * problem.dt;
-                    if let Err(e) = c.at_state(xr, xi, t, &mut pseudo[slot * m..][..m]) {
-                        return Some((e, n0 + s));
-                    }
+                    let t = problem.time(n0 + s);
+                    c.at_state(xr, xi, t, &mut pseudo[slot * m..][..m])
+                        .map_err(StepFailure::at(n0 + s))?;
                 }
-            }
-            if s == len {
-                break;
             }
             terms.clear();
             for (l, g) in co.gl.iter().enumerate() {
@@ -487,46 +330,154 @@ impl Stepper {
                 finite &= advance::<1>(xr, xi, i0, &co.e, &terms);
                 i0 += 1;
             }
-            if let (true, Some((c, _))) = (finite, nonlinear.as_mut()) {
-                let t = (n0 + s) as f64 * problem.dt;
-                if let Err(e) = c.correct(t, xr, xi) {
-                    let step = n0 + s + 1;
-                    // A residual that is no longer finite is a diverging response.
-                    let e = match e {
-                        CoreError::NoConvergence { residual, .. } if !residual.is_finite() => {
-                            CoreError::NonFinite {
-                                time: step as f64 * problem.dt,
-                                step,
-                                last_good_time: (step - 1) as f64 * problem.dt,
-                            }
-                        }
-                        other => other,
-                    };
-                    return Some((e, step));
-                }
+            let step = n0 + s + 1;
+            if let (true, Some(c)) = (finite, corrector.as_mut()) {
+                c.correct(problem.time(n0 + s), xr, xi)
+                    .map_err(StepFailure::at(step))?;
                 finite = xr.iter().chain(xi.iter()).all(|x| x.is_finite());
             }
             if !finite {
-                let step = n0 + s + 1;
-                let dt = problem.dt;
-                return Some((
-                    CoreError::NonFinite {
-                        time: step as f64 * dt,
-                        step,
-                        last_good_time: (step - 1) as f64 * dt,
-                    },
+                let error = CoreError::NonFinite {
+                    time: 0.0,
                     step,
-                ));
+                    last_good_time: 0.0,
+                };
+                return Err(StepFailure { error, step });
             }
         }
-        None
+        Ok(())
     }
+}
+
+impl<'s> Route for FirstOrder<'s, '_> {
+    fn block(&mut self, problem: &ModalProblem, loads: &BlockLoads) -> Result<(), StepFailure> {
+        let rows = loads.slot.iter().flatten().count();
+        let row0 = loads.slot.iter().flatten().next().copied().unwrap_or(0);
+        let eta = self.take_rows(rows);
+        let result = self.steps(problem, loads, row0, eta);
+        self.map(loads, eta, row0, rows);
+        result
+    }
+
+    fn save_current(
+        &mut self,
+        problem: &ModalProblem,
+        loads: &BlockLoads,
+        slot: usize,
+    ) -> Result<(), CoreError> {
+        let row = self.take_rows(1);
+        let result = self.save(row, slot, problem.time(loads.n0 + loads.len));
+        self.map(loads, row, slot, 1);
+        result
+    }
+}
+
+/// Integrates the coupled problem exactly in its first-order modes; `forcing` adds modal
+/// loads computed outside the engine, `control` may stop or watch the run.
+/// `problem.k`, `problem.c` are the diagonal of the real modal background (checked, and
+/// defining the number of real modes); the saved history holds the first-order
+/// coordinates ([`Coordinates::FirstOrder`]) and the load values.
+///
+/// With `outputs`, the saved rows are also mapped to outputs ([`History::outputs`]), block by
+/// block, on a second thread while the next block is stepped (unless `problem.threads` is
+/// 1 or the machine has one core). With `nonlinear`, element forces enter every step as a
+/// pseudo-force on the exact coupled background ([`crate::pseudo::first_order`]); the
+/// pseudo-force at the saved states is kept in [`History::pseudo`].
+pub fn integrate(
+    problem: &ModalProblem,
+    modes: &FirstOrderModes,
+    outputs: Option<&Outputs>,
+    nonlinear: Option<&Nonlinear>,
+    forcing: Option<&mut dyn ModalForcing>,
+    control: &mut dyn Control,
+) -> Result<(History, Stats), Box<Failure>> {
+    let fail = |e: CoreError| Box::new(Failure::from(e));
+    problem.check().map_err(fail)?;
+    let m = problem.n_modes();
+    modes.check(m).map_err(fail)?;
+    let r = modes.lambda_re.len();
+    if let Some(o) = outputs {
+        o.check(2 * r, problem.loads.len()).map_err(fail)?;
+    }
+    let corrector = match nonlinear {
+        Some(nl) => {
+            let lambda: Vec<Complex64> = (0..r).map(|k| modes.lambda(k)).collect();
+            let c = Corrector::new(
+                nl,
+                problem.k,
+                problem.c,
+                &lambda,
+                (modes.gain_re, modes.gain_im),
+                (modes.eta0_re, modes.eta0_im),
+                problem.dt,
+            )
+            .map_err(fail)?;
+            Some(c)
+        }
+        None => None,
+    };
+    let loads = BlockLoads::new(problem, false, forcing.is_some()).map_err(fail)?;
+    let n_saved = loads.n_saved();
+    let mut eta = zeroed(size(n_saved, 2 * r, "the modal history").map_err(fail)?, "the modal history")
+        .map_err(fail)?;
+    let mut pseudo = if corrector.is_some() {
+        zeroed(size(n_saved, m, "the pseudo-force").map_err(fail)?, "the pseudo-force").map_err(fail)?
+    } else {
+        Vec::new()
+    };
+    let n_cols = outputs.map_or(0, |o| o.n_cols);
+    let mut out = zeroed(size(n_saved, n_cols, "the outputs").map_err(fail)?, "the outputs")
+        .map_err(fail)?;
+    let threads = problem
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let pipelined = threads > 1;
+    let has_corrector = corrector.is_some();
+
+    let (loads, ending, stats) = std::thread::scope(|scope| {
+        let mapper = outputs.map(|o| Mapper::new(o, &mut out, pipelined.then_some(scope)));
+        let mut route = FirstOrder {
+            modes,
+            co: Constants::new(problem, modes),
+            xr: modes.eta0_re.to_vec(),
+            xi: modes.eta0_im.to_vec(),
+            fr: Vec::new(),
+            fi: Vec::new(),
+            jumps: Vec::new(),
+            eta_rest: &mut eta,
+            corrector,
+            pseudo: &mut pseudo,
+            mapper,
+        };
+        let (loads, ending) = drive(problem, &mut route, loads, forcing, control);
+        let stats = route.corrector.as_ref().map_or_else(Stats::default, |c| Stats {
+            newton_iterations: c.iterations,
+            factorizations: c.factorizations,
+            closed_form_steps: 0,
+        });
+        (loads, ending, stats)
+    });
+    let (t, load_values, forcing) = loads.into_saved(problem).map_err(fail)?;
+    let history = History {
+        n_modes: m,
+        t,
+        coordinates: Coordinates::FirstOrder {
+            eta,
+            width: 2 * r,
+        },
+        load_values,
+        forcing,
+        pseudo: has_corrector.then_some(pseudo),
+        outputs: outputs.is_some().then_some(out),
+    };
+    conclude(history, ending).map(|h| (h, stats))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::linear;
+    use crate::background::uncoupled;
+    use crate::driver::Unattended;
     use crate::loads::{ModalLoad, TimeFunction};
 
     /// One damped oscillator `q'' + c q' + k q = p` in first-order modes (computed by hand)
@@ -547,12 +498,13 @@ mod tests {
                 },
             },
         ];
-        let problem = LinearProblem {
+        let problem = ModalProblem {
             k: &k,
             c: &c,
             q0: &[0.3],
             v0: &[-0.2],
             loads: &loads,
+            t0: 0.0,
             dt: 0.05,
             n_steps: 200,
             save_every: 1,
@@ -580,12 +532,13 @@ mod tests {
             loads: &[0.0; 4],
             n_cols: 2,
         };
-        let (h, _) = integrate(&problem, &modes, Some(&outputs), None, None).unwrap();
-        let reference = linear::integrate(&problem, None).unwrap();
+        let (h, _) =
+            integrate(&problem, &modes, Some(&outputs), None, None, &mut Unattended).unwrap();
+        let reference = uncoupled::integrate(&problem, None, &mut Unattended).unwrap();
         assert_eq!(h.t, reference.t);
-        for (s, row) in h.out.chunks_exact(2).enumerate() {
-            assert!((row[0] - reference.q[s]).abs() < 1e-14, "q at step {s}");
-            assert!((row[1] - reference.v[s]).abs() < 1e-13, "v at step {s}");
+        for (s, row) in h.outputs.as_ref().unwrap().chunks_exact(2).enumerate() {
+            assert!((row[0] - reference.q()[s]).abs() < 1e-14, "q at step {s}");
+            assert!((row[1] - reference.v()[s]).abs() < 1e-13, "v at step {s}");
         }
     }
 }

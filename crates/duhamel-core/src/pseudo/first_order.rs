@@ -2,7 +2,8 @@
 //! first-order (complex) modes by the pseudo-force of the elements.
 //!
 //! Over a step the coupled linear background (non-classical damping, gyroscopic and
-//! circulatory terms) is integrated exactly in its first-order modes ([`crate::coupled`]);
+//! circulatory terms) is integrated exactly in its first-order modes
+//! ([`crate::background::first_order`]);
 //! only the element forces `Q = -Phi^T r(Phi q, Phi q', t)` enter as a pseudo-force, with the
 //! paper's scheme b (displacement linear from `q0` to `q1`, velocity `(q1 - q0)/dt`) and the
 //! trapezoidal rule (`Q` linear in time between its values at the step's ends):
@@ -18,11 +19,11 @@
 
 use num_complex::Complex64;
 
-use crate::cphi;
+use crate::background::cphi;
 use crate::dense::DenseLu;
 use crate::elements::Element;
 use crate::error::CoreError;
-use crate::semianalytic::pseudo::{Jacobian, PseudoForce};
+use super::force::{Jacobian, PseudoForce};
 
 /// The nonlinear part of a coupled problem.
 pub struct Nonlinear<'a> {
@@ -175,6 +176,11 @@ impl<'a> Corrector<'a> {
         corrector.map(eta0.0, eta0.1, 0, &mut q);
         corrector.q = q;
         Ok(corrector)
+    }
+
+    /// Number of real modes.
+    pub(crate) fn n_modes(&self) -> usize {
+        self.m
     }
 
     /// `part` 0: `q`, 1: `q'` of the first-order coordinates `(re, im)`.
@@ -343,6 +349,7 @@ impl<'a> Corrector<'a> {
         }
         Err(CoreError::NoConvergence {
             time: t + dt,
+            step: 0,
             residual,
             iterations: self.max_iter,
             last_good_time: t,

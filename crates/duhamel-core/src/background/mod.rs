@@ -1,0 +1,12 @@
+//! Background propagators: the exact step of the linear time-invariant part of a modal
+//! problem.
+//!
+//! * [`uncoupled`]: classically damped modes, each an independent oscillator stepped with its
+//!   exact transition and load-transfer matrices ([`oscillator`]);
+//! * [`first_order`]: modes coupled by non-classical damping, gyroscopic or circulatory terms,
+//!   diagonalised in first order and stepped with complex exponentials ([`cphi`]).
+
+pub mod cphi;
+pub mod first_order;
+pub mod oscillator;
+pub mod uncoupled;
