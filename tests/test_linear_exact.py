@@ -344,15 +344,21 @@ def test_bad_models_loads_and_integrators_are_rejected():
 
 
 def test_core_rejects_wrong_dtype_and_non_contiguous_input():
+    from types import SimpleNamespace
+
     from duhamel import _core
 
     k = np.ones(4)
-    ok = dict(loads=[], dt=0.1, n_steps=5, save_every=1)
+    ok = dict(loads=[], t0=0.0, dt=0.1, n_steps=5, save_every=1, threads=None, phi=np.eye(4))
+
+    def solve_linear(k, c, q0, v0, **kw):
+        return _core.solve_uncoupled(SimpleNamespace(k=k, c=c, q0=q0, v0=v0, **kw), None, None)
+
     with pytest.raises(ValueError, match="`x0` must be C-contiguous"):
-        _core.solve_linear(k, k, np.ones(8)[::2], k, **ok)
+        solve_linear(k, k, np.ones(8)[::2], k, **ok)
     with pytest.raises(TypeError, match="`v0`"):
-        _core.solve_linear(k, k, k, np.ones(4, dtype=np.int32), **ok)
+        solve_linear(k, k, k, np.ones(4, dtype=np.int32), **ok)
     with pytest.raises(ValueError, match="`c` has length 3"):
-        _core.solve_linear(k, np.ones(3), k, k, **ok)
+        solve_linear(k, np.ones(3), k, k, **ok)
     with pytest.raises(ValueError, match="`save_every`"):
-        _core.solve_linear(k, k, k, k, [], 0.1, 5, 0)
+        solve_linear(k, k, k, k, **(ok | {"save_every": 0}))

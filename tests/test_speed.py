@@ -348,48 +348,52 @@ def test_engine_scaled_path_with_a_unit_law_is_the_constant_path():
     # The time-scaled code paths of both engines, driven by a constant unit law, against the
     # constant couplings: the semi-analytic one is the same arithmetic, the direct one adds
     # the matrices in another order.
+    from types import SimpleNamespace
+
+    from duhamel._specs import LoadSpec, ScaledSpec, time_function
+
     system = _coupled(K=KQ, C=GROT)
     basis = system.modal(None)
     phi = np.ascontiguousarray(basis.phi)
     kq, cq = (np.ascontiguousarray(m) for m in system.elements[0].modal(phi))
     specs = [
-        (np.ascontiguousarray(phi.T @ p), kind, params)
+        LoadSpec(np.ascontiguousarray(phi.T @ p), time_function(kind, params))
         for p, kind, params in system.loads[0]._specs(system)
     ]
     q0 = phi.T @ MROT @ X0R
-    common = (basis.omega2, basis.c, q0, np.zeros(4), specs, 2e-4, 1000, 1, phi, [])
-    options = duhamel.Semianalytic()._options()
-    unit = ("constant", (1.0,))
-    a = _core.solve_nonlinear(*common, options, coupling_k=kq, coupling_c=cq)
-    b = _core.solve_nonlinear(*common, options, scaled=[(kq, cq, unit)])
-    np.testing.assert_array_equal(a["q"], b["q"])
+    problem = SimpleNamespace(
+        k=basis.omega2, c=basis.c, q0=q0, v0=np.zeros(4), loads=specs, t0=0.0, dt=2e-4,
+        n_steps=1000, save_every=1, threads=None, phi=phi,
+    )  # fmt: skip
+    unit = _core.SpeedLaw.constant(1.0)
 
-    from duhamel._direct import _matrix, physical_matrices
+    def nonlinear(**couplings):
+        base = dict(coupling_k=None, coupling_c=None, scaled=[])
+        return SimpleNamespace(
+            phi=phi, elements=[], options=duhamel.Semianalytic(), mass=None, **(base | couplings)
+        )
 
-    mats = physical_matrices(_coupled(K=KQ, C=GROT))
-    bare = physical_matrices(duhamel.System(MROT, KROT, rayleigh=RAYLEIGH_ROT))
-    method = duhamel.Newmark()._method()
-    dspecs = [(np.ascontiguousarray(p), k, pr) for p, k, pr in system.loads[0]._specs(system)]
-    args = (
-        X0R,
-        np.zeros(4),
-        dspecs,
-        2e-4,
-        1000,
-        1,
-        np.arange(4, dtype=np.int64),
-        method,
-        1e-10,
-        25,
-    )
-    c = _core.solve_direct(mats["m"], mats["k"], *args, c=mats["c"])
-    d = _core.solve_direct(
-        bare["m"],
-        bare["k"],
-        *args,
-        c=bare["c"],
-        scaled=[(_matrix(KQ, False), _matrix(GROT, False), unit)],
-    )
+    a = _core.solve_pseudo(problem, nonlinear(coupling_k=kq, coupling_c=cq), None, None)
+    b = _core.solve_pseudo(problem, nonlinear(scaled=[ScaledSpec(kq, cq, unit)]), None, None)
+    np.testing.assert_array_equal(a.q, b.q)
+
+    from duhamel._direct import _matrix, core_matrices, physical_matrices
+
+    mats = core_matrices(physical_matrices(_coupled(K=KQ, C=GROT)))
+    bare = core_matrices(physical_matrices(duhamel.System(MROT, KROT, rayleigh=RAYLEIGH_ROT)))
+    dspecs = [
+        LoadSpec(np.ascontiguousarray(p), time_function(k, pr))
+        for p, k, pr in system.loads[0]._specs(system)
+    ]
+    common = dict(
+        elements=[], loads=dspecs, mass=None, x0=X0R, v0=np.zeros(4), a0=None, t0=0.0,
+        dt=2e-4, n_steps=1000, save_every=1, out_dofs=np.arange(4, dtype=np.int64),
+        method=duhamel.Newmark()._method(), tol=1e-10, max_iter=25,
+    )  # fmt: skip
+    c = _core.solve_direct(SimpleNamespace(**(mats | common)), None, None)
+    scaled = [ScaledSpec(_matrix(KQ, False), _matrix(GROT, False), unit)]
+    d = _core.solve_direct(SimpleNamespace(**(bare | common | {"scaled": scaled})), None, None)
+    c, d = {"x": c.x}, {"x": d.x}
     diff = np.abs(c["x"] - d["x"]).max() / np.abs(c["x"]).max()
     print(f"\ndirect engine, scaled path with a unit law vs folded matrices: {diff:.1e}")
     assert diff <= 1e-13
@@ -460,13 +464,13 @@ BAD = [
     ),
     (
         "core-t1",
-        lambda: _core.speed_law(("runup", (0.0, 1.0, -2.0)), np.zeros(1)),
+        lambda: _core.SpeedLaw.run_up(0.0, 1.0, -2.0),
         ValueError,
         "`t1`",
     ),
     (
         "core-omega",
-        lambda: _core.time_function("unbalance", (("constant", (np.nan,)), 0.0, "x"), np.zeros(1)),
+        lambda: _core.SpeedLaw.constant(np.nan),
         ValueError,
         "`omega`",
     ),

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time as _time
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -13,8 +14,10 @@ from numpy.typing import NDArray
 
 from duhamel import _core
 from duhamel.elements import LinearCoupling
-from duhamel.errors import SolverError
-from duhamel.integrators import CentralDifference, DirectIntegrator
+from duhamel.integrators import CentralDifference, CubicHermite, DirectIntegrator
+from duhamel._solve.plan import mass
+from duhamel._solve.run import raise_failure
+from duhamel._specs import LoadSpec, ScaledSpec, element, speed_law, time_function
 from duhamel.loads import Callable
 from duhamel.solution import Solution, SolveStats
 from duhamel.system import System
@@ -49,20 +52,19 @@ def damping_matrix(system: System) -> Any:
     return (mphi * basis.c) @ mphi.T
 
 
-def _matrix(m: Any, sparse: bool) -> tuple:
-    """The core's matrix spec: ``("dense", array)`` or ``("csr", n, indptr, indices, data)``."""
+def _matrix(m: Any, sparse: bool) -> Any:
+    """A matrix as the core takes it (a ``_core.Matrix``: CSR when `sparse`, else dense)."""
     if sparse:
         c = sp.csr_array(m, dtype=np.float64)
         c.sum_duplicates()
-        return (
-            "csr",
+        return _core.Matrix.csr(
             int(c.shape[0]),
             np.ascontiguousarray(c.indptr, dtype=np.int64),
             np.ascontiguousarray(c.indices, dtype=np.int64),
             np.ascontiguousarray(c.data, dtype=np.float64),
         )
     dense = m.toarray() if sp.issparse(m) else np.asarray(m)
-    return ("dense", np.ascontiguousarray(dense, dtype=np.float64))
+    return _core.Matrix.dense(np.ascontiguousarray(dense, dtype=np.float64))
 
 
 def _add(a: Any, b: Any) -> Any:
@@ -81,7 +83,8 @@ def _times(m: Any, factor: float) -> Any:
 
 def physical_matrices(system: System) -> dict[str, Any]:
     """M, K, C, the stiffness that does not scale with a mass law, and the couplings scaled
-    by a time-varying speed law (``(K, C, law spec)``), as core specs."""
+    by a time-varying speed law (``(K, C, speed law)``), as numpy or scipy.sparse matrices;
+    ``sparse`` says whether the core gets them sparse (:func:`core_matrices`)."""
     # Modal damping ratios give a full C: everything is then dense.
     sparse = system.is_sparse and system.damping != "zeta"
     c = damping_matrix(system)
@@ -91,8 +94,7 @@ def physical_matrices(system: System) -> dict[str, Any]:
         if isinstance(element, LinearCoupling):
             factor = element.constant_factor()
             if factor is None:
-                km, cm = (None if m is None else _matrix(m, sparse) for m in (element.K, element.C))
-                scaled.append((km, cm, element.scale._spec()))
+                scaled.append((element.K, element.C, element.scale))
                 continue
             kc = _add(kc, _times(element.K, factor))
             c = _add(c, _times(element.C, factor))
@@ -100,23 +102,29 @@ def physical_matrices(system: System) -> dict[str, Any]:
     law = system.mass_law
     if kc is not None and (law is None or not law.scale_stiffness):
         k, kc = _add(k, kc), None
-    return {
-        "m": _matrix(system.M, sparse),
-        "k": _matrix(k, sparse),
-        "c": None if c is None else _matrix(c, sparse),
-        "k_fixed": None if kc is None else _matrix(kc, sparse),
-        "scaled": scaled,
-        "sparse": sparse,
+    return {"m": system.M, "k": k, "c": c, "k_fixed": kc, "scaled": scaled, "sparse": sparse}
+
+
+def core_matrices(mats: dict[str, Any]) -> dict[str, Any]:
+    """The matrices of :func:`physical_matrices` as the core takes them."""
+    sparse = mats["sparse"]
+    core = {
+        key: None if mats[key] is None else _matrix(mats[key], sparse)
+        for key in ("m", "k", "c", "k_fixed")
     }
+    core["scaled"] = [
+        ScaledSpec(
+            None if k is None else _matrix(k, sparse),
+            None if c is None else _matrix(c, sparse),
+            speed_law(law._spec()),
+        )
+        for k, c, law in mats["scaled"]
+    ]
+    return core
 
 
-def _to_scipy(spec: tuple | None, n: int) -> Any:
-    if spec is None:
-        return sp.csr_array((n, n))
-    if spec[0] == "dense":
-        return sp.csr_array(spec[1])
-    _, n, indptr, indices, data = spec
-    return sp.csr_array((data, indices, indptr), shape=(n, n))
+def _to_scipy(m: Any, n: int) -> Any:
+    return sp.csr_array((n, n)) if m is None else sp.csr_array(m)
 
 
 def highest_frequency(
@@ -195,72 +203,65 @@ def solve_direct(
     out_dofs: NDArray,
     forcing: Any,
     started: float,
+    t0: float = 0.0,
+    progress: Any = None,
     loads: bool = True,
     a0: NDArray | None = None,
 ) -> Solution:
     """Runs a direct integrator; see :func:`duhamel.solve`. ``loads=False`` ignores the
     system's loads; `a0` overrides the initial acceleration (see :func:`step_matrix`)."""
     mats = physical_matrices(system)
-    elements = [e._spec() for e in system.elements if not isinstance(e, LinearCoupling)]
+    elements = [element(e._spec()) for e in system.elements if not isinstance(e, LinearCoupling)]
     if isinstance(integrator, CentralDifference) and not integrator.allow_unstable:
-        _check_central(system, mats, elements, x0, v0, dt, n_steps * dt)
+        _check_central(system, mats, elements, x0, v0, dt, t0 + n_steps * dt)
     specs = []
     for load in system.loads if loads else []:
         if isinstance(load, Callable):
             continue
         for pattern, kind, params in load._specs(system):
-            specs.append((np.ascontiguousarray(pattern, dtype=np.float64), kind, params))
-    law = system.mass_law
-    mass = None
-    if law is not None:
-        kind, params = law.law._spec()
-        mass = (kind, params, law.form, law.scale_stiffness)
-    loop_start = _time.perf_counter()
-    raw = _core.solve_direct(
-        mats["m"],
-        mats["k"],
-        np.ascontiguousarray(x0, dtype=np.float64),
-        np.ascontiguousarray(v0, dtype=np.float64),
-        specs,
-        dt,
-        n_steps,
-        save_every,
-        np.ascontiguousarray(out_dofs, dtype=np.int64),
-        integrator._method(),
-        float(integrator.tol),
-        int(integrator.max_iter),
-        c=mats["c"],
-        k_fixed=mats["k_fixed"],
-        scaled=mats["scaled"],
+            specs.append(
+                LoadSpec(np.ascontiguousarray(pattern, dtype=np.float64), time_function(kind, params))
+            )
+    problem = SimpleNamespace(
+        **core_matrices(mats),
         elements=elements,
-        mass=mass,
-        forcing=forcing,
+        loads=specs,
+        mass=mass(system, integrator),
+        x0=np.ascontiguousarray(x0, dtype=np.float64),
+        v0=np.ascontiguousarray(v0, dtype=np.float64),
         a0=None if a0 is None else np.ascontiguousarray(a0, dtype=np.float64),
+        t0=t0,
+        dt=dt,
+        n_steps=n_steps,
+        save_every=save_every,
+        out_dofs=np.ascontiguousarray(out_dofs, dtype=np.int64),
+        method=integrator._method(),
+        tol=float(integrator.tol),
+        max_iter=int(integrator.max_iter),
     )
+    loop_start = _time.perf_counter()
+    result = _core.solve_direct(problem, forcing, progress)
     wall = _time.perf_counter() - loop_start
-    err = raw["error"]
-    stats = raw.get("stats", {})
+    error = result.error
     solution = Solution(
-        t=raw["t"],
-        x=raw["x"],
-        v=raw["v"],
-        a=raw["a"],
+        t=result.t,
+        x=result.x,
+        v=result.v,
+        a=result.a,
         dofs=np.asarray(out_dofs, dtype=np.int64),
         modal=None,
         stats=SolveStats(
-            steps=n_steps if err is None else max(0, round(float(err["time"]) / dt) - 1),
+            steps=n_steps if error is None else max(0, error.step - 1),
             wall_time=wall,
             total_time=_time.perf_counter() - started,
             modes=0,
-            newton_iterations=int(stats.get("newton_iterations", 0)),
-            factorizations=int(stats.get("factorizations", 0)),
+            newton_iterations=int(result.newton_iterations),
+            factorizations=int(result.factorizations),
         ),
-        meta={"dt": dt, "integrator": integrator},
+        meta={"dt": dt, "t0": t0, "integrator": integrator},
     )
-    if err is not None:
-        raise SolverError(
-            err["message"], time=float(err["time"]), reason=err["kind"], partial=solution
-        )
+    if error is not None:
+        raise_failure(error, solution)
     return solution
 
 
@@ -275,7 +276,7 @@ def step_matrix(system: System, integrator: DirectIntegrator, dt: float) -> NDAr
     if system.elements or system.mass_law is not None:
         raise ValueError("`system` must be linear (no elements, constant mass)")
     n = system.n_dof
-    alpha = integrator._method()[0] == "alpha"
+    alpha = not isinstance(integrator, CubicHermite)
     size = (3 if alpha else 2) * n
     out = np.empty((size, size))
     dofs = np.arange(n)

@@ -23,12 +23,24 @@ class SolverError(DuhamelError, RuntimeError):
         ``"nonfinite"`` (the state overflowed or became NaN: a diverging response),
         ``"convergence"`` (the implicit step equation did not converge) or ``"callback"``
         (a Python load or element function failed).
+    step : int or None
+        The step that could not be completed (steps count from 1: step ``n`` ends at
+        ``t0 + n dt``), as the engine reports it.
     partial : Solution
         Everything computed up to the last good saved instant.
     """
 
-    def __init__(self, message: str, *, time: float, reason: str, partial: Solution) -> None:
+    def __init__(
+        self,
+        message: str,
+        *,
+        time: float,
+        reason: str,
+        partial: Solution,
+        step: int | None = None,
+    ) -> None:
         super().__init__(message)
         self.time = time
         self.reason = reason
+        self.step = step
         self.partial = partial

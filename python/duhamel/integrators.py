@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
+
+from duhamel import _core
 
 __all__ = [
     "HHT",
@@ -152,7 +155,8 @@ class DirectIntegrator:
     tol: float
     max_iter: int
 
-    def _method(self) -> tuple:  # pragma: no cover - abstract
+    def _method(self) -> Any:  # pragma: no cover - abstract
+        """The method as the core takes it (a ``_core.Method``)."""
         raise NotImplementedError
 
 
@@ -170,8 +174,8 @@ class _AlphaFamily(DirectIntegrator):
     def _params(self) -> tuple[float, float, float, float]:  # pragma: no cover - abstract
         raise NotImplementedError
 
-    def _method(self) -> tuple:
-        return ("alpha", *self._params())
+    def _method(self) -> Any:
+        return _core.Method.alpha(*self._params())
 
 
 @dataclass(frozen=True)
@@ -394,5 +398,5 @@ class CubicHermite(DirectIntegrator):
             raise ValueError(f"`points` must be an integer from 2 to 8, got {p!r}")
         _newton_options(self.tol, self.max_iter)
 
-    def _method(self) -> tuple:
-        return ("hermite", int(self.points))
+    def _method(self) -> Any:
+        return _core.Method.hermite(int(self.points))

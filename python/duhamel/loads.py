@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel import _core
+from duhamel._specs import time_function
 from duhamel._validate import as_float_array, dof_index, finite_float
 from duhamel.speed import ConstantSpeed, LinearRunUp, SpeedLaw, as_speed_law
 
@@ -370,5 +370,5 @@ class Unbalance(Load):
         flat = np.ascontiguousarray(np.atleast_1d(ts).ravel())
         out = np.zeros((flat.size, system.n_dof))
         for pattern, kind, params in self._specs(system):
-            out += np.outer(_core.time_function(kind, params, flat), pattern)
+            out += np.outer(time_function(kind, params).values(flat), pattern)
         return out[0] if ts.ndim == 0 else out

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel import _core
+from duhamel._specs import speed_law
 from duhamel._validate import finite_float
 
 __all__ = ["ConstantSpeed", "LinearRunUp", "SpeedLaw", "as_speed_law"]
@@ -42,7 +42,7 @@ class SpeedLaw:
     def _eval(self, t: ArrayLike, which: int) -> Any:
         ts = np.asarray(t, dtype=np.float64)
         flat = np.ascontiguousarray(np.atleast_1d(ts).ravel())
-        out = _core.speed_law(self._spec(), flat)[which].reshape(ts.shape)
+        out = speed_law(self._spec()).evaluate(flat)[which].reshape(ts.shape)
         return out[()] if ts.ndim == 0 else out
 
     def omega(self, t: ArrayLike) -> NDArray[np.float64]:

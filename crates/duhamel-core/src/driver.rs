@@ -150,12 +150,19 @@ pub fn drive(
             break Some((e.located(n0 + 1, time), grid.before(n0 + 1)));
         }
         let len = pacer.next(n_steps - n0);
-        if let Err(e) = loads.prepare(problem, n0, len, forcing.as_deref_mut()) {
-            // The loads of the block are lost: the state at `n0` is not kept either.
-            break Some((e.located(n0 + 1, time), grid.before(n0)));
-        }
+        let prepared = loads.prepare(problem, n0, len, forcing.as_deref_mut());
+        // A forcing that failed inside the block leaves the steps before it to be taken.
         if let Err(f) = route.block(problem, &loads) {
             break Some((f.error.located(f.step, time), grid.before(f.step)));
+        }
+        if let Err(stopped) = prepared {
+            let n = n0 + stopped.steps;
+            if let Some(slot) = loads.end_slot() {
+                if let Err(e) = route.save_current(problem, &loads, slot) {
+                    break Some((e.located(n, time), grid.before(n)));
+                }
+            }
+            break Some((stopped.error.located(n + 1, time), grid.before(n + 1)));
         }
         pacer.done(len);
         n0 += len;

@@ -46,7 +46,9 @@ pub enum CoreError {
         message: String,
     },
     /// The caller asked the run to stop (Ctrl-C): the history up to `time` is kept.
-    #[error("interrupted at t = {time} (before step {step}); the history up to t = {time} is kept")]
+    #[error(
+        "interrupted at t = {time} (before step {step}); the history up to t = {time} is kept"
+    )]
     Interrupted { time: f64, step: usize },
 }
 

@@ -32,6 +32,10 @@ impl Default for Coordinates {
 pub struct History {
     /// Number of (real) modes.
     pub n_modes: usize,
+    /// Number of built-in loads.
+    pub n_loads: usize,
+    /// Number of mapped outputs.
+    pub n_outputs: usize,
     /// Saved times.
     pub t: Vec<f64>,
     /// The saved state.

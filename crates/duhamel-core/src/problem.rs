@@ -49,7 +49,11 @@ impl ModalProblem<'_> {
     /// Checks lengths and values; errors name the Python-side parameter.
     pub fn check(&self) -> Result<(), CoreError> {
         let n = self.k.len();
-        let lens = [("c", self.c.len()), ("x0", self.q0.len()), ("v0", self.v0.len())];
+        let lens = [
+            ("c", self.c.len()),
+            ("x0", self.q0.len()),
+            ("v0", self.v0.len()),
+        ];
         for (name, got) in lens {
             if got != n {
                 return Err(CoreError::LengthMismatch {

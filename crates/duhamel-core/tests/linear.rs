@@ -174,7 +174,10 @@ fn external_forcing_matches_the_builtin_load() {
     for (a, b) in builtin.q().iter().zip(external.q()) {
         assert!((a - b).abs() <= 1e-13 * (1.0 + a.abs()));
     }
-    assert_eq!(external.forcing.as_ref().map_or(0, Vec::len), external.q().len());
+    assert_eq!(
+        external.forcing.as_ref().map_or(0, Vec::len),
+        external.q().len()
+    );
 }
 
 #[test]

@@ -1,147 +1,138 @@
 //! Binding of the direct integrators (generalized-alpha family, cubic Hermite element).
 
-use duhamel_core::direct::assembly::Matrix;
+use duhamel_core::direct::assembly::Matrix as CoreMatrix;
 use duhamel_core::direct::{
-    self, AlphaParams, DirectHistory, DirectProblem, Method, ScaledCoupling,
+    self, AlphaParams, DirectProblem, Method as CoreMethod, ScaledCoupling,
 };
-use duhamel_core::elements::{Element, Tangent};
-use duhamel_core::linear::ModalForcing;
+use duhamel_core::elements::Tangent;
+use duhamel_core::loads::ModalForcing;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyTuple};
+use pyo3::types::PyTuple;
 
-use crate::nonlinear::parse_mass;
-use crate::run::{finish_run, parse_loads, parse_speed, IntoDict, PyForcing};
-use crate::{core_err, elements, vec_of};
+use crate::arrays::{attr, index_vec, vec_of};
+use crate::driver::PyControl;
+use crate::elements;
+use crate::error::core_err;
+use crate::history::{finish, Causes, RunResult};
+use crate::loads::{loads_of, PyForcing};
+use crate::mass::mass_of;
+use crate::speed::speed_of;
 
-impl IntoDict for DirectHistory {
-    fn into_dict(self, py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
-        let d = PyDict::new(py);
-        let (ns, no) = (self.t.len(), self.n_out);
-        d.set_item("t", PyArray1::from_vec(py, self.t))?;
-        for (key, values) in [("x", self.x), ("v", self.v), ("a", self.a)] {
-            d.set_item(key, PyArray1::from_vec(py, values).reshape([ns, no])?)?;
+/// A dense or CSR sparse matrix for the direct integrators.
+#[pyclass(frozen, name = "Matrix", module = "duhamel._core")]
+pub(crate) struct Matrix(CoreMatrix);
+
+#[pymethods]
+impl Matrix {
+    /// A dense square float64 matrix.
+    #[staticmethod]
+    fn dense(a: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let arr = a
+            .cast::<PyArray2<f64>>()
+            .map_err(|_| PyTypeError::new_err("a dense matrix must be a float64 2-D array"))?;
+        let shape = arr.shape().to_vec();
+        if shape[0] != shape[1] {
+            return Err(PyValueError::new_err("a matrix must be square"));
         }
-        Ok(d)
+        let ro = arr.readonly();
+        Ok(Matrix(CoreMatrix::Dense {
+            n: shape[0],
+            data: ro.as_slice()?.to_vec(),
+        }))
+    }
+
+    /// An `n x n` CSR matrix (int64 `indptr`, `indices`, float64 `data`).
+    #[staticmethod]
+    fn csr(
+        n: usize,
+        indptr: &Bound<'_, PyAny>,
+        indices: &Bound<'_, PyAny>,
+        data: &Bound<'_, PyAny>,
+    ) -> PyResult<Self> {
+        Ok(Matrix(CoreMatrix::Csr {
+            n,
+            indptr: index_vec(indptr, "indptr")?,
+            indices: index_vec(indices, "indices")?,
+            data: vec_of(data, "data")?,
+        }))
     }
 }
 
-/// Non-negative integers from a 1-D int64 array.
-fn index_vec(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<usize>> {
-    let arr = obj.cast::<PyArray1<i64>>().map_err(|_| {
-        PyTypeError::new_err(format!("`{name}` must be a 1-D numpy array of int64"))
-    })?;
-    let ro = arr.readonly();
-    ro.as_slice()?
-        .iter()
-        .map(|&i| {
-            usize::try_from(i).map_err(|_| PyValueError::new_err(format!("`{name}` is negative")))
-        })
-        .collect()
-}
+/// A direct integration method.
+#[pyclass(frozen, name = "Method", module = "duhamel._core")]
+pub(crate) struct Method(CoreMethod);
 
-/// `("dense", array (n, n))` or `("csr", n, indptr, indices, data)`.
-fn parse_matrix(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Matrix> {
-    let tup = obj
-        .cast::<PyTuple>()
-        .map_err(|_| PyTypeError::new_err(format!("`{name}` spec must be a tuple")))?;
-    let kind: String = tup.get_item(0)?.extract()?;
-    match kind.as_str() {
-        "dense" => {
-            let arr = tup.get_item(1)?;
-            let arr = arr
-                .cast::<PyArray2<f64>>()
-                .map_err(|_| PyTypeError::new_err(format!("`{name}` must be a float64 matrix")))?;
-            let shape = arr.shape().to_vec();
-            if shape[0] != shape[1] {
-                return Err(PyValueError::new_err(format!("`{name}` must be square")));
-            }
-            let ro = arr.readonly();
-            Ok(Matrix::Dense {
-                n: shape[0],
-                data: ro.as_slice()?.to_vec(),
-            })
-        }
-        "csr" => Ok(Matrix::Csr {
-            n: tup.get_item(1)?.extract()?,
-            indptr: index_vec(&tup.get_item(2)?, "indptr")?,
-            indices: index_vec(&tup.get_item(3)?, "indices")?,
-            data: vec_of(&tup.get_item(4)?, "data")?,
-        }),
-        other => Err(PyValueError::new_err(format!(
-            "unknown matrix kind {other:?} for `{name}`"
-        ))),
+#[pymethods]
+impl Method {
+    /// The generalized-alpha family in Chung and Hulbert's convention.
+    #[staticmethod]
+    fn alpha(alpha_m: f64, alpha_f: f64, gamma: f64, beta: f64) -> Self {
+        Method(CoreMethod::Alpha(AlphaParams {
+            alpha_m,
+            alpha_f,
+            gamma,
+            beta,
+        }))
+    }
+
+    /// The C1 cubic Hermite time element with `points` Gauss points.
+    #[staticmethod]
+    fn hermite(points: usize) -> Self {
+        Method(CoreMethod::CubicHermite { points })
     }
 }
 
-fn parse_method(method: &Bound<'_, PyAny>) -> PyResult<Method> {
-    let kind: String = method.get_item(0)?.extract()?;
-    match kind.as_str() {
-        "alpha" => Ok(Method::Alpha(AlphaParams {
-            alpha_m: method.get_item(1)?.extract()?,
-            alpha_f: method.get_item(2)?.extract()?,
-            gamma: method.get_item(3)?.extract()?,
-            beta: method.get_item(4)?.extract()?,
-        })),
-        "hermite" => Ok(Method::CubicHermite {
-            points: method.get_item(1)?.extract()?,
-        }),
-        other => Err(PyValueError::new_err(format!("unknown method {other:?}"))),
+/// The matrix of attribute `name` (a `_core.Matrix`), or None.
+fn matrix_of(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Option<CoreMatrix>> {
+    let m = obj.getattr(name)?;
+    if m.is_none() {
+        return Ok(None);
     }
+    Ok(Some(m.cast::<Matrix>()?.get().0.clone()))
 }
 
-fn optional_matrix(obj: Option<&Bound<'_, PyAny>>, name: &str) -> PyResult<Option<Matrix>> {
-    obj.map(|m| parse_matrix(m, name)).transpose()
-}
+/// Owned couplings scaled by a speed law.
+type Scaled = (
+    Option<CoreMatrix>,
+    Option<CoreMatrix>,
+    duhamel_core::speed::SpeedLaw,
+);
 
 /// Integrates the physical equations of motion directly; see `duhamel.solve`.
 ///
-/// Matrices are `("dense", array)` or `("csr", n, indptr, indices, data)`; `method` is
-/// `("alpha", alpha_m, alpha_f, gamma, beta)` or `("hermite", points)`; `a0` overrides the
-/// initial acceleration (generalized-alpha methods only); `scaled` is a list of
-/// `(K spec or None, C spec or None, speed law spec)` couplings scaled by a speed law.
-/// Returns a dict with
-/// `t` and time-major `x`, `v`, `a` for `out_dofs`, `error` (as `solve_linear`) and `stats`
-/// (`newton_iterations`, `factorizations`).
+/// `problem` has `m`, `k`, `c`, `k_fixed` (`_core.Matrix` or None), `scaled` (objects with
+/// `k`, `c` matrices or None and a `law`), `elements`, `loads` (objects with physical
+/// `pattern` and `time`), `mass`, `x0`, `v0`, `a0` (or None: from the equation of motion),
+/// `t0`, `dt`, `n_steps`, `save_every`, `out_dofs` (int64), `method` (a `_core.Method`),
+/// `tol` and `max_iter`. `forcing` is None or a Python function of time returning physical
+/// loads; `progress` as for `solve_uncoupled`.
 #[pyfunction]
-#[pyo3(signature = (m, k, x0, v0, loads, dt, n_steps, save_every, out_dofs, method, tol, max_iter, c=None, k_fixed=None, elements=None, mass=None, forcing=None, a0=None, scaled=None))]
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn solve_direct<'py>(
-    py: Python<'py>,
-    m: &Bound<'py, PyAny>,
-    k: &Bound<'py, PyAny>,
-    x0: &Bound<'py, PyAny>,
-    v0: &Bound<'py, PyAny>,
-    loads: &Bound<'py, PyAny>,
-    dt: f64,
-    n_steps: usize,
-    save_every: usize,
-    out_dofs: &Bound<'py, PyAny>,
-    method: &Bound<'py, PyAny>,
-    tol: f64,
-    max_iter: usize,
-    c: Option<&Bound<'py, PyAny>>,
-    k_fixed: Option<&Bound<'py, PyAny>>,
-    elements: Option<&Bound<'py, PyAny>>,
-    mass: Option<&Bound<'py, PyAny>>,
-    forcing: Option<Py<PyAny>>,
-    a0: Option<&Bound<'py, PyAny>>,
-    scaled: Option<&Bound<'py, PyAny>>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let m = parse_matrix(m, "M")?;
-    let mut scaled_mats = Vec::new();
-    if let Some(list) = scaled {
-        for item in list.try_iter()? {
-            let item = item?;
-            let opt = |i: usize, name: &str| -> PyResult<Option<Matrix>> {
-                let m = item.get_item(i)?;
-                optional_matrix((!m.is_none()).then_some(&m), name)
-            };
-            scaled_mats.push((opt(0, "K")?, opt(1, "C")?, parse_speed(&item.get_item(2)?)?));
-        }
+pub(crate) fn solve_direct(
+    py: Python<'_>,
+    problem: &Bound<'_, PyAny>,
+    forcing: &Bound<'_, PyAny>,
+    progress: &Bound<'_, PyAny>,
+) -> PyResult<RunResult> {
+    let required = |name: &str| -> PyResult<CoreMatrix> {
+        matrix_of(problem, name)?
+            .ok_or_else(|| PyValueError::new_err(format!("`{}` is required", name.to_uppercase())))
+    };
+    let m = required("m")?;
+    let k = required("k")?;
+    let c = matrix_of(problem, "c")?;
+    let k_fixed = matrix_of(problem, "k_fixed")?;
+    let mut owned: Vec<Scaled> = Vec::new();
+    for item in problem.getattr("scaled")?.try_iter()? {
+        let item = item?;
+        owned.push((
+            matrix_of(&item, "k")?,
+            matrix_of(&item, "c")?,
+            speed_of(&item.getattr("law")?)?,
+        ));
     }
-    let scaled: Vec<ScaledCoupling> = scaled_mats
+    let scaled: Vec<ScaledCoupling> = owned
         .iter()
         .map(|(k, c, law)| ScaledCoupling {
             k: k.as_ref(),
@@ -149,23 +140,21 @@ pub(crate) fn solve_direct<'py>(
             law: *law,
         })
         .collect();
-    let a0 = a0.map(|a| vec_of(a, "a0")).transpose()?;
-    let k = parse_matrix(k, "K")?;
-    let c = optional_matrix(c, "C")?;
-    let k_fixed = optional_matrix(k_fixed, "K")?;
-    let x0 = vec_of(x0, "x0")?;
-    let v0 = vec_of(v0, "v0")?;
-    let loads = parse_loads(loads)?;
-    let out_dofs = index_vec(out_dofs, "dofs")?;
-    let method = parse_method(method)?;
-    let (boxed, python) = match elements {
-        Some(e) => elements::parse(e)?,
-        None => (Vec::new(), Vec::new()),
+    let a0 = problem.getattr("a0")?;
+    let a0 = if a0.is_none() {
+        None
+    } else {
+        Some(vec_of(&a0, "a0")?)
     };
-    let refs: Vec<&dyn Element> = boxed.iter().map(|b| b.as_ref()).collect();
-    let mass = mass.map(parse_mass).transpose()?;
-    let mut py_forcing = PyForcing::physical(forcing, x0.len());
-    let problem = DirectProblem {
+    let x0 = vec_of(&problem.getattr("x0")?, "x0")?;
+    let v0 = vec_of(&problem.getattr("v0")?, "v0")?;
+    let loads = loads_of(&problem.getattr("loads")?)?;
+    let out_dofs = index_vec(&problem.getattr("out_dofs")?, "dofs")?;
+    let method = problem.getattr("method")?.cast::<Method>()?.get().0;
+    let built = elements::build(py, &problem.getattr("elements")?)?;
+    let refs = built.refs();
+    let mass = mass_of(&problem.getattr("mass")?)?;
+    let p = DirectProblem {
         m: &m,
         k: &k,
         c: c.as_ref(),
@@ -177,22 +166,26 @@ pub(crate) fn solve_direct<'py>(
         x0: &x0,
         v0: &v0,
         a0: a0.as_deref(),
-        dt,
-        n_steps,
-        save_every,
+        t0: attr(problem, "t0")?,
+        dt: attr(problem, "dt")?,
+        n_steps: attr(problem, "n_steps")?,
+        save_every: attr(problem, "save_every")?,
         out_dofs: &out_dofs,
         method,
-        tol,
-        max_iter,
+        tol: attr(problem, "tol")?,
+        max_iter: attr(problem, "max_iter")?,
     };
+    let mut forcing = PyForcing::physical(forcing, x0.len());
+    let mut control = PyControl::new(progress);
     let result = py.detach(|| {
-        let f = py_forcing.as_mut().map(|f| f as &mut dyn ModalForcing);
-        direct::integrate(&problem, f)
+        let f = forcing.as_mut().map(|f| f as &mut dyn ModalForcing);
+        direct::integrate(&p, f, &mut control)
     });
-    finish_run(py, result, py_forcing, &python, |s, st| {
-        st.set_item("newton_iterations", s.newton_iterations)?;
-        st.set_item("factorizations", s.factorizations)
-    })
+    let causes = Causes {
+        callback: forcing.and_then(|f| f.error).or_else(|| built.take_error()),
+        control: control.error,
+    };
+    finish(py, result, causes)
 }
 
 /// The elements' stiffness `dr/dx` at the state `(x, v)` and time `t`, as COO triplets
@@ -208,16 +201,11 @@ pub(crate) fn element_stiffness<'py>(
 ) -> PyResult<Bound<'py, PyTuple>> {
     let x = vec_of(x, "x")?;
     let v = vec_of(v, "v")?;
-    let (boxed, python) = elements::parse(elements)?;
+    let built = elements::build(py, elements)?;
     // A failing Python element re-raises its own exception.
-    let fail = |e: duhamel_core::CoreError| {
-        python
-            .iter()
-            .find_map(|p| p.error.lock().unwrap_or_else(|x| x.into_inner()).take())
-            .unwrap_or_else(|| core_err(e))
-    };
+    let fail = |e: duhamel_core::CoreError| built.take_error().unwrap_or_else(|| core_err(e));
     let (mut rows, mut cols, mut vals) = (Vec::new(), Vec::new(), Vec::new());
-    for e in &boxed {
+    for e in &built.elements {
         let dofs = e.dofs().to_vec();
         if let Some(&d) = dofs.iter().find(|&&d| d >= x.len()) {
             return Err(PyValueError::new_err(format!(

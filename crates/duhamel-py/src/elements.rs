@@ -1,15 +1,16 @@
-//! Element specifications from Python, and the Python `Callable` element.
+//! Elements: specifications as typed values (checked once, when made), and the Python
+//! `Callable` element.
 
 use std::sync::Mutex;
 
 use duhamel_core::elements::{Contact, Damper, Element, Polynomial, Spring, Tangent};
 use duhamel_core::CoreError;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::PyTuple;
 
-use crate::{core_err, vec_of};
+use crate::arrays::vec_of;
+use crate::error::core_err;
 
 /// A Python function `fn(x, v, t) -> r` of an element's local state, with an optional
 /// `jacobian(x, v, t) -> (dr/dx, dr/dv)`; called with the GIL, once per evaluation.
@@ -118,7 +119,11 @@ impl Element for PyElement {
                 let message = err.to_string();
                 let mut slot = self.error.lock().unwrap_or_else(|p| p.into_inner());
                 slot.get_or_insert(err);
-                CoreError::Callback { time: t, message }
+                CoreError::Callback {
+                    time: t,
+                    step: 0,
+                    message,
+                }
             })
         })
     }
@@ -136,88 +141,141 @@ impl Element for PyElement {
     }
 }
 
-fn usize_of(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<usize> {
-    obj.extract::<usize>()
-        .map_err(|_| PyTypeError::new_err(format!("`{name}` must be a non-negative integer")))
+/// What an element is, checked; the run builds a fresh element from it.
+enum Spec {
+    Polynomial(Polynomial),
+    Spring(Spring),
+    Damper(Damper),
+    Contact(Contact),
+    Callable {
+        dofs: Vec<usize>,
+        func: Py<PyAny>,
+        jacobian: Option<Py<PyAny>>,
+    },
 }
 
-/// Parsed elements, and handles on the Python ones (to collect their exceptions).
-pub(crate) type Parsed = (Vec<Box<dyn Element>>, Vec<std::sync::Arc<PyElement>>);
+/// A force element of `duhamel.elements`, checked.
+#[pyclass(frozen, name = "Element", module = "duhamel._core")]
+pub(crate) struct ElementSpec(Spec);
 
-/// Parses `(kind, *params)` element tuples.
-pub(crate) fn parse(specs: &Bound<'_, PyAny>) -> PyResult<Parsed> {
-    let mut out: Vec<Box<dyn Element>> = Vec::new();
-    let mut python = Vec::new();
+#[pymethods]
+impl ElementSpec {
+    /// `r = sum_k coefficients[k] x^k` at `dof`.
+    #[staticmethod]
+    fn polynomial(dof: usize, coefficients: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let e = Polynomial::new(dof, vec_of(coefficients, "coefficients")?).map_err(core_err)?;
+        Ok(ElementSpec(Spec::Polynomial(e)))
+    }
+
+    /// Spring `k d + k3 d^3` on `d = x_i - x_j` (`j` None: to ground).
+    #[staticmethod]
+    #[pyo3(signature = (i, j, k, k3))]
+    fn spring(i: usize, j: Option<usize>, k: f64, k3: f64) -> PyResult<Self> {
+        let e = Spring::new(i, j, k, k3).map_err(core_err)?;
+        Ok(ElementSpec(Spec::Spring(e)))
+    }
+
+    /// Viscous damper `c d'` on `d = x_i - x_j`.
+    #[staticmethod]
+    #[pyo3(signature = (i, j, c))]
+    fn damper(i: usize, j: Option<usize>, c: f64) -> PyResult<Self> {
+        let e = Damper::new(i, j, c).map_err(core_err)?;
+        Ok(ElementSpec(Spec::Damper(e)))
+    }
+
+    /// Radial rub contact with Coulomb friction.
+    #[staticmethod]
+    fn contact(
+        dof_x: usize,
+        dof_y: usize,
+        clearance: f64,
+        stiffness: f64,
+        friction: f64,
+        smoothing: f64,
+        velocity_smoothing: f64,
+    ) -> PyResult<Self> {
+        let e = Contact::new(
+            dof_x,
+            dof_y,
+            clearance,
+            stiffness,
+            friction,
+            smoothing,
+            velocity_smoothing,
+        )
+        .map_err(core_err)?;
+        Ok(ElementSpec(Spec::Contact(e)))
+    }
+
+    /// A Python function `fn(x, v, t) -> r` of the local state at `dofs`, with an optional
+    /// `jacobian(x, v, t) -> (dr/dx, dr/dv)`.
+    #[staticmethod]
+    #[pyo3(signature = (dofs, func, jacobian=None))]
+    fn callable(dofs: Vec<usize>, func: Py<PyAny>, jacobian: Option<Py<PyAny>>) -> Self {
+        ElementSpec(Spec::Callable {
+            dofs,
+            func,
+            jacobian,
+        })
+    }
+}
+
+/// Built elements, and handles on the Python ones (to collect their exceptions).
+#[derive(Default)]
+pub(crate) struct Built {
+    pub(crate) elements: Vec<Box<dyn Element>>,
+    pub(crate) python: Vec<std::sync::Arc<PyElement>>,
+}
+
+impl Built {
+    /// The elements as the core takes them.
+    pub(crate) fn refs(&self) -> Vec<&dyn Element> {
+        self.elements.iter().map(|b| b.as_ref()).collect()
+    }
+
+    /// The first exception a Python element raised, if any.
+    pub(crate) fn take_error(&self) -> Option<PyErr> {
+        self.python
+            .iter()
+            .find_map(|e| e.error.lock().unwrap_or_else(|p| p.into_inner()).take())
+    }
+}
+
+/// Builds the elements of a sequence of `_core.Element` specs.
+pub(crate) fn build(py: Python<'_>, specs: &Bound<'_, PyAny>) -> PyResult<Built> {
+    let mut built = Built {
+        elements: Vec::new(),
+        python: Vec::new(),
+    };
+    if specs.is_none() {
+        return Ok(built);
+    }
     for item in specs.try_iter()? {
         let item = item?;
-        let tup = item
-            .cast::<PyTuple>()
-            .map_err(|_| PyTypeError::new_err("element spec must be a tuple"))?;
-        let kind: String = tup.get_item(0)?.extract()?;
-        let arg = |i: usize| tup.get_item(i);
-        let opt_j = |i: usize| -> PyResult<Option<usize>> {
-            let o = tup.get_item(i)?;
-            if o.is_none() {
-                Ok(None)
-            } else {
-                Ok(Some(usize_of(&o, "j")?))
-            }
-        };
-        let f = |i: usize| -> PyResult<f64> { tup.get_item(i)?.extract::<f64>() };
-        let element: Box<dyn Element> = match kind.as_str() {
-            "polynomial" => Box::new(
-                Polynomial::new(
-                    usize_of(&arg(1)?, "dof")?,
-                    vec_of(&arg(2)?, "coefficients")?,
-                )
-                .map_err(core_err)?,
-            ),
-            "spring" => Box::new(
-                Spring::new(usize_of(&arg(1)?, "i")?, opt_j(2)?, f(3)?, f(4)?).map_err(core_err)?,
-            ),
-            "damper" => {
-                Box::new(Damper::new(usize_of(&arg(1)?, "i")?, opt_j(2)?, f(3)?).map_err(core_err)?)
-            }
-            "contact" => Box::new(
-                Contact::new(
-                    usize_of(&arg(1)?, "dof_x")?,
-                    usize_of(&arg(2)?, "dof_y")?,
-                    f(3)?,
-                    f(4)?,
-                    f(5)?,
-                    f(6)?,
-                    f(7)?,
-                )
-                .map_err(core_err)?,
-            ),
-            "callable" => {
-                let dofs: Vec<usize> = arg(1)?.extract().map_err(|_| {
-                    PyTypeError::new_err("`dofs` must be a list of non-negative integers")
-                })?;
-                let func: Py<PyAny> = arg(2)?.unbind();
-                let jac = arg(3)?;
+        let spec = item.cast::<ElementSpec>()?;
+        let element: Box<dyn Element> = match &spec.get().0 {
+            Spec::Polynomial(e) => Box::new(e.clone()),
+            Spec::Spring(e) => Box::new(e.clone()),
+            Spec::Damper(e) => Box::new(e.clone()),
+            Spec::Contact(e) => Box::new(e.clone()),
+            Spec::Callable {
+                dofs,
+                func,
+                jacobian,
+            } => {
                 let element = std::sync::Arc::new(PyElement {
-                    dofs,
-                    func,
-                    jacobian: if jac.is_none() {
-                        None
-                    } else {
-                        Some(jac.unbind())
-                    },
+                    dofs: dofs.clone(),
+                    func: func.clone_ref(py),
+                    jacobian: jacobian.as_ref().map(|j| j.clone_ref(py)),
                     error: Mutex::new(None),
                 });
-                python.push(element.clone());
+                built.python.push(element.clone());
                 Box::new(ArcElement(element))
             }
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "unknown element kind {other:?}"
-                )))
-            }
         };
-        out.push(element);
+        built.elements.push(element);
     }
-    Ok((out, python))
+    Ok(built)
 }
 
 /// A shared Python element (the run keeps a handle to collect its exception).

@@ -1,60 +1,35 @@
-//! `duhamel._core`: the thin PyO3 binding of `duhamel-core`.
+//! `duhamel._core`: the thin PyO3 binding of `duhamel-core`, module for module.
 //!
-//! Inputs are checked and copied into Rust values first; the time loop then runs with the
-//! GIL released. A Python load callable is called with the GIL, once per evaluation time.
+//! Inputs are extracted into Rust values first (typed spec classes made once in Python:
+//! `TimeFunction`, `SpeedLaw`, `MassLaw`, `Element`, `Matrix`, `Method`; problems read from
+//! the attributes of Python spec objects); the time loop then runs with the GIL released,
+//! taking it back between blocks to check for Ctrl-C and report progress. A run returns a
+//! `RunResult` (numpy arrays moved, not copied) whose `error` is None or a `RunError` with
+//! the fields of the core's error; input errors raise `ValueError`/`TypeError` naming the
+//! parameter ([`error`]).
 
-mod coupled;
+mod arrays;
+mod background;
 mod direct;
+mod driver;
 mod elements;
-mod nonlinear;
-mod run;
+mod error;
+mod history;
+mod loads;
+mod mass;
+mod problem;
+mod pseudo;
+mod speed;
 
-use duhamel_core::{CoreError, Transfer};
-use numpy::{PyArray1, PyArray3, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
-use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
+use duhamel_core::Transfer;
+use numpy::{PyArray1, PyArray3, PyArrayMethods};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+
+use crate::arrays::vec_of;
 
 /// `(A, B)` or `(A, M)` stacks returned to Python.
 type MatrixPair<'py> = (Bound<'py, PyArray3<f64>>, Bound<'py, PyArray3<f64>>);
-
-/// A read-only float64 1-D view of `obj`, or a TypeError/ValueError naming `name`.
-pub(crate) fn f64_array1<'py>(
-    obj: &Bound<'py, PyAny>,
-    name: &str,
-) -> PyResult<PyReadonlyArray1<'py, f64>> {
-    let arr = obj.cast::<PyArray1<f64>>().map_err(|_| {
-        let what = match obj.getattr("dtype") {
-            Ok(dt) => format!(
-                "an array of dtype {dt} (ndim {})",
-                obj.getattr("ndim").map_or("?".into(), |n| n.to_string())
-            ),
-            Err(_) => obj.get_type().name().map_or("?".into(), |n| n.to_string()),
-        };
-        PyTypeError::new_err(format!(
-            "`{name}` must be a 1-D numpy array of float64, got {what}"
-        ))
-    })?;
-    let ro = arr.readonly();
-    if !ro.is_c_contiguous() {
-        return Err(PyValueError::new_err(format!(
-            "`{name}` must be C-contiguous (pass numpy.ascontiguousarray({name}))"
-        )));
-    }
-    Ok(ro)
-}
-
-pub(crate) fn vec_of(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> {
-    Ok(f64_array1(obj, name)?.as_slice()?.to_vec())
-}
-
-pub(crate) fn core_err(e: CoreError) -> PyErr {
-    match e {
-        CoreError::InvalidInput { .. } | CoreError::LengthMismatch { .. } => {
-            PyValueError::new_err(e.to_string())
-        }
-        _ => PyRuntimeError::new_err(e.to_string()),
-    }
-}
 
 /// Exact matrices for arrays of two oscillator parameters; `make` builds one `Transfer`.
 fn transfer_batch<'py>(
@@ -152,12 +127,18 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(transfer, m)?)?;
     m.add_function(wrap_pyfunction!(transfer_kc, m)?)?;
-    m.add_function(wrap_pyfunction!(run::solve_linear, m)?)?;
-    m.add_function(wrap_pyfunction!(coupled::solve_coupled, m)?)?;
-    m.add_function(wrap_pyfunction!(nonlinear::solve_nonlinear, m)?)?;
+    m.add_function(wrap_pyfunction!(background::solve_uncoupled, m)?)?;
+    m.add_function(wrap_pyfunction!(background::solve_first_order, m)?)?;
+    m.add_function(wrap_pyfunction!(pseudo::solve_pseudo, m)?)?;
     m.add_function(wrap_pyfunction!(direct::solve_direct, m)?)?;
     m.add_function(wrap_pyfunction!(direct::element_stiffness, m)?)?;
-    m.add_function(wrap_pyfunction!(run::speed_law, m)?)?;
-    m.add_function(wrap_pyfunction!(run::time_function, m)?)?;
+    m.add_class::<speed::SpeedLaw>()?;
+    m.add_class::<loads::TimeFunction>()?;
+    m.add_class::<mass::MassLaw>()?;
+    m.add_class::<elements::ElementSpec>()?;
+    m.add_class::<direct::Matrix>()?;
+    m.add_class::<direct::Method>()?;
+    m.add_class::<history::RunResult>()?;
+    m.add_class::<error::RunError>()?;
     Ok(())
 }

@@ -418,16 +418,26 @@ pub fn integrate(
     };
     let loads = BlockLoads::new(problem, false, forcing.is_some()).map_err(fail)?;
     let n_saved = loads.n_saved();
-    let mut eta = zeroed(size(n_saved, 2 * r, "the modal history").map_err(fail)?, "the modal history")
-        .map_err(fail)?;
+    let mut eta = zeroed(
+        size(n_saved, 2 * r, "the modal history").map_err(fail)?,
+        "the modal history",
+    )
+    .map_err(fail)?;
     let mut pseudo = if corrector.is_some() {
-        zeroed(size(n_saved, m, "the pseudo-force").map_err(fail)?, "the pseudo-force").map_err(fail)?
+        zeroed(
+            size(n_saved, m, "the pseudo-force").map_err(fail)?,
+            "the pseudo-force",
+        )
+        .map_err(fail)?
     } else {
         Vec::new()
     };
     let n_cols = outputs.map_or(0, |o| o.n_cols);
-    let mut out = zeroed(size(n_saved, n_cols, "the outputs").map_err(fail)?, "the outputs")
-        .map_err(fail)?;
+    let mut out = zeroed(
+        size(n_saved, n_cols, "the outputs").map_err(fail)?,
+        "the outputs",
+    )
+    .map_err(fail)?;
     let threads = problem
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
@@ -450,21 +460,23 @@ pub fn integrate(
             mapper,
         };
         let (loads, ending) = drive(problem, &mut route, loads, forcing, control);
-        let stats = route.corrector.as_ref().map_or_else(Stats::default, |c| Stats {
-            newton_iterations: c.iterations,
-            factorizations: c.factorizations,
-            closed_form_steps: 0,
-        });
+        let stats = route
+            .corrector
+            .as_ref()
+            .map_or_else(Stats::default, |c| Stats {
+                newton_iterations: c.iterations,
+                factorizations: c.factorizations,
+                closed_form_steps: 0,
+            });
         (loads, ending, stats)
     });
     let (t, load_values, forcing) = loads.into_saved(problem).map_err(fail)?;
     let history = History {
         n_modes: m,
+        n_loads: problem.loads.len(),
+        n_outputs: n_cols,
         t,
-        coordinates: Coordinates::FirstOrder {
-            eta,
-            width: 2 * r,
-        },
+        coordinates: Coordinates::FirstOrder { eta, width: 2 * r },
         load_values,
         forcing,
         pseudo: has_corrector.then_some(pseudo),
@@ -532,8 +544,15 @@ mod tests {
             loads: &[0.0; 4],
             n_cols: 2,
         };
-        let (h, _) =
-            integrate(&problem, &modes, Some(&outputs), None, None, &mut Unattended).unwrap();
+        let (h, _) = integrate(
+            &problem,
+            &modes,
+            Some(&outputs),
+            None,
+            None,
+            &mut Unattended,
+        )
+        .unwrap();
         let reference = uncoupled::integrate(&problem, None, &mut Unattended).unwrap();
         assert_eq!(h.t, reference.t);
         for (s, row) in h.outputs.as_ref().unwrap().chunks_exact(2).enumerate() {

@@ -369,6 +369,8 @@ pub fn integrate(
     let (t, load_values, forcing) = loads.into_saved(problem).map_err(fail)?;
     let history = History {
         n_modes,
+        n_loads: problem.loads.len(),
+        n_outputs: 0,
         t,
         coordinates: Coordinates::Modal { q: hq, v: hv },
         load_values,

@@ -22,15 +22,15 @@ mod alpha;
 mod hermite;
 mod model;
 
+use crate::driver::{Control, Pacer};
 use crate::elements::Element;
 use crate::error::CoreError;
-use crate::loads::ModalLoad;
-use crate::mass::TimeVaryingMass;
-use crate::speed::SpeedLaw;
-use crate::driver::{Control, Pacer};
 use crate::history::{size, zeroed, Failure};
 use crate::loads::ModalForcing;
+use crate::loads::ModalLoad;
+use crate::mass::TimeVaryingMass;
 use crate::problem::SaveGrid;
+use crate::speed::SpeedLaw;
 use assembly::{IterationMatrix, Matrix};
 use model::Model;
 

@@ -11,8 +11,8 @@ use super::assembly::{IterationMatrix, Matrix};
 use super::DirectProblem;
 use crate::elements::Evaluation;
 use crate::error::CoreError;
-use crate::mass::MassForm;
 use crate::loads::ModalForcing;
+use crate::mass::MassForm;
 
 /// Index of each constant matrix in the iteration matrix's sources.
 pub(crate) const M: usize = 0;

@@ -13,6 +13,14 @@ pub trait ModalForcing {
     fn modal_loads(&mut self, times: &[f64], out: &mut [f64]) -> Result<(), CoreError>;
 }
 
+/// A block whose loads could not all be evaluated: the error, and how many of its steps
+/// (from its start) have their loads ready all the same.
+#[derive(Debug)]
+pub struct Stopped {
+    pub error: CoreError,
+    pub steps: usize,
+}
+
 /// The saved times, load values and modal forcing (if any) of a run.
 pub type Saved = (Vec<f64>, Vec<f64>, Option<Vec<f64>>);
 
@@ -64,7 +72,10 @@ impl BlockLoads {
         let n_loads = problem.loads.len();
         let n_modes = problem.n_modes();
         let forcing_saved = if forcing {
-            Some(zeroed(size(n_saved, n_modes, "the modal forcing")?, "the modal forcing")?)
+            Some(zeroed(
+                size(n_saved, n_modes, "the modal forcing")?,
+                "the modal forcing",
+            )?)
         } else {
             None
         };
@@ -82,7 +93,10 @@ impl BlockLoads {
             times: Vec::new(),
             n_modes,
             n_loads,
-            load_values: zeroed(size(n_saved, n_loads, "the load values")?, "the load values")?,
+            load_values: zeroed(
+                size(n_saved, n_loads, "the load values")?,
+                "the load values",
+            )?,
             forcing_saved,
         })
     }
@@ -98,27 +112,60 @@ impl BlockLoads {
     }
 
     /// Evaluates the loads of the `len` steps starting at grid point `n0`.
+    ///
+    /// When the external forcing fails at some sample, the block is cut to the steps before
+    /// the first one that needs that sample: the loads of those steps are ready as usual, and
+    /// the error comes back with their number ([`Stopped`]), so the run can still take them.
     pub fn prepare<'o>(
         &mut self,
         problem: &ModalProblem,
         n0: usize,
         len: usize,
         forcing: Option<&mut (dyn ModalForcing + 'o)>,
-    ) -> Result<(), CoreError> {
+    ) -> Result<(), Stopped> {
         let (dt, n_loads, n_modes) = (problem.dt, self.n_loads, self.n_modes);
+        let time = |n: usize| problem.time(n0 + n);
+        let mut len = len;
+        let mut stopped = None;
+        self.forcing.clear();
+        if let Some(f) = forcing {
+            // Step starts and midpoints from the grid, not from accumulation.
+            self.times.clear();
+            self.times
+                .extend((0..=2 * len).map(|j| time(j / 2) + 0.5 * (j % 2) as f64 * dt));
+            self.forcing.resize(self.times.len() * n_modes, 0.0);
+            if let Err(error) = f.modal_loads(&self.times, &mut self.forcing) {
+                // Step s needs samples 2s, 2s + 1 and 2s + 2: the steps before the one that
+                // needs the failed sample can still be taken.
+                let failed = match error {
+                    CoreError::Callback { time: t, .. } => {
+                        self.times.iter().position(|&x| x == t).unwrap_or(0)
+                    }
+                    _ => 0,
+                };
+                len = failed.saturating_sub(1) / 2;
+                stopped = Some(Stopped { error, steps: len });
+            }
+        }
         self.n0 = n0;
         self.len = len;
         self.basis.clear();
         self.basis.resize((len + 1) * n_loads, [0.0; 3]);
-        let time = |n: usize| problem.time(n0 + n);
         let mut l = 0;
         while l < n_loads {
             let load = &problem.loads[l].time;
             // The x and y parts of an unbalance share their sines and cosines.
             if let Some(next) = problem.loads.get(l + 1) {
                 let pair = (l, l + 1);
-                if load.pair_bases(&next.time, time, dt, len + 1, &mut self.basis, pair, n_loads)
-                {
+                if load.pair_bases(
+                    &next.time,
+                    time,
+                    dt,
+                    len + 1,
+                    &mut self.basis,
+                    pair,
+                    n_loads,
+                ) {
                     l += 2;
                     continue;
                 }
@@ -140,16 +187,6 @@ impl BlockLoads {
                 }
             }
         }
-        self.forcing.clear();
-        if let Some(f) = forcing {
-            // Step starts and midpoints from the grid, not from accumulation.
-            self.times.clear();
-            self.times.extend(
-                (0..=2 * len).map(|j| time(j / 2) + 0.5 * (j % 2) as f64 * dt),
-            );
-            self.forcing.resize(self.times.len() * n_modes, 0.0);
-            f.modal_loads(&self.times, &mut self.forcing)?;
-        }
         self.slot.clear();
         for s in 0..len {
             let slot = self.take_slot(n0 + s);
@@ -158,7 +195,10 @@ impl BlockLoads {
                 self.record(k, s);
             }
         }
-        Ok(())
+        match stopped {
+            None => Ok(()),
+            Some(stop) => Err(stop),
+        }
     }
 
     /// The history slot of grid point `n` if it is the next saved one (and takes it).
@@ -192,10 +232,7 @@ impl BlockLoads {
     }
 
     /// The saved times, load values and forcing of the run.
-    pub fn into_saved(
-        self,
-        problem: &ModalProblem,
-    ) -> Result<Saved, CoreError> {
+    pub fn into_saved(self, problem: &ModalProblem) -> Result<Saved, CoreError> {
         let n_saved = self.grid.count();
         let mut t = zeroed(n_saved, "the saved times")?;
         for (k, tk) in t.iter_mut().enumerate() {

@@ -86,7 +86,6 @@ impl ScalarPlan {
     }
 }
 
-
 /// One mode with polynomial forces: the step equation and every node's pseudo-force are
 /// cubics in the unknown, written down directly from the modal force's coefficients; the
 /// root nearest the predictor solves the step (the paper's cubic). Returns `(q1, v1, Q at

@@ -19,11 +19,11 @@
 
 use num_complex::Complex64;
 
+use super::force::{Jacobian, PseudoForce};
 use crate::background::cphi;
 use crate::dense::DenseLu;
 use crate::elements::Element;
 use crate::error::CoreError;
-use super::force::{Jacobian, PseudoForce};
 
 /// The nonlinear part of a coupled problem.
 pub struct Nonlinear<'a> {

@@ -103,12 +103,10 @@ fn validate(problem: &NonlinearProblem) -> Result<(), CoreError> {
         });
     }
     if let Some(mass) = problem.mass {
-        mass.law
-            .validate(problem.base.time(problem.base.n_steps))?;
+        mass.law.validate(problem.base.time(problem.base.n_steps))?;
     }
     for s in problem.scaled {
         s.law.validate()?;
     }
     Ok(())
 }
-

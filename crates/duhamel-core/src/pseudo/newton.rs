@@ -22,7 +22,6 @@ pub enum Solver {
     Newton,
 }
 
-
 /// Which nodes to evaluate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Nodes {
@@ -31,7 +30,6 @@ enum Nodes {
     /// Those whose state does.
     Varying,
 }
-
 
 /// Reusable buffers and settings of the step solver.
 pub struct Stepper<'r> {

@@ -228,6 +228,8 @@ pub fn integrate(
     let (t, load_values, forcing) = loads.into_saved(base).map_err(fail)?;
     let history = History {
         n_modes: n,
+        n_loads: base.loads.len(),
+        n_outputs: 0,
         t,
         coordinates: Coordinates::Modal {
             q: route.hq,

@@ -1,0 +1,207 @@
+//! What a run returns to Python: its history as numpy arrays (moved, not copied), its
+//! statistics and, for a run that stopped early, why.
+
+use duhamel_core::direct::{DirectHistory, Stats as DirectStats};
+use duhamel_core::{Coordinates, CoreError, Failure, History, Stats};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::prelude::*;
+
+use crate::error::RunError;
+
+type Array1 = Py<PyArray1<f64>>;
+type Array2 = Py<PyArray2<f64>>;
+
+/// The result of a run (complete, or partial with `error` set). Arrays are time-major,
+/// `(n_saved, width)`; those a route does not produce are None.
+#[pyclass(frozen, module = "duhamel._core")]
+pub(crate) struct RunResult {
+    /// Saved times.
+    #[pyo3(get)]
+    t: Array1,
+    /// Modal coordinates and velocities (uncoupled and pseudo-force routes).
+    #[pyo3(get)]
+    q: Option<Array2>,
+    #[pyo3(get)]
+    v: Option<Array2>,
+    /// First-order coordinates `[Re eta | Im eta]` (coupled route).
+    #[pyo3(get)]
+    eta: Option<Array2>,
+    /// Outputs mapped during the run (coupled route).
+    #[pyo3(get)]
+    outputs: Option<Array2>,
+    /// Each load's time function at the saved instants.
+    #[pyo3(get)]
+    load_values: Option<Array2>,
+    /// Modal forcing of Python load functions at the saved instants.
+    #[pyo3(get)]
+    forcing: Option<Array2>,
+    /// Modal pseudo-force at the saved states (routes with a corrector).
+    #[pyo3(get)]
+    pseudo: Option<Array2>,
+    /// Physical displacements, velocities, accelerations (direct integrators).
+    #[pyo3(get)]
+    x: Option<Array2>,
+    #[pyo3(get)]
+    a: Option<Array2>,
+    /// Newton iterations, closed-form steps and factorisations over the run.
+    #[pyo3(get)]
+    newton_iterations: usize,
+    #[pyo3(get)]
+    closed_form_steps: usize,
+    #[pyo3(get)]
+    factorizations: usize,
+    /// None, or why the run stopped early (the arrays then hold what was kept).
+    #[pyo3(get)]
+    error: Option<Py<RunError>>,
+}
+
+#[pymethods]
+impl RunResult {
+    fn __repr__(&self) -> String {
+        format!(
+            "RunResult(error={})",
+            if self.error.is_some() { "set" } else { "None" }
+        )
+    }
+}
+
+fn array2(py: Python<'_>, v: Vec<f64>, rows: usize, cols: usize) -> PyResult<Array2> {
+    Ok(PyArray1::from_vec(py, v).reshape([rows, cols])?.unbind())
+}
+
+impl RunResult {
+    fn empty(py: Python<'_>, t: Vec<f64>) -> Self {
+        RunResult {
+            t: PyArray1::from_vec(py, t).unbind(),
+            q: None,
+            v: None,
+            eta: None,
+            outputs: None,
+            load_values: None,
+            forcing: None,
+            pseudo: None,
+            x: None,
+            a: None,
+            newton_iterations: 0,
+            closed_form_steps: 0,
+            factorizations: 0,
+            error: None,
+        }
+    }
+
+    fn modal(py: Python<'_>, h: History) -> PyResult<Self> {
+        let rows = h.t.len();
+        let n = h.n_modes;
+        let mut r = RunResult::empty(py, h.t);
+        match h.coordinates {
+            Coordinates::Modal { q, v } => {
+                r.q = Some(array2(py, q, rows, n)?);
+                r.v = Some(array2(py, v, rows, n)?);
+            }
+            Coordinates::FirstOrder { eta, width } => {
+                r.eta = Some(array2(py, eta, rows, width)?);
+            }
+        }
+        r.load_values = Some(array2(py, h.load_values, rows, h.n_loads)?);
+        let as_modal = |v: Vec<f64>| array2(py, v, rows, n);
+        r.forcing = h.forcing.map(as_modal).transpose()?;
+        r.pseudo = h.pseudo.map(as_modal).transpose()?;
+        r.outputs = h
+            .outputs
+            .map(|o| array2(py, o, rows, h.n_outputs))
+            .transpose()?;
+        Ok(r)
+    }
+
+    fn direct(py: Python<'_>, h: DirectHistory) -> PyResult<Self> {
+        let rows = h.t.len();
+        let cols = h.n_out;
+        let mut r = RunResult::empty(py, h.t);
+        let shaped = |v: Vec<f64>| array2(py, v, rows, cols);
+        r.x = Some(shaped(h.x)?);
+        r.v = Some(shaped(h.v)?);
+        r.a = Some(shaped(h.a)?);
+        Ok(r)
+    }
+}
+
+/// A history type the core returns, and how it becomes a [`RunResult`].
+pub(crate) trait IntoResult: Sized {
+    fn into_result(self, py: Python<'_>) -> PyResult<RunResult>;
+}
+
+impl IntoResult for History {
+    fn into_result(self, py: Python<'_>) -> PyResult<RunResult> {
+        RunResult::modal(py, self)
+    }
+}
+
+impl IntoResult for DirectHistory {
+    fn into_result(self, py: Python<'_>) -> PyResult<RunResult> {
+        RunResult::direct(py, self)
+    }
+}
+
+/// Run statistics, whatever their core type.
+pub(crate) trait IntoStats {
+    /// `(newton_iterations, closed_form_steps, factorizations)`.
+    fn counts(&self) -> (usize, usize, usize);
+}
+
+impl IntoStats for Stats {
+    fn counts(&self) -> (usize, usize, usize) {
+        (
+            self.newton_iterations,
+            self.closed_form_steps,
+            self.factorizations,
+        )
+    }
+}
+
+impl IntoStats for DirectStats {
+    fn counts(&self) -> (usize, usize, usize) {
+        (self.newton_iterations, 0, self.factorizations)
+    }
+}
+
+impl IntoStats for () {
+    fn counts(&self) -> (usize, usize, usize) {
+        (0, 0, 0)
+    }
+}
+
+/// The Python exceptions a run may have met: a load or element function's (`callback`) and
+/// the control's (`control`: Ctrl-C, or a progress function's exception).
+#[derive(Default)]
+pub(crate) struct Causes {
+    pub(crate) callback: Option<PyErr>,
+    pub(crate) control: Option<PyErr>,
+}
+
+/// The result of a run: the history (partial on failure, with `error` set and the Python
+/// exception behind a callback failure or an interruption as its cause). Input errors raise.
+pub(crate) fn finish<H: IntoResult, S: IntoStats>(
+    py: Python<'_>,
+    result: Result<(H, S), Box<Failure<H>>>,
+    causes: Causes,
+) -> PyResult<RunResult> {
+    match result {
+        Ok((h, stats)) => {
+            let mut r = h.into_result(py)?;
+            (r.newton_iterations, r.closed_form_steps, r.factorizations) = stats.counts();
+            Ok(r)
+        }
+        Err(failure) => {
+            let Failure { error, partial } = *failure;
+            let cause = match &error {
+                CoreError::Callback { .. } => causes.callback,
+                CoreError::Interrupted { .. } => causes.control,
+                _ => None,
+            };
+            let error = RunError::new(py, error, cause)?;
+            let mut r = partial.into_result(py)?;
+            r.error = Some(Py::new(py, error)?);
+            Ok(r)
+        }
+    }
+}

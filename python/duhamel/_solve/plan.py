@@ -1,0 +1,198 @@
+"""Which route a modal run takes, decided once and kept as a small value.
+
+A route is a background propagator (uncoupled oscillators, or the first-order modes of a
+coupled system) with an optional pseudo-force corrector (docs/architecture.md):
+
+* ``"uncoupled"``: no elements, classical damping, constant mass — exact;
+* ``"first-order"``: constant couplings (non-classical damping, gyroscopic, circulatory)
+  integrated exactly in the first-order modes, elements (if any) as pseudo-forces on them;
+* ``"pseudo-force"``: the uncoupled background with everything else as a pseudo-force.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from duhamel._coupled import CONDITION_LIMIT, FirstOrderModes, first_order_modes
+from duhamel._specs import (
+    LoadSpec,
+    MassSpec,
+    ScaledSpec,
+    element,
+    mass_law,
+    speed_law,
+    time_function,
+)
+from duhamel.elements import LinearCoupling
+from duhamel.integrators import Semianalytic
+from duhamel.loads import Callable
+from duhamel.system import ModalBasis, System
+
+__all__ = ["Couplings", "ModalSpec", "Plan", "mass", "modal_loads", "plan"]
+
+
+@dataclass(frozen=True)
+class Couplings:
+    """Modal couplings: constant ones summed (a constant scale folded in), and those scaled
+    by a time-varying speed law."""
+
+    k: NDArray[np.float64] | None
+    c: NDArray[np.float64] | None
+    scaled: list[ScaledSpec]
+
+
+@dataclass(frozen=True)
+class Plan:
+    """The route of a modal run.
+
+    Attributes
+    ----------
+    route : {"uncoupled", "first-order", "pseudo-force"}
+        Background and corrector (see the module docstring).
+    basis : ModalBasis
+        The retained modes.
+    couplings : Couplings
+        The modal couplings (empty on the uncoupled route).
+    modes : FirstOrderModes or None
+        The first-order modes of the coupled background (first-order route).
+    coupling : str or None
+        How couplings were integrated, for :class:`duhamel.SolveStats`: "exact",
+        "pseudo-force", or None when there were none.
+    elements : list
+        The core elements of the corrector (a LinearCoupling is a coupling, not an element).
+    """
+
+    route: str
+    basis: ModalBasis
+    couplings: Couplings
+    modes: FirstOrderModes | None
+    coupling: str | None
+    elements: list[Any]
+
+
+@dataclass(frozen=True)
+class ModalSpec:
+    """What the core's modal routes read (``duhamel-py/src/problem.rs``)."""
+
+    k: NDArray[np.float64]
+    c: NDArray[np.float64]
+    q0: NDArray[np.float64]
+    v0: NDArray[np.float64]
+    loads: list[LoadSpec]
+    t0: float
+    dt: float
+    n_steps: int
+    save_every: int
+    threads: int | None
+    phi: NDArray[np.float64]
+
+
+def modal_loads(system: System, phi: NDArray[np.float64]) -> tuple[list[LoadSpec], list[Any]]:
+    """The built-in loads projected on the modes, and the Python load functions."""
+    specs, fns = [], []
+    for load in system.loads:
+        if isinstance(load, Callable):
+            fns.append(load.fn)
+            continue
+        for physical, kind, params in load._specs(system):
+            specs.append(
+                LoadSpec(np.ascontiguousarray(phi.T @ physical), time_function(kind, params))
+            )
+    return specs, fns
+
+
+def _couplings(system: System, basis: ModalBasis) -> Couplings:
+    k: NDArray | None = None
+    c: NDArray | None = basis.c_coupling
+    scaled = []
+    for element in system.elements:
+        if not isinstance(element, LinearCoupling):
+            continue
+        mk, mc = element.modal(basis.phi)
+        factor = element.constant_factor()
+        if factor is None:
+            mk, mc = (None if m is None else np.ascontiguousarray(m) for m in (mk, mc))
+            scaled.append(ScaledSpec(mk, mc, speed_law(element.scale._spec())))
+            continue
+        if mk is not None:
+            mk = mk if factor == 1.0 else factor * mk
+            k = mk if k is None else k + mk
+        if mc is not None:
+            mc = mc if factor == 1.0 else factor * mc
+            c = mc if c is None else c + mc
+    as_c = (lambda m: None if m is None else np.ascontiguousarray(m))  # noqa: E731
+    return Couplings(as_c(k), as_c(c), scaled)
+
+
+def mass(system: System, integrator: Any) -> MassSpec | None:
+    """The system's mass law as the core takes it (the treatment of a `Semianalytic`)."""
+    attached = system.mass_law
+    if attached is None:
+        return None
+    treatment = getattr(integrator, "mass_treatment", "eliminate")
+    return MassSpec(
+        mass_law(attached.law._spec()), attached.form, attached.scale_stiffness, treatment
+    )
+
+
+def plan(system: System, integrator: Semianalytic) -> Plan:
+    """The route of `system` under `integrator`; raises ValueError when
+    ``coupling="exact"`` cannot be honoured."""
+    basis = system.modal(integrator.modes)
+    elements = [element(e._spec()) for e in system.elements if not isinstance(e, LinearCoupling)]
+    has_elements = bool(system.elements)
+    coupled = basis.c_coupling is not None or any(
+        isinstance(e, LinearCoupling) for e in system.elements
+    )
+    if not has_elements and basis.c_coupling is None and system.mass_law is None:
+        return Plan("uncoupled", basis, Couplings(None, None, []), None, None, elements)
+    couplings = _couplings(system, basis)
+    route = "pseudo-force"
+    modes = None
+    if coupled and integrator.coupling != "pseudo-force":
+        modes = _first_order(system, basis, integrator, couplings)
+        if modes is not None:
+            route = "first-order"
+    coupling = None if not coupled else ("exact" if modes is not None else "pseudo-force")
+    return Plan(route, basis, couplings, modes, coupling, elements)
+
+
+def _first_order(
+    system: System, basis: ModalBasis, integrator: Semianalytic, couplings: Couplings
+) -> FirstOrderModes | None:
+    """The first-order modes for the exact coupled route, or None for the pseudo-force
+    route."""
+    nonlinear = any(not isinstance(e, LinearCoupling) for e in system.elements)
+    why = None
+    if system.mass_law is not None or couplings.scaled:
+        why = (
+            "needs constant couplings and mass: no mass law, no coupling scaled by a "
+            "time-varying speed law"
+        )
+    elif nonlinear and (integrator.scheme, integrator.quadrature) != ("b", "trapezoid"):
+        why = (
+            "with nonlinear elements needs scheme='b' and quadrature='trapezoid' (the element "
+            "forces on the exact coupled background)"
+        )
+    if why is not None:
+        if integrator.coupling == "exact":
+            raise ValueError(
+                f"`coupling`='exact' {why} (those cases enter as pseudo-forces; use "
+                "coupling='auto' or 'pseudo-force')"
+            )
+        return None
+    modes = first_order_modes(basis.omega2, basis.c, couplings.k, couplings.c)
+    if modes.condition > CONDITION_LIMIT:
+        if integrator.coupling == "exact":
+            raise ValueError(
+                f"`coupling`='exact': the coupled system is (nearly) defective, its first-order "
+                f"eigenvector matrix has condition number {modes.condition:.3g} > "
+                f"{CONDITION_LIMIT:g}, so its modes would lose digits (about condition^2 * "
+                f"1e-17 of the response); use coupling='pseudo-force'"
+            )
+        return None
+    return modes

@@ -1,0 +1,99 @@
+"""Running a route in the core: the Python load functions, the progress report, and the one
+place where a run's failure becomes a Python exception."""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Callable, Iterator
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from duhamel.errors import SolverError
+
+__all__ = ["ModalCallable", "Progress", "raise_failure", "watch"]
+
+#: A progress report: ``(steps done, steps in all, time reached)``.
+Progress = Callable[[int, int, float], Any]
+
+
+class ModalCallable:
+    """Sums the Python load functions (physical load vectors); called by the core with the
+    GIL, once per evaluation time."""
+
+    def __init__(self, fns: list[Any], n_dof: int) -> None:
+        self.fns = fns
+        self.n_dof = n_dof
+
+    def __call__(self, t: float) -> NDArray:
+        total = np.zeros(self.n_dof)
+        for fn in self.fns:
+            f = np.asarray(fn(t))
+            if f.dtype.kind not in "iuf":
+                raise TypeError(f"the `Callable` load returned dtype {f.dtype} at t = {t}")
+            if f.shape != (self.n_dof,):
+                raise ValueError(
+                    f"the `Callable` load returned shape {f.shape} at t = {t}, "
+                    f"expected ({self.n_dof},)"
+                )
+            if not np.all(np.isfinite(f)):
+                raise ValueError(f"the `Callable` load returned NaN or inf at t = {t}")
+            total += f
+        return total
+
+
+@contextlib.contextmanager
+def watch(progress: bool | Progress | None, n_steps: int) -> Iterator[Progress | None]:
+    """The progress function the core calls between blocks: None, the user's own, or a tqdm
+    bar (``progress=True``) that shows itself only for runs lasting more than a second."""
+    if progress is None or progress is False:
+        yield None
+        return
+    if progress is True:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=n_steps, unit="step", delay=1.0, leave=False, desc="duhamel")
+
+        def report(step: int, total: int, t: float) -> None:
+            bar.update(step - bar.n)
+            bar.set_postfix_str(f"t = {t:.6g}", refresh=False)
+
+        try:
+            yield report
+        finally:
+            bar.close()
+        return
+    if not callable(progress):
+        raise TypeError(
+            f"`progress` must be a bool or a function (step, n_steps, t), got "
+            f"{type(progress).__name__}"
+        )
+    yield progress
+
+
+def raise_failure(error: Any, partial: Any) -> None:
+    """Raises the exception of a run that stopped early (`error`, a ``_core.RunError``),
+    with the history kept, `partial`, attached as its ``partial`` attribute.
+
+    * an interruption (Ctrl-C) re-raises the ``KeyboardInterrupt`` (or a progress
+      function's own exception);
+    * a failing Python load or element function re-raises its own exception, with a note
+      naming the time and step;
+    * otherwise :class:`duhamel.SolverError` with the core's fields.
+    """
+    cause = error.cause
+    if error.kind == "interrupted":
+        exc = cause if isinstance(cause, BaseException) else KeyboardInterrupt(error.message)
+        exc.partial = partial  # type: ignore[union-attr]
+        exc.add_note(f"duhamel: {error.message}")
+        raise exc
+    if error.kind == "callback" and isinstance(cause, BaseException):
+        cause.partial = partial  # type: ignore[attr-defined]
+        cause.add_note(
+            f"raised by a `Callable` load or element at t = {error.time} (step {error.step})"
+        )
+        raise cause
+    raise SolverError(
+        error.message, time=error.time, reason=error.kind, partial=partial, step=error.step
+    )
