@@ -13,10 +13,15 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import scipy.sparse as sp
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._validate import as_float_array, as_square_matrix, dof_index, finite_float
+from duhamel._validate import (
+    as_float_array,
+    as_square_matrix,
+    dof_index,
+    finite_float,
+    issparse,
+)
 
 if TYPE_CHECKING:
     from duhamel.system import System
@@ -188,7 +193,7 @@ class LinearCoupling(Element):
             raise ValueError("`LinearCoupling` needs `K`, `C` or both")
         for name in ("K", "C"):
             m = getattr(self, name)
-            if m is not None and not sp.issparse(m):
+            if m is not None and not issparse(m):
                 object.__setattr__(self, name, as_float_array(m, name, ndim=2))
         if self.scale is not None:
             from duhamel.speed import as_speed_law
@@ -208,7 +213,7 @@ class LinearCoupling(Element):
                     f"`{name}` of LinearCoupling must be ({system.n_dof}, {system.n_dof}), "
                     f"got {m.shape}"
                 )
-            if m is not None and sp.issparse(m):
+            if m is not None and issparse(m):
                 as_square_matrix(m, name, n=system.n_dof)
 
     def modal(self, phi: NDArray[np.float64]) -> tuple[NDArray | None, NDArray | None]:

@@ -3,12 +3,9 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
-import scipy.linalg
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._validate import (
@@ -18,9 +15,13 @@ from duhamel._validate import (
     check_positive_definite,
     check_symmetric,
     finite_float,
+    issparse,
     mode_count,
     symmetric_lu,
 )
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 __all__ = ["ModalBasis", "System"]
 
@@ -98,7 +99,7 @@ def _frozen(a: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def _dense(a: Any) -> NDArray[np.float64]:
-    return a.toarray() if sp.issparse(a) else a
+    return a.toarray() if issparse(a) else a
 
 
 def _fix_signs(phi: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -178,8 +179,8 @@ class System:
         check_symmetric(K, "K")
         check_positive_definite(M, "M")
         check_nonneg_diagonal(K, "K")
-        self._M = M if sp.issparse(M) else _frozen(M)
-        self._K = K if sp.issparse(K) else _frozen(K)
+        self._M = M if issparse(M) else _frozen(M)
+        self._K = K if issparse(K) else _frozen(K)
         self._C: Any = None
         self._zeta: float | NDArray[np.float64] | None = None
         self._rayleigh: tuple[float, float] | None = None
@@ -187,7 +188,7 @@ class System:
         if C is not None:
             C = as_square_matrix(C, "C", n=n, ref="M")
             check_symmetric(C, "C")
-            self._C, self._damping = (C if sp.issparse(C) else _frozen(C)), "matrix"
+            self._C, self._damping = (C if issparse(C) else _frozen(C)), "matrix"
         elif zeta is not None:
             if np.ndim(zeta) == 0:
                 self._zeta = finite_float(zeta, "zeta")
@@ -249,7 +250,7 @@ class System:
     @property
     def is_sparse(self) -> bool:
         """Whether `M` or `K` is stored as a scipy.sparse matrix."""
-        return sp.issparse(self._M) or sp.issparse(self._K)
+        return issparse(self._M) or issparse(self._K)
 
     def __repr__(self) -> str:
         return (
@@ -395,7 +396,12 @@ class System:
         return cached
 
     def _eigen(self, n: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        import scipy.linalg  # here, not at module level: `import duhamel` stays scipy-free
+
         if self.is_sparse and n < self.n_dof - 1:
+            import scipy.sparse as sp
+            import scipy.sparse.linalg as spla
+
             M, K = sp.csc_matrix(self._M), sp.csc_matrix(self._K)
             shift = float(np.max(np.abs(K.diagonal()) / M.diagonal()))  # <= max eigenvalue
             sigma = -SHIFT_RTOL * (shift if shift > 0.0 else 1.0)
@@ -481,6 +487,8 @@ class System:
             while j + 1 < n and lam[j + 1] - lam[j] <= 1e-8 * lam[j + 1] + 1e-13 * scale:
                 j += 1
             if j > i:
+                import scipy.linalg
+
                 _, y = scipy.linalg.eigh(cm[i : j + 1, i : j + 1])
                 phi[:, i : j + 1] = phi[:, i : j + 1] @ y
                 lam[i : j + 1] = lam[i : j + 1].mean()

@@ -1,0 +1,132 @@
+"""``import duhamel`` stays light: no scipy.optimize, no matplotlib, lazy subpackages.
+
+Each check runs in a fresh interpreter (``sys.modules`` of the test session is already full).
+The import time itself is not asserted (it depends on the machine); see ``python -X importtime
+-c "import duhamel"``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import duhamel
+
+#: The directory holding the package under test, put first on the child's path.
+SOURCE = str(Path(duhamel.__file__).resolve().parents[1])
+LAZY = ("analysis", "exact", "paper", "rotor")
+#: Modules that may still import scipy at module level when ``import duhamel`` runs: the
+#: solve path, which is being rewritten (it will import scipy where it is used). Every other
+#: module imports scipy inside the functions that need it.
+SCIPY_ALLOWED = ("duhamel.solve", "duhamel._coupled", "duhamel._direct", "duhamel._solve")
+
+#: Records which module first imported each heavy top-level package, then imports duhamel
+#: and prints what it found as JSON.
+PROBE = r"""
+import json, sys
+
+HEAVY = ("scipy", "matplotlib")
+first = {}
+
+class Probe:
+    def find_spec(self, name, path=None, target=None):
+        top = name.partition(".")[0]
+        if top in HEAVY and top not in first:
+            frame = sys._getframe(1)
+            while frame is not None:
+                module = frame.f_globals.get("__name__", "")
+                if module.partition(".")[0] == "duhamel":
+                    first[top] = module
+                    break
+                frame = frame.f_back
+            else:
+                first[top] = "?"
+        return None
+
+sys.meta_path.insert(0, Probe())
+import duhamel
+
+print(json.dumps({
+    "modules": sorted(m for m in sys.modules if m.partition(".")[0] in HEAVY + ("duhamel",)),
+    "first": first,
+    "dir": dir(duhamel),
+}))
+"""
+
+
+def run(code: str) -> subprocess.CompletedProcess[str]:
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([SOURCE, env.get("PYTHONPATH", "")])
+    return subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120
+    )
+
+
+@pytest.fixture(scope="module")
+def probe() -> dict:
+    done = run(PROBE)
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout)
+
+
+@pytest.mark.parametrize(
+    "heavy", ["scipy.optimize", "scipy.special", "scipy.signal", "scipy.integrate", "matplotlib"]
+)
+def test_import_duhamel_skips_heavy_modules(probe, heavy):
+    assert heavy not in probe["modules"]
+
+
+def test_lazy_subpackages_are_not_imported(probe):
+    for name in LAZY:
+        assert f"duhamel.{name}" not in probe["modules"]
+
+
+def test_only_the_solve_path_imports_scipy(probe):
+    importer = probe["first"].get("scipy")
+    assert importer is None or importer.startswith(SCIPY_ALLOWED), (
+        f"`import duhamel` imports scipy from {importer}: import it inside the functions that "
+        "use it"
+    )
+
+
+def test_dir_lists_the_lazy_subpackages(probe):
+    for name in (*LAZY, "System", "solve", "loads"):
+        assert name in probe["dir"]
+
+
+def test_lazy_subpackages_resolve():
+    code = (
+        "import duhamel, sys\n"
+        "assert 'duhamel.rotor' not in sys.modules\n"
+        "from duhamel import rotor\n"
+        "assert rotor is duhamel.rotor is sys.modules['duhamel.rotor']\n"
+        "assert duhamel.rotor.Rotor.__name__ == 'Rotor'\n"
+        "assert duhamel.analysis.amplification_matrix is not None\n"
+        "assert callable(duhamel.exact.duffing)\n"
+        "assert callable(duhamel.paper.rotor_orbits)\n"
+        "import duhamel.paper.figures, duhamel.analysis.accuracy\n"
+        "ns = {}\n"
+        "exec('from duhamel import *', ns)\n"
+        "assert all(name in ns for name in duhamel.__all__)\n"
+        "try:\n"
+        "    duhamel.no_such_thing\n"
+        "except AttributeError as exc:\n"
+        "    assert 'no_such_thing' in str(exc)\n"
+        "else:\n"
+        "    raise AssertionError('no AttributeError')\n"
+    )
+    done = run(code)
+    assert done.returncode == 0, done.stderr
+
+
+def test_lazy_subpackages_in_this_session():
+    from duhamel import analysis, exact, paper, rotor
+
+    assert duhamel.rotor is rotor and duhamel.paper is paper
+    assert hasattr(analysis, "amplification_matrix") and hasattr(exact, "duffing")
+    assert sorted(set(LAZY) - set(dir(duhamel))) == []
