@@ -1,4 +1,5 @@
-"""``import duhamel`` stays light: no scipy.optimize, no matplotlib, lazy subpackages.
+"""``import duhamel`` stays light (no scipy.optimize, no matplotlib, lazy subpackages), and
+the modules import one another without cycles.
 
 Each check runs in a fresh interpreter (``sys.modules`` of the test session is already full).
 The import time itself is not asserted (it depends on the machine); see ``python -X importtime
@@ -7,6 +8,7 @@ The import time itself is not asserted (it depends on the machine); see ``python
 
 from __future__ import annotations
 
+import ast
 import json
 import os
 import subprocess
@@ -130,3 +132,73 @@ def test_lazy_subpackages_in_this_session():
     assert duhamel.rotor is rotor and duhamel.paper is paper
     assert hasattr(analysis, "amplification_matrix") and hasattr(exact, "duffing")
     assert sorted(set(LAZY) - set(dir(duhamel))) == []
+
+
+def _module_graph() -> dict[str, set[str]]:
+    """Imports between duhamel's modules (package ``__init__`` files left out), at any level:
+    module level, inside functions and under ``TYPE_CHECKING``."""
+    root = Path(duhamel.__file__).resolve().parent
+    files = {}
+    for path in root.rglob("*.py"):
+        parts = path.relative_to(root.parent).with_suffix("").parts
+        files[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+    packages = {name for name, path in files.items() if path.name == "__init__.py"}
+    graph: dict[str, set[str]] = {}
+    for name, path in files.items():
+        if name in packages:
+            continue
+        found = set()
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                found.update(alias.name for alias in node.names)
+            elif isinstance(node, ast.ImportFrom):
+                base = node.module or ""
+                if node.level:
+                    parent = name.split(".")[: -node.level]
+                    base = ".".join([*parent, base] if base else parent)
+                found.update(f"{base}.{alias.name}" for alias in node.names)
+                found.add(base)
+        graph[name] = {m for m in found if m in files and m not in packages and m != name}
+    return graph
+
+
+def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """Strongly connected components with more than one module (Tarjan)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    out: list[list[str]] = []
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        for w in graph[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def test_no_import_cycles():
+    graph = _module_graph()
+    assert "duhamel.system" in graph and "duhamel.elements" in graph["duhamel.system"]
+    assert _cycles(graph) == [], "modules that import each other (use a Protocol)"
+
+
+def test_cycle_detection_works():
+    assert _cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]

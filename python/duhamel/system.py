@@ -19,6 +19,9 @@ from duhamel._validate import (
     mode_count,
     symmetric_lu,
 )
+from duhamel.elements import Element
+from duhamel.loads import Load
+from duhamel.mass import MassLaw, _Attached
 
 if TYPE_CHECKING:
     import scipy.sparse as sp
@@ -204,9 +207,9 @@ class System:
         elif rayleigh is not None:
             alpha, beta = as_float_array(rayleigh, "rayleigh", shape=(2,)).tolist()
             self._rayleigh, self._damping = (alpha, beta), "rayleigh"
-        self.loads: list[Any] = []
+        self.loads: list[Load] = []
         #: Force elements (nonlinear springs, dampers, couplings, contacts), see :meth:`add`.
-        self.elements: list[Any] = []
+        self.elements: list[Element] = []
         #: Time-varying mass law, see :meth:`set_mass_law` (None: constant mass).
         self.mass_law: Any = None
         self._modal_cache: dict[int, ModalBasis] = {}
@@ -261,7 +264,7 @@ class System:
         )
 
     # ---------------------------------------------------------------- loads
-    def add_load(self, load: Any) -> System:
+    def add_load(self, load: Load) -> System:
         """Append a load to :attr:`loads`, validating it against this system first.
 
         The load is checked against this system here, so that, e.g., an out-of-range dof
@@ -279,8 +282,6 @@ class System:
         >>> len(system.add_load(duhamel.loads.Step(dof=1, amplitude=5.0)).loads)
         1
         """
-        from duhamel.loads import Load
-
         if not isinstance(load, Load):
             raise TypeError(
                 f"`load` must be a duhamel.loads load (Step, Harmonic, Tabulated, "
@@ -290,7 +291,7 @@ class System:
         self.loads.append(load)
         return self
 
-    def add(self, element: Any) -> System:
+    def add(self, element: Element) -> System:
         """Append a force element (see :mod:`duhamel.elements`), validated against this system.
 
         Elements add a restoring force ``r(x, x', t)`` to the left-hand side,
@@ -308,8 +309,6 @@ class System:
         >>> len(duffing.elements)
         1
         """
-        from duhamel.elements import Element
-
         if not isinstance(element, Element):
             raise TypeError(
                 f"`element` must be a duhamel.elements element, got {type(element).__name__}"
@@ -346,8 +345,6 @@ class System:
         >>> pendulum.mass_law.form
         'momentum'
         """
-        from duhamel.mass import MassLaw, _Attached
-
         if not isinstance(law, MassLaw):
             raise TypeError(f"`law` must be a duhamel.mass law, got {type(law).__name__}")
         if form not in ("acceleration", "momentum"):
