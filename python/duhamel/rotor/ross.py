@@ -27,7 +27,7 @@ from duhamel.elements import LinearCoupling
 from duhamel.loads import Load, Tabulated
 from duhamel.loads import Unbalance as UnbalanceLoad
 from duhamel.rotor._speed import constant_speed
-from duhamel.rotor.model import RotorMatrices
+from duhamel.rotor.assembly import RotorMatrices
 from duhamel.system import System
 
 __all__ = ["RossDofs", "RossModel", "from_ross"]
