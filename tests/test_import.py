@@ -96,6 +96,33 @@ def test_only_the_solve_path_imports_scipy(probe):
     )
 
 
+def _module_level_imports(path: Path) -> set[str]:
+    """Top-level packages imported by the module body (not inside functions or classes)."""
+    out = set()
+    for node in ast.parse(path.read_text(encoding="utf-8")).body:
+        if isinstance(node, ast.Import):
+            out.update(alias.name.partition(".")[0] for alias in node.names)
+        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            out.add(node.module.partition(".")[0])
+    return out
+
+
+def test_modules_loaded_by_import_duhamel_import_scipy_only_inside_functions(probe):
+    # The probe sees only the first importer of scipy; this checks every module it loaded.
+    root = Path(duhamel.__file__).resolve().parents[1]
+    loaded = [m for m in probe["modules"] if m.partition(".")[0] == "duhamel"]
+    assert "duhamel.system" in loaded and "duhamel.elements" in loaded
+    offenders = []
+    for name in loaded:
+        if name.startswith(SCIPY_ALLOWED):
+            continue
+        base = root.joinpath(*name.split("."))
+        path = base / "__init__.py" if base.is_dir() else base.with_suffix(".py")
+        if path.exists() and _module_level_imports(path) & {"scipy", "matplotlib"}:
+            offenders.append(name)
+    assert offenders == []
+
+
 def test_dir_lists_the_lazy_subpackages(probe):
     for name in (*LAZY, "System", "solve", "loads"):
         assert name in probe["dir"]
