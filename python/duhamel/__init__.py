@@ -14,7 +14,12 @@ Examples
 (401, 2)
 """
 
-from duhamel import analysis, elements, exact, loads, mass, oscillator, rotor, speed
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+from duhamel import elements, loads, mass, oscillator, speed
 from duhamel._core import __version__
 from duhamel.errors import DuhamelError, SolverError
 from duhamel.integrators import (
@@ -29,6 +34,10 @@ from duhamel.integrators import (
 from duhamel.solution import ModalHistory, Solution, SolveStats
 from duhamel.solve import solve
 from duhamel.system import ModalBasis, System
+
+if TYPE_CHECKING:
+    from duhamel import analysis, exact, rotor
+    from duhamel import paper as paper  # lazy too, but not in __all__ (`import *` skips it)
 
 __all__ = [
     "HHT",
@@ -56,3 +65,19 @@ __all__ = [
     "solve",
     "speed",
 ]
+
+#: Subpackages imported on first access (PEP 562), so that ``import duhamel`` stays light:
+#: they pull in scipy.optimize, scipy.special, scipy.signal ... which most runs never need.
+_LAZY = frozenset({"analysis", "exact", "paper", "rotor"})
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        module = importlib.import_module(f"duhamel.{name}")
+        globals()[name] = module
+        return module
+    raise AttributeError(f"module 'duhamel' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | _LAZY)

@@ -10,12 +10,10 @@ from __future__ import annotations
 
 import math
 import numbers
+import sys
 from typing import Any
 
 import numpy as np
-import scipy.linalg
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 
 __all__ = [
@@ -27,6 +25,7 @@ __all__ = [
     "dof_index",
     "dof_list",
     "finite_float",
+    "issparse",
     "mode_count",
     "nonneg_float",
     "positive_float",
@@ -74,7 +73,7 @@ def as_float_array(
     data raise TypeError. `shape` may contain ``None`` as a wildcard. The input is copied only
     when needed (non-float64 or non-contiguous).
     """
-    if sp.issparse(value):
+    if issparse(value):
         raise TypeError(f"`{name}` must be a dense array, got a scipy.sparse matrix")
     try:
         arr = np.asarray(value)
@@ -203,6 +202,16 @@ def mode_count(value: Any, name: str, n_dof: int) -> int:
 # --------------------------------------------------------------------------------------------
 
 
+def issparse(value: Any) -> bool:
+    """Whether `value` is a scipy.sparse matrix or array, without importing scipy.sparse.
+
+    A caller cannot hold a sparse matrix without having imported ``scipy.sparse``, so when it
+    is not in ``sys.modules`` the answer is False (and ``import duhamel`` stays scipy-free).
+    """
+    sparse = sys.modules.get("scipy.sparse")
+    return sparse is not None and bool(sparse.issparse(value))
+
+
 def as_square_matrix(
     value: Any, name: str, n: int | None = None, ref: str | None = None
 ) -> NDArray[np.float64] | Any:
@@ -212,7 +221,7 @@ def as_square_matrix(
     CSR matrix/array of the same flavour (``csr_matrix`` or ``csr_array``), duplicates summed.
     If `n` is given the shape must be ``(n, n)`` (`ref` names the matrix it must match).
     """
-    if sp.issparse(value):
+    if issparse(value):
         _check_real_dtype(value.dtype, name)
         if len(value.shape) != 2:
             raise ValueError(f"`{name}` must be a 2-D matrix, got shape {value.shape}")
@@ -236,7 +245,7 @@ def as_square_matrix(
 
 def check_symmetric(mat: Any, name: str, rtol: float = 1e-10) -> None:
     """Raise ValueError unless ``max|A - A.T| <= rtol * max|A|``."""
-    if sp.issparse(mat):
+    if issparse(mat):
         asym = float(abs(mat - mat.T).max()) if mat.nnz else 0.0
         scale = float(abs(mat).max()) if mat.nnz else 0.0
     else:
@@ -274,6 +283,9 @@ def symmetric_lu(mat: Any) -> tuple[Any, int]:
     matrix is exactly singular, in which case `lu` is None); ``n_bad == 0`` means positive
     definite.
     """
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
     try:
         lu = spla.splu(
             sp.csc_matrix(mat),
@@ -307,8 +319,10 @@ def check_positive_definite(mat: Any, name: str) -> None:
         )
     n = diag.size
     not_pd = ValueError(f"`{name}` must be positive definite (its factorisation has a pivot <= 0)")
-    if not sp.issparse(mat) or n <= DENSE_CHOLESKY_MAX_N:
-        dense = mat.toarray() if sp.issparse(mat) else mat
+    if not issparse(mat) or n <= DENSE_CHOLESKY_MAX_N:
+        import scipy.linalg
+
+        dense = mat.toarray() if issparse(mat) else mat
         try:
             chol = scipy.linalg.cholesky(dense, lower=True, check_finite=False)
         except np.linalg.LinAlgError:

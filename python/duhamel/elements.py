@@ -10,16 +10,19 @@ from __future__ import annotations
 
 from collections.abc import Callable as CallableT
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._validate import as_float_array, as_square_matrix, dof_index, finite_float
-
-if TYPE_CHECKING:
-    from duhamel.system import System
+from duhamel._protocols import Model
+from duhamel._validate import (
+    as_float_array,
+    as_square_matrix,
+    dof_index,
+    finite_float,
+    issparse,
+)
 
 __all__ = [
     "Callable",
@@ -36,7 +39,7 @@ __all__ = [
 class Element:
     """Base class of the elements."""
 
-    def _validate(self, system: System) -> None:  # pragma: no cover - abstract
+    def _validate(self, system: Model) -> None:  # pragma: no cover - abstract
         raise NotImplementedError
 
     def _spec(self) -> tuple:  # pragma: no cover - abstract
@@ -50,7 +53,7 @@ def _nonneg(value: Any, name: str) -> float:
     return v
 
 
-def _pair(i: int, j: int | None, system: System) -> None:
+def _pair(i: int, j: int | None, system: Model) -> None:
     dof_index(i, "i", system.n_dof)
     if j is not None:
         dof_index(j, "j", system.n_dof)
@@ -75,7 +78,7 @@ class Polynomial(Element):
         c = as_float_array(self.coefficients, "coefficients", ndim=1)
         object.__setattr__(self, "coefficients", tuple(float(v) for v in c))
 
-    def _validate(self, system: System) -> None:
+    def _validate(self, system: Model) -> None:
         dof_index(self.dof, "dof", system.n_dof)
 
     def _spec(self) -> tuple:
@@ -98,7 +101,7 @@ class Cubic(Element):
     def __post_init__(self) -> None:
         finite_float(self.k3, "k3")
 
-    def _validate(self, system: System) -> None:
+    def _validate(self, system: Model) -> None:
         dof_index(self.dof, "dof", system.n_dof)
 
     def _spec(self) -> tuple:
@@ -124,7 +127,7 @@ class Spring(Element):
         finite_float(self.k, "k")
         finite_float(self.k3, "k3")
 
-    def _validate(self, system: System) -> None:
+    def _validate(self, system: Model) -> None:
         _pair(self.i, self.j, system)
 
     def _spec(self) -> tuple:
@@ -149,7 +152,7 @@ class Damper(Element):
     def __post_init__(self) -> None:
         _nonneg(self.c, "c")
 
-    def _validate(self, system: System) -> None:
+    def _validate(self, system: Model) -> None:
         _pair(self.i, self.j, system)
 
     def _spec(self) -> tuple:
@@ -188,7 +191,7 @@ class LinearCoupling(Element):
             raise ValueError("`LinearCoupling` needs `K`, `C` or both")
         for name in ("K", "C"):
             m = getattr(self, name)
-            if m is not None and not sp.issparse(m):
+            if m is not None and not issparse(m):
                 object.__setattr__(self, name, as_float_array(m, name, ndim=2))
         if self.scale is not None:
             from duhamel.speed import as_speed_law
@@ -200,7 +203,7 @@ class LinearCoupling(Element):
         a scale), else None."""
         return 1.0 if self.scale is None else self.scale.constant_value()
 
-    def _validate(self, system: System) -> None:
+    def _validate(self, system: Model) -> None:
         for name in ("K", "C"):
             m = getattr(self, name)
             if m is not None and m.shape != (system.n_dof, system.n_dof):
@@ -208,7 +211,7 @@ class LinearCoupling(Element):
                     f"`{name}` of LinearCoupling must be ({system.n_dof}, {system.n_dof}), "
                     f"got {m.shape}"
                 )
-            if m is not None and sp.issparse(m):
+            if m is not None and issparse(m):
                 as_square_matrix(m, name, n=system.n_dof)
 
     def modal(self, phi: NDArray[np.float64]) -> tuple[NDArray | None, NDArray | None]:
@@ -258,7 +261,7 @@ class Contact(Element):
             if finite_float(getattr(self, name), name) <= 0:
                 raise ValueError(f"`{name}` must be positive, got {getattr(self, name)}")
 
-    def _validate(self, system: System) -> None:
+    def _validate(self, system: Model) -> None:
         dof_index(self.dof_x, "dof_x", system.n_dof)
         dof_index(self.dof_y, "dof_y", system.n_dof)
         if self.dof_x == self.dof_y:
@@ -307,7 +310,7 @@ class Callable(Element):
                 raise TypeError(f"`dofs` must contain integers, got {d!r}")
         object.__setattr__(self, "dofs", tuple(int(d) for d in dofs))
 
-    def _validate(self, system: System) -> None:
+    def _validate(self, system: Model) -> None:
         for d in self.dofs:
             dof_index(d, "dofs", system.n_dof)
         if len(set(self.dofs)) != len(self.dofs):

@@ -19,17 +19,15 @@ from __future__ import annotations
 
 from collections.abc import Callable as CallableT
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from duhamel._protocols import Model
 from duhamel._specs import time_function
 from duhamel._validate import as_float_array, dof_index, finite_float
 from duhamel.speed import ConstantSpeed, LinearRunUp, SpeedLaw, as_speed_law
-
-if TYPE_CHECKING:
-    from duhamel.system import System
 
 __all__ = [
     "BaseAcceleration",
@@ -81,10 +79,10 @@ def _table_eval(t: NDArray, ts: NDArray, vs: NDArray, hold: bool) -> NDArray:
 class Load:
     """Base class: ``f(t) = pattern * s(t)``."""
 
-    def _validate(self, system: System) -> None:
+    def _validate(self, system: Model) -> None:
         self._pattern(system)
 
-    def _pattern(self, system: System) -> NDArray[np.float64]:  # pragma: no cover - abstract
+    def _pattern(self, system: Model) -> NDArray[np.float64]:  # pragma: no cover - abstract
         raise NotImplementedError
 
     def _time(self) -> tuple[str, tuple]:  # pragma: no cover - abstract
@@ -93,13 +91,13 @@ class Load:
     def _scalar(self, t: NDArray[np.float64]) -> NDArray[np.float64]:  # pragma: no cover
         raise NotImplementedError
 
-    def _specs(self, system: System) -> list[tuple[NDArray[np.float64], str, tuple]]:
+    def _specs(self, system: Model) -> list[tuple[NDArray[np.float64], str, tuple]]:
         """The load as ``(physical pattern, kind, params)`` terms for the core (one for a
         pattern times one time function; :class:`Unbalance` has two)."""
         kind, params = self._time()
         return [(self._pattern(system), kind, params)]
 
-    def evaluate(self, system: System, t: ArrayLike) -> NDArray[np.float64]:
+    def evaluate(self, system: Model, t: ArrayLike) -> NDArray[np.float64]:
         """The load vectors at times `t`, shape ``(len(t), n_dof)`` (or ``(n_dof,)``).
 
         Parameters
@@ -128,7 +126,7 @@ class Load:
         return out[0] if ts.ndim == 0 else out
 
 
-def _unit(system: System, dof: int, amplitude: float) -> NDArray[np.float64]:
+def _unit(system: Model, dof: int, amplitude: float) -> NDArray[np.float64]:
     p = np.zeros(system.n_dof)
     p[dof_index(dof, "dof", system.n_dof)] = amplitude
     return p
@@ -154,7 +152,7 @@ class Step(Load):
         _finite(self.amplitude, "amplitude")
         _finite(self.t0, "t0")
 
-    def _pattern(self, system: System) -> NDArray[np.float64]:
+    def _pattern(self, system: Model) -> NDArray[np.float64]:
         return _unit(system, self.dof, float(self.amplitude))
 
     def _time(self) -> tuple[str, tuple]:
@@ -183,7 +181,7 @@ class Harmonic(Load):
         for name in ("amplitude", "omega", "phase"):
             _finite(getattr(self, name), name)
 
-    def _pattern(self, system: System) -> NDArray[np.float64]:
+    def _pattern(self, system: Model) -> NDArray[np.float64]:
         return _unit(system, self.dof, float(self.amplitude))
 
     def _time(self) -> tuple[str, tuple]:
@@ -220,7 +218,7 @@ class Tabulated(Load):
         object.__setattr__(self, "t", ts)
         object.__setattr__(self, "values", vs)
 
-    def _pattern(self, system: System) -> NDArray[np.float64]:
+    def _pattern(self, system: Model) -> NDArray[np.float64]:
         return _unit(system, self.dof, 1.0)
 
     def _time(self) -> tuple[str, tuple]:
@@ -257,7 +255,7 @@ class BaseAcceleration(Load):
         object.__setattr__(self, "t", ts)
         object.__setattr__(self, "values", vs)
 
-    def _pattern(self, system: System) -> NDArray[np.float64]:
+    def _pattern(self, system: Model) -> NDArray[np.float64]:
         r = self.direction_vector
         if r.shape != (system.n_dof,):
             raise ValueError(
@@ -292,10 +290,10 @@ class Callable(Load):
         if not callable(self.fn):
             raise TypeError(f"`fn` must be callable, got {type(self.fn).__name__}")
 
-    def _validate(self, system: System) -> None:
+    def _validate(self, system: Model) -> None:
         return None
 
-    def evaluate(self, system: System, t: ArrayLike) -> NDArray[np.float64]:
+    def evaluate(self, system: Model, t: ArrayLike) -> NDArray[np.float64]:
         """The load vectors at times `t` (see :meth:`Load.evaluate`)."""
         ts = np.asarray(t, dtype=np.float64)
         rows = [np.asarray(self.fn(float(x)), dtype=np.float64) for x in np.atleast_1d(ts)]
@@ -345,7 +343,7 @@ class Unbalance(Load):
         object.__setattr__(self, "phase", finite_float(self.phase, "phase"))
         object.__setattr__(self, "speed", as_speed_law(self.speed, "speed"))
 
-    def _validate(self, system: System) -> None:
+    def _validate(self, system: Model) -> None:
         dx = dof_index(self.dof_x, "dof_x", system.n_dof)
         dy = dof_index(self.dof_y, "dof_y", system.n_dof)
         if dx == dy:
@@ -354,7 +352,7 @@ class Unbalance(Load):
     def _axis_spec(self, axis: str) -> tuple:
         return (self.speed._spec(), self.phase, axis)
 
-    def _specs(self, system: System) -> list[tuple[NDArray[np.float64], str, tuple]]:
+    def _specs(self, system: Model) -> list[tuple[NDArray[np.float64], str, tuple]]:
         self._validate(system)
         out = []
         for dof, axis in ((self.dof_x, "x"), (self.dof_y, "y")):
@@ -363,7 +361,7 @@ class Unbalance(Load):
             out.append((pattern, "unbalance", self._axis_spec(axis)))
         return out
 
-    def evaluate(self, system: System, t: ArrayLike) -> NDArray[np.float64]:
+    def evaluate(self, system: Model, t: ArrayLike) -> NDArray[np.float64]:
         """The load vectors at times `t` (see :meth:`Load.evaluate`), as the engine computes
         them (right-continuous at the end of a run-up)."""
         ts = np.asarray(t, dtype=np.float64)

@@ -3,12 +3,9 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
-import scipy.linalg
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._validate import (
@@ -18,9 +15,16 @@ from duhamel._validate import (
     check_positive_definite,
     check_symmetric,
     finite_float,
+    issparse,
     mode_count,
     symmetric_lu,
 )
+from duhamel.elements import Element
+from duhamel.loads import Load
+from duhamel.mass import MassLaw, _Attached
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 __all__ = ["ModalBasis", "System"]
 
@@ -98,7 +102,7 @@ def _frozen(a: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def _dense(a: Any) -> NDArray[np.float64]:
-    return a.toarray() if sp.issparse(a) else a
+    return a.toarray() if issparse(a) else a
 
 
 def _fix_signs(phi: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -178,8 +182,8 @@ class System:
         check_symmetric(K, "K")
         check_positive_definite(M, "M")
         check_nonneg_diagonal(K, "K")
-        self._M = M if sp.issparse(M) else _frozen(M)
-        self._K = K if sp.issparse(K) else _frozen(K)
+        self._M = M if issparse(M) else _frozen(M)
+        self._K = K if issparse(K) else _frozen(K)
         self._C: Any = None
         self._zeta: float | NDArray[np.float64] | None = None
         self._rayleigh: tuple[float, float] | None = None
@@ -187,7 +191,7 @@ class System:
         if C is not None:
             C = as_square_matrix(C, "C", n=n, ref="M")
             check_symmetric(C, "C")
-            self._C, self._damping = (C if sp.issparse(C) else _frozen(C)), "matrix"
+            self._C, self._damping = (C if issparse(C) else _frozen(C)), "matrix"
         elif zeta is not None:
             if np.ndim(zeta) == 0:
                 self._zeta = finite_float(zeta, "zeta")
@@ -203,9 +207,9 @@ class System:
         elif rayleigh is not None:
             alpha, beta = as_float_array(rayleigh, "rayleigh", shape=(2,)).tolist()
             self._rayleigh, self._damping = (alpha, beta), "rayleigh"
-        self.loads: list[Any] = []
+        self.loads: list[Load] = []
         #: Force elements (nonlinear springs, dampers, couplings, contacts), see :meth:`add`.
-        self.elements: list[Any] = []
+        self.elements: list[Element] = []
         #: Time-varying mass law, see :meth:`set_mass_law` (None: constant mass).
         self.mass_law: Any = None
         self._modal_cache: dict[int, ModalBasis] = {}
@@ -249,7 +253,7 @@ class System:
     @property
     def is_sparse(self) -> bool:
         """Whether `M` or `K` is stored as a scipy.sparse matrix."""
-        return sp.issparse(self._M) or sp.issparse(self._K)
+        return issparse(self._M) or issparse(self._K)
 
     def __repr__(self) -> str:
         return (
@@ -260,7 +264,7 @@ class System:
         )
 
     # ---------------------------------------------------------------- loads
-    def add_load(self, load: Any) -> System:
+    def add_load(self, load: Load) -> System:
         """Append a load to :attr:`loads`, validating it against this system first.
 
         The load is checked against this system here, so that, e.g., an out-of-range dof
@@ -278,8 +282,6 @@ class System:
         >>> len(system.add_load(duhamel.loads.Step(dof=1, amplitude=5.0)).loads)
         1
         """
-        from duhamel.loads import Load
-
         if not isinstance(load, Load):
             raise TypeError(
                 f"`load` must be a duhamel.loads load (Step, Harmonic, Tabulated, "
@@ -289,7 +291,7 @@ class System:
         self.loads.append(load)
         return self
 
-    def add(self, element: Any) -> System:
+    def add(self, element: Element) -> System:
         """Append a force element (see :mod:`duhamel.elements`), validated against this system.
 
         Elements add a restoring force ``r(x, x', t)`` to the left-hand side,
@@ -307,8 +309,6 @@ class System:
         >>> len(duffing.elements)
         1
         """
-        from duhamel.elements import Element
-
         if not isinstance(element, Element):
             raise TypeError(
                 f"`element` must be a duhamel.elements element, got {type(element).__name__}"
@@ -345,8 +345,6 @@ class System:
         >>> pendulum.mass_law.form
         'momentum'
         """
-        from duhamel.mass import MassLaw, _Attached
-
         if not isinstance(law, MassLaw):
             raise TypeError(f"`law` must be a duhamel.mass law, got {type(law).__name__}")
         if form not in ("acceleration", "momentum"):
@@ -395,7 +393,12 @@ class System:
         return cached
 
     def _eigen(self, n: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        import scipy.linalg  # here, not at module level: `import duhamel` stays scipy-free
+
         if self.is_sparse and n < self.n_dof - 1:
+            import scipy.sparse as sp
+            import scipy.sparse.linalg as spla
+
             M, K = sp.csc_matrix(self._M), sp.csc_matrix(self._K)
             shift = float(np.max(np.abs(K.diagonal()) / M.diagonal()))  # <= max eigenvalue
             sigma = -SHIFT_RTOL * (shift if shift > 0.0 else 1.0)
@@ -481,6 +484,8 @@ class System:
             while j + 1 < n and lam[j + 1] - lam[j] <= 1e-8 * lam[j + 1] + 1e-13 * scale:
                 j += 1
             if j > i:
+                import scipy.linalg
+
                 _, y = scipy.linalg.eigh(cm[i : j + 1, i : j + 1])
                 phi[:, i : j + 1] = phi[:, i : j + 1] @ y
                 lam[i : j + 1] = lam[i : j + 1].mean()

@@ -7,7 +7,6 @@ from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
-import scipy.optimize
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel import elements
@@ -168,6 +167,8 @@ class StabilityChart:
         -------
         list of (float, float)
         """
+        import scipy.optimize  # 0.4 s to import: only where a root is refined
+
         tol = finite_float(tol, "tol")
         x = self.dt_over_T
         g = self.curve(label) - 1.0 - tol
@@ -196,6 +197,8 @@ class StabilityChart:
         (float, float)
             ``dt/T`` and the spectral radius there.
         """
+        import scipy.optimize
+
         x, rho = self.dt_over_T, self.curve(label)
         top = float(rho.max())
         found = [(float(x[np.argmax(rho)]), top)]

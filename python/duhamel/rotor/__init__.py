@@ -19,10 +19,15 @@ Examples
 """
 
 from duhamel.rotor._speed import constant_speed, rpm
-from duhamel.rotor.components import Bearing, Disk
+from duhamel.rotor.assembly import RotorMatrices
+from duhamel.rotor.bearing import Bearing
+from duhamel.rotor.campbell import Campbell
+from duhamel.rotor.disk import Disk
+from duhamel.rotor.dofs import DIRECTIONS
 from duhamel.rotor.loads import Gravity, RotorLoad, SuddenForce, Unbalance, VectorStep
 from duhamel.rotor.material import STEEL, Material
-from duhamel.rotor.model import DIRECTIONS, Campbell, Modes, Rotor, RotorMatrices
+from duhamel.rotor.model import Rotor
+from duhamel.rotor.modes import Modes
 from duhamel.rotor.plot import plot_campbell, plot_orbit
 from duhamel.rotor.ross import RossDofs, RossModel, from_ross
 from duhamel.rotor.shaft import Shaft, cowper_shear_coefficient

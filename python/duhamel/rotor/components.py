@@ -1,418 +1,85 @@
-"""Rigid disks and bearings (linear stiffness and damping, constant or tabulated against the
-spin speed; optional cubic law and rub)."""
+"""The rotor's components: shafts, rigid disks and bearings, checked and placed at nodes.
+
+:class:`~duhamel.rotor.Disk` and :class:`~duhamel.rotor.Bearing` live in
+:mod:`duhamel.rotor.disk` and :mod:`duhamel.rotor.bearing` (importable from here too),
+:class:`~duhamel.rotor.Shaft` in :mod:`duhamel.rotor.shaft`.
+"""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 from typing import Any
 
-import numpy as np
-from numpy.typing import NDArray
+from duhamel.rotor.assembly import Placed
+from duhamel.rotor.bearing import Bearing
+from duhamel.rotor.disk import Disk
+from duhamel.rotor.shaft import Shaft
 
-from duhamel._validate import as_float_array, finite_float, nonneg_float, positive_float
-from duhamel.rotor._speed import constant_speed
-from duhamel.rotor.material import Material
+__all__ = ["Bearing", "Disk", "checked_components", "placements"]
 
-__all__ = ["Bearing", "Disk"]
-
-
-def _node(value: Any) -> int:
-    if isinstance(value, bool | np.bool_) or not isinstance(value, int | np.integer):
-        raise TypeError(f"`node` must be an integer, got {type(value).__name__}")
-    if value < 0:
-        raise ValueError(f"`node` must be >= 0, got {value}")
-    return int(value)
+Components = tuple[tuple[Shaft, ...], tuple[Disk, ...], tuple[Bearing, ...]]
 
 
-@dataclass(frozen=True)
-class Disk:
-    """A rigid disk at a node: mass `mass` (kg), polar and diametral moments of inertia `Ip`,
-    `Id` (kg m^2) about its centre of mass, which sits on the shaft axis at the node.
+def _sequence(items: Any, kind: type, name: str) -> tuple[Any, ...]:
+    if isinstance(items, kind):
+        items = [items]
+    out = tuple(items)
+    for i, item in enumerate(out):
+        if not isinstance(item, kind):
+            raise TypeError(
+                f"`{name}[{i}]` must be a duhamel.rotor.{kind.__name__}, got {type(item).__name__}"
+            )
+    return out
 
-    On the node's ``(x, y, theta_x, theta_y)`` the disk adds ``M_d = diag(m, m, Id, Id)`` and
-    the gyroscopic matrix ``G_d`` with ``G_d[theta_x, theta_y] = Ip = -G_d[theta_y, theta_x]``
-    (Friswell et al. 2010, chapter 5): ``Id theta_x'' + speed Ip theta_y' = M_x`` and
-    ``Id theta_y'' - speed Ip theta_x' = M_y``.
+
+def checked_components(
+    shafts: Sequence[Shaft] | Shaft,
+    disks: Sequence[Disk] | Disk,
+    bearings: Sequence[Bearing] | Bearing,
+) -> Components:
+    """The components as tuples (a single one is allowed for each), of the right types, with
+    every disk and bearing on one of the ``len(shafts) + 1`` nodes.
 
     Examples
     --------
-    >>> from duhamel.rotor import Disk
-    >>> Disk(node=2, mass=20.0, Ip=0.2, Id=0.1).matrices()[1][2:, 2:].tolist()
-    [[0.0, 0.2], [-0.2, 0.0]]
+    >>> from duhamel.rotor import STEEL, Bearing, Shaft
+    >>> from duhamel.rotor.components import checked_components
+    >>> shafts, disks, bearings = checked_components(
+    ...     Shaft(0.5, 0.05, material=STEEL), (), [Bearing(1, 1e6, 1e6)])
+    >>> len(shafts), disks, bearings[0].node
+    (1, (), 1)
     """
-
-    node: int
-    mass: float
-    Ip: float
-    Id: float
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "node", _node(self.node))
-        object.__setattr__(self, "mass", positive_float(self.mass, "mass"))
-        object.__setattr__(self, "Ip", nonneg_float(self.Ip, "Ip"))
-        object.__setattr__(self, "Id", nonneg_float(self.Id, "Id"))
-
-    @classmethod
-    def from_geometry(
-        cls,
-        node: int,
-        width: float,
-        outer_diameter: float,
-        inner_diameter: float,
-        material: Material,
-    ) -> Disk:
-        """A uniform annular disk (a short hollow cylinder) of the given width (axial length).
-
-        ``m = rho pi (Do^2 - Di^2) w / 4``, ``Ip = m (Do^2 + Di^2) / 8``,
-        ``Id = Ip / 2 + m w^2 / 12``.
-
-        Examples
-        --------
-        >>> from duhamel.rotor import STEEL, Disk
-        >>> d = Disk.from_geometry(2, width=0.07, outer_diameter=0.28, inner_diameter=0.05,
-        ...                        material=STEEL)
-        >>> round(d.mass, 3), round(d.Ip, 5), round(d.Id, 5)
-        (32.59, 0.32956, 0.17809)
-        """
-        w = positive_float(width, "width")
-        do = positive_float(outer_diameter, "outer_diameter")
-        di = nonneg_float(inner_diameter, "inner_diameter")
-        if di >= do:
-            raise ValueError(
-                f"`inner_diameter` must be below `outer_diameter` = {do:g}, got {di:g}"
-            )
-        if not isinstance(material, Material):
-            raise TypeError(f"`material` must be a Material, got {type(material).__name__}")
-        m = material.rho * np.pi * (do**2 - di**2) * w / 4.0
-        ip = m * (do**2 + di**2) / 8.0
-        return cls(node, float(m), float(ip), float(ip / 2.0 + m * w**2 / 12.0))
-
-    def matrices(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """The 4 x 4 mass and gyroscopic matrices on the node's ``(x, y, theta_x, theta_y)``."""
-        M = np.diag([self.mass, self.mass, self.Id, self.Id])
-        G = np.zeros((4, 4))
-        G[2, 3], G[3, 2] = self.Ip, -self.Ip
-        return M, G
-
-
-def _contact(value: Any) -> tuple[float, float, float] | None:
-    if value is None:
-        return None
-    try:
-        parts = tuple(value)
-    except TypeError:
-        raise TypeError(
-            "`contact` must be (clearance, stiffness) or (clearance, stiffness, friction), "
-            f"got {type(value).__name__}"
-        ) from None
-    if len(parts) not in (2, 3):
-        raise ValueError(
-            "`contact` must be (clearance, stiffness) or (clearance, stiffness, friction), "
-            f"got {len(parts)} values"
-        )
-    clearance = nonneg_float(parts[0], "contact clearance")
-    stiffness = positive_float(parts[1], "contact stiffness")
-    friction = nonneg_float(parts[2], "contact friction") if len(parts) == 3 else 0.0
-    return clearance, stiffness, friction
-
-
-#: The bearing's coefficients in the order of the 2 x 2 matrices ``[[xx, xy], [yx, yy]]``.
-_COEFFICIENTS = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
-#: Direct coefficients, which must be non-negative (at every table point).
-_DIRECT = frozenset({"kxx", "kyy", "cxx", "cyy"})
-
-#: A bearing coefficient: a number (constant), or one value per entry of ``Bearing.speeds``
-#: (stored as a tuple of floats).
-Coefficient = float | Sequence[float] | NDArray[np.float64]
-
-
-def _speed_table(value: Any) -> tuple[float, ...] | None:
-    if value is None:
-        return None
-    arr = as_float_array(value, "speeds", ndim=1)
-    if arr.size == 0:
-        raise ValueError("`speeds` must hold at least one spin speed (rad/s), got none")
-    down = np.flatnonzero(np.diff(arr) <= 0.0)
-    if down.size:
-        i = int(down[0])
-        raise ValueError(
-            f"`speeds` must be strictly ascending, got speeds[{i + 1}] = {arr[i + 1]:g} after "
-            f"speeds[{i}] = {arr[i]:g} rad/s"
-        )
-    return tuple(float(v) for v in arr)
-
-
-def _is_table(value: Any) -> bool:
-    if isinstance(value, str | bytes):
-        return False
-    try:
-        return bool(np.ndim(value) > 0)
-    except ValueError:  # a ragged nested sequence: let as_float_array report it
-        return True
-
-
-def _coefficient(
-    value: Any, name: str, speeds: tuple[float, ...] | None
-) -> float | tuple[float, ...]:
-    """A coefficient as a float (constant) or a tuple of one float per speed of `speeds`."""
-    if not _is_table(value):
-        return nonneg_float(value, name) if name in _DIRECT else finite_float(value, name)
-    if speeds is None:
-        raise ValueError(
-            f"`{name}` is a table of {np.size(value)} values, but the bearing has no `speeds`: "
-            "give the spin speeds (rad/s) the values belong to as `speeds=`, or one number "
-            "for a constant coefficient"
-        )
-    arr = as_float_array(value, name, ndim=1, finite=False)
-    if arr.size != len(speeds):
-        raise ValueError(
-            f"`{name}` has {arr.size} values but `speeds` has {len(speeds)}: give one value "
-            "per speed, or one number for a constant coefficient"
-        )
-    bad = np.flatnonzero(~np.isfinite(arr))
-    if bad.size:
-        i = int(bad[0])
-        raise ValueError(
-            f"`{name}` must be finite, got {float(arr[i])!r} at speeds[{i}] = {speeds[i]:g} rad/s"
-        )
-    if name in _DIRECT:
-        neg = np.flatnonzero(arr < 0.0)
-        if neg.size:
-            i = int(neg[0])
-            raise ValueError(
-                f"`{name}` must be non-negative at every speed, got {float(arr[i])!r} at "
-                f"speeds[{i}] = {speeds[i]:g} rad/s"
-            )
-    return tuple(float(v) for v in arr)
-
-
-@dataclass(frozen=True)
-class Bearing:
-    """A bearing (or seal, or stator) acting on a node's translations ``(x, y)``.
-
-    The linear force on the shaft is ``-[[kxx, kxy], [kyx, kyy]] (x, y) - [[cxx, cxy],
-    [cyx, cyy]] (x', y')`` (N/m, N s/m): ``kxy`` is the force in x per unit y displacement,
-    as the paper's ``k12``. Cross-coupled terms need not be symmetric (``kxy = -kyx`` is the
-    destabilising cross-coupling of fluid films and seals).
-
-    **Speed-dependent coefficients** (fluid-film bearings and seals, as ROSS's bearings with
-    a ``frequency`` argument): give the spin speeds of a table as `speeds` (rad/s, strictly
-    ascending) and any of ``kxx .. cyx`` as one value per speed (the others stay numbers:
-    constant). At a spin speed the coefficients are interpolated linearly between the table
-    points (:meth:`stiffness_at`, :meth:`damping_at`); **outside the table the end values
-    are held** (no extrapolation: a fluid film's coefficients extrapolated linearly soon turn
-    negative). ROSS 2.3 fits a smoothing spline through the points and extrapolates it;
-    linear interpolation reproduces the table points exactly. The table is against the
-    *signed* spin speed, so a rotor spinning about ``-z`` (negative speed) reads the table
-    at negative speeds (or holds its first value). :attr:`stiffness` and :attr:`damping`
-    have no speed to evaluate such a bearing at and raise ``ValueError``; a
-    :class:`~duhamel.rotor.Rotor` evaluates its bearings at the speed of each call.
-
-    Optional nonlinear parts, added as :mod:`duhamel.elements`:
-
-    * the paper's cubic law (its section 4.4), ``r_i = k_ii x_i beta (x_i / x_stat)^2`` on
-      ``i = x, y``: a ``Cubic(dof, k3 = k_ii beta / x_stat^2)`` on each translation.
-      ``x_stat`` (m) is a reference deflection; with ``x_stat=None`` the rotor uses the
-      magnitude of the bearing's vertical static deflection under its own weight in the linear
-      model (``g = 9.81`` m/s^2, weight along ``-y``), as the paper does. With speed-dependent
-      ``kxx``, ``kyy``, ``k_ii`` is taken at the speed of the analysis.
-    * ``contact = (clearance, stiffness[, friction])``: a radial rub
-      (:class:`duhamel.elements.Contact`) of the node against a stator with that radial
-      clearance (m), contact stiffness (N/m) and Coulomb friction coefficient.
-
-    Parameters
-    ----------
-    node : int
-        The rotor node.
-    kxx, kyy : float or array_like
-        Direct stiffnesses, ``>= 0`` (at every table point).
-    kxy, kyx : float or array_like
-        Cross-coupled stiffnesses.
-    cxx, cyy : float or array_like
-        Direct damping, ``>= 0`` (at every table point).
-    cxy, cyx : float or array_like
-        Cross-coupled damping.
-    beta : float
-        Cubic-law coefficient (0: linear).
-    x_stat : float, optional
-        Reference deflection of the cubic law, ``> 0``.
-    contact : tuple, optional
-        ``(clearance, stiffness)`` or ``(clearance, stiffness, friction)``.
-    speeds : array_like, optional
-        Keyword only. Spin speeds (rad/s, strictly ascending, finite) of the coefficient
-        tables: each of ``kxx .. cyx`` is then a number (constant) or an array of
-        ``len(speeds)`` values. Stored as a tuple, as are the tables.
-
-    Raises
-    ------
-    ValueError
-        Negative direct coefficients, non-finite values, a table without `speeds` or of
-        another length, `speeds` not strictly ascending (messages name the parameter and,
-        for a table, the offending speed).
-
-    Examples
-    --------
-    >>> from duhamel.rotor import Bearing
-    >>> b = Bearing(0, kxx=1e9, kyy=1e9, kxy=1e7, kyx=-1e7, beta=0.1, x_stat=2e-5)
-    >>> b.stiffness.tolist()
-    [[1000000000.0, 10000000.0], [-10000000.0, 1000000000.0]]
-    >>> [e.k3 for e in b.elements(dof_x=0, dof_y=1, x_stat=b.x_stat)]
-    [2.4999999999999997e+17, 2.4999999999999997e+17]
-
-    A fluid-film bearing tabulated at 100, 200 and 400 rad/s (``cxy``, ``cyx`` constant):
-
-    >>> fluid = Bearing(3, kxx=[1e7, 2e7, 4e7], kyy=[2e7, 3e7, 5e7],
-    ...                 kxy=[1e6, 3e6, 8e6], kyx=[-1e6, -3e6, -8e6],
-    ...                 cxx=[5e3, 4e3, 3e3], cyy=[6e3, 5e3, 4e3], speeds=[100, 200, 400])
-    >>> fluid.is_speed_dependent
-    True
-    >>> fluid.stiffness_at(150.0).tolist()        # halfway between 100 and 200 rad/s
-    [[15000000.0, 2000000.0], [-2000000.0, 25000000.0]]
-    >>> fluid.damping_at(1000.0).tolist()         # above the table: its last values
-    [[3000.0, 0.0], [0.0, 4000.0]]
-    """
-
-    node: int
-    kxx: Coefficient
-    kyy: Coefficient
-    kxy: Coefficient = 0.0
-    kyx: Coefficient = 0.0
-    cxx: Coefficient = 0.0
-    cyy: Coefficient = 0.0
-    cxy: Coefficient = 0.0
-    cyx: Coefficient = 0.0
-    beta: float = 0.0
-    x_stat: float | None = None
-    contact: tuple[float, float, float] | None = None
-    speeds: Sequence[float] | NDArray[np.float64] | None = field(default=None, kw_only=True)
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "node", _node(self.node))
-        speeds = _speed_table(self.speeds)
-        object.__setattr__(self, "speeds", speeds)
-        for name in _COEFFICIENTS:
-            object.__setattr__(self, name, _coefficient(getattr(self, name), name, speeds))
-        object.__setattr__(self, "beta", finite_float(self.beta, "beta"))
-        if self.x_stat is not None:
-            object.__setattr__(self, "x_stat", positive_float(self.x_stat, "x_stat"))
-        object.__setattr__(self, "contact", _contact(self.contact))
-
-    @property
-    def is_speed_dependent(self) -> bool:
-        """Whether any coefficient is a table against :attr:`speeds`."""
-        return any(isinstance(getattr(self, name), tuple) for name in _COEFFICIENTS)
-
-    def _value(self, name: str, speed: float) -> float:
-        value = getattr(self, name)
-        if isinstance(value, tuple):
-            return float(np.interp(speed, self.speeds, value))
-        return float(value)
-
-    def _matrix(self, names: tuple[str, str, str, str], speed: float) -> NDArray[np.float64]:
-        xx, xy, yx, yy = (self._value(name, speed) for name in names)
-        return np.array([[xx, xy], [yx, yy]])
-
-    def _constant(self, what: str) -> None:
-        if self.is_speed_dependent:
-            raise ValueError(
-                f"the bearing at node {self.node} has speed-dependent coefficients (tables "
-                f"against `speeds`), so its {what} depends on the spin speed: use "
-                f"{what}_at(speed)"
-            )
-
-    @property
-    def stiffness(self) -> NDArray[np.float64]:
-        """``[[kxx, kxy], [kyx, kyy]]`` of a constant-coefficient bearing.
-
-        Raises ``ValueError`` for a speed-dependent bearing (use :meth:`stiffness_at`).
-        """
-        self._constant("stiffness")
-        return self._matrix(("kxx", "kxy", "kyx", "kyy"), 0.0)
-
-    @property
-    def damping(self) -> NDArray[np.float64]:
-        """``[[cxx, cxy], [cyx, cyy]]`` of a constant-coefficient bearing.
-
-        Raises ``ValueError`` for a speed-dependent bearing (use :meth:`damping_at`).
-        """
-        self._constant("damping")
-        return self._matrix(("cxx", "cxy", "cyx", "cyy"), 0.0)
-
-    def stiffness_at(self, speed: float) -> NDArray[np.float64]:
-        """``[[kxx, kxy], [kyx, kyy]]`` at spin speed `speed` (rad/s): the tables interpolated
-        linearly, their end values held outside them; constants as they are.
-
-        Examples
-        --------
-        >>> from duhamel.rotor import Bearing
-        >>> b = Bearing(0, kxx=[1e7, 3e7], kyy=2e7, speeds=[0.0, 1000.0])
-        >>> b.stiffness_at(250.0).tolist(), b.stiffness_at(-50.0)[0, 0].item()
-        ([[15000000.0, 0.0], [0.0, 20000000.0]], 10000000.0)
-        """
-        return self._matrix(("kxx", "kxy", "kyx", "kyy"), constant_speed(speed))
-
-    def damping_at(self, speed: float) -> NDArray[np.float64]:
-        """``[[cxx, cxy], [cyx, cyy]]`` at spin speed `speed` (rad/s), as :meth:`stiffness_at`.
-
-        Examples
-        --------
-        >>> from duhamel.rotor import Bearing
-        >>> b = Bearing(0, 1e7, 1e7, cxx=[800.0, 400.0], cyy=[800.0, 400.0], speeds=[0, 1000])
-        >>> b.damping_at(500.0).tolist()
-        [[600.0, 0.0], [0.0, 600.0]]
-        """
-        return self._matrix(("cxx", "cxy", "cyx", "cyy"), constant_speed(speed))
-
-    @property
-    def is_nonlinear(self) -> bool:
-        """Whether the bearing has a cubic law or a rub contact."""
-        return self.beta != 0.0 or self.contact is not None
-
-    def elements(
-        self,
-        dof_x: int,
-        dof_y: int,
-        x_stat: float | None = None,
-        *,
-        speed: float | None = None,
-    ) -> list[Any]:
-        """The nonlinear parts as :mod:`duhamel.elements` on the global dofs `dof_x`, `dof_y`.
-
-        Parameters
-        ----------
-        dof_x, dof_y : int
-            Global indices of the node's x and y translations.
-        x_stat : float, optional
-            Reference deflection of the cubic law (default: the bearing's own `x_stat`);
-            needed when ``beta != 0``.
-        speed : float, optional
-            Keyword only. Spin speed (rad/s) at which speed-dependent ``kxx``, ``kyy`` enter
-            the cubic law; needed only then.
-
-        Returns
-        -------
-        list
-            ``Cubic`` elements on x and y (when ``beta != 0``) and a ``Contact`` (when
-            `contact` is given).
-        """
-        from duhamel.elements import Contact, Cubic
-
-        out: list[Any] = []
-        if self.beta != 0.0:
-            ref = self.x_stat if x_stat is None else positive_float(x_stat, "x_stat")
-            if ref is None:
-                raise ValueError(f"the cubic law of the bearing at node {self.node} needs `x_stat`")
-            tabled = isinstance(self.kxx, tuple) or isinstance(self.kyy, tuple)
-            if tabled and speed is None:
+    checked = (
+        _sequence(shafts, Shaft, "shafts"),
+        _sequence(disks, Disk, "disks"),
+        _sequence(bearings, Bearing, "bearings"),
+    )
+    n_nodes = len(checked[0]) + 1
+    for name, items in (("disks", checked[1]), ("bearings", checked[2])):
+        for i, item in enumerate(items):
+            if item.node >= n_nodes:
                 raise ValueError(
-                    f"the cubic law of the bearing at node {self.node} scales with kxx and kyy, "
-                    "which depend on the spin speed: give `speed`"
+                    f"`{name}[{i}]` is at node {item.node}, but the rotor has nodes "
+                    f"0..{n_nodes - 1} ({len(checked[0])} shafts)"
                 )
-            w = 0.0 if speed is None else constant_speed(speed)
-            out.append(Cubic(dof_x, self._value("kxx", w) * self.beta / ref**2))
-            out.append(Cubic(dof_y, self._value("kyy", w) * self.beta / ref**2))
-        if self.contact is not None:
-            clearance, stiffness, friction = self.contact
-            out.append(Contact(dof_x, dof_y, clearance, stiffness, friction))
-        return out
+    return checked
+
+
+def placements(
+    shafts: Sequence[Shaft], disks: Sequence[Disk], bearings: Sequence[Bearing]
+) -> tuple[list[Placed], list[Placed]]:
+    """The structure (shaft ``i`` at node ``i``, then the disks) and the supports (the
+    bearings), each component at its node, for :class:`~duhamel.rotor.assembly.Assembly`.
+
+    Examples
+    --------
+    >>> from duhamel.rotor import STEEL, Bearing, Shaft
+    >>> from duhamel.rotor.components import placements
+    >>> structure, supports = placements([Shaft(0.5, 0.05, material=STEEL)] * 2, [],
+    ...                                  [Bearing(2, 1e6, 1e6)])
+    >>> structure[1].dofs.tolist(), supports[0].dofs.tolist()
+    ([4, 5, 6, 7, 8, 9, 10, 11], [8, 9])
+    """
+    structure = [Placed.at(s, i) for i, s in enumerate(shafts)]
+    structure += [Placed.at(d, d.node) for d in disks]
+    return structure, [Placed.at(b, b.node) for b in bearings]

@@ -9,20 +9,18 @@ loads passed to it.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel._protocols import Model
 from duhamel._validate import as_float_array, finite_float, positive_float
 from duhamel.loads import Load, Step
 from duhamel.loads import Unbalance as UnbalanceLoad
+from duhamel.rotor._protocols import RotorModel
 from duhamel.rotor._speed import constant_speed, speed_or_law
 from duhamel.speed import SpeedLaw
-
-if TYPE_CHECKING:
-    from duhamel.rotor.model import Rotor
-    from duhamel.system import System
 
 __all__ = ["Gravity", "RotorLoad", "SuddenForce", "Unbalance", "VectorStep"]
 
@@ -30,7 +28,7 @@ __all__ = ["Gravity", "RotorLoad", "SuddenForce", "Unbalance", "VectorStep"]
 class RotorLoad:
     """Base class of the rotor loads."""
 
-    def loads(self, rotor: Rotor, speed: Any = None) -> list[Load]:  # pragma: no cover
+    def loads(self, rotor: RotorModel, speed: Any = None) -> list[Load]:  # pragma: no cover
         """The :mod:`duhamel.loads` this load stands for on `rotor` at `speed`."""
         raise NotImplementedError
 
@@ -55,7 +53,7 @@ class VectorStep(Load):
         object.__setattr__(self, "vector", as_float_array(self.vector, "vector", ndim=1))
         object.__setattr__(self, "t0", finite_float(self.t0, "t0"))
 
-    def _pattern(self, system: System) -> NDArray[np.float64]:
+    def _pattern(self, system: Model) -> NDArray[np.float64]:
         if self.vector.shape != (system.n_dof,):
             raise ValueError(
                 f"`vector` must have length n_dof = {system.n_dof}, got {self.vector.shape[0]}"
@@ -152,7 +150,7 @@ class Unbalance(RotorLoad):
             raise ValueError("`speed` must be nonzero to turn a force into an unbalance")
         return cls(node, positive_float(force, "force") / w**2, w, phase)
 
-    def loads(self, rotor: Rotor, speed: Any = None) -> list[Load]:
+    def loads(self, rotor: RotorModel, speed: Any = None) -> list[Load]:
         """One :class:`duhamel.loads.Unbalance` on the node's x and y, driven by the speed
         (a constant, or the law of a run-up).
 
@@ -195,13 +193,13 @@ class Gravity(RotorLoad):
         object.__setattr__(self, "direction", (float(d[0] / n), float(d[1] / n)))
         object.__setattr__(self, "t0", finite_float(self.t0, "t0"))
 
-    def vector(self, rotor: Rotor) -> NDArray[np.float64]:
+    def vector(self, rotor: RotorModel) -> NDArray[np.float64]:
         """The load vector ``g M r`` along `direction`, length ``rotor.n_dof``."""
         r = np.zeros(rotor.n_dof)
         r[0::4], r[1::4] = self.direction
         return self.g * np.asarray(rotor.matrices().M @ r)
 
-    def loads(self, rotor: Rotor, speed: Any = None) -> list[Load]:
+    def loads(self, rotor: RotorModel, speed: Any = None) -> list[Load]:
         """One :class:`VectorStep` with :meth:`vector`."""
         return [VectorStep(self.vector(rotor), self.t0)]
 
@@ -231,7 +229,7 @@ class SuddenForce(RotorLoad):
         for name in ("fx", "fy", "t0"):
             object.__setattr__(self, name, finite_float(getattr(self, name), name))
 
-    def loads(self, rotor: Rotor, speed: Any = None) -> list[Load]:
+    def loads(self, rotor: RotorModel, speed: Any = None) -> list[Load]:
         """Steps on the node's x and y (only the nonzero components)."""
         out: list[Load] = []
         for direction, amplitude in (("x", self.fx), ("y", self.fy)):

@@ -1,4 +1,4 @@
-"""The rotor model: assembly, the duhamel System at a speed, complex modes, Campbell diagram.
+"""The rotor model: its components, matrices, duhamel System, modes and Campbell diagram.
 
 Degrees of freedom: 4 per node, node ``i`` owning ``4 i + (0, 1, 2, 3)`` =
 ``(x, y, theta_x, theta_y)``; the shaft axis is z, nodes are numbered along it, and the
@@ -6,207 +6,46 @@ rotations are right-handed about the fixed x and y axes (so ``theta_y = dx/dz`` 
 ``theta_x = -dy/dz`` in pure bending). The shaft spins about +z at ``speed`` (rad/s); forward
 whirl is an orbit in the sense of the spin, from +x towards +y. This is the convention of
 Friswell, Penny, Garvey and Lees, *Dynamics of Rotating Machines* (2010), chapter 5.
+
+Each component (shaft, disk, bearing) owns its matrices and dof mapping; assembly, modes,
+Campbell diagram and transient System live in modules of those names; :class:`Rotor` ties
+them together.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
 from functools import cached_property
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
-import scipy.linalg
-import scipy.sparse as sp
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import linear_sum_assignment
 
-from duhamel._validate import as_float_array, finite_float
-from duhamel.elements import Element, LinearCoupling
+from duhamel._validate import finite_float
+from duhamel.elements import Element
 from duhamel.loads import Load
 from duhamel.rotor._speed import constant_speed, speed_or_law
-from duhamel.rotor.components import Bearing, Disk
+from duhamel.rotor.assembly import Assembly, RotorMatrices
+from duhamel.rotor.bearing import Bearing
+from duhamel.rotor.campbell import Campbell, campbell
+from duhamel.rotor.components import checked_components, placements
+from duhamel.rotor.damping import damping_spec, structural_damping
+from duhamel.rotor.disk import Disk
+from duhamel.rotor.dofs import DIRECTIONS, dof_index
 from duhamel.rotor.loads import Gravity, RotorLoad
+from duhamel.rotor.modes import Modes, complex_modes
 from duhamel.rotor.shaft import Shaft
-from duhamel.speed import SpeedLaw
+from duhamel.rotor.transient import (
+    add_couplings,
+    add_rotor_loads,
+    background,
+    bearing_elements,
+    check_constant_bearings,
+    storage,
+)
 from duhamel.system import System
 
 __all__ = ["DIRECTIONS", "Campbell", "Modes", "Rotor", "RotorMatrices"]
-
-#: Position of each direction within a node's four dofs.
-DIRECTIONS = {"x": 0, "y": 1, "theta_x": 2, "theta_y": 3}
-#: Eigenvalues with ``Im(lambda) <= ZERO_FREQUENCY_RTOL * max|lambda|`` are not oscillatory:
-#: rigid-body modes (whose defective zero eigenvalues come out of the eigensolver as pairs of
-#: size about ``sqrt(eps) max|lambda|``) and overdamped modes.
-ZERO_FREQUENCY_RTOL = 1e-6
-#: Orbit sense: a node counts when its amplitude is at least this fraction of the largest
-#: node's, and its signed orbit area at least ``PLANAR_RTOL`` times its amplitude.
-NODE_RTOL = 1e-4
-PLANAR_RTOL = 1e-6
-#: Eigenvalues within this relative distance form a cluster (a degenerate pair).
-CLUSTER_RTOL = 1e-8
-#: Campbell mode tracking: weight of the relative eigenvalue distance added to ``1 - MAC`` in
-#: the assignment cost, so that it only breaks ties between equally similar shapes.
-TRACK_TIE_WEIGHT = 1e-6
-
-
-class RotorMatrices(NamedTuple):
-    """The rotor's matrices: ``M x'' + (C + speed G) x' + K x = f``.
-
-    ``K`` includes the full bearing stiffness (cross-coupled terms too), ``C`` the structural
-    damping (Rayleigh or modal) and the full bearing damping; ``G`` is the gyroscopic matrix
-    per unit speed (skew-symmetric).
-    """
-
-    M: NDArray[np.float64]
-    K: NDArray[np.float64]
-    C: NDArray[np.float64]
-    G: NDArray[np.float64]
-
-
-@dataclass(frozen=True, eq=False)
-class Modes:
-    """Complex (damped) modes of the rotor at one speed, ascending in frequency.
-
-    Each mode is a solution ``x(t) = Re(shape e^{lambda t})`` of the free rotor with
-    ``Im(lambda) > 0``.
-
-    Attributes
-    ----------
-    speed : float
-        Spin speed (rad/s).
-    eigenvalues : ndarray of complex, shape (n_modes,)
-        ``lambda = -zeta omega_n + i omega_d``.
-    shapes : ndarray of complex, shape (n_dof, n_modes)
-        Mode shapes, scaled so that the translation of largest magnitude is 1 (real).
-    whirl : tuple of str
-        ``"forward"`` (every moving node orbits in the sense of the spin: from +x towards +y
-        for ``speed >= 0``), ``"backward"``, ``"mixed"`` (nodes disagree) or ``"planar"``
-        (straight-line orbits). Within a pair of equal eigenvalues (an axisymmetric rotor,
-        or any rotor at zero speed with isotropic bearings) the shapes are chosen as the
-        backward and the forward circular orbits.
-    length_scale : float
-        Length (m) that weights the rotations against the translations in :meth:`mac` and in
-        the whirl (the rotor's mean element length; 1 by default).
-    """
-
-    speed: float
-    eigenvalues: NDArray[np.complex128]
-    shapes: NDArray[np.complex128]
-    whirl: tuple[str, ...]
-    length_scale: float = 1.0
-
-    @property
-    def n_modes(self) -> int:
-        """Number of modes."""
-        return int(self.eigenvalues.size)
-
-    @property
-    def frequencies(self) -> NDArray[np.float64]:
-        """Damped natural frequencies ``Im(lambda)`` (rad/s)."""
-        return self.eigenvalues.imag.copy()
-
-    @property
-    def damping_ratios(self) -> NDArray[np.float64]:
-        """``-Re(lambda) / |lambda|`` (negative: unstable)."""
-        return -self.eigenvalues.real / np.abs(self.eigenvalues)
-
-    @property
-    def log_dec(self) -> NDArray[np.float64]:
-        """Logarithmic decrement ``-2 pi Re(lambda) / Im(lambda)`` (negative: unstable)."""
-        return -2.0 * np.pi * self.eigenvalues.real / self.eigenvalues.imag
-
-    def mac(self, other: Modes) -> NDArray[np.float64]:
-        """Modal assurance criterion between these mode shapes and `other`'s.
-
-        ``MAC[i, j] = |u_i^H v_j|^2 / (|u_i|^2 |v_j|^2)`` on the complex displacement shapes
-        (``u_i = shapes[:, i]``, ``v_j = other.shapes[:, j]``), with the rotations multiplied
-        by :attr:`length_scale` so that every entry is a length. 1 for proportional shapes, 0
-        for orthogonal ones (a forward and a backward circular orbit of an isotropic rotor).
-
-        Parameters
-        ----------
-        other : Modes
-            Modes of a model with the same degrees of freedom (e.g. at another speed).
-
-        Returns
-        -------
-        ndarray, shape (n_modes, other.n_modes)
-
-        Examples
-        --------
-        >>> import numpy as np
-        >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft
-        >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.3, 0.16)],
-        ...               [Bearing(0, 1e7, 1e7), Bearing(4, 1e7, 1e7)])
-        >>> a, b = rotor.modes(100.0, n=2), rotor.modes(150.0, n=2)
-        >>> a.whirl, np.round(a.mac(b), 6).tolist()
-        (('backward', 'forward'), [[1.0, 0.0], [0.0, 1.0]])
-        """
-        if not isinstance(other, Modes):
-            raise TypeError(f"`other` must be Modes, got {type(other).__name__}")
-        if other.shapes.shape[0] != self.shapes.shape[0]:
-            raise ValueError(
-                f"`other` has {other.shapes.shape[0]} degrees of freedom, these modes "
-                f"{self.shapes.shape[0]}"
-            )
-        return _mac(self.shapes, other.shapes, self.length_scale)
-
-
-@dataclass(frozen=True, eq=False)
-class Campbell:
-    """Damped natural frequencies against speed, from :meth:`Rotor.campbell`.
-
-    Tracked (``tracked=True``): column ``j`` follows one branch (one physical mode) through
-    crossings. Untracked: column ``j`` is the ``j``-th lowest frequency at each speed. Rows are
-    in the order of `speeds` as given. Missing entries (fewer oscillatory modes at a speed, or,
-    tracked, a branch that is not among the lowest ``n_modes`` there) are NaN, whirl ``""``.
-
-    Attributes
-    ----------
-    speeds : ndarray, shape (n_speeds,)
-        rad/s.
-    frequencies, damping_ratios : ndarray, shape (n_speeds, n_columns)
-        rad/s, and ``-Re(lambda)/|lambda|``.
-    whirl : ndarray of str, shape (n_speeds, n_columns)
-        As :attr:`Modes.whirl`.
-    mac : ndarray, shape (n_speeds, n_columns), optional
-        :meth:`Modes.mac` between the shape in each cell and the shape of the same column at
-        the next lower speed of `speeds` (tracked: the matched pair); NaN at the lowest speed
-        and where either is missing. Near 1 along a well-resolved branch; a low value flags a
-        crossing or veering that the speed grid does not resolve (refine it there).
-    tracked : bool
-        Whether the columns are tracked branches.
-    """
-
-    speeds: NDArray[np.float64]
-    frequencies: NDArray[np.float64]
-    damping_ratios: NDArray[np.float64]
-    whirl: NDArray[np.str_]
-    mac: NDArray[np.float64] | None = None
-    tracked: bool = False
-
-    def plot(self, **kwargs: Any) -> Any:
-        """Plot with :func:`duhamel.rotor.plot_campbell` (same keywords); returns the Axes."""
-        from duhamel.rotor.plot import plot_campbell
-
-        return plot_campbell(self, **kwargs)
-
-
-def _sequence(items: Any, kind: type, name: str) -> tuple[Any, ...]:
-    if isinstance(items, kind):
-        items = [items]
-    out = tuple(items)
-    for i, item in enumerate(out):
-        if not isinstance(item, kind):
-            raise TypeError(
-                f"`{name}[{i}]` must be a duhamel.rotor.{kind.__name__}, got {type(item).__name__}"
-            )
-    return out
-
-
-def _nonzero(a: NDArray[np.float64]) -> bool:
-    return bool(np.any(a != 0.0))
 
 
 class Rotor:
@@ -262,35 +101,11 @@ class Rotor:
         zeta: float | ArrayLike | None = None,
         rayleigh: tuple[float, float] | None = None,
     ) -> None:
-        self.shafts: tuple[Shaft, ...] = _sequence(shafts, Shaft, "shafts")
-        self.disks: tuple[Disk, ...] = _sequence(disks, Disk, "disks")
-        self.bearings: tuple[Bearing, ...] = _sequence(bearings, Bearing, "bearings")
-        n_nodes = len(self.shafts) + 1
-        for name, items in (("disks", self.disks), ("bearings", self.bearings)):
-            for i, item in enumerate(items):
-                if item.node >= n_nodes:
-                    raise ValueError(
-                        f"`{name}[{i}]` is at node {item.node}, but the rotor has nodes "
-                        f"0..{n_nodes - 1} ({len(self.shafts)} shafts)"
-                    )
-        if zeta is not None and rayleigh is not None:
-            raise ValueError("give at most one of `zeta` and `rayleigh`")
-        self._zeta: float | NDArray[np.float64] | None = None
-        self._rayleigh: tuple[float, float] | None = None
-        if zeta is not None:
-            if np.ndim(zeta) == 0:
-                self._zeta = finite_float(zeta, "zeta")
-            else:
-                z = as_float_array(zeta, "zeta", ndim=1)
-                if z.size != self.n_dof:
-                    raise ValueError(
-                        f"`zeta` must be one value or one per mode (n_dof = {self.n_dof}), "
-                        f"got {z.size}"
-                    )
-                self._zeta = z
-        if rayleigh is not None:
-            a, b = as_float_array(rayleigh, "rayleigh", shape=(2,)).tolist()
-            self._rayleigh = (a, b)
+        self.shafts: tuple[Shaft, ...]
+        self.disks: tuple[Disk, ...]
+        self.bearings: tuple[Bearing, ...]
+        self.shafts, self.disks, self.bearings = checked_components(shafts, disks, bearings)
+        self._zeta, self._rayleigh = damping_spec(zeta, rayleigh, self.n_dof)
 
     # ------------------------------------------------------------------ layout
     @property
@@ -329,21 +144,7 @@ class Rotor:
         >>> rotor.dof(3, "x"), rotor.dof(3, "y"), rotor.dof(3, "theta_y")
         (12, 13, 15)
         """
-        if isinstance(node, bool) or not isinstance(node, int | np.integer):
-            raise TypeError(f"`node` must be an integer, got {type(node).__name__}")
-        if not 0 <= node < self.n_nodes:
-            raise ValueError(f"`node` must be in [0, {self.n_nodes - 1}], got {node}")
-        if isinstance(direction, str):
-            if direction not in DIRECTIONS:
-                raise ValueError(
-                    f"`direction` must be one of {list(DIRECTIONS)}, got {direction!r}"
-                )
-            k = DIRECTIONS[direction]
-        elif isinstance(direction, int | np.integer) and 0 <= direction < 4:
-            k = int(direction)
-        else:
-            raise ValueError(f"`direction` must be a name or 0..3, got {direction!r}")
-        return 4 * int(node) + k
+        return dof_index(node, direction, self.n_nodes)
 
     def __repr__(self) -> str:
         return (
@@ -353,60 +154,20 @@ class Rotor:
 
     # ------------------------------------------------------------------ assembly
     @cached_property
-    def _assembled(self) -> dict[str, NDArray[np.float64]]:
-        n = self.n_dof
-        M, K, G = np.zeros((n, n)), np.zeros((n, n)), np.zeros((n, n))
-        for i, shaft in enumerate(self.shafts):
-            me, ke, ge = shaft.matrices()
-            s = slice(4 * i, 4 * i + 8)
-            M[s, s] += me
-            K[s, s] += ke
-            G[s, s] += ge
-        for disk in self.disks:
-            md, gd = disk.matrices()
-            s = slice(4 * disk.node, 4 * disk.node + 4)
-            M[s, s] += md
-            G[s, s] += gd
-        # the constant-coefficient bearings, once; speed-dependent ones per speed
-        Kb, Cb = np.zeros((n, n)), np.zeros((n, n))
-        for b in self.bearings:
-            if not b.is_speed_dependent:
-                ix = [4 * b.node, 4 * b.node + 1]
-                Kb[np.ix_(ix, ix)] += b.stiffness
-                Cb[np.ix_(ix, ix)] += b.damping
-        out = {"M": M, "K_shaft": K, "G": G, "K_bearing": Kb, "C_bearing": Cb}
-        for a in out.values():
-            a.setflags(write=False)
-        return out
-
-    @cached_property
-    def _speed_bearings(self) -> tuple[Bearing, ...]:
-        return tuple(b for b in self.bearings if b.is_speed_dependent)
+    def _assembly(self) -> Assembly:
+        """The components placed at their nodes (shaft ``i`` at node ``i``) and assembled:
+        shafts and disks as the structure, bearings as the supports."""
+        structure, supports = placements(self.shafts, self.disks, self.bearings)
+        return Assembly(structure, supports, self.n_dof)
 
     @property
     def has_speed_dependent_bearings(self) -> bool:
         """Whether any bearing has coefficients tabulated against the spin speed."""
-        return bool(self._speed_bearings)
-
-    def _bearing_matrices(self, speed: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """Full bearing stiffness and damping ``(K_b, C_b)`` at `speed` (the cached
-        constant part when no bearing depends on the speed)."""
-        a = self._assembled
-        if not self._speed_bearings:
-            return a["K_bearing"], a["C_bearing"]
-        kb, cb = a["K_bearing"].copy(), a["C_bearing"].copy()
-        for b in self._speed_bearings:
-            ix = np.ix_([4 * b.node, 4 * b.node + 1], [4 * b.node, 4 * b.node + 1])
-            kb[ix] += b.stiffness_at(speed)
-            cb[ix] += b.damping_at(speed)
-        return kb, cb
+        return bool(self._assembly.varying)
 
     def _massless_nodes(self) -> list[int]:
-        diag = np.diag(self._assembled["M"]).reshape(self.n_nodes, 4)
+        diag = np.diag(self._assembly.M).reshape(self.n_nodes, 4)
         return [int(i) for i in np.flatnonzero(np.any(diag <= 0.0, axis=1))]
-
-    def _k_sym(self, kb: NDArray[np.float64]) -> NDArray[np.float64]:
-        return self._assembled["K_shaft"] + (kb + kb.T) / 2.0
 
     def structural_damping(self, speed: float = 0.0) -> NDArray[np.float64]:
         """The structural damping matrix (without the bearings): ``alpha M + beta K_sym``,
@@ -414,33 +175,35 @@ class Rotor:
         ``(K_sym, M)`` (rigid-body modes get none), or zero.
 
         ``K_sym`` (shaft + symmetric part of the bearing stiffness) is taken at spin speed
-        `speed` (rad/s), which matters only with speed-dependent bearings."""
+        `speed` (rad/s), which matters only with speed-dependent bearings.
+
+        Examples
+        --------
+        >>> from duhamel.rotor import STEEL, Bearing, Rotor, Shaft
+        >>> rotor = Rotor([Shaft(0.5, 0.05, material=STEEL)] * 2,
+        ...               bearings=[Bearing(0, 1e7, 1e7), Bearing(2, 1e7, 1e7)],
+        ...               rayleigh=(2.0, 0.0))
+        >>> bool((rotor.structural_damping() == 2.0 * rotor.matrices().M).all())
+        True
+        """
         w = finite_float(speed, "speed")
-        if not self._speed_bearings:
+        a = self._assembly
+        if not a.varying:
             return self._structural_damping.copy()
-        return self._structural(self._k_sym(self._bearing_matrices(w)[0]))
+        return self._structural(a.k_sym(a.supports_at(w)[0]))
 
     @cached_property
     def _structural_damping(self) -> NDArray[np.float64]:
-        return self._structural(self._k_sym(self._assembled["K_bearing"]))
+        return self._structural(self._assembly.k_sym(self._assembly.K_support))
 
     def _structural(self, k_sym: NDArray[np.float64]) -> NDArray[np.float64]:
-        M = self._assembled["M"]
-        if self._rayleigh is not None:
-            a, b = self._rayleigh
-            return a * M + b * k_sym
-        if self._zeta is not None:
-            if self._massless_nodes():
-                raise ValueError(
-                    "modal damping `zeta` needs mass at every node; the rotor has massless "
-                    f"nodes {self._massless_nodes()} (use `rayleigh` or give them mass)"
-                )
-            lam, phi = scipy.linalg.eigh(k_sym, M)
-            scale = max(float(np.max(np.abs(lam))), 1.0)
-            omega = np.sqrt(np.where(lam > 1e-12 * scale, lam, 0.0))
-            mphi = M @ phi
-            return (mphi * (2.0 * np.asarray(self._zeta) * omega)) @ mphi.T
-        return np.zeros_like(M)
+        return structural_damping(
+            self._assembly.M,
+            k_sym,
+            zeta=self._zeta,
+            rayleigh=self._rayleigh,
+            massless_nodes=self._massless_nodes() if self._zeta is not None else None,
+        )
 
     def matrices(self, speed: float = 0.0) -> RotorMatrices:
         """Global matrices ``(M, K, C, G)`` of ``M x'' + (C + speed G) x' + K x = f``.
@@ -469,11 +232,11 @@ class Rotor:
         (100000.0, -100000.0, True)
         """
         w = finite_float(speed, "speed")
-        a = self._assembled
-        kb, cb = self._bearing_matrices(w)
-        K = a["K_shaft"] + kb
+        a = self._assembly
+        kb, cb = a.supports_at(w)
+        K = a.K_structure + kb
         C = self.structural_damping(w) + cb
-        return RotorMatrices(a["M"].copy(), K, C, a["G"].copy())
+        return RotorMatrices(a.M.copy(), K, C, a.G.copy())
 
     def static_deflection(self, g: float = 9.81, *, speed: float = 0.0) -> NDArray[np.float64]:
         """Linear static deflection under the rotor's own weight (along ``-y``), ``K^-1 f_g``,
@@ -495,6 +258,8 @@ class Rotor:
         >>> round(float(rotor.static_deflection(speed=1000.0)[1]) * 1e6, 3)
         -37.609
         """
+        import scipy.linalg
+
         K = self.matrices(constant_speed(speed)).K
         f = Gravity(g=g).vector(self)
         try:
@@ -584,16 +349,7 @@ class Rotor:
         >>> sol = duhamel.solve(system, duhamel.Newmark(), t_end=0.15, dt=1e-4)
         """
         w = speed_or_law(speed)  # a float, or a varying SpeedLaw
-        if isinstance(w, SpeedLaw) and self._speed_bearings:
-            nodes = sorted({b.node for b in self._speed_bearings})
-            raise ValueError(
-                f"`speed` is the varying speed law {w!r}, but the bearings at nodes {nodes} "
-                "have speed-dependent coefficients: the transient engine applies constant "
-                "bearing matrices (its couplings are constant matrices times a scalar speed "
-                "law), so it cannot follow coefficients that change with the speed. Use a "
-                "constant speed, or constant-coefficient bearings (e.g. from "
-                "Bearing.stiffness_at / damping_at at a representative speed)"
-            )
+        check_constant_bearings(w, self.bearings)
         w_const = w if isinstance(w, float) else 0.0  # where the bearings are evaluated
         massless = self._massless_nodes()
         if massless:
@@ -601,45 +357,25 @@ class Rotor:
                 f"nodes {massless} have no mass (shafts with rho = 0 and no disk there); a "
                 "time integration needs mass at every degree of freedom"
             )
-        a = self._assembled
-        kb, cb = self._bearing_matrices(w_const)
-        M, k_sym = a["M"], self._k_sym(kb)
+        a = self._assembly
+        kb, cb = a.supports_at(w_const)
+        M, k_sym = a.M, a.k_sym(kb)
         k_skew, c_skew = (kb - kb.T) / 2.0, (cb - cb.T) / 2.0
         c_sym = (cb + cb.T) / 2.0
-        conv = sp.csr_array if sparse else (lambda m: m)
-        if _nonzero(c_sym):
-            system = System(conv(M), conv(k_sym), conv(self.structural_damping(w_const) + c_sym))
-        elif self._rayleigh is not None:
-            system = System(conv(M), conv(k_sym), rayleigh=self._rayleigh)
-        elif self._zeta is not None:
-            system = System(conv(M), conv(k_sym), zeta=self._zeta)
-        else:
-            system = System(conv(M), conv(k_sym))
-        if isinstance(w, SpeedLaw):  # a run-up: the engine scales G by omega(t)
-            if _nonzero(a["G"]):
-                system.add(LinearCoupling(C=conv(a["G"]), scale=w))
-        elif _nonzero(w * a["G"]):
-            system.add(LinearCoupling(C=conv(w * a["G"])))
-        if _nonzero(k_skew) or _nonzero(c_skew):
-            system.add(
-                LinearCoupling(
-                    K=conv(k_skew) if _nonzero(k_skew) else None,
-                    C=conv(c_skew) if _nonzero(c_skew) else None,
-                )
-            )
+        conv = storage(sparse)
+        system = background(
+            M,
+            k_sym,
+            c_sym,
+            lambda: self.structural_damping(w_const),
+            zeta=self._zeta,
+            rayleigh=self._rayleigh,
+            conv=conv,
+        )
+        add_couplings(system, a.G, w, k_skew, c_skew, conv)
         for element in self.nonlinear_elements(w_const):
             system.add(element)
-        for load in loads:
-            if isinstance(load, RotorLoad):
-                for part in load.loads(self, w):
-                    system.add_load(part)
-            elif isinstance(load, Load):
-                system.add_load(load)
-            else:
-                raise TypeError(
-                    "`loads` must contain duhamel.rotor loads (Unbalance, Gravity, "
-                    f"SuddenForce) or duhamel.loads loads, got {type(load).__name__}"
-                )
+        add_rotor_loads(system, self, loads, w)
         return system
 
     def nonlinear_elements(self, speed: float = 0.0) -> list[Element]:
@@ -651,22 +387,7 @@ class Rotor:
         a cubic law); it does not matter otherwise.
         """
         w = constant_speed(speed)
-        out: list[Element] = []
-        static: NDArray[np.float64] | None = None
-        for b in self.bearings:
-            dx, dy = self.dof(b.node, "x"), self.dof(b.node, "y")
-            x_stat = b.x_stat
-            if b.beta != 0.0 and x_stat is None:
-                if static is None:
-                    static = self.static_deflection(speed=w)
-                x_stat = abs(float(static[dy]))
-                if x_stat == 0.0:
-                    raise ValueError(
-                        f"the bearing at node {b.node} does not deflect under the weight; "
-                        "give its cubic law an `x_stat`"
-                    )
-            out.extend(b.elements(dx, dy, x_stat, speed=w))
-        return out
+        return bearing_elements(self.bearings, self.dof, lambda: self.static_deflection(speed=w), w)
 
     # ------------------------------------------------------------------ eigenvalues
     def modes(self, speed: float = 0.0, n: int | None = None) -> Modes:
@@ -692,19 +413,9 @@ class Rotor:
         """
         w = constant_speed(speed)
         M, K, C, G = self.matrices(w)
-        lam, shapes = _complex_modes(M, C + w * G, K)
-        if n is not None:
-            if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
-                raise ValueError(f"`n` must be a positive integer, got {n!r}")
-            lam, shapes = lam[:n], shapes[:, :n]
         lengths = [s.L for s in self.shafts]
         ell = float(np.mean(lengths)) if lengths else 1.0
-        shapes = _circular_pairs(lam, shapes, ell)
-        whirl = tuple(_whirl(shapes[:, j].reshape(self.n_nodes, 4), ell) for j in range(lam.size))
-        if w < 0.0:  # spinning about -z: the whirl sense relative to the spin flips
-            flip = {"forward": "backward", "backward": "forward"}
-            whirl = tuple(flip.get(k, k) for k in whirl)
-        return Modes(speed=w, eigenvalues=lam, shapes=shapes, whirl=whirl, length_scale=ell)
+        return complex_modes(M, C + w * G, K, speed=w, n=n, length_scale=ell)
 
     def natural_frequencies(self, speed: float = 0.0, n: int | None = None) -> NDArray[np.float64]:
         """Damped natural frequencies (rad/s, ascending) at constant `speed`:
@@ -774,88 +485,7 @@ class Rotor:
         >>> round(float(np.nanmin(tracked.mac)), 3)          # every matched pair
         0.993
         """
-        ws = as_float_array(speeds, "speeds", ndim=1)
-        if n_modes is not None and (
-            isinstance(n_modes, bool) or not isinstance(n_modes, int | np.integer) or n_modes < 1
-        ):
-            raise ValueError(f"`n_modes` must be a positive integer, got {n_modes!r}")
-        if not isinstance(track, bool | np.bool_):
-            raise TypeError(f"`track` must be a bool, got {type(track).__name__}")
-        order = np.argsort(ws, kind="stable")  # the path the tracking walks
-        if track:
-            return self._tracked_campbell(ws, order, n_modes)
-        found = [self.modes(float(w), n_modes) for w in ws]
-        m = max((f.n_modes for f in found), default=0) if n_modes is None else int(n_modes)
-        freq = np.full((ws.size, m), np.nan)
-        zeta = np.full((ws.size, m), np.nan)
-        whirl = np.full((ws.size, m), "", dtype="<U8")
-        mac = np.full((ws.size, m), np.nan)
-        for i, f in enumerate(found):
-            k = min(f.n_modes, m)
-            freq[i, :k] = f.frequencies[:k]
-            zeta[i, :k] = f.damping_ratios[:k]
-            whirl[i, :k] = f.whirl[:k]
-        for p in range(1, ws.size):
-            prev, cur = found[order[p - 1]], found[order[p]]
-            k = min(prev.n_modes, cur.n_modes, m)
-            mac[order[p], :k] = _mac_columns(
-                prev.shapes[:, :k], cur.shapes[:, :k], cur.length_scale
-            )
-        return Campbell(ws, freq, zeta, whirl, mac=mac, tracked=False)
-
-    def _tracked_campbell(
-        self, ws: NDArray[np.float64], order: NDArray[np.intp], n_modes: int | None
-    ) -> Campbell:
-        path = [self.modes(float(ws[i])) for i in order]
-        # branch[p][k]: the branch of mode k at the p-th lowest speed; pair[p][k]: its MAC
-        # with its predecessor on the branch (NaN for a branch that starts there)
-        branch: list[NDArray[np.intp]] = []
-        pair: list[NDArray[np.float64]] = []
-        n_branches = 0
-        for p, cur in enumerate(path):
-            ids = np.full(cur.n_modes, -1, dtype=np.intp)
-            macs = np.full(cur.n_modes, np.nan)
-            if p > 0 and path[p - 1].n_modes and cur.n_modes:
-                prev = path[p - 1]
-                mac = prev.mac(cur)
-                lp, lc = prev.eigenvalues[:, None], cur.eigenvalues[None, :]
-                dist = np.abs(lp - lc) / np.maximum(np.abs(lp), np.abs(lc))
-                rows, cols = linear_sum_assignment(1.0 - mac + TRACK_TIE_WEIGHT * dist)
-                ids[cols] = branch[p - 1][rows]
-                macs[cols] = mac[rows, cols]
-            new = ids < 0  # modes without a predecessor start branches
-            ids[new] = n_branches + np.arange(int(new.sum()))
-            n_branches += int(new.sum())
-            branch.append(ids)
-            pair.append(macs)
-        # the columns: branches among the lowest n_modes somewhere, in order of entry: by
-        # speed, then frequency, equal frequencies (a degenerate pair) by the next speed's
-        entry: dict[int, tuple[int, int, float]] = {}
-        for p, (f, ids) in enumerate(zip(path, branch, strict=True)):
-            freqs = f.frequencies
-            cluster = np.concatenate(
-                [[0], np.cumsum(np.diff(freqs) > CLUSTER_RTOL * np.abs(freqs[1:]))]
-            )
-            for k, b in enumerate(ids[:n_modes] if n_modes is not None else ids):
-                if int(b) not in entry:
-                    later = np.flatnonzero(branch[p + 1] == b) if p + 1 < len(path) else []
-                    after = float(path[p + 1].frequencies[later[0]]) if len(later) else np.inf
-                    entry[int(b)] = (p, int(cluster[k]), after)
-        column = {b: j for j, b in enumerate(sorted(entry, key=entry.__getitem__))}
-        m = len(column)
-        freq = np.full((ws.size, m), np.nan)
-        zeta = np.full((ws.size, m), np.nan)
-        whirl = np.full((ws.size, m), "", dtype="<U8")
-        mac = np.full((ws.size, m), np.nan)
-        for p, (f, ids, macs) in enumerate(zip(path, branch, pair, strict=True)):
-            k = f.n_modes if n_modes is None else min(f.n_modes, int(n_modes))
-            row = order[p]
-            cols = [column[int(b)] for b in ids[:k]]
-            freq[row, cols] = f.frequencies[:k]
-            zeta[row, cols] = f.damping_ratios[:k]
-            whirl[row, cols] = f.whirl[:k]
-            mac[row, cols] = macs[:k]
-        return Campbell(ws, freq, zeta, whirl, mac=mac, tracked=True)
+        return campbell(self.modes, speeds, n_modes, track=track)
 
     def plot_campbell(
         self,
@@ -867,139 +497,3 @@ class Rotor:
     ) -> Any:
         """:meth:`campbell` then :func:`duhamel.rotor.plot_campbell`; returns the Axes."""
         return self.campbell(speeds, n_modes, track=track).plot(**kwargs)
-
-
-def _complex_modes(
-    M: NDArray[np.float64], D: NDArray[np.float64], K: NDArray[np.float64]
-) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
-    """Oscillatory eigenpairs of ``lambda^2 M + lambda D + K``, ``Im(lambda) > 0``, ascending.
-
-    Without damping and gyroscopic terms (``D = 0``, ``K`` symmetric, ``M`` positive
-    definite) the eigenvalues are ``+-i omega`` with ``omega^2`` those of ``(K, M)``: solved by
-    the symmetric eigensolver, exactly as the state-space problem but faster and to full
-    accuracy. Otherwise the QZ algorithm on the scaled first-order pencil.
-    """
-    n = M.shape[0]
-    if not np.any(D) and np.array_equal(K, K.T):
-        try:
-            lam2, vec = scipy.linalg.eigh(K, M, check_finite=False)
-        except np.linalg.LinAlgError:  # singular M (massless dofs): the general path
-            pass
-        else:
-            omega = np.sqrt(np.clip(lam2, 0.0, None))
-            keep = omega > ZERO_FREQUENCY_RTOL * float(omega.max())
-            return 1j * omega[keep], _normalise(vec[:, keep].astype(complex))
-    kmax, mmax = float(np.max(np.abs(np.diag(K)))), float(np.max(np.diag(M)))
-    s = np.sqrt(kmax / mmax) if kmax > 0.0 and mmax > 0.0 else 1.0
-    eye, zero = np.eye(n), np.zeros((n, n))
-    A = np.block([[zero, s * eye], [-K / s, -D]])
-    B = np.block([[eye, zero], [zero, M]])
-    lam, vec = scipy.linalg.eig(A, B, check_finite=False)
-    finite = np.isfinite(lam)
-    lam, vec = lam[finite], vec[:n, finite] / s
-    if lam.size == 0:
-        return np.zeros(0, dtype=complex), np.zeros((n, 0), dtype=complex)
-    keep = lam.imag > ZERO_FREQUENCY_RTOL * float(np.max(np.abs(lam)))
-    lam, vec = lam[keep], vec[:, keep]
-    order = np.argsort(lam.imag, kind="stable")
-    return lam[order], _normalise(vec[:, order])
-
-
-def _weighted(shapes: NDArray[np.complex128], ell: float) -> NDArray[np.complex128]:
-    """`shapes` with the rotations (dofs ``4 i + 2``, ``4 i + 3``) multiplied by `ell`."""
-    out = shapes.copy()
-    out[2::4] *= ell
-    out[3::4] *= ell
-    return out
-
-
-def _mac(a: NDArray[np.complex128], b: NDArray[np.complex128], ell: float) -> NDArray[np.float64]:
-    """``|a_i^H b_j|^2 / (|a_i|^2 |b_j|^2)`` for every pair of columns, rotations weighted by
-    `ell` (clipped to 1 against round-off)."""
-    a, b = _weighted(a, ell), _weighted(b, ell)
-    num = np.abs(a.conj().T @ b) ** 2
-    den = np.outer(np.sum(np.abs(a) ** 2, axis=0), np.sum(np.abs(b) ** 2, axis=0))
-    return np.minimum(num / den, 1.0)
-
-
-def _mac_columns(
-    a: NDArray[np.complex128], b: NDArray[np.complex128], ell: float
-) -> NDArray[np.float64]:
-    """:func:`_mac` of the pairs of columns ``(a_j, b_j)`` only."""
-    a, b = _weighted(a, ell), _weighted(b, ell)
-    num = np.abs(np.sum(a.conj() * b, axis=0)) ** 2
-    den = np.sum(np.abs(a) ** 2, axis=0) * np.sum(np.abs(b) ** 2, axis=0)
-    return np.minimum(num / den, 1.0)
-
-
-def _orbit_forms(
-    v: NDArray[np.complex128], ell: float
-) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
-    """Hermitian forms ``(H, N)`` on the columns of `v`: the signed orbit area
-    ``sum_nodes -Im(conj(X) Y) + ell^2 Im(conj(Theta_y) Theta_x)`` and the amplitude
-    ``sum |X|^2 + |Y|^2 + ell^2 (|Theta_x|^2 + |Theta_y|^2)`` (see :func:`_whirl`)."""
-    x, y, tx, ty = v[0::4], v[1::4], v[2::4], v[3::4]
-    h = 0.5j * (x.conj().T @ y - y.conj().T @ x) + 0.5j * ell**2 * (
-        ty.conj().T @ tx - tx.conj().T @ ty
-    )
-    g = x.conj().T @ x + y.conj().T @ y + ell**2 * (tx.conj().T @ tx + ty.conj().T @ ty)
-    return (h + h.conj().T) / 2, (g + g.conj().T) / 2
-
-
-def _circular_pairs(
-    lam: NDArray[np.complex128], shapes: NDArray[np.complex128], ell: float
-) -> NDArray[np.complex128]:
-    """Within each cluster of equal eigenvalues (an axisymmetric rotor's pairs), choose the
-    basis that extremises the orbit area: circular backward and forward orbits, not an
-    arbitrary mix; shapes rescaled as in :func:`_complex_modes`."""
-    out = shapes.copy()
-    i = 0
-    while i < lam.size:
-        j = i
-        while j + 1 < lam.size and abs(lam[j + 1] - lam[i]) <= CLUSTER_RTOL * abs(lam[i]):
-            j += 1
-        if j > i:
-            v = out[:, i : j + 1]
-            h, g = _orbit_forms(v, ell)
-            _, c = scipy.linalg.eigh(h, g)
-            out[:, i : j + 1] = _normalise(v @ c)
-        i = j + 1
-    return out
-
-
-def _normalise(vec: NDArray[np.complex128]) -> NDArray[np.complex128]:
-    """Scale each column so that its translation of largest magnitude is 1 (all dofs if no
-    translation moves)."""
-    n = vec.shape[0]
-    trans = np.zeros(n, dtype=bool)
-    trans[0::4] = trans[1::4] = True
-    out = vec.copy()
-    for j in range(vec.shape[1]):
-        v = vec[:, j]
-        ref = np.where(trans, np.abs(v), 0.0)
-        if ref.max() <= 1e-12 * np.abs(v).max():
-            ref = np.abs(v)
-        out[:, j] = v / v[int(np.argmax(ref))]
-    return out
-
-
-def _whirl(nodes: NDArray[np.complex128], ell: float) -> str:
-    """Whirl sense of one mode from its node amplitudes ``(X, Y, Theta_x, Theta_y)``.
-
-    A node orbits forward when its signed orbit area ``-Im(conj(X) Y)`` is positive (for
-    ``x = Re(X e^{i w t})``, ``y = Re(Y e^{i w t})``, ``w > 0``: counter-clockwise from +x to
-    +y, the spin's sense); tilts count through the axis direction ``(theta_y, -theta_x)``,
-    weighted by ``ell^2`` (the mean element length).
-    """
-    X, Y, Tx, Ty = nodes.T
-    area = -np.imag(np.conj(X) * Y) + ell**2 * np.imag(np.conj(Ty) * Tx)
-    amp = np.abs(X) ** 2 + np.abs(Y) ** 2 + ell**2 * (np.abs(Tx) ** 2 + np.abs(Ty) ** 2)
-    moving = amp >= NODE_RTOL * amp.max()
-    signed = moving & (np.abs(area) > PLANAR_RTOL * amp)
-    if not signed.any():
-        return "planar"
-    if np.all(area[signed] > 0.0):
-        return "forward"
-    if np.all(area[signed] < 0.0):
-        return "backward"
-    return "mixed"

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
-    from duhamel.rotor.model import Campbell, Rotor
+    from duhamel.rotor._protocols import CampbellData, DofNumbering
     from duhamel.solution import Solution
 
 __all__ = ["plot_campbell", "plot_orbit"]
@@ -34,7 +34,7 @@ def _axes(ax: Any) -> Any:
 
 
 def plot_campbell(
-    campbell: Campbell,
+    campbell: CampbellData,
     *,
     ax: Any = None,
     units: str = "rad/s",
@@ -109,7 +109,7 @@ def plot_campbell(
 
 def plot_orbit(
     solution: Solution,
-    rotor: Rotor,
+    rotor: DofNumbering,
     node: int,
     *,
     scale: float = 1.0,

@@ -19,15 +19,14 @@ from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 import numpy as np
-import scipy.sparse as sp
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._validate import as_float_array, finite_float
-from duhamel.elements import LinearCoupling
 from duhamel.loads import Load, Tabulated
 from duhamel.loads import Unbalance as UnbalanceLoad
 from duhamel.rotor._speed import constant_speed
-from duhamel.rotor.model import RotorMatrices
+from duhamel.rotor.assembly import RotorMatrices
+from duhamel.rotor.transient import add_couplings, nonzero, storage
 from duhamel.system import System
 
 __all__ = ["RossDofs", "RossModel", "from_ross"]
@@ -228,10 +227,6 @@ def _evaluate(method: Any, frequency: float, speed: float) -> NDArray[np.float64
     return np.asarray(out, dtype=np.float64)
 
 
-def _nonzero(a: NDArray[np.float64]) -> bool:
-    return bool(np.any(a != 0.0))
-
-
 def from_ross(
     rotor: Any,
     speed: Any,
@@ -373,21 +368,12 @@ def from_ross(
         a.setflags(write=False)
     matrices = RotorMatrices(M=M, K=K, C=C, G=G)
 
-    conv = sp.csr_array if sparse else (lambda a: a)
+    conv = storage(sparse)
     k_sym, k_skew = (K + K.T) / 2.0, (K - K.T) / 2.0
     c_sym, c_skew = (C + C.T) / 2.0, (C - C.T) / 2.0
-    if _nonzero(c_sym):
+    if nonzero(c_sym):
         system = System(conv(M), conv(k_sym), conv(c_sym))
     else:
         system = System(conv(M), conv(k_sym))
-    gyro = w * G
-    if _nonzero(gyro):
-        system.add(LinearCoupling(C=conv(gyro)))
-    if _nonzero(k_skew) or _nonzero(c_skew):
-        system.add(
-            LinearCoupling(
-                K=conv(k_skew) if _nonzero(k_skew) else None,
-                C=conv(c_skew) if _nonzero(c_skew) else None,
-            )
-        )
+    add_couplings(system, G, w, k_skew, c_skew, conv)
     return RossModel(system=system, dofs=dofs, matrices=matrices)

@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._validate import finite_float, positive_float
+from duhamel.rotor.dofs import DIRECTIONS, local_dof_mapping
 from duhamel.rotor.material import Material
 
 __all__ = ["Shaft", "cowper_shear_coefficient"]
@@ -152,6 +153,12 @@ class Shaft:
     >>> M, K, G = shaft.matrices()
     >>> M.shape, bool((G + G.T == 0).all())
     ((8, 8), True)
+
+    As every rotor component, it owns its matrices on its local dofs (:meth:`dof_mapping`;
+    local node 0 is the rotor node the shaft starts at):
+
+    >>> list(shaft.dof_mapping())[3:5], bool((shaft.K() == K).all())
+    (['theta_y_0', 'x_1'], True)
     """
 
     L: float
@@ -275,3 +282,35 @@ class Shaft:
         cross = -(_YZ.T @ r @ _XZ)  # int N_tx^T N_ty dz
         G = 2.0 * rho_i * (cross - cross.T)
         return (M + M.T) / 2.0, (K + K.T) / 2.0, G
+
+    # ------------------------------------------------------------------ as a rotor component
+    @cached_property
+    def _element(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """:meth:`matrices`, computed once and read-only (what the rotor assembles)."""
+        out = self.matrices()
+        for a in out:
+            a.setflags(write=False)
+        return out
+
+    def dof_mapping(self) -> dict[str, int]:
+        """Local dofs ``x_0, y_0, theta_x_0, theta_y_0, x_1, ..., theta_y_1`` (the order of
+        :meth:`matrices`; local node 0 is the node the shaft starts at)."""
+        return local_dof_mapping(2, tuple(DIRECTIONS))
+
+    def M(self) -> NDArray[np.float64]:
+        """Mass matrix on :meth:`dof_mapping` (read-only; :meth:`matrices` for a copy)."""
+        return self._element[0]
+
+    def K(self, speed: float = 0.0) -> NDArray[np.float64]:
+        """Stiffness matrix on :meth:`dof_mapping` (read-only; it does not depend on the
+        speed)."""
+        return self._element[1]
+
+    def C(self, speed: float = 0.0) -> NDArray[np.float64]:
+        """Damping on :meth:`dof_mapping`: none of its own (the rotor's structural damping is
+        Rayleigh or modal), zeros."""
+        return np.zeros((8, 8))
+
+    def G(self) -> NDArray[np.float64]:
+        """Gyroscopic matrix per unit speed on :meth:`dof_mapping` (read-only)."""
+        return self._element[2]

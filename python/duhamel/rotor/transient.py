@@ -1,0 +1,211 @@
+"""A rotor's matrices as a :class:`duhamel.System` for time integration (constant speed or a
+run-up): the symmetric background, the gyroscopic and skew-symmetric bearing couplings, the
+rotor loads.
+
+Shared by :meth:`duhamel.rotor.Rotor.system` and :func:`duhamel.rotor.from_ross`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from duhamel.elements import Element, LinearCoupling
+from duhamel.loads import Load
+from duhamel.rotor._protocols import RotorModel
+from duhamel.rotor.bearing import Bearing
+from duhamel.rotor.loads import RotorLoad
+from duhamel.speed import SpeedLaw
+from duhamel.system import System
+
+__all__ = [
+    "add_couplings",
+    "add_rotor_loads",
+    "background",
+    "bearing_elements",
+    "check_constant_bearings",
+    "nonzero",
+    "storage",
+]
+
+
+def nonzero(a: NDArray[np.float64]) -> bool:
+    """Whether any entry of `a` is nonzero."""
+    return bool(np.any(a != 0.0))
+
+
+def storage(sparse: bool) -> Callable[[Any], Any]:
+    """How the System stores its matrices: ``scipy.sparse.csr_array`` or as given.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from duhamel.rotor.transient import storage
+    >>> type(storage(True)(np.eye(2))).__name__, type(storage(False)(np.eye(2))).__name__
+    ('csr_array', 'ndarray')
+    """
+    if not sparse:
+        return lambda a: a
+    import scipy.sparse as sp
+
+    return sp.csr_array
+
+
+def check_constant_bearings(speed: float | SpeedLaw, bearings: Iterable[Bearing]) -> None:
+    """Refuse a varying speed law (a run-up) when a bearing has speed-dependent coefficients.
+
+    Examples
+    --------
+    >>> from duhamel.rotor import Bearing
+    >>> from duhamel.rotor.transient import check_constant_bearings
+    >>> check_constant_bearings(100.0, [Bearing(0, [1e6, 2e6], 1e6, speeds=[0, 100])])
+    """
+    nodes = sorted({b.node for b in bearings if b.is_speed_dependent})
+    if isinstance(speed, SpeedLaw) and nodes:
+        raise ValueError(
+            f"`speed` is the varying speed law {speed!r}, but the bearings at nodes {nodes} "
+            "have speed-dependent coefficients: the transient engine applies constant "
+            "bearing matrices (its couplings are constant matrices times a scalar speed "
+            "law), so it cannot follow coefficients that change with the speed. Use a "
+            "constant speed, or constant-coefficient bearings (e.g. from "
+            "Bearing.stiffness_at / damping_at at a representative speed)"
+        )
+
+
+def background(
+    M: NDArray[np.float64],
+    k_sym: NDArray[np.float64],
+    c_sym: NDArray[np.float64],
+    structural: Callable[[], NDArray[np.float64]],
+    *,
+    zeta: float | NDArray[np.float64] | None,
+    rayleigh: tuple[float, float] | None,
+    conv: Callable[[Any], Any],
+) -> System:
+    """The System of the symmetric background ``(M, K_sym)`` and its damping.
+
+    With (symmetric) bearing damping `c_sym`, ``C = structural() + c_sym`` as a matrix;
+    otherwise the rotor's `rayleigh` or `zeta` as given (or none).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from duhamel.rotor.transient import background
+    >>> background(np.eye(2), np.eye(2), np.zeros((2, 2)), lambda: np.zeros((2, 2)),
+    ...            zeta=0.02, rayleigh=None, conv=lambda a: a)
+    System(n_dof=2, damping='zeta', loads=0)
+    """
+    if nonzero(c_sym):
+        return System(conv(M), conv(k_sym), conv(structural() + c_sym))
+    if rayleigh is not None:
+        return System(conv(M), conv(k_sym), rayleigh=rayleigh)
+    if zeta is not None:
+        return System(conv(M), conv(k_sym), zeta=zeta)
+    return System(conv(M), conv(k_sym))
+
+
+def bearing_elements(
+    bearings: Iterable[Bearing],
+    dof: Callable[[int, str], int],
+    static_deflection: Callable[[], NDArray[np.float64]],
+    speed: float,
+) -> list[Element]:
+    """The bearings' nonlinear parts as :mod:`duhamel.elements` on the global dofs `dof`
+    gives; a cubic law without its own ``x_stat`` takes the magnitude of the bearing's
+    vertical deflection in `static_deflection()` (computed once, when needed).
+
+    Examples
+    --------
+    >>> from duhamel.rotor import Bearing
+    >>> from duhamel.rotor.transient import bearing_elements
+    >>> b = Bearing(1, 1e6, 1e6, contact=(1e-4, 1e8))
+    >>> [type(e).__name__ for e in bearing_elements([b], lambda n, d: 4 * n, None, 0.0)]
+    ['Contact']
+    """
+    out: list[Element] = []
+    static: NDArray[np.float64] | None = None
+    for b in bearings:
+        dx, dy = dof(b.node, "x"), dof(b.node, "y")
+        x_stat = b.x_stat
+        if b.beta != 0.0 and x_stat is None:
+            if static is None:
+                static = static_deflection()
+            x_stat = abs(float(static[dy]))
+            if x_stat == 0.0:
+                raise ValueError(
+                    f"the bearing at node {b.node} does not deflect under the weight; "
+                    "give its cubic law an `x_stat`"
+                )
+        out.extend(b.elements(dx, dy, x_stat, speed=speed))
+    return out
+
+
+def add_couplings(
+    system: System,
+    G: NDArray[np.float64],
+    speed: float | SpeedLaw,
+    k_skew: NDArray[np.float64],
+    c_skew: NDArray[np.float64],
+    conv: Callable[[Any], Any],
+) -> None:
+    """Add the gyroscopic coupling and the skew-symmetric bearing parts to `system`.
+
+    ``LinearCoupling(C=speed G)`` at a constant speed (omitted when zero),
+    ``LinearCoupling(C=G, scale=law)`` along a varying speed law, and
+    ``LinearCoupling(K=k_skew, C=c_skew)`` (omitted when both are zero).
+
+    Examples
+    --------
+    >>> import numpy as np, duhamel
+    >>> from duhamel.rotor.transient import add_couplings
+    >>> system = duhamel.System(np.eye(2), np.eye(2))
+    >>> G = np.array([[0.0, 1.0], [-1.0, 0.0]])
+    >>> add_couplings(system, G, 10.0, np.zeros((2, 2)), np.zeros((2, 2)), lambda a: a)
+    >>> system.elements[0].C.tolist()
+    [[0.0, 10.0], [-10.0, 0.0]]
+    """
+    if isinstance(speed, SpeedLaw):  # a run-up: the engine scales G by omega(t)
+        if nonzero(G):
+            system.add(LinearCoupling(C=conv(G), scale=speed))
+    elif nonzero(speed * G):
+        system.add(LinearCoupling(C=conv(speed * G)))
+    if nonzero(k_skew) or nonzero(c_skew):
+        system.add(
+            LinearCoupling(
+                K=conv(k_skew) if nonzero(k_skew) else None,
+                C=conv(c_skew) if nonzero(c_skew) else None,
+            )
+        )
+
+
+def add_rotor_loads(
+    system: System, rotor: RotorModel, loads: Iterable[RotorLoad | Load], speed: Any
+) -> None:
+    """Add `loads` to `system`: rotor loads expanded on `rotor` at `speed`, plain
+    :mod:`duhamel.loads` as they are.
+
+    Examples
+    --------
+    >>> import duhamel
+    >>> from duhamel.rotor import STEEL, Rotor, Shaft, SuddenForce
+    >>> from duhamel.rotor.transient import add_rotor_loads
+    >>> rotor = Rotor([Shaft(1.0, 0.05, material=STEEL)])
+    >>> system = duhamel.System(rotor.matrices().M, rotor.matrices().M)
+    >>> add_rotor_loads(system, rotor, [SuddenForce(1, fy=-5.0)], 0.0)
+    >>> system.loads[0].dof
+    5
+    """
+    for load in loads:
+        if isinstance(load, RotorLoad):
+            for part in load.loads(rotor, speed):
+                system.add_load(part)
+        elif isinstance(load, Load):
+            system.add_load(load)
+        else:
+            raise TypeError(
+                "`loads` must contain duhamel.rotor loads (Unbalance, Gravity, "
+                f"SuddenForce) or duhamel.loads loads, got {type(load).__name__}"
+            )
