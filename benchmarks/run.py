@@ -181,6 +181,7 @@ def time_duhamel(
     for _ in range(setup.repeats):
         system = make_system(setup)
         gc.collect()
+        start = time.perf_counter()
         sol = duhamel.solve(
             system,
             duhamel.Semianalytic(modes=None),
@@ -190,11 +191,15 @@ def time_duhamel(
             dofs=dofs,
             threads=threads,
         )
+        # Accelerations are computed on first access: the total time includes them, as it
+        # did when they were computed inside `solve`.
+        _ = sol.a
+        total = time.perf_counter() - start
         if sol.stats.steps != setup.n_steps:
             raise RuntimeError(f"duhamel took {sol.stats.steps} steps, not {setup.n_steps}")
         if best is None or sol.stats.wall_time < best.stats.wall_time:
             best = sol
-        best_total = min(best_total, sol.stats.total_time)
+        best_total = min(best_total, total)
         del sol
     assert best is not None
     row = Row(name, best.stats.modes, best.stats.steps, best.stats.wall_time, best_total)

@@ -22,10 +22,9 @@ import duhamel
 #: The directory holding the package under test, put first on the child's path.
 SOURCE = str(Path(duhamel.__file__).resolve().parents[1])
 LAZY = ("analysis", "exact", "paper", "rotor")
-#: Modules that may still import scipy at module level when ``import duhamel`` runs: the
-#: solve path, which is being rewritten (it will import scipy where it is used). Every other
+#: Modules that may import scipy at module level when ``import duhamel`` runs: none. Every
 #: module imports scipy inside the functions that need it.
-SCIPY_ALLOWED = ("duhamel.solve", "duhamel._coupled", "duhamel._direct", "duhamel._solve")
+SCIPY_ALLOWED: tuple[str, ...] = ()
 
 #: Records which module first imported each heavy top-level package, then imports duhamel
 #: and prints what it found as JSON.

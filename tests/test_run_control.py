@@ -10,6 +10,7 @@
 
 from __future__ import annotations
 
+import itertools
 import json
 import subprocess
 import sys
@@ -243,7 +244,7 @@ def test_progress_reports_between_blocks(route):
     )
     steps = [c[0] for c in calls]
     assert steps[0] == 0 and steps[-1] == n_steps
-    assert all(b >= a for a, b in zip(steps, steps[1:], strict=False))
+    assert all(b >= a for a, b in itertools.pairwise(steps))
     assert all(c[1] == n_steps for c in calls)
     assert all(c[2] == pytest.approx(1.0 + c[0] * 1e-3) for c in calls)
     # Between blocks, not per step.

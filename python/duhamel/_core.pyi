@@ -1,4 +1,10 @@
-"""Type stub of the native module ``duhamel._core`` (Rust, PyO3)."""
+"""Type stub of the native module ``duhamel._core`` (Rust, PyO3).
+
+The spec classes are made once, in Python, and checked by the core when made; a run reads
+its problem from the attributes of a spec object (``duhamel._solve.plan.ModalSpec``, or the
+namespaces built in ``duhamel.solve`` and ``duhamel._direct``) and returns a
+:class:`RunResult`.
+"""
 
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -8,99 +14,131 @@ from numpy.typing import NDArray
 
 __version__: str
 
-def transfer(
-    omega: NDArray[np.float64], zeta: NDArray[np.float64], dt: float, moments: bool = False
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+Array = NDArray[np.float64]
+Progress = Callable[[int, int, float], Any] | None
+Forcing = Callable[[float], Array] | None
+
+def transfer(omega: Array, zeta: Array, dt: float, moments: bool = False) -> tuple[Array, Array]:
     """Exact ``A`` (n, 2, 2) and ``B`` (n, 2, 3) — or moments (n, 2, 4) — from natural
     frequencies ``omega`` and damping ratios ``zeta``."""
 
-def transfer_kc(
-    k: NDArray[np.float64], c: NDArray[np.float64], dt: float, moments: bool = False
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def transfer_kc(k: Array, c: Array, dt: float, moments: bool = False) -> tuple[Array, Array]:
     """As :func:`transfer`, from modal stiffness ``k = omega^2`` and damping ``c``."""
 
-def solve_linear(
-    k: NDArray[np.float64],
-    c: NDArray[np.float64],
-    q0: NDArray[np.float64],
-    v0: NDArray[np.float64],
-    loads: Sequence[tuple[NDArray[np.float64], str, tuple[Any, ...]]],
-    dt: float,
-    n_steps: int,
-    save_every: int,
-    threads: int | None = None,
-    forcing: Callable[[float], NDArray[np.float64]] | None = None,
-    phi_t: NDArray[np.float64] | None = None,
-) -> dict[str, Any]:
-    """Exact modal time loop; returns ``t``, time-major ``q`` and ``v``, ``load_values``,
-    ``forcing`` and ``error``."""
+class SpeedLaw:
+    @staticmethod
+    def constant(omega: float) -> SpeedLaw: ...
+    @staticmethod
+    def run_up(omega0: float, omega1: float, t1: float) -> SpeedLaw: ...
+    def evaluate(self, t: Array) -> tuple[Array, Array, Array]:
+        """``(omega, omega', theta)`` at the times `t`."""
 
-def solve_direct(
-    m: tuple[Any, ...],
-    k: tuple[Any, ...],
-    x0: NDArray[np.float64],
-    v0: NDArray[np.float64],
-    loads: Sequence[tuple[NDArray[np.float64], str, tuple[Any, ...]]],
-    dt: float,
-    n_steps: int,
-    save_every: int,
-    out_dofs: NDArray[np.int64],
-    method: tuple[Any, ...],
-    tol: float,
-    max_iter: int,
-    c: tuple[Any, ...] | None = None,
-    k_fixed: tuple[Any, ...] | None = None,
-    elements: Sequence[tuple[Any, ...]] | None = None,
-    mass: tuple[Any, ...] | None = None,
-    forcing: Callable[[float], NDArray[np.float64]] | None = None,
-    a0: NDArray[np.float64] | None = None,
-    scaled: Sequence[tuple[Any, Any, tuple[str, tuple[float, ...]]]] | None = None,
-) -> dict[str, Any]:
-    """Direct integration of the physical equations. Matrices are ``("dense", array)`` or
-    ``("csr", n, indptr, indices, data)``; `method` is ``("alpha", alpha_m, alpha_f, gamma,
-    beta)`` or ``("hermite", points)``; `scaled` lists ``(K spec or None, C spec or None,
-    speed law spec)`` couplings multiplied by a speed law. Returns ``t``, time-major ``x``,
-    ``v``, ``a`` for `out_dofs`, ``error`` and ``stats`` (``newton_iterations``,
-    ``factorizations``)."""
+class TimeFunction:
+    @staticmethod
+    def step(t0: float) -> TimeFunction: ...
+    @staticmethod
+    def harmonic(omega: float, phase: float) -> TimeFunction: ...
+    @staticmethod
+    def table(t: Array, values: Array, hold: bool) -> TimeFunction: ...
+    @staticmethod
+    def unbalance(law: SpeedLaw, phase: float, axis: str) -> TimeFunction: ...
+    def values(self, t: Array) -> Array:
+        """The values at the times `t` (right limits at jumps)."""
+
+class MassLaw:
+    @staticmethod
+    def exponential(rate: float, scale: float) -> MassLaw: ...
+    @staticmethod
+    def harmonic(amplitude: float, frequency: float) -> MassLaw: ...
+    @staticmethod
+    def table(t: Array, mu: Array) -> MassLaw: ...
+
+class Element:
+    @staticmethod
+    def polynomial(dof: int, coefficients: Array) -> Element: ...
+    @staticmethod
+    def spring(i: int, j: int | None, k: float, k3: float) -> Element: ...
+    @staticmethod
+    def damper(i: int, j: int | None, c: float) -> Element: ...
+    @staticmethod
+    def contact(
+        dof_x: int,
+        dof_y: int,
+        clearance: float,
+        stiffness: float,
+        friction: float,
+        smoothing: float,
+        velocity_smoothing: float,
+    ) -> Element: ...
+    @staticmethod
+    def callable(
+        dofs: Sequence[int], func: Callable[..., Any], jacobian: Callable[..., Any] | None = None
+    ) -> Element: ...
+
+class Matrix:
+    @staticmethod
+    def dense(a: NDArray[np.float64]) -> Matrix: ...
+    @staticmethod
+    def csr(
+        n: int, indptr: NDArray[np.int64], indices: NDArray[np.int64], data: Array
+    ) -> Matrix: ...
+
+class Method:
+    @staticmethod
+    def alpha(alpha_m: float, alpha_f: float, gamma: float, beta: float) -> Method: ...
+    @staticmethod
+    def hermite(points: int) -> Method: ...
+
+class RunError:
+    """Why a run stopped early: ``kind`` ("nonfinite", "convergence", "callback",
+    "interrupted"), the core's ``message``, ``time``, ``step`` (the step not completed),
+    ``last_good_time``, ``residual`` and ``iterations`` (Newton), and the Python exception
+    behind a callback failure or an interruption (``cause``)."""
+
+    kind: str
+    message: str
+    time: float
+    step: int
+    last_good_time: float | None
+    residual: float | None
+    iterations: int | None
+    cause: BaseException | None
+    def kept_until(self, last_good_time: float) -> RunError: ...
+
+class RunResult:
+    """A run's history, time-major; what a route does not produce is None."""
+
+    t: Array
+    q: Array | None
+    v: Array | None
+    eta: Array | None
+    outputs: Array | None
+    load_values: Array | None
+    forcing: Array | None
+    pseudo: Array | None
+    x: Array | None
+    a: Array | None
+    newton_iterations: int
+    closed_form_steps: int
+    factorizations: int
+    error: RunError | None
+
+def solve_uncoupled(problem: Any, forcing: Forcing, progress: Progress) -> RunResult:
+    """Uncoupled modal oscillators, exactly."""
+
+def solve_first_order(
+    problem: Any, modes: Any, outputs: Any, nonlinear: Any, forcing: Forcing, progress: Progress
+) -> RunResult:
+    """A coupled linear background exactly in its first-order modes (elements, if any, as
+    pseudo-forces on it)."""
+
+def solve_pseudo(problem: Any, nonlinear: Any, forcing: Forcing, progress: Progress) -> RunResult:
+    """The uncoupled background with the pseudo-force corrector."""
+
+def solve_direct(problem: Any, forcing: Forcing, progress: Progress) -> RunResult:
+    """A direct integrator on the physical equations."""
 
 def element_stiffness(
-    elements: Sequence[tuple[Any, ...]],
-    x: NDArray[np.float64],
-    v: NDArray[np.float64],
-    t: float,
-) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
-    """The elements' tangent stiffness ``dr/dx`` at ``(x, v, t)`` as COO triplets."""
-
-def solve_nonlinear(
-    k: NDArray[np.float64],
-    c: NDArray[np.float64],
-    q0: NDArray[np.float64],
-    v0: NDArray[np.float64],
-    loads: Sequence[tuple[NDArray[np.float64], str, tuple[Any, ...]]],
-    dt: float,
-    n_steps: int,
-    save_every: int,
-    phi: NDArray[np.float64],
-    elements: Sequence[tuple[Any, ...]],
-    options: tuple[Any, ...],
-    coupling_k: NDArray[np.float64] | None = None,
-    coupling_c: NDArray[np.float64] | None = None,
-    mass: tuple[Any, ...] | None = None,
-    forcing: Callable[[float], NDArray[np.float64]] | None = None,
-    phi_t: NDArray[np.float64] | None = None,
-    scaled: Sequence[tuple[Any, Any, tuple[str, tuple[float, ...]]]] | None = None,
-) -> dict[str, Any]:
-    """Nonlinear semi-analytic loop; `scaled` lists ``(modal K or None, modal C or None,
-    speed law spec)`` couplings multiplied by a speed law. Returns the dict of
-    :func:`solve_linear` with ``pseudo`` and ``stats``."""
-
-def speed_law(
-    spec: tuple[str, tuple[float, ...]], t: NDArray[np.float64]
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """``(omega, omega', theta)`` of the speed law ``("constant", (omega,))`` or
-    ``("runup", (omega0, omega1, t1))`` at times `t`."""
-
-def time_function(
-    kind: str, params: tuple[Any, ...], t: NDArray[np.float64]
-) -> NDArray[np.float64]:
-    """The engine's time function of a load spec at times `t` (right limits at jumps)."""
+    elements: Sequence[Element], x: Array, v: Array, t: float
+) -> tuple[NDArray[np.int64], NDArray[np.int64], Array]:
+    """The elements' stiffness ``dr/dx`` at a state, as COO triplets."""

@@ -23,7 +23,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import scipy.linalg
 from numpy.typing import NDArray
 
 from duhamel.solution import ModalHistory
@@ -105,6 +104,8 @@ def first_order_modes(
     if coupling_c is not None:
         D = D + coupling_c
     A = np.block([[np.zeros((m, m)), np.diag(sigma)], [-S / sigma, -D]])
+    import scipy.linalg
+
     lam, V = scipy.linalg.eig(A, check_finite=False)
     try:
         with warnings.catch_warnings():

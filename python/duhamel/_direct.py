@@ -7,17 +7,16 @@ from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
-import scipy.linalg
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 
 from duhamel import _core
-from duhamel.elements import LinearCoupling
-from duhamel.integrators import CentralDifference, CubicHermite, DirectIntegrator
 from duhamel._solve.plan import mass
 from duhamel._solve.run import raise_failure
-from duhamel._specs import LoadSpec, ScaledSpec, element, speed_law, time_function
+from duhamel._specs import LoadSpec, ScaledSpec, speed_law, time_function
+from duhamel._specs import elements as core_elements
+from duhamel._validate import issparse
+from duhamel.elements import LinearCoupling
+from duhamel.integrators import CentralDifference, CubicHermite, DirectIntegrator
 from duhamel.loads import Callable
 from duhamel.solution import Solution, SolveStats
 from duhamel.system import System
@@ -55,6 +54,8 @@ def damping_matrix(system: System) -> Any:
 def _matrix(m: Any, sparse: bool) -> Any:
     """A matrix as the core takes it (a ``_core.Matrix``: CSR when `sparse`, else dense)."""
     if sparse:
+        import scipy.sparse as sp
+
         c = sp.csr_array(m, dtype=np.float64)
         c.sum_duplicates()
         return _core.Matrix.csr(
@@ -63,7 +64,7 @@ def _matrix(m: Any, sparse: bool) -> Any:
             np.ascontiguousarray(c.indices, dtype=np.int64),
             np.ascontiguousarray(c.data, dtype=np.float64),
         )
-    dense = m.toarray() if sp.issparse(m) else np.asarray(m)
+    dense = m.toarray() if issparse(m) else np.asarray(m)
     return _core.Matrix.dense(np.ascontiguousarray(dense, dtype=np.float64))
 
 
@@ -72,7 +73,9 @@ def _add(a: Any, b: Any) -> Any:
         return b
     if b is None:
         return a
-    if sp.issparse(a) or sp.issparse(b):
+    if issparse(a) or issparse(b):
+        import scipy.sparse as sp
+
         return sp.csr_array(a) + sp.csr_array(b)
     return np.asarray(a) + np.asarray(b)
 
@@ -124,6 +127,8 @@ def core_matrices(mats: dict[str, Any]) -> dict[str, Any]:
 
 
 def _to_scipy(m: Any, n: int) -> Any:
+    import scipy.sparse as sp
+
     return sp.csr_array((n, n)) if m is None else sp.csr_array(m)
 
 
@@ -137,6 +142,10 @@ def highest_frequency(
     its law on the run); with a mass law, the part of it that does not scale with the mass is
     divided by the smallest ``mu`` over the run.
     """
+    import scipy.linalg
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
     n = system.n_dof
     k = _to_scipy(mats["k"], n)
     rest = _to_scipy(mats["k_fixed"], n)
@@ -211,7 +220,7 @@ def solve_direct(
     """Runs a direct integrator; see :func:`duhamel.solve`. ``loads=False`` ignores the
     system's loads; `a0` overrides the initial acceleration (see :func:`step_matrix`)."""
     mats = physical_matrices(system)
-    elements = [element(e._spec()) for e in system.elements if not isinstance(e, LinearCoupling)]
+    elements = core_elements(system.elements)
     if isinstance(integrator, CentralDifference) and not integrator.allow_unstable:
         _check_central(system, mats, elements, x0, v0, dt, t0 + n_steps * dt)
     specs = []
@@ -220,7 +229,9 @@ def solve_direct(
             continue
         for pattern, kind, params in load._specs(system):
             specs.append(
-                LoadSpec(np.ascontiguousarray(pattern, dtype=np.float64), time_function(kind, params))
+                LoadSpec(
+                    np.ascontiguousarray(pattern, dtype=np.float64), time_function(kind, params)
+                )
             )
     problem = SimpleNamespace(
         **core_matrices(mats),

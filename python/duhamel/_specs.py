@@ -16,7 +16,16 @@ from numpy.typing import NDArray
 
 from duhamel import _core
 
-__all__ = ["LoadSpec", "MassSpec", "ScaledSpec", "element", "mass_law", "speed_law", "time_function"]
+__all__ = [
+    "LoadSpec",
+    "MassSpec",
+    "ScaledSpec",
+    "element",
+    "elements",
+    "mass_law",
+    "speed_law",
+    "time_function",
+]
 
 
 class LoadSpec(NamedTuple):
@@ -103,3 +112,9 @@ def element(spec: tuple) -> Any:
         dofs, fn, jacobian = args
         return _core.Element.callable(list(dofs), fn, jacobian)
     raise ValueError(f"unknown element kind {kind!r}")
+
+
+def elements(items: Any) -> list[Any]:
+    """The core elements of a model's elements, couplings left out (a ``LinearCoupling`` is
+    a coupling of the background or a pseudo-force of its own, never an element)."""
+    return [element(spec) for spec in (e._spec() for e in items) if spec[0] != "coupling"]

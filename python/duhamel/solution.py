@@ -142,8 +142,9 @@ class SolveStats:
     factorizations : int
         Direct integrators: LU factorisations of the iteration (effective stiffness)
         matrix over the run; 1 for a linear problem with constant mass (the mass matrix,
-        factorised once for the initial acceleration, is not counted). 0 for the
-        semi-analytic integrator.
+        factorised once for the initial acceleration, is not counted). Semi-analytic
+        integrator: factorisations of the kept (modified Newton) iteration matrix of
+        elements on the exact coupled background; 0 on the other routes.
     coupling : str or None
         Semi-analytic integrator: how modal couplings (non-classical damping, gyroscopic
         and cross-coupled terms) were integrated: "exact" (the first-order modes of the

@@ -62,7 +62,10 @@ def _run(
         parts = (fo.lam.real, fo.lam.imag, fo.gain.real, fo.gain.imag, eta0.real, eta0.imag)
         names = ("lambda_re", "lambda_im", "gain_re", "gain_im", "eta0_re", "eta0_im")
         modes = SimpleNamespace(
-            **{n: np.ascontiguousarray(p, dtype=np.float64) for n, p in zip(names, parts, strict=True)}
+            **{
+                n: np.ascontiguousarray(p, dtype=np.float64)
+                for n, p in zip(names, parts, strict=True)
+            }
         )
         outputs = output_maps(route, phi_out, len(spec.loads))
         nonlinear = (
@@ -266,4 +269,3 @@ def solve(
             error = error.kept_until(float(result.t[kept - 1]))
         raise_failure(error, solution)
     return solution
-

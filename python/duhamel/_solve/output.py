@@ -63,7 +63,7 @@ def physical(
         first_order = (result.eta, plan.modes.back)
     failed = result.error is not None
     kept = _finite_rows(x, v) if failed else x.shape[0]
-    cut = (lambda a: a) if kept == x.shape[0] else (lambda a: None if a is None else a[:kept])  # noqa: E731
+    cut = (lambda a: a) if kept == x.shape[0] else (lambda a: None if a is None else a[:kept])
     x, v = cut(x), cut(v)
     values, forcing, pseudo = cut(result.load_values), cut(result.forcing), cut(result.pseudo)
     if first_order is not None:
@@ -86,7 +86,9 @@ def physical(
 
     def acceleration() -> NDArray:
         # A diverged run's last rows are near overflow: their accelerations may overflow.
-        with np.errstate(over="ignore" if failed else "warn", invalid="ignore" if failed else "warn"):
+        with np.errstate(
+            over="ignore" if failed else "warn", invalid="ignore" if failed else "warn"
+        ):
             return state_part() + load_part()
 
     def state_part() -> NDArray:

@@ -22,11 +22,11 @@ from duhamel._specs import (
     LoadSpec,
     MassSpec,
     ScaledSpec,
-    element,
     mass_law,
     speed_law,
     time_function,
 )
+from duhamel._specs import elements as core_elements
 from duhamel.elements import LinearCoupling
 from duhamel.integrators import Semianalytic
 from duhamel.loads import Callable
@@ -124,7 +124,7 @@ def _couplings(system: System, basis: ModalBasis) -> Couplings:
         if mc is not None:
             mc = mc if factor == 1.0 else factor * mc
             c = mc if c is None else c + mc
-    as_c = (lambda m: None if m is None else np.ascontiguousarray(m))  # noqa: E731
+    as_c = lambda m: None if m is None else np.ascontiguousarray(m)  # noqa: E731
     return Couplings(as_c(k), as_c(c), scaled)
 
 
@@ -143,7 +143,7 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
     """The route of `system` under `integrator`; raises ValueError when
     ``coupling="exact"`` cannot be honoured."""
     basis = system.modal(integrator.modes)
-    elements = [element(e._spec()) for e in system.elements if not isinstance(e, LinearCoupling)]
+    elements = core_elements(system.elements)
     has_elements = bool(system.elements)
     coupled = basis.c_coupling is not None or any(
         isinstance(e, LinearCoupling) for e in system.elements

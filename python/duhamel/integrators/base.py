@@ -1,0 +1,59 @@
+"""What every integrator shares: the Newton settings and their checks."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+__all__ = ["DirectIntegrator", "Integrator", "newton_options", "real"]
+
+
+class Integrator:
+    """Base class of the integrators passed to :func:`duhamel.solve`: small frozen
+    configuration objects, checked when made.
+
+    Attributes
+    ----------
+    tol : float
+        Newton's relative tolerance for implicit step equations.
+    max_iter : int
+        Newton iterations per step before the run stops with a :class:`duhamel.SolverError`.
+    """
+
+    tol: float
+    max_iter: int
+
+
+def real(value: object, name: str, lo: float | None = None, hi: float | None = None) -> float:
+    """`value` as a finite float in ``[lo, hi]``; errors name the parameter."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise TypeError(f"`{name}` must be a real number, got {type(value).__name__}")
+    out = float(value)
+    if not math.isfinite(out):
+        raise ValueError(f"`{name}` must be finite, got {out!r}")
+    if (lo is not None and out < lo) or (hi is not None and out > hi):
+        lo_s = "-inf" if lo is None else f"{lo:g}"
+        hi_s = "inf" if hi is None else f"{hi:g}"
+        raise ValueError(f"`{name}` must be in [{lo_s}, {hi_s}], got {out!r}")
+    return out
+
+
+def newton_options(tol: object, max_iter: object) -> None:
+    """Checks Newton's `tol` (in (0, 1)) and `max_iter` (a positive integer)."""
+    if isinstance(tol, bool) or not isinstance(tol, int | float) or not (0 < tol < 1):
+        raise ValueError(f"`tol` must be a number in (0, 1), got {tol!r}")
+    if isinstance(max_iter, bool) or not isinstance(max_iter, int) or max_iter < 1:
+        raise ValueError(f"`max_iter` must be a positive integer, got {max_iter!r}")
+
+
+class DirectIntegrator(Integrator):
+    """Base class of the direct integrators, which step the physical equations of motion
+    ``M(t) x'' + C x' + K x + r(x, x', t) = f(t)`` (no modal transformation).
+
+    See docs/direct.md. :func:`duhamel.solve` returns a :class:`~duhamel.Solution` whose
+    ``modal`` is None for them.
+    """
+
+    def _method(self) -> Any:  # pragma: no cover - abstract
+        """The method as the core takes it (a ``_core.Method``)."""
+        raise NotImplementedError
