@@ -19,7 +19,8 @@ use std::time::{Duration, Instant};
 
 use crate::error::CoreError;
 use crate::history::{Failure, History};
-use crate::loads::{BlockLoads, ModalForcing};
+use crate::loads::block::BlockLoads;
+use crate::loads::ModalForcing;
 use crate::problem::ModalProblem;
 
 /// Most steps in one block: loads are evaluated for a whole block before the modes advance.

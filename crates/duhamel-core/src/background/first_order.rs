@@ -21,11 +21,12 @@
 
 use num_complex::Complex64;
 
-use crate::background::cphi;
 use crate::driver::{conclude, drive, Control, Route, StepFailure};
 use crate::error::CoreError;
 use crate::history::{size, zeroed, Coordinates, Failure, History, Stats};
-use crate::loads::{BlockLoads, ModalForcing};
+use crate::kernel::cphi;
+use crate::loads::block::BlockLoads;
+use crate::loads::ModalForcing;
 use crate::output::{Mapper, Outputs};
 use crate::problem::ModalProblem;
 use crate::pseudo::first_order::{Corrector, Nonlinear};

@@ -2,11 +2,10 @@
 //! problem.
 //!
 //! * [`uncoupled`]: classically damped modes, each an independent oscillator stepped with its
-//!   exact transition and load-transfer matrices ([`oscillator`]);
+//!   exact transition and load-transfer matrices ([`crate::kernel::oscillator`]);
 //! * [`first_order`]: modes coupled by non-classical damping, gyroscopic or circulatory terms,
-//!   diagonalised in first order and stepped with complex exponentials ([`cphi`]).
+//!   diagonalised in first order and stepped with complex exponentials
+//!   ([`crate::kernel::cphi`]).
 
-pub mod cphi;
 pub mod first_order;
-pub mod oscillator;
 pub mod uncoupled;

@@ -2,18 +2,19 @@
 //! time-invariant system with classical damping.
 //!
 //! Each mode `q'' + c q' + k q = p(t)` is advanced by `y(n+1) = A y(n) + B (p0, Dp, DDp)` with
-//! the exact matrices of [`crate::background::oscillator`]. The modes are independent, so the
+//! the exact matrices of [`crate::kernel::oscillator`]. The modes are independent, so the
 //! route advances a whole block of steps at a time: the loads of the block are evaluated once
 //! (shared by all modes), then the modes are advanced in parallel chunks, each chunk
 //! vectorised over its modes.
 
 use rayon::prelude::*;
 
-use crate::background::oscillator::Transfer;
 use crate::driver::{conclude, drive, Control, Route, StepFailure};
 use crate::error::CoreError;
 use crate::history::{size, zeroed, Coordinates, Failure, History};
-use crate::loads::{BlockLoads, ModalForcing};
+use crate::kernel::oscillator::Transfer;
+use crate::loads::block::BlockLoads;
+use crate::loads::ModalForcing;
 use crate::problem::ModalProblem;
 
 /// Fewest modes per parallel chunk.

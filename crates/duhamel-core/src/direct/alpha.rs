@@ -22,7 +22,8 @@
 
 use super::assembly::{Factorization, IterationMatrix};
 use super::model::{Coefs, Model, C, K, KC, M};
-use super::{AlphaParams, Stepper};
+use super::problem::AlphaParams;
+use super::stepper::Stepper;
 use crate::error::CoreError;
 use crate::loads::ModalForcing;
 

@@ -17,12 +17,9 @@
 
 use super::assembly::{Factorization, IterationMatrix};
 use super::model::{Coefs, Model, C, K, KC, M};
-use super::Stepper;
+use super::stepper::Stepper;
 use crate::error::CoreError;
 use crate::loads::ModalForcing;
-
-/// Most Gauss points per step.
-pub(crate) const MAX_POINTS: usize = 8;
 
 /// Gauss-Legendre nodes and weights on `[0, 1]` (Newton on the Legendre polynomial).
 pub(crate) fn gauss(n: usize) -> (Vec<f64>, Vec<f64>) {
@@ -398,6 +395,7 @@ impl Stepper for Hermite<'_> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::problem::MAX_POINTS;
     use super::*;
 
     #[test]

@@ -8,7 +8,7 @@
 //! speed laws of the scaled couplings `(K_j, C_j)`.
 
 use super::assembly::{IterationMatrix, Matrix};
-use super::DirectProblem;
+use super::problem::DirectProblem;
 use crate::elements::Evaluation;
 use crate::error::CoreError;
 use crate::loads::ModalForcing;

@@ -29,7 +29,7 @@
 //! stays centred) and `dr/dx = k sigmoid(-g / eps) I`, `dr/dv = 0`. For the usual
 //! `g >> eps` both are zero to round-off anyway.
 
-use super::{Element, Tangent};
+use super::element::{Element, Tangent};
 use crate::error::CoreError;
 
 /// Below this radius the shaft is taken as exactly centred.

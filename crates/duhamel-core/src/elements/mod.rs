@@ -2,160 +2,16 @@
 //! `M x'' + C x' + K x + r(x, x', t) = f(t)`, with their tangents.
 //!
 //! The integrators own the time discretisation; an element only returns its force and, on
-//! request, `dr/dx` and `dr/dx'` at its own degrees of freedom.
-
-use crate::error::CoreError;
+//! request, `dr/dx` and `dr/dx'` at its own degrees of freedom ([`Element`]). One file per
+//! element family.
 
 mod contact;
+mod element;
 mod polynomial;
 mod spring;
 
 pub use contact::Contact;
+pub(crate) use element::Evaluation;
+pub use element::{Element, ModalCubic, Tangent};
 pub use polynomial::Polynomial;
 pub use spring::{Damper, Spring};
-
-/// Local tangent matrices, row-major `n x n` for an element with `n` dofs.
-pub struct Tangent<'a> {
-    /// `dr/dx`, added into.
-    pub kx: &'a mut [f64],
-    /// `dr/dx'`, added into.
-    pub cv: &'a mut [f64],
-}
-
-/// A force element acting on a few degrees of freedom.
-pub trait Element: Send + Sync {
-    /// The global degrees of freedom the element acts on, in its local order.
-    fn dofs(&self) -> &[usize];
-
-    /// Adds the restoring force at local displacements `x` and velocities `v` (both of length
-    /// `dofs().len()`) at time `t` into `r`; with `tangent`, adds `dr/dx` and `dr/dx'`.
-    fn eval(
-        &self,
-        x: &[f64],
-        v: &[f64],
-        t: f64,
-        r: &mut [f64],
-        tangent: Option<Tangent<'_>>,
-    ) -> Result<(), CoreError>;
-
-    /// `Some(d)` when the force is a polynomial of total degree `d` in `(x, x')` with
-    /// coefficients independent of `t`: such forces are integrated exactly by the `exact`
-    /// quadrature (for `d <= 3` with a linear interpolant) and allow the closed-form cubic.
-    fn polynomial_degree(&self) -> Option<u32>;
-
-    /// Whether the force depends on the velocities.
-    fn uses_velocity(&self) -> bool;
-
-    /// Whether `eval` fills the tangents; when not, the integrators use finite differences.
-    fn has_tangent(&self) -> bool {
-        true
-    }
-
-    /// For one mode whose shape takes the values `phi` at the element's dofs, the
-    /// coefficients `a[i][j]` of the modal force `phi^T r(phi q, phi v) = sum a[i][j] q^i v^j`
-    /// (`i + j <= 3`), when the force is such a polynomial. Single-mode problems use them to
-    /// write the step equation as an explicit cubic (the paper's closed form).
-    fn modal_cubic(&self, _phi: &[f64]) -> Option<ModalCubic> {
-        None
-    }
-}
-
-/// Coefficients `a[i][j]` of `sum a[i][j] q^i v^j` (`i + j <= 3`).
-pub type ModalCubic = [[f64; 4]; 4];
-
-/// `phi_i - phi_j` for a two-node element (`phi_j = 0` when grounded).
-pub(crate) fn relative(phi: &[f64]) -> f64 {
-    phi[0] - phi.get(1).copied().unwrap_or(0.0)
-}
-
-/// An element with buffers for its local state, force and tangents: what both integrators
-/// evaluate per element.
-pub(crate) struct Evaluation<'a> {
-    pub element: &'a dyn Element,
-    pub x: Vec<f64>,
-    pub v: Vec<f64>,
-    pub r: Vec<f64>,
-    pub kx: Vec<f64>,
-    pub cv: Vec<f64>,
-}
-
-impl<'a> Evaluation<'a> {
-    pub fn new(element: &'a dyn Element) -> Self {
-        let nl = element.dofs().len();
-        Evaluation {
-            element,
-            x: vec![0.0; nl],
-            v: vec![0.0; nl],
-            r: vec![0.0; nl],
-            kx: vec![0.0; nl * nl],
-            cv: vec![0.0; nl * nl],
-        }
-    }
-
-    /// The force at the stored local state (overwrites `r`) and, with `tangent`, its
-    /// tangents (analytic, or central differences for an element without them).
-    pub fn evaluate(&mut self, t: f64, tangent: bool) -> Result<(), CoreError> {
-        self.r.fill(0.0);
-        let analytic = tangent && self.element.has_tangent();
-        if analytic {
-            self.kx.fill(0.0);
-            self.cv.fill(0.0);
-        }
-        let tan = analytic.then(|| Tangent {
-            kx: &mut self.kx,
-            cv: &mut self.cv,
-        });
-        self.element.eval(&self.x, &self.v, t, &mut self.r, tan)?;
-        if tangent && !analytic {
-            numeric_tangent(
-                self.element,
-                &self.x,
-                &self.v,
-                t,
-                &mut self.kx,
-                &mut self.cv,
-            )?;
-        }
-        Ok(())
-    }
-}
-
-/// Central-difference tangents `dr/dx`, `dr/dx'` (row-major, overwritten) of an element that
-/// has none (a Python callable without a Jacobian): `2 n_loc` extra evaluations per direction.
-pub(crate) fn numeric_tangent(
-    element: &dyn Element,
-    x: &[f64],
-    v: &[f64],
-    t: f64,
-    kx: &mut [f64],
-    cv: &mut [f64],
-) -> Result<(), CoreError> {
-    let nl = x.len();
-    let mut rp = vec![0.0; nl];
-    let mut rm = vec![0.0; nl];
-    let (mut xs, mut vs) = (x.to_vec(), v.to_vec());
-    kx.fill(0.0);
-    cv.fill(0.0);
-    for which in 0..2 {
-        for j in 0..nl {
-            let base = if which == 0 { x[j] } else { v[j] };
-            let h = f64::EPSILON.cbrt() * (1.0 + base.abs());
-            for (value, out) in [(base + h, &mut rp), (base - h, &mut rm)] {
-                if which == 0 {
-                    xs[j] = value;
-                } else {
-                    vs[j] = value;
-                }
-                out.fill(0.0);
-                element.eval(&xs, &vs, t, out, None)?;
-            }
-            xs[j] = x[j];
-            vs[j] = v[j];
-            let dst = if which == 0 { &mut *kx } else { &mut *cv };
-            for i in 0..nl {
-                dst[i * nl + j] = (rp[i] - rm[i]) / (2.0 * h);
-            }
-        }
-    }
-    Ok(())
-}

@@ -3,7 +3,7 @@
 //! The Duffing hardening/softening spring `r = k3 x^3` is [`Polynomial::cubic`]. The force is
 //! evaluated by Horner's scheme together with its derivative `dr/dx`.
 
-use super::{Element, Tangent};
+use super::element::{Element, Tangent};
 use crate::error::CoreError;
 
 /// Restoring force `r = c_0 + c_1 x + c_2 x^2 + ...` at one dof (`c_0` is a constant force).
@@ -99,7 +99,7 @@ impl Element for Polynomial {
         Some(self.coefficients.len().saturating_sub(1) as u32)
     }
 
-    fn modal_cubic(&self, phi: &[f64]) -> Option<super::ModalCubic> {
+    fn modal_cubic(&self, phi: &[f64]) -> Option<super::element::ModalCubic> {
         // phi * sum c_k (phi q)^k
         if self.coefficients.len() > 4 {
             return None;

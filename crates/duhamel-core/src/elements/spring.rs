@@ -6,7 +6,7 @@
 //! * [`Spring`]: `s = k delta + k3 delta^3` (linear plus Duffing cubic; either sign).
 //! * [`Damper`]: `s = c (v_i - v_j)`, `c >= 0`.
 
-use super::{Element, Tangent};
+use super::element::{Element, Tangent};
 use crate::error::CoreError;
 
 fn check_finite(name: &'static str, value: f64) -> Result<(), CoreError> {
@@ -115,9 +115,9 @@ impl Element for Spring {
         Some(if self.k3 != 0.0 { 3 } else { 1 })
     }
 
-    fn modal_cubic(&self, phi: &[f64]) -> Option<super::ModalCubic> {
+    fn modal_cubic(&self, phi: &[f64]) -> Option<super::element::ModalCubic> {
         // d = dphi q: dphi (k d + k3 d^3)
-        let d = super::relative(phi);
+        let d = super::element::relative(phi);
         let mut a = [[0.0; 4]; 4];
         a[1][0] = self.k * d * d;
         a[3][0] = self.k3 * d * d * d * d;
@@ -183,8 +183,8 @@ impl Element for Damper {
         Some(1)
     }
 
-    fn modal_cubic(&self, phi: &[f64]) -> Option<super::ModalCubic> {
-        let d = super::relative(phi);
+    fn modal_cubic(&self, phi: &[f64]) -> Option<super::element::ModalCubic> {
+        let d = super::element::relative(phi);
         let mut a = [[0.0; 4]; 4];
         a[0][1] = self.c * d * d;
         Some(a)

@@ -1,17 +1,12 @@
 //! The loads of a block of steps, evaluated once before the modes advance, and what is kept
 //! of them at the saved instants.
 
-use crate::background::oscillator::Transfer;
 use crate::error::CoreError;
 use crate::history::{size, zeroed};
+use crate::kernel::oscillator::Transfer;
 use crate::problem::{ModalProblem, SaveGrid};
 
-/// Modal loads computed outside the engine (e.g. a Python callable), sampled in blocks.
-pub trait ModalForcing {
-    /// Fills `out` (`times.len()` rows of `n_modes`, row-major) with the modal load vector at
-    /// each time.
-    fn modal_loads(&mut self, times: &[f64], out: &mut [f64]) -> Result<(), CoreError>;
-}
+use super::ModalForcing;
 
 /// A block whose loads could not all be evaluated: the error, and how many of its steps
 /// (from its start) have their loads ready all the same.

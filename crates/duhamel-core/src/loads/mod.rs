@@ -3,10 +3,15 @@
 
 pub mod block;
 
-pub use block::{BlockLoads, ModalForcing};
-
 use crate::error::CoreError;
 use crate::speed::SpeedLaw;
+
+/// Modal loads computed outside the engine (e.g. a Python callable), sampled in blocks.
+pub trait ModalForcing {
+    /// Fills `out` (`times.len()` rows of `n_modes`, row-major) with the modal load vector at
+    /// each time.
+    fn modal_loads(&mut self, times: &[f64], out: &mut [f64]) -> Result<(), CoreError>;
+}
 
 /// A direction in the plane of a rotor's cross-section.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

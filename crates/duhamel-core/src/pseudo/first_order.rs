@@ -20,10 +20,10 @@
 use num_complex::Complex64;
 
 use super::force::{Jacobian, PseudoForce};
-use crate::background::cphi;
 use crate::dense::DenseLu;
 use crate::elements::Element;
 use crate::error::CoreError;
+use crate::kernel::cphi;
 
 /// The nonlinear part of a coupled problem.
 pub struct Nonlinear<'a> {

@@ -15,7 +15,7 @@ use crate::elements::{Element, Evaluation, ModalCubic};
 use crate::error::CoreError;
 use crate::mass::{MassForm, MassTreatment, TimeVaryingMass};
 
-use super::ScaledCoupling;
+use super::problem::ScaledCoupling;
 
 /// An element with the mode-shape rows of its degrees of freedom.
 struct Slot<'a> {

@@ -4,13 +4,14 @@
 
 use super::force::PseudoForce;
 use super::newton::Stepper;
+use super::problem::{validate, NonlinearProblem};
 use super::scheme::{Rule, StepInput};
-use super::{validate, NonlinearProblem};
-use crate::background::oscillator::Transfer;
 use crate::driver::{conclude, drive, Control, Route, StepFailure};
 use crate::error::CoreError;
 use crate::history::{size, zeroed, Coordinates, Failure, History, Stats};
-use crate::loads::{BlockLoads, ModalForcing};
+use crate::kernel::oscillator::Transfer;
+use crate::loads::block::BlockLoads;
+use crate::loads::ModalForcing;
 use crate::mass::MassTreatment;
 use crate::problem::ModalProblem;
 

@@ -1,7 +1,7 @@
 //! How the state is approximated inside a step (the paper's schemes a, b, c, eq. 20) and how
 //! the pseudo-force along it is integrated against `A(dt - tau)` (the quadratures).
 
-use crate::background::oscillator::Transfer;
+use crate::kernel::oscillator::Transfer;
 
 /// The approximation of `x(tau)`, `x'(tau)` inside the step (NOTES.md section 2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

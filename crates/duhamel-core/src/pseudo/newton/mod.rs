@@ -10,18 +10,10 @@ mod cubic;
 
 use super::closed::{scalar_step, ScalarPlan};
 use super::force::{Jacobian, PseudoForce};
+use super::problem::Solver;
 use super::scheme::{Rule, Scheme, StepInput, Unknown};
 use crate::dense::solve_in_place;
 use crate::error::CoreError;
-
-/// How the step equation is solved.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Solver {
-    /// The closed-form cubic where it applies, Newton otherwise.
-    Auto,
-    /// Always Newton.
-    Newton,
-}
 
 /// Which nodes to evaluate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

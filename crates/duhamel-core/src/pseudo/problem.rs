@@ -1,0 +1,99 @@
+//! A nonlinear modal problem: the background, the pseudo-forces and the step settings.
+
+use super::scheme::{Quadrature, Scheme};
+use crate::elements::Element;
+use crate::error::CoreError;
+use crate::mass::TimeVaryingMass;
+use crate::problem::ModalProblem;
+use crate::speed::SpeedLaw;
+
+/// How the step equation is solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Solver {
+    /// The closed-form cubic where it applies, Newton otherwise.
+    Auto,
+    /// Always Newton.
+    Newton,
+}
+
+/// Integrator settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// State approximation inside the step.
+    pub scheme: Scheme,
+    /// Quadrature of the pseudo-force.
+    pub quadrature: Quadrature,
+    /// Relative tolerance of the Newton updates.
+    pub tol: f64,
+    /// Newton iterations before giving up.
+    pub max_iter: usize,
+    /// Closed form where possible, or always Newton.
+    pub solver: Solver,
+}
+
+/// A nonlinear modal problem: the linear background plus the pseudo-forces.
+pub struct NonlinearProblem<'a> {
+    /// Background modes, loads, initial state, step and output.
+    pub base: ModalProblem<'a>,
+    /// Mode shapes, `n_dof x n_modes` row-major (mass-normalised).
+    pub phi: &'a [f64],
+    /// Number of physical degrees of freedom.
+    pub n_dof: usize,
+    /// Force elements.
+    pub elements: &'a [&'a dyn Element],
+    /// Modal stiffness coupling `Phi^T K_c Phi` (`n_modes x n_modes`), if any.
+    pub coupling_k: Option<&'a [f64]>,
+    /// Modal damping coupling `Phi^T C_c Phi`, if any.
+    pub coupling_c: Option<&'a [f64]>,
+    /// Couplings multiplied by a speed law (the gyroscopic `omega(t) G` of a run-up).
+    pub scaled: &'a [ScaledCoupling<'a>],
+    /// Time-varying mass, if any.
+    pub mass: Option<&'a TimeVaryingMass>,
+    /// Integrator settings.
+    pub options: Options,
+}
+
+/// A modal coupling whose pseudo-force is `-s(t) (K q + C v)`, `s` a speed law:
+/// `LinearCoupling(K, C, scale=...)`.
+#[derive(Debug, Clone, Copy)]
+pub struct ScaledCoupling<'a> {
+    /// Modal stiffness coupling `Phi^T K Phi` (`n_modes x n_modes`, row-major), if any.
+    pub k: Option<&'a [f64]>,
+    /// Modal damping coupling `Phi^T C Phi`, if any.
+    pub c: Option<&'a [f64]>,
+    /// The time scale.
+    pub law: SpeedLaw,
+}
+
+/// Checks the problem; errors name the Python-side parameter.
+pub(super) fn validate(problem: &NonlinearProblem) -> Result<(), CoreError> {
+    problem.base.check()?;
+    let n = problem.base.k.len();
+    if problem.phi.len() != problem.n_dof * n {
+        return Err(CoreError::LengthMismatch {
+            name: "phi",
+            got: problem.phi.len(),
+            expected: problem.n_dof * n,
+        });
+    }
+    let o = &problem.options;
+    if !(o.tol.is_finite() && o.tol > 0.0) {
+        return Err(CoreError::InvalidInput {
+            name: "tol",
+            problem: format!("must be a positive number, got {}", o.tol),
+        });
+    }
+    if o.max_iter == 0 {
+        return Err(CoreError::InvalidInput {
+            name: "max_iter",
+            problem: "must be at least 1".into(),
+        });
+    }
+    if let Some(mass) = problem.mass {
+        mass.law.validate(problem.base.time(problem.base.n_steps))?;
+    }
+    for s in problem.scaled {
+        s.law.validate()?;
+    }
+    Ok(())
+}
