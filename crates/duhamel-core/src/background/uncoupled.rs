@@ -220,25 +220,32 @@ impl Chunk {
         let n_loads = sh.n_loads;
         let nm = sh.n_modes;
         let mut out = self.out;
+        // The block's arrays as slices, held in registers across the steps.
+        let (slots, bases, jumps, forcing) = (
+            &blk.slot[..blk.len],
+            &blk.basis[..],
+            &blk.jumps[..],
+            &blk.forcing[..],
+        );
         // Reused across steps: no allocation in the time loop.
         let mut shared: Vec<(f64, &[f64], &[f64])> = Vec::new();
-        for s in 0..blk.len {
-            let save = blk.slot[s].map(|slot| out.rows(slot, self.start, len));
+        for (s, slot) in slots.iter().enumerate() {
+            let save = slot.map(|slot| out.rows(slot, self.start, len));
             shared.clear();
             for (l, g) in coef.gl.iter().enumerate() {
-                for (j, &b) in blk.basis[s * n_loads + l].iter().enumerate() {
+                for (j, &b) in bases[s * n_loads + l].iter().enumerate() {
                     if b != 0.0 {
                         shared.push((b, &g[j][r.clone()], &g[j + 3][r.clone()]));
                     }
                 }
             }
-            for (_, dx, dv) in blk.jumps.iter().filter(|j| j.0 == s) {
+            for (_, dx, dv) in jumps.iter().filter(|j| j.0 == s) {
                 shared.push((1.0, &dx[r.clone()], &dv[r.clone()]));
             }
             let mut terms = StepTerms {
                 shared: &shared,
-                forcing: (!blk.forcing.is_empty()).then(|| {
-                    std::array::from_fn(|h| &blk.forcing[(2 * s + h) * nm + self.start..][..len])
+                forcing: (!forcing.is_empty()).then(|| {
+                    std::array::from_fn(|h| &forcing[(2 * s + h) * nm + self.start..][..len])
                 }),
                 save,
             };

@@ -44,7 +44,10 @@ pub struct BlockLoads {
     /// History slot of the state at the start of each step of the block, if saved.
     pub slot: Vec<Option<usize>>,
     grid: SaveGrid,
+    /// Saved instants in all, the next one to save, and its grid point.
+    n_saved: usize,
     next_saved: usize,
+    next_step: usize,
     times: Vec<f64>,
     n_modes: usize,
     n_loads: usize,
@@ -84,7 +87,9 @@ impl BlockLoads {
             forcing: Vec::new(),
             slot: Vec::new(),
             grid,
+            n_saved,
             next_saved: 0,
+            next_step: 0,
             times: Vec::new(),
             n_modes,
             n_loads,
@@ -98,7 +103,7 @@ impl BlockLoads {
 
     /// Number of saved instants of the run.
     pub fn n_saved(&self) -> usize {
-        self.grid.count()
+        self.n_saved
     }
 
     /// The save grid.
@@ -197,19 +202,24 @@ impl BlockLoads {
     }
 
     /// The history slot of grid point `n` if it is the next saved one (and takes it).
+    #[inline(always)]
     fn take_slot(&mut self, n: usize) -> Option<usize> {
         let k = self.next_saved;
-        (k < self.grid.count() && self.grid.step(k) == n).then(|| {
-            self.next_saved += 1;
-            k
-        })
+        if k >= self.n_saved || self.next_step != n {
+            return None;
+        }
+        self.next_saved += 1;
+        self.next_step = self.grid.step(self.next_saved);
+        Some(k)
     }
 
     /// Keeps the loads at local grid point `s` of the block in saved row `k`.
+    #[inline(always)]
     fn record(&mut self, k: usize, s: usize) {
         let (n_loads, n_modes) = (self.n_loads, self.n_modes);
-        for l in 0..n_loads {
-            self.load_values[k * n_loads + l] = self.basis[s * n_loads + l][0];
+        let values = &mut self.load_values[k * n_loads..][..n_loads];
+        for (value, basis) in values.iter_mut().zip(&self.basis[s * n_loads..][..n_loads]) {
+            *value = basis[0];
         }
         if let (Some(saved), false) = (self.forcing_saved.as_mut(), self.forcing.is_empty()) {
             saved[k * n_modes..][..n_modes]
