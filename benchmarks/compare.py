@@ -9,7 +9,7 @@ with the extension copied in, and ``python/`` of this checkout)::
     .venv/bin/python benchmarks/compare.py --old ../baseline/python --new python --repeats 7
 
 The cases are the engine's routes: the uncoupled linear loop (every step saved, and the
-kernel alone), the closed-form Duffing step, a 5-mode Newton chain, a gyroscopic rotor on the
+kernel alone), the closed-form and the Newton Duffing step, a 5-mode Newton chain, a gyroscopic rotor on the
 exact first-order background (linear, and with a rub), and Newmark on a 20-dof chain.
 """
 
@@ -40,11 +40,12 @@ if case.startswith("linear"):
     save = steps if case == "linear-kernel" else 1
     run = lambda: duhamel.solve(s, duhamel.Semianalytic(), t_end=steps * 1e-3, dt=1e-3,
                                 dofs=[n - 1], threads=1, save_every=save)
-elif case == "duffing":
+elif case.startswith("duffing"):
     s = duhamel.System(np.eye(1), np.eye(1)).add(E.Cubic(0, 4.0))
-    steps = 1_000_000
-    run = lambda: duhamel.solve(s, duhamel.Semianalytic(), t_end=steps * 0.0628, dt=0.0628,
-                                x0=[1.0])
+    steps = 1_000_000 if case == "duffing" else 200_000
+    solver = "newton" if case == "duffing-newton" else "auto"
+    run = lambda: duhamel.solve(s, duhamel.Semianalytic(solver=solver), t_end=steps * 0.0628,
+                                dt=0.0628, x0=[1.0])
 elif case == "chain-newton":
     n = 20
     s = duhamel.System(np.eye(n), chain(n, 1e4), zeta=0.02)
@@ -82,7 +83,16 @@ print(json.dumps({"wall": sol.stats.wall_time, "steps": sol.stats.steps,
                   "route": sol.stats.coupling}))
 """
 
-CASES = ["linear", "linear-kernel", "duffing", "chain-newton", "rotor", "rotor-rub", "newmark"]
+CASES = [
+    "linear",
+    "linear-kernel",
+    "duffing",
+    "duffing-newton",
+    "chain-newton",
+    "rotor",
+    "rotor-rub",
+    "newmark",
+]
 
 
 def measure(path: str, case: str) -> float:
@@ -99,18 +109,38 @@ def main() -> None:
     parser.add_argument("--new", required=True, help="directory holding the new duhamel")
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--cases", default=",".join(CASES))
+    parser.add_argument("--label", default="", help="what the two builds are, for the report")
+    parser.add_argument("--append", metavar="MD", help="append the report to this markdown file")
     args = parser.parse_args()
-    load = os.getloadavg()[0]
-    print(f"1-min load average before: {load:.2f}")
-    print("| case | old best [s] | new best [s] | new / old |")
-    print("|---|---:|---:|---:|")
+    lines = [
+        f"## Two builds compared{': ' + args.label if args.label else ''}",
+        "",
+        "Loop time (`Solution.stats.wall_time`), best of "
+        f"{args.repeats} fresh processes per build, the builds alternating. Command:",
+        "",
+        "```sh",
+        " ".join([".venv/bin/python", "benchmarks/compare.py", *sys.argv[1:]]),
+        "```",
+        "",
+        f"1-min load average before: {os.getloadavg()[0]:.2f}",
+        "",
+        "| case | old best [s] | new best [s] | new / old |",
+        "|---|---:|---:|---:|",
+    ]
+    print("\n".join(lines), flush=True)
     for case in args.cases.split(","):
         old, new = [], []
         for _ in range(args.repeats):
             old.append(measure(args.old, case))
             new.append(measure(args.new, case))
-        print(f"| {case} | {min(old):.4g} | {min(new):.4g} | {min(new) / min(old):.3f} |")
-    print(f"1-min load average after: {os.getloadavg()[0]:.2f}")
+        row = f"| {case} | {min(old):.4g} | {min(new):.4g} | {min(new) / min(old):.3f} |"
+        print(row, flush=True)
+        lines.append(row)
+    lines += ["", f"1-min load average after: {os.getloadavg()[0]:.2f}", ""]
+    print(lines[-2])
+    if args.append:
+        with open(args.append, "a") as f:
+            f.write("\n" + "\n".join(lines))
 
 
 if __name__ == "__main__":

@@ -50,9 +50,13 @@ def physical(
     """
     basis = plan.basis
     n_out = phi_out.shape[0]
+    failed = result.error is not None
+    # A diverged run's last rows are near overflow: their products may overflow quietly.
+    mode = "ignore" if failed else "warn"
     if result.eta is None:
         q, vel = result.q, result.v
-        x, v = q @ phi_out.T, vel @ phi_out.T
+        with np.errstate(over=mode, invalid=mode):
+            x, v = q @ phi_out.T, vel @ phi_out.T
         coupling = None
         first_order = None
     else:
@@ -61,7 +65,6 @@ def physical(
         coupling = (plan.couplings.k, plan.couplings.c)
         assert plan.modes is not None
         first_order = (result.eta, plan.modes.back)
-    failed = result.error is not None
     kept = _finite_rows(x, v) if failed else x.shape[0]
     cut = (lambda a: a) if kept == x.shape[0] else (lambda a: None if a is None else a[:kept])
     x, v = cut(x), cut(v)
@@ -85,10 +88,7 @@ def physical(
     )
 
     def acceleration() -> NDArray:
-        # A diverged run's last rows are near overflow: their accelerations may overflow.
-        with np.errstate(
-            over="ignore" if failed else "warn", invalid="ignore" if failed else "warn"
-        ):
+        with np.errstate(over=mode, invalid=mode):
             return state_part() + load_part()
 
     def state_part() -> NDArray:
