@@ -9,8 +9,9 @@ with the extension copied in, and ``python/`` of this checkout)::
     .venv/bin/python benchmarks/compare.py --old ../baseline/python --new python --repeats 7
 
 The cases are the engine's routes: the uncoupled linear loop (every step saved, and the
-kernel alone), the closed-form and the Newton Duffing step, a 5-mode Newton chain, a gyroscopic rotor on the
-exact first-order background (linear, and with a rub), and Newmark on a 20-dof chain.
+kernel alone), the closed-form and the Newton Duffing step, a 5-mode Newton chain, a
+gyroscopic rotor on the exact first-order background (linear, and with a rub), and Newmark
+on a 20-dof chain.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import shlex
 import subprocess
 import sys
 
@@ -119,7 +121,7 @@ def main() -> None:
         f"{args.repeats} fresh processes per build, the builds alternating. Command:",
         "",
         "```sh",
-        " ".join([".venv/bin/python", "benchmarks/compare.py", *sys.argv[1:]]),
+        shlex.join([".venv/bin/python", "benchmarks/compare.py", *sys.argv[1:]]),
         "```",
         "",
         f"1-min load average before: {os.getloadavg()[0]:.2f}",

@@ -68,7 +68,7 @@ def cycles(graph: dict[tuple[str, ...], set[tuple[str, ...]]]) -> list[list[str]
         stack.append(node)
         for dep in sorted(graph.get(node, ())):
             if state.get(dep) == 1:
-                found.append(["::".join(m) for m in stack[stack.index(dep) :] + [dep]])
+                found.append(["::".join(m) for m in [*stack[stack.index(dep) :], dep]])
             elif not state.get(dep):
                 visit(dep, stack)
         stack.pop()
