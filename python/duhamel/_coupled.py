@@ -18,24 +18,12 @@ for a pair and 1 for a real eigenvalue.
 from __future__ import annotations
 
 import warnings
-from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel.solution import ModalHistory
-from duhamel.system import ModalBasis
-
-__all__ = [
-    "CONDITION_LIMIT",
-    "FirstOrderModes",
-    "back_transform",
-    "first_order_modes",
-    "keep_finite_rows",
-    "output_maps",
-]
+__all__ = ["CONDITION_LIMIT", "FirstOrderModes", "first_order_modes"]
 
 #: Largest eigenvector condition number ``kappa`` for which the first-order modes are used.
 #: Near a defective (Jordan) block the eigenvalues themselves are only accurate to about
@@ -133,85 +121,3 @@ def first_order_modes(
         back=np.ascontiguousarray(back),
         condition=condition,
     )
-
-
-def keep_finite_rows(raw: dict[str, Any], n_out: int) -> None:
-    """Cuts a diverged coupled run's history to its leading rows whose displacements and
-    velocities are finite (accelerations may overflow, as on the other routes): the engine
-    stops when the first-order coordinates overflow, but the outputs mapped from them can
-    overflow a step or two earlier. The error message then names the new last instant."""
-    finite = np.isfinite(raw["out"][:, : 2 * n_out]).all(axis=1)
-    if finite.all():
-        return
-    keep = int(np.argmin(finite))
-    old = float(raw["t"][-1])
-    for key in ("t", "out", "eta", "load_values", "forcing", "pseudo"):
-        if raw.get(key) is not None:
-            raw[key] = raw[key][:keep]
-    new = f"the history up to t = {float(raw['t'][-1])!r} is kept" if keep else "nothing is kept"
-    err = raw["error"]
-    err["message"] = err["message"].replace(f"the history up to t = {old!r} is kept", new)
-
-
-def output_maps(
-    basis: ModalBasis,
-    phi_out: NDArray,
-    specs: list,
-    modes: FirstOrderModes,
-    couplings: dict[str, Any],
-) -> tuple[NDArray, NDArray, NDArray, NDArray]:
-    """The maps from ``[Re eta | Im eta]`` to ``[x | v]`` of the output dofs (``x = Phi q``,
-    ``v = Phi q'``), applied by the engine during the run, and the maps from
-    ``[Re eta | Im eta]`` and from the load values to their accelerations
-    ``a = Phi (p - D q' - S q)``, applied on first access."""
-    m = basis.omega2.size
-    kc, cc = couplings["coupling_k"], couplings["coupling_c"]
-    S = np.diag(basis.omega2) + (0.0 if kc is None else kc)
-    D = np.diag(basis.c) + (0.0 if cc is None else cc)
-    tq, tv = modes.back[:, :m], modes.back[:, m:]
-    out_map = np.ascontiguousarray(np.concatenate([tq @ phi_out.T, tv @ phi_out.T], axis=1))
-    out_loads = np.zeros((len(specs), out_map.shape[1]))
-    acc_map = -(tq @ S.T + tv @ D.T) @ phi_out.T
-    acc_loads = np.zeros((len(specs), phi_out.shape[0]))
-    for i, spec in enumerate(specs):
-        acc_loads[i] = phi_out @ spec[0]
-    return out_map, out_loads, acc_map, acc_loads
-
-
-def back_transform(
-    raw: dict[str, Any],
-    basis: ModalBasis,
-    phi_out: NDArray,
-    patterns: NDArray,
-    modes: FirstOrderModes,
-    couplings: dict[str, Any],
-    acc_maps: tuple[NDArray, NDArray],
-) -> tuple[NDArray, NDArray, Callable[[], NDArray], ModalHistory]:
-    """``x``, ``v`` (the engine mapped them during the run), the accelerations as a function
-    evaluated on first access (load and forcing terms included), and the modal history,
-    whose ``q``, ``v`` are rebuilt from the first-order coordinates on demand."""
-    n_out = phi_out.shape[0]
-    out, eta = raw["out"], raw["eta"]
-    values, forcing, pseudo = raw["load_values"], raw["forcing"], raw.get("pseudo")
-    acc_map, acc_loads = acc_maps
-
-    def acceleration() -> NDArray:
-        a = eta @ acc_map + values @ acc_loads
-        for extra in (forcing, pseudo):
-            if extra is not None:
-                a += extra @ phi_out.T
-        return a
-
-    modal = ModalHistory(
-        q=None,
-        v=None,
-        omega=basis.omega,
-        c=basis.c,
-        load_values=values,
-        patterns=patterns,
-        forcing=forcing,
-        pseudo=pseudo,
-        first_order=(eta, modes.back),
-        coupling=(couplings["coupling_k"], couplings["coupling_c"]),
-    )
-    return out[:, :n_out], out[:, n_out : 2 * n_out], acceleration, modal

@@ -2,7 +2,7 @@
 //! and what to keep.
 
 use crate::error::CoreError;
-use crate::loads::ModalLoad;
+use crate::loads::{check_loads, ModalLoad};
 
 /// Most worker threads a run accepts; more is a mistake (a count of something else), not a
 /// machine.
@@ -99,16 +99,7 @@ impl ModalProblem<'_> {
         if all.clone().any(|x| !x.is_finite()) {
             return bad("x0", "(initial state) and modal damping must be finite");
         }
-        for load in self.loads {
-            if load.pattern.len() != n {
-                return Err(CoreError::LengthMismatch {
-                    name: "load pattern",
-                    got: load.pattern.len(),
-                    expected: n,
-                });
-            }
-            load.time.validate()?;
-        }
+        check_loads(self.loads, n)?;
         Ok(())
     }
 

@@ -3,7 +3,7 @@
 use super::assembly::Matrix;
 use crate::elements::Element;
 use crate::error::CoreError;
-use crate::loads::ModalLoad;
+use crate::loads::{check_loads, ModalLoad};
 use crate::mass::TimeVaryingMass;
 use crate::speed::SpeedLaw;
 
@@ -186,16 +186,7 @@ pub(super) fn validate(p: &DirectProblem) -> Result<(), CoreError> {
             );
         }
     }
-    for load in p.loads {
-        if load.pattern.len() != n {
-            return Err(CoreError::LengthMismatch {
-                name: "load pattern",
-                got: load.pattern.len(),
-                expected: n,
-            });
-        }
-        load.time.validate()?;
-    }
+    check_loads(p.loads, n)?;
     if let Some(mass) = p.mass {
         mass.law.validate(p.t0 + p.dt * p.n_steps as f64)?;
     }

@@ -1,0 +1,480 @@
+//! Scalar functions of time `s(t)` of the loads `pattern * s(t)`: their values, the load
+//! basis of a step, and the jumps inside a step that are integrated exactly.
+
+use crate::error::CoreError;
+use crate::speed::SpeedLaw;
+
+/// A direction in the plane of a rotor's cross-section.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Axis {
+    X,
+    Y,
+}
+
+/// A scalar function of time.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TimeFunction {
+    /// Heaviside step `H(t - t0)` (1 for `t >= t0`). Integrated exactly, also when `t0` falls
+    /// inside a step.
+    Step { t0: f64 },
+    /// `sin(omega t + phase)`.
+    Harmonic { omega: f64, phase: f64 },
+    /// Piecewise-linear interpolation of `(t, v)` samples (`t` strictly increasing, at least
+    /// two); outside `[t[0], t[last]]` the value is 0, or the last value after the end when
+    /// `hold` is set. The jumps at the record's ends are integrated exactly also when they
+    /// fall inside a step (a record whose times miss the step grid, if only by a rounding).
+    Table {
+        t: Vec<f64>,
+        v: Vec<f64>,
+        hold: bool,
+    },
+    /// One component of the force of a rotating eccentric mass, per unit `m e`, with
+    /// `Theta = theta(t) + phase` (`theta` the angle of the speed law):
+    /// x: `omega^2 cos Theta + omega' sin Theta`, y: `omega^2 sin Theta - omega' cos Theta`.
+    ///
+    /// The mass sits at `e (cos Theta, sin Theta)` from the shaft centre; its acceleration
+    /// relative to the centre is `e (-Theta'' sin - Theta'^2 cos, Theta'' cos - Theta'^2 sin)`
+    /// and the shaft carries the reaction, minus `m` times it. Where `omega'` jumps (the end
+    /// of a run-up) the force jumps by `m e omega'`; inside a step that jump and the jumps of
+    /// the first two derivatives are integrated exactly (see [`TimeFunction::jump_in`]).
+    Unbalance {
+        law: SpeedLaw,
+        phase: f64,
+        axis: Axis,
+    },
+}
+
+impl TimeFunction {
+    /// Checks the parameters; `name` is the Python-side parameter for messages.
+    pub fn validate(&self) -> Result<(), CoreError> {
+        let bad = |name: &'static str, problem: &str| {
+            Err(CoreError::InvalidInput {
+                name,
+                problem: problem.to_string(),
+            })
+        };
+        match self {
+            TimeFunction::Step { t0 } if !t0.is_finite() => bad("t0", "must be finite"),
+            TimeFunction::Harmonic { omega, phase }
+                if !(omega.is_finite() && phase.is_finite()) =>
+            {
+                bad("omega", "and `phase` must be finite")
+            }
+            TimeFunction::Unbalance { law, phase, .. } => {
+                law.validate()?;
+                if !phase.is_finite() {
+                    return bad("phase", "must be finite");
+                }
+                Ok(())
+            }
+            TimeFunction::Table { t, v, .. } => {
+                if t.len() != v.len() {
+                    return Err(CoreError::LengthMismatch {
+                        name: "values",
+                        got: v.len(),
+                        expected: t.len(),
+                    });
+                }
+                if t.len() < 2 {
+                    return bad("t", "needs at least two samples");
+                }
+                if t.iter().chain(v.iter()).any(|x| !x.is_finite()) {
+                    return bad("t", "and `values` must be finite");
+                }
+                if t.windows(2).any(|w| w[1] <= w[0]) {
+                    return bad("t", "must be strictly increasing");
+                }
+                Ok(())
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Value at `t`. For a step, the value just after `t` (right-continuous).
+    pub fn eval(&self, t: f64) -> f64 {
+        match self {
+            TimeFunction::Step { t0 } => {
+                if t >= *t0 {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+            TimeFunction::Harmonic { omega, phase } => (omega * t + phase).sin(),
+            TimeFunction::Table { t: ts, v, hold } => table_eval(ts, v, *hold, t),
+            TimeFunction::Unbalance { law, phase, axis } => unbalance(law, *phase, *axis, t, false),
+        }
+    }
+
+    /// Value just before `t` (left limit); differs from [`TimeFunction::eval`] only at a
+    /// jump (a step's `t0`, a table's first or last sample).
+    pub fn eval_before(&self, t: f64) -> f64 {
+        match self {
+            TimeFunction::Step { t0 } => {
+                if t > *t0 {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+            TimeFunction::Harmonic { .. } => self.eval(t),
+            TimeFunction::Unbalance { law, phase, axis } => unbalance(law, *phase, *axis, t, true),
+            TimeFunction::Table { t: ts, v, hold } => {
+                let last = ts.len() - 1;
+                if t <= ts[0] {
+                    0.0
+                } else if t == ts[last] && !hold {
+                    v[last]
+                } else {
+                    table_eval(ts, v, *hold, t)
+                }
+            }
+        }
+    }
+
+    /// The load basis `(p0, Dp, DDp)` over the step `[t, t + dt]` for the parabola through the
+    /// value just after `t`, the value at the middle and the value just before `t + dt`, so a
+    /// jump on a grid point is represented exactly. A step function is held at its value at
+    /// `t`; its jump inside the step, if any, is added exactly by the caller (see
+    /// [`TimeFunction::jump_in`]). For an unbalance load whose speed law breaks inside the
+    /// step, the parabola represents the smooth part only (the jump's polynomial, which the
+    /// caller adds exactly, is taken off the samples after the break).
+    pub fn basis(&self, t: f64, dt: f64) -> [f64; 3] {
+        match self {
+            TimeFunction::Step { .. } => [self.eval(t), 0.0, 0.0],
+            _ => {
+                let p0 = self.eval(t);
+                let mut pm = self.eval(t + 0.5 * dt);
+                let mut p1 = self.eval_before(t + dt);
+                if let Some((tj, j)) = self.break_in(t, dt) {
+                    let poly = |s: f64| {
+                        let d = s - tj;
+                        if d >= 0.0 {
+                            j[0] + d * (j[1] + d * j[2])
+                        } else {
+                            0.0
+                        }
+                    };
+                    pm -= poly(t + 0.5 * dt);
+                    p1 -= poly(t + dt);
+                }
+                [p0, p1 - p0, pm - 0.5 * (p0 + p1)]
+            }
+        }
+    }
+
+    /// The bases of `len` consecutive steps `[t0 + n dt, t0 + (n + 1) dt]` (with the grid
+    /// times `t0 + n dt` computed as `time(n)`), appended to `out` with stride `stride`
+    /// starting at `out[offset]`. A harmonic (or a constant-speed unbalance) is evaluated
+    /// twice per step, not three times: the end of one step is the start of the next.
+    pub fn bases(
+        &self,
+        time: impl Fn(usize) -> f64,
+        dt: f64,
+        len: usize,
+        out: &mut [[f64; 3]],
+        offset: usize,
+        stride: usize,
+    ) {
+        // Smooth functions: the end of one step is the start of the next, evaluated once.
+        let smooth = matches!(
+            self,
+            TimeFunction::Harmonic { .. }
+                | TimeFunction::Unbalance {
+                    law: SpeedLaw::Constant(_),
+                    ..
+                }
+        );
+        match self {
+            _ if smooth => {
+                let mut p0 = self.eval(time(0));
+                for n in 0..len {
+                    let t = time(n);
+                    let pm = self.eval(t + 0.5 * dt);
+                    let p1 = self.eval(time(n + 1));
+                    out[offset + n * stride] = [p0, p1 - p0, pm - 0.5 * (p0 + p1)];
+                    p0 = p1;
+                }
+            }
+            _ => {
+                for n in 0..len {
+                    out[offset + n * stride] = self.basis(time(n), dt);
+                }
+            }
+        }
+    }
+
+    /// [`TimeFunction::bases`] of two functions at once when they are the x and y parts of
+    /// one constant-speed unbalance (same speed and phase): one sine and cosine per sample
+    /// serve both, with values identical to evaluating each. Returns false (writing nothing)
+    /// for any other pair. `self` is written at `out[offset.0 + n * stride]`, `other` at
+    /// `out[offset.1 + n * stride]`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn pair_bases(
+        &self,
+        other: &TimeFunction,
+        time: impl Fn(usize) -> f64,
+        dt: f64,
+        len: usize,
+        out: &mut [[f64; 3]],
+        offset: (usize, usize),
+        stride: usize,
+    ) -> bool {
+        let (
+            TimeFunction::Unbalance {
+                law: law @ SpeedLaw::Constant(w),
+                phase,
+                axis: a,
+            },
+            TimeFunction::Unbalance {
+                law: SpeedLaw::Constant(w2),
+                phase: phase2,
+                axis: b,
+            },
+        ) = (self, other)
+        else {
+            return false;
+        };
+        if w != w2 || phase != phase2 || a == b {
+            return false;
+        }
+        let w2 = w * w;
+        // (x, y) = w^2 (cos, sin) of the angle, exactly as `unbalance` with `omega' = 0`.
+        let eval = |t: f64| {
+            let (s, c) = (law.theta(t) + phase).sin_cos();
+            match a {
+                Axis::X => (w2 * c, w2 * s),
+                Axis::Y => (w2 * s, w2 * c),
+            }
+        };
+        let mut p0 = eval(time(0));
+        for n in 0..len {
+            let pm = eval(time(n) + 0.5 * dt);
+            let p1 = eval(time(n + 1));
+            out[offset.0 + n * stride] = [p0.0, p1.0 - p0.0, pm.0 - 0.5 * (p0.0 + p1.0)];
+            out[offset.1 + n * stride] = [p0.1, p1.1 - p0.1, pm.1 - 0.5 * (p0.1 + p1.1)];
+            p0 = p1;
+        }
+        true
+    }
+
+    /// For a function that breaks strictly inside `(t, t + dt)`, at `tj`: the time from the
+    /// break to the end of the step, `t + dt - tj`, and the coefficients `j` of the part
+    /// `(j0 + j1 (s - tj) + j2 (s - tj)^2) H(s - tj)` that the caller integrates exactly (the
+    /// rest is smooth enough for the parabola: twice continuously differentiable). A step:
+    /// `j = (1, 0, 0)`; an unbalance at the end of a run-up: the jumps of the force and of its
+    /// first two derivatives (the second halved).
+    pub fn jump_in(&self, t: f64, dt: f64) -> Option<(f64, [f64; 3])> {
+        self.break_in(t, dt).map(|(tj, j)| (t + dt - tj, j))
+    }
+
+    /// The time of a break inside `(t, t + dt)` and its jump coefficients (see
+    /// [`TimeFunction::jump_in`]).
+    fn break_in(&self, t: f64, dt: f64) -> Option<(f64, [f64; 3])> {
+        match self {
+            TimeFunction::Step { t0 } if *t0 > t && *t0 < t + dt => Some((*t0, [1.0, 0.0, 0.0])),
+            TimeFunction::Table { t: ts, v, hold } => {
+                // The record's ends: from 0 to its first segment, and from its last segment to
+                // 0 (or, held, to its last value). Interior kinks are left to the parabola. A
+                // record shorter than a step breaks at its start only.
+                let inside = |x: f64| x > t && x < t + dt;
+                let slope = |i: usize| (v[i + 1] - v[i]) / (ts[i + 1] - ts[i]);
+                let last = ts.len() - 1;
+                if inside(ts[0]) {
+                    Some((ts[0], [v[0], slope(0), 0.0]))
+                } else if inside(ts[last]) {
+                    let drop = if *hold { 0.0 } else { -v[last] };
+                    Some((ts[last], [drop, -slope(last - 1), 0.0]))
+                } else {
+                    None
+                }
+            }
+            TimeFunction::Unbalance { law, phase, axis } => {
+                let tj = law.breakpoint_in(t, dt)?;
+                // f_x + i f_y = (w^2 - i w') z, z = exp(i Theta), with w'' = 0 on each side:
+                // f' = (3 w w' + i w^3) z, f'' = (3 w'^2 - w^4 + 6 i w^2 w') z. At the break
+                // w' drops from `a` to 0 (w, Theta continuous).
+                let a = law.domega_side(tj, true) - law.domega_side(tj, false);
+                let w = law.omega(tj);
+                let (s, c) = (law.theta(tj) + phase).sin_cos();
+                // jumps as complex multiples of z: i a, -3 w a, (-1.5 a^2 - 3 i w^2 a)
+                let parts = [
+                    (0.0, a),
+                    (-3.0 * w * a, 0.0),
+                    (-1.5 * a * a, -3.0 * w * w * a),
+                ];
+                let j = parts.map(|(re, im)| match axis {
+                    Axis::X => re * c - im * s,
+                    Axis::Y => re * s + im * c,
+                });
+                Some((tj, j))
+            }
+            _ => None,
+        }
+    }
+}
+
+/// The unbalance force per unit `m e` (see [`TimeFunction::Unbalance`]); `left` takes the
+/// angular acceleration from the left where it jumps.
+fn unbalance(law: &SpeedLaw, phase: f64, axis: Axis, t: f64, left: bool) -> f64 {
+    let w = law.omega(t);
+    let dw = law.domega_side(t, left);
+    let (s, c) = (law.theta(t) + phase).sin_cos();
+    match axis {
+        Axis::X => w * w * c + dw * s,
+        Axis::Y => w * w * s - dw * c,
+    }
+}
+
+/// Right-continuous table value: 0 before the first sample, and after the last one unless
+/// `hold` (the value at the last sample itself is the value just after it: 0 unless `hold`).
+fn table_eval(ts: &[f64], v: &[f64], hold: bool, t: f64) -> f64 {
+    let last = ts.len() - 1;
+    if t < ts[0] {
+        return 0.0;
+    }
+    if t >= ts[last] {
+        return if hold { v[last] } else { 0.0 };
+    }
+    // first index with ts[i] > t
+    let i = ts.partition_point(|&x| x <= t);
+    let (t0, t1) = (ts[i - 1], ts[i]);
+    let w = (t - t0) / (t1 - t0);
+    v[i - 1] + w * (v[i] - v[i - 1])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn table_interpolates_and_ends() {
+        let f = TimeFunction::Table {
+            t: vec![0.0, 1.0, 3.0],
+            v: vec![0.0, 2.0, -2.0],
+            hold: false,
+        };
+        assert_eq!(f.eval(0.5), 1.0);
+        assert_eq!(f.eval(2.0), 0.0);
+        // the record ends at t = 3: -2 just before, 0 from then on
+        assert_eq!(f.eval_before(3.0), -2.0);
+        assert_eq!(f.eval(3.0), 0.0);
+        assert_eq!(f.eval(3.5), 0.0);
+        assert_eq!(f.eval(-1.0), 0.0);
+        // a step [2, 3] sees the line from 0 to -2, a step [3, 4] sees zero
+        assert_eq!(f.basis(2.0, 1.0), [0.0, -2.0, 0.0]);
+        assert_eq!(f.basis(3.0, 1.0), [0.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn step_jump_inside() {
+        let f = TimeFunction::Step { t0: 0.25 };
+        assert_eq!(f.jump_in(0.0, 1.0), Some((0.75, [1.0, 0.0, 0.0])));
+        assert_eq!(f.jump_in(0.25, 1.0), None);
+        assert_eq!(f.basis(0.25, 1.0), [1.0, 0.0, 0.0]);
+        assert_eq!(f.basis(0.0, 1.0), [0.0, 0.0, 0.0]);
+    }
+
+    /// The part an unbalance leaves to the parabola at the end of a run-up is twice
+    /// continuously differentiable: one-sided finite differences of `f - jump polynomial`
+    /// agree across the break, those of `f` jump by the coefficients.
+    #[test]
+    fn unbalance_pair_bases_equal_single_bases() {
+        let law = SpeedLaw::Constant(157.3);
+        let make = |axis| TimeFunction::Unbalance {
+            law,
+            phase: 0.3,
+            axis,
+        };
+        let (x, y) = (make(Axis::X), make(Axis::Y));
+        let time = |n: usize| 0.5 + n as f64 * 1e-3;
+        let (len, stride) = (40, 3);
+        for (a, b) in [(&x, &y), (&y, &x)] {
+            let mut single = vec![[0.0; 3]; len * stride];
+            a.bases(time, 1e-3, len, &mut single, 0, stride);
+            b.bases(time, 1e-3, len, &mut single, 2, stride);
+            let mut pair = vec![[0.0; 3]; len * stride];
+            assert!(a.pair_bases(b, time, 1e-3, len, &mut pair, (0, 2), stride));
+            assert_eq!(single, pair);
+        }
+        // Not a pair: same axis, another phase, a run-up.
+        let mut out = vec![[0.0; 3]; len * stride];
+        assert!(!x.pair_bases(&x, time, 1e-3, len, &mut out, (0, 2), stride));
+        let other = TimeFunction::Unbalance {
+            law,
+            phase: 0.4,
+            axis: Axis::Y,
+        };
+        assert!(!x.pair_bases(&other, time, 1e-3, len, &mut out, (0, 2), stride));
+        let runup = TimeFunction::Unbalance {
+            law: SpeedLaw::LinearRunUp {
+                omega0: 0.0,
+                omega1: 100.0,
+                t1: 1.0,
+            },
+            phase: 0.3,
+            axis: Axis::Y,
+        };
+        assert!(!x.pair_bases(&runup, time, 1e-3, len, &mut out, (0, 2), stride));
+    }
+
+    #[test]
+    fn unbalance_break_coefficients() {
+        let law = SpeedLaw::LinearRunUp {
+            omega0: 3.0,
+            omega1: 8.0,
+            t1: 1.37,
+        };
+        for axis in [Axis::X, Axis::Y] {
+            let f = TimeFunction::Unbalance {
+                law,
+                phase: 0.4,
+                axis,
+            };
+            let (rest, j) = f.jump_in(1.3, 0.1).unwrap();
+            assert!((rest - 0.03).abs() < 1e-14);
+            let h = 1e-4;
+            let right = |k: f64| f.eval(1.37 + k * h);
+            let left = |k: f64| f.eval_before(1.37 - k * h);
+            // one-sided value, first and second derivatives (second order)
+            let d_right = [
+                right(0.0),
+                (-3.0 * right(0.0) + 4.0 * right(1.0) - right(2.0)) / (2.0 * h),
+                (2.0 * right(0.0) - 5.0 * right(1.0) + 4.0 * right(2.0) - right(3.0)) / (h * h),
+            ];
+            let d_left = [
+                left(0.0),
+                (3.0 * left(0.0) - 4.0 * left(1.0) + left(2.0)) / (2.0 * h),
+                (2.0 * left(0.0) - 5.0 * left(1.0) + 4.0 * left(2.0) - left(3.0)) / (h * h),
+            ];
+            let want = [j[0], j[1], 2.0 * j[2]];
+            for k in 0..3 {
+                let got = d_right[k] - d_left[k];
+                assert!(
+                    (got - want[k]).abs() <= 1e-5 * want[k].abs().max(1.0),
+                    "{axis:?} derivative {k}: {got} vs {}",
+                    want[k]
+                );
+            }
+        }
+        // a constant speed never breaks
+        let c = TimeFunction::Unbalance {
+            law: SpeedLaw::Constant(5.0),
+            phase: 0.0,
+            axis: Axis::X,
+        };
+        assert_eq!(c.jump_in(0.0, 10.0), None);
+        assert!((c.eval(0.3) - 25.0 * (1.5f64).cos()).abs() < 1e-13);
+    }
+
+    #[test]
+    fn harmonic_basis_is_parabola() {
+        let f = TimeFunction::Harmonic {
+            omega: 2.0,
+            phase: 0.3,
+        };
+        let b = f.basis(0.1, 0.2);
+        assert!((b[0] - (0.5f64).sin()).abs() < 1e-15);
+        assert!((b[0] + b[1] - (0.9f64).sin()).abs() < 1e-15);
+    }
+}
