@@ -12,7 +12,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from duhamel import _core
 from duhamel._direct import solve_direct
-from duhamel._solve.output import output_maps, physical
+from duhamel._solve.output import check_memory, output_maps, physical
 from duhamel._solve.plan import ModalSpec, Plan, mass, modal_loads, plan
 from duhamel._solve.run import ModalCallable, Progress, raise_failure, watch
 from duhamel._validate import as_float_array, dof_list, finite_float, positive_float, positive_int
@@ -233,6 +233,8 @@ def solve(
     )
     forcing = ModalCallable(fns, system.n_dof) if fns else None
     phi_out = phi[out_dofs, :]
+    # The engine keeps q and v (or the first-order coordinates), loads and pseudo-forces.
+    check_memory(n_steps, save_every, len(out_dofs), 4 * basis.n_modes + len(specs))
     with watch(progress, n_steps) as report:
         loop_start = _time.perf_counter()
         result = _run(route, spec, integrator, phi_out, forcing, report, system)

@@ -149,6 +149,51 @@ pub fn zeroed(len: usize, what: &str) -> Result<Vec<f64>, CoreError> {
     Ok(unsafe { Vec::from_raw_parts(ptr, len, len) })
 }
 
+/// Checks that a run's saved history — `values` numbers in all, over its buffers — fits in
+/// the machine's memory, before any of it is allocated; refuses it otherwise with what it
+/// needs and what to change. (An allocation that passes this and still fails is refused by
+/// [`zeroed`].)
+pub fn reserve(values: usize) -> Result<(), CoreError> {
+    let bytes = values as f64 * 8.0;
+    let available = physical_memory();
+    if bytes > available {
+        let gib = |b: f64| b / (1u64 << 30) as f64;
+        return Err(CoreError::InvalidInput {
+            name: "save_every",
+            problem: format!(
+                "is too small for this run: its saved history needs {:.3} GiB, more than the \
+                 machine's {:.1} GiB of memory; save fewer steps (a larger `save_every` or a \
+                 shorter `t_end`), fewer `dofs` or fewer modes",
+                gib(bytes),
+                gib(available)
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// The machine's physical memory in bytes (unbounded where it cannot be read).
+#[cfg(target_os = "linux")]
+fn physical_memory() -> f64 {
+    // SAFETY: sysconf only reads system configuration; it has no preconditions.
+    let (pages, size) = unsafe {
+        (
+            libc::sysconf(libc::_SC_PHYS_PAGES),
+            libc::sysconf(libc::_SC_PAGESIZE),
+        )
+    };
+    if pages > 0 && size > 0 {
+        pages as f64 * size as f64
+    } else {
+        f64::INFINITY
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn physical_memory() -> f64 {
+    f64::INFINITY
+}
+
 /// `rows * cols` without overflow, or the error of [`zeroed`] for a buffer too large.
 pub fn size(rows: usize, cols: usize, what: &str) -> Result<usize, CoreError> {
     rows.checked_mul(cols)

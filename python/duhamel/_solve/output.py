@@ -7,6 +7,8 @@ first access from the modal equations, ``a = Phi_out (p + pseudo - D q' - S q)``
 
 from __future__ import annotations
 
+import math
+import os
 from collections.abc import Callable
 from types import SimpleNamespace
 from typing import Any
@@ -17,7 +19,33 @@ from numpy.typing import NDArray
 from duhamel._solve.plan import Plan
 from duhamel.solution import ModalHistory
 
-__all__ = ["output_maps", "physical"]
+__all__ = ["check_memory", "output_maps", "physical"]
+
+
+def _physical_memory() -> float:
+    """The machine's physical memory in bytes (unbounded where it cannot be read)."""
+    try:
+        return float(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (AttributeError, OSError, ValueError):  # pragma: no cover - not POSIX
+        return math.inf
+
+
+def check_memory(n_steps: int, save_every: int, n_out: int, history_width: int) -> None:
+    """Refuses a run whose saved history (`history_width` numbers per saved instant, kept by
+    the engine) and physical response (``x``, ``v``, ``a`` of `n_out` dofs) cannot fit in
+    the machine's memory, before anything is computed; the message says what it needs and
+    what to change."""
+    n_saved = n_steps // save_every + 1 + (1 if n_steps % save_every else 0)
+    need = 8.0 * n_saved * (history_width + 3 * n_out)
+    have = _physical_memory()
+    if need > have:
+        gib = 1024.0**3
+        raise ValueError(
+            f"`save_every` is too small for this run: keeping {n_saved:,} instants of "
+            f"{n_out} dofs (x, v, a) and the modal history needs {need / gib:.3g} GiB, more "
+            f"than the machine's {have / gib:.1f} GiB of memory; save fewer steps (a larger "
+            "`save_every` or a shorter `t_end`), fewer `dofs` or fewer modes"
+        )
 
 
 def output_maps(plan: Plan, phi_out: NDArray, n_loads: int) -> Any:

@@ -417,7 +417,9 @@ pub fn integrate(
         }
         None => None,
     };
-    let loads = BlockLoads::new(problem, false, forcing.is_some()).map_err(fail)?;
+    let n_cols = outputs.map_or(0, |o| o.n_cols);
+    let width = 2 * r + n_cols + if corrector.is_some() { m } else { 0 };
+    let loads = BlockLoads::new(problem, false, forcing.is_some(), width).map_err(fail)?;
     let n_saved = loads.n_saved();
     let mut eta = zeroed(
         size(n_saved, 2 * r, "the modal history").map_err(fail)?,
@@ -433,7 +435,6 @@ pub fn integrate(
     } else {
         Vec::new()
     };
-    let n_cols = outputs.map_or(0, |o| o.n_cols);
     let mut out = zeroed(
         size(n_saved, n_cols, "the outputs").map_err(fail)?,
         "the outputs",

@@ -336,7 +336,7 @@ pub fn integrate(
     let n_threads = pool
         .as_ref()
         .map_or_else(rayon::current_num_threads, |p| p.current_num_threads());
-    let loads = BlockLoads::new(problem, true, forcing.is_some()).map_err(fail)?;
+    let loads = BlockLoads::new(problem, true, forcing.is_some(), 2 * n_modes).map_err(fail)?;
     let n_saved = loads.n_saved();
     let cells = size(n_saved, n_modes, "the modal history").map_err(fail)?;
     let mut hq = zeroed(cells, "the modal history (q)").map_err(fail)?;

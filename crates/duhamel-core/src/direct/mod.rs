@@ -28,7 +28,7 @@ pub use problem::{AlphaParams, DirectHistory, DirectProblem, Method, ScaledCoupl
 
 use crate::driver::{Control, Pacer};
 use crate::error::CoreError;
-use crate::history::{size, zeroed, Failure};
+use crate::history::{reserve, size, zeroed, Failure};
 use crate::loads::ModalForcing;
 use crate::problem::SaveGrid;
 use assembly::IterationMatrix;
@@ -82,6 +82,7 @@ pub fn integrate(
     let n = problem.x0.len();
     let n_out = problem.out_dofs.len();
     let grid = SaveGrid::new(problem.n_steps, problem.save_every);
+    reserve(grid.count().saturating_mul(3 * n_out + 1)).map_err(fail)?;
     let cells = size(grid.count(), n_out, "the history").map_err(fail)?;
     let buffer = |what| zeroed(cells, what).map_err(fail);
     let mut rec = Recorder {

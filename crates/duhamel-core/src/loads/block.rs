@@ -2,7 +2,7 @@
 //! of them at the saved instants.
 
 use crate::error::CoreError;
-use crate::history::{size, zeroed};
+use crate::history::{reserve, size, zeroed};
 use crate::kernel::oscillator::Transfer;
 use crate::problem::{ModalProblem, SaveGrid};
 
@@ -60,15 +60,24 @@ impl BlockLoads {
     /// The block loads of `problem`; with `modal_jumps`, in-step jumps are also turned into
     /// the responses of the uncoupled oscillators `problem.k`, `problem.c`. `forcing` says
     /// whether an external forcing will be sampled (its saved values are then kept).
+    /// `row_width` is how many numbers the route saves per saved instant besides these: the
+    /// whole history is checked against the machine's memory here, before anything of it is
+    /// allocated ([`reserve`]).
     pub fn new(
         problem: &ModalProblem,
         modal_jumps: bool,
         forcing: bool,
+        row_width: usize,
     ) -> Result<Self, CoreError> {
         let grid = SaveGrid::new(problem.n_steps, problem.save_every);
         let n_saved = grid.count();
         let n_loads = problem.loads.len();
         let n_modes = problem.n_modes();
+        let per_row = row_width
+            .saturating_add(n_loads)
+            .saturating_add(1)
+            .saturating_add(if forcing { n_modes } else { 0 });
+        reserve(n_saved.saturating_mul(per_row))?;
         let forcing_saved = if forcing {
             Some(zeroed(
                 size(n_saved, n_modes, "the modal forcing")?,

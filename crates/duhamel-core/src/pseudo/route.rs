@@ -275,7 +275,7 @@ pub fn integrate(
     let stepper = Stepper::new(
         &rule, o.scheme, dt, o.tol, o.max_iter, o.solver, &pf, estimate,
     );
-    let loads = BlockLoads::new(base, true, forcing.is_some()).map_err(fail)?;
+    let loads = BlockLoads::new(base, true, forcing.is_some(), 3 * n).map_err(fail)?;
     let cells = size(loads.n_saved(), n, "the modal history").map_err(fail)?;
     let buffer = |what| zeroed(cells, what).map_err(fail);
     let mut route = PseudoRoute {
