@@ -15,6 +15,7 @@ import json
 import subprocess
 import sys
 import textwrap
+import warnings
 
 import numpy as np
 import pytest
@@ -106,3 +107,103 @@ def test_former_crashes_end_with_an_exception_in_a_limited_subprocess():
     assert proc.returncode == 0, proc.stderr[-2000:]
     out = json.loads(proc.stdout.strip().splitlines()[-1])
     assert out == {name: "ValueError" for name in [*ROUTES, "threads"]}, out
+
+
+# --------------------------------------------------------------------------------------------
+# Clear messages instead of leaked OverflowError, IndexError, truncation or silence
+# --------------------------------------------------------------------------------------------
+
+
+def _one() -> duhamel.System:
+    return duhamel.System(np.eye(1), np.eye(1))
+
+
+@pytest.mark.parametrize(
+    ("run", "pattern"),
+    [
+        ({"t_end": 1.0, "dt": 5e-324}, r"`dt` = .* is too small .* inf steps"),
+        ({"t_end": 1e300, "dt": 1.0}, r"`dt` = 1 is too small .* 1e\+300 steps"),
+    ],
+    ids=["tiny dt", "huge t_end"],
+)
+def test_step_counts_beyond_counting_are_refused(run, pattern):
+    with pytest.raises(ValueError, match=pattern):
+        duhamel.solve(_one(), duhamel.Semianalytic(), **run)
+
+
+def test_a_save_stride_beyond_the_run_keeps_its_ends():
+    sol = duhamel.solve(
+        _one(), duhamel.Semianalytic(), t_end=1.0, dt=0.1, save_every=2**64, x0=[1.0]
+    )
+    assert sol.t.tolist() == [0.0, 1.0]
+    with pytest.raises(ValueError, match=r"`save_every` must be at most"):
+        duhamel.solve(_one(), duhamel.Semianalytic(), t_end=1.0, dt=0.1, save_every=2**65)
+
+
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda: duhamel.Semianalytic(max_iter=10**30),
+        lambda: duhamel.Newmark(max_iter=10**30),
+        lambda: duhamel.CubicHermite(max_iter=10**30),
+    ],
+    ids=["Semianalytic", "Newmark", "CubicHermite"],
+)
+def test_absurd_iteration_counts_are_refused(make):
+    with pytest.raises(ValueError, match=r"`max_iter` must be at most 10,000"):
+        make()
+
+
+def test_numpy_scalars_are_numbers():
+    integrator = duhamel.Semianalytic(modes=np.int64(1), tol=np.float32(1e-6))
+    assert integrator.modes == 1
+    newmark = duhamel.Newmark(gamma=np.float64(0.5), max_iter=np.int64(5))
+    for chosen in (integrator, newmark):
+        sol = duhamel.solve(
+            _one(), chosen, t_end=1.0, dt=np.float32(0.5), save_every=np.int64(1), x0=[1.0]
+        )
+        assert sol.t.size == 3 and np.all(np.isfinite(sol.x))
+
+
+@pytest.mark.parametrize(
+    ("jacobian", "got"),
+    [
+        (lambda x, v, t: None, "a NoneType"),
+        (lambda x, v, t: np.eye(1), "a ndarray"),
+        (lambda x, v, t: (np.eye(1), np.eye(1), np.eye(1)), "a tuple of 3 items"),
+    ],
+    ids=["None", "one matrix", "three matrices"],
+)
+def test_a_wrong_jacobian_is_named(jacobian, got):
+    element = E.Callable(lambda x, v, t: x**3, [0], jacobian=jacobian)
+    with pytest.raises(ValueError, match=rf"jacobian returned {got}, expected a pair"):
+        duhamel.solve(_one().add(element), duhamel.Semianalytic(), t_end=1.0, dt=0.1, x0=[1.0])
+
+
+def test_complex_element_values_are_refused_not_truncated():
+    element = E.Callable(lambda x, v, t: x**3 + 1j, [0])
+    with pytest.raises(ValueError, match=r"dtype complex128, expected real numbers"):
+        duhamel.solve(_one().add(element), duhamel.Semianalytic(), t_end=1.0, dt=0.1, x0=[1.0])
+
+
+def test_hold_must_be_a_bool():
+    with pytest.raises(TypeError, match=r"`hold` must be True or False, got 'no'"):
+        duhamel.loads.Tabulated(0, t=[0.0, 1.0], values=[0.0, 1.0], hold="no")
+
+
+def test_a_damping_ratio_above_one_warns():
+    with pytest.warns(duhamel.DampingWarning, match=r"`zeta` = 5 is above 1.*pass 0.05"):
+        duhamel.System(np.eye(1), np.eye(1), zeta=5)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        duhamel.System(np.eye(1), np.eye(1), zeta=0.05)
+        duhamel.System(np.eye(1), np.eye(1), zeta=1.0)
+
+
+@pytest.mark.parametrize("length", [1e300, 1e-300])
+def test_shafts_whose_matrices_overflow_are_refused(length):
+    from duhamel import rotor as R
+
+    steel = R.Material(E=211e9, rho=7810.0, nu=0.3)
+    with pytest.raises(ValueError, match=r"`L` = .* gives non-finite element matrices"):
+        R.Shaft(length, 0.05, material=steel)

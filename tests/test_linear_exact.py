@@ -81,6 +81,7 @@ def total_load(system):
 REGIMES = [-0.05, 0.0, 0.05, 1.0, 2.5]
 
 
+@pytest.mark.filterwarnings("ignore::duhamel.errors.DampingWarning")  # heavy damping is meant
 @pytest.mark.parametrize("zeta", REGIMES)
 @pytest.mark.parametrize("dt", [1.3, 0.65])
 def test_single_dof_exact_in_every_damping_regime(zeta, dt):

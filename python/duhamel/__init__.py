@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 from duhamel import elements, loads, mass, oscillator, speed
 from duhamel._core import __version__
-from duhamel.errors import DuhamelError, SolverError
+from duhamel.errors import DampingWarning, DuhamelError, SolverError
 from duhamel.integrators import (
     HHT,
     CentralDifference,
@@ -43,6 +43,7 @@ __all__ = [
     "HHT",
     "CentralDifference",
     "CubicHermite",
+    "DampingWarning",
     "DirectIntegrator",
     "DuhamelError",
     "GeneralizedAlpha",

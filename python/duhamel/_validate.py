@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 import numbers
 import sys
+import warnings
 from typing import Any
 
 import numpy as np
@@ -31,6 +32,7 @@ __all__ = [
     "positive_float",
     "positive_int",
     "symmetric_lu",
+    "warn_heavy_damping",
 ]
 
 #: Sparse positive-definiteness checks densify up to this size (dense Cholesky).
@@ -141,11 +143,18 @@ def _int_scalar(value: Any, name: str) -> int:
     return int(value)
 
 
-def positive_int(value: Any, name: str) -> int:
-    """Return `value` as a Python int >= 1."""
+#: Largest count (steps, iterations, a stride) the engine takes: what a 64-bit index holds
+#: with room to spare.
+MAX_COUNT = 2**53
+
+
+def positive_int(value: Any, name: str, maximum: int = MAX_COUNT) -> int:
+    """Return `value` (any Python or numpy integer) as a Python int in ``[1, maximum]``."""
     out = _int_scalar(value, name)
     if out < 1:
         raise ValueError(f"`{name}` must be a positive integer, got {out}")
+    if out > maximum:
+        raise ValueError(f"`{name}` must be at most {maximum:,}, got {out:,}")
     return out
 
 
@@ -338,4 +347,20 @@ def check_positive_definite(mat: Any, name: str) -> None:
         raise ValueError(
             f"`{name}` must be positive definite, but it is singular to working precision "
             f"(relative pivot {ratio.min():.3g})"
+        )
+
+
+def warn_heavy_damping(zeta: Any) -> None:
+    """Warns (:class:`duhamel.DampingWarning`) when a damping ratio exceeds 1: often a
+    percentage taken for a fraction (``zeta=5`` meant as 5 %)."""
+    largest = float(np.max(zeta))
+    if largest > 1.0:
+        from duhamel.errors import DampingWarning
+
+        warnings.warn(
+            f"`zeta` = {largest:g} is above 1 ({100 * largest:g} % of critical damping): if you "
+            f"meant {largest:g} %, pass {largest / 100:g}; if heavy damping is meant, silence "
+            "this with warnings.simplefilter('ignore', duhamel.DampingWarning)",
+            DampingWarning,
+            stacklevel=3,
         )

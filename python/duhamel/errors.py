@@ -12,6 +12,12 @@ class DuhamelError(Exception):
     """Base class of the errors duhamel raises besides ``ValueError``/``TypeError``."""
 
 
+class DampingWarning(UserWarning):
+    """A damping ratio above 1 (100 % of critical damping), which is often a percentage
+    taken for a fraction (``zeta=5`` for 5 %). Heavy damping is allowed; silence the warning
+    where it is meant with ``warnings.simplefilter("ignore", duhamel.DampingWarning)``."""
+
+
 class SolverError(DuhamelError, RuntimeError):
     """A simulation stopped before ``t_end``.
 

@@ -214,6 +214,8 @@ class Tabulated(Load):
     hold: bool = False
 
     def __post_init__(self) -> None:
+        if not isinstance(self.hold, bool | np.bool_):
+            raise TypeError(f"`hold` must be True or False, got {self.hold!r}")
         ts, vs = _table(self.t, self.values)
         object.__setattr__(self, "t", ts)
         object.__setattr__(self, "values", vs)

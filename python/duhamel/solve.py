@@ -15,7 +15,14 @@ from duhamel._direct import solve_direct
 from duhamel._solve.output import check_memory, output_maps, physical
 from duhamel._solve.plan import ModalSpec, Plan, mass, modal_loads, plan
 from duhamel._solve.run import ModalCallable, Progress, raise_failure, watch
-from duhamel._validate import as_float_array, dof_list, finite_float, positive_float, positive_int
+from duhamel._validate import (
+    MAX_COUNT,
+    as_float_array,
+    dof_list,
+    finite_float,
+    positive_float,
+    positive_int,
+)
 from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import Callable
 from duhamel.solution import Solution, SolveStats
@@ -31,7 +38,14 @@ def _steps(t_end: Any, dt: float, t0: float) -> int:
         raise ValueError(
             f"`t_end` ({t_end:g}) must be at least one step `dt` ({dt:g}) after `t0` ({t0:g})"
         )
-    return max(1, math.floor(span / dt * (1.0 + 1e-12) + 1e-9))
+    steps = span / dt * (1.0 + 1e-12) + 1e-9
+    if not steps <= MAX_COUNT:
+        raise ValueError(
+            f"`dt` = {dt:g} is too small for `t_end` - `t0` = {span:g}: that is {steps:.3g} "
+            f"steps, more than the {MAX_COUNT:.3g} a run can take; use a larger `dt` or a "
+            "shorter run"
+        )
+    return max(1, math.floor(steps))
 
 
 def _initial(value: ArrayLike | None, name: str, system: System, basis: ModalBasis) -> NDArray:
@@ -191,7 +205,8 @@ def solve(
     dt = positive_float(dt, "dt")
     t0 = finite_float(t0, "t0")
     n_steps = _steps(t_end, dt, t0)
-    save_every = positive_int(save_every, "save_every")
+    # A stride beyond the run keeps its first and last instants, as the run's length does.
+    save_every = min(positive_int(save_every, "save_every", maximum=2**64), n_steps)
     if threads is not None:
         threads = positive_int(threads, "threads")
     out_dofs = np.arange(system.n_dof) if dofs is None else dof_list(dofs, "dofs", system.n_dof)

@@ -18,6 +18,7 @@ from duhamel._validate import (
     issparse,
     mode_count,
     symmetric_lu,
+    warn_heavy_damping,
 )
 from duhamel.elements import Element
 from duhamel.loads import Load
@@ -203,6 +204,7 @@ class System:
                         f"got {z.size}"
                     )
                 self._zeta = _frozen(z)
+            warn_heavy_damping(self._zeta)
             self._damping = "zeta"
         elif rayleigh is not None:
             alpha, beta = as_float_array(rayleigh, "rayleigh", shape=(2,)).tolist()

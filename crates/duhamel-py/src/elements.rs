@@ -8,6 +8,7 @@ use duhamel_core::CoreError;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::types::{PyList, PyTuple};
 
 use crate::arrays::vec_of;
 use crate::error::core_err;
@@ -46,7 +47,11 @@ impl PyElement {
         if let (Some(tan), Some(jac)) = (tangent, &self.jacobian) {
             let pair = jac.call1(py, (xa, va, t))?;
             let pair = pair.bind(py);
-            let (kx, cv) = (pair.get_item(0)?, pair.get_item(1)?);
+            let (kx, cv) = two(pair).map_err(|got| {
+                bad(format!(
+                    "jacobian returned {got}, expected a pair (dr/dx, dr/dv) of ({n}, {n}) matrices"
+                ))
+            })?;
             for (m, dst, name) in [(kx, tan.kx, "dr/dx"), (cv, tan.cv, "dr/dv")] {
                 let vals = matrix(py, &m, n).map_err(|e| bad(format!("jacobian {name}: {e}")))?;
                 for (d, s) in dst.iter_mut().zip(&vals) {
@@ -58,12 +63,49 @@ impl PyElement {
     }
 }
 
+/// The two items of a tuple or list of length two, or a description of what `obj` is.
+fn two<'py>(obj: &Bound<'py, PyAny>) -> Result<(Bound<'py, PyAny>, Bound<'py, PyAny>), String> {
+    let is_pair = (obj.cast::<PyTuple>().is_ok() || obj.cast::<PyList>().is_ok())
+        && obj.len().is_ok_and(|n| n == 2);
+    if !is_pair {
+        let kind = obj.get_type().name().map_or("?".into(), |n| n.to_string());
+        return Err(match obj.len() {
+            Ok(n) if kind == "tuple" || kind == "list" => format!("a {kind} of {n} items"),
+            _ => format!("a {kind}"),
+        });
+    }
+    match (obj.get_item(0), obj.get_item(1)) {
+        (Ok(a), Ok(b)) => Ok((a, b)),
+        _ => Err("a pair that cannot be indexed".into()),
+    }
+}
+
+/// `obj` as a float64 array: real numbers only (a complex value is refused, not truncated).
+fn real_array<'py>(
+    py: Python<'py>,
+    obj: &Bound<'py, PyAny>,
+    how: &str,
+) -> Result<Bound<'py, PyAny>, String> {
+    let np = py.import("numpy").map_err(|e| e.to_string())?;
+    let raw = np
+        .call_method1("asarray", (obj,))
+        .map_err(|e| format!("a non-numeric value ({e})"))?;
+    let kind: String = raw
+        .getattr("dtype")
+        .and_then(|d| d.getattr("kind"))
+        .and_then(|k| k.extract())
+        .map_err(|e| e.to_string())?;
+    if !"iuf".contains(kind.as_str()) {
+        let dtype = raw.getattr("dtype").map_or("?".into(), |d| d.to_string());
+        return Err(format!("values of dtype {dtype}, expected real numbers"));
+    }
+    np.call_method1(how, (raw, "float64"))
+        .map_err(|e| format!("a non-numeric value ({e})"))
+}
+
 /// A finite float vector of length `n`, or a description of what is wrong.
 fn vector(py: Python<'_>, obj: &Bound<'_, PyAny>, n: usize) -> Result<Vec<f64>, String> {
-    let np = py.import("numpy").map_err(|e| e.to_string())?;
-    let arr = np
-        .call_method1("asarray", (obj, "float64"))
-        .map_err(|e| format!("a non-numeric value ({e})"))?;
+    let arr = real_array(py, obj, "asarray")?;
     let arr = arr.cast::<PyArray1<f64>>().map_err(|_| {
         format!(
             "an array of ndim {}, expected shape ({n},)",
@@ -83,10 +125,7 @@ fn vector(py: Python<'_>, obj: &Bound<'_, PyAny>, n: usize) -> Result<Vec<f64>, 
 
 /// A finite float `n x n` matrix, row-major.
 fn matrix(py: Python<'_>, obj: &Bound<'_, PyAny>, n: usize) -> Result<Vec<f64>, String> {
-    let np = py.import("numpy").map_err(|e| e.to_string())?;
-    let arr = np
-        .call_method1("ascontiguousarray", (obj, "float64"))
-        .map_err(|e| format!("a non-numeric value ({e})"))?;
+    let arr = real_array(py, obj, "ascontiguousarray")?;
     let arr = arr
         .cast::<PyArray2<f64>>()
         .map_err(|_| format!("not a matrix, expected shape ({n}, {n})"))?;

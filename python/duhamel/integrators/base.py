@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
-import math
+import numbers
 from typing import Any
 
-__all__ = ["DirectIntegrator", "Integrator", "newton_options", "real"]
+import numpy as np
+
+from duhamel._validate import finite_float, positive_int
+
+__all__ = ["MAX_ITER", "DirectIntegrator", "Integrator", "newton_options", "real"]
 
 
 class Integrator:
@@ -24,13 +28,14 @@ class Integrator:
     max_iter: int
 
 
+#: Most Newton iterations per step an integrator accepts.
+MAX_ITER = 10_000
+
+
 def real(value: object, name: str, lo: float | None = None, hi: float | None = None) -> float:
-    """`value` as a finite float in ``[lo, hi]``; errors name the parameter."""
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise TypeError(f"`{name}` must be a real number, got {type(value).__name__}")
-    out = float(value)
-    if not math.isfinite(out):
-        raise ValueError(f"`{name}` must be finite, got {out!r}")
+    """`value` (any Python or numpy real) as a finite float in ``[lo, hi]``; errors name
+    the parameter."""
+    out = finite_float(value, name)
     if (lo is not None and out < lo) or (hi is not None and out > hi):
         lo_s = "-inf" if lo is None else f"{lo:g}"
         hi_s = "inf" if hi is None else f"{hi:g}"
@@ -39,11 +44,13 @@ def real(value: object, name: str, lo: float | None = None, hi: float | None = N
 
 
 def newton_options(tol: object, max_iter: object) -> None:
-    """Checks Newton's `tol` (in (0, 1)) and `max_iter` (a positive integer)."""
-    if isinstance(tol, bool) or not isinstance(tol, int | float) or not (0 < tol < 1):
+    """Checks Newton's `tol` (a number in (0, 1)) and `max_iter` (a positive integer, at
+    most :data:`MAX_ITER`); numpy scalars are accepted."""
+    if not 0.0 < finite_float(tol, "tol") < 1.0:
         raise ValueError(f"`tol` must be a number in (0, 1), got {tol!r}")
-    if isinstance(max_iter, bool) or not isinstance(max_iter, int) or max_iter < 1:
+    if isinstance(max_iter, bool | np.bool_) or not isinstance(max_iter, numbers.Integral):
         raise ValueError(f"`max_iter` must be a positive integer, got {max_iter!r}")
+    positive_int(max_iter, "max_iter", MAX_ITER)
 
 
 class DirectIntegrator(Integrator):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from duhamel._validate import positive_int
 from duhamel.integrators.base import Integrator, newton_options
 
 __all__ = ["Semianalytic"]
@@ -89,9 +90,8 @@ mass_treatment='eliminate', solver='auto', coupling='auto')
     coupling: str = "auto"
 
     def __post_init__(self) -> None:
-        m = self.modes
-        if m is not None and (isinstance(m, bool) or not isinstance(m, int) or m < 1):
-            raise ValueError(f"`modes` must be a positive integer or None, got {m!r}")
+        if self.modes is not None:
+            object.__setattr__(self, "modes", positive_int(self.modes, "modes"))
         for name, allowed in _CHOICES.items():
             value = getattr(self, name)
             if value not in allowed:

@@ -193,6 +193,19 @@ class Shaft:
         for name in ("shear_deformation", "rotary_inertia"):
             if not isinstance(getattr(self, name), bool | np.bool_):
                 raise TypeError(f"`{name}` must be a bool, got {getattr(self, name)!r}")
+        # A geometry whose matrices over- or underflow (L = 1e300 m, 1e-300 m) is refused
+        # here, with its parameters named, not later as an OverflowError in the assembly.
+        try:
+            with np.errstate(over="raise", divide="raise", invalid="raise"):
+                finite = all(np.all(np.isfinite(m)) for m in self._element)
+        except (ArithmeticError, FloatingPointError):
+            finite = False
+        if not finite:
+            raise ValueError(
+                f"`L` = {self.L:g} m with `outer_diameter` = {do:g} m gives non-finite element "
+                "matrices (the stiffness scales as 1/L^3, the mass as L): use a length and a "
+                "diameter of a physical shaft, in metres"
+            )
 
     # ------------------------------------------------------------------ section properties
     @property
