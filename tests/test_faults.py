@@ -207,3 +207,32 @@ def test_shafts_whose_matrices_overflow_are_refused(length):
     steel = R.Material(E=211e9, rho=7810.0, nu=0.3)
     with pytest.raises(ValueError, match=r"`L` = .* gives non-finite element matrices"):
         R.Shaft(length, 0.05, material=steel)
+
+
+# --------------------------------------------------------------------------------------------
+# Wrong physics refused: indefinite stiffness behind an ill-conditioned mass, vanishing mass
+# --------------------------------------------------------------------------------------------
+
+
+def test_indefinite_stiffness_is_refused_whatever_the_mass_conditioning():
+    # Its generalised eigenvalue -3 used to be clamped to a rigid-body mode (the negativity
+    # test was relative to the largest eigenvalue, 1e10 here): x = 0.001 where the response
+    # grows.
+    system = duhamel.System(np.diag([1.0, 1e-10]), [[1.0, 2.0], [2.0, 1.0]])
+    with pytest.raises(ValueError, match=r"`K` must be positive semidefinite.*-1 < 0"):
+        duhamel.solve(system, duhamel.Semianalytic(), t_end=1.0, dt=0.1, x0=[1.0, 0.0])
+    # A true rigid-body mode behind the same mass stays one.
+    free = duhamel.System(np.diag([1.0, 1e-10]), [[1.0, -1.0], [-1.0, 1.0]])
+    assert free.modal().omega2[0] == 0.0
+
+
+def test_mass_laws_must_stay_above_their_floor():
+    with pytest.raises(ValueError, match=r"`mu` must stay above 1e-08 of its largest value"):
+        duhamel.mass.Tabulated(t=[0.0, 1.0], mu=[1.0, 1e-300])
+    decaying = duhamel.System(np.eye(1), np.eye(1))
+    decaying.set_mass_law(duhamel.mass.Exponential(rate=-1.0))
+    with pytest.raises(ValueError, match=r"`mass law` falls to .* of its largest value"):
+        duhamel.solve(decaying, duhamel.Semianalytic(), t_end=100.0, dt=0.1, x0=[1.0])
+    # Over a span it can take, the same law runs.
+    sol = duhamel.solve(decaying, duhamel.Semianalytic(), t_end=10.0, dt=0.1, x0=[1.0])
+    assert np.all(np.isfinite(sol.x))

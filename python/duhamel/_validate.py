@@ -22,6 +22,7 @@ __all__ = [
     "as_square_matrix",
     "check_nonneg_diagonal",
     "check_positive_definite",
+    "check_semidefinite",
     "check_symmetric",
     "dof_index",
     "dof_list",
@@ -364,3 +365,21 @@ def warn_heavy_damping(zeta: Any) -> None:
             DampingWarning,
             stacklevel=3,
         )
+
+
+def check_semidefinite(K: NDArray[np.float64], rtol: float) -> None:
+    """Raises ValueError unless `K` is positive semidefinite to within `rtol` times its own
+    largest entry: a Cholesky factorisation of ``K + rtol max|K| I`` (a test of K alone, so
+    an ill-conditioned mass matrix cannot hide a negative eigenvalue)."""
+    size = float(np.max(np.abs(K))) if K.size else 0.0
+    if size == 0.0:
+        return  # no stiffness at all: every mode is a rigid-body mode
+    try:
+        np.linalg.cholesky(K + rtol * size * np.eye(K.shape[0]))
+    except np.linalg.LinAlgError:
+        low = float(np.linalg.eigvalsh(K)[0])
+        raise ValueError(
+            f"`K` must be positive semidefinite, but it has the eigenvalue {low:.6g} < 0 "
+            "(the modal analysis would take it for a rigid-body mode): check the stiffness "
+            "matrix's signs and assembly"
+        ) from None

@@ -15,7 +15,12 @@ from numpy.typing import ArrayLike, NDArray
 
 from duhamel._validate import as_float_array, finite_float
 
-__all__ = ["Exponential", "Harmonic", "MassLaw", "Tabulated"]
+__all__ = ["MU_FLOOR", "Exponential", "Harmonic", "MassLaw", "Tabulated"]
+
+
+#: The smallest value a mass law may take relative to its largest over a run: below it the
+#: equation of motion divided by the mass overflows.
+MU_FLOOR = 1e-8
 
 
 class MassLaw:
@@ -85,7 +90,8 @@ class Harmonic(MassLaw):
 
 @dataclass(frozen=True, eq=False)
 class Tabulated(MassLaw):
-    """``mu`` linear between samples ``(t, mu)``, held constant outside them; must stay > 0.
+    """``mu`` linear between samples ``(t, mu)``, held constant outside them; must stay above
+    :data:`MU_FLOOR` times its largest value (every mass law must, over a run).
 
     Examples
     --------
@@ -110,6 +116,13 @@ class Tabulated(MassLaw):
         if np.any(mu <= 0):
             i = int(np.argmax(mu <= 0))
             raise ValueError(f"`mu` must stay positive; mu[{i}] = {mu[i]} at t = {ts[i]}")
+        if mu.min() < MU_FLOOR * mu.max():
+            i = int(np.argmin(mu))
+            raise ValueError(
+                f"`mu` must stay above {MU_FLOOR:g} of its largest value ({mu.max():g}); "
+                f"mu[{i}] = {mu[i]:g} at t = {ts[i]:g} would make the divided equation of "
+                "motion overflow"
+            )
         object.__setattr__(self, "t", ts)
         object.__setattr__(self, "mu", mu)
 

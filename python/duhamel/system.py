@@ -13,6 +13,7 @@ from duhamel._validate import (
     as_square_matrix,
     check_nonneg_diagonal,
     check_positive_definite,
+    check_semidefinite,
     check_symmetric,
     finite_float,
     issparse,
@@ -30,7 +31,6 @@ if TYPE_CHECKING:
 __all__ = ["ModalBasis", "System"]
 
 DampingKind = Literal["none", "zeta", "rayleigh", "matrix"]
-
 #: Eigenvalues below ``-NEG_EIG_RTOL * scale`` mean K is not positive semidefinite.
 NEG_EIG_RTOL = 1e-9
 #: Eigenvalues with ``omega2 <= ZERO_EIG_RTOL * scale`` are rigid-body modes, set to exactly 0.
@@ -432,6 +432,10 @@ class System:
                 f"`K` must be positive semidefinite, but the modal analysis found "
                 f"omega^2 = {lam[0]:.6g} < 0 (tolerance {NEG_EIG_RTOL:g} * {scale:.6g})"
             )
+        if lam[0] <= ZERO_EIG_RTOL * scale and not self.is_sparse:
+            # A zero eigenvalue is a rigid-body mode only if K is semidefinite; an
+            # ill-conditioned M inflates `scale` and can hide a negative one (Sylvester).
+            check_semidefinite(_dense(self._K), NEG_EIG_RTOL)
         lam = np.where(lam <= ZERO_EIG_RTOL * scale, 0.0, lam)
         if self._damping == "matrix":
             lam, phi, c = self._classical_damping(lam, phi, scale)

@@ -45,6 +45,9 @@ pub struct TimeVaryingMass {
     pub treatment: MassTreatment,
 }
 
+/// The smallest value a mass law may take relative to its largest over a run.
+pub const MU_FLOOR: f64 = 1e-8;
+
 impl MassLaw {
     /// Checks the parameters (a law must stay positive on `[0, t_end]`).
     pub fn validate(&self, t_end: f64) -> Result<(), CoreError> {
@@ -108,6 +111,17 @@ impl MassLaw {
             return bad(
                 "mass law",
                 format!("overflows (reaches {most}) before t_end = {t_end}"),
+            );
+        }
+        if worst < MU_FLOOR * most {
+            return bad(
+                "mass law",
+                format!(
+                    "falls to {:.3e} of its largest value before t_end = {t_end} (from {most:e} \
+                     to {worst:e}); a mass law must stay above {MU_FLOOR:e} of its maximum, or \
+                     the divided equation of motion overflows",
+                    worst / most
+                ),
             );
         }
         Ok(())
