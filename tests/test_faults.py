@@ -236,3 +236,20 @@ def test_mass_laws_must_stay_above_their_floor():
     # Over a span it can take, the same law runs.
     sol = duhamel.solve(decaying, duhamel.Semianalytic(), t_end=10.0, dt=0.1, x0=[1.0])
     assert np.all(np.isfinite(sol.x))
+
+
+@pytest.mark.parametrize(
+    "args",
+    [(1.0, -1000.0, 10.0), (1e200, 0.05, 1.0), (1.0, 0.1, 1e300), (1.0, 1e300, 1.0)],
+    ids=["growth overflows", "huge omega", "huge dt", "huge zeta"],
+)
+def test_step_matrices_never_come_back_non_finite(args):
+    # These returned inf or NaN without a word. The first truly overflows; the other three
+    # have finite true values that the kernel cannot evaluate yet: refused, not NaN.
+    from duhamel.oscillator import transfer_matrices
+
+    with pytest.raises(ValueError, match=r"cannot be evaluated in double precision"):
+        transfer_matrices(*args)
+    # Ordinary values are untouched.
+    a, b = transfer_matrices(2.0, 0.05, 0.1)
+    assert np.all(np.isfinite(a)) and np.all(np.isfinite(b))

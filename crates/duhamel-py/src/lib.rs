@@ -64,10 +64,11 @@ fn transfer_batch<'py>(
         return Err(PyValueError::new_err(format!("`{n2}` must be finite")));
     }
     let width = if moments { 4 } else { 3 };
-    let (a, b) = py.detach(|| {
+    let (a, b, bad) = py.detach(|| {
         let mut a = Vec::with_capacity(4 * x.len());
-        let mut b = Vec::with_capacity(2 * width * x.len());
-        for (&u, &w) in x.iter().zip(&y) {
+        let mut b: Vec<f64> = Vec::with_capacity(2 * width * x.len());
+        let mut bad = None;
+        for (i, (&u, &w)) in x.iter().zip(&y).enumerate() {
             let tr = make(u, w, dt);
             a.extend(tr.a.iter().flatten());
             if moments {
@@ -75,9 +76,22 @@ fn transfer_batch<'py>(
             } else {
                 b.extend(tr.b().iter().flatten());
             }
+            let finite = tr.is_finite() && b[b.len() - 2 * width..].iter().all(|v| v.is_finite());
+            if bad.is_none() && !finite {
+                bad = Some(i);
+            }
         }
-        (a, b)
+        (a, b, bad)
     });
+    // Never NaN or inf without an error: say which entry could not be represented.
+    if let Some(i) = bad {
+        return Err(PyValueError::new_err(format!(
+            "the exact step matrices of `{n1}` = {:e}, `{n2}` = {:e}, `dt` = {dt:e} (entry {i}) \
+             cannot be evaluated in double precision: they overflow, or an intermediate does \
+             (extreme `{n1}` dt, damping or `dt`); use values of a physical oscillator and step",
+            x[i], y[i]
+        )));
+    }
     let n = x.len();
     let a = PyArray1::from_vec(py, a).reshape([n, 2, 2])?;
     let b = PyArray1::from_vec(py, b).reshape([n, 2, width])?;

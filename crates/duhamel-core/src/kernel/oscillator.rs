@@ -78,6 +78,13 @@ pub struct Transfer {
 }
 
 impl Transfer {
+    /// Whether every entry is finite (the evaluation can overflow for extreme `k dt^2` or
+    /// `c dt`, e.g. a strongly negative damping whose growth over the step overflows).
+    pub fn is_finite(&self) -> bool {
+        let a = self.a.iter().flatten();
+        a.chain(self.m.iter().flatten()).all(|x| x.is_finite())
+    }
+
     /// Exact matrices of `x'' + c x' + k x = p(t)` over a step `dt`.
     ///
     /// `k >= 0` is the modal stiffness `omega^2`, `c` the modal damping `2 zeta omega` (any
