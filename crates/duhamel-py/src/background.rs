@@ -2,15 +2,14 @@
 
 use duhamel_core::background::first_order::{self, FirstOrderModes};
 use duhamel_core::background::uncoupled;
-use duhamel_core::loads::ModalForcing;
 use duhamel_core::output::Outputs;
 use duhamel_core::pseudo::first_order::Nonlinear;
 use pyo3::prelude::*;
 
 use crate::arrays::{attr, flat_of};
-use crate::driver::PyControl;
+use crate::driver::run;
 use crate::elements;
-use crate::history::{finish, Causes, RunResult};
+use crate::history::RunResult;
 use crate::loads::PyForcing;
 use crate::problem::ModalInput;
 
@@ -28,17 +27,10 @@ pub(crate) fn solve_uncoupled(
 ) -> PyResult<RunResult> {
     let input = ModalInput::extract(problem)?;
     let p = input.problem();
-    let mut forcing = PyForcing::modal(forcing, &problem.getattr("phi")?, p.n_modes())?;
-    let mut control = PyControl::new(progress);
-    let result = py.detach(|| {
-        let f = forcing.as_mut().map(|f| f as &mut dyn ModalForcing);
-        uncoupled::integrate(&p, f, &mut control).map(|h| (h, ()))
-    });
-    let causes = Causes {
-        callback: forcing.and_then(|f| f.error),
-        control: control.error,
-    };
-    finish(py, result, causes)
+    let forcing = PyForcing::modal(forcing, &problem.getattr("phi")?, p.n_modes())?;
+    run(py, forcing, None, progress, |f, control| {
+        uncoupled::integrate(&p, f, control).map(|h| (h, ()))
+    })
 }
 
 /// Owned first-order modes: `lambda_re`, `lambda_im`, `gain_re`, `gain_im` (`r x m`),
@@ -136,22 +128,15 @@ pub(crate) fn solve_first_order(
             tol: *tol,
             max_iter: *max_iter,
         });
-    let mut forcing = PyForcing::modal(forcing, &problem.getattr("phi")?, p.n_modes())?;
-    let mut control = PyControl::new(progress);
-    let result = py.detach(|| {
-        let f = forcing.as_mut().map(|f| f as &mut dyn ModalForcing);
+    let forcing = PyForcing::modal(forcing, &problem.getattr("phi")?, p.n_modes())?;
+    run(py, forcing, Some(&built), progress, |f, control| {
         first_order::integrate(
             &p,
             &modes.modes(),
             outputs.as_ref(),
             nonlinear.as_ref(),
             f,
-            &mut control,
+            control,
         )
-    });
-    let causes = Causes {
-        callback: forcing.and_then(|f| f.error).or_else(|| built.take_error()),
-        control: control.error,
-    };
-    finish(py, result, causes)
+    })
 }

@@ -5,17 +5,16 @@ use duhamel_core::direct::{
     self, AlphaParams, DirectProblem, Method as CoreMethod, ScaledCoupling,
 };
 use duhamel_core::elements::Tangent;
-use duhamel_core::loads::ModalForcing;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
 use crate::arrays::{attr, index_vec, vec_of};
-use crate::driver::PyControl;
+use crate::driver::run;
 use crate::elements;
 use crate::error::core_err;
-use crate::history::{finish, Causes, RunResult};
+use crate::history::RunResult;
 use crate::loads::{loads_of, PyForcing};
 use crate::mass::mass_of;
 use crate::speed::speed_of;
@@ -175,17 +174,10 @@ pub(crate) fn solve_direct(
         tol: attr(problem, "tol")?,
         max_iter: attr(problem, "max_iter")?,
     };
-    let mut forcing = PyForcing::physical(forcing, x0.len());
-    let mut control = PyControl::new(progress);
-    let result = py.detach(|| {
-        let f = forcing.as_mut().map(|f| f as &mut dyn ModalForcing);
-        direct::integrate(&p, f, &mut control)
-    });
-    let causes = Causes {
-        callback: forcing.and_then(|f| f.error).or_else(|| built.take_error()),
-        control: control.error,
-    };
-    finish(py, result, causes)
+    let forcing = PyForcing::physical(forcing, x0.len());
+    run(py, forcing, Some(&built), progress, |f, control| {
+        direct::integrate(&p, f, control)
+    })
 }
 
 /// The elements' stiffness `dr/dx` at the state `(x, v)` and time `t`, as COO triplets

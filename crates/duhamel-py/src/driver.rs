@@ -1,7 +1,12 @@
 //! The caller's side of a run: Ctrl-C and progress between blocks.
 
-use duhamel_core::Control;
+use duhamel_core::loads::ModalForcing;
+use duhamel_core::{Control, Failure};
 use pyo3::prelude::*;
+
+use crate::elements::Built;
+use crate::history::{finish, Causes, IntoResult, IntoStats, RunResult};
+use crate::loads::PyForcing;
 
 /// Checks for pending signals (Ctrl-C) between blocks, with the GIL taken briefly, and calls
 /// a Python progress function `(step, n_steps, t)` if there is one.
@@ -47,4 +52,36 @@ impl Control for PyControl {
             }
         });
     }
+}
+
+/// Runs `integrate` with the GIL released, the Python load function `forcing` and a
+/// [`PyControl`] for `progress`; the result of the run, with the Python exception behind a
+/// failure (the load function's, a Python element's of `built`, or the control's).
+pub(crate) fn run<H, S>(
+    py: Python<'_>,
+    mut forcing: Option<PyForcing>,
+    built: Option<&Built>,
+    progress: &Bound<'_, PyAny>,
+    integrate: impl for<'f> FnOnce(
+            Option<&'f mut dyn ModalForcing>,
+            &'f mut PyControl,
+        ) -> Result<(H, S), Box<Failure<H>>>
+        + Send,
+) -> PyResult<RunResult>
+where
+    H: IntoResult + Send,
+    S: IntoStats + Send,
+{
+    let mut control = PyControl::new(progress);
+    let result = py.detach(|| {
+        let f = forcing.as_mut().map(|f| f as &mut dyn ModalForcing);
+        integrate(f, &mut control)
+    });
+    let causes = Causes {
+        callback: forcing
+            .and_then(|f| f.error)
+            .or_else(|| built.and_then(Built::take_error)),
+        control: control.error,
+    };
+    finish(py, result, causes)
 }

@@ -1,6 +1,5 @@
 //! Binding of the pseudo-force route (the uncoupled background with the corrector).
 
-use duhamel_core::loads::ModalForcing;
 use duhamel_core::pseudo::{
     self, NonlinearProblem, Options, Quadrature, ScaledCoupling, Scheme, Solver,
 };
@@ -8,9 +7,9 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use crate::arrays::{attr, flat_of, optional_flat};
-use crate::driver::PyControl;
+use crate::driver::run;
 use crate::elements;
-use crate::history::{finish, Causes, RunResult};
+use crate::history::RunResult;
 use crate::loads::PyForcing;
 use crate::mass::mass_of;
 use crate::problem::ModalInput;
@@ -121,16 +120,8 @@ pub(crate) fn solve_pseudo(
         mass: mass.as_ref(),
         options,
     };
-    let mut forcing =
-        PyForcing::modal(forcing, &problem.getattr("phi")?, problem_nl.base.n_modes())?;
-    let mut control = PyControl::new(progress);
-    let result = py.detach(|| {
-        let f = forcing.as_mut().map(|f| f as &mut dyn ModalForcing);
-        pseudo::integrate(&problem_nl, f, &mut control)
-    });
-    let causes = Causes {
-        callback: forcing.and_then(|f| f.error).or_else(|| built.take_error()),
-        control: control.error,
-    };
-    finish(py, result, causes)
+    let forcing = PyForcing::modal(forcing, &problem.getattr("phi")?, problem_nl.base.n_modes())?;
+    run(py, forcing, Some(&built), progress, |f, control| {
+        pseudo::integrate(&problem_nl, f, control)
+    })
 }
