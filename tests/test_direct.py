@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from _callbacks import callback_failure
 from scipy.integrate import solve_ivp
 
 import duhamel
@@ -542,14 +543,15 @@ def test_callable_load_exception_propagates_with_time():
         return np.zeros(2)
 
     sys = duhamel.System(np.eye(2), np.eye(2)).add_load(L.Callable(bad))
-    with pytest.raises(RuntimeError, match="sensor failed") as info:
+    with callback_failure(RuntimeError, "sensor failed") as info:
         duhamel.solve(sys, duhamel.Newmark(), t_end=1.0, dt=0.1)
-    assert any("t = 0.4" in note for note in info.value.__notes__)
+    assert info.value.time == pytest.approx(0.4) and "t = 0.4" in str(info.value)
+    assert info.value.partial.t[-1] == pytest.approx(0.3)
 
 
 def test_callable_load_wrong_shape():
     sys = duhamel.System(np.eye(2), np.eye(2)).add_load(L.Callable(lambda t: np.zeros(3)))
-    with pytest.raises(ValueError, match=r"shape \(3,\) at t = 0.0, expected \(2,\)"):
+    with callback_failure(ValueError, r"shape \(3,\) at t = 0.0, expected \(2,\)"):
         duhamel.solve(sys, duhamel.CubicHermite(), t_end=1.0, dt=0.1)
 
 
@@ -559,7 +561,7 @@ def test_callable_element_exception_propagates():
 
     sys = duhamel.System(np.eye(1), np.eye(1)).add(E.Callable(bad, [0]))
     for integ in (duhamel.HHT(-0.1), duhamel.CentralDifference()):
-        with pytest.raises(ZeroDivisionError, match="element broke"):
+        with callback_failure(ZeroDivisionError, "element broke"):
             duhamel.solve(sys, integ, t_end=1.0, dt=0.1, x0=[1.0])
 
 

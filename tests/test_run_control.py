@@ -18,6 +18,7 @@ import textwrap
 
 import numpy as np
 import pytest
+from _callbacks import callback_failure
 
 import duhamel
 from duhamel import elements as E
@@ -138,10 +139,9 @@ def test_callback_exception_names_its_step(route, source):
         system.add_load(L.Callable(broken))
     else:
         system.add(E.Callable(broken, [0]))
-    with pytest.raises(ZeroDivisionError, match="sensor failed") as info:
+    with callback_failure(ZeroDivisionError, "sensor failed") as info:
         duhamel.solve(system, integrator, t0=T0, t_end=T0 + 1.0, dt=DT, x0=[1e-3, 0, 0])
-    notes = info.value.__notes__
-    assert any("(step 40)" in note for note in notes), notes
+    assert info.value.step == 40 and "(step 40)" in str(info.value)
     part = info.value.partial
     assert part.t[-1] == pytest.approx(T0 + 39 * DT, rel=1e-12)
     assert part.stats.steps == 39

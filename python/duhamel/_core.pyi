@@ -103,7 +103,7 @@ class RunError:
     residual: float | None
     iterations: int | None
     cause: BaseException | None
-    def kept_until(self, last_good_time: float) -> RunError: ...
+    def kept_until(self, last_good_time: float | None) -> RunError: ...
 
 class RunResult:
     """A run's history, time-major; what a route does not produce is None."""

@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 
 from duhamel import _core
 from duhamel._solve.plan import mass
-from duhamel._solve.run import raise_failure
+from duhamel._solve.run import callback_error, raise_failure
 from duhamel._specs import LoadSpec, ScaledSpec, speed_law, time_function
 from duhamel._specs import elements as core_elements
 from duhamel._validate import issparse
@@ -133,7 +133,12 @@ def _to_scipy(m: Any, n: int) -> Any:
 
 
 def highest_frequency(
-    system: System, mats: dict[str, Any], elements: list, x0: NDArray, v0: NDArray, t_end: float
+    system: System,
+    mats: dict[str, Any],
+    elements: list,
+    x0: NDArray,
+    v0: NDArray,
+    t_span: tuple[float, float],
 ) -> float:
     """``omega_max``: the square root of the largest eigenvalue magnitude of ``(K_t, M)``.
 
@@ -147,20 +152,33 @@ def highest_frequency(
     import scipy.sparse.linalg as spla
 
     n = system.n_dof
+    t0, t_end = t_span
     k = _to_scipy(mats["k"], n)
     rest = _to_scipy(mats["k_fixed"], n)
     for element in system.elements:
         if isinstance(element, LinearCoupling) and element.constant_factor() is None:
             if element.K is not None:
                 # the speed laws are monotonic: the extremes are at the ends of the run
-                worst = float(np.max(np.abs(element.scale.omega(np.array([0.0, t_end])))))
+                worst = float(np.max(np.abs(element.scale.omega(np.array([t0, t_end])))))
                 rest = rest + worst * sp.csr_array(element.K)
     if elements:
-        rows, cols, vals = _core.element_stiffness(elements, x0, v0, 0.0)
+        try:
+            rows, cols, vals = _core.element_stiffness(elements, x0, v0, t0)
+        except Exception as exc:  # a Python element function failed on the initial state
+            empty = Solution(
+                t=np.empty(0),
+                x=np.empty((0, 0)),
+                v=np.empty((0, 0)),
+                a=np.empty((0, 0)),
+                dofs=np.empty(0, dtype=np.int64),
+                modal=None,
+                stats=SolveStats(steps=0, wall_time=0.0, total_time=0.0, modes=0),
+            )
+            raise callback_error(f"{type(exc).__name__}: {exc}", t0, 0, empty) from exc
         rest = rest + sp.csr_array((vals, (rows, cols)), shape=(n, n))
     law = system.mass_law
     if law is not None:
-        mu = float(np.min(law.law(np.linspace(0.0, t_end, 4097))))
+        mu = float(np.min(law.law(np.linspace(t0, t_end, 4097))))
         k = k if law.scale_stiffness else k / mu
         rest = rest / mu
     kt = (k + rest).tocsr()
@@ -186,9 +204,9 @@ def _check_central(
     x0: NDArray,
     v0: NDArray,
     dt: float,
-    t_end: float,
+    t_span: tuple[float, float],
 ) -> None:
-    omega = highest_frequency(system, mats, elements, x0, v0, t_end)
+    omega = highest_frequency(system, mats, elements, x0, v0, t_span)
     if omega == 0.0:
         return
     limit = 2.0 / omega
@@ -222,7 +240,7 @@ def solve_direct(
     mats = physical_matrices(system)
     elements = core_elements(system.elements)
     if isinstance(integrator, CentralDifference) and not integrator.allow_unstable:
-        _check_central(system, mats, elements, x0, v0, dt, t0 + n_steps * dt)
+        _check_central(system, mats, elements, x0, v0, dt, (t0, t0 + n_steps * dt))
     specs = []
     for load in system.loads if loads else []:
         if isinstance(load, Callable):

@@ -281,8 +281,8 @@ def solve(
         meta={"dt": dt, "t0": t0, "integrator": integrator},
     )
     if error is not None:
-        if 0 < kept < result.t.size:
+        if kept < result.t.size:
             # The outputs of the last states overflowed before the coordinates did.
-            error = error.kept_until(float(result.t[kept - 1]))
+            error = error.kept_until(float(result.t[kept - 1]) if kept else None)
         raise_failure(error, solution)
     return solution

@@ -163,6 +163,10 @@ pub fn drive(
                     break Some((e.located(n, time), grid.before(n)));
                 }
             }
+            if n == 0 && stopped.at_start {
+                // The initial state's load failed: its response is unknown, nothing is kept.
+                break Some((stopped.error.located(0, time), 0));
+            }
             break Some((stopped.error.located(n + 1, time), grid.before(n + 1)));
         }
         pacer.done(len);

@@ -23,20 +23,22 @@ pub enum CoreError {
         expected: usize,
     },
     /// The state stopped being finite: the simulation diverged.
-    #[error("the state became non-finite at t = {time} (step {step}): the response diverges (negative damping, an unstable load, a step beyond the integrator's stability limit or an overflow); the history up to t = {last_good_time} is kept")]
+    #[error("the state became non-finite at t = {time} (step {step}): the response diverges (negative damping, an unstable load, a step beyond the integrator's stability limit or an overflow); {}", kept(last_good_time))]
     NonFinite {
         time: f64,
         step: usize,
-        last_good_time: f64,
+        /// The last saved time kept, None when nothing is.
+        last_good_time: Option<f64>,
     },
     /// The implicit step equation did not converge.
-    #[error("the step equation did not converge at t = {time} (step {step}): residual {residual:.3e} after {iterations} Newton iterations (reduce `dt`, raise `max_iter` or loosen `tol`); the history up to t = {last_good_time} is kept")]
+    #[error("the step equation did not converge at t = {time} (step {step}): residual {residual:.3e} after {iterations} Newton iterations (reduce `dt`, raise `max_iter` or loosen `tol`); {}", kept(last_good_time))]
     NoConvergence {
         time: f64,
         step: usize,
         residual: f64,
         iterations: usize,
-        last_good_time: f64,
+        /// The last saved time kept, None when nothing is.
+        last_good_time: Option<f64>,
     },
     /// A user-supplied load or element function failed or returned bad values.
     #[error("callback failed at t = {time} (step {step}): {message}")]
@@ -50,6 +52,14 @@ pub enum CoreError {
         "interrupted at t = {time} (before step {step}); the history up to t = {time} is kept"
     )]
     Interrupted { time: f64, step: usize },
+}
+
+/// What a failed run keeps, for its message.
+fn kept(last_good_time: &Option<f64>) -> String {
+    match last_good_time {
+        Some(t) => format!("the history up to t = {t} is kept"),
+        None => "nothing is kept (the initial state's response is not finite)".to_string(),
+    }
 }
 
 impl CoreError {
@@ -69,17 +79,19 @@ impl CoreError {
     /// (an overflowing state), not a convergence problem: it becomes [`CoreError::NonFinite`].
     pub fn located(self, step: usize, time: impl Fn(usize) -> f64) -> CoreError {
         let (end, start) = (time(step), time(step.saturating_sub(1)));
+        // Step 0 is the initial state itself: a failure there keeps nothing.
+        let kept_time = (step > 0).then_some(start);
         match self {
             CoreError::NonFinite { .. } => CoreError::NonFinite {
                 time: end,
                 step,
-                last_good_time: start,
+                last_good_time: kept_time,
             },
             CoreError::NoConvergence { residual, .. } if !residual.is_finite() => {
                 CoreError::NonFinite {
                     time: end,
                     step,
-                    last_good_time: start,
+                    last_good_time: kept_time,
                 }
             }
             CoreError::NoConvergence {
@@ -91,7 +103,7 @@ impl CoreError {
                 step,
                 residual,
                 iterations,
-                last_good_time: start,
+                last_good_time: kept_time,
             },
             CoreError::Callback { time, message, .. } => CoreError::Callback {
                 time,

@@ -61,7 +61,7 @@ impl RunError {
                 time,
                 step,
                 last_good_time,
-            } => ("nonfinite", time, step, Some(last_good_time), None, None),
+            } => ("nonfinite", time, step, last_good_time, None, None),
             CoreError::NoConvergence {
                 time,
                 step,
@@ -72,7 +72,7 @@ impl RunError {
                 "convergence",
                 time,
                 step,
-                Some(last_good_time),
+                last_good_time,
                 Some(residual),
                 Some(iterations),
             ),
@@ -99,8 +99,10 @@ impl RunError {
 #[pymethods]
 impl RunError {
     /// The same failure with the history kept only up to `last_good_time` (when the
-    /// physical outputs of the last kept states overflowed), its message rendered anew.
-    fn kept_until(&self, py: Python<'_>, last_good_time: f64) -> PyResult<Self> {
+    /// physical outputs of the last kept states overflowed; None when nothing is kept), its
+    /// message rendered anew.
+    #[pyo3(signature = (last_good_time))]
+    fn kept_until(&self, py: Python<'_>, last_good_time: Option<f64>) -> PyResult<Self> {
         let mut core = self.core.clone();
         match &mut core {
             CoreError::NonFinite {

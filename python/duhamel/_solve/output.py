@@ -61,47 +61,77 @@ def output_maps(plan: Plan, phi_out: NDArray, n_loads: int) -> Any:
     )
 
 
-def _finite_rows(x: NDArray, v: NDArray) -> int:
-    """The number of leading rows whose displacements and velocities are finite."""
-    finite = np.isfinite(x).all(axis=1) & np.isfinite(v).all(axis=1)
+def _finite_rows(*arrays: NDArray) -> int:
+    """The number of leading rows finite in every one of `arrays`."""
+    finite = np.logical_and.reduce([np.isfinite(a).all(axis=1) for a in arrays])
     return int(finite.size if finite.all() else np.argmin(finite))
 
 
 def physical(
     result: Any, plan: Plan, phi_out: NDArray, patterns: NDArray
-) -> tuple[int, NDArray, NDArray, Callable[[], NDArray], ModalHistory]:
+) -> tuple[int, NDArray, NDArray, NDArray | Callable[[], NDArray], ModalHistory]:
     """The physical response of the output dofs from a modal run's `result`.
 
-    Returns ``(kept, x, v, a, modal)``: `kept` rows (fewer than the run saved when a diverged
-    run's outputs overflowed before its coordinates), ``x`` and ``v``, the accelerations as a
-    function evaluated on first access, and the modal history.
+    Returns ``(kept, x, v, a, modal)``: ``x`` and ``v`` of the output dofs, the accelerations
+    (a function evaluated on first access) and the modal history. A run that stopped early
+    keeps only its leading rows whose ``x``, ``v`` and ``a`` are all finite (`kept` of them:
+    the physical outputs of the last states before a divergence can overflow before the
+    coordinates do), and its accelerations are computed at once to find them.
     """
+    n = result.t.size
+    if result.error is None:
+        x, v, acceleration, modal = _assemble(result, plan, phi_out, patterns, n)
+
+        def checked() -> NDArray:
+            with np.errstate(over="ignore", invalid="ignore"):
+                a = acceleration()
+            row = _finite_rows(a)
+            if row < n:
+                raise FloatingPointError(
+                    f"the accelerations of the output dofs overflow at t = {result.t[row]!r} "
+                    "(omega^2 x beyond the double range) while the displacements stay finite; "
+                    "rescale the model's units (mass, stiffness, time)"
+                )
+            return a
+
+        return n, x, v, checked, modal
+    with np.errstate(over="ignore", invalid="ignore"):
+        x, v, _, _ = _assemble(result, plan, phi_out, patterns, n)
+        kept = _finite_rows(x, v)
+        x, v, acceleration, modal = _assemble(result, plan, phi_out, patterns, kept)
+        a = acceleration()
+        finite = _finite_rows(a)
+        if finite < kept:
+            kept = finite
+            x, v, _, modal = _assemble(result, plan, phi_out, patterns, kept)
+            a = a[:kept]
+    return kept, x, v, a, modal
+
+
+def _assemble(
+    result: Any, plan: Plan, phi_out: NDArray, patterns: NDArray, rows: int
+) -> tuple[NDArray, NDArray, Callable[[], NDArray], ModalHistory]:
+    """``x``, ``v``, the accelerations (as a function) and the modal history of the first
+    `rows` saved instants."""
     basis = plan.basis
     n_out = phi_out.shape[0]
-    failed = result.error is not None
-    # A diverged run's last rows are near overflow: their products may overflow quietly.
-    mode = "ignore" if failed else "warn"
+
+    def cut(a: NDArray | None) -> NDArray | None:
+        return None if a is None else a[:rows]
+
+    values, forcing, pseudo = cut(result.load_values), cut(result.forcing), cut(result.pseudo)
     if result.eta is None:
-        q, vel = result.q, result.v
-        with np.errstate(over=mode, invalid=mode):
-            x, v = q @ phi_out.T, vel @ phi_out.T
+        q, vel = cut(result.q), cut(result.v)
+        x, v = q @ phi_out.T, vel @ phi_out.T
         coupling = None
         first_order = None
     else:
-        out = result.outputs
+        out = cut(result.outputs)
         x, v = out[:, :n_out], out[:, n_out : 2 * n_out]
         coupling = (plan.couplings.k, plan.couplings.c)
         assert plan.modes is not None
-        first_order = (result.eta, plan.modes.back)
-    kept = _finite_rows(x, v) if failed else x.shape[0]
-    cut = (lambda a: a) if kept == x.shape[0] else (lambda a: None if a is None else a[:kept])
-    x, v = cut(x), cut(v)
-    values, forcing, pseudo = cut(result.load_values), cut(result.forcing), cut(result.pseudo)
-    if first_order is not None:
-        first_order = (cut(first_order[0]), first_order[1])
+        first_order = (cut(result.eta), plan.modes.back)
         q = vel = None
-    else:
-        q, vel = cut(q), cut(vel)
     modal = ModalHistory(
         q=q,
         v=vel,
@@ -116,27 +146,22 @@ def physical(
     )
 
     def acceleration() -> NDArray:
-        with np.errstate(over=mode, invalid=mode):
-            return state_part() + load_part()
-
-    def state_part() -> NDArray:
-        """``-(S q + D q')`` of the output dofs, couplings included, one pass over the history."""
+        """``Phi_out (p + pseudo - S q - D q')``: the modal accelerations first, then one
+        product with the mode shapes (whose scale may be far from that of ``S``)."""
         if first_order is None:
-            a = modal.q @ (-phi_out * basis.omega2).T + modal.v @ (-phi_out * basis.c).T
+            a = -(modal.q * basis.omega2) - modal.v * basis.c
         else:
             eta, back = first_order
             m = basis.n_modes
-            s = np.diag(basis.omega2) + (0.0 if coupling[0] is None else coupling[0])
-            d = np.diag(basis.c) + (0.0 if coupling[1] is None else coupling[1])
-            a = eta @ (-(back[:, :m] @ s.T + back[:, m:] @ d.T) @ phi_out.T)
-        return a
-
-    def load_part() -> NDArray:
-        """``p + pseudo`` of the output dofs."""
-        a = values @ (phi_out @ patterns).T
+            q, vel = eta @ back[:, :m], eta @ back[:, m:]
+            a = -(q * basis.omega2) - vel * basis.c
+            for part, matrix in ((q, coupling[0]), (vel, coupling[1])):
+                if matrix is not None:
+                    a -= part @ np.asarray(matrix).T
+        a += values @ patterns.T
         for extra in (forcing, pseudo):
             if extra is not None:
-                a += extra @ phi_out.T
-        return a
+                a += extra
+        return a @ phi_out.T
 
-    return kept, x, v, acceleration, modal
+    return x, v, acceleration, modal

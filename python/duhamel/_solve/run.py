@@ -12,7 +12,7 @@ from numpy.typing import NDArray
 
 from duhamel.errors import SolverError
 
-__all__ = ["ModalCallable", "Progress", "raise_failure", "watch"]
+__all__ = ["ModalCallable", "Progress", "callback_error", "raise_failure", "watch"]
 
 #: A progress report: ``(steps done, steps in all, time reached)``.
 Progress = Callable[[int, int, float], Any]
@@ -76,24 +76,42 @@ def raise_failure(error: Any, partial: Any) -> None:
     """Raises the exception of a run that stopped early (`error`, a ``_core.RunError``),
     with the history kept, `partial`, attached as its ``partial`` attribute.
 
-    * an interruption (Ctrl-C) re-raises the ``KeyboardInterrupt`` (or a progress
-      function's own exception);
-    * a failing Python load or element function re-raises its own exception, with a note
-      naming the time and step;
+    * an interruption (Ctrl-C, also while a Python function runs) re-raises the
+      ``KeyboardInterrupt`` (or a progress function's own exception);
+    * a failing Python load or element function raises :class:`duhamel.SolverError` with
+      ``reason="callback"``, chained (``from``) to the function's own exception;
     * otherwise :class:`duhamel.SolverError` with the core's fields.
     """
     cause = error.cause
-    if error.kind == "interrupted":
+    interrupted = error.kind == "interrupted" or (
+        isinstance(cause, BaseException) and not isinstance(cause, Exception)
+    )
+    if interrupted:
         exc = cause if isinstance(cause, BaseException) else KeyboardInterrupt(error.message)
         exc.partial = partial  # type: ignore[union-attr]
         exc.add_note(f"duhamel: {error.message}")
         raise exc
-    if error.kind == "callback" and isinstance(cause, BaseException):
-        cause.partial = partial  # type: ignore[attr-defined]
-        cause.add_note(
-            f"raised by a `Callable` load or element at t = {error.time} (step {error.step})"
-        )
-        raise cause
+    if error.kind == "callback":
+        what = f"{type(cause).__name__}: {cause}" if cause is not None else error.message
+        raise callback_error(what, error.time, error.step, partial) from cause
     raise SolverError(
         error.message, time=error.time, reason=error.kind, partial=partial, step=error.step
+    )
+
+
+def callback_error(what: str, time: float, step: int, partial: Any) -> SolverError:
+    """The :class:`duhamel.SolverError` of a Python load or element function that failed
+    (`what`: its exception, rendered) when called at `time` for `step`; the caller raises it
+    ``from`` the function's exception."""
+    kept = (
+        f"the history up to t = {float(partial.t[-1])!r} is kept"
+        if partial.t.size
+        else "nothing is kept"
+    )
+    return SolverError(
+        f"a Python load or element function failed at t = {time!r} (step {step}): {what}; {kept}",
+        time=time,
+        reason="callback",
+        partial=partial,
+        step=step,
     )

@@ -341,7 +341,7 @@ impl<'s> FirstOrder<'s, '_> {
                 let error = CoreError::NonFinite {
                     time: 0.0,
                     step,
-                    last_good_time: 0.0,
+                    last_good_time: None,
                 };
                 return Err(StepFailure { error, step });
             }

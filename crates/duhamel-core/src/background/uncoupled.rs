@@ -302,7 +302,7 @@ impl Route for Uncoupled {
                 error: CoreError::NonFinite {
                     time: 0.0,
                     step,
-                    last_good_time: 0.0,
+                    last_good_time: None,
                 },
                 step,
             }),

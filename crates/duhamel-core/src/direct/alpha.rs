@@ -173,7 +173,7 @@ impl Stepper for Alpha<'_> {
         let nonfinite = || CoreError::NonFinite {
             time: t1,
             step: 0,
-            last_good_time: t,
+            last_good_time: Some(t),
         };
         let mut factor = self.lu.is_none() || !self.constant;
         let mut iters = 0;
@@ -241,7 +241,7 @@ impl Stepper for Alpha<'_> {
                     time: t1,
                     residual: update / scale,
                     iterations: iters,
-                    last_good_time: t,
+                    last_good_time: Some(t),
                 });
             }
         }

@@ -321,7 +321,7 @@ impl Stepper for Hermite<'_> {
         let nonfinite = || CoreError::NonFinite {
             time: t + h,
             step: 0,
-            last_good_time: t,
+            last_good_time: Some(t),
         };
         let mut factor = self.lu.is_none() || !self.constant;
         let mut iters = 0;
@@ -367,7 +367,7 @@ impl Stepper for Hermite<'_> {
                     time: t + h,
                     residual: update / scale,
                     iterations: iters,
-                    last_good_time: t,
+                    last_good_time: Some(t),
                 });
             }
         }

@@ -125,7 +125,7 @@ pub fn integrate(
             return Err(at0(CoreError::NonFinite {
                 time: t0,
                 step: 0,
-                last_good_time: t0,
+                last_good_time: None,
             }));
         }
         let mut stepper: Box<dyn Stepper> = match problem.method {
@@ -185,7 +185,7 @@ pub fn integrate(
                 let e = CoreError::NonFinite {
                     time: 0.0,
                     step: 0,
-                    last_good_time: 0.0,
+                    last_good_time: None,
                 };
                 return Err((e, step + 1));
             }

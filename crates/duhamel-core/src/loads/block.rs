@@ -14,6 +14,9 @@ use super::ModalForcing;
 pub struct Stopped {
     pub error: CoreError,
     pub steps: usize,
+    /// The sample at the block's start failed (for the first block: the initial state's
+    /// load, without which nothing can be kept).
+    pub at_start: bool,
 }
 
 /// The saved times, load values and modal forcing (if any) of a run.
@@ -153,7 +156,11 @@ impl BlockLoads {
                     _ => 0,
                 };
                 len = failed.saturating_sub(1) / 2;
-                stopped = Some(Stopped { error, steps: len });
+                stopped = Some(Stopped {
+                    error,
+                    steps: len,
+                    at_start: failed == 0,
+                });
             }
         }
         self.n0 = n0;

@@ -352,7 +352,7 @@ impl<'a> Corrector<'a> {
             step: 0,
             residual,
             iterations: self.max_iter,
-            last_good_time: t,
+            last_good_time: Some(t),
         })
     }
 }

@@ -202,7 +202,7 @@ impl PseudoRoute<'_, '_> {
                 let error = CoreError::NonFinite {
                     time: 0.0,
                     step: step + 1,
-                    last_good_time: 0.0,
+                    last_good_time: None,
                 };
                 result = Err(StepFailure {
                     error,

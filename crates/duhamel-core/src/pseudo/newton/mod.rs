@@ -449,7 +449,7 @@ impl<'r> Stepper<'r> {
             step: 0,
             residual: *norm,
             iterations: self.max_iter,
-            last_good_time: inp.t,
+            last_good_time: Some(inp.t),
         })
     }
 }
