@@ -30,7 +30,8 @@ def reference(omega: float, zeta: float, dt: float) -> tuple[np.ndarray, np.ndar
     """A (2, 2) and moments (2, 4) from a high-precision Van Loan exponential."""
     w, z, t = mp.mpf(omega), mp.mpf(zeta), mp.mpf(dt)
     h = w * t
-    mp.mp.dps = 60 if h < 20 else 300
+    # the phase h must keep ~60 digits after its integer part
+    mp.mp.dps = 60 if h < 20 else max(300, int(mp.log10(h)) + 80)
     w, z, t = mp.mpf(omega), mp.mpf(zeta), mp.mpf(dt)
     g = mp.zeros(6, 6)
     # states: x, v, w3, w2, w1, w0 in the time unit dt; w3' = w2, w2' = w1, w1' = w0
@@ -76,6 +77,63 @@ def test_kernel_matches_high_precision_van_loan(zeta):
         worst.append(err)
         assert err <= 1e-13 + 8 * EPS * h, f"zeta={zeta} omega*dt={h}: error {err:.2e}"
     print(f"zeta={zeta}: max scaled error {max(worst):.1e}")
+
+
+# Extreme but representable: (omega, zeta, dt) whose dimensionless h^2 = (omega dt)^2 or
+# a^2 = (zeta omega dt)^2 overflows although the matrices are ordinary numbers (the issue's
+# three examples first), and the edges of the far regime (omega dt > 1e50).
+EXTREMES = [
+    (1e200, 0.05, 1.0),
+    (1.0, 0.1, 1e300),
+    (1.0, 1e300, 1.0),
+    (1e60, 0.0, 1.0),
+    (1e60, 0.3, 1.0),
+    (1e60, -1e-62, 1.0),
+    (1.0, 0.05, 1e60),
+    (1.0, 2.0, 1e60),
+    (1.0, 1.0, 1e60),
+    (1e-30, 0.01, 1e90),
+    (3.0, 1e40, 1e10),
+    (3.0, 1e160, 1.0),
+    (1e100, 1e55, 1e-40),
+    (2.0, 0.2, 3e49),
+]
+
+
+@pytest.mark.parametrize(("omega", "zeta", "dt"), EXTREMES)
+def test_extreme_parameters_are_evaluated_not_refused(omega, zeta, dt):
+    a, m = transfer_moments(omega, zeta, dt)
+    assert np.all(np.isfinite(a)) and np.all(np.isfinite(m))
+    a_ref, m_ref = reference(omega, zeta, dt)
+    with np.errstate(over="ignore", invalid="ignore"):
+        err = scaled_error(a, m, a_ref, m_ref, omega, dt)
+    if np.isfinite(err):
+        print(f"({omega:g}, {zeta:g}, {dt:g}): scaled error {err:.1e}")
+        assert err <= 1e-12
+    else:  # the energy scaling itself overflows (omega^2 = 1e400): every entry on its own
+        print(f"({omega:g}, {zeta:g}, {dt:g}): A max {np.abs(a_ref).max():.1e}")
+        assert np.allclose(a, a_ref, rtol=1e-12, atol=1e-300)
+        assert np.allclose(m, m_ref, rtol=1e-12, atol=1e-300)
+    # and entry by entry, wherever the exact value is a normal number
+    for got, ref in ((a, a_ref), (m, m_ref)):
+        normal = np.abs(ref) > 1e-305
+        assert np.all(np.abs(got - ref)[normal] <= 1e-13 * np.abs(ref)[normal])
+    # the stiffness-damping form agrees
+    k, c = omega * omega, 2 * zeta * omega
+    if np.isfinite(k) and np.isfinite(c):
+        a_kc, b_kc = _core.transfer_kc(np.array([k]), np.array([c]), dt)
+        _, b = transfer_matrices(omega, zeta, dt)
+        assert np.allclose(a_kc[0], a, rtol=1e-12, atol=1e-300)
+        assert np.allclose(b_kc[0], b, rtol=1e-12, atol=1e-12 * np.abs(b).max() + 1e-300)
+
+
+@pytest.mark.parametrize(
+    ("omega", "zeta", "dt"), [(1.0, -1000.0, 10.0), (1e200, -0.05, 1.0), (1e-300, 0.0, 1e300)]
+)
+def test_unrepresentable_step_matrices_are_refused(omega, zeta, dt):
+    # growth e^(2e4), e^(5e198); displacement per unit load 1/omega^2 = 1e600
+    with pytest.raises(ValueError, match="cannot be evaluated in double precision"):
+        transfer_matrices(omega, zeta, dt)
 
 
 @pytest.mark.parametrize("ratio", [0.9999, 1.0 - 1e-12, 1.0, 1.0 + 1e-7, 3.0])

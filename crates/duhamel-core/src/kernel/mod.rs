@@ -3,4 +3,5 @@
 //! and the complex exponential-integrator functions of a first-order mode ([`cphi`]).
 
 pub mod cphi;
+mod far;
 pub mod oscillator;

@@ -41,6 +41,8 @@
 //! `a^2 - h^2` is formed with a fused multiply-add and the small real eigenvalue as
 //! `h^2 / z_big`, which removes the cancellations near critical and heavy damping.
 
+use super::far::far;
+
 /// `1/n!` for `n = 0..40`.
 const INV_FACT: [f64; 40] = inv_factorials();
 
@@ -91,6 +93,12 @@ impl Transfer {
     /// sign), both per unit modal mass; `dt > 0`. `a^2 - h^2` is formed from error-free
     /// products, so near-critical damping loses nothing to the rounding of `k dt^2`.
     pub fn new(k: f64, c: f64, dt: f64) -> Self {
+        if k > 0.0 {
+            let omega = k.sqrt();
+            if let Some(far) = far(omega, c / (2.0 * omega), dt) {
+                return Transfer { a: far.a, m: far.m };
+            }
+        }
         // a = c dt / 2 and hh = k dt^2 as unevaluated sums (hi + lo).
         let (a, a_lo) = two_prod(0.5 * c, dt);
         let (p, p_lo) = two_prod(k, dt);
@@ -105,6 +113,9 @@ impl Transfer {
     ///
     /// `a^2 - h^2 = (zeta - 1)(zeta + 1) h^2` is exact to a few roundings near `zeta = 1`.
     pub fn from_omega_zeta(omega: f64, zeta: f64, dt: f64) -> Self {
+        if let Some(far) = far(omega, zeta, dt) {
+            return Transfer { a: far.a, m: far.m };
+        }
         let h = omega * dt;
         let hh = h * h;
         Self::from_scaled(hh, zeta * h, (zeta - 1.0) * (zeta + 1.0) * hh, dt)
@@ -183,9 +194,17 @@ impl Kernel {
 
 /// The kernel for `X'' + 2a X' + hh X`, with `delta = a^2 - hh` supplied accurately.
 fn kernel(hh: f64, a: f64, delta: f64) -> Kernel {
+    // `a^2` overflowed while `hh` did not: the eigenvalues are real and far apart, and
+    // `sqrt(delta) = |a| sqrt((1 - h/|a|)(1 + h/|a|))` is still a number.
+    let (delta, root) = if delta.is_finite() || !(a.is_finite() && hh.is_finite()) {
+        (delta, delta.sqrt())
+    } else {
+        let r = hh.sqrt() / a.abs();
+        (f64::INFINITY, a.abs() * ((1.0 - r) * (1.0 + r)).sqrt())
+    };
     if delta > 0.0 {
         // Real eigenvalues; a != 0 here since hh >= 0.
-        let d = delta.sqrt();
+        let d = root;
         let z_big = -a - a.signum() * d;
         let z_small = hh / z_big;
         let (big, small) = (z_big.abs(), z_small.abs());
