@@ -227,6 +227,25 @@ def test_indefinite_stiffness_is_refused_whatever_the_mass_conditioning():
     assert free.modal().omega2[0] == 0.0
 
 
+@pytest.mark.parametrize("n_modes", [None, 3], ids=["all modes", "shift-invert Lanczos"])
+def test_indefinite_sparse_stiffness_is_refused(n_modes):
+    import scipy.sparse as sp
+
+    # The same trap in a sparse chain: a positive diagonal, a 2x2 block [[1, 2], [2, 1]]
+    # (eigenvalue -1) and a tiny mass where it sits.
+    n = 40
+    k = sp.lil_array(sp.diags([np.full(n, 2.0), -np.ones(n - 1), -np.ones(n - 1)], [0, 1, -1]))
+    k[0, 0], k[1, 1], k[0, 1], k[1, 0], k[1, 2], k[2, 1] = 1.0, 1.0, 2.0, 2.0, 0.0, 0.0
+    m = sp.diags(np.r_[1.0, 1e-10, np.ones(n - 2)])
+    system = duhamel.System(m.tocsr(), k.tocsr())
+    with pytest.raises(ValueError, match=r"`K` must be positive semidefinite"):
+        system.modal(n_modes)
+    # the free-free chain (a true rigid-body mode) behind the same mass is accepted
+    free = sp.lil_array(sp.diags([np.full(n, 2.0), -np.ones(n - 1), -np.ones(n - 1)], [0, 1, -1]))
+    free[0, 0] = free[n - 1, n - 1] = 1.0
+    assert duhamel.System(m.tocsr(), free.tocsr()).modal(n_modes).omega2[0] == 0.0
+
+
 def test_mass_laws_must_stay_above_their_floor():
     with pytest.raises(ValueError, match=r"`mu` must stay above 1e-08 of its largest value"):
         duhamel.mass.Tabulated(t=[0.0, 1.0], mu=[1.0, 1e-300])

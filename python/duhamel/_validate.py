@@ -367,10 +367,26 @@ def warn_heavy_damping(zeta: Any) -> None:
         )
 
 
-def check_semidefinite(K: NDArray[np.float64], rtol: float) -> None:
-    """Raises ValueError unless `K` is positive semidefinite to within `rtol` times its own
-    largest entry: a Cholesky factorisation of ``K + rtol max|K| I`` (a test of K alone, so
-    an ill-conditioned mass matrix cannot hide a negative eigenvalue)."""
+def check_semidefinite(K: Any, rtol: float) -> None:
+    """Raises ValueError unless `K` (dense or sparse) is positive semidefinite to within
+    `rtol` times its own largest entry: a Cholesky factorisation (sparse: the inertia of an
+    LDL^T factorisation) of ``K + rtol max|K| I``. A test of K alone, so an ill-conditioned
+    mass matrix cannot hide a negative eigenvalue."""
+    if issparse(K):
+        import scipy.sparse as sp
+
+        size = float(abs(K).max()) if K.nnz else 0.0
+        if size == 0.0:
+            return
+        _, n_bad = symmetric_lu(sp.csc_matrix(K) + rtol * size * sp.identity(K.shape[0]))
+        if n_bad:
+            raise ValueError(
+                f"`K` must be positive semidefinite, but K + {rtol:g} max|K| I has {n_bad} "
+                "non-positive pivot(s), so K has a negative eigenvalue (the modal analysis "
+                "would take it for a rigid-body mode): check the stiffness matrix's signs and "
+                "assembly"
+            )
+        return
     size = float(np.max(np.abs(K))) if K.size else 0.0
     if size == 0.0:
         return  # no stiffness at all: every mode is a rigid-body mode

@@ -432,10 +432,10 @@ class System:
                 f"`K` must be positive semidefinite, but the modal analysis found "
                 f"omega^2 = {lam[0]:.6g} < 0 (tolerance {NEG_EIG_RTOL:g} * {scale:.6g})"
             )
-        if lam[0] <= ZERO_EIG_RTOL * scale and not self.is_sparse:
+        if lam[0] <= ZERO_EIG_RTOL * scale:
             # A zero eigenvalue is a rigid-body mode only if K is semidefinite; an
             # ill-conditioned M inflates `scale` and can hide a negative one (Sylvester).
-            check_semidefinite(_dense(self._K), NEG_EIG_RTOL)
+            check_semidefinite(self._K, NEG_EIG_RTOL)
         lam = np.where(lam <= ZERO_EIG_RTOL * scale, 0.0, lam)
         if self._damping == "matrix":
             lam, phi, c = self._classical_damping(lam, phi, scale)
