@@ -168,15 +168,15 @@ def solve(
     ValueError, TypeError
         Bad input; the message names the parameter.
     SolverError
-        The response became non-finite (a diverging system) or a step equation did not
-        converge; ``step`` and ``time`` say where, ``partial`` holds the solution up to the
-        last good instant.
+        The response became non-finite (``reason="nonfinite"``: a diverging system), a step
+        equation did not converge (``"convergence"``) or a Python load or element function
+        failed (``"callback"``, chained to its exception); ``step`` and ``time`` say where,
+        ``partial`` holds the solution up to the last good instant (finite rows only). See
+        docs/errors.md.
     KeyboardInterrupt
         Ctrl-C during the run (it stops within a fraction of a second); its ``partial``
-        attribute holds the solution computed so far.
-    Exception
-        An exception raised by a Python load, element or progress function is re-raised,
-        with a note giving the time and step and the history so far in ``partial``.
+        attribute holds the solution computed so far. An exception raised by a `progress`
+        function stops the run the same way and is re-raised with ``partial``.
 
     Examples
     --------
