@@ -42,9 +42,10 @@ fn options_of(obj: &Bound<'_, PyAny>) -> PyResult<Options> {
     let solver = match choice("solver")?.as_str() {
         "auto" => Solver::Auto,
         "newton" => Solver::Newton,
+        "modal-newton" => Solver::ModalNewton,
         other => {
             return Err(PyValueError::new_err(format!(
-                "`solver` must be 'auto' or 'newton', got {other:?}"
+                "`solver` must be 'auto', 'newton' or 'modal-newton', got {other:?}"
             )))
         }
     };

@@ -13,7 +13,7 @@ _CHOICES = {
     "scheme": ("a", "b", "c"),
     "quadrature": ("trapezoid", "parabolic", "exact"),
     "mass_treatment": ("eliminate", "estimate"),
-    "solver": ("auto", "newton"),
+    "solver": ("auto", "newton", "modal-newton"),
     "coupling": ("auto", "exact", "pseudo-force"),
 }
 
@@ -53,9 +53,15 @@ class Semianalytic(Integrator):
     mass_treatment : {"eliminate", "estimate"}
         Time-varying mass: divide the equation of motion by the mass law (no acceleration
         needed; the default, more accurate) or estimate the acceleration as ``(v1 - v0)/dt``.
-    solver : {"auto", "newton"}
+    solver : {"auto", "newton", "modal-newton"}
         "auto" solves a single-mode step with polynomial forces of degree <= 3 in closed form
-        (the cubic of the paper); "newton" always iterates.
+        (the cubic of the paper), and iterates otherwise; "newton" always iterates. Both
+        iterate in the space of the elements' degrees of freedom when they are fewer than
+        the modes and the pseudo-force is the elements' force (with no mass law, or an
+        eliminated one): a step then costs about what the elements' few dofs cost, not the
+        modes (docs/nonlinear.md). "modal-newton" always iterates on all the modal
+        coordinates (the dense reference; it equals the element-space solution to the
+        Newton tolerance).
     coupling : {"auto", "exact", "pseudo-force"}
         Modal couplings — non-classical damping, gyroscopic and cross-coupled
         (circulatory) terms, i.e. constant :class:`duhamel.elements.LinearCoupling`

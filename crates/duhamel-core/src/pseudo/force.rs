@@ -202,6 +202,40 @@ impl<'a> PseudoForce<'a> {
         self.mass.is_some()
     }
 
+    /// Whether the pseudo-force is the elements' (projected) force plus terms diagonal in
+    /// the modes: no linear coupling, and no mass law or an eliminated one. Its step
+    /// equation can then be solved in the elements' space.
+    pub fn local(&self) -> bool {
+        !self.slots.is_empty()
+            && self.coupling_k.is_none()
+            && self.coupling_c.is_none()
+            && self.scaled.is_empty()
+            && self
+                .mass
+                .is_none_or(|m| m.treatment == MassTreatment::Eliminate)
+    }
+
+    /// The background's modal stiffness and damping per unit modal mass.
+    pub fn modal_kc(&self) -> (&[f64], &[f64]) {
+        (self.k, self.c)
+    }
+
+    /// `[mu, g, mom, kappa]` of the eliminated mass law at `t` (see the module
+    /// documentation): `Q = g (p - c v - kappa k q) - mom v - rho / mu`.
+    pub fn node_mass(&self, t: f64) -> [f64; 4] {
+        let Some(mass) = self.mass else {
+            return [1.0, 0.0, 0.0, 1.0];
+        };
+        let (mu, dmu) = mass.law.eval_side(t, self.left);
+        let mom = if mass.form == MassForm::Momentum {
+            dmu / mu
+        } else {
+            0.0
+        };
+        let kappa = if mass.scale_stiffness { 0.0 } else { 1.0 };
+        [mu, 1.0 / mu - 1.0, mom, kappa]
+    }
+
     /// Whether the next evaluations are at the end of a step (the mass law's derivative is
     /// then taken from the left, where it jumps).
     pub fn set_left_limit(&mut self, left: bool) {

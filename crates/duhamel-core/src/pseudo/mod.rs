@@ -11,6 +11,7 @@
 mod closed;
 pub mod first_order;
 pub mod force;
+mod local;
 mod newton;
 mod problem;
 mod route;

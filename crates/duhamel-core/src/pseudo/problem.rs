@@ -12,8 +12,12 @@ use crate::speed::SpeedLaw;
 pub enum Solver {
     /// The closed-form cubic where it applies, Newton otherwise.
     Auto,
-    /// Always Newton.
+    /// Always Newton: in the elements' space where the pseudo-force allows it (elements,
+    /// with no mass law or an eliminated one, and fewer element dofs than modes), on the
+    /// modal coordinates otherwise.
     Newton,
+    /// Always Newton on all the modal coordinates (the dense reference).
+    ModalNewton,
 }
 
 /// Integrator settings.

@@ -3,6 +3,7 @@
 //! step ([`super::newton`]).
 
 use super::force::PseudoForce;
+use super::local::ElementSpace;
 use super::newton::Stepper;
 use super::problem::{validate, NonlinearProblem};
 use super::scheme::{Rule, StepInput};
@@ -272,8 +273,9 @@ pub fn integrate(
     let estimate = problem
         .mass
         .is_some_and(|m| m.treatment == MassTreatment::Estimate);
+    let space = ElementSpace::new(problem.phi, n, problem.elements);
     let stepper = Stepper::new(
-        &rule, o.scheme, dt, o.tol, o.max_iter, o.solver, &pf, estimate,
+        &rule, o.scheme, dt, o.tol, o.max_iter, o.solver, &pf, estimate, space,
     );
     let loads = BlockLoads::new(base, true, forcing.is_some(), 3 * n).map_err(fail)?;
     let cells = size(loads.n_saved(), n, "the modal history").map_err(fail)?;

@@ -7,9 +7,11 @@
 //! forces of degree <= 3, as the cubic it is (the paper's closed form).
 
 mod cubic;
+mod local;
 
 use super::closed::{scalar_step, ScalarPlan};
 use super::force::{Jacobian, PseudoForce};
+use super::local::ElementSpace;
 use super::problem::Solver;
 use super::scheme::{Rule, Scheme, StepInput, Unknown};
 use crate::dense::solve_in_place;
@@ -55,6 +57,8 @@ pub struct Stepper<'r> {
     /// Newton's buffers, kept between steps.
     z0: Vec<f64>,
     delta: Vec<f64>,
+    /// Newton in the elements' space, where the pseudo-force allows it and it is smaller.
+    local: Option<(ElementSpace<'r>, local::LocalNewton)>,
 }
 
 impl<'r> Stepper<'r> {
@@ -68,6 +72,7 @@ impl<'r> Stepper<'r> {
         solver: Solver,
         pf: &PseudoForce,
         estimate: bool,
+        space: ElementSpace<'r>,
     ) -> Self {
         let n = rule.wx[0].len();
         let unknown = match (estimate, scheme) {
@@ -90,6 +95,10 @@ impl<'r> Stepper<'r> {
             .collect();
         let m = if unknown == Unknown::Both { 2 * n } else { n };
         let nodes = rule.nodes.len();
+        let nd = space.len();
+        let local =
+            (solver != Solver::ModalNewton && unknown != Unknown::Both && pf.local() && nd < n)
+                .then(|| (space, local::LocalNewton::new(n, nd, nodes)));
         Stepper {
             n,
             rule,
@@ -124,6 +133,7 @@ impl<'r> Stepper<'r> {
             mat: vec![0.0; m * m],
             z0: Vec::with_capacity(m),
             delta: vec![0.0; m],
+            local,
         }
     }
 
@@ -302,6 +312,25 @@ impl<'r> Stepper<'r> {
         }
         let iterations = if self.closed_form && self.closed(pf, inp)? {
             0
+        } else if let Some((space, newton)) = &mut self.local {
+            let set = local::Setting {
+                rule: self.rule,
+                scheme: self.scheme,
+                dt: self.dt,
+                unknown: self.unknown,
+                constant: &self.constant,
+                tol: self.tol,
+                max_iter: self.max_iter,
+                linear: self.linear,
+            };
+            let z = if self.unknown == Unknown::V1 {
+                &mut self.v1
+            } else {
+                &mut self.q1
+            };
+            let it = newton.solve(space, pf, &set, inp, z)?;
+            self.nodes(pf, inp, false, Nodes::Varying)?;
+            it
         } else {
             let it = self.newton(pf, inp)?;
             // Node values at the converged state (Newton's last ones precede its update).

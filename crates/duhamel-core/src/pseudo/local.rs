@@ -1,0 +1,118 @@
+//! The space of the nonlinear elements: the physical degrees of freedom they act on.
+//!
+//! A model with a few local nonlinearities (bearings, isolators, gaps) has many modes but few
+//! element dofs `D`. The elements see the modal state only through `u = Phi_D q` and act on it
+//! only through `Phi_D^T r(u, u')`, so their step equation can be written and solved in the
+//! `n_d = |D|` physical coordinates instead of the `n` modal ones (see [`super::newton`]).
+
+use crate::elements::{Element, Evaluation};
+use crate::error::CoreError;
+
+/// An element evaluated in the element space: its buffers and where its local dofs sit in `D`.
+struct Member<'a> {
+    eval: Evaluation<'a>,
+    at: Vec<usize>,
+}
+
+/// The element dofs `D`, their mode-shape rows and the elements acting on them.
+pub struct ElementSpace<'a> {
+    n_modes: usize,
+    /// `Phi_D`, row-major `n_d x n_modes`.
+    phi: Vec<f64>,
+    members: Vec<Member<'a>>,
+}
+
+impl<'a> ElementSpace<'a> {
+    /// The space of `elements` (whose dofs are known to be `< n_dof`) for the mode shapes
+    /// `phi` (`n_dof x n_modes`, row-major).
+    pub fn new(phi: &[f64], n_modes: usize, elements: &'a [&'a dyn Element]) -> Self {
+        let mut dofs: Vec<usize> = elements.iter().flat_map(|e| e.dofs().to_vec()).collect();
+        dofs.sort_unstable();
+        dofs.dedup();
+        let position = |d: usize| dofs.binary_search(&d).unwrap_or(0);
+        let members = elements
+            .iter()
+            .map(|&e| Member {
+                eval: Evaluation::new(e),
+                at: e.dofs().iter().map(|&d| position(d)).collect(),
+            })
+            .collect();
+        let phi = dofs
+            .iter()
+            .flat_map(|&d| phi[d * n_modes..(d + 1) * n_modes].iter().copied())
+            .collect();
+        ElementSpace {
+            n_modes,
+            phi,
+            members,
+        }
+    }
+
+    /// `n_d`, the number of element dofs.
+    pub fn len(&self) -> usize {
+        self.phi.len() / self.n_modes.max(1)
+    }
+
+    /// `Phi_D`, row-major `n_d x n_modes`.
+    pub fn phi(&self) -> &[f64] {
+        &self.phi
+    }
+
+    /// `out = Phi_D q`.
+    pub fn to_local(&self, q: &[f64], out: &mut [f64]) {
+        for (o, row) in out.iter_mut().zip(self.phi.chunks_exact(self.n_modes)) {
+            *o = row.iter().zip(q).map(|(p, x)| p * x).sum();
+        }
+    }
+
+    /// `out += Phi_D^T r`.
+    pub fn add_modal(&self, r: &[f64], out: &mut [f64]) {
+        for (&rj, row) in r.iter().zip(self.phi.chunks_exact(self.n_modes)) {
+            if rj != 0.0 {
+                for (o, p) in out.iter_mut().zip(row) {
+                    *o += p * rj;
+                }
+            }
+        }
+    }
+
+    /// The assembled element force `r` (length `n_d`, overwritten) at the element-space
+    /// state `(u, u')` and time `t`; with `tangent`, `dr/du` and `dr/du'` (row-major
+    /// `n_d x n_d`, overwritten).
+    pub fn eval(
+        &mut self,
+        u: &[f64],
+        ud: &[f64],
+        t: f64,
+        r: &mut [f64],
+        mut tangent: Option<(&mut [f64], &mut [f64])>,
+    ) -> Result<(), CoreError> {
+        let nd = r.len();
+        r.fill(0.0);
+        if let Some((k, c)) = tangent.as_mut() {
+            k.fill(0.0);
+            c.fill(0.0);
+        }
+        for m in &mut self.members {
+            let e = &mut m.eval;
+            for (j, &a) in m.at.iter().enumerate() {
+                e.x[j] = u[a];
+                e.v[j] = ud[a];
+            }
+            e.evaluate(t, tangent.is_some())?;
+            let nl = m.at.len();
+            for (j, &a) in m.at.iter().enumerate() {
+                r[a] += e.r[j];
+            }
+            if let Some((k, c)) = tangent.as_mut() {
+                for (i, &a) in m.at.iter().enumerate() {
+                    for (j, &b) in m.at.iter().enumerate() {
+                        k[a * nd + b] += e.kx[i * nl + j];
+                        c[a * nd + b] += e.cv[i * nl + j];
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}

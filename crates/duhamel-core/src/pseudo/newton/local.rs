@@ -1,0 +1,333 @@
+//! Newton's method in the space of the elements' dofs (the FNA iteration).
+//!
+//! With `z` the unknown half of the end state (`q1` for schemes b and c, `v1` for scheme a),
+//! the node states are affine in `z`: `q_i = q_i^0 + alpha_i z`, `v_i = v_i^0 + beta_i z`
+//! (the same `alpha_i`, `beta_i` for every mode). Along the eliminated mass law (or without
+//! one) the pseudo-force at node `i` is
+//!
+//! ```text
+//! Q_i = g_i (p_i - c v_i - kappa k q_i) - mom_i v_i - Phi_D^T r_i / mu_i
+//! ```
+//!
+//! whose first terms are diagonal in the modes. Solving the diagonal part per mode gives
+//! `z = h / D - sum_i What_i Phi_D^T r_i` (`What_i = W_i / (mu_i D)`), and multiplying by
+//! `Phi_D` the step equation in the element coordinates `y = Phi_D z`:
+//!
+//! ```text
+//! F(y) = y - Phi_D (h / D) + sum_i G_i r_i(U_i + alpha_i y, V_i + beta_i y) = 0,
+//! G_i = Phi_D diag(What_i) Phi_D^T,   J = I + sum_i G_i (alpha_i K_i + beta_i C_i),
+//! ```
+//!
+//! `n_d` unknowns instead of `n`: an iteration costs `O(n_nodes n_d^2 + n_d^3)`, the step
+//! `O(n n_d)` besides. Without a mass law `G_i` is the same for every step.
+
+use super::super::force::PseudoForce;
+use super::super::local::ElementSpace;
+use super::super::scheme::{Rule, Scheme, StepInput, Unknown};
+use crate::dense::solve_in_place;
+use crate::error::CoreError;
+
+/// Buffers and the per-node matrices of the element-space Newton.
+pub(super) struct LocalNewton {
+    n: usize,
+    nd: usize,
+    /// `G_i` per node (`n_d x n_d`), and whether they hold for every step.
+    g: Vec<Vec<f64>>,
+    g_ready: bool,
+    /// `What_i` per node (`n`), `h / D` (`n`).
+    w_hat: Vec<Vec<f64>>,
+    base: Vec<f64>,
+    /// Per node: `U_i`, `V_i`, the force and tangents (`n_d`, `n_d x n_d`).
+    u0: Vec<Vec<f64>>,
+    ud0: Vec<Vec<f64>>,
+    r: Vec<Vec<f64>>,
+    kt: Vec<Vec<f64>>,
+    ct: Vec<Vec<f64>>,
+    /// Modal node states for the constant part (`n` each).
+    qi: Vec<f64>,
+    vi: Vec<f64>,
+    y: Vec<f64>,
+    y0: Vec<f64>,
+    y_prev: Vec<f64>,
+    delta: Vec<f64>,
+    res: Vec<f64>,
+    mat: Vec<f64>,
+    u: Vec<f64>,
+    ud: Vec<f64>,
+    modal: Vec<f64>,
+}
+
+/// What the step needs to know about the problem besides the element space.
+pub(super) struct Setting<'s> {
+    pub rule: &'s Rule,
+    pub scheme: Scheme,
+    pub dt: f64,
+    pub unknown: Unknown,
+    pub constant: &'s [bool],
+    pub tol: f64,
+    pub max_iter: usize,
+    pub linear: bool,
+}
+
+impl LocalNewton {
+    pub fn new(n: usize, nd: usize, nodes: usize) -> Self {
+        let per_node = |len: usize| vec![vec![0.0; len]; nodes];
+        LocalNewton {
+            n,
+            nd,
+            g: per_node(nd * nd),
+            g_ready: false,
+            w_hat: per_node(n),
+            base: vec![0.0; n],
+            u0: per_node(nd),
+            ud0: per_node(nd),
+            r: per_node(nd),
+            kt: per_node(nd * nd),
+            ct: per_node(nd * nd),
+            qi: vec![0.0; n],
+            vi: vec![0.0; n],
+            y: vec![0.0; nd],
+            y0: vec![0.0; nd],
+            y_prev: vec![0.0; nd],
+            delta: vec![0.0; nd],
+            res: vec![0.0; nd],
+            mat: vec![0.0; nd * nd],
+            u: vec![0.0; nd],
+            ud: vec![0.0; nd],
+            modal: vec![0.0; n],
+        }
+    }
+
+    /// `(alpha_i, beta_i)`: the derivatives of the node state with respect to `z`.
+    fn slopes(set: &Setting, i: usize) -> (f64, f64) {
+        let [dqq, dqv, dvq, dvv] = set.rule.nodes[i].d;
+        match set.unknown {
+            Unknown::V1 => (dqv, dvv),
+            _ => (dqq, dvq),
+        }
+    }
+
+    /// Solves the step for `z` (in: the predictor; out: the solution). Returns the Newton
+    /// iterations.
+    pub fn solve(
+        &mut self,
+        space: &mut ElementSpace,
+        pf: &PseudoForce,
+        set: &Setting,
+        inp: &StepInput,
+        z: &mut [f64],
+    ) -> Result<usize, CoreError> {
+        let (n, nd, dt) = (self.n, self.nd, set.dt);
+        let (kk, cc) = pf.modal_kc();
+        let mass = pf.has_mass();
+        let nodes = set.rule.nodes.len();
+        let w = if set.unknown == Unknown::V1 {
+            &set.rule.wv
+        } else {
+            &set.rule.wx
+        };
+        // The diagonal part, per mode: D, h, What.
+        let mut diag = vec![1.0; if mass { n } else { 0 }];
+        self.base.copy_from_slice(if set.unknown == Unknown::V1 {
+            inp.v_lin
+        } else {
+            inp.q_lin
+        });
+        for (i, wi) in w.iter().enumerate() {
+            let s = set.rule.nodes[i].s;
+            let (alpha, beta) = Self::slopes(set, i);
+            for m in 0..n {
+                (self.qi[m], self.vi[m]) = set.scheme.state(s, dt, inp.q0[m], inp.v0[m], 0.0, 0.0);
+            }
+            space.to_local(&self.qi, &mut self.u0[i]);
+            space.to_local(&self.vi, &mut self.ud0[i]);
+            if mass {
+                let [mu, g, mom, kappa] = pf.node_mass(inp.t + s * dt);
+                for m in 0..n {
+                    let p = inp.pb[0][m] + inp.pb[1][m] * s + 4.0 * inp.pb[2][m] * s * (1.0 - s);
+                    let damp = g * cc[m] + mom;
+                    let stiff = g * kappa * kk[m];
+                    diag[m] += wi[m] * (damp * beta + stiff * alpha);
+                    self.base[m] += wi[m] * (g * p - damp * self.vi[m] - stiff * self.qi[m]);
+                    self.w_hat[i][m] = wi[m] / mu;
+                }
+            } else if !self.g_ready {
+                self.w_hat[i].copy_from_slice(wi);
+            }
+        }
+        if mass {
+            for m in 0..n {
+                self.base[m] /= diag[m];
+                for wh in &mut self.w_hat {
+                    wh[m] /= diag[m];
+                }
+            }
+        }
+        if mass || !self.g_ready {
+            let phi = space.phi();
+            for (g, wh) in self.g.iter_mut().zip(&self.w_hat) {
+                for a in 0..nd {
+                    let ra = &phi[a * n..(a + 1) * n];
+                    for b in 0..nd {
+                        let rb = &phi[b * n..(b + 1) * n];
+                        g[a * nd + b] = (0..n).map(|m| ra[m] * wh[m] * rb[m]).sum();
+                    }
+                }
+            }
+            self.g_ready = !mass;
+        }
+        space.to_local(&self.base, &mut self.y0);
+        // Constant nodes: their forces once, folded into y0.
+        for i in 0..nodes {
+            if set.constant[i] {
+                let t = inp.t + set.rule.nodes[i].s * dt;
+                space.eval(&self.u0[i], &self.ud0[i], t, &mut self.r[i], None)?;
+                for a in 0..nd {
+                    let ga = &self.g[i][a * nd..(a + 1) * nd];
+                    self.y0[a] -= ga.iter().zip(&self.r[i]).map(|(x, y)| x * y).sum::<f64>();
+                }
+            }
+        }
+        space.to_local(z, &mut self.y);
+        let scale0 = self
+            .y0
+            .iter()
+            .chain(self.u0.iter().flatten())
+            .fold(0.0_f64, |a, b| a.max(b.abs()));
+        let iterations = self.newton(space, set, inp, scale0)?;
+        // z from the converged element forces.
+        z.copy_from_slice(&self.base);
+        for i in 0..nodes {
+            self.modal.fill(0.0);
+            space.add_modal(&self.r[i], &mut self.modal);
+            for ((zm, wh), rm) in z.iter_mut().zip(&self.w_hat[i]).zip(&self.modal) {
+                *zm -= wh * rm;
+            }
+        }
+        Ok(iterations)
+    }
+
+    /// Evaluates the varying nodes at `y` and returns the residual's max norm.
+    fn residual(
+        &mut self,
+        space: &mut ElementSpace,
+        set: &Setting,
+        inp: &StepInput,
+        tangent: bool,
+    ) -> Result<f64, CoreError> {
+        let nd = self.nd;
+        self.res.copy_from_slice(&self.y);
+        for (r, y0) in self.res.iter_mut().zip(&self.y0) {
+            *r -= y0;
+        }
+        for i in 0..set.rule.nodes.len() {
+            if set.constant[i] {
+                continue;
+            }
+            let (alpha, beta) = Self::slopes(set, i);
+            for a in 0..nd {
+                self.u[a] = self.u0[i][a] + alpha * self.y[a];
+                self.ud[a] = self.ud0[i][a] + beta * self.y[a];
+            }
+            let t = inp.t + set.rule.nodes[i].s * set.dt;
+            let tan = tangent.then_some((&mut self.kt[i][..], &mut self.ct[i][..]));
+            space.eval(&self.u, &self.ud, t, &mut self.r[i], tan)?;
+            for a in 0..nd {
+                let ga = &self.g[i][a * nd..(a + 1) * nd];
+                self.res[a] += ga.iter().zip(&self.r[i]).map(|(x, y)| x * y).sum::<f64>();
+            }
+        }
+        // NaN must not vanish in the max (f64::max drops it).
+        Ok(self.res.iter().fold(0.0_f64, |acc, &r| {
+            if r.is_nan() || r.abs() > acc {
+                r.abs()
+            } else {
+                acc
+            }
+        }))
+    }
+
+    /// `J = I + sum_i G_i (alpha_i K_i + beta_i C_i)` over the varying nodes.
+    fn jacobian(&mut self, set: &Setting) {
+        let nd = self.nd;
+        self.mat.fill(0.0);
+        for a in 0..nd {
+            self.mat[a * nd + a] = 1.0;
+        }
+        for i in 0..set.rule.nodes.len() {
+            if set.constant[i] {
+                continue;
+            }
+            let (alpha, beta) = Self::slopes(set, i);
+            let (g, kt, ct) = (&self.g[i], &self.kt[i], &self.ct[i]);
+            for a in 0..nd {
+                for c in 0..nd {
+                    let gac = g[a * nd + c];
+                    if gac == 0.0 {
+                        continue;
+                    }
+                    let (kc, cc) = (&kt[c * nd..(c + 1) * nd], &ct[c * nd..(c + 1) * nd]);
+                    let row = &mut self.mat[a * nd..(a + 1) * nd];
+                    for b in 0..nd {
+                        row[b] += gac * (alpha * kc[b] + beta * cc[b]);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Newton's method on `F(y) = 0`, damped by backtracking as the modal one.
+    fn newton(
+        &mut self,
+        space: &mut ElementSpace,
+        set: &Setting,
+        inp: &StepInput,
+        scale0: f64,
+    ) -> Result<usize, CoreError> {
+        let mut last: Option<f64> = None;
+        let mut norm = f64::INFINITY;
+        for iter in 1..=set.max_iter {
+            norm = self.residual(space, set, inp, true)?;
+            if let Some(prev) = last {
+                let floor = 64.0 * f64::EPSILON * scale0;
+                let mut lambda = 1.0;
+                while (norm.is_nan() || norm > prev * (1.0 - 1e-4 * lambda))
+                    && prev > floor
+                    && lambda > 1.0 / 64.0
+                {
+                    lambda *= 0.5;
+                    for ((y, yp), d) in self.y.iter_mut().zip(&self.y_prev).zip(&self.delta) {
+                        *y = yp + lambda * d;
+                    }
+                    norm = self.residual(space, set, inp, true)?;
+                }
+            }
+            self.jacobian(set);
+            for (d, r) in self.delta.iter_mut().zip(&self.res) {
+                *d = -r;
+            }
+            if !solve_in_place(self.nd, &self.mat, &mut self.delta) {
+                break;
+            }
+            self.y_prev.copy_from_slice(&self.y);
+            for (y, d) in self.y.iter_mut().zip(&self.delta) {
+                *y += d;
+            }
+            let size = self.delta.iter().fold(0.0_f64, |a, d| a.max(d.abs()));
+            let ymax = self.y.iter().fold(0.0_f64, |a, y| a.max(y.abs()));
+            if set.linear || size <= set.tol * ymax.max(scale0) || size == 0.0 {
+                // The forces at the accepted state.
+                self.residual(space, set, inp, false)?;
+                return Ok(iter);
+            }
+            last = Some(norm);
+        }
+        Err(CoreError::NoConvergence {
+            time: inp.t + set.dt,
+            step: 0,
+            residual: norm,
+            iterations: set.max_iter,
+            last_good_time: Some(inp.t),
+        })
+    }
+}
