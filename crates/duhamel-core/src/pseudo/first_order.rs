@@ -98,6 +98,7 @@ impl<'a> Corrector<'a> {
         dt: f64,
     ) -> Result<Self, CoreError> {
         let (m, r) = (k.len(), lambda.len());
+        // `r m` is the length of the gains (checked by the caller): `4 r m` cannot overflow.
         if nl.back.len() != 4 * r * m {
             return Err(CoreError::LengthMismatch {
                 name: "back",
@@ -109,6 +110,14 @@ impl<'a> Corrector<'a> {
             return Err(CoreError::InvalidInput {
                 name: "tol",
                 problem: "must be positive (and `max_iter` at least 1)".into(),
+            });
+        }
+        let dofs_x_modes = nl.n_dof.saturating_mul(m);
+        if nl.phi.len() != dofs_x_modes {
+            return Err(CoreError::LengthMismatch {
+                name: "phi",
+                got: nl.phi.len(),
+                expected: dofs_x_modes,
             });
         }
         let pf = PseudoForce::new(nl.phi, nl.n_dof, nl.elements, None, None, &[], None, k, c)?;

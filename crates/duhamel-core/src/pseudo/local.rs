@@ -53,6 +53,22 @@ impl<'a> ElementSpace<'a> {
         self.phi.len() / self.n_modes.max(1)
     }
 
+    /// For each element dof, the element dofs an element couples it with (itself included):
+    /// the sparsity of the assembled tangents' rows.
+    pub fn pattern(&self) -> Vec<Vec<usize>> {
+        let mut rows = vec![Vec::new(); self.len()];
+        for m in &self.members {
+            for &a in &m.at {
+                rows[a].extend_from_slice(&m.at);
+            }
+        }
+        for row in &mut rows {
+            row.sort_unstable();
+            row.dedup();
+        }
+        rows
+    }
+
     /// `Phi_D`, row-major `n_d x n_modes`.
     pub fn phi(&self) -> &[f64] {
         &self.phi

@@ -55,6 +55,8 @@ pub(super) struct LocalNewton {
     u: Vec<f64>,
     ud: Vec<f64>,
     modal: Vec<f64>,
+    /// The sparsity of the tangents' rows ([`ElementSpace::pattern`]).
+    pattern: Vec<Vec<usize>>,
 }
 
 /// What the step needs to know about the problem besides the element space.
@@ -70,7 +72,8 @@ pub(super) struct Setting<'s> {
 }
 
 impl LocalNewton {
-    pub fn new(n: usize, nd: usize, nodes: usize) -> Self {
+    pub fn new(space: &ElementSpace, n: usize, nodes: usize) -> Self {
+        let nd = space.len();
         let per_node = |len: usize| vec![vec![0.0; len]; nodes];
         LocalNewton {
             n,
@@ -95,6 +98,7 @@ impl LocalNewton {
             u: vec![0.0; nd],
             ud: vec![0.0; nd],
             modal: vec![0.0; n],
+            pattern: space.pattern(),
         }
     }
 
@@ -261,15 +265,14 @@ impl LocalNewton {
             let (alpha, beta) = Self::slopes(set, i);
             let (g, kt, ct) = (&self.g[i], &self.kt[i], &self.ct[i]);
             for a in 0..nd {
-                for c in 0..nd {
+                let row = &mut self.mat[a * nd..(a + 1) * nd];
+                for (c, cols) in self.pattern.iter().enumerate() {
                     let gac = g[a * nd + c];
                     if gac == 0.0 {
                         continue;
                     }
-                    let (kc, cc) = (&kt[c * nd..(c + 1) * nd], &ct[c * nd..(c + 1) * nd]);
-                    let row = &mut self.mat[a * nd..(a + 1) * nd];
-                    for b in 0..nd {
-                        row[b] += gac * (alpha * kc[b] + beta * cc[b]);
+                    for &b in cols {
+                        row[b] += gac * (alpha * kt[c * nd + b] + beta * ct[c * nd + b]);
                     }
                 }
             }

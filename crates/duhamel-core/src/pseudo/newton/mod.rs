@@ -98,7 +98,10 @@ impl<'r> Stepper<'r> {
         let nd = space.len();
         let local =
             (solver != Solver::ModalNewton && unknown != Unknown::Both && pf.local() && nd < n)
-                .then(|| (space, local::LocalNewton::new(n, nd, nodes)));
+                .then(|| {
+                    let newton = local::LocalNewton::new(&space, n, nodes);
+                    (space, newton)
+                });
         Stepper {
             n,
             rule,
