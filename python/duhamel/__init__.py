@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 from duhamel import elements, loads, mass, oscillator, speed
 from duhamel._core import __version__
-from duhamel.errors import DampingWarning, DuhamelError, SolverError
+from duhamel.errors import DampingWarning, DuhamelError, InternalError, SolverError
 from duhamel.integrators import (
     HHT,
     CentralDifference,
@@ -47,6 +47,7 @@ __all__ = [
     "DirectIntegrator",
     "DuhamelError",
     "GeneralizedAlpha",
+    "InternalError",
     "ModalBasis",
     "ModalHistory",
     "Newmark",

@@ -142,3 +142,8 @@ def element_stiffness(
     elements: Sequence[Element], x: Array, v: Array, t: float
 ) -> tuple[NDArray[np.int64], NDArray[np.int64], Array]:
     """The elements' stiffness ``dr/dx`` at a state, as COO triplets."""
+
+def _panic_for_tests(kind: str) -> None:
+    """Test only: panics on purpose (``kind`` "here", "detached" with the GIL released,
+    "rayon" in a rayon worker, "thread" in a scoped thread), to check that a panic comes out
+    as :class:`duhamel.errors.InternalError`."""

@@ -18,6 +18,14 @@ class DampingWarning(UserWarning):
     where it is meant with ``warnings.simplefilter("ignore", duhamel.DampingWarning)``."""
 
 
+class InternalError(DuhamelError, RuntimeError):
+    """A bug in duhamel: please report it, with the input that raised it.
+
+    The native core failed an internal check (a Rust panic). The run is abandoned, the
+    process and the interpreter are unharmed, and the message says what failed and where.
+    """
+
+
 class SolverError(DuhamelError, RuntimeError):
     """A simulation stopped before ``t_end``.
 

@@ -27,10 +27,16 @@ pub struct Outputs<'a> {
 impl Outputs<'_> {
     /// Checks the maps against the coordinates' `width` and the number of loads.
     pub fn check(&self, width: usize, n_loads: usize) -> Result<(), CoreError> {
-        for (name, got, expected) in [
-            ("output map", self.map.len(), width * self.n_cols),
-            ("output load map", self.loads.len(), n_loads * self.n_cols),
+        for (name, got, rows) in [
+            ("output map", self.map.len(), width),
+            ("output load map", self.loads.len(), n_loads),
         ] {
+            let Some(expected) = rows.checked_mul(self.n_cols) else {
+                return Err(CoreError::InvalidInput {
+                    name: "n_cols",
+                    problem: format!("is too large: {rows} x {} values overflow", self.n_cols),
+                });
+            };
             if got != expected {
                 return Err(CoreError::LengthMismatch {
                     name,
@@ -101,6 +107,8 @@ impl<'s> Mapper<'s> {
 
     /// Maps the next saved rows `rows` with their load values.
     pub fn map(&mut self, rows: &'s [f64], values: Vec<f64>, count: usize) {
+        // In bounds: the buffer has `n_saved x n_cols` values (its size checked by the route)
+        // and each saved row is mapped once.
         let (dst, tail) = std::mem::take(&mut self.rest).split_at_mut(count * self.outputs.n_cols);
         self.rest = tail;
         match &self.tx {

@@ -138,9 +138,12 @@ impl SaveGrid {
         }
     }
 
-    /// Number of saved instants.
+    /// Number of saved instants (saturating: `usize::MAX` steps all saved is more than any
+    /// memory, and refused as such by [`crate::history::reserve`]).
     pub fn count(&self) -> usize {
-        self.n_steps / self.every + 1 + usize::from(self.n_steps % self.every != 0)
+        (self.n_steps / self.every)
+            .saturating_add(1)
+            .saturating_add(usize::from(self.n_steps % self.every != 0))
     }
 
     /// The grid point of saved instant `k` (`k < count()`).

@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 use crate::arrays::{attr, flat_of};
 use crate::driver::run;
 use crate::elements;
+use crate::guard::guarded;
 use crate::history::RunResult;
 use crate::loads::PyForcing;
 use crate::problem::ModalInput;
@@ -25,11 +26,13 @@ pub(crate) fn solve_uncoupled(
     forcing: &Bound<'_, PyAny>,
     progress: &Bound<'_, PyAny>,
 ) -> PyResult<RunResult> {
-    let input = ModalInput::extract(problem)?;
-    let p = input.problem();
-    let forcing = PyForcing::modal(forcing, &problem.getattr("phi")?, p.n_modes())?;
-    run(py, forcing, None, progress, |f, control| {
-        uncoupled::integrate(&p, f, control).map(|h| (h, ()))
+    guarded(|| {
+        let input = ModalInput::extract(problem)?;
+        let p = input.problem();
+        let forcing = PyForcing::modal(forcing, &problem.getattr("phi")?, p.n_modes())?;
+        run(py, forcing, None, progress, |f, control| {
+            uncoupled::integrate(&p, f, control).map(|h| (h, ()))
+        })
     })
 }
 
@@ -87,56 +90,58 @@ pub(crate) fn solve_first_order(
     forcing: &Bound<'_, PyAny>,
     progress: &Bound<'_, PyAny>,
 ) -> PyResult<RunResult> {
-    let input = ModalInput::extract(problem)?;
-    let p = input.problem();
-    let modes = ModesInput::extract(modes)?;
-    let maps = if outputs.is_none() {
-        None
-    } else {
-        Some((
-            flat_of(&outputs.getattr("map")?, "map")?,
-            flat_of(&outputs.getattr("loads")?, "loads")?,
-            attr::<usize>(outputs, "n_cols")?,
-        ))
-    };
-    let outputs = maps.as_ref().map(|(map, loads, n_cols)| Outputs {
-        map,
-        loads,
-        n_cols: *n_cols,
-    });
-    let (nl_arrays, built) = if nonlinear.is_none() {
-        (None, elements::Built::default())
-    } else {
-        (
+    guarded(|| {
+        let input = ModalInput::extract(problem)?;
+        let p = input.problem();
+        let modes = ModesInput::extract(modes)?;
+        let maps = if outputs.is_none() {
+            None
+        } else {
             Some((
-                flat_of(&nonlinear.getattr("phi")?, "phi")?,
-                flat_of(&nonlinear.getattr("back")?, "back")?,
-                attr::<f64>(nonlinear, "tol")?,
-                attr::<usize>(nonlinear, "max_iter")?,
-            )),
-            elements::build(py, &nonlinear.getattr("elements")?)?,
-        )
-    };
-    let refs = built.refs();
-    let nonlinear = nl_arrays
-        .as_ref()
-        .map(|(phi, back, tol, max_iter)| Nonlinear {
-            phi,
-            n_dof: phi.len().checked_div(p.n_modes()).unwrap_or(0),
-            elements: &refs,
-            back,
-            tol: *tol,
-            max_iter: *max_iter,
+                flat_of(&outputs.getattr("map")?, "map")?,
+                flat_of(&outputs.getattr("loads")?, "loads")?,
+                attr::<usize>(outputs, "n_cols")?,
+            ))
+        };
+        let outputs = maps.as_ref().map(|(map, loads, n_cols)| Outputs {
+            map,
+            loads,
+            n_cols: *n_cols,
         });
-    let forcing = PyForcing::modal(forcing, &problem.getattr("phi")?, p.n_modes())?;
-    run(py, forcing, Some(&built), progress, |f, control| {
-        first_order::integrate(
-            &p,
-            &modes.modes(),
-            outputs.as_ref(),
-            nonlinear.as_ref(),
-            f,
-            control,
-        )
+        let (nl_arrays, built) = if nonlinear.is_none() {
+            (None, elements::Built::default())
+        } else {
+            (
+                Some((
+                    flat_of(&nonlinear.getattr("phi")?, "phi")?,
+                    flat_of(&nonlinear.getattr("back")?, "back")?,
+                    attr::<f64>(nonlinear, "tol")?,
+                    attr::<usize>(nonlinear, "max_iter")?,
+                )),
+                elements::build(py, &nonlinear.getattr("elements")?)?,
+            )
+        };
+        let refs = built.refs();
+        let nonlinear = nl_arrays
+            .as_ref()
+            .map(|(phi, back, tol, max_iter)| Nonlinear {
+                phi,
+                n_dof: phi.len().checked_div(p.n_modes()).unwrap_or(0),
+                elements: &refs,
+                back,
+                tol: *tol,
+                max_iter: *max_iter,
+            });
+        let forcing = PyForcing::modal(forcing, &problem.getattr("phi")?, p.n_modes())?;
+        run(py, forcing, Some(&built), progress, |f, control| {
+            first_order::integrate(
+                &p,
+                &modes.modes(),
+                outputs.as_ref(),
+                nonlinear.as_ref(),
+                f,
+                control,
+            )
+        })
     })
 }

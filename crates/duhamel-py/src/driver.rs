@@ -5,6 +5,7 @@ use duhamel_core::{Control, Failure};
 use pyo3::prelude::*;
 
 use crate::elements::Built;
+use crate::guard::guarded;
 use crate::history::{finish, Causes, IntoResult, IntoStats, RunResult};
 use crate::loads::PyForcing;
 
@@ -56,7 +57,8 @@ impl Control for PyControl {
 
 /// Runs `integrate` with the GIL released, the Python load function `forcing` and a
 /// [`PyControl`] for `progress`; the result of the run, with the Python exception behind a
-/// failure (the load function's, a Python element's of `built`, or the control's).
+/// failure (the load function's, a Python element's of `built`, or the control's). A panic
+/// in the engine raises `InternalError` ([`guarded`]).
 pub(crate) fn run<H, S>(
     py: Python<'_>,
     mut forcing: Option<PyForcing>,
@@ -72,16 +74,18 @@ where
     H: IntoResult + Send,
     S: IntoStats + Send,
 {
-    let mut control = PyControl::new(progress);
-    let result = py.detach(|| {
-        let f = forcing.as_mut().map(|f| f as &mut dyn ModalForcing);
-        integrate(f, &mut control)
-    });
-    let causes = Causes {
-        callback: forcing
-            .and_then(|f| f.error)
-            .or_else(|| built.and_then(Built::take_error)),
-        control: control.error,
-    };
-    finish(py, result, causes)
+    guarded(|| {
+        let mut control = PyControl::new(progress);
+        let result = py.detach(|| {
+            let f = forcing.as_mut().map(|f| f as &mut dyn ModalForcing);
+            integrate(f, &mut control)
+        });
+        let causes = Causes {
+            callback: forcing
+                .and_then(|f| f.error)
+                .or_else(|| built.and_then(Built::take_error)),
+            control: control.error,
+        };
+        finish(py, result, causes)
+    })
 }

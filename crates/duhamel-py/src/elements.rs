@@ -12,6 +12,7 @@ use pyo3::types::{PyList, PyTuple};
 
 use crate::arrays::vec_of;
 use crate::error::core_err;
+use crate::guard::guarded;
 
 /// A Python function `fn(x, v, t) -> r` of an element's local state, with an optional
 /// `jacobian(x, v, t) -> (dr/dx, dr/dv)`; called with the GIL, once per evaluation.
@@ -202,7 +203,8 @@ impl ElementSpec {
     /// `r = sum_k coefficients[k] x^k` at `dof`.
     #[staticmethod]
     fn polynomial(dof: usize, coefficients: &Bound<'_, PyAny>) -> PyResult<Self> {
-        let e = Polynomial::new(dof, vec_of(coefficients, "coefficients")?).map_err(core_err)?;
+        let coefficients = vec_of(coefficients, "coefficients")?;
+        let e = guarded(|| Polynomial::new(dof, coefficients).map_err(core_err))?;
         Ok(ElementSpec(Spec::Polynomial(e)))
     }
 
@@ -210,7 +212,7 @@ impl ElementSpec {
     #[staticmethod]
     #[pyo3(signature = (i, j, k, k3))]
     fn spring(i: usize, j: Option<usize>, k: f64, k3: f64) -> PyResult<Self> {
-        let e = Spring::new(i, j, k, k3).map_err(core_err)?;
+        let e = guarded(|| Spring::new(i, j, k, k3).map_err(core_err))?;
         Ok(ElementSpec(Spec::Spring(e)))
     }
 
@@ -218,7 +220,7 @@ impl ElementSpec {
     #[staticmethod]
     #[pyo3(signature = (i, j, c))]
     fn damper(i: usize, j: Option<usize>, c: f64) -> PyResult<Self> {
-        let e = Damper::new(i, j, c).map_err(core_err)?;
+        let e = guarded(|| Damper::new(i, j, c).map_err(core_err))?;
         Ok(ElementSpec(Spec::Damper(e)))
     }
 
@@ -233,16 +235,18 @@ impl ElementSpec {
         smoothing: f64,
         velocity_smoothing: f64,
     ) -> PyResult<Self> {
-        let e = Contact::new(
-            dof_x,
-            dof_y,
-            clearance,
-            stiffness,
-            friction,
-            smoothing,
-            velocity_smoothing,
-        )
-        .map_err(core_err)?;
+        let e = guarded(|| {
+            Contact::new(
+                dof_x,
+                dof_y,
+                clearance,
+                stiffness,
+                friction,
+                smoothing,
+                velocity_smoothing,
+            )
+            .map_err(core_err)
+        })?;
         Ok(ElementSpec(Spec::Contact(e)))
     }
 

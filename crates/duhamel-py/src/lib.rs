@@ -6,7 +6,7 @@
 //! taking it back between blocks to check for Ctrl-C and report progress. A run returns a
 //! `RunResult` (numpy arrays moved, not copied) whose `error` is None or a `RunError` with
 //! the fields of the core's error; input errors raise `ValueError`/`TypeError` naming the
-//! parameter ([`error`]).
+//! parameter ([`error`]). A panic (a bug) raises `duhamel.errors.InternalError` ([`guard`]).
 
 mod arrays;
 mod background;
@@ -14,6 +14,7 @@ mod direct;
 mod driver;
 mod elements;
 mod error;
+mod guard;
 mod history;
 mod loads;
 mod mass;
@@ -27,6 +28,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use crate::arrays::vec_of;
+use crate::guard::guarded;
 
 /// `(A, B)` or `(A, M)` stacks returned to Python.
 type MatrixPair<'py> = (Bound<'py, PyArray3<f64>>, Bound<'py, PyArray3<f64>>);
@@ -111,14 +113,16 @@ fn transfer<'py>(
     dt: f64,
     moments: bool,
 ) -> PyResult<MatrixPair<'py>> {
-    transfer_batch(
-        py,
-        (omega, "omega"),
-        (zeta, "zeta"),
-        dt,
-        moments,
-        Transfer::from_omega_zeta,
-    )
+    guarded(|| {
+        transfer_batch(
+            py,
+            (omega, "omega"),
+            (zeta, "zeta"),
+            dt,
+            moments,
+            Transfer::from_omega_zeta,
+        )
+    })
 }
 
 /// As `transfer`, from modal stiffness `k = omega^2` and damping `c = 2 zeta omega` per unit
@@ -132,12 +136,13 @@ fn transfer_kc<'py>(
     dt: f64,
     moments: bool,
 ) -> PyResult<MatrixPair<'py>> {
-    transfer_batch(py, (k, "k"), (c, "c"), dt, moments, Transfer::new)
+    guarded(|| transfer_batch(py, (k, "k"), (c, "c"), dt, moments, Transfer::new))
 }
 
 /// The native core of duhamel.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    guard::install_hook();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(transfer, m)?)?;
     m.add_function(wrap_pyfunction!(transfer_kc, m)?)?;
@@ -146,6 +151,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(pseudo::solve_pseudo, m)?)?;
     m.add_function(wrap_pyfunction!(direct::solve_direct, m)?)?;
     m.add_function(wrap_pyfunction!(direct::element_stiffness, m)?)?;
+    m.add_function(wrap_pyfunction!(guard::_panic_for_tests, m)?)?;
     m.add_class::<speed::SpeedLaw>()?;
     m.add_class::<loads::TimeFunction>()?;
     m.add_class::<mass::MassLaw>()?;

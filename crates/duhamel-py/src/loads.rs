@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 
 use crate::arrays::{flat_of, vec_of};
 use crate::error::core_err;
+use crate::guard::guarded;
 use crate::speed::speed_of;
 
 /// A checked scalar function of time, `s(t)`, of a load `pattern * s(t)`.
@@ -66,10 +67,8 @@ impl TimeFunction {
         t: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let t = vec_of(t, "t")?;
-        Ok(PyArray1::from_vec(
-            py,
-            t.iter().map(|&x| self.0.eval(x)).collect(),
-        ))
+        let values = guarded(|| Ok(t.iter().map(|&x| self.0.eval(x)).collect()))?;
+        Ok(PyArray1::from_vec(py, values))
     }
 
     fn __repr__(&self) -> String {
@@ -78,7 +77,7 @@ impl TimeFunction {
 }
 
 fn checked(f: CoreFunction) -> PyResult<TimeFunction> {
-    f.validate().map_err(core_err)?;
+    guarded(|| f.validate().map_err(core_err))?;
     Ok(TimeFunction(f))
 }
 

@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 use crate::arrays::{attr, flat_of, optional_flat};
 use crate::driver::run;
 use crate::elements;
+use crate::guard::guarded;
 use crate::history::RunResult;
 use crate::loads::PyForcing;
 use crate::mass::mass_of;
@@ -81,48 +82,51 @@ pub(crate) fn solve_pseudo(
     forcing: &Bound<'_, PyAny>,
     progress: &Bound<'_, PyAny>,
 ) -> PyResult<RunResult> {
-    let input = ModalInput::extract(problem)?;
-    let mut base = input.problem();
-    // One mode-coupled step at a time: a single thread.
-    base.threads = Some(1);
-    let phi = flat_of(&nonlinear.getattr("phi")?, "phi")?;
-    let n_dof = phi.len().checked_div(base.n_modes()).unwrap_or(0);
-    let built = elements::build(py, &nonlinear.getattr("elements")?)?;
-    let refs = built.refs();
-    let coupling_k = optional_flat(&nonlinear.getattr("coupling_k")?, "coupling_k")?;
-    let coupling_c = optional_flat(&nonlinear.getattr("coupling_c")?, "coupling_c")?;
-    let mass = mass_of(&nonlinear.getattr("mass")?)?;
-    let options = options_of(&nonlinear.getattr("options")?)?;
-    let mut owned: Vec<Scaled> = Vec::new();
-    for item in nonlinear.getattr("scaled")?.try_iter()? {
-        let item = item?;
-        owned.push((
-            optional_flat(&item.getattr("k")?, "scaled coupling K")?,
-            optional_flat(&item.getattr("c")?, "scaled coupling C")?,
-            speed_of(&item.getattr("law")?)?,
-        ));
-    }
-    let scaled: Vec<ScaledCoupling> = owned
-        .iter()
-        .map(|(k, c, law)| ScaledCoupling {
-            k: k.as_deref(),
-            c: c.as_deref(),
-            law: *law,
+    guarded(|| {
+        let input = ModalInput::extract(problem)?;
+        let mut base = input.problem();
+        // One mode-coupled step at a time: a single thread.
+        base.threads = Some(1);
+        let phi = flat_of(&nonlinear.getattr("phi")?, "phi")?;
+        let n_dof = phi.len().checked_div(base.n_modes()).unwrap_or(0);
+        let built = elements::build(py, &nonlinear.getattr("elements")?)?;
+        let refs = built.refs();
+        let coupling_k = optional_flat(&nonlinear.getattr("coupling_k")?, "coupling_k")?;
+        let coupling_c = optional_flat(&nonlinear.getattr("coupling_c")?, "coupling_c")?;
+        let mass = mass_of(&nonlinear.getattr("mass")?)?;
+        let options = options_of(&nonlinear.getattr("options")?)?;
+        let mut owned: Vec<Scaled> = Vec::new();
+        for item in nonlinear.getattr("scaled")?.try_iter()? {
+            let item = item?;
+            owned.push((
+                optional_flat(&item.getattr("k")?, "scaled coupling K")?,
+                optional_flat(&item.getattr("c")?, "scaled coupling C")?,
+                speed_of(&item.getattr("law")?)?,
+            ));
+        }
+        let scaled: Vec<ScaledCoupling> = owned
+            .iter()
+            .map(|(k, c, law)| ScaledCoupling {
+                k: k.as_deref(),
+                c: c.as_deref(),
+                law: *law,
+            })
+            .collect();
+        let problem_nl = NonlinearProblem {
+            base,
+            phi: &phi,
+            n_dof,
+            elements: &refs,
+            coupling_k: coupling_k.as_deref(),
+            coupling_c: coupling_c.as_deref(),
+            scaled: &scaled,
+            mass: mass.as_ref(),
+            options,
+        };
+        let forcing =
+            PyForcing::modal(forcing, &problem.getattr("phi")?, problem_nl.base.n_modes())?;
+        run(py, forcing, Some(&built), progress, |f, control| {
+            pseudo::integrate(&problem_nl, f, control)
         })
-        .collect();
-    let problem_nl = NonlinearProblem {
-        base,
-        phi: &phi,
-        n_dof,
-        elements: &refs,
-        coupling_k: coupling_k.as_deref(),
-        coupling_c: coupling_c.as_deref(),
-        scaled: &scaled,
-        mass: mass.as_ref(),
-        options,
-    };
-    let forcing = PyForcing::modal(forcing, &problem.getattr("phi")?, problem_nl.base.n_modes())?;
-    run(py, forcing, Some(&built), progress, |f, control| {
-        pseudo::integrate(&problem_nl, f, control)
     })
 }

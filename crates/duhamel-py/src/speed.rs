@@ -7,6 +7,7 @@ use pyo3::types::PyTuple;
 
 use crate::arrays::vec_of;
 use crate::error::core_err;
+use crate::guard::guarded;
 
 /// A checked speed law `omega(t)`.
 #[pyclass(frozen, name = "SpeedLaw", module = "duhamel._core")]
@@ -35,9 +36,12 @@ impl SpeedLaw {
     ) -> PyResult<Bound<'py, PyTuple>> {
         let law = &self.0;
         let t = vec_of(t, "t")?;
-        let omega: Vec<f64> = t.iter().map(|&x| law.omega(x)).collect();
-        let domega: Vec<f64> = t.iter().map(|&x| law.domega(x)).collect();
-        let theta: Vec<f64> = t.iter().map(|&x| law.theta(x)).collect();
+        let (omega, domega, theta) = guarded(|| {
+            let omega: Vec<f64> = t.iter().map(|&x| law.omega(x)).collect();
+            let domega: Vec<f64> = t.iter().map(|&x| law.domega(x)).collect();
+            let theta: Vec<f64> = t.iter().map(|&x| law.theta(x)).collect();
+            Ok((omega, domega, theta))
+        })?;
         PyTuple::new(
             py,
             [
@@ -54,7 +58,7 @@ impl SpeedLaw {
 }
 
 fn checked(law: CoreLaw) -> PyResult<SpeedLaw> {
-    law.validate().map_err(core_err)?;
+    guarded(|| law.validate().map_err(core_err))?;
     Ok(SpeedLaw(law))
 }
 

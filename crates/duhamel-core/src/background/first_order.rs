@@ -53,10 +53,12 @@ pub struct FirstOrderModes<'a> {
 impl FirstOrderModes<'_> {
     fn check(&self, n_modes: usize) -> Result<(), CoreError> {
         let r = self.lambda_re.len();
+        // Saturating: a product that overflows matches no real length.
+        let gains = r.saturating_mul(n_modes);
         let lens = [
             ("lambda_im", self.lambda_im.len(), r),
-            ("gain_re", self.gain_re.len(), r * n_modes),
-            ("gain_im", self.gain_im.len(), r * n_modes),
+            ("gain_re", self.gain_re.len(), gains),
+            ("gain_im", self.gain_im.len(), gains),
             ("eta0_re", self.eta0_re.len(), r),
             ("eta0_im", self.eta0_im.len(), r),
         ];
@@ -418,7 +420,11 @@ pub fn integrate(
         None => None,
     };
     let n_cols = outputs.map_or(0, |o| o.n_cols);
-    let width = 2 * r + n_cols + if corrector.is_some() { m } else { 0 };
+    // Saturating: `n_cols` is bounded by the output map's length only when `r > 0`; a huge
+    // width is then refused as too much memory.
+    let width = (2 * r)
+        .saturating_add(n_cols)
+        .saturating_add(if corrector.is_some() { m } else { 0 });
     let loads = BlockLoads::new(problem, false, forcing.is_some(), width).map_err(fail)?;
     let n_saved = loads.n_saved();
     let mut eta = zeroed(

@@ -86,6 +86,8 @@ unsafe impl Sync for HistoryWriter {}
 impl HistoryWriter {
     /// The `(q, v)` slices of row `slot`, columns `start..start + len`.
     fn rows(&mut self, slot: usize, start: usize, len: usize) -> [&mut [f64]; 2] {
+        // Holds by construction (slots come from the save grid, ranges from the chunks): it
+        // guards the unsafe writes below, and would panic (`InternalError`), never corrupt.
         assert!(slot < self.n_saved && start + len <= self.n_modes);
         let off = slot * self.n_modes + start;
         // SAFETY: `off + len <= n_saved * n_modes`, the length of each buffer (checked above);

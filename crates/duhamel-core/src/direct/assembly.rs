@@ -49,8 +49,8 @@ impl Matrix {
         }
         match self {
             Matrix::Dense { n, data } => {
-                if data.len() != n * n {
-                    return bad(format!("has {} entries, expected {}", data.len(), n * n));
+                if data.len() != n.saturating_mul(*n) {
+                    return bad(format!("has {} entries, expected {n} x {n}", data.len()));
                 }
                 if data.iter().any(|v| !v.is_finite()) {
                     return bad("contains NaN or inf".into());

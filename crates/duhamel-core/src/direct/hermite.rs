@@ -340,6 +340,8 @@ impl Stepper for Hermite<'_> {
             for ri in self.r.iter_mut() {
                 *ri = -*ri;
             }
+            // Set by `residual(.., factor = true)` on the first pass (`factor` starts true while
+            // `lu` is None; a failed factorisation returns above): the `expect` cannot fail.
             let lu = self.lu.as_ref().expect("factorised above");
             if !lu.solve_in_place(&mut self.r) {
                 return Err(nonfinite());

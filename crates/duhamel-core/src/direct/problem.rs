@@ -169,6 +169,9 @@ pub(super) fn validate(p: &DirectProblem) -> Result<(), CoreError> {
     if p.n_steps == 0 {
         return bad("t_end", "must be at least one step `dt`".into());
     }
+    if !(p.t0 + p.n_steps as f64 * p.dt).is_finite() {
+        return bad("t_end", "is too large: the end time overflows".into());
+    }
     if p.save_every == 0 {
         return bad("save_every", "must be a positive integer".into());
     }

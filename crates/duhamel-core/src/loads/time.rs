@@ -120,8 +120,11 @@ impl TimeFunction {
             TimeFunction::Harmonic { .. } => self.eval(t),
             TimeFunction::Unbalance { law, phase, axis } => unbalance(law, *phase, *axis, t, true),
             TimeFunction::Table { t: ts, v, hold } => {
+                // A validated table has at least two samples.
                 let last = ts.len() - 1;
-                if t <= ts[0] {
+                if t.is_nan() {
+                    f64::NAN
+                } else if t <= ts[0] {
                     0.0
                 } else if t == ts[last] && !hold {
                     v[last]
@@ -327,9 +330,14 @@ fn unbalance(law: &SpeedLaw, phase: f64, axis: Axis, t: f64, left: bool) -> f64 
 }
 
 /// Right-continuous table value: 0 before the first sample, and after the last one unless
-/// `hold` (the value at the last sample itself is the value just after it: 0 unless `hold`).
+/// `hold` (the value at the last sample itself is the value just after it: 0 unless `hold`);
+/// NaN at a NaN time. `ts` has at least two samples ([`TimeFunction::validate`]).
 fn table_eval(ts: &[f64], v: &[f64], hold: bool, t: f64) -> f64 {
     let last = ts.len() - 1;
+    // NaN compares false with every sample: it would fall through to index -1 below.
+    if t.is_nan() {
+        return f64::NAN;
+    }
     if t < ts[0] {
         return 0.0;
     }

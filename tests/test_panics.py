@@ -1,0 +1,227 @@
+"""A panic in the native core is a bug, and comes out as ``duhamel.errors.InternalError``.
+
+Never an abort of the interpreter, never pyo3's ``PanicException`` (a ``BaseException`` that
+``except Exception`` misses): the binding catches the unwind at every entry point that runs
+engine code (``crates/duhamel-py/src/guard.rs``), also when the panic happened in a rayon
+worker or a scoped thread. ``_core._panic_for_tests`` panics on purpose (test only).
+
+The second half holds the regression tests of the audit for panics reachable from input:
+each input here used to panic (or wrap an integer, or be misread) and is now refused with a
+``ValueError`` naming the parameter, or answered.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+from types import SimpleNamespace as NS
+
+import numpy as np
+import pytest
+
+import duhamel
+from duhamel import _core
+from duhamel.errors import DuhamelError, InternalError
+
+ROOT = Path(__file__).resolve().parents[1]
+KINDS = {
+    "here": "forced panic (test)",
+    "detached": "forced panic with the GIL released (test)",
+    "rayon": "forced panic in a rayon worker (test, item 37)",
+    "thread": "forced panic in a scoped thread (test)",
+}
+
+
+# --- a panic becomes InternalError ---------------------------------------------------------
+
+
+@pytest.mark.parametrize("kind", sorted(KINDS))
+def test_a_panic_raises_internal_error(kind):
+    with pytest.raises(InternalError) as info:
+        _core._panic_for_tests(kind)
+    err = info.value
+    assert isinstance(err, DuhamelError) and isinstance(err, RuntimeError)
+    message = str(err)
+    # The panic's own message (for a scoped thread, the worker's, not only the scope's),
+    # where it happened, and what to do.
+    assert KINDS[kind] in message
+    assert "guard.rs:" in message
+    assert "bug in duhamel" in message and "report it" in message
+
+
+def test_except_exception_catches_it_and_the_library_still_works():
+    try:
+        _core._panic_for_tests("rayon")
+    except Exception as err:  # not a BaseException only, as pyo3's PanicException is
+        caught = err
+    assert type(caught) is InternalError
+    sys_ = duhamel.System(np.eye(2), np.diag([1.0, 4.0]), zeta=0.02)
+    sys_.add_load(duhamel.loads.Step(dof=0, amplitude=1.0))
+    sol = duhamel.solve(sys_, duhamel.Semianalytic(), t_end=1.0, dt=0.01, threads=2)
+    assert np.isfinite(sol.x).all() and sol.x.shape == (101, 2)
+
+
+def test_the_test_hook_checks_its_argument():
+    with pytest.raises(ValueError, match="`kind`"):
+        _core._panic_for_tests("nowhere")
+
+
+def test_internal_error_is_exported():
+    assert duhamel.InternalError is InternalError
+    assert "InternalError" in duhamel.__all__
+    assert issubclass(InternalError, duhamel.DuhamelError)
+
+
+def test_a_caught_panic_prints_nothing_without_rust_backtrace():
+    env = {k: v for k, v in os.environ.items() if k != "RUST_BACKTRACE"}
+    code = (
+        "import duhamel\n"
+        "from duhamel import _core\n"
+        "try:\n"
+        "    _core._panic_for_tests('rayon')\n"
+        "except duhamel.InternalError:\n"
+        "    print('caught')\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=60
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "caught"
+    assert "panicked" not in out.stderr
+
+
+def test_release_profile_unwinds():
+    """With `panic = "abort"` no panic could be caught: the process would die."""
+    cargo = tomllib.loads((ROOT / "Cargo.toml").read_text())
+    for profile in cargo.get("profile", {}).values():
+        assert profile.get("panic", "unwind") == "unwind"
+
+
+# --- inputs that used to panic ------------------------------------------------------------
+
+
+def f64(*values):
+    return np.array(values, dtype=np.float64)
+
+
+def modal_spec(n=1, **changes):
+    spec = dict(
+        k=np.ones(n),
+        c=np.zeros(n),
+        q0=np.zeros(n),
+        v0=np.zeros(n),
+        loads=[],
+        t0=0.0,
+        dt=0.1,
+        n_steps=10,
+        save_every=1,
+        threads=None,
+        phi=np.eye(n),
+    )
+    spec.update(changes)
+    return NS(**spec)
+
+
+def first_order_modes(r=2, m=1):
+    return NS(
+        lambda_re=-np.ones(r),
+        lambda_im=np.ones(r),
+        gain_re=np.ones((r, m)),
+        gain_im=np.zeros((r, m)),
+        eta0_re=np.zeros(r),
+        eta0_im=np.zeros(r),
+    )
+
+
+def direct_spec(n=1, **changes):
+    spec = dict(
+        m=_core.Matrix.dense(np.eye(n)),
+        k=_core.Matrix.dense(np.eye(n)),
+        c=None,
+        k_fixed=None,
+        scaled=[],
+        elements=[],
+        loads=[],
+        mass=None,
+        x0=np.zeros(n),
+        v0=np.zeros(n),
+        a0=None,
+        t0=0.0,
+        dt=0.1,
+        n_steps=10,
+        save_every=1,
+        out_dofs=np.arange(n, dtype=np.int64),
+        method=_core.Method.alpha(0.0, 0.0, 0.5, 0.25),
+        tol=1e-9,
+        max_iter=10,
+    )
+    spec.update(changes)
+    return NS(**spec)
+
+
+def test_table_values_at_nan_time_is_nan():
+    # Used to panic: NaN compares false with every sample, and the search fell to index -1.
+    table = _core.TimeFunction.table(f64(0.0, 1.0), f64(0.0, 2.0), False)
+    values = table.values(f64(np.nan, 0.5, np.inf, -np.inf))
+    assert np.isnan(values[0])
+    assert values[1:].tolist() == [1.0, 0.0, 0.0]
+
+
+def test_element_stiffness_velocity_of_wrong_length():
+    # Used to panic: `v` was indexed at the element's dofs, checked against `x` only.
+    spring = _core.Element.spring(1, None, 1.0, 0.0)
+    with pytest.raises(ValueError, match="`v` has length 1, expected 2"):
+        _core.element_stiffness([spring], f64(0.0, 0.0), f64(0.0), 0.0)
+
+
+def test_output_count_that_overflows():
+    # `width * n_cols` used to wrap (a panic with overflow checks): now refused by name.
+    outputs = NS(map=np.zeros(0), loads=np.zeros(0), n_cols=2**64 - 1)
+    with pytest.raises(ValueError, match="`n_cols` is too large"):
+        _core.solve_first_order(modal_spec(1), first_order_modes(), outputs, None, None, None)
+
+
+@pytest.mark.parametrize("route", ["uncoupled", "direct"])
+def test_step_count_whose_saved_instants_overflow(route):
+    # The count of saved instants, n_steps + 1, used to wrap to 0: the run then stepped
+    # 2**64 times saving nothing (with overflow checks, a panic). Now: too much memory.
+    n_steps, dt = 2**64 - 1, 1e-300
+    with pytest.raises(ValueError, match="`save_every` is too small"):
+        if route == "uncoupled":
+            spec = modal_spec(1, n_steps=n_steps, dt=dt)
+            _core.solve_uncoupled(spec, None, None)
+        else:
+            _core.solve_direct(direct_spec(1, n_steps=n_steps, dt=dt), None, None)
+
+
+def test_direct_end_time_that_overflows():
+    # Used to run on infinite times (and report a singular matrix): refused like the modal
+    # routes refuse it.
+    spec = direct_spec(1, t0=1e308, dt=1e307, n_steps=10)
+    with pytest.raises(ValueError, match="`t_end` is too large"):
+        _core.solve_direct(spec, None, None)
+
+
+def test_first_order_elements_with_mode_shapes_of_wrong_length():
+    # The coupled route's elements used to read `phi` without checking its length against
+    # `n_dof x n_modes` (rows past its end for a caller of the core).
+    nonlinear = NS(
+        phi=f64(1.0, 0.5, 0.25),
+        back=np.zeros(16),
+        tol=1e-9,
+        max_iter=10,
+        elements=[_core.Element.spring(0, None, 1.0, 1.0)],
+    )
+    with pytest.raises(ValueError, match="`phi` has length 3, expected 2"):
+        _core.solve_first_order(modal_spec(2), first_order_modes(2, 2), None, nonlinear, None, None)
+
+
+def test_fortran_ordered_dense_matrix():
+    # Used to be read row-major, i.e. transposed, without a word.
+    a = np.asfortranarray([[1.0, 2.0], [3.0, 4.0]])
+    with pytest.raises(ValueError, match="C-contiguous"):
+        _core.Matrix.dense(a)
+    assert _core.Matrix.dense(np.ascontiguousarray(a)) is not None
