@@ -172,6 +172,27 @@ pub fn reserve(values: usize) -> Result<(), CoreError> {
     Ok(())
 }
 
+/// Refuses working buffers of `values` numbers (the dense matrices of a solver, sized by the
+/// number of modes) that the machine's memory cannot hold, before they are allocated: an
+/// allocation failure aborts the process, an error does not.
+pub fn working(values: f64, what: &str) -> Result<(), CoreError> {
+    let bytes = values * 8.0;
+    let available = physical_memory();
+    if bytes > available {
+        let gib = |b: f64| b / (1u64 << 30) as f64;
+        return Err(CoreError::InvalidInput {
+            name: "modes",
+            problem: format!(
+                "is too large for {what}: its dense matrices need {:.3} GiB, more than the \
+                 machine's {:.1} GiB of memory; keep fewer modes",
+                gib(bytes),
+                gib(available)
+            ),
+        });
+    }
+    Ok(())
+}
+
 /// The machine's physical memory in bytes (unbounded where it cannot be read).
 #[cfg(target_os = "linux")]
 fn physical_memory() -> f64 {

@@ -141,7 +141,8 @@ impl<'a> PseudoForce<'a> {
             k,
             c,
             rho: vec![0.0; n],
-            jac_rho: Jacobian::new(n),
+            // sized on the first tangent evaluation (only the modal Newton asks for them)
+            jac_rho: Jacobian::new(0),
             uses_velocity,
             polynomial,
             linear,
@@ -154,6 +155,9 @@ impl<'a> PseudoForce<'a> {
         let n = self.n;
         self.rho.fill(0.0);
         if tangent {
+            if self.jac_rho.kq.len() != n * n {
+                self.jac_rho = Jacobian::new(n);
+            }
             self.jac_rho.kq.fill(0.0);
             self.jac_rho.cq.fill(0.0);
         }

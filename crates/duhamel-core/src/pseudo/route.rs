@@ -276,7 +276,8 @@ pub fn integrate(
     let space = ElementSpace::new(problem.phi, n, problem.elements);
     let stepper = Stepper::new(
         &rule, o.scheme, dt, o.tol, o.max_iter, o.solver, &pf, estimate, space,
-    );
+    )
+    .map_err(fail)?;
     let loads = BlockLoads::new(base, true, forcing.is_some(), 3 * n).map_err(fail)?;
     let cells = size(loads.n_saved(), n, "the modal history").map_err(fail)?;
     let buffer = |what| zeroed(cells, what).map_err(fail);

@@ -73,7 +73,7 @@ impl<'r> Stepper<'r> {
         pf: &PseudoForce,
         estimate: bool,
         space: ElementSpace<'r>,
-    ) -> Self {
+    ) -> Result<Self, CoreError> {
         let n = rule.wx[0].len();
         let unknown = match (estimate, scheme) {
             (true, _) => Unknown::Both,
@@ -93,7 +93,6 @@ impl<'r> Stepper<'r> {
                 }
             })
             .collect();
-        let m = if unknown == Unknown::Both { 2 * n } else { n };
         let nodes = rule.nodes.len();
         let nd = space.len();
         let local =
@@ -102,7 +101,19 @@ impl<'r> Stepper<'r> {
                     let newton = local::LocalNewton::new(&space, n, nodes);
                     (space, newton)
                 });
-        Stepper {
+        // The modal Newton's dense matrices, only where it runs.
+        let m = match (&local, unknown) {
+            (Some(_), _) => 0,
+            (None, Unknown::Both) => 2 * n,
+            (None, _) => n,
+        };
+        let dense = if m > 0 { n } else { 0 };
+        let (mf, nf) = (m as f64, dense as f64);
+        crate::history::working(
+            mf * mf + (2.0 * nodes as f64 + 2.0) * nf * nf,
+            "the Newton iteration on all modal coordinates",
+        )?;
+        Ok(Stepper {
             n,
             rule,
             scheme,
@@ -131,13 +142,13 @@ impl<'r> Stepper<'r> {
             acc: vec![0.0; n],
             start: vec![0.0; n],
             values: vec![vec![0.0; n]; nodes],
-            jacs: (0..nodes).map(|_| Jacobian::new(n)).collect(),
+            jacs: (0..nodes).map(|_| Jacobian::new(dense)).collect(),
             res: vec![0.0; m],
             mat: vec![0.0; m * m],
             z0: Vec::with_capacity(m),
             delta: vec![0.0; m],
             local,
-        }
+        })
     }
 
     /// Evaluates the pseudo-force at the selected nodes for the current `(q1, v1)`.
