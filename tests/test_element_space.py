@@ -85,21 +85,58 @@ def test_element_space_newton_equals_the_modal_newton(kind, scheme, law):
     assert np.abs(local.a - dense.a).max() <= 1e-10 * np.abs(dense.a).max()
 
 
-def test_couplings_and_estimated_mass_keep_the_modal_newton():
-    # A LinearCoupling as a pseudo-force and the estimated-mass treatment are full rank in
-    # the modes: the solver falls back to the modal Newton and still agrees with it.
-    system = _random_system(3, "cubic")
+@pytest.mark.parametrize("scale", ["constant", "run-up"])
+@pytest.mark.parametrize("law", [None, "acceleration"])
+def test_couplings_are_solved_with_the_elements(scale, law):
+    # LinearCoupling pseudo-forces (gyroscopic and circulatory terms, constant or following
+    # a run-up) are linear: solved once per step (or once per run), with the elements'
+    # Newton in their dofs. Same answer as the modal Newton.
+    system = _random_system(3, "spring")
     g = np.zeros((N, N))
-    g[0, 1], g[1, 0] = 2.0, -2.0
-    system.add(E.LinearCoupling(C=g))
+    g[0, 1], g[1, 0], g[4, 6], g[6, 4] = 2.0, -2.0, 1.0, -1.0
+    kc = np.zeros((N, N))
+    kc[2, 3], kc[3, 2] = 50.0, -50.0
+    speed = None if scale == "constant" else duhamel.speed.LinearRunUp(10.0, 60.0, 0.3)
+    system.add(E.LinearCoupling(K=kc, C=g, scale=speed))
+    if law is not None:
+        system.set_mass_law(mass.Harmonic(0.15, 40.0))
+    run = {"t_end": 0.3, "dt": 2e-3, "x0": np.full(N, 1e-3)}
+    out = {}
+    for solver in ("newton", "modal-newton"):
+        integ = duhamel.Semianalytic(modes=8, coupling="pseudo-force", solver=solver, tol=1e-14)
+        out[solver] = duhamel.solve(system, integ, **run)
+    local, dense = out["newton"], out["modal-newton"]
+    assert local.stats.coupling == "pseudo-force"
+    peak = np.abs(dense.x).max()
+    assert np.abs(local.x - dense.x).max() <= 1e-12 * peak
+
+
+def test_estimated_mass_keeps_the_modal_newton():
+    # The estimated-mass treatment couples q1 and v1 through the acceleration estimate: the
+    # step stays on the modal Newton (the same path whatever the solver).
+    system = _random_system(5, "cubic").set_mass_law(mass.Harmonic(0.15, 40.0))
     run = {"t_end": 0.2, "dt": 2e-3, "x0": np.full(N, 1e-3)}
-    a = duhamel.solve(system, duhamel.Semianalytic(modes=8, coupling="pseudo-force"), **run)
+    a = duhamel.solve(system, duhamel.Semianalytic(modes=8, mass_treatment="estimate"), **run)
     b = duhamel.solve(
         system,
-        duhamel.Semianalytic(modes=8, coupling="pseudo-force", solver="modal-newton"),
+        duhamel.Semianalytic(modes=8, mass_treatment="estimate", solver="modal-newton"),
         **run,
     )
     assert np.array_equal(a.x, b.x)
+
+
+def test_the_papers_rotor_is_solved_in_its_bearing_dofs():
+    # Table 1's case (beta = 0.1, xi = 0.1): gyroscopic and bearing couplings as
+    # pseudo-forces, the mass law, four cubic bearing springs.
+    from duhamel.paper.rotor import paper_system
+
+    system = paper_system(0.1, 0.1)
+    out = {}
+    for solver in ("auto", "modal-newton"):
+        integ = duhamel.Semianalytic(coupling="pseudo-force", solver=solver, tol=1e-13)
+        out[solver] = duhamel.solve(system, integ, t_end=0.05, dt=1e-4)
+    peak = np.abs(out["modal-newton"].x).max()
+    assert np.abs(out["auto"].x - out["modal-newton"].x).max() <= 1e-11 * peak
 
 
 def test_solver_choice_is_validated():

@@ -127,6 +127,26 @@ impl DenseLu {
     }
 }
 
+impl DenseLu {
+    /// Solves `a^T x = b` in place of `b` with the same factors (`P a = L U`, so
+    /// `a^T = U^T L^T P`); false if the solution is not finite.
+    pub fn solve_transpose(&self, b: &mut [f64], work: &mut [f64]) -> bool {
+        let n = self.n;
+        for i in 0..n {
+            let s: f64 = (0..i).map(|j| self.lu[j * n + i] * work[j]).sum();
+            work[i] = (b[i] - s) / self.lu[i * n + i];
+        }
+        for i in (0..n).rev() {
+            let s: f64 = (i + 1..n).map(|j| self.lu[j * n + i] * work[j]).sum();
+            work[i] -= s;
+        }
+        for (i, &p) in self.piv.iter().enumerate() {
+            b[p] = work[i];
+        }
+        b.iter().all(|v| v.is_finite())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -163,6 +183,15 @@ mod tests {
             }
         }
         assert!(DenseLu::factor(2, &[1.0, 2.0, 2.0, 4.0]).is_none());
+        // the transpose with the same factors
+        let at: Vec<f64> = (0..n * n).map(|k| a[(k % n) * n + k / n]).collect();
+        let rhs: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin() + 0.1).collect();
+        let (mut x, mut y) = (rhs.clone(), rhs.clone());
+        assert!(lu.solve_transpose(&mut x, &mut work));
+        assert!(solve_in_place(n, &at, &mut y));
+        for (xi, yi) in x.iter().zip(&y) {
+            assert!((xi - yi).abs() < 1e-12 * (1.0 + yi.abs()));
+        }
     }
 
     #[test]

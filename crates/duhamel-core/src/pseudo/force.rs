@@ -206,17 +206,45 @@ impl<'a> PseudoForce<'a> {
         self.mass.is_some()
     }
 
-    /// Whether the pseudo-force is the elements' (projected) force plus terms diagonal in
-    /// the modes: no linear coupling, and no mass law or an eliminated one. Its step
-    /// equation can then be solved in the elements' space.
+    /// Whether the pseudo-force is the elements' (projected) force plus terms linear in the
+    /// state (couplings, an eliminated mass law): its step equation can then be solved in the
+    /// elements' space, the linear terms once per step.
     pub fn local(&self) -> bool {
         !self.slots.is_empty()
-            && self.coupling_k.is_none()
-            && self.coupling_c.is_none()
-            && self.scaled.is_empty()
             && self
                 .mass
                 .is_none_or(|m| m.treatment == MassTreatment::Eliminate)
+    }
+
+    /// Whether linear couplings (constant or scaled by a speed law) are part of it.
+    pub fn has_couplings(&self) -> bool {
+        self.coupling_k.is_some() || self.coupling_c.is_some() || !self.scaled.is_empty()
+    }
+
+    /// Whether a coupling's scale varies in time.
+    pub fn varying_couplings(&self) -> bool {
+        self.scaled.iter().any(|s| s.law.constant_value().is_none())
+    }
+
+    /// The couplings' stiffness and damping at `t`, summed into `k` and `c` (row-major
+    /// `n x n`, overwritten); whether each is present.
+    pub fn couplings_at(&self, t: f64, k: &mut [f64], c: &mut [f64]) -> (bool, bool) {
+        k.fill(0.0);
+        c.fill(0.0);
+        let mut has = (false, false);
+        let constant = [(1.0, self.coupling_k, self.coupling_c)];
+        let scaled = self.scaled.iter().map(|s| (s.law.omega(t), s.k, s.c));
+        for (factor, mk, mc) in constant.into_iter().chain(scaled) {
+            for (mat, out, flag) in [(mk, &mut *k, &mut has.0), (mc, &mut *c, &mut has.1)] {
+                if let Some(mat) = mat {
+                    *flag = true;
+                    for (o, m) in out.iter_mut().zip(mat) {
+                        *o += factor * m;
+                    }
+                }
+            }
+        }
+        has
     }
 
     /// The background's modal stiffness and damping per unit modal mass.

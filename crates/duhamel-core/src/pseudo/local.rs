@@ -81,17 +81,6 @@ impl<'a> ElementSpace<'a> {
         }
     }
 
-    /// `out += Phi_D^T r`.
-    pub fn add_modal(&self, r: &[f64], out: &mut [f64]) {
-        for (&rj, row) in r.iter().zip(self.phi.chunks_exact(self.n_modes)) {
-            if rj != 0.0 {
-                for (o, p) in out.iter_mut().zip(row) {
-                    *o += p * rj;
-                }
-            }
-        }
-    }
-
     /// The assembled element force `r` (length `n_d`, overwritten) at the element-space
     /// state `(u, u')` and time `t`; with `tangent`, `dr/du` and `dr/du'` (row-major
     /// `n_d x n_d`, overwritten).

@@ -6,25 +6,29 @@
 //! one) the pseudo-force at node `i` is
 //!
 //! ```text
-//! Q_i = g_i (p_i - c v_i - kappa k q_i) - mom_i v_i - Phi_D^T r_i / mu_i
+//! Q_i = g_i (p_i - c v_i - kappa k q_i) - mom_i v_i - (Kc_i q_i + Cc_i v_i + Phi_D^T r_i) / mu_i
 //! ```
 //!
-//! whose first terms are diagonal in the modes. Solving the diagonal part per mode gives
-//! `z = h / D - sum_i What_i Phi_D^T r_i` (`What_i = W_i / (mu_i D)`), and multiplying by
-//! `Phi_D` the step equation in the element coordinates `y = Phi_D z`:
+//! (`Kc_i`, `Cc_i` the linear couplings at the node's time), linear in the state but for the
+//! element forces `r_i`. The step equation `z = base + sum_i W_i Q_i` is therefore
+//! `A z = b - sum_i diag(W_i / mu_i) Phi_D^T r_i` with a matrix `A` (diagonal without
+//! couplings) that does not depend on the elements; with `X_i = A^{-1} diag(W_i/mu_i) Phi_D^T`
+//! and `y = Phi_D z` it becomes, in the element coordinates,
 //!
 //! ```text
-//! F(y) = y - Phi_D (h / D) + sum_i G_i r_i(U_i + alpha_i y, V_i + beta_i y) = 0,
-//! G_i = Phi_D diag(What_i) Phi_D^T,   J = I + sum_i G_i (alpha_i K_i + beta_i C_i),
+//! F(y) = y - Phi_D A^{-1} b + sum_i G_i r_i(U_i + alpha_i y, V_i + beta_i y) = 0,
+//! G_i = Phi_D X_i,   J = I + sum_i G_i (alpha_i K_i + beta_i C_i),
 //! ```
 //!
 //! `n_d` unknowns instead of `n`: an iteration costs `O(n_nodes n_d^2 + n_d^3)`, the step
-//! `O(n n_d)` besides. Without a mass law `G_i` is the same for every step.
+//! `O(n n_d)` besides (`O(n^2)` with couplings). `A`, `X_i` and `G_i` are formed once per
+//! run, or once per step with a mass law or couplings scaled by a time-varying speed
+//! (`O(n^3 + n_nodes n_d n^2)` then).
 
 use super::super::force::PseudoForce;
 use super::super::local::ElementSpace;
 use super::super::scheme::{Rule, Scheme, StepInput, Unknown};
-use crate::dense::solve_in_place;
+use crate::dense::{solve_in_place, DenseLu};
 use crate::error::CoreError;
 
 /// Buffers and the per-node matrices of the element-space Newton.
@@ -34,9 +38,20 @@ pub(super) struct LocalNewton {
     /// `G_i` per node (`n_d x n_d`), and whether they hold for every step.
     g: Vec<Vec<f64>>,
     g_ready: bool,
-    /// `What_i` per node (`n`), `h / D` (`n`).
+    /// `P = Phi_D A^{-1}` (`n_d x n`, row-major).
+    pmat: Vec<f64>,
+    /// `W_i / mu_i` per node (`n`), the right-hand side `b` then `z_b = A^{-1} b` (`n`).
     w_hat: Vec<Vec<f64>>,
     base: Vec<f64>,
+    /// The diagonal of `A` (mass terms), and with couplings `A` itself and its factors.
+    diag: Vec<f64>,
+    a: Vec<f64>,
+    lu: Option<DenseLu>,
+    work: Vec<f64>,
+    /// The couplings at each node (`n x n`), when there are any.
+    kc: Vec<Vec<f64>>,
+    cc: Vec<Vec<f64>>,
+    has_kc: (bool, bool),
     /// Per node: `U_i`, `V_i`, the force and tangents (`n_d`, `n_d x n_d`).
     u0: Vec<Vec<f64>>,
     ud0: Vec<Vec<f64>>,
@@ -54,7 +69,6 @@ pub(super) struct LocalNewton {
     mat: Vec<f64>,
     u: Vec<f64>,
     ud: Vec<f64>,
-    modal: Vec<f64>,
     /// The sparsity of the tangents' rows ([`ElementSpace::pattern`]).
     pattern: Vec<Vec<usize>>,
 }
@@ -72,16 +86,26 @@ pub(super) struct Setting<'s> {
 }
 
 impl LocalNewton {
-    pub fn new(space: &ElementSpace, n: usize, nodes: usize) -> Self {
+    pub fn new(space: &ElementSpace, pf: &PseudoForce, n: usize, nodes: usize) -> Self {
         let nd = space.len();
         let per_node = |len: usize| vec![vec![0.0; len]; nodes];
+        let coupled = pf.has_couplings();
+        let square = if coupled { n * n } else { 0 };
         LocalNewton {
             n,
             nd,
             g: per_node(nd * nd),
             g_ready: false,
+            pmat: vec![0.0; nd * n],
             w_hat: per_node(n),
             base: vec![0.0; n],
+            diag: vec![1.0; n],
+            a: vec![0.0; square],
+            lu: None,
+            work: vec![0.0; n],
+            kc: per_node(square),
+            cc: per_node(square),
+            has_kc: (false, false),
             u0: per_node(nd),
             ud0: per_node(nd),
             r: per_node(nd),
@@ -97,7 +121,6 @@ impl LocalNewton {
             mat: vec![0.0; nd * nd],
             u: vec![0.0; nd],
             ud: vec![0.0; nd],
-            modal: vec![0.0; n],
             pattern: space.pattern(),
         }
     }
@@ -124,63 +147,79 @@ impl LocalNewton {
         let (n, nd, dt) = (self.n, self.nd, set.dt);
         let (kk, cc) = pf.modal_kc();
         let mass = pf.has_mass();
+        let coupled = pf.has_couplings();
         let nodes = set.rule.nodes.len();
+        let rebuild = mass || pf.varying_couplings() || !self.g_ready;
         let w = if set.unknown == Unknown::V1 {
             &set.rule.wv
         } else {
             &set.rule.wx
         };
-        // The diagonal part, per mode: D, h, What.
-        let mut diag = vec![1.0; if mass { n } else { 0 }];
         self.base.copy_from_slice(if set.unknown == Unknown::V1 {
             inp.v_lin
         } else {
             inp.q_lin
         });
+        if rebuild {
+            self.diag.fill(1.0);
+            self.a.fill(0.0);
+        }
         for (i, wi) in w.iter().enumerate() {
             let s = set.rule.nodes[i].s;
+            let t = inp.t + s * dt;
             let (alpha, beta) = Self::slopes(set, i);
             for m in 0..n {
                 (self.qi[m], self.vi[m]) = set.scheme.state(s, dt, inp.q0[m], inp.v0[m], 0.0, 0.0);
             }
             space.to_local(&self.qi, &mut self.u0[i]);
             space.to_local(&self.vi, &mut self.ud0[i]);
+            let [mu, g, mom, kappa] = pf.node_mass(t);
             if mass {
-                let [mu, g, mom, kappa] = pf.node_mass(inp.t + s * dt);
                 for m in 0..n {
                     let p = inp.pb[0][m] + inp.pb[1][m] * s + 4.0 * inp.pb[2][m] * s * (1.0 - s);
                     let damp = g * cc[m] + mom;
                     let stiff = g * kappa * kk[m];
-                    diag[m] += wi[m] * (damp * beta + stiff * alpha);
+                    self.diag[m] += wi[m] * (damp * beta + stiff * alpha);
                     self.base[m] += wi[m] * (g * p - damp * self.vi[m] - stiff * self.qi[m]);
-                    self.w_hat[i][m] = wi[m] / mu;
-                }
-            } else if !self.g_ready {
-                self.w_hat[i].copy_from_slice(wi);
-            }
-        }
-        if mass {
-            for m in 0..n {
-                self.base[m] /= diag[m];
-                for wh in &mut self.w_hat {
-                    wh[m] /= diag[m];
                 }
             }
-        }
-        if mass || !self.g_ready {
-            let phi = space.phi();
-            for (g, wh) in self.g.iter_mut().zip(&self.w_hat) {
-                for a in 0..nd {
-                    let ra = &phi[a * n..(a + 1) * n];
-                    for b in 0..nd {
-                        let rb = &phi[b * n..(b + 1) * n];
-                        g[a * nd + b] = (0..n).map(|m| ra[m] * wh[m] * rb[m]).sum();
+            if coupled {
+                if pf.varying_couplings() || !self.g_ready {
+                    self.has_kc = pf.couplings_at(t, &mut self.kc[i], &mut self.cc[i]);
+                }
+                let (kc, ccm) = (&self.kc[i], &self.cc[i]);
+                for r in 0..n {
+                    let (kr, cr) = (&kc[r * n..(r + 1) * n], &ccm[r * n..(r + 1) * n]);
+                    let mut acc = 0.0;
+                    if self.has_kc.0 {
+                        acc += kr.iter().zip(&self.qi).map(|(a, b)| a * b).sum::<f64>();
+                    }
+                    if self.has_kc.1 {
+                        acc += cr.iter().zip(&self.vi).map(|(a, b)| a * b).sum::<f64>();
+                    }
+                    let f = wi[r] / mu;
+                    self.base[r] -= f * acc;
+                    if rebuild {
+                        let row = &mut self.a[r * n..(r + 1) * n];
+                        for ((a, k), c) in row.iter_mut().zip(kr).zip(cr) {
+                            *a += f * (alpha * k + beta * c);
+                        }
                     }
                 }
             }
-            self.g_ready = !mass;
+            if rebuild {
+                for (wh, wm) in self.w_hat[i].iter_mut().zip(wi) {
+                    *wh = wm / mu;
+                }
+            }
         }
-        space.to_local(&self.base, &mut self.y0);
+        if rebuild {
+            self.prepare(space)?;
+        }
+        // y0 = Phi_D A^{-1} b = P b
+        for (y, row) in self.y0.iter_mut().zip(self.pmat.chunks_exact(n)) {
+            *y = row.iter().zip(&self.base).map(|(p, b)| p * b).sum();
+        }
         // Constant nodes: their forces once, folded into y0.
         for i in 0..nodes {
             if set.constant[i] {
@@ -199,16 +238,70 @@ impl LocalNewton {
             .chain(self.u0.iter().flatten())
             .fold(0.0_f64, |a, b| a.max(b.abs()));
         let iterations = self.newton(space, set, inp, scale0)?;
-        // z from the converged element forces.
+        // z = A^{-1} (b - sum_i diag(W_i / mu_i) Phi_D^T r_i) from the converged forces.
         z.copy_from_slice(&self.base);
-        for i in 0..nodes {
-            self.modal.fill(0.0);
-            space.add_modal(&self.r[i], &mut self.modal);
-            for ((zm, wh), rm) in z.iter_mut().zip(&self.w_hat[i]).zip(&self.modal) {
-                *zm -= wh * rm;
+        let phi = space.phi();
+        for (wh, r) in self.w_hat.iter().zip(&self.r) {
+            for (row, &rb) in phi.chunks_exact(n).zip(r) {
+                if rb != 0.0 {
+                    for ((zm, p), w) in z.iter_mut().zip(row).zip(wh) {
+                        *zm -= w * p * rb;
+                    }
+                }
+            }
+        }
+        match &self.lu {
+            Some(lu) => {
+                lu.solve(z, &mut self.work);
+            }
+            None => {
+                for (zm, d) in z.iter_mut().zip(&self.diag) {
+                    *zm /= d;
+                }
             }
         }
         Ok(iterations)
+    }
+
+    /// `P = Phi_D A^{-1}` and `G_i = P diag(W_i / mu_i) Phi_D^T` from `A` (its diagonal
+    /// `diag`, plus `a` with couplings).
+    fn prepare(&mut self, space: &ElementSpace) -> Result<(), CoreError> {
+        let (n, nd) = (self.n, self.nd);
+        let phi = space.phi();
+        self.lu = if self.a.is_empty() {
+            None
+        } else {
+            for m in 0..n {
+                self.a[m * n + m] += self.diag[m];
+            }
+            Some(DenseLu::factor(n, &self.a).ok_or(CoreError::NonFinite {
+                time: 0.0,
+                step: 0,
+                last_good_time: None,
+            })?)
+        };
+        self.pmat.copy_from_slice(phi);
+        for row in self.pmat.chunks_exact_mut(n) {
+            match &self.lu {
+                Some(lu) => {
+                    lu.solve_transpose(row, &mut self.work);
+                }
+                None => {
+                    for (p, d) in row.iter_mut().zip(&self.diag) {
+                        *p /= d;
+                    }
+                }
+            }
+        }
+        for (g, wh) in self.g.iter_mut().zip(&self.w_hat) {
+            for (a, pa) in self.pmat.chunks_exact(n).enumerate() {
+                for (b, rb) in phi.chunks_exact(n).enumerate() {
+                    g[a * nd + b] = pa.iter().zip(wh).zip(rb).map(|((p, w), r)| p * w * r).sum();
+                }
+            }
+        }
+        self.g_ready = true;
+        Ok(())
     }
 
     /// Evaluates the varying nodes at `y` and returns the residual's max norm.

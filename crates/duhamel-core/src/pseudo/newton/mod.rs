@@ -98,7 +98,7 @@ impl<'r> Stepper<'r> {
         let local =
             (solver != Solver::ModalNewton && unknown != Unknown::Both && pf.local() && nd < n)
                 .then(|| {
-                    let newton = local::LocalNewton::new(&space, n, nodes);
+                    let newton = local::LocalNewton::new(&space, pf, n, nodes);
                     (space, newton)
                 });
         // The modal Newton's dense matrices, only where it runs.
