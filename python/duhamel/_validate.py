@@ -262,9 +262,18 @@ def check_symmetric(mat: Any, name: str, rtol: float = 1e-10) -> None:
         asym = float(np.max(np.abs(mat - mat.T))) if mat.size else 0.0
         scale = float(np.max(np.abs(mat))) if mat.size else 0.0
     if asym > rtol * scale:
+        hint = ""
+        if issparse(mat):
+            import scipy.sparse as sp
+
+            if sp.triu(mat, k=1).nnz == 0 or sp.tril(mat, k=-1).nnz == 0:
+                hint = (
+                    f" (it stores one triangle only, as some FE exports do: pass "
+                    f"{name} + {name}.T - scipy.sparse.diags({name}.diagonal()))"
+                )
         raise ValueError(
             f"`{name}` must be symmetric: max |{name} - {name}.T| = {asym:.3g} exceeds "
-            f"{rtol:g} * max |{name}| = {rtol * scale:.3g}"
+            f"{rtol:g} * max |{name}| = {rtol * scale:.3g}{hint}"
         )
 
 
@@ -367,16 +376,23 @@ def warn_heavy_damping(zeta: Any) -> None:
         )
 
 
-def check_semidefinite(K: Any, rtol: float) -> None:
+def check_semidefinite(K: Any, rtol: float, *, shifted: tuple[float, float] | None = None) -> None:
     """Raises ValueError unless `K` (dense or sparse) is positive semidefinite to within
     `rtol` times its own largest entry: a Cholesky factorisation (sparse: the inertia of an
-    LDL^T factorisation) of ``K + rtol max|K| I``. A test of K alone, so an ill-conditioned
-    mass matrix cannot hide a negative eigenvalue."""
+    LDL^T factorisation) of ``K + tau I``, ``tau = rtol max|K|``. A test of K alone, so an
+    ill-conditioned mass matrix cannot hide a negative eigenvalue.
+
+    ``shifted = (s, m)`` says that ``K + s M`` is already known to be positive definite (the
+    inertia of the factorisation a sparse modal analysis made) and that ``|M|_2 <= m``. Then
+    ``K + tau I >= K + s M > 0`` when ``s m <= tau``, and no factorisation is needed.
+    """
     if issparse(K):
         import scipy.sparse as sp
 
         size = float(abs(K).max()) if K.nnz else 0.0
         if size == 0.0:
+            return
+        if shifted is not None and shifted[0] * shifted[1] <= rtol * size:
             return
         _, n_bad = symmetric_lu(sp.csc_matrix(K) + rtol * size * sp.identity(K.shape[0]))
         if n_bad:

@@ -2,28 +2,29 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from duhamel._eigen import Modes
 from duhamel._validate import (
     as_float_array,
     as_square_matrix,
     check_nonneg_diagonal,
     check_positive_definite,
-    check_semidefinite,
     check_symmetric,
     finite_float,
     issparse,
     mode_count,
-    symmetric_lu,
+    positive_float,
     warn_heavy_damping,
 )
 from duhamel.elements import Element
 from duhamel.loads import Load
 from duhamel.mass import MassLaw, _Attached
+from duhamel.modal import ModalBasis, backward_errors, damped, orthonormality_error
+from duhamel.modal import frozen as _frozen
 
 if TYPE_CHECKING:
     import scipy.sparse as sp
@@ -31,88 +32,6 @@ if TYPE_CHECKING:
 __all__ = ["ModalBasis", "System"]
 
 DampingKind = Literal["none", "zeta", "rayleigh", "matrix"]
-#: Eigenvalues below ``-NEG_EIG_RTOL * scale`` mean K is not positive semidefinite.
-NEG_EIG_RTOL = 1e-9
-#: Eigenvalues with ``omega2 <= ZERO_EIG_RTOL * scale`` are rigid-body modes, set to exactly 0.
-ZERO_EIG_RTOL = 1e-12
-#: Sparse shift-invert uses sigma = -SHIFT_RTOL * max(diag(K) / diag(M)): far enough below 0
-#: for a reliable inertia check of K - sigma M, close enough for fast convergence.
-SHIFT_RTOL = 1e-10
-#: Relative size of off-diagonal modal damping terms above which C is "non-classical".
-CLASSICAL_RTOL = 1e-8
-
-
-@dataclass(frozen=True, eq=False)
-class ModalBasis:
-    """Mass-normalised undamped modes of a :class:`System` and their modal damping.
-
-    Each modal coordinate obeys ``q_i'' + c_i q_i' + omega2_i q_i = phi_i^T f(t)``.
-    All arrays are read-only float64.
-
-    Attributes
-    ----------
-    phi : ndarray, shape (n_dof, n_modes)
-        Mode shapes (C-contiguous), normalised so that ``phi.T @ M @ phi = I``. The entry of
-        largest magnitude of each mode is positive (the first one, in case of near-ties).
-    omega2 : ndarray, shape (n_modes,)
-        Squared natural frequencies (rad/s)^2, ascending, >= 0. Rigid-body modes are exactly 0.
-    omega : ndarray, shape (n_modes,)
-        Natural frequencies ``sqrt(omega2)`` in rad/s.
-    c : ndarray, shape (n_modes,)
-        Modal damping per unit modal mass, the coefficient ``2 zeta omega`` of ``q'``. This is
-        the authoritative damping value: for a rigid-body mode (``omega == 0``) the damping
-        lives here only (e.g. ``c = alpha`` with Rayleigh damping ``(alpha, beta)``).
-    zeta : ndarray, shape (n_modes,)
-        Damping ratios ``c / (2 omega)`` where ``omega > 0``, else 0.0.
-    c_coupling : ndarray, shape (n_modes, n_modes), or None
-        For a damping matrix `C` that the undamped modes do not diagonalise (non-classical
-        damping): the off-diagonal part of ``phi.T @ C @ phi``. The integrators keep the
-        diagonal in the exact background and treat this remainder as a modal pseudo-force.
-        None for classical damping.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from duhamel.system import System
-    >>> basis = System(np.eye(2), [[2.0, -1.0], [-1.0, 2.0]], zeta=0.05).modal()
-    >>> basis.n_modes, basis.omega2.tolist()
-    (2, [1.0, 3.0])
-    >>> basis.zeta.tolist()
-    [0.05, 0.05]
-    """
-
-    phi: NDArray[np.float64]
-    omega2: NDArray[np.float64]
-    omega: NDArray[np.float64]
-    c: NDArray[np.float64]
-    zeta: NDArray[np.float64]
-    c_coupling: NDArray[np.float64] | None = None
-
-    @property
-    def n_modes(self) -> int:
-        """Number of modes in the basis."""
-        return int(self.omega2.shape[0])
-
-
-def _frozen(a: NDArray[np.float64]) -> NDArray[np.float64]:
-    out = np.ascontiguousarray(a, dtype=np.float64)
-    if out is a:
-        out = out.copy()
-    out.setflags(write=False)
-    return out
-
-
-def _dense(a: Any) -> NDArray[np.float64]:
-    return a.toarray() if issparse(a) else a
-
-
-def _fix_signs(phi: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Make the (first near-)largest-magnitude entry of each column positive."""
-    mag = np.abs(phi)
-    idx = np.argmax(mag >= (1.0 - 1e-6) * mag.max(axis=0), axis=0)
-    signs = np.sign(phi[idx, np.arange(phi.shape[1])])
-    signs[signs == 0.0] = 1.0
-    return phi * signs
 
 
 class System:
@@ -121,7 +40,8 @@ class System:
     Parameters
     ----------
     M : array_like or scipy.sparse matrix, shape (n_dof, n_dof)
-        Mass matrix: real, finite, symmetric, positive definite.
+        Mass matrix: real, finite, symmetric, positive definite. Any scipy.sparse format
+        is taken, e.g. the COO matrix of ``scipy.io.mmread`` (a MatrixMarket export).
     K : array_like or scipy.sparse matrix, shape (n_dof, n_dof)
         Stiffness matrix: real, finite, symmetric, positive semidefinite (rigid-body modes
         are allowed; semidefiniteness is checked by the modal analysis).
@@ -215,6 +135,7 @@ class System:
         #: Time-varying mass law, see :meth:`set_mass_law` (None: constant mass).
         self.mass_law: Any = None
         self._modal_cache: dict[int, ModalBasis] = {}
+        self._modes = Modes(self._M, self._K)
 
     # ---------------------------------------------------------------- properties
     @property
@@ -367,7 +288,9 @@ class System:
             call it `modes`, the integrator option that feeds it). Sparse systems
             with ``n_modes < n_dof - 1`` use shift-invert Lanczos (``eigsh``) with a small
             negative shift, so singular `K` (rigid-body modes) is fine; otherwise a dense
-            ``scipy.linalg.eigh`` is used.
+            ``scipy.linalg.eigh`` is used. The undamped modes are kept: asking for more later
+            computes only the additional ones (on the same sparse factorisation), and a basis
+            given to :meth:`use_basis` is used instead of computing.
 
         Returns
         -------
@@ -377,7 +300,8 @@ class System:
         Raises
         ------
         ValueError
-            If `K` is not positive semidefinite or `zeta` has the wrong length.
+            If `K` is not positive semidefinite, `zeta` has the wrong length, or a basis
+            given to :meth:`use_basis` (without ``extend=True``) holds fewer modes.
 
         Examples
         --------
@@ -391,110 +315,76 @@ class System:
         n = mode_count(n_modes, "modes", self.n_dof)  # user-facing name (integrators)
         cached = self._modal_cache.get(n)
         if cached is None:
-            cached = self._modal_cache[n] = self._compute_modal(n)
+            lam, phi = self._modes.lowest(n)
+            cached = self._modal_cache[n] = damped(lam, phi, self)
         return cached
 
-    def _eigen(self, n: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        import scipy.linalg  # here, not at module level: `import duhamel` stays scipy-free
+    def use_basis(self, basis: ModalBasis, *, extend: bool = False, rtol: float = 1e-6) -> System:
+        """Use the undamped modes of `basis` instead of computing them.
 
-        if self.is_sparse and n < self.n_dof - 1:
-            import scipy.sparse as sp
-            import scipy.sparse.linalg as spla
+        The basis may come from another system with the same `M` and `K` (its
+        :meth:`modal`), from a file (:meth:`ModalBasis.load`) or from an FE package
+        (:meth:`ModalBasis.from_modes`). Only its mode shapes and ``omega2`` are used: this
+        system derives its own modal damping from them (`zeta`, `rayleigh` or `C`).
 
-            M, K = sp.csc_matrix(self._M), sp.csc_matrix(self._K)
-            shift = float(np.max(np.abs(K.diagonal()) / M.diagonal()))  # <= max eigenvalue
-            sigma = -SHIFT_RTOL * (shift if shift > 0.0 else 1.0)
-            # A negative pivot of K - sigma M means K has an eigenvalue below sigma < 0, which
-            # the shift-invert iteration (eigenvalues nearest sigma) could otherwise miss.
-            lu, n_bad = symmetric_lu(K - sigma * M)
-            if n_bad:
-                raise ValueError(
-                    f"`K` must be positive semidefinite, but K - sigma M (sigma = {sigma:.3g}) "
-                    "has a non-positive pivot, so K has an eigenvalue below sigma"
-                )
-            op_inv = spla.LinearOperator(K.shape, matvec=lu.solve, dtype=np.float64)
-            _, phi = spla.eigsh(K, k=n, M=M, sigma=sigma, which="LM", OPinv=op_inv)
-            # Rayleigh-Ritz on the converged subspace: exact M-orthonormality, sorted output.
-            kr, mr = phi.T @ (K @ phi), phi.T @ (M @ phi)
-            lam, y = scipy.linalg.eigh((kr + kr.T) / 2, (mr + mr.T) / 2)
-            return lam, phi @ y
-        return scipy.linalg.eigh(
-            _dense(self._K), _dense(self._M), subset_by_index=[0, n - 1], check_finite=False
-        )
+        Parameters
+        ----------
+        basis : ModalBasis
+            Modes of this system's ``(K, M)``, the lowest ones, in ascending order.
+        extend : bool
+            When a run asks for more modes than `basis` holds: compute the additional ones
+            (the lowest modes M-orthogonal to the given ones) if True, else raise ValueError.
+        rtol : float
+            Tolerance of the checks that `basis` belongs to this system: ``phi.T M phi = I``
+            (largest entry error) and, for each mode, the relative residual
+            ``|K phi - omega2 M phi| / ((|K| + omega2 |M|) |phi|)``.
 
-    def _compute_modal(self, n: int) -> ModalBasis:
-        lam, phi = self._eigen(n)
-        phi = phi / np.sqrt(np.einsum("ij,ij->j", phi, self._M @ phi))
-        ratio = np.abs(self._K.diagonal()) / self._M.diagonal()
-        scale = max(float(np.max(np.abs(lam))), float(np.max(ratio)))
-        if lam[0] < -NEG_EIG_RTOL * scale:
+        Returns
+        -------
+        System
+            ``self``, so calls can be chained.
+
+        Raises
+        ------
+        TypeError
+            If `basis` is not a :class:`ModalBasis`.
+        ValueError
+            If its modes do not have this system's size or are not modes of its `M` and `K`.
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> M, K = np.eye(3), [[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]]
+        >>> basis = duhamel.System(M, K).modal(2)                  # computed once ...
+        >>> shared = duhamel.System(M, K, zeta=0.05).use_basis(basis)  # ... shared
+        >>> np.array_equal(shared.modal(2).phi, basis.phi), shared.modal(2).zeta.tolist()
+        (True, [0.05, 0.05])
+        """
+        if not isinstance(basis, ModalBasis):
+            raise TypeError(f"`basis` must be a duhamel.ModalBasis, got {type(basis).__name__}")
+        if not isinstance(extend, bool | np.bool_):
+            raise TypeError(f"`extend` must be a bool, got {extend!r}")
+        rtol = positive_float(rtol, "rtol")
+        if basis.n_dof != self.n_dof:
             raise ValueError(
-                f"`K` must be positive semidefinite, but the modal analysis found "
-                f"omega^2 = {lam[0]:.6g} < 0 (tolerance {NEG_EIG_RTOL:g} * {scale:.6g})"
+                f"`basis` holds modes of {basis.n_dof} degrees of freedom, the system has "
+                f"{self.n_dof}"
             )
-        if lam[0] <= ZERO_EIG_RTOL * scale:
-            # A zero eigenvalue is a rigid-body mode only if K is semidefinite; an
-            # ill-conditioned M inflates `scale` and can hide a negative one (Sylvester).
-            check_semidefinite(self._K, NEG_EIG_RTOL)
-        lam = np.where(lam <= ZERO_EIG_RTOL * scale, 0.0, lam)
-        if self._damping == "matrix":
-            lam, phi, c = self._classical_damping(lam, phi, scale)
-        elif self._damping == "rayleigh":
-            alpha, beta = self._rayleigh  # type: ignore[misc]
-            c = alpha + beta * lam
-        elif self._damping == "zeta":
-            z = self._zeta
-            if isinstance(z, np.ndarray) and z.size != n:
-                raise ValueError(
-                    f"`zeta` has {z.size} entries but the modal basis has {n} modes; "
-                    "pass one damping ratio per retained mode"
-                )
-            c = 2.0 * np.asarray(z) * np.sqrt(lam)
-        else:
-            c = np.zeros(n)
-        phi = _fix_signs(phi)
-        coupling = None
-        if self._damping == "matrix":
-            cm = phi.T @ (self._C @ phi)
-            cm = (cm + cm.T) / 2
-            c = np.diag(cm).copy()
-            off = cm - np.diag(c)
-            ref = max(float(np.max(np.abs(c))), np.finfo(float).tiny)
-            if n > 1 and float(np.max(np.abs(off))) > CLASSICAL_RTOL * ref:
-                coupling = _frozen(off)
-        omega = np.sqrt(lam)
-        zeta = np.divide(c, 2.0 * omega, out=np.zeros(n), where=omega > 0.0)
-        return ModalBasis(
-            phi=_frozen(phi),
-            omega2=_frozen(lam),
-            omega=_frozen(omega),
-            c=_frozen(np.broadcast_to(c, (n,))),
-            zeta=_frozen(zeta),
-            c_coupling=coupling,
-        )
-
-    def _classical_damping(
-        self, lam: NDArray[np.float64], phi: NDArray[np.float64], scale: float
-    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        """Project C onto the modes, rotating within degenerate clusters so that a classical C
-        comes out diagonal there; a non-classical remainder is kept by the caller."""
-
-        def project(p: NDArray[np.float64]) -> NDArray[np.float64]:
-            cm = p.T @ (self._C @ p)
-            return (cm + cm.T) / 2
-
-        cm, lam, phi = project(phi), lam.copy(), phi.copy()
-        n, i = lam.size, 0
-        while i < n:  # modes of (numerically) equal frequency may be mixed freely
-            j = i
-            while j + 1 < n and lam[j + 1] - lam[j] <= 1e-8 * lam[j + 1] + 1e-13 * scale:
-                j += 1
-            if j > i:
-                import scipy.linalg
-
-                _, y = scipy.linalg.eigh(cm[i : j + 1, i : j + 1])
-                phi[:, i : j + 1] = phi[:, i : j + 1] @ y
-                lam[i : j + 1] = lam[i : j + 1].mean()
-            i = j + 1
-        diag = np.diag(project(phi))
-        return lam, phi, diag.copy()
+        error, (i, j) = orthonormality_error(basis.phi, self._M)
+        if error > rtol:
+            raise ValueError(
+                f"`basis` is not mass-orthonormal with this system's `M`: entry ({i}, {j}) of "
+                f"phi.T M phi - I is {error:.3g} > `rtol` = {rtol:g} (modes of another model?)"
+            )
+        residual = backward_errors(basis.phi, basis.omega2, self._M, self._K)
+        worst = int(np.argmax(residual))
+        if residual[worst] > rtol:
+            raise ValueError(
+                f"`basis` does not hold modes of this system's `K` and `M`: mode {worst} "
+                f"(omega = {basis.omega[worst]:.6g} rad/s) has the relative residual "
+                f"|K phi - omega2 M phi| / ((|K| + omega2 |M|) |phi|) = {residual[worst]:.3g} "
+                f"> `rtol` = {rtol:g}"
+            )
+        self._modes.supply(basis.omega2, basis.phi, extend=bool(extend))
+        self._modal_cache.clear()
+        return self
