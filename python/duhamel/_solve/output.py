@@ -87,8 +87,9 @@ def physical(
                 a = acceleration()
             row = _finite_rows(a)
             if row < n:
+                when = float(result.t[row])
                 raise FloatingPointError(
-                    f"the accelerations of the output dofs overflow at t = {result.t[row]!r} "
+                    f"the accelerations of the output dofs overflow at t = {when!r} "
                     "(omega^2 x beyond the double range) while the displacements stay finite; "
                     "rescale the model's units (mass, stiffness, time)"
                 )
