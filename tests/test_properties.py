@@ -46,13 +46,9 @@ The input space is split so that the defects found so far do not hide the rest o
   every parameter, one call each (``test_huge_integers_are_refused``,
   ``test_ragged_sequences_are_refused``).
 
-The defects found are listed in ``DEFECTS``; each has its minimal failing inputs in
-``test_known_defect``, ``test_huge_integers_are_refused`` and
-``test_ragged_sequences_are_refused`` (strict xfail: a fix makes them pass, which fails the
-run until the mark is removed). The ordinary-domain properties carry no mark and must pass.
-The extreme-domain properties carry ``known_defects``: a non-strict xfail in the ci profile
-(whether its fixed examples reach a defect changes with every change of the library), no
-mark in the long profile, whose report lists every failure it finds, known or new.
+The defects this suite found are listed in ``DEFECTS``, all fixed; their minimal failing
+inputs are regression tests (``test_former_defect``, ``test_huge_integers_are_refused``,
+``test_ragged_sequences_are_refused``). Every property, ordinary and extreme, must pass.
 
 Profiles
 --------
@@ -123,21 +119,14 @@ settings.register_profile("duhamel-ci", max_examples=_UNIT["ci"], derandomize=Tr
 settings.register_profile("duhamel-long", max_examples=_UNIT["long"], derandomize=False, **_COMMON)
 
 
-def budget(weight: float, *, known: bool = False) -> settings:
-    """The settings of a test: this file's profile, with `weight` units of examples. A test
-    marked with :func:`known_defects` (`known`) skips shrinking in the ci profile: its
-    failure is expected and already reduced to the minimal cases of ``DEFECTS``."""
+def budget(weight: float) -> settings:
+    """The settings of a test: this file's profile, with `weight` units of examples."""
     parent = settings.get_profile(f"duhamel-{_PROFILE}")
-    extra: dict[str, Any] = {}
-    if known and _PROFILE == "ci":
-        extra["phases"] = [Phase.explicit, Phase.reuse, Phase.generate]
-    return settings(parent, max_examples=max(1, round(weight * _UNIT[_PROFILE])), **extra)
+    return settings(parent, max_examples=max(1, round(weight * _UNIT[_PROFILE])))
 
 
-#: Library defects this suite found (see the module docstring). Each has minimal cases in
-#: ``test_known_defect``; a property test that hits them is marked with
-#: :func:`known_defects`. When a defect is fixed, its strict xfail cases pass and fail the
-#: run: remove them here and the marks that name the defect.
+#: Library defects this suite found, all fixed; their minimal cases are in
+#: ``test_former_defect`` (regression tests).
 DEFECTS = {
     "D1": "an integer beyond the float range leaks OverflowError from every real-number "
     "parameter (duhamel._validate._real_scalar, loads._finite: float(10**400))",
@@ -165,18 +154,6 @@ DEFECTS = {
     "ZeroDivisionError (stability limit: K / mu_min) instead of the other integrators' "
     "ValueError('`mass law` reaches 0')",
 }
-
-
-def known_defects(*ids: str) -> pytest.MarkDecorator:
-    """The property tests of the extreme domain, which the listed defects break: xfail in the
-    ci profile, not strict, since whether its fixed examples reach a defect changes with
-    every change of the library (the strict cases of each defect are in
-    ``test_known_defect``). No mark in the long profile: its random search reports every
-    failure, known or new, shrunk."""
-    reason = "; ".join(f"{i}: {DEFECTS[i]}" for i in ids)
-    if _PROFILE != "ci":
-        return pytest.mark.usefixtures()
-    return pytest.mark.xfail(reason=reason, strict=False)
 
 
 #: Integers beyond the float range (``float()`` of them overflows): test_huge_integers.
@@ -866,8 +843,7 @@ def test_speed_laws_evaluate_finite_or_refuse(law, t):
     _speed_law_case(law, t)
 
 
-@known_defects("D11")
-@budget(0.5, known=True)
+@budget(0.5)
 @given(
     law=proper_speed_laws(EXTREME),
     t=st.one_of(EXTREME.magnitudes, vectors(3, EXTREME.magnitudes)),
@@ -924,8 +900,7 @@ def test_system_constructor_and_solve(data, n):
     _system_case(data, n, ORDINARY)
 
 
-@known_defects("D2", "D3", "D4", "D5", "D6", "D7")
-@budget(1.0, known=True)
+@budget(1.0)
 @given(data=st.data(), n=st.integers(1, 4))
 def test_system_constructor_and_solve_extreme(data, n):
     _system_case(data, n, EXTREME)
@@ -1025,8 +1000,7 @@ def test_solve_arguments(data, which, integrator, k):
     _solve_arguments_case(data, which, integrator, k, ORDINARY)
 
 
-@known_defects("D5", "D6", "D7")
-@budget(1.0, known=True)
+@budget(1.0)
 @given(
     data=st.data(),
     which=st.sampled_from(sorted(SYSTEMS)),
@@ -1277,8 +1251,7 @@ def test_loads_construct_and_run(data, n, integrator):
     _loads_case(data, n, integrator, ORDINARY)
 
 
-@known_defects("D5", "D6", "D7")
-@budget(1.0, known=True)
+@budget(1.0)
 @given(data=st.data(), n=st.integers(2, 3), integrator=integrators)
 def test_loads_construct_and_run_extreme(data, n, integrator):
     _loads_case(data, n, integrator, EXTREME)
@@ -1437,8 +1410,7 @@ def test_elements_construct_and_run(data, n, integrator):
     _elements_case(data, n, integrator, ORDINARY)
 
 
-@known_defects("D3", "D5", "D6", "D7")
-@budget(1.0, known=True)
+@budget(1.0)
 @given(data=st.data(), n=st.integers(2, 3), integrator=integrators)
 def test_elements_construct_and_run_extreme(data, n, integrator):
     _elements_case(data, n, integrator, EXTREME)
@@ -1495,8 +1467,7 @@ def test_mass_laws_construct_and_run(data, n, integrator):
     _mass_laws_case(data, n, integrator, ORDINARY)
 
 
-@known_defects("D3", "D5", "D6", "D7", "D12")
-@budget(1.0, known=True)
+@budget(1.0)
 @given(data=st.data(), n=st.integers(1, 3), integrator=integrators)
 def test_mass_laws_construct_and_run_extreme(data, n, integrator):
     _mass_laws_case(data, n, integrator, EXTREME)
@@ -1666,8 +1637,7 @@ def test_random_models_on_every_route(data, model, integrator):
     _models_case(data, model, integrator, ORDINARY)
 
 
-@known_defects("D3", "D4", "D5", "D6", "D7")
-@budget(1.5, known=True)
+@budget(1.5)
 @given(data=st.data(), model=models(EXTREME), integrator=integrators)
 def test_random_models_on_every_route_extreme(data, model, integrator):
     _models_case(data, model, integrator, EXTREME)
@@ -1802,8 +1772,7 @@ def test_rotors_construct_and_run(data, parts):
     _rotor_case(data, parts)
 
 
-@known_defects("D8", "D9")
-@budget(0.5, known=True)
+@budget(0.5)
 @given(data=st.data(), parts=rotor_parts(EXTREME))
 def test_rotors_construct_and_run_extreme(data, parts):
     _rotor_case(data, parts)
@@ -1883,29 +1852,7 @@ def _parameter(target: str) -> str:
     return target[target.index("(") + 1 : -1]
 
 
-#: The integer parameters (counts, indices) and those read as arrays refuse them today.
-HUGE_INT_OK = {
-    "CubicHermite(points)",
-    "Newmark(max_iter)",
-    "Semianalytic(modes)",
-    "System(rayleigh)",
-    "System.modal(n_modes)",
-    "loads.Step(dof)",
-    "solve(save_every)",
-    "solve(threads)",
-    "transfer_matrices(omega)",
-}
-
-
-@pytest.mark.parametrize(
-    "target",
-    [
-        t
-        if t in HUGE_INT_OK
-        else pytest.param(t, marks=pytest.mark.xfail(strict=True, reason=DEFECTS["D1"]))
-        for t in sorted(REAL_PARAMETERS)
-    ],
-)
+@pytest.mark.parametrize("target", sorted(REAL_PARAMETERS))
 def test_huge_integers_are_refused(target):
     """An integer beyond the float range is a bad value like inf: ValueError or TypeError
     naming the parameter."""
@@ -1935,30 +1882,14 @@ ARRAY_PARAMETERS: dict[str, Callable[[Any], Any]] = {
     "rotor.Bearing(speeds)": lambda v: _rotor().Bearing(0, kxx=[1.0, 2.0], kyy=1.0, speeds=v),
 }
 
-#: The array parameters that leak an unnamed error today.
-RAGGED_DEFECTS = {
-    "System(zeta)",
-    "transfer_matrices(omega)",
-    "transfer_matrices(zeta)",
-    "transfer_moments(omega)",
-}
 
-
-@pytest.mark.parametrize(
-    "target",
-    [
-        pytest.param(t, marks=pytest.mark.xfail(strict=True, reason=DEFECTS["D10"]))
-        if t in RAGGED_DEFECTS
-        else t
-        for t in sorted(ARRAY_PARAMETERS)
-    ],
-)
+@pytest.mark.parametrize("target", sorted(ARRAY_PARAMETERS))
 def test_ragged_sequences_are_refused(target):
     contract(lambda: ARRAY_PARAMETERS[target](RAGGED), (_parameter(target),))
 
 
 # --------------------------------------------------------------------------------------------
-# The defects found, each as its minimal failing input (strict xfail: a fix must remove it)
+# The defects found, each as its minimal failing input (fixed: regression tests)
 # --------------------------------------------------------------------------------------------
 
 CHAIN3 = np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
@@ -2005,8 +1936,6 @@ def _rotor_case_d9(kyy: float | None = None) -> Any:
 
 #: id -> (defect, the minimal case found by the property tests).
 KNOWN_CASES: dict[str, tuple[str, Callable[[], Any]]] = {
-    "D1-HHT(alpha=10**400)": ("D1", lambda: contract(lambda: duhamel.HHT(10**400), ("alpha",))),
-    "D1-solve(dt=10**400)": ("D1", lambda: contract(lambda: _solve(dt=10**400), ("dt",))),
     "D2-sparse-modal(1)-K=1e300": (
         "D2",
         lambda: _modal((sp.csr_array(np.eye(3)), 1e300 * CHAIN3), n_modes=1),
@@ -2094,10 +2023,6 @@ KNOWN_CASES: dict[str, tuple[str, Callable[[], Any]]] = {
             dt=1000.0,
         ),
     ),
-    "D10-ragged-omega": (
-        "D10",
-        lambda: contract(lambda: transfer_matrices(RAGGED, 0.0, 0.1), ("omega",)),
-    ),
     "D11-theta-overflow": (
         "D11",
         lambda: _speed_law_case(S.LinearRunUp(2e300, 0.0, 1.0), -1e8),
@@ -2106,14 +2031,10 @@ KNOWN_CASES: dict[str, tuple[str, Callable[[], Any]]] = {
 
 
 @pytest.mark.filterwarnings("ignore::RuntimeWarning")
-@pytest.mark.parametrize(
-    "case",
-    [
-        pytest.param(name, marks=pytest.mark.xfail(strict=True, reason=DEFECTS[d]))
-        for name, (d, _) in KNOWN_CASES.items()
-    ],
-)
-def test_known_defect(case):
+@pytest.mark.parametrize("case", list(KNOWN_CASES))
+def test_former_defect(case):
+    """The minimal cases of the defects this suite found (``DEFECTS``), fixed: regression
+    tests."""
     KNOWN_CASES[case][1]()
 
 

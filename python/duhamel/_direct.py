@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 
 from duhamel import _core
 from duhamel._solve.plan import mass
-from duhamel._solve.run import callback_error, raise_failure
+from duhamel._solve.run import callback_error, overflow_error, raise_failure
 from duhamel._specs import LoadSpec, ScaledSpec, speed_law, time_function
 from duhamel._specs import elements as core_elements
 from duhamel._validate import issparse
@@ -179,6 +179,9 @@ def highest_frequency(
     law = system.mass_law
     if law is not None:
         mu = float(np.min(law.law(np.linspace(t0, t_end, 4097))))
+        if not (np.isfinite(mu) and mu > 0.0):
+            # the law reaches 0 on the run: the engine refuses it with its own message
+            return 0.0
         k = k if law.scale_stiffness else k / mu
         rest = rest / mu
     kt = (k + rest).tocsr()
@@ -206,7 +209,25 @@ def _check_central(
     dt: float,
     t_span: tuple[float, float],
 ) -> None:
-    omega = highest_frequency(system, mats, elements, x0, v0, t_span)
+    import numpy.linalg
+    import scipy.sparse.linalg as spla
+
+    try:
+        omega = highest_frequency(system, mats, elements, x0, v0, t_span)
+    except (numpy.linalg.LinAlgError, spla.ArpackError, ValueError) as exc:
+        if isinstance(exc, ValueError) and str(exc).startswith("`"):
+            raise  # our own, naming its parameter
+        raise ValueError(
+            "the stability limit of the central difference method cannot be computed for "
+            f"this `M` and `K` ({type(exc).__name__}: {exc}); their scales are beyond what "
+            "double precision can analyse: rescale the model's units, or pass "
+            "CentralDifference(allow_unstable=True)"
+        ) from None
+    if not np.isfinite(omega):
+        raise ValueError(
+            "the highest natural frequency of this `M` and `K` overflows the double range; "
+            "rescale the model's units"
+        )
     if omega == 0.0:
         return
     limit = 2.0 / omega
@@ -272,11 +293,16 @@ def solve_direct(
     result = _core.solve_direct(problem, forcing, progress)
     wall = _time.perf_counter() - loop_start
     error = result.error
+    # Only finite rows are kept (the saved accelerations of a step element are recomputed
+    # from the equation of motion and can overflow where the state does not).
+    rows = [np.isfinite(arr).all(axis=1) for arr in (result.x, result.v, result.a)]
+    finite = np.logical_and.reduce(rows) if result.t.size else np.ones(0, dtype=bool)
+    kept = int(finite.size if finite.all() else np.argmin(finite))
     solution = Solution(
-        t=result.t,
-        x=result.x,
-        v=result.v,
-        a=result.a,
+        t=result.t[:kept],
+        x=result.x[:kept],
+        v=result.v[:kept],
+        a=result.a[:kept],
         dofs=np.asarray(out_dofs, dtype=np.int64),
         modal=None,
         stats=SolveStats(
@@ -289,7 +315,11 @@ def solve_direct(
         ),
         meta={"dt": dt, "t0": t0, "integrator": integrator},
     )
+    if error is None and kept < result.t.size:
+        raise overflow_error(result.t, kept, dt, t0, solution)
     if error is not None:
+        if kept < result.t.size:
+            error = error.kept_until(float(result.t[kept - 1]) if kept else None)
         raise_failure(error, solution)
     return solution
 

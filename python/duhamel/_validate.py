@@ -109,7 +109,12 @@ def _real_scalar(value: Any, name: str) -> float:
         value = value[()]
     if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
         raise TypeError(f"`{name}` must be a real number, got {type(value).__name__}")
-    out = float(value)
+    try:
+        out = float(value)
+    except OverflowError:  # an integer beyond the float range
+        raise ValueError(
+            f"`{name}` must be finite, got an integer beyond the float range"
+        ) from None
     if not math.isfinite(out):
         raise ValueError(f"`{name}` must be finite, got {out!r}")
     return out

@@ -46,7 +46,12 @@ __all__ = [
 def _finite(value: Any, name: str) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
         raise TypeError(f"`{name}` must be a real number, got {type(value).__name__}")
-    out = float(value)
+    try:
+        out = float(value)
+    except OverflowError:  # an integer beyond the float range
+        raise ValueError(
+            f"`{name}` must be finite, got an integer beyond the float range"
+        ) from None
     if not np.isfinite(out):
         raise ValueError(f"`{name}` must be finite, got {out}")
     return out

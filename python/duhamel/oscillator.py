@@ -20,8 +20,13 @@ __all__ = ["transfer_matrices", "transfer_moments"]
 
 
 def _prepare(omega: ArrayLike, zeta: ArrayLike, dt: float) -> tuple[NDArray, NDArray, float, bool]:
-    w = np.asarray(omega)
-    z = np.asarray(zeta)
+    arrays = []
+    for name, value in (("omega", omega), ("zeta", zeta)):
+        try:
+            arrays.append(np.asarray(value))
+        except (ValueError, TypeError, OverflowError) as exc:
+            raise ValueError(f"`{name}` could not be converted to an array: {exc}") from None
+    w, z = arrays
     for name, arr in (("omega", w), ("zeta", z)):
         if arr.dtype.kind not in "iuf":
             raise TypeError(f"`{name}` must be real numbers, got dtype {arr.dtype}")

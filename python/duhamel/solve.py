@@ -14,7 +14,7 @@ from duhamel import _core
 from duhamel._direct import solve_direct
 from duhamel._solve.output import check_memory, output_maps, physical
 from duhamel._solve.plan import ModalSpec, Plan, mass, modal_loads, plan
-from duhamel._solve.run import ModalCallable, Progress, raise_failure, watch
+from duhamel._solve.run import ModalCallable, Progress, overflow_error, raise_failure, watch
 from duhamel._validate import (
     MAX_COUNT,
     as_float_array,
@@ -44,6 +44,15 @@ def _steps(t_end: Any, dt: float, t0: float) -> int:
             f"`dt` = {dt:g} is too small for `t_end` - `t0` = {span:g}: that is {steps:.3g} "
             f"steps, more than the {MAX_COUNT:.3g} a run can take; use a larger `dt` or a "
             "shorter run"
+        )
+    # The step times t0 + n dt must be told apart: the grid's largest time resolves dt.
+    largest = max(abs(t0), abs(t_end))
+    if float(np.spacing(largest)) > 1e-3 * dt:
+        raise ValueError(
+            f"`dt` = {dt:g} is below the resolution of the times around `t0` = {t0:g} "
+            f"(`t_end` = {t_end:g}): doubles there are {float(np.spacing(largest)):.3g} apart, "
+            "so the step times would not be distinct; measure time from a nearer origin "
+            "(a smaller `t0`) or use a larger `dt`"
         )
     return max(1, math.floor(steps))
 
@@ -280,6 +289,8 @@ def solve(
         ),
         meta={"dt": dt, "t0": t0, "integrator": integrator},
     )
+    if error is None and kept < result.t.size:
+        raise overflow_error(result.t, kept, dt, t0, solution)
     if error is not None:
         if kept < result.t.size:
             # The outputs of the last states overflowed before the coordinates did.

@@ -43,6 +43,10 @@ class SpeedLaw:
         ts = np.asarray(t, dtype=np.float64)
         flat = np.ascontiguousarray(np.atleast_1d(ts).ravel())
         out = speed_law(self._spec()).evaluate(flat)[which].reshape(ts.shape)
+        if not np.all(np.isfinite(out)):
+            bad = float(np.atleast_1d(ts).ravel()[~np.isfinite(np.atleast_1d(out).ravel())][0])
+            what = ("omega", "domega", "theta")[which]
+            raise ValueError(f"the speed law's {what} overflows the double range at `t` = {bad!r}")
         return out[()] if ts.ndim == 0 else out
 
     def omega(self, t: ArrayLike) -> NDArray[np.float64]:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numbers
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
@@ -114,7 +115,7 @@ class System:
             check_symmetric(C, "C")
             self._C, self._damping = (C if issparse(C) else _frozen(C)), "matrix"
         elif zeta is not None:
-            if np.ndim(zeta) == 0:
+            if isinstance(zeta, numbers.Real | np.ndarray) and np.ndim(zeta) == 0:
                 self._zeta = finite_float(zeta, "zeta")
             else:
                 z = as_float_array(zeta, "zeta", ndim=1)
@@ -315,8 +316,7 @@ class System:
         n = mode_count(n_modes, "modes", self.n_dof)  # user-facing name (integrators)
         cached = self._modal_cache.get(n)
         if cached is None:
-            lam, phi = self._modes.lowest(n)
-            cached = self._modal_cache[n] = damped(lam, phi, self)
+            cached = self._modal_cache[n] = _checked_modal(self, n)
         return cached
 
     def use_basis(self, basis: ModalBasis, *, extend: bool = False, rtol: float = 1e-6) -> System:
@@ -388,3 +388,56 @@ class System:
         self._modes.supply(basis.omega2, basis.phi, extend=bool(extend))
         self._modal_cache.clear()
         return self
+
+
+def _checked_modal(system: System, n: int) -> ModalBasis:
+    """The damped modal basis of `system`, or a ValueError naming the inputs when their
+    scales are beyond what the eigensolvers can analyse in double precision (a numerical
+    library's error, or non-finite modes or damping)."""
+    import numpy.linalg
+    import scipy.sparse.linalg as spla
+
+    try:
+        lam, phi = system._modes.lowest(n)
+    except (
+        numpy.linalg.LinAlgError,
+        spla.ArpackError,
+        spla.ArpackNoConvergence,
+        ValueError,
+    ) as exc:
+        if isinstance(exc, ValueError) and str(exc).startswith("`"):
+            raise  # our own, naming its parameter
+        raise ValueError(
+            f"the modal analysis of `M` and `K` failed ({type(exc).__name__}: {exc}): their "
+            "scales are beyond what double precision can analyse (check their units and "
+            "values)"
+        ) from None
+    with np.errstate(all="ignore"):
+        finite = bool(np.all(np.isfinite(lam)) and np.all(np.isfinite(phi)))
+    if not finite:
+        raise ValueError(
+            "the modal analysis of `M` and `K` gives non-finite modes: their scales are beyond "
+            "what double precision can analyse (check their units and values)"
+        )
+    with np.errstate(all="ignore"):
+        try:
+            basis = damped(lam, phi, system)
+        except (numpy.linalg.LinAlgError, ValueError) as exc:
+            if isinstance(exc, ValueError) and str(exc).startswith("`"):
+                raise
+            raise ValueError(
+                f"the modal damping of `C` cannot be computed ({type(exc).__name__}: {exc}): "
+                "its scale is beyond what double precision can analyse"
+            ) from None
+        damping_ok = bool(np.all(np.isfinite(basis.c)) and np.all(np.isfinite(basis.zeta)))
+        coupling_ok = basis.c_coupling is None or bool(np.all(np.isfinite(basis.c_coupling)))
+    if not (damping_ok and coupling_ok):
+        name = {"zeta": "zeta", "rayleigh": "rayleigh", "matrix": "C"}.get(
+            system._damping, "damping"
+        )
+        raise ValueError(
+            f"the modal damping from `{name}` overflows the double range for these modes: "
+            f"check `{name}` (a damping ratio is a fraction of critical damping) and the "
+            "model's units"
+        )
+    return basis

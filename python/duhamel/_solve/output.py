@@ -73,14 +73,16 @@ def physical(
     """The physical response of the output dofs from a modal run's `result`.
 
     Returns ``(kept, x, v, a, modal)``: ``x`` and ``v`` of the output dofs, the accelerations
-    (a function evaluated on first access) and the modal history. A run that stopped early
-    keeps only its leading rows whose ``x``, ``v`` and ``a`` are all finite (`kept` of them:
-    the physical outputs of the last states before a divergence can overflow before the
-    coordinates do), and its accelerations are computed at once to find them.
+    (a function evaluated on first access) and the modal history. A run that stopped early,
+    or whose physical outputs overflowed although its coordinates did not (`kept` < the rows
+    saved: the caller raises), keeps only its leading rows whose ``x``, ``v`` and ``a`` are
+    all finite, and its accelerations are computed at once to find them.
     """
     n = result.t.size
-    if result.error is None:
+    with np.errstate(over="ignore", invalid="ignore"):
         x, v, acceleration, modal = _assemble(result, plan, phi_out, patterns, n)
+        overflowed = result.error is None and _finite_rows(x, v) < n
+    if result.error is None and not overflowed:
 
         def checked() -> NDArray:
             with np.errstate(over="ignore", invalid="ignore"):
@@ -96,8 +98,8 @@ def physical(
             return a
 
         return n, x, v, checked, modal
+    # A failed run, or one whose physical outputs overflowed (the caller raises then).
     with np.errstate(over="ignore", invalid="ignore"):
-        x, v, _, _ = _assemble(result, plan, phi_out, patterns, n)
         kept = _finite_rows(x, v)
         x, v, acceleration, modal = _assemble(result, plan, phi_out, patterns, kept)
         a = acceleration()

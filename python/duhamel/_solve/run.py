@@ -12,7 +12,14 @@ from numpy.typing import NDArray
 
 from duhamel.errors import SolverError
 
-__all__ = ["ModalCallable", "Progress", "callback_error", "raise_failure", "watch"]
+__all__ = [
+    "ModalCallable",
+    "Progress",
+    "callback_error",
+    "overflow_error",
+    "raise_failure",
+    "watch",
+]
 
 #: A progress report: ``(steps done, steps in all, time reached)``.
 Progress = Callable[[int, int, float], Any]
@@ -112,6 +119,28 @@ def callback_error(what: str, time: float, step: int, partial: Any) -> SolverErr
         f"a Python load or element function failed at t = {time!r} (step {step}): {what}; {kept}",
         time=time,
         reason="callback",
+        partial=partial,
+        step=step,
+    )
+
+
+def overflow_error(t: Any, kept: int, dt: float, t0: float, partial: Any) -> SolverError:
+    """The :class:`duhamel.SolverError` of a run whose physical outputs (``x``, ``v`` or
+    ``a`` of the output dofs) overflow at saved row `kept` of the times `t` although the
+    engine's state stayed finite; `partial` keeps the rows before it."""
+    when = float(t[kept])
+    step = round((when - t0) / dt)
+    held = (
+        f"the history up to t = {float(partial.t[-1])!r} is kept"
+        if partial.t.size
+        else "nothing is kept"
+    )
+    return SolverError(
+        f"the physical response overflows the double range at t = {when!r} (step {step}): "
+        "the model's scales (mass, stiffness, initial state, loads) put displacements, "
+        f"velocities or accelerations beyond 1e308; {held}",
+        time=when,
+        reason="nonfinite",
         partial=partial,
         step=step,
     )

@@ -337,8 +337,18 @@ class Bearing:
                     "which depend on the spin speed: give `speed`"
                 )
             w = 0.0 if speed is None else constant_speed(speed)
-            out.append(Cubic(dof_x, self._value("kxx", w) * self.beta / ref**2))
-            out.append(Cubic(dof_y, self._value("kyy", w) * self.beta / ref**2))
+            for dof, name in ((dof_x, "kxx"), (dof_y, "kyy")):
+                # k beta / x_stat^2, formed so that neither x_stat^2 nor the product overflows
+                with np.errstate(all="ignore"):
+                    k3 = (self._value(name, w) * self.beta / ref) / ref
+                if not (np.isfinite(k3) and (k3 != 0.0 or self._value(name, w) == 0.0)):
+                    raise ValueError(
+                        f"the cubic law of the bearing at node {self.node}, {name} * `beta` / "
+                        f"`x_stat`**2 = {self._value(name, w):g} * {self.beta:g} / {ref:g}**2, "
+                        "is beyond the double range: check `x_stat` (the static deflection, "
+                        "in m) and `beta`"
+                    )
+                out.append(Cubic(dof, float(k3)))
         if self.contact is not None:
             clearance, stiffness, friction = self.contact
             out.append(Contact(dof_x, dof_y, clearance, stiffness, friction))

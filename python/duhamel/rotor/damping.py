@@ -91,7 +91,14 @@ def structural_damping(
             )
         import scipy.linalg
 
-        lam, phi = scipy.linalg.eigh(k_sym, M)
+        try:
+            lam, phi = scipy.linalg.eigh(k_sym, M)
+        except (np.linalg.LinAlgError, ValueError) as exc:
+            raise ValueError(
+                f"the rotor's modes for its modal damping `zeta` cannot be computed "
+                f"({type(exc).__name__}: {exc}): its shaft, disk and bearing values are beyond "
+                "what double precision can analyse (check `bearings` and the shafts' units)"
+            ) from None
         scale = max(float(np.max(np.abs(lam))), 1.0)
         omega = np.sqrt(np.where(lam > 1e-12 * scale, lam, 0.0))
         mphi = M @ phi
