@@ -266,7 +266,7 @@ class Rotor:
             return np.asarray(scipy.linalg.solve(K, f), dtype=np.float64)
         except (np.linalg.LinAlgError, scipy.linalg.LinAlgError) as exc:
             raise ValueError(
-                "the rotor's stiffness matrix is singular (is it supported by bearings?)"
+                "the rotor's stiffness matrix is singular: is it supported by `bearings`?"
             ) from exc
 
     # ------------------------------------------------------------------ time integration
@@ -354,7 +354,8 @@ class Rotor:
         massless = self._massless_nodes()
         if massless:
             raise ValueError(
-                f"nodes {massless} have no mass (shafts with rho = 0 and no disk there); a "
+                f"nodes {massless} have no mass (shafts whose material has `rho` = 0 and no "
+                "disk there); a "
                 "time integration needs mass at every degree of freedom"
             )
         a = self._assembly
