@@ -50,6 +50,7 @@ demo: install
 bench: install
 	$(VPY) benchmarks/run.py --write BENCHMARKS.md
 	$(VPY) benchmarks/rotor.py --append BENCHMARKS.md
+	$(VPY) benchmarks/local.py --append BENCHMARKS.md
 
 clean:
 	rm -rf target $(VENV) results
