@@ -254,7 +254,10 @@ class Contact(Element):
             raise ValueError(f"`stiffness` must be positive, got {self.stiffness}")
         _nonneg(self.friction, "friction")
         if self.smoothing is None:
-            object.__setattr__(self, "smoothing", 1e-3 * g if g > 0 else 1e-9)
+            # (at least the smallest normal number: a subnormal clearance must not give 0)
+            object.__setattr__(
+                self, "smoothing", max(1e-3 * g, np.finfo(float).tiny) if g > 0 else 1e-9
+            )
         if self.velocity_smoothing is None:
             object.__setattr__(self, "velocity_smoothing", 1e-3)
         for name in ("smoothing", "velocity_smoothing"):

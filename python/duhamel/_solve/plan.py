@@ -125,6 +125,16 @@ def _couplings(system: System, basis: ModalBasis) -> Couplings:
             mc = mc if factor == 1.0 else factor * mc
             c = mc if c is None else c + mc
     as_c = lambda m: None if m is None else np.ascontiguousarray(m)  # noqa: E731
+    with np.errstate(all="ignore"):
+        parts = [m for m in (k, c) if m is not None]
+        parts += [m for spec in scaled for m in (spec.k, spec.c) if m is not None]
+        finite = all(bool(np.all(np.isfinite(m))) for m in parts)
+    if not finite:
+        raise ValueError(
+            "the modal couplings of the `LinearCoupling` elements (and of a non-classical `C`) "
+            "overflow the double range: check their `K`, `C` and `scale` (a rotor's speed) "
+            "and the model's units"
+        )
     return Couplings(as_c(k), as_c(c), scaled)
 
 
@@ -185,12 +195,25 @@ def _first_order(
                 "coupling='auto' or 'pseudo-force')"
             )
         return None
-    modes = first_order_modes(basis.omega2, basis.c, couplings.k, couplings.c)
-    if modes.condition > CONDITION_LIMIT:
+    try:
+        modes = first_order_modes(basis.omega2, basis.c, couplings.k, couplings.c)
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        # LAPACK cannot take the coupled matrix (entries near the double range)
+        if integrator.coupling == "exact":
+            raise ValueError(
+                f"`coupling`='exact': the first-order modes of the coupled system cannot be "
+                f"computed ({type(exc).__name__}: {exc}); its couplings are beyond what double "
+                "precision can analyse (check the couplings' and the speed's values)"
+            ) from None
+        return None
+    if not np.isfinite(modes.condition):
+        modes = None
+    if modes is None or modes.condition > CONDITION_LIMIT:
         if integrator.coupling == "exact":
             raise ValueError(
                 f"`coupling`='exact': the coupled system is (nearly) defective, its first-order "
-                f"eigenvector matrix has condition number {modes.condition:.3g} > "
+                f"eigenvector matrix has condition number "
+                f"{np.inf if modes is None else modes.condition:.3g} > "
                 f"{CONDITION_LIMIT:g}, so its modes would lose digits (about condition^2 * "
                 f"1e-17 of the response); use coupling='pseudo-force'"
             )
