@@ -44,17 +44,8 @@ __all__ = [
 
 
 def _finite(value: Any, name: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
-        raise TypeError(f"`{name}` must be a real number, got {type(value).__name__}")
-    try:
-        out = float(value)
-    except OverflowError:  # an integer beyond the float range
-        raise ValueError(
-            f"`{name}` must be finite, got an integer beyond the float range"
-        ) from None
-    if not np.isfinite(out):
-        raise ValueError(f"`{name}` must be finite, got {out}")
-    return out
+    """`value` as a finite float (the one numeric validator: any real or numpy number)."""
+    return finite_float(value, name)
 
 
 def _table(t: ArrayLike, values: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
