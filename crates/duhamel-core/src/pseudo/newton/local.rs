@@ -28,6 +28,7 @@
 use super::super::force::PseudoForce;
 use super::super::local::ElementSpace;
 use super::super::scheme::{Rule, Scheme, StepInput, Unknown};
+use super::damping::backtrack;
 use crate::dense::{solve_in_place, DenseLu};
 use crate::error::CoreError;
 
@@ -372,7 +373,7 @@ impl LocalNewton {
         }
     }
 
-    /// Newton's method on `F(y) = 0`, damped by backtracking as the modal one.
+    /// Newton's method on `F(y) = 0`, damped by the modal one's [`backtrack`].
     fn newton(
         &mut self,
         space: &mut ElementSpace,
@@ -385,18 +386,12 @@ impl LocalNewton {
         for iter in 1..=set.max_iter {
             norm = self.residual(space, set, inp, true)?;
             if let Some(prev) = last {
-                let floor = 64.0 * f64::EPSILON * scale0;
-                let mut lambda = 1.0;
-                while (norm.is_nan() || norm > prev * (1.0 - 1e-4 * lambda))
-                    && prev > floor
-                    && lambda > 1.0 / 64.0
-                {
-                    lambda *= 0.5;
+                norm = backtrack(prev, norm, scale0, |lambda| {
                     for ((y, yp), d) in self.y.iter_mut().zip(&self.y_prev).zip(&self.delta) {
                         *y = yp + lambda * d;
                     }
-                    norm = self.residual(space, set, inp, true)?;
-                }
+                    self.residual(space, set, inp, true)
+                })?;
             }
             self.jacobian(set);
             for (d, r) in self.delta.iter_mut().zip(&self.res) {

@@ -7,6 +7,7 @@
 //! forces of degree <= 3, as the cubic it is (the paper's closed form).
 
 mod cubic;
+mod damping;
 mod local;
 
 use super::closed::{scalar_step, ScalarPlan};
@@ -16,6 +17,7 @@ use super::problem::Solver;
 use super::scheme::{Rule, Scheme, StepInput, Unknown};
 use crate::dense::solve_in_place;
 use crate::error::CoreError;
+use damping::backtrack;
 
 /// Which nodes to evaluate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -455,17 +457,11 @@ impl<'r> Stepper<'r> {
             self.nodes(pf, inp, true, Nodes::Varying)?;
             *norm = self.residual(inp);
             if let Some(prev) = last {
-                let floor = 64.0 * f64::EPSILON * scale0;
-                let mut lambda = 1.0;
-                while (norm.is_nan() || *norm > prev * (1.0 - 1e-4 * lambda))
-                    && prev > floor
-                    && lambda > 1.0 / 64.0
-                {
-                    lambda *= 0.5;
+                *norm = backtrack(prev, *norm, scale0, |lambda| {
                     self.set_z(z0, delta, lambda);
                     self.nodes(pf, inp, true, Nodes::Varying)?;
-                    *norm = self.residual(inp);
-                }
+                    Ok(self.residual(inp))
+                })?;
             }
             self.jacobian();
             for (d, r) in delta.iter_mut().zip(&self.res) {
