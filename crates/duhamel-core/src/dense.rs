@@ -3,6 +3,52 @@
 use faer::linalg::solvers::Solve;
 use faer::Mat;
 
+/// `a . b` over the shorter length, in four interleaved partial sums (which the compiler
+/// can keep in SIMD registers: a plain sequential sum cannot be reordered, and vectorised).
+#[inline]
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let mut acc = [0.0; 4];
+    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
+    let tail: f64 = ca
+        .remainder()
+        .iter()
+        .zip(cb.remainder())
+        .map(|(x, y)| x * y)
+        .sum();
+    for (x, y) in ca.zip(cb) {
+        for k in 0..4 {
+            acc[k] += x[k] * y[k];
+        }
+    }
+    (acc[0] + acc[2]) + (acc[1] + acc[3]) + tail
+}
+
+/// `(r . x_0, r . x_1, r . x_2)` in one pass over `r` (each in four partial sums, as
+/// [`dot`]).
+#[inline]
+pub fn dot3(r: &[f64], x: [&[f64]; 3]) -> (f64, f64, f64) {
+    let n = r.len().min(x[0].len()).min(x[1].len()).min(x[2].len());
+    let (r, a, b, c) = (&r[..n], &x[0][..n], &x[1][..n], &x[2][..n]);
+    let mut acc = [[0.0; 4]; 3];
+    let full = n - n % 4;
+    for j in (0..full).step_by(4) {
+        for k in 0..4 {
+            let p = r[j + k];
+            acc[0][k] += p * a[j + k];
+            acc[1][k] += p * b[j + k];
+            acc[2][k] += p * c[j + k];
+        }
+    }
+    let mut out = [0.0; 3];
+    for (o, (acc, v)) in out.iter_mut().zip(acc.iter().zip([a, b, c])) {
+        let tail: f64 = (full..n).map(|j| r[j] * v[j]).sum();
+        *o = (acc[0] + acc[2]) + (acc[1] + acc[3]) + tail;
+    }
+    (out[0], out[1], out[2])
+}
+
 /// Largest system solved by the in-place elimination below; faer above.
 const SMALL: usize = 32;
 
@@ -31,8 +77,11 @@ pub fn solve_in_place(n: usize, a: &[f64], b: &mut [f64]) -> bool {
     b.iter().all(|v| v.is_finite())
 }
 
-/// Gaussian elimination with partial pivoting, in place (`m` is overwritten).
-fn eliminate(n: usize, m: &mut [f64], b: &mut [f64]) -> bool {
+/// Gaussian elimination with partial pivoting, in place: `m` (row-major `n x n`) is
+/// overwritten by its factors and `b` by the solution. Returns `false` when the matrix is
+/// numerically singular or the solution not finite. For callers that rebuild `m` anyway (no
+/// copy needed).
+pub fn eliminate(n: usize, m: &mut [f64], b: &mut [f64]) -> bool {
     for k in 0..n {
         let Some(p) = pivot_row(m, n, k) else {
             return false;
@@ -82,63 +131,93 @@ pub struct DenseLu {
 impl DenseLu {
     /// Factorises `a`; `None` when it is numerically singular.
     pub fn factor(n: usize, a: &[f64]) -> Option<Self> {
+        let mut lu = DenseLu::default();
+        lu.refactor(n, a).then_some(lu)
+    }
+
+    /// Factorises `a` into this object's buffers (no allocation after the first time);
+    /// `false` when it is numerically singular (the factors are then meaningless).
+    pub fn refactor(&mut self, n: usize, a: &[f64]) -> bool {
         debug_assert_eq!(a.len(), n * n);
-        let mut lu = a.to_vec();
-        let mut piv: Vec<usize> = (0..n).collect();
+        self.n = n;
+        self.lu.clear();
+        self.lu.extend_from_slice(a);
+        self.piv.clear();
+        self.piv.extend(0..n);
+        let lu = &mut self.lu;
         for k in 0..n {
-            let p = pivot_row(&lu, n, k)?;
+            let Some(p) = pivot_row(lu, n, k) else {
+                return false;
+            };
             if p != k {
-                for j in 0..n {
-                    lu.swap(k * n + j, p * n + j);
-                }
-                piv.swap(k, p);
+                let (top, bottom) = lu.split_at_mut(p * n);
+                top[k * n..(k + 1) * n].swap_with_slice(&mut bottom[..n]);
+                self.piv.swap(k, p);
             }
-            let inv = 1.0 / lu[k * n + k];
-            for i in k + 1..n {
-                let f = lu[i * n + k] * inv;
-                lu[i * n + k] = f;
+            // Rows below k minus multiples of row k: contiguous slices (vectorised).
+            let (head, tail) = lu.split_at_mut((k + 1) * n);
+            let row_k = &head[k * n..];
+            let inv = 1.0 / row_k[k];
+            for row in tail.chunks_exact_mut(n) {
+                let f = row[k] * inv;
+                row[k] = f;
                 if f != 0.0 {
-                    for j in k + 1..n {
-                        lu[i * n + j] -= f * lu[k * n + j];
+                    for (x, &y) in row[k + 1..].iter_mut().zip(&row_k[k + 1..]) {
+                        *x -= f * y;
                     }
                 }
             }
         }
-        Some(DenseLu { n, lu, piv })
+        true
     }
 
     /// Solves `a x = b` in place of `b` (`work`: scratch of length `n`); false if the
     /// solution is not finite.
     pub fn solve(&self, b: &mut [f64], work: &mut [f64]) -> bool {
         let n = self.n;
+        let (b, work) = (&mut b[..n], &mut work[..n]);
         for (w, &p) in work.iter_mut().zip(&self.piv) {
             *w = b[p];
         }
-        for i in 0..n {
-            let s: f64 = (0..i).map(|j| self.lu[i * n + j] * work[j]).sum();
+        for (i, row) in self.lu.chunks_exact(n).enumerate() {
+            let s = dot(&row[..i], &work[..i]);
             work[i] -= s;
         }
-        for i in (0..n).rev() {
-            let s: f64 = (i + 1..n).map(|j| self.lu[i * n + j] * work[j]).sum();
-            work[i] = (work[i] - s) / self.lu[i * n + i];
+        for (i, row) in self.lu.chunks_exact(n).enumerate().rev() {
+            let s = dot(&row[i + 1..], &work[i + 1..]);
+            work[i] = (work[i] - s) / row[i];
         }
-        b[..n].copy_from_slice(&work[..n]);
+        b.copy_from_slice(work);
         b.iter().all(|v| v.is_finite())
     }
 }
 
 impl DenseLu {
     /// Solves `a^T x = b` in place of `b` with the same factors (`P a = L U`, so
-    /// `a^T = U^T L^T P`); false if the solution is not finite.
+    /// `a^T = U^T L^T P`); false if the solution is not finite. Row-oriented: every update
+    /// runs along a contiguous row of the factors.
     pub fn solve_transpose(&self, b: &mut [f64], work: &mut [f64]) -> bool {
         let n = self.n;
-        for i in 0..n {
-            let s: f64 = (0..i).map(|j| self.lu[j * n + i] * work[j]).sum();
-            work[i] = (b[i] - s) / self.lu[i * n + i];
+        let (b, work) = (&mut b[..n], &mut work[..n]);
+        work.copy_from_slice(b);
+        // U^T y = b: y_j final once the rows above are subtracted.
+        for (j, row) in self.lu.chunks_exact(n).enumerate() {
+            let yj = work[j] / row[j];
+            work[j] = yj;
+            if yj != 0.0 {
+                for (w, u) in work[j + 1..].iter_mut().zip(&row[j + 1..]) {
+                    *w -= u * yj;
+                }
+            }
         }
-        for i in (0..n).rev() {
-            let s: f64 = (i + 1..n).map(|j| self.lu[j * n + i] * work[j]).sum();
-            work[i] -= s;
+        // L^T w = y (unit diagonal), from the last row up.
+        for (j, row) in self.lu.chunks_exact(n).enumerate().rev() {
+            let wj = work[j];
+            if wj != 0.0 {
+                for (w, l) in work[..j].iter_mut().zip(&row[..j]) {
+                    *w -= l * wj;
+                }
+            }
         }
         for (i, &p) in self.piv.iter().enumerate() {
             b[p] = work[i];

@@ -77,7 +77,28 @@ impl<'a> ElementSpace<'a> {
     /// `out = Phi_D q`.
     pub fn to_local(&self, q: &[f64], out: &mut [f64]) {
         for (o, row) in out.iter_mut().zip(self.phi.chunks_exact(self.n_modes)) {
-            *o = row.iter().zip(q).map(|(p, x)| p * x).sum();
+            *o = crate::dense::dot(row, q);
+        }
+    }
+
+    /// `Phi_D x_k` for three vectors at once (one pass over `Phi_D`), into `out_k`.
+    pub fn to_local3(&self, x: [&[f64]; 3], out: [&mut [f64]; 3]) {
+        let [o0, o1, o2] = out;
+        for (a, row) in self.phi.chunks_exact(self.n_modes).enumerate() {
+            let (s0, s1, s2) = crate::dense::dot3(row, x);
+            (o0[a], o1[a], o2[a]) = (s0, s1, s2);
+        }
+    }
+
+    /// `out = Phi_D^T r` (length `n_modes`, overwritten).
+    pub fn project(&self, r: &[f64], out: &mut [f64]) {
+        out.fill(0.0);
+        for (&ra, row) in r.iter().zip(self.phi.chunks_exact(self.n_modes)) {
+            if ra != 0.0 {
+                for (o, p) in out.iter_mut().zip(row) {
+                    *o += ra * p;
+                }
+            }
         }
     }
 

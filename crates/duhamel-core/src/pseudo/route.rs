@@ -79,26 +79,27 @@ fn fill_basis(pb: &mut [Vec<f64>; 3], problem: &ModalProblem, loads: &BlockLoads
     }
 }
 
-/// Per mode, the exact step's coefficients in one row: `A` (row-major) then `B` (row-major).
-type StepRow = [f64; 10];
+/// The exact step's coefficients of every mode, one array per coefficient (structure of
+/// arrays: the loop over the modes vectorises): `A` (row-major) then `B` (row-major).
+type StepRows = [Vec<f64>; 10];
 
 /// The linear step of every mode (background and external loads only) into `(ql, vl)`.
 #[inline(always)]
 fn predict(
-    rows: &[StepRow],
+    rows: &StepRows,
     (q, v): (&[f64], &[f64]),
     pb: &[Vec<f64>; 3],
     (ql, vl): (&mut [f64], &mut [f64]),
     loads: &BlockLoads,
     s: usize,
 ) {
-    let n = rows.len();
+    let n = rows[0].len();
     let (q, v, ql, vl) = (&q[..n], &v[..n], &mut ql[..n], &mut vl[..n]);
     let (p0, p1, p2) = (&pb[0][..n], &pb[1][..n], &pb[2][..n]);
+    let [a11, a12, a21, a22, b11, b12, b13, b21, b22, b23] = rows.each_ref().map(|r| &r[..n]);
     for m in 0..n {
-        let [a11, a12, a21, a22, b11, b12, b13, b21, b22, b23] = rows[m];
-        ql[m] = a11 * q[m] + a12 * v[m] + b11 * p0[m] + b12 * p1[m] + b13 * p2[m];
-        vl[m] = a21 * q[m] + a22 * v[m] + b21 * p0[m] + b22 * p1[m] + b23 * p2[m];
+        ql[m] = a11[m] * q[m] + a12[m] * v[m] + b11[m] * p0[m] + b12[m] * p1[m] + b13[m] * p2[m];
+        vl[m] = a21[m] * q[m] + a22[m] * v[m] + b21[m] * p0[m] + b22[m] * p1[m] + b23[m] * p2[m];
     }
     for (_, dx, dv) in loads.jumps.iter().filter(|j| j.0 == s) {
         for (x, d) in ql.iter_mut().zip(dx) {
@@ -113,7 +114,7 @@ fn predict(
 /// The pseudo-force route: the background's matrices, the corrector and the history.
 struct PseudoRoute<'r, 'a> {
     /// The exact step of each mode.
-    rows: Vec<StepRow>,
+    rows: StepRows,
     pf: PseudoForce<'a>,
     stepper: Stepper<'r>,
     /// The estimated-mass treatment (the saved pseudo-force is then evaluated anew).
@@ -144,7 +145,13 @@ impl PseudoRoute<'_, '_> {
                 self.hp[r].copy_from_slice(k);
                 Ok(())
             }
-            None => self.pf.at_state(q, v, t, p, &mut self.hp[r]),
+            None => {
+                let out = &mut self.hp[r];
+                if known && self.stepper.local_start(&self.pf, (q, v, p), t, out) {
+                    return Ok(());
+                }
+                self.pf.at_state(q, v, t, p, out)
+            }
         }
     }
 
@@ -199,7 +206,9 @@ impl PseudoRoute<'_, '_> {
             if iters == 0 && self.stepper.analytic() {
                 self.stats.closed_form_steps += 1;
             }
-            if !q1.iter().chain(v1.iter()).all(|x| x.is_finite()) {
+            // x * 0 is NaN exactly for a non-finite x: a branch-free (vectorised) test
+            let poison = q1.iter().chain(v1.iter()).fold(0.0, |acc, x| acc + x * 0.0);
+            if poison != 0.0 || poison.is_nan() {
                 let error = CoreError::NonFinite {
                     time: 0.0,
                     step: step + 1,
@@ -282,14 +291,18 @@ pub fn integrate(
     let cells = size(loads.n_saved(), n, "the modal history").map_err(fail)?;
     let buffer = |what| zeroed(cells, what).map_err(fail);
     let mut route = PseudoRoute {
-        rows: transfers
-            .iter()
-            .map(|tr| {
+        rows: {
+            let mut rows: StepRows = std::array::from_fn(|_| Vec::with_capacity(n));
+            for tr in &transfers {
                 let ([a11, a12], [a21, a22]) = (tr.a[0], tr.a[1]);
                 let [[b11, b12, b13], [b21, b22, b23]] = tr.b();
-                [a11, a12, a21, a22, b11, b12, b13, b21, b22, b23]
-            })
-            .collect(),
+                let row = [a11, a12, a21, a22, b11, b12, b13, b21, b22, b23];
+                for (column, value) in rows.iter_mut().zip(row) {
+                    column.push(value);
+                }
+            }
+            rows
+        },
         pf,
         stepper,
         estimate,

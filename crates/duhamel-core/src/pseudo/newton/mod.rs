@@ -9,15 +9,14 @@
 mod cubic;
 mod damping;
 mod local;
+mod modal;
 
 use super::closed::{scalar_step, ScalarPlan};
 use super::force::{Jacobian, PseudoForce};
 use super::local::ElementSpace;
 use super::problem::Solver;
 use super::scheme::{Rule, Scheme, StepInput, Unknown};
-use crate::dense::solve_in_place;
 use crate::error::CoreError;
-use damping::backtrack;
 
 /// Which nodes to evaluate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -83,7 +82,7 @@ impl<'r> Stepper<'r> {
             (false, _) => Unknown::Q1,
         };
         // A node whose state does not depend on the unknowns is evaluated once per step.
-        let constant = rule
+        let constant: Vec<bool> = rule
             .nodes
             .iter()
             .map(|node| {
@@ -100,7 +99,17 @@ impl<'r> Stepper<'r> {
         let local =
             (solver != Solver::ModalNewton && unknown != Unknown::Both && pf.local() && nd < n)
                 .then(|| {
-                    let newton = local::LocalNewton::new(&space, pf, n, nodes);
+                    let set = local::Setting {
+                        rule,
+                        scheme,
+                        dt,
+                        unknown,
+                        constant: &constant,
+                        tol,
+                        max_iter,
+                        linear: pf.linear,
+                    };
+                    let newton = local::LocalNewton::new(&space, pf, &set, n);
                     (space, newton)
                 });
         // The modal Newton's dense matrices, only where it runs.
@@ -207,78 +216,6 @@ impl<'r> Stepper<'r> {
                 .sum::<f64>()
     }
 
-    /// Residual of the active unknowns; returns its max norm.
-    fn residual(&mut self, inp: &StepInput) -> f64 {
-        let n = self.n;
-        let mut norm = 0.0_f64;
-        for m in 0..n {
-            let rows: &[(usize, usize)] = match self.unknown {
-                Unknown::Q1 => &[(0, 0)],
-                Unknown::V1 => &[(1, 0)],
-                Unknown::Both => &[(0, 0), (1, 1)],
-            };
-            for &(row, block) in rows {
-                let z = if row == 0 { self.q1[m] } else { self.v1[m] };
-                let r = z - self.explicit(inp, row, m);
-                self.res[block * n + m] = r;
-                // NaN must not vanish in the max (f64::max drops it).
-                if r.is_nan() || r.abs() > norm {
-                    norm = r.abs();
-                }
-            }
-        }
-        norm
-    }
-
-    /// Newton matrix `I - sum_i W_i dQ_i/dz` on the active unknowns.
-    fn jacobian(&mut self) {
-        let n = self.n;
-        let dt = self.dt;
-        let m = self.res.len();
-        self.mat.fill(0.0);
-        for i in 0..m {
-            self.mat[i * m + i] = 1.0;
-        }
-        for (node, ((wx, wv), jac)) in self
-            .rule
-            .nodes
-            .iter()
-            .zip(self.rule.wx.iter().zip(&self.rule.wv).zip(&self.jacs))
-        {
-            let [dqq, dqv, dvq, dvv] = node.d;
-            // dQ/dq1 and dQ/dv1 at this node, entry (r, c)
-            let d_dq1 = |r: usize, c: usize| jac.kq[r * n + c] * dqq + jac.cq[r * n + c] * dvq;
-            let d_dv1 = |r: usize, c: usize| {
-                jac.kq[r * n + c] * dqv
-                    + jac.cq[r * n + c] * dvv
-                    + if r == c { jac.da / dt } else { 0.0 }
-            };
-            for r in 0..n {
-                match self.unknown {
-                    Unknown::Q1 => {
-                        for c in 0..n {
-                            self.mat[r * m + c] -= wx[r] * d_dq1(r, c);
-                        }
-                    }
-                    Unknown::V1 => {
-                        for c in 0..n {
-                            self.mat[r * m + c] -= wv[r] * d_dv1(r, c);
-                        }
-                    }
-                    Unknown::Both => {
-                        for c in 0..n {
-                            let (a, b) = (d_dq1(r, c), d_dv1(r, c));
-                            self.mat[r * m + c] -= wx[r] * a;
-                            self.mat[r * m + n + c] -= wx[r] * b;
-                            self.mat[(n + r) * m + c] -= wv[r] * a;
-                            self.mat[(n + r) * m + n + c] -= wv[r] * b;
-                        }
-                    }
-                }
-            }
-        }
-    }
-
     /// Solves the step; writes the end state into `q_out`, `v_out`. Returns the Newton
     /// iterations used (0 for the closed form).
     pub fn solve(
@@ -297,6 +234,28 @@ impl<'r> Stepper<'r> {
                 v_out.copy_from_slice(&self.v1);
                 return Ok(0);
             }
+        }
+        if let Some((space, newton)) = &mut self.local {
+            let set = local::Setting {
+                rule: self.rule,
+                scheme: self.scheme,
+                dt: self.dt,
+                unknown: self.unknown,
+                constant: &self.constant,
+                tol: self.tol,
+                max_iter: self.max_iter,
+                linear: self.linear,
+            };
+            // A constant first node is the start state itself (see below).
+            self.start_known = self.constant[0];
+            let start = self.start_known.then_some(&mut self.start[..]);
+            // z: the unknown half (q1 for schemes b and c), w the other
+            let (z, w) = if self.unknown == Unknown::V1 {
+                (v_out, q_out)
+            } else {
+                (q_out, v_out)
+            };
+            return newton.step(space, pf, &set, inp, z, w, start);
         }
         // Predictor: the linear step plus the pseudo-force of the start state held constant.
         // A constant first node is the start state itself (s = 0, and the force does not
@@ -328,25 +287,6 @@ impl<'r> Stepper<'r> {
         }
         let iterations = if self.closed_form && self.closed(pf, inp)? {
             0
-        } else if let Some((space, newton)) = &mut self.local {
-            let set = local::Setting {
-                rule: self.rule,
-                scheme: self.scheme,
-                dt: self.dt,
-                unknown: self.unknown,
-                constant: &self.constant,
-                tol: self.tol,
-                max_iter: self.max_iter,
-                linear: self.linear,
-            };
-            let z = if self.unknown == Unknown::V1 {
-                &mut self.v1
-            } else {
-                &mut self.q1
-            };
-            let it = newton.solve(space, pf, &set, inp, z)?;
-            self.nodes(pf, inp, false, Nodes::Varying)?;
-            it
         } else {
             let it = self.newton(pf, inp)?;
             // Node values at the converged state (Newton's last ones precede its update).
@@ -372,6 +312,21 @@ impl<'r> Stepper<'r> {
         self.start_known.then_some(&self.start[..])
     }
 
+    /// The pseudo-force at the start state of the last step, `(q0, v0, p0)` at `t`, from
+    /// what the element-space step kept (its start force): `false` when it cannot.
+    pub fn local_start(
+        &mut self,
+        pf: &PseudoForce,
+        state: (&[f64], &[f64], &[f64]),
+        t: f64,
+        out: &mut [f64],
+    ) -> bool {
+        match &mut self.local {
+            Some((space, newton)) => newton.start_value(space, pf, state, t, out),
+            None => false,
+        }
+    }
+
     /// Whether steps are solved analytically (closed form, no Newton).
     pub fn analytic(&self) -> bool {
         self.scalar.is_some() || self.closed_form
@@ -391,104 +346,5 @@ impl<'r> Stepper<'r> {
         } else {
             self.q1[m] = u;
         }
-    }
-
-    /// The active unknowns as one vector.
-    fn get_z(&self, out: &mut Vec<f64>) {
-        out.clear();
-        match self.unknown {
-            Unknown::Q1 => out.extend_from_slice(&self.q1),
-            Unknown::V1 => out.extend_from_slice(&self.v1),
-            Unknown::Both => {
-                out.extend_from_slice(&self.q1);
-                out.extend_from_slice(&self.v1);
-            }
-        }
-    }
-
-    /// Sets the active unknowns to `z + lambda d`.
-    fn set_z(&mut self, z: &[f64], d: &[f64], lambda: f64) {
-        let n = self.n;
-        for (k, (zk, dk)) in z.iter().zip(d).enumerate() {
-            let u = zk + lambda * dk;
-            match (self.unknown, k / n) {
-                (Unknown::Both, 1) => self.v1[k - n] = u,
-                (Unknown::Both, _) | (Unknown::Q1, _) => self.q1[k] = u,
-                (Unknown::V1, _) => self.v1[k] = u,
-            }
-        }
-    }
-
-    /// Newton's method with the analytic tangents, damped by backtracking when a full step
-    /// increases the residual (a stick-slip friction law, for instance, can make plain
-    /// Newton cycle).
-    fn newton(&mut self, pf: &mut PseudoForce, inp: &StepInput) -> Result<usize, CoreError> {
-        let m = self.res.len();
-        let scale0 = inp
-            .q0
-            .iter()
-            .chain(inp.v0)
-            .chain(inp.q_lin)
-            .chain(inp.v_lin)
-            .fold(0.0_f64, |a, b| a.max(b.abs()));
-        let mut norm = f64::INFINITY;
-        let (mut z0, mut delta) = (
-            std::mem::take(&mut self.z0),
-            std::mem::take(&mut self.delta),
-        );
-        delta.resize(m, 0.0);
-        let result = self.newton_iterations(pf, inp, &mut z0, &mut delta, scale0, &mut norm);
-        (self.z0, self.delta) = (z0, delta);
-        result
-    }
-
-    fn newton_iterations(
-        &mut self,
-        pf: &mut PseudoForce,
-        inp: &StepInput,
-        z0: &mut Vec<f64>,
-        delta: &mut [f64],
-        scale0: f64,
-        norm: &mut f64,
-    ) -> Result<usize, CoreError> {
-        let m = self.res.len();
-        let mut last: Option<f64> = None;
-        for iter in 1..=self.max_iter {
-            self.nodes(pf, inp, true, Nodes::Varying)?;
-            *norm = self.residual(inp);
-            if let Some(prev) = last {
-                *norm = backtrack(prev, *norm, scale0, |lambda| {
-                    self.set_z(z0, delta, lambda);
-                    self.nodes(pf, inp, true, Nodes::Varying)?;
-                    Ok(self.residual(inp))
-                })?;
-            }
-            self.jacobian();
-            for (d, r) in delta.iter_mut().zip(&self.res) {
-                *d = -r;
-            }
-            if !solve_in_place(m, &self.mat, delta) {
-                break;
-            }
-            self.get_z(z0);
-            self.set_z(z0, delta, 1.0);
-            let size = delta.iter().fold(0.0_f64, |a, d| a.max(d.abs()));
-            let zmax = z0
-                .iter()
-                .zip(delta.iter())
-                .fold(0.0_f64, |a, (z, d)| a.max((z + d).abs()));
-            // An affine residual with its exact Jacobian is solved by this one step.
-            if self.linear || size <= self.tol * zmax.max(scale0) || size == 0.0 {
-                return Ok(iter);
-            }
-            last = Some(*norm);
-        }
-        Err(CoreError::NoConvergence {
-            time: inp.t + self.dt,
-            step: 0,
-            residual: *norm,
-            iterations: self.max_iter,
-            last_good_time: Some(inp.t),
-        })
     }
 }

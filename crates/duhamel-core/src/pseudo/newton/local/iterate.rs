@@ -1,0 +1,128 @@
+//! Newton's method on the element-space step equation `F(y) = 0` (see the parent module).
+
+use super::super::super::local::ElementSpace;
+use super::super::super::scheme::StepInput;
+use super::super::damping::backtrack;
+use super::{LocalNewton, Setting};
+use crate::dense::{dot, eliminate};
+use crate::error::CoreError;
+
+impl LocalNewton {
+    /// Evaluates the varying nodes at `y` and returns the residual's max norm.
+    pub(super) fn residual(
+        &mut self,
+        space: &mut ElementSpace,
+        set: &Setting,
+        inp: &StepInput,
+        tangent: bool,
+    ) -> Result<f64, CoreError> {
+        let nd = self.nd;
+        self.res.copy_from_slice(&self.y);
+        for (r, y0) in self.res.iter_mut().zip(&self.y0) {
+            *r -= y0;
+        }
+        for i in 0..self.map.len() {
+            let (alpha, beta, constant) =
+                (self.map[i].alpha, self.map[i].beta, self.map[i].constant);
+            if constant {
+                continue;
+            }
+            for a in 0..nd {
+                self.u[a] = self.u0[i][a] + alpha * self.y[a];
+                self.ud[a] = self.ud0[i][a] + beta * self.y[a];
+            }
+            let t = inp.t + self.map[i].s * set.dt;
+            let tan = tangent.then_some((&mut self.kt[i][..], &mut self.ct[i][..]));
+            space.eval(&self.u, &self.ud, t, &mut self.r[i], tan)?;
+            for (ra, ga) in self.res.iter_mut().zip(self.g[i].chunks_exact(nd)) {
+                *ra += dot(ga, &self.r[i]);
+            }
+        }
+        // NaN must not vanish in the max (f64::max drops it).
+        Ok(self.res.iter().fold(0.0_f64, |acc, &r| {
+            if r.is_nan() || r.abs() > acc {
+                r.abs()
+            } else {
+                acc
+            }
+        }))
+    }
+
+    /// `J = I + sum_i G_i (alpha_i K_i + beta_i C_i)` over the varying nodes.
+    fn jacobian(&mut self) {
+        let nd = self.nd;
+        self.mat.fill(0.0);
+        for a in 0..nd {
+            self.mat[a * nd + a] = 1.0;
+        }
+        for i in 0..self.map.len() {
+            let (alpha, beta, constant) =
+                (self.map[i].alpha, self.map[i].beta, self.map[i].constant);
+            if constant {
+                continue;
+            }
+            let (g, kt, ct) = (&self.g[i], &self.kt[i], &self.ct[i]);
+            for a in 0..nd {
+                let row = &mut self.mat[a * nd..(a + 1) * nd];
+                for (c, cols) in self.pattern.iter().enumerate() {
+                    let gac = g[a * nd + c];
+                    if gac == 0.0 {
+                        continue;
+                    }
+                    for &b in cols {
+                        row[b] += gac * (alpha * kt[c * nd + b] + beta * ct[c * nd + b]);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Newton's method on `F(y) = 0`, damped by the modal one's [`backtrack`].
+    pub(super) fn newton(
+        &mut self,
+        space: &mut ElementSpace,
+        set: &Setting,
+        inp: &StepInput,
+        scale0: f64,
+    ) -> Result<usize, CoreError> {
+        let mut last: Option<f64> = None;
+        let mut norm = f64::INFINITY;
+        for iter in 1..=set.max_iter {
+            norm = self.residual(space, set, inp, true)?;
+            if let Some(prev) = last {
+                norm = backtrack(prev, norm, scale0, |lambda| {
+                    for ((y, yp), d) in self.y.iter_mut().zip(&self.y_prev).zip(&self.delta) {
+                        *y = yp + lambda * d;
+                    }
+                    self.residual(space, set, inp, true)
+                })?;
+            }
+            self.jacobian();
+            for (d, r) in self.delta.iter_mut().zip(&self.res) {
+                *d = -r;
+            }
+            if !eliminate(self.nd, &mut self.mat, &mut self.delta) {
+                break;
+            }
+            self.y_prev.copy_from_slice(&self.y);
+            for (y, d) in self.y.iter_mut().zip(&self.delta) {
+                *y += d;
+            }
+            let size = self.delta.iter().fold(0.0_f64, |a, d| a.max(d.abs()));
+            let ymax = self.y.iter().fold(0.0_f64, |a, y| a.max(y.abs()));
+            if set.linear || size <= set.tol * ymax.max(scale0) || size == 0.0 {
+                // The forces at the accepted state.
+                self.residual(space, set, inp, false)?;
+                return Ok(iter);
+            }
+            last = Some(norm);
+        }
+        Err(CoreError::NoConvergence {
+            time: inp.t + set.dt,
+            step: 0,
+            residual: norm,
+            iterations: set.max_iter,
+            last_good_time: Some(inp.t),
+        })
+    }
+}

@@ -1,0 +1,301 @@
+//! One step in the space of the elements' dofs (the FNA iteration), end state included.
+//!
+//! With `z` the unknown half of the end state (`q1` for schemes b and c, `v1` for scheme a)
+//! and `w` the other half, the node states are affine in `z`:
+//! `q_i = q_i^0 + alpha_i z`, `v_i = v_i^0 + beta_i z`, where `q_i^0`, `v_i^0` are fixed
+//! combinations of the start state (the same `alpha_i`, `beta_i` for every mode). Along the
+//! eliminated mass law (or without one) the pseudo-force at node `i` is
+//!
+//! ```text
+//! Q_i = g_i (p_i - c v_i - kappa k q_i) - mom_i v_i - s_i (K_i q_i + C_i v_i + Phi_D^T r_i)
+//!     = Q_i^0 - (diag(d_i) + s_i M_i) z - s_i Phi_D^T r_i,      M_i = alpha_i K_i + beta_i C_i
+//! ```
+//!
+//! (`s_i = 1/mu_i`, `K_i`, `C_i` the linear couplings at the node's time), affine in the
+//! state but for the element forces `r_i`. The step equation `z = z_lin + sum_i W_i Q_i`
+//! is therefore `A z = b - sum_i s_i W_i Phi_D^T r_i` with
+//! `A = I + sum_i W_i (diag(d_i) + s_i M_i)` (diagonal without couplings) and
+//! `b = z_lin + sum_i W_i Q_i^0`. With `P = Phi_D A^{-1}` and `y = Phi_D z` it becomes, in
+//! the element coordinates,
+//!
+//! ```text
+//! F(y) = y - P b + sum_i G_i r_i(U_i + alpha_i y, V_i + beta_i y) = 0,
+//! G_i = s_i P diag(W_i) Phi_D^T,   J = I + sum_i G_i (alpha_i K_i + beta_i C_i),
+//! ```
+//!
+//! `n_d` unknowns instead of `n` ([`iterate`]). From the converged forces, with
+//! `t_i = Phi_D^T r_i`, `z = A^{-1} (b - sum_i s_i W_i t_i)`, every `Q_i` follows without
+//! evaluating anything again, and `w = w_lin + sum_i W'_i Q_i` ([`affine`]). A step costs
+//! about `5 n n_d` besides the Newton iterations (`O(n_nodes n_d^2 + n_d^3)` each) with a
+//! diagonal `A`; couplings add a few `n x n` products, and a dense `A` that varies (a mass
+//! law, couplings scaled by a time-varying speed) its factorisation, once per step. `A`,
+//! `P` and `G_i` are formed once per run otherwise.
+
+mod affine;
+mod iterate;
+
+use super::super::force::PseudoForce;
+use super::super::local::ElementSpace;
+use super::super::scheme::{Rule, Scheme, StepInput, Unknown};
+use crate::dense::DenseLu;
+use crate::error::CoreError;
+
+/// What the rule says about node `i`'s state, `q_i = cq.0 q0 + cq.1 v0 + alpha z`,
+/// `v_i = cv.0 q0 + cv.1 v0 + beta z`, and whether it is evaluated once per step.
+#[derive(Debug, Clone, Copy)]
+struct NodeMap {
+    s: f64,
+    cq: (f64, f64),
+    cv: (f64, f64),
+    alpha: f64,
+    beta: f64,
+    constant: bool,
+}
+
+/// What the step needs to know about the problem besides the element space.
+pub(in super::super) struct Setting<'s> {
+    pub rule: &'s Rule,
+    pub scheme: Scheme,
+    pub dt: f64,
+    pub unknown: Unknown,
+    pub constant: &'s [bool],
+    pub tol: f64,
+    pub max_iter: usize,
+    pub linear: bool,
+}
+
+/// The element-space step: its per-node maps, matrices and buffers.
+pub(in super::super) struct LocalNewton {
+    n: usize,
+    nd: usize,
+    map: Vec<NodeMap>,
+    /// Whether the pseudo-force has affine terms besides the elements (mass law, couplings).
+    affine: bool,
+    /// Per node `s_i W_i` (`n`), and `G_i` (`n_d x n_d`); whether they hold for every step.
+    w_hat: Vec<Vec<f64>>,
+    g: Vec<Vec<f64>>,
+    ready: bool,
+    /// `P = Phi_D A^{-1}` (`n_d x n`, row-major).
+    pmat: Vec<f64>,
+    /// The diagonal of `A`, and with couplings `A` itself and its factors.
+    diag: Vec<f64>,
+    a: Vec<f64>,
+    lu: Option<DenseLu>,
+    work: Vec<f64>,
+    /// `b` (`n`).
+    base: Vec<f64>,
+    /// Per node: `s_i`, `Q_i^0` and `d_i` (`n`, with affine terms), `t_i = Phi_D^T r_i`.
+    s: Vec<f64>,
+    q_aff: Vec<Vec<f64>>,
+    d: Vec<Vec<f64>>,
+    t: Vec<Vec<f64>>,
+    /// The couplings at each node (`n x n`; one shared pair when they are constant).
+    kc: Vec<Vec<f64>>,
+    cc: Vec<Vec<f64>>,
+    has_kc: (bool, bool),
+    /// Coupling products `K q0, K v0, C q0, C v0`, `K z`, `C z` (constant couplings).
+    prod: [Vec<f64>; 6],
+    /// `Phi_D q0`, `Phi_D v0`, the force at the start state; per node `U_i`, `V_i`, the
+    /// force and its tangents.
+    pq: Vec<f64>,
+    r_start: Vec<f64>,
+    /// Whether `r_start` belongs to the current step's start state.
+    start_ready: bool,
+    pv: Vec<f64>,
+    u0: Vec<Vec<f64>>,
+    ud0: Vec<Vec<f64>>,
+    r: Vec<Vec<f64>>,
+    kt: Vec<Vec<f64>>,
+    ct: Vec<Vec<f64>>,
+    /// Newton's buffers in the element space.
+    y: Vec<f64>,
+    y0: Vec<f64>,
+    y_prev: Vec<f64>,
+    delta: Vec<f64>,
+    res: Vec<f64>,
+    mat: Vec<f64>,
+    u: Vec<f64>,
+    ud: Vec<f64>,
+    /// The sparsity of the tangents' rows ([`ElementSpace::pattern`]).
+    pattern: Vec<Vec<usize>>,
+}
+
+impl LocalNewton {
+    pub fn new(space: &ElementSpace, pf: &PseudoForce, set: &Setting, n: usize) -> Self {
+        let nd = space.len();
+        let nodes = set.rule.nodes.len();
+        let per_node = |len: usize| vec![vec![0.0; len]; nodes];
+        let coupled = pf.has_couplings();
+        let square = if coupled { n * n } else { 0 };
+        let coupling_nodes = if pf.varying_couplings() { nodes } else { 1 };
+        let affine = coupled || pf.has_mass();
+        let map = set
+            .rule
+            .nodes
+            .iter()
+            .enumerate()
+            .map(|(i, node)| {
+                let [dqq, dqv, dvq, dvv] = node.d;
+                let (alpha, beta) = match set.unknown {
+                    Unknown::V1 => (dqv, dvv),
+                    _ => (dqq, dvq),
+                };
+                let (q_q0, v_q0) = set.scheme.state(node.s, set.dt, 1.0, 0.0, 0.0, 0.0);
+                let (q_v0, v_v0) = set.scheme.state(node.s, set.dt, 0.0, 1.0, 0.0, 0.0);
+                NodeMap {
+                    s: node.s,
+                    cq: (q_q0, q_v0),
+                    cv: (v_q0, v_v0),
+                    alpha,
+                    beta,
+                    constant: set.constant[i],
+                }
+            })
+            .collect();
+        let vec_n = |on: bool| vec![0.0; if on { n } else { 0 }];
+        LocalNewton {
+            n,
+            nd,
+            map,
+            affine,
+            w_hat: per_node(n),
+            g: per_node(nd * nd),
+            ready: false,
+            pmat: vec![0.0; nd * n],
+            diag: vec![1.0; n],
+            a: vec![0.0; square],
+            lu: None,
+            work: vec![0.0; n],
+            base: vec![0.0; n],
+            s: vec![1.0; nodes],
+            q_aff: vec![vec_n(affine); nodes],
+            d: vec![vec_n(pf.has_mass()); nodes],
+            t: per_node(n),
+            kc: vec![vec![0.0; square]; coupling_nodes],
+            cc: vec![vec![0.0; square]; coupling_nodes],
+            has_kc: (false, false),
+            prod: std::array::from_fn(|_| vec_n(coupled)),
+            pq: vec![0.0; nd],
+            r_start: vec![0.0; nd],
+            start_ready: false,
+            pv: vec![0.0; nd],
+            u0: per_node(nd),
+            ud0: per_node(nd),
+            r: per_node(nd),
+            kt: per_node(nd * nd),
+            ct: per_node(nd * nd),
+            y: vec![0.0; nd],
+            y0: vec![0.0; nd],
+            y_prev: vec![0.0; nd],
+            delta: vec![0.0; nd],
+            res: vec![0.0; nd],
+            mat: vec![0.0; nd * nd],
+            u: vec![0.0; nd],
+            ud: vec![0.0; nd],
+            pattern: space.pattern(),
+        }
+    }
+
+    /// The weights of the unknown half (`W_i`) and of the other one (`W'_i`).
+    fn weights<'s>(set: &Setting<'s>) -> (&'s [Vec<f64>], &'s [Vec<f64>]) {
+        if set.unknown == Unknown::V1 {
+            (&set.rule.wv, &set.rule.wx)
+        } else {
+            (&set.rule.wx, &set.rule.wv)
+        }
+    }
+
+    /// Solves the step: the unknown half `z` and the other half `w` of the end state, and,
+    /// when the first node is the start state evaluated once (`start` is then `Some`), the
+    /// pseudo-force there. Returns the Newton iterations.
+    #[allow(clippy::too_many_arguments)]
+    pub fn step(
+        &mut self,
+        space: &mut ElementSpace,
+        pf: &PseudoForce,
+        set: &Setting,
+        inp: &StepInput,
+        z: &mut [f64],
+        w: &mut [f64],
+        start: Option<&mut [f64]>,
+    ) -> Result<usize, CoreError> {
+        self.start_ready = false;
+        let (z_lin, w_lin) = if set.unknown == Unknown::V1 {
+            (inp.v_lin, inp.q_lin)
+        } else {
+            (inp.q_lin, inp.v_lin)
+        };
+        if self.affine {
+            space.to_local(inp.q0, &mut self.pq);
+            space.to_local(inp.v0, &mut self.pv);
+        } else {
+            // Without affine terms P = Phi_D (A = I) and b = z_lin: y0 = Phi_D z_lin in the
+            // same pass.
+            let out = [&mut self.pq[..], &mut self.pv[..], &mut self.y0[..]];
+            space.to_local3([inp.q0, inp.v0, z_lin], out);
+        }
+        for (i, m) in self.map.iter().enumerate() {
+            for (a, (u, ud)) in self.u0[i].iter_mut().zip(&mut self.ud0[i]).enumerate() {
+                *u = m.cq.0 * self.pq[a] + m.cq.1 * self.pv[a];
+                *ud = m.cv.0 * self.pq[a] + m.cv.1 * self.pv[a];
+            }
+        }
+        self.base.copy_from_slice(z_lin);
+        let rebuild = pf.has_mass() || pf.varying_couplings() || !self.ready;
+        if self.affine {
+            self.affine_terms(pf, set, inp);
+        }
+        if rebuild {
+            self.assemble(pf, set);
+            self.prepare(space)?;
+        }
+        // y0 = P b, then the constant nodes' forces, evaluated once.
+        if self.affine {
+            for (y, row) in self.y0.iter_mut().zip(self.pmat.chunks_exact(self.n)) {
+                *y = crate::dense::dot(row, &self.base);
+            }
+        }
+        for i in 0..self.map.len() {
+            if self.map[i].constant {
+                let t = inp.t + self.map[i].s * set.dt;
+                space.eval(&self.u0[i], &self.ud0[i], t, &mut self.r[i], None)?;
+                sub_product(&mut self.y0, &self.g[i], &self.r[i]);
+            }
+        }
+        self.predict(space, inp)?;
+        let scale0 = self
+            .y0
+            .iter()
+            .chain(self.u0.iter().flatten())
+            .fold(0.0_f64, |a, b| a.max(b.abs()));
+        let iterations = self.newton(space, set, inp, scale0)?;
+        self.finish(space, set, z, (w_lin, w), start);
+        Ok(iterations)
+    }
+
+    /// The initial guess of `y`: the forces of the start state held over the step.
+    fn predict(&mut self, space: &mut ElementSpace, inp: &StepInput) -> Result<(), CoreError> {
+        self.y.copy_from_slice(&self.y0);
+        let first = self.map[0];
+        if !(first.constant && first.s == 0.0) {
+            space.eval(&self.pq, &self.pv, inp.t, &mut self.r_start, None)?;
+        } else {
+            self.r_start.copy_from_slice(&self.r[0]);
+        }
+        self.start_ready = true;
+        for i in 0..self.map.len() {
+            if !self.map[i].constant {
+                sub_product(&mut self.y, &self.g[i], &self.r_start);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `y -= G r` for a row-major `n_d x n_d` matrix `G`.
+fn sub_product(y: &mut [f64], g: &[f64], r: &[f64]) {
+    let nd = r.len();
+    for (ya, row) in y.iter_mut().zip(g.chunks_exact(nd)) {
+        *ya -= crate::dense::dot(row, r);
+    }
+}
