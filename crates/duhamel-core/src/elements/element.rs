@@ -10,6 +10,20 @@ pub struct Tangent<'a> {
     pub cv: &'a mut [f64],
 }
 
+/// The internal variables of a path-dependent (hysteretic) element — its plastic
+/// deformation, back force, Bouc-Wen variable, the deformation they were committed at...:
+/// `committed` at the start of the current step, read only; `trial` at the evaluated state,
+/// written by [`Element::eval_path`]. OpenSees' vocabulary: the trial state follows the
+/// Newton iterations inside a step, the integrator commits it once per accepted step (after
+/// evaluating the element at the step's end state), and a retried step simply evaluates
+/// from the committed variables again (nothing to revert).
+pub struct History<'a> {
+    /// The variables at the start of the step.
+    pub committed: &'a [f64],
+    /// The variables at the evaluated state (overwritten).
+    pub trial: &'a mut [f64],
+}
+
 /// A force element acting on a few degrees of freedom.
 pub trait Element: Send + Sync {
     /// The global degrees of freedom the element acts on, in its local order.
@@ -39,6 +53,32 @@ pub trait Element: Send + Sync {
         true
     }
 
+    /// The number of internal variables: 0 for an element whose force is a function of the
+    /// current state (path-independent), more for a hysteretic one.
+    fn state_len(&self) -> usize {
+        0
+    }
+
+    /// The internal variables before the first step (`state` has `state_len()` entries),
+    /// at the initial local state `(x, v)`.
+    fn initial_state(&self, _x: &[f64], _v: &[f64], _state: &mut [f64]) {}
+
+    /// A path-dependent element's force at the trial state `(x, v, t)` reached from the
+    /// committed variables, as [`Element::eval`] adds it, writing the trial variables. The
+    /// default (path-independent elements) is [`Element::eval`].
+    #[allow(clippy::too_many_arguments)]
+    fn eval_path(
+        &self,
+        x: &[f64],
+        v: &[f64],
+        t: f64,
+        _history: History<'_>,
+        r: &mut [f64],
+        tangent: Option<Tangent<'_>>,
+    ) -> Result<(), CoreError> {
+        self.eval(x, v, t, r, tangent)
+    }
+
     /// For one mode whose shape takes the values `phi` at the element's dofs, the
     /// coefficients `a[i][j]` of the modal force `phi^T r(phi q, phi v) = sum a[i][j] q^i v^j`
     /// (`i + j <= 3`), when the force is such a polynomial. Single-mode problems use them to
@@ -56,8 +96,8 @@ pub(crate) fn relative(phi: &[f64]) -> f64 {
     phi[0] - phi.get(1).copied().unwrap_or(0.0)
 }
 
-/// An element with buffers for its local state, force and tangents: what both integrators
-/// evaluate per element.
+/// An element with buffers for its local state, force and tangents, and for a hysteretic
+/// element its committed and trial variables: what the integrators evaluate per element.
 pub(crate) struct Evaluation<'a> {
     pub element: &'a dyn Element,
     pub x: Vec<f64>,
@@ -65,11 +105,16 @@ pub(crate) struct Evaluation<'a> {
     pub r: Vec<f64>,
     pub kx: Vec<f64>,
     pub cv: Vec<f64>,
+    committed: Vec<f64>,
+    trial: Vec<f64>,
 }
 
 impl<'a> Evaluation<'a> {
     pub fn new(element: &'a dyn Element) -> Self {
         let nl = element.dofs().len();
+        let ns = element.state_len();
+        let mut committed = vec![0.0; ns];
+        element.initial_state(&vec![0.0; nl], &vec![0.0; nl], &mut committed);
         Evaluation {
             element,
             x: vec![0.0; nl],
@@ -77,7 +122,34 @@ impl<'a> Evaluation<'a> {
             r: vec![0.0; nl],
             kx: vec![0.0; nl * nl],
             cv: vec![0.0; nl * nl],
+            trial: committed.clone(),
+            committed,
         }
+    }
+
+    /// Whether the element has internal variables to commit.
+    pub fn stateful(&self) -> bool {
+        !self.committed.is_empty()
+    }
+
+    /// Sets the internal variables to their initial values at the stored local state (the
+    /// run's initial state).
+    pub fn start(&mut self) {
+        if self.stateful() {
+            self.element
+                .initial_state(&self.x, &self.v, &mut self.committed);
+            self.trial.copy_from_slice(&self.committed);
+        }
+    }
+
+    /// Evaluates the force at the stored local state and commits the trial variables it
+    /// reaches (once per accepted step, at the step's end state).
+    pub fn commit(&mut self, t: f64) -> Result<(), CoreError> {
+        if self.stateful() {
+            self.evaluate(t, false)?;
+            self.committed.copy_from_slice(&self.trial);
+        }
+        Ok(())
     }
 
     /// The force at the stored local state (overwrites `r`) and, with `tangent`, its
@@ -93,13 +165,18 @@ impl<'a> Evaluation<'a> {
             kx: &mut self.kx,
             cv: &mut self.cv,
         });
-        self.element.eval(&self.x, &self.v, t, &mut self.r, tan)?;
+        let history = History {
+            committed: &self.committed,
+            trial: &mut self.trial,
+        };
+        self.element
+            .eval_path(&self.x, &self.v, t, history, &mut self.r, tan)?;
         if tangent && !analytic {
+            let history = (&self.committed[..], &mut self.trial[..]);
             numeric_tangent(
                 self.element,
-                &self.x,
-                &self.v,
-                t,
+                (&self.x, &self.v, t),
+                history,
                 &mut self.kx,
                 &mut self.cv,
             )?;
@@ -112,15 +189,16 @@ impl<'a> Evaluation<'a> {
 /// has none (a Python callable without a Jacobian): `2 n_loc` extra evaluations per direction.
 pub(crate) fn numeric_tangent(
     element: &dyn Element,
-    x: &[f64],
-    v: &[f64],
-    t: f64,
+    (x, v, t): (&[f64], &[f64], f64),
+    (committed, trial): (&[f64], &mut [f64]),
     kx: &mut [f64],
     cv: &mut [f64],
 ) -> Result<(), CoreError> {
     let nl = x.len();
     let mut rp = vec![0.0; nl];
     let mut rm = vec![0.0; nl];
+    // the trial variables of the evaluated state are kept: the perturbed ones go here
+    let mut scratch = trial.to_vec();
     let (mut xs, mut vs) = (x.to_vec(), v.to_vec());
     kx.fill(0.0);
     cv.fill(0.0);
@@ -135,7 +213,11 @@ pub(crate) fn numeric_tangent(
                     vs[j] = value;
                 }
                 out.fill(0.0);
-                element.eval(&xs, &vs, t, out, None)?;
+                let history = History {
+                    committed,
+                    trial: &mut scratch,
+                };
+                element.eval_path(&xs, &vs, t, history, out, None)?;
             }
             xs[j] = x[j];
             vs[j] = v[j];

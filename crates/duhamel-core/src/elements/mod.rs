@@ -12,6 +12,6 @@ mod spring;
 
 pub use contact::Contact;
 pub(crate) use element::Evaluation;
-pub use element::{Element, ModalCubic, Tangent};
+pub use element::{Element, History, ModalCubic, Tangent};
 pub use polynomial::Polynomial;
 pub use spring::{Damper, Spring};

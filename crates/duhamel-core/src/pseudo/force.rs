@@ -201,6 +201,31 @@ impl<'a> PseudoForce<'a> {
         Ok(())
     }
 
+    /// Whether an element has internal variables (hysteresis) to commit after each step.
+    pub fn stateful(&self) -> bool {
+        self.slots.iter().any(|s| s.eval.stateful())
+    }
+
+    /// The hysteretic elements' variables at the modal state `(q, v)`: set to their initial
+    /// values (`initial`, the run's start) or committed after evaluating there at `t` (the
+    /// end of an accepted step).
+    pub fn commit(&mut self, q: &[f64], v: &[f64], t: f64, initial: bool) -> Result<(), CoreError> {
+        let n = self.n;
+        for slot in self.slots.iter_mut().filter(|s| s.eval.stateful()) {
+            let e = &mut slot.eval;
+            for (j, row) in slot.phi_e.chunks_exact(n).enumerate() {
+                e.x[j] = crate::dense::dot(row, q);
+                e.v[j] = crate::dense::dot(row, v);
+            }
+            if initial {
+                e.start();
+            } else {
+                e.commit(t)?;
+            }
+        }
+        Ok(())
+    }
+
     /// Whether a mass law is attached.
     pub fn has_mass(&self) -> bool {
         self.mass.is_some()

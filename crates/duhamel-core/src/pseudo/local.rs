@@ -48,6 +48,32 @@ impl<'a> ElementSpace<'a> {
         }
     }
 
+    /// Whether an element has internal variables (hysteresis) to commit after each step.
+    pub fn stateful(&self) -> bool {
+        self.members.iter().any(|m| m.eval.stateful())
+    }
+
+    /// The hysteretic elements' variables at the modal state `(q, v)`: set to their initial
+    /// values (`initial`) or committed after evaluating there at `t`.
+    pub fn commit(&mut self, q: &[f64], v: &[f64], t: f64, initial: bool) -> Result<(), CoreError> {
+        let n = self.n_modes;
+        let phi = &self.phi;
+        for m in self.members.iter_mut().filter(|m| m.eval.stateful()) {
+            let e = &mut m.eval;
+            for (j, &a) in m.at.iter().enumerate() {
+                let row = &phi[a * n..(a + 1) * n];
+                e.x[j] = crate::dense::dot(row, q);
+                e.v[j] = crate::dense::dot(row, v);
+            }
+            if initial {
+                e.start();
+            } else {
+                e.commit(t)?;
+            }
+        }
+        Ok(())
+    }
+
     /// `n_d`, the number of element dofs.
     pub fn len(&self) -> usize {
         self.phi.len() / self.n_modes.max(1)

@@ -119,6 +119,8 @@ struct PseudoRoute<'r, 'a> {
     stepper: Stepper<'r>,
     /// The estimated-mass treatment (the saved pseudo-force is then evaluated anew).
     estimate: bool,
+    /// Whether hysteretic elements commit their variables after each step.
+    stateful: bool,
     state: State,
     hq: Vec<f64>,
     hv: Vec<f64>,
@@ -220,6 +222,16 @@ impl PseudoRoute<'_, '_> {
                 });
                 break;
             }
+            if self.stateful {
+                let end = problem.time(step + 1);
+                if let Err(error) = self.stepper.commit(&mut self.pf, (q1, v1), end, false) {
+                    result = Err(StepFailure {
+                        error,
+                        step: step + 1,
+                    });
+                    break;
+                }
+            }
             std::mem::swap(q, q1);
             std::mem::swap(v, v1);
         }
@@ -287,6 +299,14 @@ pub fn integrate(
         &rule, o.scheme, dt, o.tol, o.max_iter, o.solver, &pf, estimate, space,
     )
     .map_err(fail)?;
+    let mut pf = pf;
+    let mut stepper = stepper;
+    let stateful = pf.stateful();
+    if stateful {
+        stepper
+            .commit(&mut pf, (base.q0, base.v0), base.t0, true)
+            .map_err(fail)?;
+    }
     let loads = BlockLoads::new(base, true, forcing.is_some(), 3 * n).map_err(fail)?;
     let cells = size(loads.n_saved(), n, "the modal history").map_err(fail)?;
     let buffer = |what| zeroed(cells, what).map_err(fail);
@@ -306,6 +326,7 @@ pub fn integrate(
         pf,
         stepper,
         estimate,
+        stateful,
         state: State::new(base.q0, base.v0),
         hq: buffer("the modal history (q)")?,
         hv: buffer("the modal history (v)")?,

@@ -327,6 +327,26 @@ impl<'r> Stepper<'r> {
         }
     }
 
+    /// The hysteretic elements' variables at the modal state `(q, v)` (see
+    /// [`PseudoForce::commit`]), in every copy of the elements the step uses.
+    pub fn commit(
+        &mut self,
+        pf: &mut PseudoForce,
+        (q, v): (&[f64], &[f64]),
+        t: f64,
+        initial: bool,
+    ) -> Result<(), CoreError> {
+        if let Some((space, _)) = &mut self.local {
+            if space.stateful() {
+                space.commit(q, v, t, initial)?;
+            }
+        }
+        if pf.stateful() {
+            pf.commit(q, v, t, initial)?;
+        }
+        Ok(())
+    }
+
     /// Whether steps are solved analytically (closed form, no Newton).
     pub fn analytic(&self) -> bool {
         self.scalar.is_some() || self.closed_form
