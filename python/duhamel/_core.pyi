@@ -118,9 +118,15 @@ class RunResult:
     pseudo: Array | None
     x: Array | None
     a: Array | None
+    element_x: Array | None
+    element_v: Array | None
+    element_force: Array | None
+    element_widths: list[int] | None
     newton_iterations: int
     closed_form_steps: int
     factorizations: int
+    subdivided_steps: int
+    subdivision_depth: int
     error: RunError | None
 
 def solve_uncoupled(problem: Any, forcing: Forcing, progress: Progress) -> RunResult:

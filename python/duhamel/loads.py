@@ -18,6 +18,7 @@ jumps at the ends of a :class:`Tabulated` record.
 from __future__ import annotations
 
 from collections.abc import Callable as CallableT
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -40,6 +41,7 @@ __all__ = [
     "Step",
     "Tabulated",
     "Unbalance",
+    "support_terms",
 ]
 
 
@@ -368,3 +370,22 @@ class Unbalance(Load):
         for pattern, kind, params in self._specs(system):
             out += np.outer(time_function(kind, params).values(flat), pattern)
         return out[0] if ts.ndim == 0 else out
+
+
+def support_terms(loads: Sequence[Load], dofs: NDArray[np.int64]) -> list[tuple[NDArray, Any]]:
+    """Per support-acceleration load of `loads`: its influence vector at `dofs` and its
+    ground acceleration ``a_g(t)`` (what turns relative accelerations into absolute ones).
+
+    Examples
+    --------
+    >>> import numpy as np, duhamel
+    >>> quake = duhamel.loads.BaseAcceleration(np.ones(3), [0.0, 1.0], [0.0, 2.0])
+    >>> [(r.tolist(), ag(np.array([0.5])).tolist()) for r, ag in
+    ...  support_terms([quake], np.array([0, 2]))]
+    [([1.0, 1.0], [1.0])]
+    """
+    return [
+        (np.asarray(load.direction_vector)[dofs], load._scalar)
+        for load in loads
+        if isinstance(load, BaseAcceleration)
+    ]

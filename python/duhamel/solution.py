@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+
+from duhamel._structural import ElementHistory, drifts
 
 __all__ = ["ModalHistory", "Solution", "SolveStats"]
 
@@ -145,6 +147,11 @@ class SolveStats:
         factorised once for the initial acceleration, is not counted). Semi-analytic
         integrator: factorisations of the kept (modified Newton) iteration matrix of
         elements on the exact coupled background; 0 on the other routes.
+    subdivided_steps : int
+        Semi-analytic integrator: steps whose equation did not converge and that were
+        retried in halves (``Semianalytic(subdivisions=...)``).
+    subdivision_depth : int
+        The deepest of those subdivisions: substeps of ``dt / 2**subdivision_depth``.
     coupling : str or None
         Semi-analytic integrator: how modal couplings (non-classical damping, gyroscopic
         and cross-coupled terms) were integrated: "exact" (the first-order modes of the
@@ -164,6 +171,8 @@ class SolveStats:
     newton_iterations: int = 0
     closed_form_steps: int = 0
     factorizations: int = 0
+    subdivided_steps: int = 0
+    subdivision_depth: int = 0
     coupling: str | None = None
     eigenvector_condition: float | None = None
 
@@ -193,6 +202,10 @@ class Solution:
         Steps and timings.
     meta : dict
         The step and the integrator.
+    elements : tuple of ElementHistory
+        Per force element of the system (couplings left out), in the order they were
+        added: its local displacements, velocities and restoring force along the run
+        (hysteresis loops: ``sol.elements[k].plot()``). Empty for the direct integrators.
 
     Examples
     --------
@@ -213,7 +226,12 @@ class Solution:
         modal: ModalHistory | None,
         stats: SolveStats,
         meta: dict[str, Any] | None = None,
+        *,
+        elements: tuple[ElementHistory, ...] = (),
+        base: Sequence[tuple[NDArray[np.float64], Callable[[Any], Any]]] = (),
     ) -> None:
+        self.elements = elements
+        self._base = list(base)
         self.t = t
         self.x = x
         self.v = v
@@ -232,6 +250,60 @@ class Solution:
         """Accelerations of the output degrees of freedom."""
         assert self._a_source is not None
         return self._a_source()
+
+    @property
+    def a_absolute(self) -> NDArray[np.float64]:
+        """Absolute accelerations of the output dofs: the relative ones (:attr:`a`) plus
+        the support accelerations of the system's :class:`duhamel.loads.BaseAcceleration`
+        loads, ``a + sum r a_g(t)``; equal to :attr:`a` without support excitation. Like
+        :attr:`a`, the value just after each saved time (a record that ends at a saved time
+        contributes 0 there).
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> t = np.linspace(0.0, 2.0, 201)  # the record outlasts the run
+        >>> sys = duhamel.System(np.eye(1), 100.0 * np.eye(1), zeta=0.05)
+        >>> sys = sys.add_load(duhamel.loads.BaseAcceleration(np.ones(1), t, np.sin(5 * t)))
+        >>> sol = duhamel.solve(sys, duhamel.Semianalytic(), t_end=1.0, dt=0.01)
+        >>> bool(np.allclose(sol.a_absolute[:, 0], sol.a[:, 0] + np.sin(5 * sol.t)))
+        True
+        """
+        out = np.array(self.a, copy=True)
+        for r, ground in self._base:
+            out += np.outer(np.asarray(ground(self.t), dtype=np.float64), r)
+        return out
+
+    def drifts(
+        self, floors: Sequence[int], heights: Sequence[float] | float | None = None
+    ) -> NDArray[np.float64]:
+        """Inter-storey drifts: ``x[floors[k]] - x[floors[k-1]]``, the first storey's
+        against the support (relative displacements are relative to it).
+
+        Parameters
+        ----------
+        floors : sequence of int
+            The floors' (horizontal) dofs, bottom to top; they must be among the saved
+            `dofs`.
+        heights : float or sequence of float, optional
+            Storey heights: drift ratios instead of drifts.
+
+        Returns
+        -------
+        ndarray, shape (n_t, len(floors))
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> k = 100.0 * (2 * np.eye(3) - np.eye(3, k=1) - np.eye(3, k=-1))
+        >>> k[2, 2] = 100.0
+        >>> sol = duhamel.solve(duhamel.System(np.eye(3), k), duhamel.Semianalytic(),
+        ...                     t_end=1.0, dt=0.01, x0=[0.1, 0.2, 0.3])
+        >>> d = sol.drifts([0, 1, 2], heights=3.0)
+        >>> bool(np.allclose(d[0], [0.1 / 3, 0.1 / 3, 0.1 / 3]))
+        True
+        """
+        return drifts(self.x, self.dofs, floors, heights)
 
     def __repr__(self) -> str:
         return (

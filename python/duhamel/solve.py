@@ -15,6 +15,7 @@ from duhamel._direct import solve_direct
 from duhamel._solve.output import check_memory, output_maps, physical
 from duhamel._solve.plan import ModalSpec, Plan, mass, modal_loads, plan
 from duhamel._solve.run import ModalCallable, Progress, overflow_error, raise_failure, watch
+from duhamel._structural import element_histories
 from duhamel._validate import (
     MAX_COUNT,
     as_float_array,
@@ -23,8 +24,9 @@ from duhamel._validate import (
     positive_float,
     positive_int,
 )
+from duhamel.elements import LinearCoupling
 from duhamel.integrators import DirectIntegrator, Semianalytic
-from duhamel.loads import Callable
+from duhamel.loads import Callable, support_terms
 from duhamel.solution import Solution, SolveStats
 from duhamel.system import ModalBasis, System
 
@@ -284,10 +286,19 @@ def solve(
             newton_iterations=int(result.newton_iterations),
             closed_form_steps=int(result.closed_form_steps),
             factorizations=int(result.factorizations),
+            subdivided_steps=int(result.subdivided_steps),
+            subdivision_depth=int(result.subdivision_depth),
             coupling=route.coupling,
             eigenvector_condition=None if route.modes is None else route.modes.condition,
         ),
         meta={"dt": dt, "t0": t0, "integrator": integrator},
+        elements=element_histories(
+            [e for e in system.elements if not isinstance(e, LinearCoupling)],
+            result.t[:kept],
+            result,
+            kept,
+        ),
+        base=support_terms(system.loads, np.asarray(out_dofs, dtype=np.int64)),
     )
     if error is None and kept < result.t.size:
         raise overflow_error(result.t, kept, dt, t0, solution)

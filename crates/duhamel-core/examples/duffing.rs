@@ -47,6 +47,7 @@ fn main() {
                 tol: 1e-10,
                 max_iter: 25,
                 solver,
+                subdivisions: 4,
             },
         };
         let start = std::time::Instant::now();

@@ -31,7 +31,7 @@ pub enum CoreError {
         last_good_time: Option<f64>,
     },
     /// The implicit step equation did not converge.
-    #[error("the step equation did not converge at t = {time} (step {step}): residual {residual:.3e} after {iterations} Newton iterations (reduce `dt`, raise `max_iter` or loosen `tol`); {}", kept(last_good_time))]
+    #[error("the step equation did not converge at t = {time} (step {step}): residual {residual:.3e} after {iterations} Newton iterations (reduce `dt`, raise `max_iter` (or `subdivisions`, semi-analytic) or loosen `tol`); {}", kept(last_good_time))]
     NoConvergence {
         time: f64,
         step: usize,

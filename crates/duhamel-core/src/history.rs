@@ -50,6 +50,23 @@ pub struct History {
     pub pseudo: Option<Vec<f64>>,
     /// Outputs mapped from the coordinates during the run, `n_saved x n_cols`, if asked for.
     pub outputs: Option<Vec<f64>>,
+    /// The elements' local states and restoring forces at the saved instants, for routes
+    /// that evaluate elements.
+    pub elements: Option<ElementRows>,
+}
+
+/// The elements' local displacements, velocities and restoring forces at the saved
+/// instants, each `n_saved x width` (`width` the sum of the elements' local dofs, the
+/// elements in order). A hysteretic element's force is its committed one: the force of the
+/// path the run followed.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ElementRows {
+    pub width: usize,
+    /// Local dofs of each element (they sum to `width`).
+    pub widths: Vec<usize>,
+    pub x: Vec<f64>,
+    pub v: Vec<f64>,
+    pub r: Vec<f64>,
 }
 
 impl History {
@@ -94,6 +111,11 @@ impl History {
             .flatten()
         {
             cut(v);
+        }
+        if let Some(e) = &mut self.elements {
+            for v in [&mut e.x, &mut e.v, &mut e.r] {
+                v.truncate(keep * e.width);
+            }
         }
         self.t.truncate(keep);
     }
@@ -262,4 +284,8 @@ pub struct Stats {
     pub closed_form_steps: usize,
     /// Factorisations of a kept (modified-Newton) iteration matrix.
     pub factorizations: usize,
+    /// Steps whose equation did not converge and that were retried in halves.
+    pub subdivided_steps: usize,
+    /// The deepest subdivision reached (substeps of `dt / 2^depth`).
+    pub subdivision_depth: usize,
 }

@@ -24,7 +24,7 @@ pub mod speed;
 
 pub use driver::{Control, Unattended};
 pub use error::CoreError;
-pub use history::{Coordinates, Failure, History, Stats};
+pub use history::{Coordinates, ElementRows, Failure, History, Stats};
 pub use kernel::oscillator;
 pub use kernel::oscillator::Transfer;
 pub use problem::ModalProblem;

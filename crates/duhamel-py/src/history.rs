@@ -43,6 +43,17 @@ pub(crate) struct RunResult {
     x: Option<Array2>,
     #[pyo3(get)]
     a: Option<Array2>,
+    /// The elements' local displacements, velocities and restoring forces (modal routes
+    /// that evaluate elements), `n_saved x sum of local dofs`.
+    #[pyo3(get)]
+    element_x: Option<Array2>,
+    #[pyo3(get)]
+    element_v: Option<Array2>,
+    #[pyo3(get)]
+    element_force: Option<Array2>,
+    /// The number of local dofs of each element (columns of the element arrays).
+    #[pyo3(get)]
+    element_widths: Option<Vec<usize>>,
     /// Newton iterations, closed-form steps and factorisations over the run.
     #[pyo3(get)]
     newton_iterations: usize,
@@ -50,6 +61,11 @@ pub(crate) struct RunResult {
     closed_form_steps: usize,
     #[pyo3(get)]
     factorizations: usize,
+    /// Steps retried in halves, and the deepest subdivision (semi-analytic route).
+    #[pyo3(get)]
+    subdivided_steps: usize,
+    #[pyo3(get)]
+    subdivision_depth: usize,
     /// None, or why the run stopped early (the arrays then hold what was kept).
     #[pyo3(get)]
     error: Option<Py<RunError>>,
@@ -82,9 +98,15 @@ impl RunResult {
             pseudo: None,
             x: None,
             a: None,
+            element_x: None,
+            element_v: None,
+            element_force: None,
+            element_widths: None,
             newton_iterations: 0,
             closed_form_steps: 0,
             factorizations: 0,
+            subdivided_steps: 0,
+            subdivision_depth: 0,
             error: None,
         }
     }
@@ -110,6 +132,13 @@ impl RunResult {
             .outputs
             .map(|o| array2(py, o, rows, h.n_outputs))
             .transpose()?;
+        if let Some(e) = h.elements {
+            let w = e.width;
+            r.element_x = Some(array2(py, e.x, rows, w)?);
+            r.element_v = Some(array2(py, e.v, rows, w)?);
+            r.element_force = Some(array2(py, e.r, rows, w)?);
+            r.element_widths = Some(e.widths);
+        }
         Ok(r)
     }
 
@@ -146,6 +175,11 @@ impl IntoResult for DirectHistory {
 pub(crate) trait IntoStats {
     /// `(newton_iterations, closed_form_steps, factorizations)`.
     fn counts(&self) -> (usize, usize, usize);
+
+    /// `(subdivided_steps, subdivision_depth)`.
+    fn subdivisions(&self) -> (usize, usize) {
+        (0, 0)
+    }
 }
 
 impl IntoStats for Stats {
@@ -155,6 +189,10 @@ impl IntoStats for Stats {
             self.closed_form_steps,
             self.factorizations,
         )
+    }
+
+    fn subdivisions(&self) -> (usize, usize) {
+        (self.subdivided_steps, self.subdivision_depth)
     }
 }
 
@@ -189,6 +227,7 @@ pub(crate) fn finish<H: IntoResult, S: IntoStats>(
         Ok((h, stats)) => {
             let mut r = h.into_result(py)?;
             (r.newton_iterations, r.closed_form_steps, r.factorizations) = stats.counts();
+            (r.subdivided_steps, r.subdivision_depth) = stats.subdivisions();
             Ok(r)
         }
         Err(failure) => {

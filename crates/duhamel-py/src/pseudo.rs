@@ -56,6 +56,12 @@ fn options_of(obj: &Bound<'_, PyAny>) -> PyResult<Options> {
         tol: attr(obj, "tol")?,
         max_iter: attr(obj, "max_iter")?,
         solver,
+        // An integrator object from before the option: the default depth.
+        subdivisions: if obj.hasattr("subdivisions")? {
+            attr(obj, "subdivisions")?
+        } else {
+            4
+        },
     })
 }
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from duhamel._validate import positive_int
+from duhamel._validate import _int_scalar, positive_int
 from duhamel.integrators.base import Integrator, newton_options
 
 __all__ = ["Semianalytic"]
@@ -62,6 +62,14 @@ class Semianalytic(Integrator):
         modes (docs/nonlinear.md). "modal-newton" always iterates on all the modal
         coordinates (the dense reference; it equals the element-space solution to the
         Newton tolerance).
+    subdivisions : int
+        Automatic step subdivision: a step whose equation does not converge within
+        `max_iter` iterations is retried as two half steps, each of them in halves again if
+        it fails, down to ``dt / 2**subdivisions`` (0: the run stops with a
+        :class:`duhamel.SolverError` instead). Every level steps the modal oscillators
+        with its own exact matrices; the substeps see the step's load (its quadratic in
+        time); hysteretic elements commit at every accepted substep. How many steps needed
+        it and how deep: ``stats.subdivided_steps``, ``stats.subdivision_depth``.
     coupling : {"auto", "exact", "pseudo-force"}
         Modal couplings — non-classical damping, gyroscopic and cross-coupled
         (circulatory) terms, i.e. constant :class:`duhamel.elements.LinearCoupling`
@@ -81,7 +89,7 @@ class Semianalytic(Integrator):
     >>> import duhamel
     >>> duhamel.Semianalytic()
     Semianalytic(modes=None, scheme='b', quadrature='trapezoid', tol=1e-10, max_iter=25, \
-mass_treatment='eliminate', solver='auto', coupling='auto')
+mass_treatment='eliminate', solver='auto', coupling='auto', subdivisions=4)
     >>> duhamel.Semianalytic(modes=5, quadrature="exact").quadrature
     'exact'
     """
@@ -94,6 +102,7 @@ mass_treatment='eliminate', solver='auto', coupling='auto')
     mass_treatment: str = "eliminate"
     solver: str = "auto"
     coupling: str = "auto"
+    subdivisions: int = 4
 
     def __post_init__(self) -> None:
         if self.modes is not None:
@@ -103,3 +112,7 @@ mass_treatment='eliminate', solver='auto', coupling='auto')
             if value not in allowed:
                 raise ValueError(f"`{name}` must be one of {allowed}, got {value!r}")
         newton_options(self.tol, self.max_iter)
+        depth = _int_scalar(self.subdivisions, "subdivisions")
+        if not 0 <= depth <= 30:
+            raise ValueError(f"`subdivisions` must be an integer in [0, 30], got {depth}")
+        object.__setattr__(self, "subdivisions", depth)

@@ -229,7 +229,8 @@ impl<'s> FirstOrder<'s, '_> {
         row[r..].copy_from_slice(&self.xi);
         if let Some(c) = self.corrector.as_mut() {
             let m = c.n_modes();
-            c.at_state(&self.xr, &self.xi, t, &mut self.pseudo[slot * m..][..m])?;
+            let out = &mut self.pseudo[slot * m..][..m];
+            c.at_state((&self.xr, &self.xi), (t, slot), out)?;
         }
         Ok(())
     }
@@ -305,7 +306,7 @@ impl<'s> FirstOrder<'s, '_> {
                 if let Some(c) = corrector.as_mut() {
                     // The element pseudo-force at the saved state (for the accelerations).
                     let t = problem.time(n0 + s);
-                    c.at_state(xr, xi, t, &mut pseudo[slot * m..][..m])
+                    c.at_state((xr, xi), (t, slot), &mut pseudo[slot * m..][..m])
                         .map_err(StepFailure::at(n0 + s))?;
                 }
             }
@@ -402,23 +403,17 @@ pub fn integrate(
     if let Some(o) = outputs {
         o.check(2 * r, problem.loads.len()).map_err(fail)?;
     }
-    let corrector = match nonlinear {
-        Some(nl) => {
+    let mut corrector = nonlinear
+        .map(|nl| {
             let lambda: Vec<Complex64> = (0..r).map(|k| modes.lambda(k)).collect();
-            let c = Corrector::new(
-                nl,
-                problem.k,
-                problem.c,
-                &lambda,
+            let (gain, eta0) = (
                 (modes.gain_re, modes.gain_im),
                 (modes.eta0_re, modes.eta0_im),
-                problem.dt,
-            )
-            .map_err(fail)?;
-            Some(c)
-        }
-        None => None,
-    };
+            );
+            Corrector::new(nl, problem.k, problem.c, &lambda, gain, eta0, problem.dt)
+        })
+        .transpose()
+        .map_err(fail)?;
     let n_cols = outputs.map_or(0, |o| o.n_cols);
     // Saturating: `n_cols` is bounded by the output map's length only when `r > 0`; a huge
     // width is then refused as too much memory.
@@ -427,6 +422,9 @@ pub fn integrate(
         .saturating_add(if corrector.is_some() { m } else { 0 });
     let loads = BlockLoads::new(problem, false, forcing.is_some(), width).map_err(fail)?;
     let n_saved = loads.n_saved();
+    if let Some(c) = corrector.as_mut() {
+        c.keep_rows(n_saved).map_err(fail)?;
+    }
     let mut eta = zeroed(
         size(n_saved, 2 * r, "the modal history").map_err(fail)?,
         "the modal history",
@@ -474,10 +472,15 @@ pub fn integrate(
             .map_or_else(Stats::default, |c| Stats {
                 newton_iterations: c.iterations,
                 factorizations: c.factorizations,
-                closed_form_steps: 0,
+                ..Stats::default()
             });
-        (loads, ending, stats)
+        (
+            loads,
+            ending,
+            (stats, route.corrector.as_mut().and_then(|c| c.take_rows())),
+        )
     });
+    let (stats, elements) = stats;
     let (t, load_values, forcing) = loads.into_saved(problem).map_err(fail)?;
     let history = History {
         n_modes: m,
@@ -489,6 +492,7 @@ pub fn integrate(
         forcing,
         pseudo: has_corrector.then_some(pseudo),
         outputs: outputs.is_some().then_some(out),
+        elements,
     };
     conclude(history, ending).map(|h| (h, stats))
 }

@@ -387,6 +387,7 @@ pub fn integrate(
         forcing,
         pseudo: None,
         outputs: None,
+        elements: None,
     };
     conclude(history, ending)
 }

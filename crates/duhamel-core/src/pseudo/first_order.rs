@@ -23,6 +23,7 @@ use super::force::{Jacobian, PseudoForce};
 use crate::dense::DenseLu;
 use crate::elements::Element;
 use crate::error::CoreError;
+use crate::history::{size, zeroed, ElementRows};
 use crate::kernel::cphi;
 
 /// The nonlinear part of a coupled problem.
@@ -69,6 +70,8 @@ pub(crate) struct Corrector<'a> {
     lu: Option<DenseLu>,
     /// How many times it was factorised.
     pub factorizations: usize,
+    /// The elements' saved rows, when kept ([`Corrector::keep_rows`]).
+    rows: Option<ElementRows>,
 }
 
 #[derive(Default)]
@@ -167,6 +170,7 @@ impl<'a> Corrector<'a> {
             zeros: vec![0.0; m],
             lu: None,
             factorizations: 0,
+            rows: None,
             work: Work {
                 q1: vec![0.0; m],
                 q1_lin: vec![0.0; m],
@@ -183,8 +187,34 @@ impl<'a> Corrector<'a> {
         };
         let mut q = vec![0.0; m];
         corrector.map(eta0.0, eta0.1, 0, &mut q);
+        if corrector.pf.stateful() {
+            let mut v = vec![0.0; m];
+            corrector.map(eta0.0, eta0.1, 1, &mut v);
+            corrector.pf.commit(&q, &v, 0.0, true)?;
+        }
         corrector.q = q;
         Ok(corrector)
+    }
+
+    /// Keeps the elements' local states and forces at each of the `n_saved` saved states.
+    pub(crate) fn keep_rows(&mut self, n_saved: usize) -> Result<(), CoreError> {
+        let widths = self.pf.element_widths();
+        let width: usize = widths.iter().sum();
+        let cells = size(n_saved, width, "the element history")?;
+        let buffer = |what| zeroed(cells, what);
+        self.rows = Some(ElementRows {
+            width,
+            widths,
+            x: buffer("the element displacements")?,
+            v: buffer("the element velocities")?,
+            r: buffer("the element forces")?,
+        });
+        Ok(())
+    }
+
+    /// The elements' saved rows, if kept.
+    pub(crate) fn take_rows(&mut self) -> Option<ElementRows> {
+        self.rows.take()
     }
 
     /// Number of real modes.
@@ -207,12 +237,11 @@ impl<'a> Corrector<'a> {
     }
 
     /// The element pseudo-force at the state of the first-order coordinates `(re, im)` and
-    /// time `t` into `out`.
+    /// time `t` into `out`, and the elements' row in `slot` when kept.
     pub(crate) fn at_state(
         &mut self,
-        re: &[f64],
-        im: &[f64],
-        t: f64,
+        (re, im): (&[f64], &[f64]),
+        (t, slot): (f64, usize),
         out: &mut [f64],
     ) -> Result<(), CoreError> {
         let (mut q, mut v) = (
@@ -221,7 +250,16 @@ impl<'a> Corrector<'a> {
         );
         self.map(re, im, 0, &mut q);
         self.map(re, im, 1, &mut v);
-        let result = self.pf.at_state(&q, &v, t, &self.zeros, out);
+        let mut result = self.pf.at_state(&q, &v, t, &self.zeros, out);
+        if let (Some(rows), Ok(())) = (&mut self.rows, &result) {
+            let e = slot * rows.width..(slot + 1) * rows.width;
+            let rows = (
+                &mut rows.x[e.clone()],
+                &mut rows.v[e.clone()],
+                &mut rows.r[e],
+            );
+            result = self.pf.record((&q, &v), t, rows);
+        }
         self.work.q1_lin = q;
         self.work.v = v;
         result
@@ -263,6 +301,10 @@ impl<'a> Corrector<'a> {
         self.last.copy_from_slice(&w.f1);
         let mut q = std::mem::take(&mut self.q);
         self.map(re, im, 0, &mut q);
+        if self.pf.stateful() {
+            self.map(re, im, 1, &mut w.v);
+            self.pf.commit(&q, &w.v, t + self.dt, false)?;
+        }
         self.q = q;
         Ok(iters)
     }

@@ -15,8 +15,10 @@ mod local;
 mod newton;
 mod problem;
 mod route;
+mod rows;
 mod scalar;
 mod scheme;
+mod subdivide;
 
 pub use problem::{NonlinearProblem, Options, ScaledCoupling, Solver};
 pub use route::integrate;

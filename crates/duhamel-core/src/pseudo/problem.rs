@@ -33,6 +33,9 @@ pub struct Options {
     pub max_iter: usize,
     /// Closed form where possible, or always Newton.
     pub solver: Solver,
+    /// Levels of automatic step subdivision: a step whose equation does not converge is
+    /// retried in halves, down to `dt / 2^subdivisions` (0: the run stops instead).
+    pub subdivisions: usize,
 }
 
 /// A nonlinear modal problem: the linear background plus the pseudo-forces.
@@ -91,6 +94,15 @@ pub(super) fn validate(problem: &NonlinearProblem) -> Result<(), CoreError> {
         return Err(CoreError::InvalidInput {
             name: "max_iter",
             problem: "must be at least 1".into(),
+        });
+    }
+    if o.subdivisions > 30 {
+        return Err(CoreError::InvalidInput {
+            name: "subdivisions",
+            problem: format!(
+                "must be at most 30 (steps of dt / 2^30), got {}",
+                o.subdivisions
+            ),
         });
     }
     if let Some(mass) = problem.mass {

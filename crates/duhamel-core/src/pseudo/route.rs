@@ -6,10 +6,12 @@ use super::force::PseudoForce;
 use super::local::ElementSpace;
 use super::newton::Stepper;
 use super::problem::{validate, NonlinearProblem};
+use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
+use super::subdivide::{level_rules, retriable, Subdivider};
 use crate::driver::{conclude, drive, Control, Route, StepFailure};
 use crate::error::CoreError;
-use crate::history::{size, zeroed, Coordinates, Failure, History, Stats};
+use crate::history::{size, zeroed, Coordinates, ElementRows, Failure, History, Stats};
 use crate::kernel::oscillator::Transfer;
 use crate::loads::block::BlockLoads;
 use crate::loads::ModalForcing;
@@ -79,11 +81,8 @@ fn fill_basis(pb: &mut [Vec<f64>; 3], problem: &ModalProblem, loads: &BlockLoads
     }
 }
 
-/// The exact step's coefficients of every mode, one array per coefficient (structure of
-/// arrays: the loop over the modes vectorises): `A` (row-major) then `B` (row-major).
-type StepRows = [Vec<f64>; 10];
-
-/// The linear step of every mode (background and external loads only) into `(ql, vl)`.
+/// The linear step of every mode (background and external loads only) into `(ql, vl)`,
+/// with the jumps of step loads that start inside local step `s`.
 #[inline(always)]
 fn predict(
     rows: &StepRows,
@@ -93,14 +92,7 @@ fn predict(
     loads: &BlockLoads,
     s: usize,
 ) {
-    let n = rows[0].len();
-    let (q, v, ql, vl) = (&q[..n], &v[..n], &mut ql[..n], &mut vl[..n]);
-    let (p0, p1, p2) = (&pb[0][..n], &pb[1][..n], &pb[2][..n]);
-    let [a11, a12, a21, a22, b11, b12, b13, b21, b22, b23] = rows.each_ref().map(|r| &r[..n]);
-    for m in 0..n {
-        ql[m] = a11[m] * q[m] + a12[m] * v[m] + b11[m] * p0[m] + b12[m] * p1[m] + b13[m] * p2[m];
-        vl[m] = a21[m] * q[m] + a22[m] * v[m] + b21[m] * p0[m] + b22[m] * p1[m] + b23[m] * p2[m];
-    }
+    linear_step(rows, (q, v), [&pb[0], &pb[1], &pb[2]], (ql, vl));
     for (_, dx, dv) in loads.jumps.iter().filter(|j| j.0 == s) {
         for (x, d) in ql.iter_mut().zip(dx) {
             *x += d;
@@ -121,10 +113,14 @@ struct PseudoRoute<'r, 'a> {
     estimate: bool,
     /// Whether hysteretic elements commit their variables after each step.
     stateful: bool,
+    /// The levels of automatic subdivision, when the step equation is nonlinear.
+    sub: Option<Subdivider<'r>>,
     state: State,
     hq: Vec<f64>,
     hv: Vec<f64>,
     hp: Vec<f64>,
+    /// The elements' saved rows.
+    he: ElementRows,
     stats: Stats,
 }
 
@@ -142,6 +138,13 @@ impl PseudoRoute<'_, '_> {
         let r = slot * n..(slot + 1) * n;
         self.hq[r.clone()].copy_from_slice(q);
         self.hv[r.clone()].copy_from_slice(v);
+        if self.he.width > 0 {
+            let w = self.he.width;
+            let e = slot * w..(slot + 1) * w;
+            let he = &mut self.he;
+            let rows = (&mut he.x[e.clone()], &mut he.v[e.clone()], &mut he.r[e]);
+            self.pf.record((q, v), t, rows)?;
+        }
         match self.stepper.start_pseudo().filter(|_| known) {
             Some(k) => {
                 self.hp[r].copy_from_slice(k);
@@ -194,9 +197,31 @@ impl PseudoRoute<'_, '_> {
                     break;
                 }
             }
-            let iters = match solved {
-                Ok(iters) => iters,
-                Err(error) => {
+            let mut subdivided = false;
+            let iters = match (solved, &mut self.sub) {
+                (Ok(iters), _) => iters,
+                (Err(error), Some(sub))
+                    if retriable(&error) && !loads.jumps.iter().any(|j| j.0 == s) =>
+                {
+                    subdivided = true;
+                    q1.copy_from_slice(q);
+                    v1.copy_from_slice(v);
+                    let basis = [&pb[0][..], &pb[1][..], &pb[2][..]];
+                    let span = (t, problem.dt);
+                    let stateful = self.stateful;
+                    let stepper = &mut self.stepper;
+                    match sub.step(stepper, &mut self.pf, span, basis, (q1, v1), stateful) {
+                        Ok(iters) => iters,
+                        Err(error) => {
+                            result = Err(StepFailure {
+                                error,
+                                step: step + 1,
+                            });
+                            break;
+                        }
+                    }
+                }
+                (Err(error), _) => {
                     result = Err(StepFailure {
                         error,
                         step: step + 1,
@@ -222,9 +247,9 @@ impl PseudoRoute<'_, '_> {
                 });
                 break;
             }
-            if self.stateful {
+            if self.stateful && !subdivided {
                 let end = problem.time(step + 1);
-                if let Err(error) = self.stepper.commit(&mut self.pf, (q1, v1), end, false) {
+                if let Err(error) = self.commit(q1, v1, end) {
                     result = Err(StepFailure {
                         error,
                         step: step + 1,
@@ -237,6 +262,17 @@ impl PseudoRoute<'_, '_> {
         }
         self.state = st;
         result
+    }
+}
+
+impl PseudoRoute<'_, '_> {
+    /// Commits the hysteretic elements' variables at the accepted end state `(q, v)`.
+    fn commit(&mut self, q: &[f64], v: &[f64], t: f64) -> Result<(), CoreError> {
+        self.stepper.commit(&mut self.pf, (q, v), t, false)?;
+        if let Some(sub) = &mut self.sub {
+            sub.commit(&mut self.pf, (q, v), t, false)?;
+        }
+        Ok(())
     }
 }
 
@@ -301,36 +337,49 @@ pub fn integrate(
     .map_err(fail)?;
     let mut pf = pf;
     let mut stepper = stepper;
+    let depth = if pf.linear { 0 } else { o.subdivisions };
+    let rules = level_rules(problem, depth);
+    let mut sub = if depth > 0 {
+        Some(Subdivider::new(problem, &rules, &pf, o, estimate).map_err(fail)?)
+    } else {
+        None
+    };
     let stateful = pf.stateful();
     if stateful {
+        let start = (base.q0, base.v0);
         stepper
-            .commit(&mut pf, (base.q0, base.v0), base.t0, true)
+            .commit(&mut pf, start, base.t0, true)
             .map_err(fail)?;
+        if let Some(sub) = &mut sub {
+            sub.commit(&mut pf, start, base.t0, true).map_err(fail)?;
+        }
     }
     let loads = BlockLoads::new(base, true, forcing.is_some(), 3 * n).map_err(fail)?;
     let cells = size(loads.n_saved(), n, "the modal history").map_err(fail)?;
     let buffer = |what| zeroed(cells, what).map_err(fail);
+    let widths = pf.element_widths();
+    let width = widths.iter().sum();
+    let element_cells = size(loads.n_saved(), width, "the element history").map_err(fail)?;
+    let element_buffer = |what| zeroed(element_cells, what).map_err(fail);
+    let he = ElementRows {
+        width,
+        widths,
+        x: element_buffer("the element displacements")?,
+        v: element_buffer("the element velocities")?,
+        r: element_buffer("the element forces")?,
+    };
     let mut route = PseudoRoute {
-        rows: {
-            let mut rows: StepRows = std::array::from_fn(|_| Vec::with_capacity(n));
-            for tr in &transfers {
-                let ([a11, a12], [a21, a22]) = (tr.a[0], tr.a[1]);
-                let [[b11, b12, b13], [b21, b22, b23]] = tr.b();
-                let row = [a11, a12, a21, a22, b11, b12, b13, b21, b22, b23];
-                for (column, value) in rows.iter_mut().zip(row) {
-                    column.push(value);
-                }
-            }
-            rows
-        },
+        rows: step_rows(&transfers),
         pf,
         stepper,
         estimate,
         stateful,
+        sub,
         state: State::new(base.q0, base.v0),
         hq: buffer("the modal history (q)")?,
         hv: buffer("the modal history (v)")?,
         hp: buffer("the pseudo-force")?,
+        he,
         stats: Stats::default(),
     };
     let (loads, ending) = drive(base, &mut route, loads, forcing, control);
@@ -348,7 +397,11 @@ pub fn integrate(
         forcing,
         pseudo: Some(route.hp),
         outputs: None,
+        elements: (route.he.width > 0).then_some(route.he),
     };
-    let stats = route.stats;
+    let mut stats = route.stats;
+    if let Some(sub) = &route.sub {
+        (stats.subdivided_steps, stats.subdivision_depth) = (sub.steps, sub.deepest);
+    }
     conclude(history, ending).map(|h| (h, stats))
 }

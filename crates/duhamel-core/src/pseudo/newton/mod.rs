@@ -347,6 +347,21 @@ impl<'r> Stepper<'r> {
         Ok(())
     }
 
+    /// The hysteretic elements' variables in this step solver's own copy of the elements
+    /// (the element space), not in the shared pseudo-force.
+    pub fn commit_space(
+        &mut self,
+        _pf: &PseudoForce,
+        (q, v): (&[f64], &[f64]),
+        t: f64,
+        initial: bool,
+    ) -> Result<(), CoreError> {
+        match &mut self.local {
+            Some((space, _)) if space.stateful() => space.commit(q, v, t, initial),
+            _ => Ok(()),
+        }
+    }
+
     /// Whether steps are solved analytically (closed form, no Newton).
     pub fn analytic(&self) -> bool {
         self.scalar.is_some() || self.closed_form

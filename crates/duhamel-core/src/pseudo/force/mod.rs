@@ -11,11 +11,13 @@
 //! * mass estimated: `Q = -rho - (mu - 1) a - [momentum] mu' v - [scaled] (mu - 1) k q`, with
 //!   `a` an estimate of the acceleration.
 
-use crate::elements::{Element, Evaluation, ModalCubic};
+use crate::elements::{Element, Evaluation};
 use crate::error::CoreError;
 use crate::mass::{MassForm, MassTreatment, TimeVaryingMass};
 
 use super::problem::ScaledCoupling;
+
+mod single;
 
 /// An element with the mode-shape rows of its degrees of freedom.
 struct Slot<'a> {
@@ -226,6 +228,38 @@ impl<'a> PseudoForce<'a> {
         Ok(())
     }
 
+    /// The elements' numbers of local dofs (their saved rows hold the sum).
+    pub fn element_widths(&self) -> Vec<usize> {
+        self.slots.iter().map(|s| s.eval.x.len()).collect()
+    }
+
+    /// Every element's local displacements, velocities and restoring force at the modal
+    /// state `(q, v)` and `t` — a hysteretic one from its committed variables — into
+    /// `x`, `v_out`, `r` (the sum of `element_widths()` each, the elements in order).
+    pub fn record(
+        &mut self,
+        (q, v): (&[f64], &[f64]),
+        t: f64,
+        (x, v_out, r): (&mut [f64], &mut [f64], &mut [f64]),
+    ) -> Result<(), CoreError> {
+        let n = self.n;
+        let mut at = 0;
+        for slot in &mut self.slots {
+            let e = &mut slot.eval;
+            for (j, row) in slot.phi_e.chunks_exact(n).enumerate() {
+                e.x[j] = crate::dense::dot(row, q);
+                e.v[j] = crate::dense::dot(row, v);
+            }
+            e.evaluate(t, false)?;
+            let nl = e.x.len();
+            x[at..at + nl].copy_from_slice(&e.x);
+            v_out[at..at + nl].copy_from_slice(&e.v);
+            r[at..at + nl].copy_from_slice(&e.r);
+            at += nl;
+        }
+        Ok(())
+    }
+
     /// Whether a mass law is attached.
     pub fn has_mass(&self) -> bool {
         self.mass.is_some()
@@ -400,59 +434,6 @@ impl<'a> PseudoForce<'a> {
             }
         }
         Ok(())
-    }
-
-    /// For one mode with polynomial forces only (and no estimated mass): the coefficients of
-    /// `rho(q, v) = sum a[i][j] q^i v^j`, elements and couplings together. None as well when
-    /// a coupling's scale varies in time (the coefficients would change from node to node:
-    /// such a step is solved by the generic closed form or by Newton).
-    pub fn scalar_model(&self) -> Option<ModalCubic> {
-        if self.n != 1
-            || self
-                .mass
-                .is_some_and(|m| m.treatment == MassTreatment::Estimate)
-            || self.scaled.iter().any(|s| s.law.constant_value().is_none())
-        {
-            return None;
-        }
-        let mut a = [[0.0; 4]; 4];
-        for slot in &self.slots {
-            let e = slot.eval.element.modal_cubic(&slot.phi_e)?;
-            for (ai, ei) in a.iter_mut().zip(&e) {
-                for (x, y) in ai.iter_mut().zip(ei) {
-                    *x += y;
-                }
-            }
-        }
-        a[1][0] += self.coupling_k.map_or(0.0, |m| m[0]);
-        a[0][1] += self.coupling_c.map_or(0.0, |m| m[0]);
-        for s in self.scaled {
-            let w = s.law.constant_value()?;
-            a[1][0] += w * s.k.map_or(0.0, |m| m[0]);
-            a[0][1] += w * s.c.map_or(0.0, |m| m[0]);
-        }
-        Some(a)
-    }
-
-    /// For one mode: `Q = alpha rho + beta q + gamma v + delta` at time `t` with the modal
-    /// external load `p` (see the module documentation); returns `[alpha, beta, gamma, delta]`.
-    pub fn scalar_terms(&self, t: f64, p: f64, left: bool) -> [f64; 4] {
-        let Some(mass) = self.mass else {
-            return [-1.0, 0.0, 0.0, 0.0];
-        };
-        let (mu, dmu) = mass.law.eval_side(t, left);
-        let g = 1.0 / mu - 1.0;
-        let beta = if mass.scale_stiffness {
-            0.0
-        } else {
-            -g * self.k[0]
-        };
-        let mom = if mass.form == MassForm::Momentum {
-            dmu / mu
-        } else {
-            0.0
-        };
-        [-1.0 / mu, beta, -g * self.c[0] - mom, g * p]
     }
 
     /// The pseudo-force that makes `q'' = p + Q - c v - k q` the true acceleration at a

@@ -1,0 +1,239 @@
+//! Automatic step subdivision: a step whose equation does not converge is retried as two
+//! half steps, each of them again in halves if it fails, down to `dt / 2^depth`.
+//!
+//! Every level has its own exact transition matrices and quadrature weights (the modal
+//! oscillators stay exact at any step) and its own step solver; the loads of a substep are
+//! the step's own load basis restricted to the substep (exact for the quadratic in time that
+//! the step represents them by). A step with a step load starting inside it (an exact jump)
+//! is not subdivided. Hysteretic elements commit at the end of every accepted substep.
+
+use super::force::PseudoForce;
+use super::local::ElementSpace;
+use super::newton::Stepper;
+use super::problem::{NonlinearProblem, Options};
+use super::rows::{linear_step, step_rows, StepRows};
+use super::scheme::{Rule, StepInput};
+use crate::error::CoreError;
+use crate::kernel::oscillator::Transfer;
+
+/// The transfer matrices and quadrature rule of each level, `dt / 2`, `dt / 4`, ...
+pub(super) fn level_rules(problem: &NonlinearProblem, depth: usize) -> Vec<(Vec<Transfer>, Rule)> {
+    let base = &problem.base;
+    let o = problem.options;
+    (1..=depth)
+        .map(|d| {
+            let h = base.dt * 0.5f64.powi(d as i32);
+            let transfers: Vec<Transfer> = base
+                .k
+                .iter()
+                .zip(base.c)
+                .map(|(&k, &c)| Transfer::new(k, c, h))
+                .collect();
+            let rule = Rule::new(o.scheme, o.quadrature, h, &transfers);
+            (transfers, rule)
+        })
+        .collect()
+}
+
+/// One level: steps of `dt / 2^depth`.
+struct Level<'r> {
+    rows: StepRows,
+    stepper: Stepper<'r>,
+}
+
+/// The levels of subdivision below the run's step, and what they did.
+pub(super) struct Subdivider<'r> {
+    levels: Vec<Level<'r>>,
+    n: usize,
+    /// Steps that needed subdividing, and the deepest level reached.
+    pub steps: usize,
+    pub deepest: usize,
+}
+
+/// Whether a failed step may be retried in halves.
+pub(super) fn retriable(error: &CoreError) -> bool {
+    matches!(error, CoreError::NoConvergence { .. })
+}
+
+impl<'r> Subdivider<'r> {
+    pub fn new(
+        problem: &'r NonlinearProblem,
+        rules: &'r [(Vec<Transfer>, Rule)],
+        pf: &PseudoForce,
+        options: Options,
+        estimate: bool,
+    ) -> Result<Self, CoreError> {
+        let n = problem.base.n_modes();
+        let mut levels = Vec::with_capacity(rules.len());
+        for (d, (transfers, rule)) in rules.iter().enumerate() {
+            let h = problem.base.dt * 0.5f64.powi(d as i32 + 1);
+            let space = ElementSpace::new(problem.phi, n, problem.elements);
+            let stepper = Stepper::new(
+                rule,
+                options.scheme,
+                h,
+                options.tol,
+                options.max_iter,
+                options.solver,
+                pf,
+                estimate,
+                space,
+            )?;
+            levels.push(Level {
+                rows: step_rows(transfers),
+                stepper,
+            });
+        }
+        Ok(Subdivider {
+            levels,
+            n,
+            steps: 0,
+            deepest: 0,
+        })
+    }
+
+    /// The hysteretic elements' variables of every level's copy of the elements.
+    pub fn commit(
+        &mut self,
+        pf: &mut PseudoForce,
+        (q, v): (&[f64], &[f64]),
+        t: f64,
+        initial: bool,
+    ) -> Result<(), CoreError> {
+        for level in &mut self.levels {
+            level.stepper.commit_space(pf, (q, v), t, initial)?;
+        }
+        Ok(())
+    }
+
+    /// Advances `(q, v)` over the step `[t, t + dt]` whose modal load basis is `pb` in
+    /// halves (the step itself failed); returns the Newton iterations.
+    #[allow(clippy::too_many_arguments)]
+    pub fn step(
+        &mut self,
+        main: &mut Stepper,
+        pf: &mut PseudoForce,
+        (t, dt): (f64, f64),
+        pb: [&[f64]; 3],
+        (q, v): (&mut [f64], &mut [f64]),
+        stateful: bool,
+    ) -> Result<usize, CoreError> {
+        self.steps += 1;
+        let span = Span { t, dt, pb };
+        let first = self.advance(1, main, pf, &span, 0.0, (q, v), stateful)?;
+        let second = self.advance(1, main, pf, &span, 0.5, (q, v), stateful)?;
+        Ok(first + second)
+    }
+
+    /// Advances over `[a, a + 2^-depth]` of the step (fractions of it) at level `depth`,
+    /// in halves below when that fails.
+    #[allow(clippy::too_many_arguments)]
+    fn advance(
+        &mut self,
+        depth: usize,
+        main: &mut Stepper,
+        pf: &mut PseudoForce,
+        span: &Span,
+        a: f64,
+        (q, v): (&mut [f64], &mut [f64]),
+        stateful: bool,
+    ) -> Result<usize, CoreError> {
+        let n = self.n;
+        let h = 0.5f64.powi(depth as i32);
+        let t = span.t + a * span.dt;
+        let pb = span.restricted(a, h, n);
+        let (mut q1, mut v1) = (vec![0.0; n], vec![0.0; n]);
+        let attempt = {
+            let level = &mut self.levels[depth - 1];
+            let (mut ql, mut vl) = (vec![0.0; n], vec![0.0; n]);
+            let basis = [&pb[0][..], &pb[1][..], &pb[2][..]];
+            linear_step(&level.rows, (q, v), basis, (&mut ql, &mut vl));
+            let input = StepInput {
+                t,
+                q0: q,
+                v0: v,
+                q_lin: &ql,
+                v_lin: &vl,
+                pb: basis,
+            };
+            level.stepper.solve(pf, &input, &mut q1, &mut v1)
+        };
+        match attempt {
+            Ok(iterations) => {
+                self.deepest = self.deepest.max(depth);
+                if stateful {
+                    let end = t + h * span.dt;
+                    main.commit(pf, (&q1, &v1), end, false)?;
+                    self.commit(pf, (&q1, &v1), end, false)?;
+                }
+                q.copy_from_slice(&q1);
+                v.copy_from_slice(&v1);
+                Ok(iterations)
+            }
+            Err(error) if retriable(&error) && depth < self.levels.len() => {
+                let first = self.advance(depth + 1, main, pf, span, a, (q, v), stateful)?;
+                let mid = a + 0.5 * h;
+                let second = self.advance(depth + 1, main, pf, span, mid, (q, v), stateful)?;
+                Ok(first + second)
+            }
+            Err(error) => Err(error),
+        }
+    }
+}
+
+/// The step being subdivided: its start, length and modal load basis.
+struct Span<'s> {
+    t: f64,
+    dt: f64,
+    pb: [&'s [f64]; 3],
+}
+
+impl Span<'_> {
+    /// The load basis of the substep `[a, a + h]` (fractions of the step): the step's load
+    /// `p(s) = p0 + Dp s + 4 DDp s (1 - s)` sampled at its start, middle and end.
+    fn restricted(&self, a: f64, h: f64, n: usize) -> [Vec<f64>; 3] {
+        let [p0, dp, ddp] = self.pb;
+        let at = |s: f64, m: usize| p0[m] + dp[m] * s + 4.0 * ddp[m] * s * (1.0 - s);
+        let mut out: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
+        for m in 0..n {
+            let (f0, fm, f1) = (at(a, m), at(a + 0.5 * h, m), at(a + h, m));
+            out[0].push(f0);
+            out[1].push(f1 - f0);
+            out[2].push(fm - 0.5 * (f0 + f1));
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Span;
+
+    /// A substep's load basis reproduces the step's quadratic load at every point of the
+    /// substep, for nested substeps too.
+    #[test]
+    #[allow(clippy::needless_range_loop)]
+    fn restricted_load_is_the_step_load() {
+        let (p0, dp, ddp) = ([1.5, -2.0], [0.25, 3.0], [-0.7, 0.1]);
+        let span = Span {
+            t: 0.0,
+            dt: 0.1,
+            pb: [&p0, &dp, &ddp],
+        };
+        let step = |s: f64, m: usize| p0[m] + dp[m] * s + 4.0 * ddp[m] * s * (1.0 - s);
+        for (a, h) in [(0.0, 0.5), (0.5, 0.5), (0.25, 0.25), (0.8125, 0.0625)] {
+            let sub = span.restricted(a, h, 2);
+            for m in 0..2 {
+                for sigma in [0.0, 0.3, 0.5, 0.9, 1.0] {
+                    let local =
+                        sub[0][m] + sub[1][m] * sigma + 4.0 * sub[2][m] * sigma * (1.0 - sigma);
+                    let want = step(a + sigma * h, m);
+                    assert!(
+                        (local - want).abs() < 1e-14,
+                        "{a} {h} {sigma}: {local} {want}"
+                    );
+                }
+            }
+        }
+    }
+}

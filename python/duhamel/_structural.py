@@ -1,0 +1,151 @@
+"""Structural outputs of a run: element histories (hysteresis loops), absolute accelerations
+of base-excited systems and inter-storey drifts."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["ElementHistory", "drifts", "element_histories"]
+
+
+@dataclass(frozen=True, eq=False)
+class ElementHistory:
+    """One element along a run: its local displacements, velocities and restoring force.
+
+    A hysteretic element's force is the one of the path the run followed (its committed
+    state at each saved instant).
+
+    Attributes
+    ----------
+    element : duhamel.elements.Element
+        The element, as added to the system.
+    t : ndarray, shape (n_t,)
+        Saved times.
+    x, v : ndarray, shape (n_t, n_local)
+        Displacements and velocities of the element's degrees of freedom, in its own order
+        (``(i, j)`` for a two-node element).
+    force : ndarray, shape (n_t, n_local)
+        The restoring force the element applies at those dofs (left-hand side: the force on
+        the structure is its negative); ``force[:, 1] = -force[:, 0]`` for a two-node
+        element.
+
+    Examples
+    --------
+    >>> import numpy as np, duhamel
+    >>> system = duhamel.System(np.eye(1), 4.0 * np.eye(1), zeta=0.02)
+    >>> system.add(duhamel.elements.Cubic(0, 1.0))
+    System(n_dof=1, damping='zeta', loads=0, elements=1)
+    >>> sol = duhamel.solve(system, duhamel.Semianalytic(), t_end=1.0, dt=0.01, x0=[0.1])
+    >>> spring = sol.elements[0]
+    >>> bool(np.allclose(spring.force[:, 0], spring.x[:, 0] ** 3))
+    True
+    """
+
+    element: Any
+    t: NDArray[np.float64]
+    x: NDArray[np.float64]
+    v: NDArray[np.float64]
+    force: NDArray[np.float64]
+
+    @property
+    def deformation(self) -> NDArray[np.float64]:
+        """The element's deformation: ``x_i - x_j`` for a two-node element, ``x_i`` for a
+        grounded one (shape ``(n_t,)``); the local displacements ``x`` otherwise."""
+        if self.x.shape[1] == 2 and getattr(self.element, "j", None) is not None:
+            return self.x[:, 0] - self.x[:, 1]
+        if self.x.shape[1] == 1:
+            return self.x[:, 0]
+        return self.x
+
+    @property
+    def axial_force(self) -> NDArray[np.float64]:
+        """The force along the deformation of a one- or two-node element (the force on
+        dof ``i``, shape ``(n_t,)``); the local forces otherwise."""
+        if self.x.shape[1] == 1 or getattr(self.element, "j", None) is not None:
+            return self.force[:, 0]
+        return self.force
+
+    def plot(self, ax: Any = None, dof: int = 0) -> Any:
+        """Force against deformation (the hysteresis loop) on matplotlib axes.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw on (new figure otherwise).
+        dof : int
+            For an element with several independent local dofs (a bidirectional isolator):
+            which one.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots()
+        u, f = self.deformation, self.axial_force
+        if u.ndim == 2:
+            u, f = u[:, dof], f[:, dof]
+        ax.plot(u, f)
+        ax.set_xlabel("deformation")
+        ax.set_ylabel("force")
+        ax.set_title(type(self.element).__name__)
+        return ax
+
+
+def element_histories(
+    elements: Sequence[Any], t: NDArray[np.float64], result: Any, kept: int
+) -> tuple[ElementHistory, ...]:
+    """The histories of `elements` (the system's force elements, couplings left out, in
+    order) from a run's saved element rows; empty when the route kept none."""
+    if getattr(result, "element_force", None) is None or not elements:
+        return ()
+    xs, vs, fs = (
+        np.asarray(a)[:kept] for a in (result.element_x, result.element_v, result.element_force)
+    )
+    widths = list(result.element_widths)
+    if len(widths) != len(elements):
+        return ()
+    out, at = [], 0
+    for element, width in zip(elements, widths, strict=True):
+        cut = slice(at, at + width)
+        out.append(ElementHistory(element, t, xs[:, cut], vs[:, cut], fs[:, cut]))
+        at += width
+    return tuple(out)
+
+
+def drifts(
+    x: NDArray[np.float64],
+    dofs: NDArray[np.int64],
+    floors: Sequence[int],
+    heights: Sequence[float] | float | None = None,
+) -> NDArray[np.float64]:
+    """Inter-storey drifts ``x[floor k] - x[floor k-1]`` (the first storey's against the
+    ground), as ratios when `heights` are given; `x` holds the dofs `dofs`."""
+    position = {int(d): k for k, d in enumerate(dofs)}
+    cols = []
+    for f in floors:
+        if isinstance(f, bool) or not isinstance(f, int | np.integer):
+            raise TypeError(f"`floors` must contain dof indices (integers), got {f!r}")
+        if int(f) not in position:
+            raise ValueError(
+                f"`floors`: dof {f} is not among the saved dofs {list(map(int, dofs))}; "
+                "solve with `dofs=` including every floor"
+            )
+        cols.append(position[int(f)])
+    if not cols:
+        raise ValueError("`floors` must list at least one floor dof")
+    u = x[:, cols]
+    out = np.diff(np.concatenate([np.zeros((u.shape[0], 1)), u], axis=1), axis=1)
+    if heights is None:
+        return out
+    h = np.broadcast_to(np.asarray(heights, dtype=np.float64), (len(cols),))
+    if not np.all(np.isfinite(h)) or np.any(h <= 0):
+        raise ValueError(f"`heights` must be positive storey heights, got {heights!r}")
+    return out / h
