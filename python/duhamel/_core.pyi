@@ -122,6 +122,7 @@ class RunResult:
     element_v: Array | None
     element_force: Array | None
     element_widths: list[int] | None
+    element_state: list[float] | None
     newton_iterations: int
     closed_form_steps: int
     factorizations: int

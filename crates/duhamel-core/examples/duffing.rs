@@ -26,6 +26,7 @@ fn main() {
                 v0: &[0.0],
                 loads: &[],
                 t0: 0.0,
+                step0: 0,
                 dt,
                 n_steps: steps,
                 save_every: std::env::var("SAVE_EVERY")
@@ -49,6 +50,7 @@ fn main() {
                 solver,
                 subdivisions: 4,
             },
+            element_state: None,
         };
         let start = std::time::Instant::now();
         let (history, stats) = integrate(&problem, None, &mut Unattended).expect("runs");

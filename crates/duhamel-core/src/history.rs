@@ -53,6 +53,9 @@ pub struct History {
     /// The elements' local states and restoring forces at the saved instants, for routes
     /// that evaluate elements.
     pub elements: Option<ElementRows>,
+    /// The elements' committed internal variables at the end of the run (hysteretic
+    /// elements; what a continued run starts from).
+    pub element_state: Option<Vec<f64>>,
 }
 
 /// The elements' local displacements, velocities and restoring forces at the saved

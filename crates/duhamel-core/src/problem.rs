@@ -23,8 +23,12 @@ pub struct ModalProblem<'a> {
     /// Built-in loads, already projected on the modes (their time functions use absolute
     /// time, so a run started at `t0` sees them as a run started at 0 would).
     pub loads: &'a [ModalLoad],
-    /// Start time.
+    /// Start time of the grid.
     pub t0: f64,
+    /// The grid point this run starts at: its times are `t0 + (step0 + n) dt`. A run
+    /// continued from a checkpoint at grid point `step0` keeps the original grid, so it
+    /// reproduces the uninterrupted run bit for bit. 0 for a run from `t0`.
+    pub step0: usize,
     /// Step length (> 0).
     pub dt: f64,
     /// Number of steps (>= 1).
@@ -36,9 +40,10 @@ pub struct ModalProblem<'a> {
 }
 
 impl ModalProblem<'_> {
-    /// The time of grid point `n`, `t0 + n dt` (from the grid, never accumulated).
+    /// The time of grid point `n` of this run, `t0 + (step0 + n) dt` (from the grid, never
+    /// accumulated).
     pub fn time(&self, n: usize) -> f64 {
-        self.t0 + n as f64 * self.dt
+        self.t0 + (self.step0 + n) as f64 * self.dt
     }
 
     /// Number of modes.
@@ -77,6 +82,9 @@ impl ModalProblem<'_> {
         }
         if self.n_steps == 0 {
             return bad("t_end", "must be at least one step `dt`");
+        }
+        if self.step0.checked_add(self.n_steps).is_none() {
+            return bad("step0", "is too large: step0 + n_steps overflows");
         }
         if !self.time(self.n_steps).is_finite() {
             return bad("t_end", "is too large: the end time overflows");

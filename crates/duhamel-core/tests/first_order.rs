@@ -32,6 +32,7 @@ fn one_oscillator_matches_the_uncoupled_engine() {
         v0: &[-0.2],
         loads: &loads,
         t0: 0.0,
+        step0: 0,
         dt: 0.05,
         n_steps: 200,
         save_every: 1,

@@ -24,6 +24,7 @@ fn problem<'a>(k: &'a [f64], zeros: &'a [f64]) -> ModalProblem<'a> {
         v0: zeros,
         loads: &[],
         t0: 0.0,
+        step0: 0,
         dt: 0.1,
         n_steps: 10,
         save_every: 1,
@@ -113,6 +114,7 @@ fn first_order_elements_check_the_mode_shapes() {
         back: &[0.0; 16],
         tol: 1e-9,
         max_iter: 10,
+        element_state: None,
     };
     let err = integrate(
         &problem(&k, &zeros),

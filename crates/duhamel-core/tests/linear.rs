@@ -29,6 +29,7 @@ fn problem<'a>(
         v0,
         loads,
         t0: 0.0,
+        step0: 0,
         dt,
         n_steps,
         save_every: 1,

@@ -117,6 +117,7 @@ pub(crate) fn solve_first_order(
                     flat_of(&nonlinear.getattr("back")?, "back")?,
                     attr::<f64>(nonlinear, "tol")?,
                     attr::<usize>(nonlinear, "max_iter")?,
+                    crate::pseudo::element_state_of(nonlinear)?,
                 )),
                 elements::build(py, &nonlinear.getattr("elements")?)?,
             )
@@ -124,13 +125,14 @@ pub(crate) fn solve_first_order(
         let refs = built.refs();
         let nonlinear = nl_arrays
             .as_ref()
-            .map(|(phi, back, tol, max_iter)| Nonlinear {
+            .map(|(phi, back, tol, max_iter, state)| Nonlinear {
                 phi,
                 n_dof: phi.len().checked_div(p.n_modes()).unwrap_or(0),
                 elements: &refs,
                 back,
                 tol: *tol,
                 max_iter: *max_iter,
+                element_state: state.as_deref(),
             });
         let forcing = PyForcing::modal(forcing, &problem.getattr("phi")?, p.n_modes())?;
         run(py, forcing, Some(&built), progress, |f, control| {

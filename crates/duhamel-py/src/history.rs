@@ -54,6 +54,10 @@ pub(crate) struct RunResult {
     /// The number of local dofs of each element (columns of the element arrays).
     #[pyo3(get)]
     element_widths: Option<Vec<usize>>,
+    /// The hysteretic elements' committed variables at the end (what a continued run
+    /// starts from).
+    #[pyo3(get)]
+    element_state: Option<Vec<f64>>,
     /// Newton iterations, closed-form steps and factorisations over the run.
     #[pyo3(get)]
     newton_iterations: usize,
@@ -102,6 +106,7 @@ impl RunResult {
             element_v: None,
             element_force: None,
             element_widths: None,
+            element_state: None,
             newton_iterations: 0,
             closed_form_steps: 0,
             factorizations: 0,
@@ -139,6 +144,7 @@ impl RunResult {
             r.element_force = Some(array2(py, e.r, rows, w)?);
             r.element_widths = Some(e.widths);
         }
+        r.element_state = h.element_state;
         Ok(r)
     }
 

@@ -9,7 +9,8 @@ use crate::loads::loads_of;
 
 /// The owned inputs of a [`ModalProblem`], extracted from a Python object with the
 /// attributes `k`, `c` (modal stiffness and damping), `q0`, `v0`, `loads`, `t0`, `dt`,
-/// `n_steps`, `save_every` and `threads` (see `duhamel._solve.plan`).
+/// `n_steps`, `save_every` and `threads` (see `duhamel._solve.plan`), and optionally
+/// `step0` (the grid point a continued run starts at; 0 otherwise).
 pub(crate) struct ModalInput {
     k: Vec<f64>,
     c: Vec<f64>,
@@ -17,6 +18,7 @@ pub(crate) struct ModalInput {
     v0: Vec<f64>,
     loads: Vec<ModalLoad>,
     t0: f64,
+    step0: usize,
     dt: f64,
     n_steps: usize,
     save_every: usize,
@@ -33,6 +35,11 @@ impl ModalInput {
             v0: vec_of(&obj.getattr("v0")?, "v0")?,
             loads: loads_of(&obj.getattr("loads")?)?,
             t0: attr(obj, "t0")?,
+            step0: if obj.hasattr("step0")? {
+                attr(obj, "step0")?
+            } else {
+                0
+            },
             dt: attr(obj, "dt")?,
             n_steps: attr(obj, "n_steps")?,
             save_every: attr(obj, "save_every")?,
@@ -49,6 +56,7 @@ impl ModalInput {
             v0: &self.v0,
             loads: &self.loads,
             t0: self.t0,
+            step0: self.step0,
             dt: self.dt,
             n_steps: self.n_steps,
             save_every: self.save_every,

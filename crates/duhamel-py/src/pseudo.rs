@@ -65,6 +65,15 @@ fn options_of(obj: &Bound<'_, PyAny>) -> PyResult<Options> {
     })
 }
 
+/// The optional `element_state` attribute (the elements' committed variables a continued
+/// run starts from): None when absent or None.
+pub(crate) fn element_state_of(obj: &Bound<'_, PyAny>) -> PyResult<Option<Vec<f64>>> {
+    if !obj.hasattr("element_state")? {
+        return Ok(None);
+    }
+    optional_flat(&obj.getattr("element_state")?, "element_state")
+}
+
 /// Owned modal couplings scaled by a speed law: `(K, C, law)`.
 type Scaled = (
     Option<Vec<f64>>,
@@ -101,6 +110,7 @@ pub(crate) fn solve_pseudo(
         let coupling_c = optional_flat(&nonlinear.getattr("coupling_c")?, "coupling_c")?;
         let mass = mass_of(&nonlinear.getattr("mass")?)?;
         let options = options_of(&nonlinear.getattr("options")?)?;
+        let element_state = element_state_of(nonlinear)?;
         let mut owned: Vec<Scaled> = Vec::new();
         for item in nonlinear.getattr("scaled")?.try_iter()? {
             let item = item?;
@@ -128,6 +138,7 @@ pub(crate) fn solve_pseudo(
             scaled: &scaled,
             mass: mass.as_ref(),
             options,
+            element_state: element_state.as_deref(),
         };
         let forcing =
             PyForcing::modal(forcing, &problem.getattr("phi")?, problem_nl.base.n_modes())?;

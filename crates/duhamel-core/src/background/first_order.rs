@@ -474,13 +474,10 @@ pub fn integrate(
                 factorizations: c.factorizations,
                 ..Stats::default()
             });
-        (
-            loads,
-            ending,
-            (stats, route.corrector.as_mut().and_then(|c| c.take_rows())),
-        )
+        let records = route.corrector.as_mut().map(|c| c.take_records());
+        (loads, ending, (stats, records.unwrap_or_default()))
     });
-    let (stats, elements) = stats;
+    let (stats, (elements, element_state)) = stats;
     let (t, load_values, forcing) = loads.into_saved(problem).map_err(fail)?;
     let history = History {
         n_modes: m,
@@ -493,6 +490,7 @@ pub fn integrate(
         pseudo: has_corrector.then_some(pseudo),
         outputs: outputs.is_some().then_some(out),
         elements,
+        element_state,
     };
     conclude(history, ending).map(|h| (h, stats))
 }

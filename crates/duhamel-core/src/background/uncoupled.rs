@@ -388,6 +388,7 @@ pub fn integrate(
         pseudo: None,
         outputs: None,
         elements: None,
+        element_state: None,
     };
     conclude(history, ending)
 }

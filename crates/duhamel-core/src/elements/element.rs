@@ -132,6 +132,17 @@ impl<'a> Evaluation<'a> {
         !self.committed.is_empty()
     }
 
+    /// The committed internal variables.
+    pub fn committed(&self) -> &[f64] {
+        &self.committed
+    }
+
+    /// Sets the committed (and trial) internal variables, e.g. from a checkpoint.
+    pub fn set_committed(&mut self, state: &[f64]) {
+        self.committed.copy_from_slice(state);
+        self.trial.copy_from_slice(state);
+    }
+
     /// Sets the internal variables to their initial values at the stored local state (the
     /// run's initial state).
     pub fn start(&mut self) {

@@ -40,6 +40,8 @@ pub struct Nonlinear<'a> {
     pub tol: f64,
     /// Newton iterations per step before giving up.
     pub max_iter: usize,
+    /// The elements' committed internal variables at the start (a continued run), if any.
+    pub element_state: Option<&'a [f64]>,
 }
 
 /// The per-run state of the correction.
@@ -192,6 +194,9 @@ impl<'a> Corrector<'a> {
             corrector.map(eta0.0, eta0.1, 1, &mut v);
             corrector.pf.commit(&q, &v, 0.0, true)?;
         }
+        if let Some(state) = nl.element_state {
+            corrector.pf.set_element_state(state)?;
+        }
         corrector.q = q;
         Ok(corrector)
     }
@@ -212,9 +217,10 @@ impl<'a> Corrector<'a> {
         Ok(())
     }
 
-    /// The elements' saved rows, if kept.
-    pub(crate) fn take_rows(&mut self) -> Option<ElementRows> {
-        self.rows.take()
+    /// The elements' saved rows, if kept, and their committed variables (hysteretic).
+    pub(crate) fn take_records(&mut self) -> (Option<ElementRows>, Option<Vec<f64>>) {
+        let state = self.pf.stateful().then(|| self.pf.element_state());
+        (self.rows.take(), state)
     }
 
     /// Number of real modes.

@@ -74,6 +74,13 @@ impl<'a> ElementSpace<'a> {
         Ok(())
     }
 
+    /// Sets the elements' committed variables (the layout of
+    /// [`super::force::PseudoForce::element_state`]).
+    pub fn set_element_state(&mut self, state: &[f64]) -> Result<(), CoreError> {
+        let mut evals: Vec<_> = self.members.iter_mut().map(|m| &mut m.eval).collect();
+        super::force::elements::set_states(&mut evals, state)
+    }
+
     /// `n_d`, the number of element dofs.
     pub fn len(&self) -> usize {
         self.phi.len() / self.n_modes.max(1)

@@ -58,6 +58,10 @@ pub struct NonlinearProblem<'a> {
     pub mass: Option<&'a TimeVaryingMass>,
     /// Integrator settings.
     pub options: Options,
+    /// The elements' committed internal variables at the start (a run continued from a
+    /// checkpoint: [`crate::History::element_state`] of the run before); None: their
+    /// initial values.
+    pub element_state: Option<&'a [f64]>,
 }
 
 /// A modal coupling whose pseudo-force is `-s(t) (K q + C v)`, `s` a speed law:

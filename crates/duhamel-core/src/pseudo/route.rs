@@ -348,10 +348,18 @@ pub fn integrate(
     if stateful {
         let start = (base.q0, base.v0);
         stepper
-            .commit(&mut pf, start, base.t0, true)
+            .commit(&mut pf, start, base.time(0), true)
             .map_err(fail)?;
         if let Some(sub) = &mut sub {
-            sub.commit(&mut pf, start, base.t0, true).map_err(fail)?;
+            sub.commit(&mut pf, start, base.time(0), true)
+                .map_err(fail)?;
+        }
+        if let Some(state) = problem.element_state {
+            pf.set_element_state(state).map_err(fail)?;
+            stepper.set_element_state(state).map_err(fail)?;
+            if let Some(sub) = &mut sub {
+                sub.set_element_state(state).map_err(fail)?;
+            }
         }
     }
     let loads = BlockLoads::new(base, true, forcing.is_some(), 3 * n).map_err(fail)?;
@@ -398,6 +406,7 @@ pub fn integrate(
         pseudo: Some(route.hp),
         outputs: None,
         elements: (route.he.width > 0).then_some(route.he),
+        element_state: stateful.then(|| route.pf.element_state()),
     };
     let mut stats = route.stats;
     if let Some(sub) = &route.sub {

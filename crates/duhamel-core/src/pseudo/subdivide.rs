@@ -106,6 +106,14 @@ impl<'r> Subdivider<'r> {
         Ok(())
     }
 
+    /// Sets the committed variables of every level's copy of the elements.
+    pub fn set_element_state(&mut self, state: &[f64]) -> Result<(), CoreError> {
+        for level in &mut self.levels {
+            level.stepper.set_element_state(state)?;
+        }
+        Ok(())
+    }
+
     /// Advances `(q, v)` over the step `[t, t + dt]` whose modal load basis is `pb` in
     /// halves (the step itself failed); returns the Newton iterations.
     #[allow(clippy::too_many_arguments)]

@@ -17,6 +17,7 @@ use crate::mass::{MassForm, MassTreatment, TimeVaryingMass};
 
 use super::problem::ScaledCoupling;
 
+pub(crate) mod elements;
 mod single;
 
 /// An element with the mode-shape rows of its degrees of freedom.
@@ -199,63 +200,6 @@ impl<'a> PseudoForce<'a> {
                     }
                 }
             }
-        }
-        Ok(())
-    }
-
-    /// Whether an element has internal variables (hysteresis) to commit after each step.
-    pub fn stateful(&self) -> bool {
-        self.slots.iter().any(|s| s.eval.stateful())
-    }
-
-    /// The hysteretic elements' variables at the modal state `(q, v)`: set to their initial
-    /// values (`initial`, the run's start) or committed after evaluating there at `t` (the
-    /// end of an accepted step).
-    pub fn commit(&mut self, q: &[f64], v: &[f64], t: f64, initial: bool) -> Result<(), CoreError> {
-        let n = self.n;
-        for slot in self.slots.iter_mut().filter(|s| s.eval.stateful()) {
-            let e = &mut slot.eval;
-            for (j, row) in slot.phi_e.chunks_exact(n).enumerate() {
-                e.x[j] = crate::dense::dot(row, q);
-                e.v[j] = crate::dense::dot(row, v);
-            }
-            if initial {
-                e.start();
-            } else {
-                e.commit(t)?;
-            }
-        }
-        Ok(())
-    }
-
-    /// The elements' numbers of local dofs (their saved rows hold the sum).
-    pub fn element_widths(&self) -> Vec<usize> {
-        self.slots.iter().map(|s| s.eval.x.len()).collect()
-    }
-
-    /// Every element's local displacements, velocities and restoring force at the modal
-    /// state `(q, v)` and `t` — a hysteretic one from its committed variables — into
-    /// `x`, `v_out`, `r` (the sum of `element_widths()` each, the elements in order).
-    pub fn record(
-        &mut self,
-        (q, v): (&[f64], &[f64]),
-        t: f64,
-        (x, v_out, r): (&mut [f64], &mut [f64], &mut [f64]),
-    ) -> Result<(), CoreError> {
-        let n = self.n;
-        let mut at = 0;
-        for slot in &mut self.slots {
-            let e = &mut slot.eval;
-            for (j, row) in slot.phi_e.chunks_exact(n).enumerate() {
-                e.x[j] = crate::dense::dot(row, q);
-                e.v[j] = crate::dense::dot(row, v);
-            }
-            e.evaluate(t, false)?;
-            let nl = e.x.len();
-            x[at..at + nl].copy_from_slice(&e.x);
-            v_out[at..at + nl].copy_from_slice(&e.v);
-            r[at..at + nl].copy_from_slice(&e.r);
-            at += nl;
         }
         Ok(())
     }

@@ -362,6 +362,14 @@ impl<'r> Stepper<'r> {
         }
     }
 
+    /// Sets the committed variables of this step solver's copy of the elements.
+    pub fn set_element_state(&mut self, state: &[f64]) -> Result<(), CoreError> {
+        match &mut self.local {
+            Some((space, _)) => space.set_element_state(state),
+            None => Ok(()),
+        }
+    }
+
     /// Whether steps are solved analytically (closed form, no Newton).
     pub fn analytic(&self) -> bool {
         self.scalar.is_some() || self.closed_form
