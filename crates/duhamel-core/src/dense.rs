@@ -226,6 +226,50 @@ impl DenseLu {
     }
 }
 
+impl DenseLu {
+    /// Solves `a^T X = B` in place of `B` for `k` right-hand sides at once: `b` is `n x k`
+    /// row-major (row `m` holds component `m` of every right-hand side, so each update is a
+    /// `k`-wide vector operation); `perm` is scratch of the same size. False if the
+    /// solution is not finite.
+    pub fn solve_transpose_many(&self, b: &mut [f64], k: usize, perm: &mut [f64]) -> bool {
+        let n = self.n;
+        let (b, perm) = (&mut b[..n * k], &mut perm[..n * k]);
+        // U^T Y = B, row by row.
+        for (j, row) in self.lu.chunks_exact(n).enumerate() {
+            let (head, tail) = b.split_at_mut((j + 1) * k);
+            let yj = &mut head[j * k..];
+            let inv = 1.0 / row[j];
+            for y in yj.iter_mut() {
+                *y *= inv;
+            }
+            for (bi, &u) in tail.chunks_exact_mut(k).zip(&row[j + 1..]) {
+                if u != 0.0 {
+                    for (x, y) in bi.iter_mut().zip(yj.iter()) {
+                        *x -= u * y;
+                    }
+                }
+            }
+        }
+        // L^T W = Y (unit diagonal), from the last row up.
+        for (j, row) in self.lu.chunks_exact(n).enumerate().rev() {
+            let (head, tail) = b.split_at_mut(j * k);
+            let wj = &tail[..k];
+            for (bi, &l) in head.chunks_exact_mut(k).zip(&row[..j]) {
+                if l != 0.0 {
+                    for (x, w) in bi.iter_mut().zip(wj) {
+                        *x -= l * w;
+                    }
+                }
+            }
+        }
+        for (i, &p) in self.piv.iter().enumerate() {
+            perm[p * k..(p + 1) * k].copy_from_slice(&b[i * k..(i + 1) * k]);
+        }
+        b.copy_from_slice(perm);
+        b.iter().all(|v| v.is_finite())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -242,6 +286,30 @@ mod tests {
             assert!((ri - bi).abs() < 1e-14);
         }
         assert!(!solve_in_place(2, &[1.0, 2.0, 2.0, 4.0], &mut [1.0, 1.0]));
+    }
+
+    #[test]
+    fn many_transposed_solves_are_the_single_ones() {
+        let n = 7;
+        let a: Vec<f64> = (0..n * n)
+            .map(|k| ((k * 17 % 11) as f64 - 5.0) + if k % (n + 1) == 0 { 0.3 } else { 0.0 })
+            .collect();
+        let lu = DenseLu::factor(n, &a).expect("regular");
+        let k = 3;
+        let rhs: Vec<Vec<f64>> = (0..k)
+            .map(|c| (0..n).map(|i| ((i * 3 + c) as f64 * 0.37).sin()).collect())
+            .collect();
+        let mut many: Vec<f64> = (0..n * k).map(|x| rhs[x % k][x / k]).collect();
+        let mut perm = vec![0.0; n * k];
+        assert!(lu.solve_transpose_many(&mut many, k, &mut perm));
+        let mut work = vec![0.0; n];
+        for (c, r) in rhs.iter().enumerate() {
+            let mut one = r.clone();
+            assert!(lu.solve_transpose(&mut one, &mut work));
+            for i in 0..n {
+                assert!((one[i] - many[i * k + c]).abs() < 1e-13 * (1.0 + one[i].abs()));
+            }
+        }
     }
 
     #[test]

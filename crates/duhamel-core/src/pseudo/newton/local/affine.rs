@@ -149,13 +149,25 @@ impl LocalNewton {
                 });
             }
         }
-        self.pmat.copy_from_slice(phi);
-        for row in self.pmat.chunks_exact_mut(n) {
-            match &self.lu {
-                Some(lu) => {
-                    lu.solve_transpose(row, &mut self.work);
+        match &self.lu {
+            Some(lu) => {
+                // P^T = A^-T Phi_D^T, all the element dofs at once
+                let (pt, perm) = (&mut self.pt, &mut self.pt_work);
+                for (a, row) in phi.chunks_exact(n).enumerate() {
+                    for (m, &p) in row.iter().enumerate() {
+                        pt[m * nd + a] = p;
+                    }
                 }
-                None => {
+                lu.solve_transpose_many(pt, nd, perm);
+                for (a, prow) in self.pmat.chunks_exact_mut(n).enumerate() {
+                    for (m, p) in prow.iter_mut().enumerate() {
+                        *p = pt[m * nd + a];
+                    }
+                }
+            }
+            None => {
+                self.pmat.copy_from_slice(phi);
+                for row in self.pmat.chunks_exact_mut(n) {
                     for (p, d) in row.iter_mut().zip(&self.diag) {
                         *p /= d;
                     }

@@ -75,8 +75,10 @@ pub(in super::super) struct LocalNewton {
     w_hat: Vec<Vec<f64>>,
     g: Vec<Vec<f64>>,
     ready: bool,
-    /// `P = Phi_D A^{-1}` (`n_d x n`, row-major).
+    /// `P = Phi_D A^{-1}` (`n_d x n`, row-major); with a dense `A`, `P^T` and scratch.
     pmat: Vec<f64>,
+    pt: Vec<f64>,
+    pt_work: Vec<f64>,
     /// The diagonal of `A`, and with couplings `A` itself and its factors.
     diag: Vec<f64>,
     a: Vec<f64>,
@@ -162,6 +164,8 @@ impl LocalNewton {
             g: per_node(nd * nd),
             ready: false,
             pmat: vec![0.0; nd * n],
+            pt: vec![0.0; if coupled { nd * n } else { 0 }],
+            pt_work: vec![0.0; if coupled { nd * n } else { 0 }],
             diag: vec![1.0; n],
             a: vec![0.0; square],
             lu: None,
