@@ -109,8 +109,8 @@ def element(spec: tuple) -> Any:
     if kind == "contact":
         return _core.Element.contact(*args)
     if kind == "callable":
-        dofs, fn, jacobian = args
-        return _core.Element.callable(list(dofs), fn, jacobian)
+        dofs, fn, jacobian, *state = args
+        return _core.Element.callable(list(dofs), fn, jacobian, state[0] if state else None)
     raise ValueError(f"unknown element kind {kind!r}")
 
 

@@ -290,17 +290,43 @@ class Callable(Element):
     ``(dr/dx, dr/dv)`` (square matrices), otherwise tangents come from finite differences.
     Called with the GIL once per evaluation, never per degree of freedom.
 
+    **Your own hysteresis** (internal variables, OpenSees' trial/commit protocol): give
+    `state`, the initial values of the element's internal variables (a 1-D array: plastic
+    deformation, back force, the deformation they were committed at, ...). Then
+    ``fn(x, v, t, state)`` receives the variables *committed at the start of the current
+    step* (a copy: do not keep it) and returns ``(r, trial_state)``: the force at the trial
+    state ``(x, v)`` reached from them, and the variables there. ``jacobian(x, v, t,
+    state)`` likewise. The integrator calls `fn` as often as its Newton iterations need,
+    always from the committed variables, and commits the trial variables of the step's end
+    state once per accepted step (also after every substep of a subdivided step); so `fn`
+    must be a pure function of its arguments. The committed force history is in
+    ``Solution.elements`` (docs/structural.md).
+
     Examples
     --------
     >>> import numpy as np, duhamel
     >>> hysteretic = duhamel.elements.Callable(lambda x, v, t: 0.1 * np.tanh(x / 1e-3), [0])
+    >>> def elastoplastic(x, v, t, state, k=100.0, fy=1.0):
+    ...     x_c, plastic = state                    # committed deformation and plastic part
+    ...     trial = k * (x[0] - plastic)            # elastic predictor
+    ...     if abs(trial) > fy:                     # return to the yield surface
+    ...         plastic = x[0] - np.sign(trial) * fy / k
+    ...         trial = np.sign(trial) * fy
+    ...     return np.array([trial]), np.array([x[0], plastic])
+    >>> epp = duhamel.elements.Callable(elastoplastic, [0], state=[0.0, 0.0])
     """
 
     fn: CallableT[[NDArray, NDArray, float], ArrayLike]
     dofs: tuple[int, ...]
-    jacobian: CallableT[[NDArray, NDArray, float], tuple[ArrayLike, ArrayLike]] | None = None
+    jacobian: CallableT[..., tuple[ArrayLike, ArrayLike]] | None = None
+    state: ArrayLike | None = None
 
     def __post_init__(self) -> None:
+        if self.state is not None:
+            state = as_float_array(self.state, "state", ndim=1)
+            if not state.size:
+                raise ValueError("`state` must have at least one internal variable (or be None)")
+            object.__setattr__(self, "state", tuple(float(s) for s in state))
         if not callable(self.fn):
             raise TypeError(f"`fn` must be callable, got {type(self.fn).__name__}")
         if self.jacobian is not None and not callable(self.jacobian):
@@ -320,4 +346,5 @@ class Callable(Element):
             raise ValueError(f"`dofs` has duplicates: {list(self.dofs)}")
 
     def _spec(self) -> tuple:
-        return ("callable", list(self.dofs), self.fn, self.jacobian)
+        state = None if self.state is None else list(self.state)
+        return ("callable", list(self.dofs), self.fn, self.jacobian, state)

@@ -3,7 +3,7 @@
 
 use std::sync::Mutex;
 
-use duhamel_core::elements::{Contact, Damper, Element, Polynomial, Spring, Tangent};
+use duhamel_core::elements::{Contact, Damper, Element, History, Polynomial, Spring, Tangent};
 use duhamel_core::CoreError;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -15,22 +15,25 @@ use crate::error::core_err;
 use crate::guard::guarded;
 
 /// A Python function `fn(x, v, t) -> r` of an element's local state, with an optional
-/// `jacobian(x, v, t) -> (dr/dx, dr/dv)`; called with the GIL, once per evaluation.
+/// `jacobian(x, v, t) -> (dr/dx, dr/dv)`; called with the GIL, once per evaluation. With
+/// internal variables (`state0`, their initial values): `fn(x, v, t, state) -> (r, trial)`
+/// and `jacobian(x, v, t, state)`, `state` the variables committed at the start of the step.
 pub(crate) struct PyElement {
     dofs: Vec<usize>,
     func: Py<PyAny>,
     jacobian: Option<Py<PyAny>>,
+    state0: Option<Vec<f64>>,
     /// The first Python exception raised, re-raised after the run.
     pub(crate) error: Mutex<Option<PyErr>>,
 }
 
 impl PyElement {
+    #[allow(clippy::too_many_arguments)]
     fn call(
         &self,
         py: Python<'_>,
-        x: &[f64],
-        v: &[f64],
-        t: f64,
+        (x, v, t): (&[f64], &[f64], f64),
+        history: Option<History<'_>>,
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> PyResult<()> {
@@ -40,13 +43,37 @@ impl PyElement {
         let bad = |what: String| {
             PyValueError::new_err(format!("the `Callable` element {what} at t = {t}"))
         };
-        let out = self.func.call1(py, (xa.clone(), va.clone(), t))?;
-        let f = vector(py, out.bind(py), n).map_err(|e| bad(format!("returned {e}")))?;
+        let state = history
+            .as_ref()
+            .map(|h| PyArray1::from_slice(py, h.committed));
+        let out = match &state {
+            Some(s) => self
+                .func
+                .call1(py, (xa.clone(), va.clone(), t, s.clone()))?,
+            None => self.func.call1(py, (xa.clone(), va.clone(), t))?,
+        };
+        let f = match history {
+            Some(h) => {
+                let ns = h.trial.len();
+                let (force, trial) = two(out.bind(py)).map_err(|got| {
+                    bad(format!(
+                        "returned {got}, expected a pair (r, state) of shapes ({n},) and ({ns},)"
+                    ))
+                })?;
+                let s = vector(py, &trial, ns).map_err(|e| bad(format!("returned a state {e}")))?;
+                h.trial.copy_from_slice(&s);
+                vector(py, &force, n).map_err(|e| bad(format!("returned a force {e}")))?
+            }
+            None => vector(py, out.bind(py), n).map_err(|e| bad(format!("returned {e}")))?,
+        };
         for (ri, fi) in r.iter_mut().zip(&f) {
             *ri += fi;
         }
         if let (Some(tan), Some(jac)) = (tangent, &self.jacobian) {
-            let pair = jac.call1(py, (xa, va, t))?;
+            let pair = match &state {
+                Some(s) => jac.call1(py, (xa, va, t, s.clone()))?,
+                None => jac.call1(py, (xa, va, t))?,
+            };
             let pair = pair.bind(py);
             let (kx, cv) = two(pair).map_err(|got| {
                 bad(format!(
@@ -61,6 +88,29 @@ impl PyElement {
             }
         }
         Ok(())
+    }
+
+    /// Runs `call` with the GIL, keeping its Python exception for after the run.
+    fn attached(
+        &self,
+        state: (&[f64], &[f64], f64),
+        history: Option<History<'_>>,
+        r: &mut [f64],
+        tangent: Option<Tangent<'_>>,
+    ) -> Result<(), CoreError> {
+        let t = state.2;
+        Python::attach(|py| {
+            self.call(py, state, history, r, tangent).map_err(|err| {
+                let message = err.to_string();
+                let mut slot = self.error.lock().unwrap_or_else(|p| p.into_inner());
+                slot.get_or_insert(err);
+                CoreError::Callback {
+                    time: t,
+                    step: 0,
+                    message,
+                }
+            })
+        })
     }
 }
 
@@ -146,6 +196,8 @@ impl Element for PyElement {
         &self.dofs
     }
 
+    /// Without internal variables the function of the state; with them, the response from
+    /// their initial values.
     fn eval(
         &self,
         x: &[f64],
@@ -154,18 +206,40 @@ impl Element for PyElement {
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
-        Python::attach(|py| {
-            self.call(py, x, v, t, r, tangent).map_err(|err| {
-                let message = err.to_string();
-                let mut slot = self.error.lock().unwrap_or_else(|p| p.into_inner());
-                slot.get_or_insert(err);
-                CoreError::Callback {
-                    time: t,
-                    step: 0,
-                    message,
-                }
-            })
-        })
+        match &self.state0 {
+            None => self.attached((x, v, t), None, r, tangent),
+            Some(s0) => {
+                let mut trial = s0.clone();
+                let history = History {
+                    committed: s0,
+                    trial: &mut trial,
+                };
+                self.attached((x, v, t), Some(history), r, tangent)
+            }
+        }
+    }
+
+    fn state_len(&self) -> usize {
+        self.state0.as_ref().map_or(0, Vec::len)
+    }
+
+    fn initial_state(&self, _x: &[f64], _v: &[f64], state: &mut [f64]) {
+        if let Some(s0) = &self.state0 {
+            state.copy_from_slice(s0);
+        }
+    }
+
+    fn eval_path(
+        &self,
+        x: &[f64],
+        v: &[f64],
+        t: f64,
+        history: History<'_>,
+        r: &mut [f64],
+        tangent: Option<Tangent<'_>>,
+    ) -> Result<(), CoreError> {
+        let history = self.state0.is_some().then_some(history);
+        self.attached((x, v, t), history, r, tangent)
     }
 
     fn polynomial_degree(&self) -> Option<u32> {
@@ -191,6 +265,7 @@ enum Spec {
         dofs: Vec<usize>,
         func: Py<PyAny>,
         jacobian: Option<Py<PyAny>>,
+        state: Option<Vec<f64>>,
     },
 }
 
@@ -251,15 +326,30 @@ impl ElementSpec {
     }
 
     /// A Python function `fn(x, v, t) -> r` of the local state at `dofs`, with an optional
-    /// `jacobian(x, v, t) -> (dr/dx, dr/dv)`.
+    /// `jacobian(x, v, t) -> (dr/dx, dr/dv)`; with `state` (the initial internal variables)
+    /// `fn(x, v, t, state) -> (r, trial_state)` and `jacobian(x, v, t, state)`.
     #[staticmethod]
-    #[pyo3(signature = (dofs, func, jacobian=None))]
-    fn callable(dofs: Vec<usize>, func: Py<PyAny>, jacobian: Option<Py<PyAny>>) -> Self {
-        ElementSpec(Spec::Callable {
+    #[pyo3(signature = (dofs, func, jacobian=None, state=None))]
+    fn callable(
+        dofs: Vec<usize>,
+        func: Py<PyAny>,
+        jacobian: Option<Py<PyAny>>,
+        state: Option<Vec<f64>>,
+    ) -> PyResult<Self> {
+        if let Some(bad) = state
+            .as_ref()
+            .and_then(|s| s.iter().find(|x| !x.is_finite()))
+        {
+            return Err(PyValueError::new_err(format!(
+                "`state` must be finite, got {bad}"
+            )));
+        }
+        Ok(ElementSpec(Spec::Callable {
             dofs,
             func,
             jacobian,
-        })
+            state,
+        }))
     }
 }
 
@@ -305,11 +395,13 @@ pub(crate) fn build(py: Python<'_>, specs: &Bound<'_, PyAny>) -> PyResult<Built>
                 dofs,
                 func,
                 jacobian,
+                state,
             } => {
                 let element = std::sync::Arc::new(PyElement {
                     dofs: dofs.clone(),
                     func: func.clone_ref(py),
                     jacobian: jacobian.as_ref().map(|j| j.clone_ref(py)),
+                    state0: state.clone(),
                     error: Mutex::new(None),
                 });
                 built.python.push(element.clone());
@@ -337,6 +429,23 @@ impl Element for ArcElement {
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
         self.0.eval(x, v, t, r, tangent)
+    }
+    fn state_len(&self) -> usize {
+        self.0.state_len()
+    }
+    fn initial_state(&self, x: &[f64], v: &[f64], state: &mut [f64]) {
+        self.0.initial_state(x, v, state)
+    }
+    fn eval_path(
+        &self,
+        x: &[f64],
+        v: &[f64],
+        t: f64,
+        history: History<'_>,
+        r: &mut [f64],
+        tangent: Option<Tangent<'_>>,
+    ) -> Result<(), CoreError> {
+        self.0.eval_path(x, v, t, history, r, tangent)
     }
     fn polynomial_degree(&self) -> Option<u32> {
         None
