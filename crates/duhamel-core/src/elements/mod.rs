@@ -7,11 +7,15 @@
 
 mod contact;
 mod element;
+mod hysteretic;
 mod polynomial;
 mod spring;
 
 pub use contact::Contact;
 pub(crate) use element::Evaluation;
 pub use element::{Element, History, ModalCubic, Tangent};
+pub use hysteretic::{
+    Bilinear, BoucWen, FrictionPendulum, Gap, ViscousDamper, DEFAULT_V0, DEFAULT_YIELD_DISPLACEMENT,
+};
 pub use polynomial::Polynomial;
 pub use spring::{Damper, Spring};

@@ -1,0 +1,216 @@
+//! Bilinear elastoplastic element with kinematic hardening (OpenSees `Steel01` without
+//! isotropic hardening).
+//!
+//! With the deformation `u = x_i - x_j` (`x_i` when grounded) the element force `F` acts as
+//! `r_i = +F`, `r_j = -F`. Elastic stiffness `k`, yield force `fy` (yield deformation
+//! `uy = fy / k`), post-yield stiffness `alpha k`. The force stays between the two bounding
+//! lines of slope `alpha k`,
+//!
+//! ```text
+//! F_lower(u) = alpha k u - (1 - alpha) fy  <=  F  <=  F_upper(u) = alpha k u + (1 - alpha) fy,
+//! ```
+//!
+//! and moves with slope `k` inside the band: the classical linear kinematic hardening law
+//! (back force `alpha k u_p` at plastic deformation `u_p`, `F = k (u - u_p)`). From the
+//! committed `(u_c, F_c)` the return mapping to the trial `u` is exact for any increment:
+//!
+//! ```text
+//! F_trial = F_c + k (u - u_c),   F = min(max(F_trial, F_lower(u)), F_upper(u)),
+//! ```
+//!
+//! with the consistent tangent `dF/du = k` when `F_trial` lies strictly inside or on the band
+//! and `alpha k` when it is cut back (the derivative of the map above; at the corner the
+//! elastic branch is taken). Internal variables: `[u_c, F_c]`.
+//!
+//! **Initial state.** The element is virgin at `u = 0` and is taken as loaded monotonically
+//! to the initial deformation `u_0`: `F_0 = B(u_0)`, the backbone
+//! `B(u) = min(max(k u, F_lower(u)), F_upper(u))` (`k u` below yield, then slope `alpha k`).
+//! [`Element::eval`] (no history) returns the same backbone.
+//!
+//! A symmetric cycle between `+-u_max > uy` dissipates `4 (1 - alpha) fy (u_max - uy)`.
+
+use super::common::{check, check_alpha, finite, local_dofs, relative, scatter};
+use crate::elements::element::{Element, History, Tangent};
+use crate::error::CoreError;
+
+/// Bilinear kinematic-hardening spring between dofs `i` and `j` (or `i` and ground).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bilinear {
+    dofs: Vec<usize>,
+    k: f64,
+    fy: f64,
+    alpha: f64,
+}
+
+impl Bilinear {
+    /// Element from dof `i` to dof `j` (`None`: to ground) with elastic stiffness `k > 0`,
+    /// yield force `fy > 0` and post-yield stiffness ratio `alpha <= 1` (0: elastic-perfectly
+    /// plastic, negative: softening, 1: linear). Errors name the parameter (`"j"` when
+    /// `j == Some(i)`).
+    pub fn new(i: usize, j: Option<usize>, k: f64, fy: f64, alpha: f64) -> Result<Self, CoreError> {
+        check("k", k, true)?;
+        check("fy", fy, true)?;
+        check_alpha(alpha)?;
+        Ok(Self {
+            dofs: local_dofs(i, j)?,
+            k,
+            fy,
+            alpha,
+        })
+    }
+
+    /// Elastic stiffness `k`.
+    pub fn k(&self) -> f64 {
+        self.k
+    }
+
+    /// Yield force `fy`.
+    pub fn fy(&self) -> f64 {
+        self.fy
+    }
+
+    /// Post-yield stiffness ratio `alpha`.
+    pub fn alpha(&self) -> f64 {
+        self.alpha
+    }
+
+    /// Yield deformation `uy = fy / k`.
+    pub fn yield_deformation(&self) -> f64 {
+        self.fy / self.k
+    }
+
+    /// The force and consistent tangent `(F, dF/du)` at deformation `u` reached from the
+    /// committed deformation `u_c` and force `f_c` (the return mapping).
+    pub fn response(&self, u_c: f64, f_c: f64, u: f64) -> (f64, f64) {
+        let trial = f_c + self.k * (u - u_c);
+        let line = self.alpha * self.k * u;
+        let band = (1.0 - self.alpha) * self.fy;
+        if trial > line + band {
+            (line + band, self.alpha * self.k)
+        } else if trial < line - band {
+            (line - band, self.alpha * self.k)
+        } else {
+            (trial, self.k)
+        }
+    }
+
+    /// The virgin backbone `(F, dF/du)` at deformation `u`.
+    pub fn backbone(&self, u: f64) -> (f64, f64) {
+        self.response(0.0, 0.0, u)
+    }
+}
+
+impl Element for Bilinear {
+    fn dofs(&self) -> &[usize] {
+        &self.dofs
+    }
+
+    fn eval(
+        &self,
+        x: &[f64],
+        _v: &[f64],
+        t: f64,
+        r: &mut [f64],
+        tangent: Option<Tangent<'_>>,
+    ) -> Result<(), CoreError> {
+        let (f, kt) = self.backbone(relative(x));
+        finite(t, &[f, kt])?;
+        scatter(f, kt, r, tangent.map(|tg| tg.kx));
+        Ok(())
+    }
+
+    fn polynomial_degree(&self) -> Option<u32> {
+        None
+    }
+
+    fn uses_velocity(&self) -> bool {
+        false
+    }
+
+    fn state_len(&self) -> usize {
+        2
+    }
+
+    fn initial_state(&self, x: &[f64], _v: &[f64], state: &mut [f64]) {
+        let u = relative(x);
+        state[0] = u;
+        state[1] = self.backbone(u).0;
+    }
+
+    fn eval_path(
+        &self,
+        x: &[f64],
+        _v: &[f64],
+        t: f64,
+        history: History<'_>,
+        r: &mut [f64],
+        tangent: Option<Tangent<'_>>,
+    ) -> Result<(), CoreError> {
+        let u = relative(x);
+        let (f, kt) = self.response(history.committed[0], history.committed[1], u);
+        finite(t, &[f, kt])?;
+        history.trial[0] = u;
+        history.trial[1] = f;
+        scatter(f, kt, r, tangent.map(|tg| tg.kx));
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn validates_parameters() {
+        let name = |e: CoreError| match e {
+            CoreError::InvalidInput { name, .. } => name,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(
+            name(Bilinear::new(0, None, 0.0, 1.0, 0.1).unwrap_err()),
+            "k"
+        );
+        assert_eq!(
+            name(Bilinear::new(0, None, 1.0, f64::NAN, 0.1).unwrap_err()),
+            "fy"
+        );
+        assert_eq!(
+            name(Bilinear::new(0, None, 1.0, 1.0, 1.5).unwrap_err()),
+            "alpha"
+        );
+        assert_eq!(
+            name(Bilinear::new(0, None, 1.0, 1.0, f64::NAN).unwrap_err()),
+            "alpha"
+        );
+        assert_eq!(
+            name(Bilinear::new(2, Some(2), 1.0, 1.0, 0.1).unwrap_err()),
+            "j"
+        );
+    }
+
+    #[test]
+    fn backbone_and_unloading() {
+        let b = Bilinear::new(0, None, 100.0, 2.0, 0.1).unwrap(); // uy = 0.02
+        assert_eq!(b.backbone(0.01), (1.0, 100.0));
+        let (f, kt) = b.backbone(0.05);
+        assert!((f - (2.0 + 10.0 * 0.03)).abs() < 1e-14 && kt == 10.0);
+        // unload elastically by 2 uy, then yield in reverse on the lower line
+        let (f1, k1) = b.response(0.05, f, 0.02);
+        assert!((f1 - (f - 3.0)).abs() < 1e-14 && k1 == 100.0);
+        let (f2, k2) = b.response(0.05, f, 0.0);
+        assert!((f2 - (-1.8)).abs() < 1e-14 && k2 == 10.0);
+    }
+
+    #[test]
+    fn non_finite_state_is_an_error() {
+        let b = Bilinear::new(0, Some(1), 1.0, 1.0, 0.0).unwrap();
+        let mut r = [0.0; 2];
+        let mut trial = [0.0; 2];
+        let history = History {
+            committed: &[0.0, 0.0],
+            trial: &mut trial,
+        };
+        let e = b.eval_path(&[f64::NAN, 0.0], &[0.0; 2], 1.0, history, &mut r, None);
+        assert!(matches!(e, Err(CoreError::NonFinite { .. })));
+    }
+}

@@ -1,0 +1,17 @@
+//! Hysteretic and device elements of earthquake engineering: the path-dependent
+//! [`Bilinear`], [`BoucWen`] and [`FrictionPendulum`] (committed and trial internal
+//! variables, [`crate::elements::History`]) and the stateless [`ViscousDamper`] and [`Gap`].
+//! Each returns its exact (consistent) tangent.
+
+mod bilinear;
+mod boucwen;
+mod common;
+mod friction;
+mod gap;
+mod viscous;
+
+pub use bilinear::Bilinear;
+pub use boucwen::BoucWen;
+pub use friction::{FrictionPendulum, DEFAULT_YIELD_DISPLACEMENT};
+pub use gap::Gap;
+pub use viscous::{ViscousDamper, DEFAULT_V0};
