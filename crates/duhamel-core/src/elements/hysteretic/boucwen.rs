@@ -224,8 +224,18 @@ impl BoucWen {
         let substeps = |len: f64| (len / h_max).ceil().clamp(1.0, MAX_SUBSTEPS);
         let (mut w, mut rest) = (w0, xi);
         if w < 0.0 {
-            let m = substeps(rest);
-            let h = rest / m;
+            // g is monotone in |w|: at least g_min on the way up to 0, which is reached
+            // within |w0| / g_min when g_min > 0 (an admissible start)
+            let g_min = self.g(w, false).min(1.0);
+            let bound = if g_min > 0.0 {
+                -w / g_min
+            } else {
+                2.0 * (-w) + 40.0 / lambda.max(1.0)
+            };
+            let reaches = g_min > 0.0 && rest > bound;
+            let len = rest.min(bound);
+            let m = substeps(len);
+            let h = len / m;
             let mut crossed = false;
             for _ in 0..m as usize {
                 let next = self.rk4_step(w, h, false);
@@ -241,7 +251,11 @@ impl BoucWen {
                 rest -= h;
             }
             if !crossed {
-                return w;
+                if !reaches {
+                    return w;
+                }
+                // reached 0 at the end of `bound` (g constant) up to round-off
+                rest = rest.max(0.0);
             }
             w = 0.0;
             rest = rest.max(0.0);
@@ -339,5 +353,53 @@ impl Element for BoucWen {
         history.trial[1] = z;
         scatter(f, kt, r, tangent.map(|tg| tg.kx));
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rk4_matches_the_exact_linear_flow() {
+        // n = 1 integrated both ways, across the switch at w = 0 and into saturation
+        for (beta, gamma) in [(0.5, 0.5), (0.25, 0.75), (0.8, 0.2), (1.0, -0.5)] {
+            let e = BoucWen::new(0, None, 1.0, 1.0, 0.0, 1.0, beta, gamma).unwrap();
+            for w0 in [-0.95 / (beta + gamma), -0.3, 0.0, 0.4] {
+                for xi in [1e-3, 0.05, 0.3, 1.0, 2.5, 40.0] {
+                    let exact = e.advance_linear(w0, xi);
+                    let rk4 = e.advance_rk4(w0, xi);
+                    assert!(
+                        (exact - rk4).abs() < 1e-10,
+                        "beta {beta} gamma {gamma} w0 {w0} xi {xi}: {exact} vs {rk4}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn saturates_at_z_max_for_huge_increments() {
+        for n in [1.0, 2.0, 2.5, 25.0] {
+            let e = BoucWen::new(0, None, 2.0, 1.0, 0.1, n, 0.3, 0.5).unwrap();
+            let (z, _, kt) = e.response(0.0, -0.2, 1e9);
+            assert!((z - e.z_max()).abs() < 1e-12, "n {n}: {z}");
+            assert!((kt - 0.2).abs() < 1e-10, "n {n}: {kt}");
+        }
+    }
+
+    #[test]
+    fn validates_parameters() {
+        let name = |e: CoreError| match e {
+            CoreError::InvalidInput { name, .. } => name,
+            other => panic!("{other:?}"),
+        };
+        let make = |n, beta, gamma| BoucWen::new(0, None, 1.0, 1.0, 0.1, n, beta, gamma);
+        assert_eq!(name(make(0.5, 0.5, 0.5).unwrap_err()), "n");
+        assert_eq!(name(make(f64::INFINITY, 0.5, 0.5).unwrap_err()), "n");
+        assert_eq!(name(make(1.0, 0.0, 0.5).unwrap_err()), "beta");
+        assert_eq!(name(make(1.0, 0.5, -0.5).unwrap_err()), "gamma");
+        let e = BoucWen::new(0, None, 1.0, 0.0, 0.1, 1.0, 0.5, 0.5);
+        assert_eq!(name(e.unwrap_err()), "fy");
     }
 }
