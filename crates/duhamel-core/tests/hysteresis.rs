@@ -407,3 +407,250 @@ fn gap_open_and_closed() {
     assert!((out.r[0] + k * 0.01).abs() < 1e-6 && out.kx == [k] && out.cv == [0.0]);
     assert!(Gap::new(0, None, -0.1, k).is_err() && Gap::new(0, None, 0.0, 0.0).is_err());
 }
+
+/// Drives `e` along a random path (committing), then returns the committed variables.
+fn random_history(e: &dyn Element, rng: &mut Lcg, scale: f64, steps: usize) -> Vec<f64> {
+    let nl = e.dofs().len();
+    let mut d = Driver::new(e, &vec![0.0; nl]);
+    let mut x = vec![0.0; nl];
+    for _ in 0..steps {
+        for xi in x.iter_mut() {
+            *xi += scale * rng.next();
+        }
+        d.step(&x);
+    }
+    d.committed
+}
+
+/// Central differences of `eval_path` against the analytic tangents at random trial states
+/// from random committed states; stencils across a kink (one-sided differences that
+/// disagree) are skipped. Returns the number of entries checked.
+fn check_tangents(e: &dyn Element, scale: f64, h: f64, seed: u64) -> usize {
+    let mut rng = Lcg(seed);
+    let nl = e.dofs().len();
+    let mut checked = 0;
+    for _ in 0..200 {
+        let committed = random_history(e, &mut rng, scale, 5);
+        let x: Vec<f64> = (0..nl).map(|_| 3.0 * scale * rng.next()).collect();
+        let v: Vec<f64> = (0..nl).map(|_| rng.next()).collect();
+        let out = eval_from(e, &committed, &x, &v);
+        let shifted = |which: usize, j: usize, delta: f64| {
+            let (mut xs, mut vs) = (x.clone(), v.clone());
+            if which == 0 {
+                xs[j] += delta;
+            } else {
+                vs[j] += delta;
+            }
+            eval_from(e, &committed, &xs, &vs).r
+        };
+        for which in 0..2 {
+            for j in 0..nl {
+                let (rp, rm) = (shifted(which, j, h), shifted(which, j, -h));
+                let tangent = if which == 0 { &out.kx } else { &out.cv };
+                let scale_r = tangent.iter().fold(1e-300_f64, |m, t| m.max(t.abs()));
+                for i in 0..nl {
+                    let forward = (rp[i] - out.r[i]) / h;
+                    let backward = (out.r[i] - rm[i]) / h;
+                    if (forward - backward).abs() > 1e-3 * scale_r {
+                        continue; // a kink inside the stencil
+                    }
+                    let central = (rp[i] - rm[i]) / (2.0 * h);
+                    let got = tangent[i * nl + j];
+                    assert!(
+                        (got - central).abs() < 1e-6 * scale_r,
+                        "{which} ({i},{j}): {got} vs {central}, x {x:?} committed {committed:?}"
+                    );
+                    checked += 1;
+                }
+            }
+        }
+    }
+    checked
+}
+
+#[test]
+fn tangents_match_central_differences() {
+    let uy = 0.01;
+    let elements: Vec<(Box<dyn Element>, f64, f64)> = vec![
+        (
+            Box::new(Bilinear::new(0, Some(1), 100.0, 1.0, 0.1).unwrap()),
+            uy,
+            1e-7,
+        ),
+        (
+            Box::new(Bilinear::new(0, None, 100.0, 1.0, -0.05).unwrap()),
+            uy,
+            1e-7,
+        ),
+        (
+            Box::new(BoucWen::new(0, Some(1), 100.0, 1.0, 0.1, 1.0, 0.5, 0.5).unwrap()),
+            uy,
+            1e-7,
+        ),
+        (
+            Box::new(BoucWen::new(0, None, 100.0, 1.0, 0.0, 1.0, 0.2, 0.8).unwrap()),
+            uy,
+            1e-7,
+        ),
+        (
+            Box::new(BoucWen::new(0, None, 100.0, 1.0, 0.05, 2.0, 0.5, 0.5).unwrap()),
+            uy,
+            1e-6,
+        ),
+        (
+            Box::new(BoucWen::new(1, Some(0), 100.0, 1.0, 0.05, 5.0, 0.7, 0.1).unwrap()),
+            uy,
+            1e-6,
+        ),
+        (
+            Box::new(FrictionPendulum::new(0, 1, 2.0, 0.05, 100.0, 1e-3).unwrap()),
+            2e-3,
+            1e-8,
+        ),
+        (
+            Box::new(ViscousDamper::new(0, Some(1), 3.0, 0.35).unwrap()),
+            1.0,
+            1e-7,
+        ),
+        (
+            Box::new(
+                ViscousDamper::new(0, None, 3.0, 0.35)
+                    .unwrap()
+                    .with_v0(0.5)
+                    .unwrap(),
+            ),
+            1.0,
+            1e-7,
+        ),
+        (
+            Box::new(ViscousDamper::new(0, None, 3.0, 1.6).unwrap()),
+            1.0,
+            1e-7,
+        ),
+        (Box::new(Gap::new(0, Some(1), 0.01, 1e4).unwrap()), uy, 1e-7),
+    ];
+    for (k, (e, scale, h)) in elements.iter().enumerate() {
+        let checked = check_tangents(e.as_ref(), *scale, *h, 17 + k as u64);
+        let n = e.dofs().len();
+        // most stencils are smooth
+        assert!(checked > 200 * 2 * n * n * 3 / 4, "element {k}: {checked}");
+    }
+}
+
+#[test]
+fn trial_evaluations_do_not_accumulate_and_commits_continue_the_path() {
+    let elements: Vec<(Box<dyn Element>, f64)> = vec![
+        (
+            Box::new(Bilinear::new(0, None, 100.0, 1.0, 0.1).unwrap()),
+            0.01,
+        ),
+        (
+            Box::new(BoucWen::new(0, None, 100.0, 1.0, 0.1, 1.0, 0.5, 0.5).unwrap()),
+            0.01,
+        ),
+        (
+            Box::new(BoucWen::new(0, None, 100.0, 1.0, 0.1, 3.0, 0.5, 0.5).unwrap()),
+            0.01,
+        ),
+        (
+            Box::new(FrictionPendulum::new(0, 1, 2.0, 0.05, 100.0, 1e-3).unwrap()),
+            2e-3,
+        ),
+    ];
+    let mut rng = Lcg(5);
+    for (e, scale) in &elements {
+        let e = e.as_ref();
+        let nl = e.dofs().len();
+        let committed = random_history(e, &mut rng, *scale, 7);
+        let (x2, x3): (Vec<f64>, Vec<f64>) = (0..nl)
+            .map(|_| (3.0 * scale * rng.next(), 3.0 * scale * rng.next()))
+            .unzip();
+        let v = vec![0.0; nl];
+        // Newton iterates inside a step: each evaluation starts from the committed state
+        let first = eval_from(e, &committed, &x3, &v);
+        let _ = eval_from(e, &committed, &x2, &v);
+        let again = eval_from(e, &committed, &x3, &v);
+        assert_eq!(first.r, again.r);
+        assert_eq!(first.kx, again.kx);
+        assert_eq!(first.trial, again.trial);
+        // committing at x2, then evaluating at x3, continues the path from x2
+        let at_x2 = eval_from(e, &committed, &x2, &v);
+        let continued = eval_from(e, &at_x2.trial, &x3, &v);
+        let mut d = Driver {
+            e,
+            committed: committed.clone(),
+        };
+        d.step(&x2);
+        assert_eq!(d.step(&x3).r, continued.r);
+        // a path through the yield band: the history matters
+        assert!(first.r != continued.r || first.trial == continued.trial);
+    }
+}
+
+#[test]
+fn initial_state_is_virgin_monotonic_loading_and_eval_is_the_backbone() {
+    let elements: Vec<Box<dyn Element>> = vec![
+        Box::new(Bilinear::new(0, Some(1), 100.0, 1.0, 0.1).unwrap()),
+        Box::new(BoucWen::new(0, Some(1), 100.0, 1.0, 0.1, 1.0, 0.5, 0.5).unwrap()),
+        Box::new(BoucWen::new(0, Some(1), 100.0, 1.0, 0.1, 2.5, 0.5, 0.5).unwrap()),
+        Box::new(FrictionPendulum::new(0, 1, 2.0, 0.05, 100.0, 1e-3).unwrap()),
+    ];
+    for e in &elements {
+        let e = e.as_ref();
+        for x0 in [[0.0, 0.0], [0.004, -0.001], [-0.05, 0.02]] {
+            let mut state = vec![f64::NAN; e.state_len()];
+            e.initial_state(&x0, &[0.0, 0.0], &mut state);
+            let mut virgin = vec![f64::NAN; e.state_len()];
+            e.initial_state(&[0.0, 0.0], &[0.0, 0.0], &mut virgin);
+            let loaded = eval_from(e, &virgin, &x0, &[0.0, 0.0]);
+            assert_eq!(loaded.trial, state);
+            // staying at the initial state keeps the variables
+            assert_eq!(eval_from(e, &state, &x0, &[0.0, 0.0]).trial, state);
+            let mut r = [0.0; 2];
+            e.eval(&x0, &[0.0, 0.0], 0.0, &mut r, None).unwrap();
+            assert_eq!(r.to_vec(), loaded.r);
+        }
+    }
+}
+
+#[test]
+fn constructors_name_the_bad_parameter_and_non_finite_states_are_errors() {
+    let name = |e: CoreError| match e {
+        CoreError::InvalidInput { name, .. } => name,
+        other => panic!("{other:?}"),
+    };
+    let fp = |r, mu, w, y| FrictionPendulum::new(0, 1, r, mu, w, y).map(|_| ());
+    assert_eq!(name(fp(0.0, 0.05, 1.0, 1e-3).unwrap_err()), "radius");
+    assert_eq!(name(fp(1.0, -0.05, 1.0, 1e-3).unwrap_err()), "mu");
+    assert_eq!(name(fp(1.0, 0.05, f64::NAN, 1e-3).unwrap_err()), "weight");
+    assert_eq!(
+        name(fp(1.0, 0.05, 1.0, 0.0).unwrap_err()),
+        "yield_displacement"
+    );
+    let same = FrictionPendulum::new(4, 4, 1.0, 0.05, 1.0, 1e-3);
+    assert_eq!(name(same.unwrap_err()), "dof_y");
+    assert_eq!(name(Gap::new(0, None, f64::NAN, 1.0).unwrap_err()), "gap");
+    assert_eq!(name(Gap::new(1, Some(1), 0.0, 1.0).unwrap_err()), "j");
+
+    let elements: Vec<Box<dyn Element>> = vec![
+        Box::new(Bilinear::new(0, Some(1), 100.0, 1.0, 0.1).unwrap()),
+        Box::new(BoucWen::new(0, Some(1), 100.0, 1.0, 0.1, 1.0, 0.5, 0.5).unwrap()),
+        Box::new(BoucWen::new(0, Some(1), 100.0, 1.0, 0.1, 2.5, 0.5, 0.5).unwrap()),
+        Box::new(FrictionPendulum::new(0, 1, 2.0, 0.05, 100.0, 1e-3).unwrap()),
+        Box::new(ViscousDamper::new(0, Some(1), 3.0, 0.35).unwrap()),
+        Box::new(Gap::new(0, Some(1), 0.01, 1e4).unwrap()),
+    ];
+    for e in &elements {
+        for bad in [f64::NAN, f64::INFINITY] {
+            let committed = vec![0.0; e.state_len()];
+            let mut trial = committed.clone();
+            let mut r = [0.0; 2];
+            let history = History {
+                committed: &committed,
+                trial: &mut trial,
+            };
+            let err = e.eval_path(&[bad, 0.0], &[bad, 0.0], 1.5, history, &mut r, None);
+            assert!(matches!(err, Err(CoreError::NonFinite { .. })), "{err:?}");
+        }
+    }
+}
