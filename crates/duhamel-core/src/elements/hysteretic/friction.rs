@@ -199,3 +199,30 @@ impl Element for FrictionPendulum {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sticks_then_slides_radially() {
+        let e = FrictionPendulum::new(0, 1, 2.0, 0.1, 50.0, 1e-3).unwrap(); // mu W = 5
+        let (f, kt) = e.friction([0.0; 2], [0.0; 2], [3e-4, -4e-4]);
+        assert!((f[0] - 1.5).abs() < 1e-14 && (f[1] + 2.0).abs() < 1e-14);
+        assert_eq!(kt, [5000.0, 0.0, 0.0, 5000.0]);
+        let (f, kt) = e.friction([0.0; 2], [0.0; 2], [0.03, 0.04]);
+        assert!((f[0] - 3.0).abs() < 1e-14 && (f[1] - 4.0).abs() < 1e-14);
+        // tangent: k0 (mu W / |f_trial|) (I - n n^T), |f_trial| = 250
+        let s = 5000.0 * 5.0 / 250.0;
+        let want = [s * 0.64, -s * 0.48, -s * 0.48, s * 0.36];
+        assert!(kt.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-12));
+    }
+
+    #[test]
+    fn no_friction_is_a_pendulum() {
+        let e = FrictionPendulum::new(0, 1, 2.0, 0.0, 50.0, 1e-3).unwrap();
+        let mut r = [0.0; 2];
+        e.eval(&[0.2, -0.1], &[1.0, 1.0], 0.0, &mut r, None).unwrap();
+        assert_eq!(r, [5.0, -2.5]);
+    }
+}

@@ -89,3 +89,18 @@ impl Element for Gap {
         false
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn closes_at_minus_gap() {
+        let g = Gap::new(0, None, 0.5, 10.0).unwrap();
+        assert_eq!(g.force(1.0), (0.0, 0.0));
+        assert_eq!(g.force(-0.5), (0.0, 0.0));
+        assert_eq!(g.force(-0.75), (-2.5, 10.0));
+        let touching = Gap::new(0, None, 0.0, 10.0).unwrap();
+        assert_eq!(touching.force(-0.1), (-1.0, 10.0));
+    }
+}
