@@ -654,3 +654,77 @@ fn constructors_name_the_bad_parameter_and_non_finite_states_are_errors() {
         }
     }
 }
+
+/// A bilinear SDOF (`q'' + c q' + k_e q + F(q) = p sin(omega t)`, one mode) on the
+/// semi-analytic integrator: final displacement at time steps `dt`.
+fn bilinear_sdof(dt: f64) -> f64 {
+    use duhamel_core::loads::{ModalLoad, TimeFunction};
+    use duhamel_core::pseudo::{integrate, NonlinearProblem, Options, Quadrature, Scheme, Solver};
+    use duhamel_core::{ModalProblem, Unattended};
+    let bilinear = Bilinear::new(0, None, 30.0, 0.6, 0.05).unwrap(); // uy = 0.02
+    let elements: [&dyn Element; 1] = [&bilinear];
+    let loads = [ModalLoad {
+        pattern: vec![2.0],
+        time: TimeFunction::Harmonic {
+            omega: 4.0,
+            phase: 0.0,
+        },
+    }];
+    let n_steps = (4.0 / dt).round() as usize;
+    let problem = NonlinearProblem {
+        base: ModalProblem {
+            k: &[10.0],
+            c: &[0.2],
+            q0: &[0.0],
+            v0: &[0.0],
+            loads: &loads,
+            t0: 0.0,
+            step0: 0,
+            dt,
+            n_steps,
+            save_every: n_steps,
+            threads: Some(1),
+        },
+        phi: &[1.0],
+        n_dof: 1,
+        elements: &elements,
+        coupling_k: None,
+        coupling_c: None,
+        scaled: &[],
+        mass: None,
+        options: Options {
+            scheme: Scheme::B,
+            quadrature: Quadrature::Trapezoid,
+            tol: 1e-13,
+            max_iter: 50,
+            solver: Solver::Auto,
+            subdivisions: 4,
+        },
+        element_state: None,
+    };
+    let history = integrate(&problem, None, &mut Unattended).expect("runs").0;
+    *history.q().last().unwrap()
+}
+
+#[test]
+fn bilinear_sdof_converges_at_second_order() {
+    let reference = bilinear_sdof(0.02 / 256.0);
+    let dts = [0.04, 0.02, 0.01, 0.005, 0.0025];
+    let err: Vec<f64> = dts
+        .iter()
+        .map(|&dt| (bilinear_sdof(dt) - reference).abs())
+        .collect();
+    // yielded well beyond uy = 0.02
+    assert!(reference.abs() > 0.1);
+    // the yield events fall anywhere inside their steps, so the error constant wanders:
+    // the least-squares slope of log(error) against log(dt)
+    let (x, y): (Vec<f64>, Vec<f64>) = dts.iter().zip(&err).map(|(d, e)| (d.ln(), e.ln())).unzip();
+    let (mx, my) = (x.iter().sum::<f64>() / 5.0, y.iter().sum::<f64>() / 5.0);
+    let slope = x
+        .iter()
+        .zip(&y)
+        .map(|(a, b)| (a - mx) * (b - my))
+        .sum::<f64>()
+        / x.iter().map(|a| (a - mx) * (a - mx)).sum::<f64>();
+    assert!(slope > 1.8, "slope {slope}, errors {err:?}");
+}
