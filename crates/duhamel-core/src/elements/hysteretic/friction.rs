@@ -222,7 +222,8 @@ mod tests {
     fn no_friction_is_a_pendulum() {
         let e = FrictionPendulum::new(0, 1, 2.0, 0.0, 50.0, 1e-3).unwrap();
         let mut r = [0.0; 2];
-        e.eval(&[0.2, -0.1], &[1.0, 1.0], 0.0, &mut r, None).unwrap();
+        e.eval(&[0.2, -0.1], &[1.0, 1.0], 0.0, &mut r, None)
+            .unwrap();
         assert_eq!(r, [5.0, -2.5]);
     }
 }
