@@ -96,6 +96,10 @@ def mass_law(spec: tuple[str, tuple]) -> Any:
     raise ValueError(f"unknown mass law {kind!r}")
 
 
+#: Element kinds built by the core constructor of the same name, from their spec's values.
+_DEVICES = frozenset({"bilinear", "bouc_wen", "friction_pendulum", "viscous_damper", "gap"})
+
+
 def element(spec: tuple) -> Any:
     """An element's ``_spec()`` as a core element."""
     kind, *args = spec
@@ -108,6 +112,8 @@ def element(spec: tuple) -> Any:
         return _core.Element.damper(*args)
     if kind == "contact":
         return _core.Element.contact(*args)
+    if kind in _DEVICES:
+        return getattr(_core.Element, kind)(*args)
     if kind == "callable":
         dofs, fn, jacobian, *state = args
         return _core.Element.callable(list(dofs), fn, jacobian, state[0] if state else None)

@@ -3,7 +3,9 @@
 
 Every element except :class:`Callable` is evaluated in Rust with analytic tangents. The
 integrator treats the element forces as modal pseudo-forces; :class:`LinearCoupling` is
-projected on the modes once.
+projected on the modes once. The hysteretic and device elements of earthquake engineering
+(:class:`Bilinear`, :class:`BoucWen`, :class:`FrictionPendulum`, :class:`ViscousDamper`,
+:class:`Gap`) are defined in ``duhamel._devices`` and exported here.
 """
 
 from __future__ import annotations
@@ -15,6 +17,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from duhamel._devices import Bilinear, BoucWen, FrictionPendulum, Gap, ViscousDamper
+from duhamel._element_base import Element, nonneg, pair
 from duhamel._protocols import Model
 from duhamel._validate import (
     as_float_array,
@@ -25,40 +29,24 @@ from duhamel._validate import (
 )
 
 __all__ = [
+    "Bilinear",
+    "BoucWen",
     "Callable",
     "Contact",
     "Cubic",
     "Damper",
     "Element",
+    "FrictionPendulum",
+    "Gap",
     "LinearCoupling",
     "Polynomial",
     "Spring",
+    "ViscousDamper",
 ]
 
 
-class Element:
-    """Base class of the elements."""
-
-    def _validate(self, system: Model) -> None:  # pragma: no cover - abstract
-        raise NotImplementedError
-
-    def _spec(self) -> tuple:  # pragma: no cover - abstract
-        raise NotImplementedError
-
-
-def _nonneg(value: Any, name: str) -> float:
-    v = finite_float(value, name)
-    if v < 0:
-        raise ValueError(f"`{name}` must be >= 0, got {v}")
-    return v
-
-
-def _pair(i: int, j: int | None, system: Model) -> None:
-    dof_index(i, "i", system.n_dof)
-    if j is not None:
-        dof_index(j, "j", system.n_dof)
-        if j == i:
-            raise ValueError(f"`j` must differ from `i` (both {i}); use j=None for ground")
+_nonneg = nonneg
+_pair = pair
 
 
 @dataclass(frozen=True)

@@ -222,12 +222,14 @@ def solve(
         threads = positive_int(threads, "threads")
     out_dofs = np.arange(system.n_dof) if dofs is None else dof_list(dofs, "dofs", system.n_dof)
     if isinstance(integrator, DirectIntegrator):
-        hysteretic = [e for e in system.elements if getattr(e, "state", None) is not None]
+        hysteretic = [
+            e for e in system.elements if e._path_dependent or getattr(e, "state", None) is not None
+        ]
         if hysteretic and not getattr(integrator, "_commits_state", False):
             raise ValueError(
                 f"`integrator`: {type(integrator).__name__} does not yet commit the internal "
-                f"variables of path-dependent elements ({type(hysteretic[0]).__name__} with "
-                "`state`); use duhamel.Semianalytic()"
+                f"variables of path-dependent elements ({type(hysteretic[0]).__name__}); use "
+                "duhamel.Semianalytic()"
             )
         n = system.n_dof
         fns = [load.fn for load in system.loads if isinstance(load, Callable)]

@@ -10,6 +10,7 @@
 
 mod arrays;
 mod background;
+mod callable;
 mod direct;
 mod driver;
 mod elements;
