@@ -19,7 +19,28 @@ from numpy.typing import NDArray
 from duhamel._solve.plan import Plan
 from duhamel.solution import ModalHistory
 
-__all__ = ["check_memory", "output_maps", "physical"]
+__all__ = ["ROW_BLOCK", "check_memory", "output_maps", "physical", "rows_product"]
+
+#: Rows per matrix product of :func:`rows_product`.
+ROW_BLOCK = 1024
+
+
+def rows_product(a: NDArray, b: NDArray) -> NDArray:
+    """``a @ b`` computed in blocks of :data:`ROW_BLOCK` rows of `a` from its first row.
+
+    BLAS rounds a row of a product differently depending on where it falls in the blocking
+    of the rows (and a single row takes another kernel), so ``(a @ b)[i]`` is not always
+    ``a[i:j] @ b``'s first row. Computed block by block, the rows of a history split at
+    multiples of :data:`ROW_BLOCK` (a streamed run, ``duhamel.store``) come out bit for bit
+    as those of the whole history.
+    """
+    n = a.shape[0]
+    if n <= ROW_BLOCK:
+        return a @ b
+    out = np.empty((n, b.shape[1]), dtype=np.result_type(a, b))
+    for start in range(0, n, ROW_BLOCK):
+        out[start : start + ROW_BLOCK] = a[start : start + ROW_BLOCK] @ b
+    return out
 
 
 def _physical_memory() -> float:
@@ -125,7 +146,7 @@ def _assemble(
     values, forcing, pseudo = cut(result.load_values), cut(result.forcing), cut(result.pseudo)
     if result.eta is None:
         q, vel = cut(result.q), cut(result.v)
-        x, v = q @ phi_out.T, vel @ phi_out.T
+        x, v = rows_product(q, phi_out.T), rows_product(vel, phi_out.T)
         coupling = None
         first_order = None
     else:
@@ -156,15 +177,15 @@ def _assemble(
         else:
             eta, back = first_order
             m = basis.n_modes
-            q, vel = eta @ back[:, :m], eta @ back[:, m:]
+            q, vel = rows_product(eta, back[:, :m]), rows_product(eta, back[:, m:])
             a = -(q * basis.omega2) - vel * basis.c
             for part, matrix in ((q, coupling[0]), (vel, coupling[1])):
                 if matrix is not None:
-                    a -= part @ np.asarray(matrix).T
-        a += values @ patterns.T
+                    a -= rows_product(part, np.asarray(matrix).T)
+        a += rows_product(values, patterns.T)
         for extra in (forcing, pseudo):
             if extra is not None:
                 a += extra
-        return a @ phi_out.T
+        return rows_product(a, phi_out.T)
 
     return x, v, acceleration, modal
