@@ -33,6 +33,7 @@ from duhamel.integrators import (
 )
 from duhamel.solution import ModalHistory, Solution, SolveStats
 from duhamel.solve import solve
+from duhamel.store import resume
 from duhamel.system import ModalBasis, System
 
 if TYPE_CHECKING:
@@ -63,6 +64,7 @@ __all__ = [
     "loads",
     "mass",
     "oscillator",
+    "resume",
     "rotor",
     "solve",
     "speed",

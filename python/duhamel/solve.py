@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import os
 import time as _time
 from types import SimpleNamespace
 from typing import Any
@@ -130,6 +131,8 @@ def solve(
     dofs: ArrayLike | None = None,
     threads: int | None = None,
     progress: bool | Progress | None = None,
+    store: str | os.PathLike[str] | Any = None,
+    checkpoint_every: int | None = None,
 ) -> Solution:
     """Transient response of `system` from `t0` to `t_end` with a fixed step `dt`.
 
@@ -167,6 +170,13 @@ def solve(
         ``True`` shows a tqdm progress bar (steps, rate, ETA) for runs lasting more than
         about a second; a function is called as ``progress(step, n_steps, t)`` between
         blocks of steps (about ten times a second, never per step).
+    store : str, os.PathLike or duhamel.store.Store, optional
+        Stream the run to a new zarr store at this path (docs/store.md): the run proceeds in
+        segments of bounded memory, each appended to the store, with checkpoints that
+        :func:`duhamel.resume` continues from after a crash; the returned Solution reads its
+        arrays from the store. Semi-analytic integrator only; needs ``duhamel[store]``.
+    checkpoint_every : int, optional
+        With `store`: write a checkpoint every this many segments (default 1).
 
     Returns
     -------
@@ -221,6 +231,14 @@ def solve(
     if threads is not None:
         threads = positive_int(threads, "threads")
     out_dofs = np.arange(system.n_dof) if dofs is None else dof_list(dofs, "dofs", system.n_dof)
+    if store is not None:
+        from duhamel.store._run import run_stored
+
+        return run_stored(
+            system, integrator, store=store, checkpoint_every=checkpoint_every, t0=t0, dt=dt,
+            n_steps=n_steps, save_every=save_every, out_dofs=out_dofs, x0=x0, v0=v0,
+            threads=threads, progress=progress, started=started,
+        )  # fmt: skip
     if isinstance(integrator, DirectIntegrator):
         hysteretic = [
             e for e in system.elements if e._path_dependent or getattr(e, "state", None) is not None

@@ -1,0 +1,335 @@
+"""A modal run's model as plain data: what the core needs to run (or continue) it without
+the user's :class:`duhamel.System`, and what its :class:`duhamel.Solution` is built from.
+
+Taken from the system exactly as :func:`duhamel.solve` takes it (the route of
+:func:`duhamel._solve.plan.plan`, the loads projected as :func:`~duhamel._solve.plan.
+modal_loads` projects them, the elements' ``_spec()`` tuples), so a stored run steps the same
+numbers as the in-memory one.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from types import SimpleNamespace
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from duhamel import _core
+from duhamel._coupled import FirstOrderModes
+from duhamel._solve.output import output_maps
+from duhamel._solve.plan import Couplings, Plan, plan
+from duhamel._specs import LoadSpec, MassSpec, ScaledSpec, element, mass_law, speed_law
+from duhamel._specs import time_function as core_time
+from duhamel._validate import as_float_array
+from duhamel.elements import LinearCoupling
+from duhamel.integrators import Semianalytic
+from duhamel.loads import BaseAcceleration, Callable
+from duhamel.system import System
+
+__all__ = ["Basis", "Model", "capture"]
+
+
+@dataclass(frozen=True)
+class Basis:
+    """The retained modes (what the output mapping reads of a ``ModalBasis``)."""
+
+    phi: NDArray[np.float64]
+    omega2: NDArray[np.float64]
+    omega: NDArray[np.float64]
+    c: NDArray[np.float64]
+
+    @property
+    def n_modes(self) -> int:
+        return int(self.omega2.size)
+
+
+@dataclass
+class Model:
+    """A modal run as data (see the module docstring); ``loads`` are ``(modal pattern, kind,
+    params)``, ``elements`` the core elements' ``_spec()`` tuples, ``devices`` the force
+    elements as ``{"class", "fields"}`` (for the element histories)."""
+
+    route: str
+    coupling: str | None
+    basis: Basis
+    q0: NDArray[np.float64]
+    v0: NDArray[np.float64]
+    loads: list[tuple[NDArray[np.float64], str, Any]]
+    elements: list[tuple]
+    integrator: dict[str, Any]
+    coupling_k: NDArray[np.float64] | None = None
+    coupling_c: NDArray[np.float64] | None = None
+    scaled: list[tuple[Any, Any, Any]] = field(default_factory=list)
+    mass: dict[str, Any] | None = None
+    modes: FirstOrderModes | None = None
+    devices: list[dict[str, Any]] = field(default_factory=list)
+    base: list[tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]] = field(
+        default_factory=list
+    )
+
+    # --- data form -------------------------------------------------------------------------
+    def to_tree(self) -> dict[str, Any]:
+        """The model as nested plain data (arrays, numbers, strings, tuples)."""
+        tree = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        tree["basis"] = dataclasses.asdict(self.basis)
+        tree["modes"] = None if self.modes is None else dataclasses.asdict(self.modes)
+        return tree
+
+    @classmethod
+    def from_tree(cls, tree: dict[str, Any]) -> Model:
+        """The model of :meth:`to_tree`'s data."""
+        tree = dict(tree)
+        tree["basis"] = Basis(**tree["basis"])
+        if tree["modes"] is not None:
+            tree["modes"] = FirstOrderModes(**tree["modes"])
+        tree["loads"] = [tuple(x) for x in tree["loads"]]
+        tree["scaled"] = [tuple(x) for x in tree["scaled"]]
+        tree["base"] = [tuple(x) for x in tree["base"]]
+        return cls(**tree)
+
+    # --- what the core and the outputs read --------------------------------------------------
+    def semianalytic(self) -> Semianalytic:
+        """The integrator (its fields are plain values)."""
+        return Semianalytic(**self.integrator)
+
+    def plan(self) -> Plan:
+        """The route, as :func:`duhamel._solve.output.physical` reads it."""
+        scaled = [ScaledSpec(k, c, speed_law(law)) for k, c, law in self.scaled]
+        return Plan(
+            self.route,
+            self.basis,  # type: ignore[arg-type]
+            Couplings(self.coupling_k, self.coupling_c, scaled),
+            self.modes,
+            self.coupling,
+            [element(spec) for spec in self.elements],
+        )
+
+    def patterns(self) -> NDArray[np.float64]:
+        """The modal load patterns as columns."""
+        if not self.loads:
+            return np.zeros((self.basis.n_modes, 0))
+        return np.stack([p for p, _, _ in self.loads], axis=1)
+
+    def initial_state(self) -> NDArray[np.float64]:
+        """The state the run starts from: ``q0 | v0``, or ``Re eta0 | Im eta0``."""
+        if self.route == "first-order":
+            assert self.modes is not None
+            eta0 = self.modes.initial(self.q0, self.v0)
+            return np.concatenate([eta0.real, eta0.imag])
+        return np.concatenate([self.q0, self.v0])
+
+    def end_state(self, result: Any) -> NDArray[np.float64]:
+        """The state at the end of a core run (the last saved row)."""
+        if result.eta is not None:
+            return np.array(result.eta[-1], dtype=np.float64)
+        return np.concatenate([result.q[-1], result.v[-1]])
+
+    def run(
+        self,
+        route: Plan,
+        grid: dict[str, Any],
+        step0: int,
+        n_steps: int,
+        state: NDArray[np.float64],
+        element_state: NDArray[np.float64] | None,
+        phi_out: NDArray[np.float64],
+        report: Any,
+    ) -> Any:
+        """Runs `n_steps` from grid point `step0` and `state` in the core (as
+        ``duhamel.solve`` runs a whole route); returns its ``RunResult``."""
+        integrator = self.semianalytic()
+        if element_state is not None:
+            element_state = np.ascontiguousarray(element_state, dtype=np.float64)
+        m = self.basis.n_modes
+        first_order = self.route == "first-order"
+        loads = [LoadSpec(p, core_time(kind, params)) for p, kind, params in self.loads]
+        spec = SimpleNamespace(
+            k=self.basis.omega2,
+            c=self.basis.c,
+            q0=self.q0 if first_order else np.ascontiguousarray(state[:m]),
+            v0=self.v0 if first_order else np.ascontiguousarray(state[m:]),
+            loads=loads,
+            t0=grid["t0"],
+            dt=grid["dt"],
+            n_steps=n_steps,
+            save_every=grid["save_every"],
+            threads=grid.get("threads"),
+            phi=self.basis.phi,
+            step0=step0,
+        )
+        if self.route == "uncoupled":
+            return _core.solve_uncoupled(spec, None, report)
+        if first_order:
+            fo = self.modes
+            assert fo is not None
+            r = fo.lam.size
+            parts = (fo.lam.real, fo.lam.imag, fo.gain.real, fo.gain.imag, state[:r], state[r:])
+            names = ("lambda_re", "lambda_im", "gain_re", "gain_im", "eta0_re", "eta0_im")
+            modes = SimpleNamespace(
+                **{
+                    n: np.ascontiguousarray(p, dtype=np.float64)
+                    for n, p in zip(names, parts, strict=True)
+                }
+            )
+            outputs = output_maps(route, phi_out, len(loads))
+            nonlinear = (
+                SimpleNamespace(
+                    phi=self.basis.phi,
+                    elements=route.elements,
+                    back=fo.back,
+                    tol=float(integrator.tol),
+                    max_iter=int(integrator.max_iter),
+                    element_state=element_state,
+                )
+                if route.elements
+                else None
+            )
+            return _core.solve_first_order(spec, modes, outputs, nonlinear, None, report)
+        mass = None
+        if self.mass is not None:
+            law = self.mass
+            mass = MassSpec(
+                mass_law(law["law"]), law["form"], law["scale_stiffness"], law["treatment"]
+            )
+        nonlinear = SimpleNamespace(
+            phi=self.basis.phi,
+            elements=route.elements,
+            options=integrator,
+            coupling_k=route.couplings.k,
+            coupling_c=route.couplings.c,
+            scaled=route.couplings.scaled,
+            mass=mass,
+            element_state=element_state,
+        )
+        return _core.solve_pseudo(spec, nonlinear, None, report)
+
+    def element_objects(self) -> list[Any]:
+        """The force elements, rebuilt from their fields (classes of
+        :mod:`duhamel.elements` only; a stand-in naming the element otherwise)."""
+        from duhamel import elements as catalogue
+
+        out = []
+        for item in self.devices:
+            cls = getattr(catalogue, str(item["class"]), None)
+            try:
+                if not (isinstance(cls, type) and issubclass(cls, catalogue.Element)):
+                    raise TypeError(item["class"])
+                out.append(cls(**item["fields"]))
+            except (TypeError, ValueError):
+                out.append(StoredElement(str(item["class"]), dict(item["fields"])))
+        return out
+
+    def base_loads(self) -> list[BaseAcceleration]:
+        """The support accelerations (for ``Solution.a_absolute``)."""
+        return [BaseAcceleration(r, t, v) for r, t, v in self.base]
+
+
+@dataclass(frozen=True)
+class StoredElement:
+    """An element read back from a store whose class could not be rebuilt: its class name
+    and fields."""
+
+    kind: str
+    fields: dict[str, Any]
+
+    @property
+    def j(self) -> Any:
+        return self.fields.get("j")
+
+
+def _initial(value: ArrayLike | None, name: str, system: System, phi: NDArray) -> NDArray:
+    """Modal coordinates of an initial state, as ``duhamel.solve`` projects it."""
+    if value is None:
+        return np.zeros(phi.shape[1])
+    x = as_float_array(value, name, ndim=1, shape=(system.n_dof,))
+    return np.ascontiguousarray(phi.T @ np.asarray(system.M @ x, dtype=np.float64))
+
+
+def _refuse(what: str) -> ValueError:
+    return ValueError(
+        f"`store`: the system has {what}, which is Python code: a store holds the model as "
+        "data only (opening one never runs code), so this run cannot be stored; use "
+        "built-in loads and elements, or solve without `store`"
+    )
+
+
+def capture(
+    system: System, integrator: Semianalytic, x0: ArrayLike | None, v0: ArrayLike | None
+) -> Model:
+    """The model of a modal run of `system` under `integrator`; raises ValueError naming
+    `store` for Python load or element functions."""
+    for load in system.loads:
+        if isinstance(load, Callable):
+            raise _refuse("a `duhamel.loads.Callable` load")
+    specs = [e._spec() for e in system.elements]
+    if any(s[0] == "callable" for s in specs):
+        raise _refuse("a `duhamel.elements.Callable` element")
+    route = plan(system, integrator)
+    basis = route.basis
+    phi = np.ascontiguousarray(basis.phi)
+    loads = []
+    for load in system.loads:
+        for physical, kind, params in load._specs(system):
+            loads.append((np.ascontiguousarray(phi.T @ physical), kind, params))
+    forces = [e for e in system.elements if not isinstance(e, LinearCoupling)]
+    varying = [
+        e for e in system.elements if isinstance(e, LinearCoupling) and e.constant_factor() is None
+    ]
+    scaled = [
+        (s.k, s.c, e.scale._spec()) for s, e in zip(route.couplings.scaled, varying, strict=True)
+    ]
+    attached = system.mass_law
+    mass = None
+    if attached is not None:
+        mass = {
+            "law": attached.law._spec(),
+            "form": attached.form,
+            "scale_stiffness": bool(attached.scale_stiffness),
+            "treatment": integrator.mass_treatment,
+        }
+    return Model(
+        route=route.route,
+        coupling=route.coupling,
+        basis=Basis(
+            phi,
+            np.ascontiguousarray(basis.omega2, dtype=np.float64),
+            np.asarray(basis.omega, dtype=np.float64),
+            np.ascontiguousarray(basis.c, dtype=np.float64),
+        ),
+        q0=_initial(x0, "x0", system, phi),
+        v0=_initial(v0, "v0", system, phi),
+        loads=loads,
+        elements=[s for s in specs if s[0] != "coupling"],
+        integrator={f.name: getattr(integrator, f.name) for f in dataclasses.fields(integrator)},
+        coupling_k=route.couplings.k,
+        coupling_c=route.couplings.c,
+        scaled=scaled,
+        mass=mass,
+        modes=route.modes,
+        devices=[_device(e) for e in forces],
+        base=[
+            (load.direction_vector, load.t, load.values)
+            for load in system.loads
+            if isinstance(load, BaseAcceleration)
+        ],
+    )
+
+
+def _device(e: Any) -> dict[str, Any]:
+    """An element as ``{"class", "fields"}`` (its dataclass fields), or its class alone."""
+    if not dataclasses.is_dataclass(e):
+        return {"class": type(e).__name__, "fields": {}}
+    fields = {}
+    for f in dataclasses.fields(e):
+        if f.init:
+            value = getattr(e, f.name)
+            if isinstance(value, list | tuple):
+                value = np.asarray(value)
+            plain = value is None or isinstance(value, bool | int | float | str | np.generic)
+            if not (plain or (isinstance(value, np.ndarray) and value.dtype.kind in "biuf")):
+                return {"class": type(e).__name__, "fields": {}}
+            fields[f.name] = value
+    return {"class": type(e).__name__, "fields": fields}

@@ -1,0 +1,524 @@
+"""Streamed runs: a modal run in segments, each appended to a zarr store, with checkpoints
+to resume from (docs/store.md)."""
+
+from __future__ import annotations
+
+import os
+import time as _time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from duhamel._core import __version__
+from duhamel._solve.output import ROW_BLOCK, physical
+from duhamel._solve.run import Progress, overflow_error, raise_failure, watch
+from duhamel._structural import ElementHistory
+from duhamel._validate import positive_int
+from duhamel.integrators import DirectIntegrator, Semianalytic
+from duhamel.loads import support_terms
+from duhamel.solution import ModalHistory, Solution, SolveStats
+from duhamel.store._array import StoredArray
+from duhamel.store._codec import Checkpoint, StoreError, decode, dumps, encode, pack, unpack
+from duhamel.store._model import Model, capture
+from duhamel.system import System
+
+__all__ = ["FORMAT", "SEGMENT_BYTES", "Store", "resume", "run_stored"]
+
+#: The store layout this version writes and reads.
+FORMAT = 1
+#: Memory budget of one segment's saved rows (engine history and physical outputs), bytes.
+#: A segment holds a multiple of 1024 saved rows (at least 1024, whatever the budget).
+SEGMENT_BYTES = 32 * 2**20
+_KEY = "duhamel"
+
+
+@dataclass(frozen=True)
+class Store:
+    """Where and how :func:`duhamel.solve` streams a run (``store=Store(...)``; a plain path
+    means ``Store(path)``).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The new store (a directory; refused if it exists).
+    modal : bool
+        Keep the modal history (``Solution.modal``: modal coordinates, load values,
+        pseudo-forces), as an in-memory run does. False keeps only the times, ``x``, ``v``,
+        ``a`` of the output dofs and the element histories: far less disk for long runs of
+        models with many modes (``Solution.modal`` is then None).
+    segment_bytes : int
+        Memory budget of one segment's saved rows (engine history and physical outputs).
+        A segment holds a multiple of 1024 saved rows, at least 1024.
+
+    Examples
+    --------
+    >>> import tempfile, numpy as np, duhamel
+    >>> from duhamel.store import Store
+    >>> sys = duhamel.System(np.eye(2), np.diag([1.0, 4.0]), zeta=0.02)
+    >>> where = Store(tempfile.mkdtemp() + "/run.zarr", modal=False, segment_bytes=2**20)
+    >>> sol = duhamel.solve(sys, duhamel.Semianalytic(), t_end=100.0, dt=0.01, dofs=[1],
+    ...                     x0=[0.0, 1.0], store=where)
+    >>> sol.modal is None, sol.x.shape
+    (True, (10001, 1))
+    """
+
+    path: str | os.PathLike[str]
+    modal: bool = True
+    segment_bytes: int = SEGMENT_BYTES
+
+    def __post_init__(self) -> None:
+        _path(self.path)
+        if not isinstance(self.modal, bool):
+            raise TypeError(f"`modal` must be True or False, got {self.modal!r}")
+        object.__setattr__(self, "segment_bytes", positive_int(self.segment_bytes, "segment_bytes"))
+
+
+def _zarr() -> Any:
+    try:
+        import zarr
+    except ImportError:
+        raise ImportError(
+            "`store`: streaming a run to a store needs zarr: pip install 'duhamel[store]'"
+        ) from None
+    return zarr
+
+
+def _path(store: Any, name: str = "store") -> str:
+    if not isinstance(store, str | os.PathLike):
+        raise TypeError(f"`{name}` must be a path (str or os.PathLike), got {type(store).__name__}")
+    return os.fspath(store)
+
+
+def _grid(
+    model: Model, n_out: int, t0: float, dt: float, n_steps: int, s: int, budget: int
+) -> dict:
+    """The time grid and the segmentation: rows per segment (and chunk) from the budget."""
+    m, n_loads = model.basis.n_modes, len(model.loads)
+    width = 2 + 5 * n_out + 6 * m + n_loads + 6 * len(model.elements)
+    rows = max(1, budget // (8 * width)) // ROW_BLOCK * ROW_BLOCK
+    rows = max(ROW_BLOCK, rows)
+    total = n_steps // s + 1 + (1 if n_steps % s else 0)
+    return {
+        "t0": t0,
+        "dt": dt,
+        "n_steps": n_steps,
+        "save_every": s,
+        "rows": total,
+        "segment_rows": rows,
+        "chunk_rows": min(rows, total),
+    }
+
+
+def run_stored(
+    system: System,
+    integrator: Semianalytic | DirectIntegrator,
+    *,
+    store: str | os.PathLike[str] | Store,
+    checkpoint_every: int | None,
+    t0: float,
+    dt: float,
+    n_steps: int,
+    save_every: int,
+    out_dofs: NDArray[np.int64],
+    x0: ArrayLike | None,
+    v0: ArrayLike | None,
+    threads: int | None,
+    progress: bool | Progress | None,
+    started: float,
+) -> Solution:
+    """``duhamel.solve(..., store=...)``: creates the store and runs into it."""
+    options = store if isinstance(store, Store) else Store(_path(store))
+    path = os.fspath(options.path)
+    if isinstance(integrator, DirectIntegrator):
+        raise ValueError(
+            f"`store`: streaming to a store is available for duhamel.Semianalytic() only, "
+            f"not for {type(integrator).__name__} (direct integrators keep their state "
+            "outside the engine's checkpoints); solve without `store`"
+        )
+    every = 1 if checkpoint_every is None else positive_int(checkpoint_every, "checkpoint_every")
+    zarr = _zarr()
+    model = capture(system, integrator, x0, v0)
+    grid = _grid(model, len(out_dofs), t0, dt, n_steps, save_every, options.segment_bytes)
+    grid["dofs"] = [int(d) for d in out_dofs]
+    grid["checkpoint_every"] = every
+    grid["modal"] = options.modal
+    try:
+        group = zarr.open_group(path, mode="w-")
+    except (FileExistsError, zarr.errors.ContainsGroupError, zarr.errors.ContainsArrayError):
+        raise FileExistsError(
+            f"`store`: {path!r} already exists; continue it with duhamel.resume({path!r}) or "
+            "delete it first"
+        ) from None
+    tree = encode(model.to_tree(), group.create_group("model"))
+    # The record that makes the store a store: written last, after the model it refers to.
+    group.attrs[_KEY] = {
+        "format": FORMAT,
+        "version": __version__,
+        "grid": grid,
+        "model": dumps(tree),
+    }
+    forces = [e for e in system.elements if e._spec()[0] != "coupling"]
+    return _proceed(
+        group,
+        model,
+        grid,
+        _start(model),
+        threads,
+        progress,
+        started,
+        elements=forces,
+        base=support_terms(system.loads, np.asarray(out_dofs, dtype=np.int64)),
+    )
+
+
+def resume(path: str | os.PathLike[str], progress: bool | Progress | None = None) -> Solution:
+    """Continue a stored run (``duhamel.solve(..., store=path)``) from its last checkpoint.
+
+    The run continues on its own time grid from the state, element variables and saved
+    rows of the checkpoint (rows written after it are written again), and needs nothing but
+    the store: the model, integrator and grid are kept in it as data. The completed result
+    equals that of the uninterrupted run bit for bit. A completed store is returned as is.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The store (a directory) ``solve`` wrote.
+    progress : bool or callable, optional
+        As for :func:`duhamel.solve` (steps counted over the whole run).
+
+    Returns
+    -------
+    Solution
+        The whole run, its arrays read from the store on access
+        (:class:`duhamel.store.StoredArray`).
+
+    Raises
+    ------
+    FileNotFoundError
+        No store at `path`.
+    duhamel.store.StoreError
+        Not a duhamel store, an unknown format version, or damaged records.
+
+    Examples
+    --------
+    >>> import tempfile, numpy as np, duhamel
+    >>> sys = duhamel.System(np.eye(1), np.eye(1), zeta=0.05)
+    >>> path = tempfile.mkdtemp() + "/run.zarr"
+    >>> sol = duhamel.solve(sys, duhamel.Semianalytic(), t_end=5.0, dt=0.1, x0=[1.0],
+    ...                     store=path)
+    >>> again = duhamel.resume(path)           # complete: read back
+    >>> bool(np.array_equal(again.x, sol.x)), again.t.shape
+    (True, (51,))
+    """
+    started = _time.perf_counter()
+    group, model, grid = _open(_path(path, "path"))
+    return _proceed(group, model, grid, _latest(group, model, grid), None, progress, started)
+
+
+def _open(path: str) -> tuple[Any, Model, dict]:
+    """The store's group, model and grid; StoreError when it is not a readable store."""
+    zarr = _zarr()
+    if not Path(path).exists():
+        raise FileNotFoundError(f"`path`: no store at {path!r}")
+    try:
+        group = zarr.open_group(path, mode="r+")
+        record = group.attrs.get(_KEY)
+    except Exception as exc:  # zarr raises several types for a damaged or foreign directory
+        raise StoreError(f"`path`: {path!r} is not a readable zarr store ({exc})") from None
+    if not isinstance(record, dict):
+        raise StoreError(
+            f"`path`: {path!r} is not a duhamel store (no '{_KEY}' record: another zarr "
+            "store, or a run killed while its store was being created; solve again)"
+        )
+    if record.get("format") != FORMAT:
+        raise StoreError(
+            f"`path`: {path!r} has store format {record.get('format')!r} (written by duhamel "
+            f"{record.get('version')}); this duhamel ({__version__}) reads format {FORMAT}"
+        )
+    import json
+
+    try:
+        tree = decode(json.loads(record["model"]), group["model"])
+        model = Model.from_tree(tree)
+        grid = dict(record["grid"])
+    except (KeyError, TypeError, ValueError) as exc:
+        raise StoreError(f"`path`: the model record of {path!r} is damaged ({exc})") from None
+    return group, model, grid
+
+
+def _start(model: Model) -> Checkpoint:
+    return Checkpoint(seq=0, step=0, rows=0, state=model.initial_state(), element_state=None)
+
+
+def _latest(group: Any, model: Model, grid: dict) -> Checkpoint:
+    """The newest intact checkpoint (the start of the run when there is none)."""
+    found = []
+    if "checkpoints" in group:
+        slots = group["checkpoints"]
+        for name in ("0", "1"):
+            if name in slots:
+                c = unpack(slots[name][...])
+                if c is not None:
+                    found.append(c)
+    if not found:
+        return _start(model)
+    c = max(found, key=lambda k: k.seq)
+    s, seg = grid["save_every"], grid["segment_rows"] * grid["save_every"]
+    width = model.initial_state().size
+    final = c.step == grid["n_steps"]
+    consistent = (
+        c.state.size == width
+        and c.step <= grid["n_steps"]
+        and (final or (c.step % seg == 0 and c.rows == c.step // s))
+        and (not final or c.rows == grid["rows"])
+    )
+    if not consistent:
+        raise StoreError(
+            f"the checkpoint of the store (step {c.step}, {c.rows} rows) does not fit its grid"
+        )
+    return c
+
+
+def _checkpoint(group: Any, c: Checkpoint) -> None:
+    """Writes `c` into slot ``seq % 2`` (the other slot keeps the previous one)."""
+    blob = pack(c)
+    slots = group.require_group("checkpoints")
+    name = str(c.seq % 2)
+    if name not in slots or slots[name].shape != blob.shape:
+        slots.create_array(name, shape=blob.shape, dtype="u1", chunks=blob.shape, overwrite=True)
+    slots[name][...] = blob
+
+
+def _columns(result: Any, x: NDArray, v: NDArray, a: NDArray, modal: bool) -> dict[str, NDArray]:
+    """The arrays of a segment kept in the store, by name."""
+    out = {"t": result.t, "x": x, "v": v, "a": a}
+    for name in ("element_x", "element_v", "element_force"):
+        value = getattr(result, name)
+        if value is not None:
+            out[name] = value
+    if not modal:
+        return out
+    out["load_values"] = result.load_values
+    if result.eta is not None:
+        out["modal_eta"] = result.eta
+    else:
+        out["modal_q"], out["modal_v"] = result.q, result.v
+    for name in ("pseudo", "forcing"):
+        value = getattr(result, name)
+        if value is not None:
+            out[name] = value
+    return out
+
+
+def _write(
+    data: Any, grid: dict, arrays: dict[str, NDArray], start: int, keep: int, widths: Any
+) -> None:
+    """Rows ``start:start+keep`` of every array (created on first use; the element arrays
+    carry the elements' `widths`)."""
+    total, chunk = grid["rows"], grid["chunk_rows"]
+    for name, value in arrays.items():
+        value = np.asarray(value)
+        shape = (total, *value.shape[1:])
+        if name not in data or data[name].shape != shape:
+            data.create_array(
+                name,
+                shape=shape,
+                dtype="f8",
+                chunks=(chunk, *(max(1, k) for k in value.shape[1:])),
+                fill_value=np.nan,
+                compressors=None,
+                overwrite=True,
+                attributes={"widths": [int(w) for w in widths]}
+                if name.startswith("element_") and widths is not None
+                else None,
+            )
+        if keep:
+            data[name][start : start + keep] = value[:keep]
+
+
+def _proceed(
+    group: Any,
+    model: Model,
+    grid: dict,
+    at: Checkpoint,
+    threads: int | None,
+    progress: bool | Progress | None,
+    started: float,
+    *,
+    elements: list[Any] | None = None,
+    base: list[Any] | None = None,
+) -> Solution:
+    """Runs the segments from checkpoint `at` to the end; returns the Solution."""
+    n_steps, s = grid["n_steps"], grid["save_every"]
+    seg_steps = grid["segment_rows"] * s
+    every = grid["checkpoint_every"]
+    dofs = np.asarray(grid["dofs"], dtype=np.int64)
+    phi_out = np.ascontiguousarray(model.basis.phi[dofs, :])
+    route, patterns = model.plan(), model.patterns()
+    data = group.require_group("data")
+    run_grid = {**grid, "threads": threads}
+    step, rows, state, element_state = at.step, at.rows, at.state, at.element_state
+    counts = np.array(
+        [
+            at.newton_iterations,
+            at.closed_form_steps,
+            at.factorizations,
+            at.subdivided_steps,
+        ],
+        dtype=np.int64,
+    )
+    depth, wall, seq, pending = at.subdivision_depth, at.wall_time, at.seq + 1, 0
+    with watch(progress, n_steps) as report:
+        while step < n_steps:
+            n = min(seg_steps, n_steps - step)
+            final = step + n == n_steps
+
+            def seg_report(k: int, _total: int, t: float, _at: int = step) -> Any:
+                assert report is not None
+                return report(_at + k, n_steps, t)
+
+            loop_start = _time.perf_counter()
+            result = model.run(
+                route,
+                run_grid,
+                step,
+                n,
+                state,
+                element_state,
+                phi_out,
+                None if report is None else seg_report,
+            )
+            wall += _time.perf_counter() - loop_start
+            kept, x, v, a, _ = physical(result, route, phi_out, patterns)
+            size = result.t.size
+            failed = result.error is not None or kept < size
+            keep = min(kept, size if final else size - 1)
+            if not failed:
+                a = a()  # type: ignore[operator]
+            arrays = _columns(result, x, v, a, grid["modal"])
+            _write(data, grid, arrays, rows, keep, result.element_widths)
+            if failed:
+                partial = _solution(group, model, grid, rows + keep, wall, counts, depth, started)
+                if result.error is None:
+                    raise overflow_error(result.t, kept, grid["dt"], grid["t0"], partial)
+                raise_failure(result.error, partial)
+            step, rows = step + n, rows + keep
+            state, element_state = model.end_state(result), result.element_state
+            counts += [
+                result.newton_iterations,
+                result.closed_form_steps,
+                result.factorizations,
+                result.subdivided_steps,
+            ]
+            depth = max(depth, int(result.subdivision_depth))
+            pending += 1
+            if final or pending >= every:
+                c = Checkpoint(
+                    seq,
+                    step,
+                    rows,
+                    state,
+                    None if element_state is None else np.asarray(element_state),
+                    *(int(k) for k in counts),
+                    depth,
+                    wall,
+                )
+                _checkpoint(group, c)
+                seq, pending = seq + 1, 0
+    return _solution(
+        group, model, grid, rows, wall, counts, depth, started, elements=elements, base=base
+    )
+
+
+def _solution(
+    group: Any,
+    model: Model,
+    grid: dict,
+    rows: int,
+    wall: float,
+    counts: NDArray[np.int64],
+    depth: int,
+    started: float,
+    *,
+    elements: list[Any] | None = None,
+    base: list[Any] | None = None,
+) -> Solution:
+    """The Solution of the first `rows` stored rows, its arrays read from the store."""
+    data = group["data"]
+    dofs = np.asarray(grid["dofs"], dtype=np.int64)
+
+    def read(name: str, columns: slice | None = None) -> Any:
+        return StoredArray(data[name], rows, columns) if name in data else None
+
+    t = read("t")
+    basis = model.basis
+    first_order = None
+    coupling = None
+    if "modal_eta" in data:
+        assert model.modes is not None
+        first_order = (read("modal_eta"), model.modes.back)
+        coupling = (model.coupling_k, model.coupling_c)
+    modal = (
+        None
+        if "load_values" not in data
+        else ModalHistory(
+            q=read("modal_q"),
+            v=read("modal_v"),
+            omega=basis.omega,
+            c=basis.c,
+            load_values=read("load_values"),
+            patterns=model.patterns(),
+            forcing=read("forcing"),
+            pseudo=read("pseudo"),
+            first_order=first_order,  # type: ignore[arg-type]
+            coupling=coupling,
+        )
+    )
+    histories: tuple[ElementHistory, ...] = ()
+    if "element_force" in data and model.devices:
+        objects = model.element_objects() if elements is None else elements
+        widths = data["element_force"].attrs.get("widths")
+        if isinstance(widths, list) and len(widths) == len(objects):
+            out, at = [], 0
+            for element, width in zip(objects, widths, strict=True):
+                cut = slice(at, at + width)
+                xs, vs, fs = (read(k, cut) for k in ("element_x", "element_v", "element_force"))
+                out.append(ElementHistory(element, t, xs, vs, fs))
+                at += width
+            histories = tuple(out)
+    if base is None:
+        base = support_terms(model.base_loads(), dofs)
+    return Solution(
+        t=t,
+        x=read("x"),
+        v=read("v"),
+        a=read("a"),
+        dofs=dofs,
+        modal=modal,
+        stats=SolveStats(
+            steps=min(grid["n_steps"], max(0, rows - 1) * grid["save_every"])
+            if rows < grid["rows"]
+            else grid["n_steps"],
+            wall_time=wall,
+            total_time=_time.perf_counter() - started,
+            modes=basis.n_modes,
+            newton_iterations=int(counts[0]),
+            closed_form_steps=int(counts[1]),
+            factorizations=int(counts[2]),
+            subdivided_steps=int(counts[3]),
+            subdivision_depth=int(depth),
+            coupling=model.coupling,
+            eigenvector_condition=None if model.modes is None else model.modes.condition,
+        ),
+        meta={
+            "dt": grid["dt"],
+            "t0": grid["t0"],
+            "integrator": model.semianalytic(),
+            "store": str(getattr(group.store, "root", group.store)),
+        },
+        elements=histories,
+        base=base,
+    )
