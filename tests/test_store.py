@@ -314,3 +314,18 @@ def test_memory_stays_bounded(tmp_path):
         peaks[mode] = (int(peak) - int(base)) / 1024  # MiB
     assert peaks["memory"] > 150
     assert peaks["store"] < 60, peaks
+
+
+def test_a_failing_run_fails_as_in_memory(tmp_path):
+    s = duhamel.System(np.eye(1), np.eye(1))
+    s.add(el.Cubic(0, -1.0))  # unstable beyond x = 1: diverges in the second segment
+    kw = {"t_end": 50.0, "dt": 0.01, "x0": [1.0 + 1e-9]}
+    caught = []
+    for store in (None, Store(tmp_path / "r.zarr", segment_bytes=SMALL)):
+        with pytest.raises(duhamel.SolverError) as info:
+            duhamel.solve(s, duhamel.Semianalytic(subdivisions=0), store=store, **kw)
+        caught.append(info.value)
+    ref, st = caught
+    assert ref.step > 1024
+    assert (st.reason, st.step, st.time, str(st)) == (ref.reason, ref.step, ref.time, str(ref))
+    assert same(st.partial.t, ref.partial.t) and same(st.partial.x, ref.partial.x)

@@ -7,6 +7,7 @@ import os
 import time as _time
 from dataclasses import dataclass
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -395,7 +396,7 @@ def _proceed(
             kept, x, v, a, _ = physical(result, route, phi_out, patterns)
             size = result.t.size
             failed = result.error is not None or kept < size
-            keep = min(kept, size if final else size - 1)
+            keep = kept if failed else (size if final else size - 1)
             if not failed:
                 a = a()  # type: ignore[operator]
             arrays = _columns(result, x, v, a, grid["modal"])
@@ -404,7 +405,7 @@ def _proceed(
                 partial = _solution(group, model, grid, rows + keep, wall, counts, depth, started)
                 if result.error is None:
                     raise overflow_error(result.t, kept, grid["dt"], grid["t0"], partial)
-                raise_failure(result.error, partial)
+                raise_failure(_shifted(result.error, step), partial)
             step, rows = step + n, rows + keep
             state, element_state = model.end_state(result), result.element_state
             counts += [
@@ -521,4 +522,13 @@ def _solution(
         },
         elements=histories,
         base=base,
+    )
+
+
+def _shifted(error: Any, step0: int) -> Any:
+    """A segment's ``RunError`` with its step counted from the start of the run."""
+    step = int(error.step) + step0
+    message = str(error.message).replace(f"step {error.step}", f"step {step}")
+    return SimpleNamespace(
+        kind=error.kind, message=message, time=error.time, step=step, cause=error.cause
     )
