@@ -7,7 +7,6 @@ import os
 import time as _time
 from dataclasses import dataclass
 from pathlib import Path
-from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -16,14 +15,13 @@ from numpy.typing import ArrayLike, NDArray
 from duhamel._core import __version__
 from duhamel._solve.output import ROW_BLOCK, physical
 from duhamel._solve.run import Progress, overflow_error, raise_failure, watch
-from duhamel._structural import ElementHistory
 from duhamel._validate import positive_int
 from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import support_terms
-from duhamel.solution import ModalHistory, Solution, SolveStats
-from duhamel.store._array import StoredArray
+from duhamel.solution import Solution
 from duhamel.store._codec import Checkpoint, StoreError, decode, dumps, encode, pack, unpack
 from duhamel.store._model import Model, capture
+from duhamel.store._solution import _shifted, _solution
 from duhamel.system import System
 
 __all__ = ["FORMAT", "SEGMENT_BYTES", "Store", "resume", "run_stored"]
@@ -431,104 +429,4 @@ def _proceed(
                 seq, pending = seq + 1, 0
     return _solution(
         group, model, grid, rows, wall, counts, depth, started, elements=elements, base=base
-    )
-
-
-def _solution(
-    group: Any,
-    model: Model,
-    grid: dict,
-    rows: int,
-    wall: float,
-    counts: NDArray[np.int64],
-    depth: int,
-    started: float,
-    *,
-    elements: list[Any] | None = None,
-    base: list[Any] | None = None,
-) -> Solution:
-    """The Solution of the first `rows` stored rows, its arrays read from the store."""
-    data = group["data"]
-    dofs = np.asarray(grid["dofs"], dtype=np.int64)
-
-    def read(name: str, columns: slice | None = None) -> Any:
-        return StoredArray(data[name], rows, columns) if name in data else None
-
-    t = read("t")
-    basis = model.basis
-    first_order = None
-    coupling = None
-    if "modal_eta" in data:
-        assert model.modes is not None
-        first_order = (read("modal_eta"), model.modes.back)
-        coupling = (model.coupling_k, model.coupling_c)
-    modal = (
-        None
-        if "load_values" not in data
-        else ModalHistory(
-            q=read("modal_q"),
-            v=read("modal_v"),
-            omega=basis.omega,
-            c=basis.c,
-            load_values=read("load_values"),
-            patterns=model.patterns(),
-            forcing=read("forcing"),
-            pseudo=read("pseudo"),
-            first_order=first_order,  # type: ignore[arg-type]
-            coupling=coupling,
-        )
-    )
-    histories: tuple[ElementHistory, ...] = ()
-    if "element_force" in data and model.devices:
-        objects = model.element_objects() if elements is None else elements
-        widths = data["element_force"].attrs.get("widths")
-        if isinstance(widths, list) and len(widths) == len(objects):
-            out, at = [], 0
-            for element, width in zip(objects, widths, strict=True):
-                cut = slice(at, at + width)
-                xs, vs, fs = (read(k, cut) for k in ("element_x", "element_v", "element_force"))
-                out.append(ElementHistory(element, t, xs, vs, fs))
-                at += width
-            histories = tuple(out)
-    if base is None:
-        base = support_terms(model.base_loads(), dofs)
-    return Solution(
-        t=t,
-        x=read("x"),
-        v=read("v"),
-        a=read("a"),
-        dofs=dofs,
-        modal=modal,
-        stats=SolveStats(
-            steps=min(grid["n_steps"], max(0, rows - 1) * grid["save_every"])
-            if rows < grid["rows"]
-            else grid["n_steps"],
-            wall_time=wall,
-            total_time=_time.perf_counter() - started,
-            modes=basis.n_modes,
-            newton_iterations=int(counts[0]),
-            closed_form_steps=int(counts[1]),
-            factorizations=int(counts[2]),
-            subdivided_steps=int(counts[3]),
-            subdivision_depth=int(depth),
-            coupling=model.coupling,
-            eigenvector_condition=None if model.modes is None else model.modes.condition,
-        ),
-        meta={
-            "dt": grid["dt"],
-            "t0": grid["t0"],
-            "integrator": model.semianalytic(),
-            "store": str(getattr(group.store, "root", group.store)),
-        },
-        elements=histories,
-        base=base,
-    )
-
-
-def _shifted(error: Any, step0: int) -> Any:
-    """A segment's ``RunError`` with its step counted from the start of the run."""
-    step = int(error.step) + step0
-    message = str(error.message).replace(f"step {error.step}", f"step {step}")
-    return SimpleNamespace(
-        kind=error.kind, message=message, time=error.time, step=step, cause=error.cause
     )
