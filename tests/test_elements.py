@@ -326,7 +326,7 @@ def test_spring_damper_equal_linear_coupling(element, coupling):
         # otherwise be integrated exactly).
         return duhamel.solve(
             s,
-            duhamel.Semianalytic(coupling="pseudo-force"),
+            duhamel.Semianalytic(coupling="pseudo-force", linear_parts="pseudo-force"),
             t_end=5.0,
             dt=0.01,
             x0=[0.01, -0.02, 0.03],

@@ -61,6 +61,8 @@ class Element:
     @staticmethod
     def damper(i: int, j: int | None, c: float) -> Element: ...
     @staticmethod
+    def shifted(inner: Element, k0: NDArray[np.float64], c0: NDArray[np.float64]) -> Element: ...
+    @staticmethod
     def contact(
         dof_x: int,
         dof_y: int,

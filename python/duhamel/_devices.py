@@ -15,7 +15,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from duhamel._element_base import Element, nonneg, pair, positive
+import numpy as np
+from numpy.typing import NDArray
+
+from duhamel._element_base import Element, nonneg, pair, pair_stiffness, positive
 from duhamel._protocols import Model
 from duhamel._validate import dof_index, finite_float
 
@@ -78,6 +81,9 @@ class Bilinear(Element):
             float(self.alpha),
         )
 
+    def _linear(self) -> tuple[tuple[int, ...], NDArray[np.float64]]:
+        return pair_stiffness(self.i, self.j, float(self.k))  # the initial stiffness
+
 
 @dataclass(frozen=True)
 class BoucWen(Element):
@@ -134,6 +140,9 @@ class BoucWen(Element):
             self.gamma,
         )
 
+    def _linear(self) -> tuple[tuple[int, ...], NDArray[np.float64]]:
+        return pair_stiffness(self.i, self.j, float(self.k))  # the initial stiffness
+
 
 @dataclass(frozen=True)
 class FrictionPendulum(Element):
@@ -183,6 +192,10 @@ class FrictionPendulum(Element):
             float(self.weight),
             float(self.yield_displacement),
         )
+
+    def _linear(self) -> tuple[tuple[int, ...], NDArray[np.float64]]:
+        # The pendulum's gravity stiffness W / R, on both directions (friction stays).
+        return (int(self.dof_x), int(self.dof_y)), (self.weight / self.radius) * np.eye(2)
 
 
 @dataclass(frozen=True)

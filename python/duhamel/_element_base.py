@@ -5,10 +5,13 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+from numpy.typing import NDArray
+
 from duhamel._protocols import Model
 from duhamel._validate import dof_index, finite_float
 
-__all__ = ["Element", "nonneg", "pair", "positive"]
+__all__ = ["Element", "nonneg", "pair", "pair_stiffness", "positive"]
 
 
 class Element:
@@ -23,6 +26,20 @@ class Element:
 
     def _spec(self) -> tuple:  # pragma: no cover - abstract
         raise NotImplementedError
+
+    def _linear(self) -> tuple[tuple[int, ...], NDArray[np.float64]] | None:
+        """The element's linear stiffness part ``(dofs, k0)``: the local matrix ``k0``
+        (positive semidefinite, at the global `dofs`) that the linear background takes over
+        (``Semianalytic(linear_parts="background")``), or None when it has none."""
+        return None
+
+    def _remainder_spec(self) -> tuple:
+        """The core spec of the element without its linear part (what stays a
+        pseudo-force); by default the element minus ``k0 x``."""
+        linear = self._linear()
+        assert linear is not None
+        k0 = linear[1]
+        return ("shifted", self._spec(), k0, np.zeros_like(k0))
 
 
 def nonneg(value: Any, name: str) -> float:
@@ -48,3 +65,10 @@ def pair(i: int, j: int | None, system: Model) -> None:
         dof_index(j, "j", system.n_dof)
         if j == i:
             raise ValueError(f"`j` must differ from `i` (both {i}); use j=None for ground")
+
+
+def pair_stiffness(i: int, j: int | None, k: float) -> tuple[tuple[int, ...], NDArray[np.float64]]:
+    """The dofs and local stiffness matrix of a spring `k` from `i` to `j` (None: ground)."""
+    if j is None:
+        return (int(i),), np.array([[k]])
+    return (int(i), int(j)), np.array([[k, -k], [-k, k]])

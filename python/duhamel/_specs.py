@@ -114,6 +114,13 @@ def element(spec: tuple) -> Any:
         return _core.Element.contact(*args)
     if kind in _DEVICES:
         return getattr(_core.Element, kind)(*args)
+    if kind == "shifted":
+        inner, k0, c0 = args
+        return _core.Element.shifted(
+            element(inner),
+            np.ascontiguousarray(k0, float).ravel(),
+            np.ascontiguousarray(c0, float).ravel(),
+        )
     if kind == "callable":
         dofs, fn, jacobian, *state = args
         return _core.Element.callable(list(dofs), fn, jacobian, state[0] if state else None)

@@ -100,10 +100,15 @@ class ElementHistory:
 
 
 def element_histories(
-    elements: Sequence[Any], t: NDArray[np.float64], result: Any, kept: int
+    elements: Sequence[Any],
+    t: NDArray[np.float64],
+    result: Any,
+    kept: int,
+    linear: Sequence[Any] = (),
 ) -> tuple[ElementHistory, ...]:
     """The histories of `elements` (the system's force elements, couplings left out, in
-    order) from a run's saved element rows; empty when the route kept none."""
+    order) from a run's saved element rows; empty when the route kept none. `linear`: per
+    element, the linear part the run's background took over (added back to the force)."""
     if getattr(result, "element_force", None) is None or not elements:
         return ()
     xs, vs, fs = (
@@ -115,7 +120,11 @@ def element_histories(
     out, at = [], 0
     for element, width in zip(elements, widths, strict=True):
         cut = slice(at, at + width)
-        out.append(ElementHistory(element, t, xs[:, cut], vs[:, cut], fs[:, cut]))
+        force = fs[:, cut]
+        part = linear[len(out)] if len(out) < len(linear) else None
+        if part is not None:
+            force = force + part.force(xs[:, cut], vs[:, cut])
+        out.append(ElementHistory(element, t, xs[:, cut], vs[:, cut], force))
         at += width
     return tuple(out)
 

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._devices import Bilinear, BoucWen, FrictionPendulum, Gap, ViscousDamper
-from duhamel._element_base import Element, nonneg, pair
+from duhamel._element_base import Element, nonneg, pair, pair_stiffness
 from duhamel._protocols import Model
 from duhamel._validate import (
     as_float_array,
@@ -72,6 +72,15 @@ class Polynomial(Element):
     def _spec(self) -> tuple:
         return ("polynomial", int(self.dof), np.array(self.coefficients, dtype=np.float64))
 
+    def _linear(self) -> tuple[tuple[int, ...], NDArray[np.float64]] | None:
+        k = self.coefficients[1] if len(self.coefficients) > 1 else 0.0
+        return ((int(self.dof),), np.array([[k]])) if k > 0 else None
+
+    def _remainder_spec(self) -> tuple:
+        c = np.array(self.coefficients, dtype=np.float64)
+        c[1] = 0.0
+        return ("polynomial", int(self.dof), c)
+
 
 @dataclass(frozen=True)
 class Cubic(Element):
@@ -121,6 +130,13 @@ class Spring(Element):
     def _spec(self) -> tuple:
         j = None if self.j is None else int(self.j)
         return ("spring", int(self.i), j, float(self.k), float(self.k3))
+
+    def _linear(self) -> tuple[tuple[int, ...], NDArray[np.float64]] | None:
+        return pair_stiffness(self.i, self.j, float(self.k)) if self.k > 0 else None
+
+    def _remainder_spec(self) -> tuple:
+        j = None if self.j is None else int(self.j)
+        return ("spring", int(self.i), j, 0.0, float(self.k3))
 
 
 @dataclass(frozen=True)

@@ -324,6 +324,7 @@ def solve(
             result.t[:kept],
             result,
             kept,
+            route.linear,
         ),
         base=support_terms(system.loads, np.asarray(out_dofs, dtype=np.int64)),
     )

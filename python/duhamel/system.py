@@ -319,6 +319,18 @@ class System:
             cached = self._modal_cache[n] = _checked_modal(self, n)
         return cached
 
+    def _with_stiffness(self, K: Any) -> System:
+        """A copy of this model with the stiffness `K` (checked by the caller), its own modal
+        cache, the same mass and damping specification, and no loads or elements."""
+        other = object.__new__(System)
+        other.__dict__.update(self.__dict__)
+        other.__dict__.pop("_background", None)
+        other._K = K if issparse(K) else _frozen(K)
+        other.loads, other.elements, other.mass_law = [], [], None
+        other._modal_cache = {}
+        other._modes = Modes(self._M, other._K)
+        return other
+
     def use_basis(self, basis: ModalBasis, *, extend: bool = False, rtol: float = 1e-6) -> System:
         """Use the undamped modes of `basis` instead of computing them.
 

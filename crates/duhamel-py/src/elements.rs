@@ -2,7 +2,7 @@
 //! `Callable` element.
 
 use duhamel_core::elements::{Bilinear, BoucWen, FrictionPendulum, Gap, ViscousDamper};
-use duhamel_core::elements::{Contact, Damper, Element, Polynomial, Spring};
+use duhamel_core::elements::{Contact, Damper, Element, Polynomial, Shifted, Spring};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -27,6 +27,12 @@ enum Spec {
         func: Py<PyAny>,
         jacobian: Option<Py<PyAny>>,
         state: Option<Vec<f64>>,
+    },
+    /// Another element minus a local linear part (checked: sizes and finiteness).
+    Shifted {
+        inner: Py<ElementSpec>,
+        k0: Vec<f64>,
+        c0: Vec<f64>,
     },
 }
 
@@ -147,6 +153,33 @@ impl ElementSpec {
         guarded(made).map(|e| ElementSpec(Spec::ViscousDamper(e)))
     }
 
+    /// Element minus the local linear part `k0 x + c0 v` (row-major `n x n` matrices at its
+    /// `n` dofs): the remainder of an element whose linear part is in the background.
+    #[staticmethod]
+    fn shifted(
+        inner: &Bound<'_, ElementSpec>,
+        k0: &Bound<'_, PyAny>,
+        c0: &Bound<'_, PyAny>,
+    ) -> PyResult<Self> {
+        let k0 = vec_of(k0, "k0")?;
+        let c0 = vec_of(c0, "c0")?;
+        let n = inner.get().n_dofs();
+        for (name, m) in [("k0", &k0), ("c0", &c0)] {
+            if m.len() != n * n {
+                return Err(PyValueError::new_err(format!(
+                    "`{name}` must hold {n} x {n} = {} entries, got {}",
+                    n * n,
+                    m.len()
+                )));
+            }
+        }
+        Ok(ElementSpec(Spec::Shifted {
+            inner: inner.clone().unbind(),
+            k0,
+            c0,
+        }))
+    }
+
     /// Compression-only contact.
     #[staticmethod]
     #[pyo3(signature = (i, j, gap, k))]
@@ -214,34 +247,61 @@ pub(crate) fn build(py: Python<'_>, specs: &Bound<'_, PyAny>) -> PyResult<Built>
     }
     for item in specs.try_iter()? {
         let item = item?;
-        let spec = item.cast::<ElementSpec>()?;
-        let element: Box<dyn Element> = match &spec.get().0 {
-            Spec::Polynomial(e) => Box::new(e.clone()),
-            Spec::Spring(e) => Box::new(e.clone()),
-            Spec::Damper(e) => Box::new(e.clone()),
-            Spec::Contact(e) => Box::new(e.clone()),
-            Spec::Bilinear(e) => Box::new(e.clone()),
-            Spec::BoucWen(e) => Box::new(e.clone()),
-            Spec::FrictionPendulum(e) => Box::new(e.clone()),
-            Spec::ViscousDamper(e) => Box::new(e.clone()),
-            Spec::Gap(e) => Box::new(e.clone()),
-            Spec::Callable {
-                dofs,
-                func,
-                jacobian,
-                state,
-            } => {
-                let element = std::sync::Arc::new(PyElement::new(
-                    dofs.clone(),
-                    func.clone_ref(py),
-                    jacobian.as_ref().map(|j| j.clone_ref(py)),
-                    state.clone(),
-                ));
-                built.python.push(element.clone());
-                Box::new(ArcElement(element))
-            }
-        };
+        let element = make(py, item.cast::<ElementSpec>()?.get(), &mut built)?;
         built.elements.push(element);
     }
     Ok(built)
+}
+
+/// A fresh core element from its spec (Python elements are also kept in `built.python`).
+fn make(py: Python<'_>, spec: &ElementSpec, built: &mut Built) -> PyResult<Box<dyn Element>> {
+    Ok(match &spec.0 {
+        Spec::Polynomial(e) => Box::new(e.clone()),
+        Spec::Spring(e) => Box::new(e.clone()),
+        Spec::Damper(e) => Box::new(e.clone()),
+        Spec::Contact(e) => Box::new(e.clone()),
+        Spec::Bilinear(e) => Box::new(e.clone()),
+        Spec::BoucWen(e) => Box::new(e.clone()),
+        Spec::FrictionPendulum(e) => Box::new(e.clone()),
+        Spec::ViscousDamper(e) => Box::new(e.clone()),
+        Spec::Gap(e) => Box::new(e.clone()),
+        Spec::Callable {
+            dofs,
+            func,
+            jacobian,
+            state,
+        } => {
+            let element = std::sync::Arc::new(PyElement::new(
+                dofs.clone(),
+                func.clone_ref(py),
+                jacobian.as_ref().map(|j| j.clone_ref(py)),
+                state.clone(),
+            ));
+            built.python.push(element.clone());
+            Box::new(ArcElement(element))
+        }
+        Spec::Shifted { inner, k0, c0 } => {
+            let inner = make(py, inner.get(), built)?;
+            Box::new(Shifted::new(inner, k0.clone(), c0.clone()).map_err(core_err)?)
+        }
+    })
+}
+
+impl ElementSpec {
+    /// The number of local dofs of the element.
+    fn n_dofs(&self) -> usize {
+        match &self.0 {
+            Spec::Polynomial(e) => e.dofs().len(),
+            Spec::Spring(e) => e.dofs().len(),
+            Spec::Damper(e) => e.dofs().len(),
+            Spec::Contact(e) => e.dofs().len(),
+            Spec::Bilinear(e) => e.dofs().len(),
+            Spec::BoucWen(e) => e.dofs().len(),
+            Spec::FrictionPendulum(e) => e.dofs().len(),
+            Spec::ViscousDamper(e) => e.dofs().len(),
+            Spec::Gap(e) => e.dofs().len(),
+            Spec::Callable { dofs, .. } => dofs.len(),
+            Spec::Shifted { inner, .. } => inner.get().n_dofs(),
+        }
+    }
 }

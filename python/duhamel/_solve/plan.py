@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._coupled import CONDITION_LIMIT, FirstOrderModes, first_order_modes
+from duhamel._solve.background import background
 from duhamel._specs import (
     LoadSpec,
     MassSpec,
@@ -64,6 +65,9 @@ class Plan:
         "pseudo-force", or None when there were none.
     elements : list
         The core elements of the corrector (a LinearCoupling is a coupling, not an element).
+    linear : tuple
+        Per force element, the linear part its background took over (``LinearPart`` or
+        None; see ``duhamel._solve.background``): the element's force is the core's plus it.
     """
 
     route: str
@@ -72,6 +76,7 @@ class Plan:
     modes: FirstOrderModes | None
     coupling: str | None
     elements: list[Any]
+    linear: tuple[Any, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -152,6 +157,8 @@ def mass(system: System, integrator: Any) -> MassSpec | None:
 def plan(system: System, integrator: Semianalytic) -> Plan:
     """The route of `system` under `integrator`; raises ValueError when
     ``coupling="exact"`` cannot be honoured."""
+    bg = background(system, integrator.linear_parts)
+    system = bg.system
     basis = system.modal(integrator.modes)
     elements = core_elements(system.elements)
     has_elements = bool(system.elements)
@@ -159,7 +166,7 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         isinstance(e, LinearCoupling) for e in system.elements
     )
     if not has_elements and basis.c_coupling is None and system.mass_law is None:
-        return Plan("uncoupled", basis, Couplings(None, None, []), None, None, elements)
+        return Plan("uncoupled", basis, Couplings(None, None, []), None, None, elements, bg.linear)
     couplings = _couplings(system, basis)
     route = "pseudo-force"
     modes = None
@@ -168,7 +175,7 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         if modes is not None:
             route = "first-order"
     coupling = None if not coupled else ("exact" if modes is not None else "pseudo-force")
-    return Plan(route, basis, couplings, modes, coupling, elements)
+    return Plan(route, basis, couplings, modes, coupling, elements, bg.linear)
 
 
 def _first_order(

@@ -15,6 +15,7 @@ _CHOICES = {
     "mass_treatment": ("eliminate", "estimate"),
     "solver": ("auto", "newton", "modal-newton"),
     "coupling": ("auto", "exact", "pseudo-force"),
+    "linear_parts": ("auto", "background", "pseudo-force"),
 }
 
 
@@ -83,13 +84,26 @@ class Semianalytic(Integrator):
         <= 1e4), "pseudo-force" otherwise (a mass law, couplings scaled by a time-varying
         speed law, another scheme or quadrature with elements, a nearly defective system).
         ``solve`` raises ValueError when "exact" cannot be honoured.
+    linear_parts : {"auto", "background", "pseudo-force"}
+        Where the elements' linear stiffness goes — a `Spring`'s ``k``, a `Polynomial`'s
+        linear coefficient, the initial stiffness of `Bilinear` and `BoucWen`, a
+        `FrictionPendulum`'s ``W / R``. "background": the modes are computed from ``K``
+        plus those parts (the effective link stiffness of FNA) and only the remainder is a
+        pseudo-force, so a reduced basis sees the links and a linear spring is exact;
+        Rayleigh damping and a damping matrix keep their meaning, modal damping ratios
+        (`zeta`) become those of these modes (FNA's convention). "pseudo-force": the whole
+        element force is a pseudo-force on the modes of ``K``. "auto" (default):
+        "background", except with modal damping ratios, whose meaning it keeps
+        ("pseudo-force"). Also "pseudo-force" whatever is asked: a mass law that scales the
+        stiffness, a basis given to ``System.use_basis`` (docs/nonlinear.md).
 
     Examples
     --------
     >>> import duhamel
     >>> duhamel.Semianalytic()
     Semianalytic(modes=None, scheme='b', quadrature='trapezoid', tol=1e-10, max_iter=25, \
-mass_treatment='eliminate', solver='auto', coupling='auto', subdivisions=4)
+mass_treatment='eliminate', solver='auto', coupling='auto', subdivisions=4, \
+linear_parts='auto')
     >>> duhamel.Semianalytic(modes=5, quadrature="exact").quadrature
     'exact'
     """
@@ -103,6 +117,7 @@ mass_treatment='eliminate', solver='auto', coupling='auto', subdivisions=4)
     solver: str = "auto"
     coupling: str = "auto"
     subdivisions: int = 4
+    linear_parts: str = "auto"
 
     def __post_init__(self) -> None:
         if self.modes is not None:

@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from duhamel import _core
 from duhamel._coupled import FirstOrderModes
+from duhamel._solve.background import LinearPart, background
 from duhamel._solve.output import output_maps
 from duhamel._solve.plan import Couplings, Plan, plan
 from duhamel._specs import LoadSpec, MassSpec, ScaledSpec, element, mass_law, speed_law
@@ -69,6 +70,8 @@ class Model:
     base: list[tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]] = field(
         default_factory=list
     )
+    #: Per force element, the linear part ``(dofs, k0, c0)`` its background took over.
+    linear: list[tuple | None] = field(default_factory=list)
 
     # --- data form -------------------------------------------------------------------------
     def to_tree(self) -> dict[str, Any]:
@@ -105,6 +108,7 @@ class Model:
             self.modes,
             self.coupling,
             [element(spec) for spec in self.elements],
+            tuple(None if p is None else LinearPart(tuple(p[0]), p[1], p[2]) for p in self.linear),
         )
 
     def patterns(self) -> NDArray[np.float64]:
@@ -268,6 +272,7 @@ def capture(
     if any(s[0] == "callable" for s in specs):
         raise _refuse("a `duhamel.elements.Callable` element")
     route = plan(system, integrator)
+    run = background(system, integrator.linear_parts)  # (cached by plan)
     basis = route.basis
     phi = np.ascontiguousarray(basis.phi)
     loads = []
@@ -302,7 +307,7 @@ def capture(
         q0=_initial(x0, "x0", system, phi),
         v0=_initial(v0, "v0", system, phi),
         loads=loads,
-        elements=[s for s in specs if s[0] != "coupling"],
+        elements=[s for s in (e._spec() for e in run.system.elements) if s[0] != "coupling"],
         integrator={f.name: getattr(integrator, f.name) for f in dataclasses.fields(integrator)},
         coupling_k=route.couplings.k,
         coupling_c=route.couplings.c,
@@ -315,6 +320,7 @@ def capture(
             for load in system.loads
             if isinstance(load, BaseAcceleration)
         ],
+        linear=[None if p is None else (p.dofs, p.k0, p.c0) for p in run.linear],
     )
 
 

@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel._solve.background import LinearPart
 from duhamel._structural import ElementHistory
 from duhamel.loads import support_terms
 from duhamel.solution import ModalHistory, Solution, SolveStats
@@ -72,6 +73,9 @@ def _solution(
             for element, width in zip(objects, widths, strict=True):
                 cut = slice(at, at + width)
                 xs, vs, fs = (read(k, cut) for k in ("element_x", "element_v", "element_force"))
+                part = model.linear[len(out)] if model.linear else None
+                if part is not None:
+                    fs = fs + LinearPart(tuple(part[0]), part[1], part[2]).force(xs, vs)
                 out.append(ElementHistory(element, t, xs, vs, fs))
                 at += width
             histories = tuple(out)

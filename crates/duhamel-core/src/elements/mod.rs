@@ -9,6 +9,7 @@ mod contact;
 mod element;
 mod hysteretic;
 mod polynomial;
+mod shifted;
 mod spring;
 
 pub use contact::Contact;
@@ -18,4 +19,5 @@ pub use hysteretic::{
     Bilinear, BoucWen, FrictionPendulum, Gap, ViscousDamper, DEFAULT_V0, DEFAULT_YIELD_DISPLACEMENT,
 };
 pub use polynomial::Polynomial;
+pub use shifted::Shifted;
 pub use spring::{Damper, Spring};

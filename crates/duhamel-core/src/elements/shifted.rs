@@ -1,0 +1,200 @@
+//! An element with a linear part taken out: `r(x, x') - K0 x - C0 x'`.
+//!
+//! The linear part of an element (a hysteretic element's initial stiffness, a friction
+//! pendulum's gravity stiffness `W / R`) belongs to the linear background: the modes are
+//! computed with it, and only the remainder is a pseudo-force (the effective link stiffness
+//! of the "Fast Nonlinear Analysis"). [`Shifted`] is that remainder for any element whose
+//! force is not a closed form the caller could rewrite (a spring's `k` is simply set to 0).
+
+use super::element::{Element, History, ModalCubic, Tangent};
+use crate::error::CoreError;
+
+/// `inner`'s force minus `K0 x + C0 x'` at its own dofs (`K0`, `C0` row-major `n x n`).
+pub struct Shifted {
+    inner: Box<dyn Element>,
+    k0: Vec<f64>,
+    c0: Vec<f64>,
+    damped: bool,
+}
+
+impl Shifted {
+    /// `inner` minus the local stiffness `k0` and damping `c0` (row-major, `n x n` for the
+    /// `n` dofs of `inner`). Errors: wrong sizes (named `"k0"`, `"c0"`), non-finite entries.
+    pub fn new(inner: Box<dyn Element>, k0: Vec<f64>, c0: Vec<f64>) -> Result<Self, CoreError> {
+        let n = inner.dofs().len();
+        for (name, m) in [("k0", &k0), ("c0", &c0)] {
+            if m.len() != n * n {
+                return Err(CoreError::InvalidInput {
+                    name,
+                    problem: format!("must hold {n} x {n} = {} entries, got {}", n * n, m.len()),
+                });
+            }
+            if let Some(v) = m.iter().find(|v| !v.is_finite()) {
+                return Err(CoreError::InvalidInput {
+                    name,
+                    problem: format!("must be finite, got {v}"),
+                });
+            }
+        }
+        let damped = c0.iter().any(|&c| c != 0.0);
+        Ok(Self {
+            inner,
+            k0,
+            c0,
+            damped,
+        })
+    }
+
+    /// Subtracts `K0 x + C0 v` from `r` and the matrices from the tangent.
+    fn subtract(&self, x: &[f64], v: &[f64], r: &mut [f64], tangent: Option<Tangent<'_>>) {
+        let n = x.len();
+        for (i, ri) in r.iter_mut().enumerate().take(n) {
+            let row = i * n..(i + 1) * n;
+            let kx: f64 = self.k0[row.clone()].iter().zip(x).map(|(a, b)| a * b).sum();
+            let cv: f64 = self.c0[row].iter().zip(v).map(|(a, b)| a * b).sum();
+            *ri -= kx + cv;
+        }
+        if let Some(t) = tangent {
+            for (a, b) in t.kx.iter_mut().zip(&self.k0) {
+                *a -= b;
+            }
+            for (a, b) in t.cv.iter_mut().zip(&self.c0) {
+                *a -= b;
+            }
+        }
+    }
+}
+
+/// Reborrows an optional tangent so that it can be used twice.
+fn again<'b>(tangent: &'b mut Option<Tangent<'_>>) -> Option<Tangent<'b>> {
+    tangent.as_mut().map(|t| Tangent {
+        kx: &mut *t.kx,
+        cv: &mut *t.cv,
+    })
+}
+
+impl Element for Shifted {
+    fn dofs(&self) -> &[usize] {
+        self.inner.dofs()
+    }
+
+    fn eval(
+        &self,
+        x: &[f64],
+        v: &[f64],
+        t: f64,
+        r: &mut [f64],
+        mut tangent: Option<Tangent<'_>>,
+    ) -> Result<(), CoreError> {
+        self.inner.eval(x, v, t, r, again(&mut tangent))?;
+        self.subtract(x, v, r, tangent);
+        Ok(())
+    }
+
+    fn polynomial_degree(&self) -> Option<u32> {
+        self.inner.polynomial_degree().map(|d| d.max(1))
+    }
+
+    fn uses_velocity(&self) -> bool {
+        self.inner.uses_velocity() || self.damped
+    }
+
+    fn has_tangent(&self) -> bool {
+        self.inner.has_tangent()
+    }
+
+    fn state_len(&self) -> usize {
+        self.inner.state_len()
+    }
+
+    fn initial_state(&self, x: &[f64], v: &[f64], state: &mut [f64]) {
+        self.inner.initial_state(x, v, state)
+    }
+
+    fn eval_path(
+        &self,
+        x: &[f64],
+        v: &[f64],
+        t: f64,
+        history: History<'_>,
+        r: &mut [f64],
+        mut tangent: Option<Tangent<'_>>,
+    ) -> Result<(), CoreError> {
+        self.inner
+            .eval_path(x, v, t, history, r, again(&mut tangent))?;
+        self.subtract(x, v, r, tangent);
+        Ok(())
+    }
+
+    fn modal_cubic(&self, phi: &[f64]) -> Option<ModalCubic> {
+        let mut a = self.inner.modal_cubic(phi)?;
+        let n = phi.len();
+        let quad = |m: &[f64]| -> f64 {
+            (0..n)
+                .map(|i| phi[i] * (0..n).map(|j| m[i * n + j] * phi[j]).sum::<f64>())
+                .sum()
+        };
+        a[1][0] -= quad(&self.k0);
+        a[0][1] -= quad(&self.c0);
+        Some(a)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::elements::{Bilinear, Spring};
+
+    #[test]
+    fn spring_minus_its_linear_part_is_its_cubic() {
+        let spring = Spring::new(0, Some(1), 3.0, 2.0).unwrap();
+        let k0 = vec![3.0, -3.0, -3.0, 3.0];
+        let shifted = Shifted::new(Box::new(spring), k0, vec![0.0; 4]).unwrap();
+        let (x, v) = ([0.7, -0.2], [0.0, 0.0]);
+        let mut r = [0.0; 2];
+        let (mut kx, mut cv) = ([0.0; 4], [0.0; 4]);
+        let tangent = Tangent {
+            kx: &mut kx,
+            cv: &mut cv,
+        };
+        shifted.eval(&x, &v, 0.0, &mut r, Some(tangent)).unwrap();
+        let d: f64 = 0.9;
+        assert!((r[0] - 2.0 * d.powi(3)).abs() < 1e-14);
+        assert!((r[1] + 2.0 * d.powi(3)).abs() < 1e-14);
+        assert!((kx[0] - 6.0 * d * d).abs() < 1e-13);
+        let cubic = Spring::new(0, Some(1), 0.0, 2.0).unwrap();
+        let phi = [0.4, -1.1];
+        assert_eq!(
+            shifted.modal_cubic(&phi).map(|a| a[1][0].abs() < 1e-14),
+            Some(true)
+        );
+        assert!(cubic.modal_cubic(&phi).is_some());
+    }
+
+    #[test]
+    fn bilinear_minus_initial_stiffness_is_zero_while_elastic() {
+        let b = Bilinear::new(0, None, 10.0, 1.0, 0.1).unwrap();
+        let shifted = Shifted::new(Box::new(b), vec![10.0], vec![0.0]).unwrap();
+        let committed = vec![0.0; shifted.state_len()];
+        let mut trial = committed.clone();
+        let mut r = [0.0];
+        let history = History {
+            committed: &committed,
+            trial: &mut trial,
+        };
+        shifted
+            .eval_path(&[0.05], &[0.0], 0.0, history, &mut r, None)
+            .unwrap();
+        assert!(r[0].abs() < 1e-15);
+    }
+
+    #[test]
+    fn wrong_sizes_are_named() {
+        let spring = Spring::new(0, None, 1.0, 0.0).unwrap();
+        let err = Shifted::new(Box::new(spring), vec![1.0, 2.0], vec![0.0])
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        assert!(err.contains("k0"), "{err}");
+    }
+}

@@ -1,0 +1,146 @@
+"""The elements' linear parts in the linear background (the effective link stiffness of the
+"Fast Nonlinear Analysis").
+
+A `Spring`'s ``k``, a `Polynomial`'s linear coefficient, the initial stiffness of a
+`Bilinear` or `BoucWen` and a `FrictionPendulum`'s gravity stiffness ``W / R`` are stiffness
+the modes should see: the run's basis is computed from ``K`` plus those parts, and only the
+remainder of each element is a pseudo-force. The equation of motion is unchanged: with
+Rayleigh damping ``alpha M + beta K`` the background is damped with ``beta (K + K_e)`` and
+each remainder gives back ``-beta k_e x'``; a damping matrix ``C`` stays as given. Modal
+damping ratios (``zeta``) are those of the background's modes — the modes of the structure
+with its links at their initial stiffness, as in FNA.
+
+Kept as pseudo-forces instead (the system is run as given): with
+``Semianalytic(linear_parts="pseudo-force")``, a mass law that scales the stiffness, or a
+basis supplied with ``System.use_basis`` (its modes are those of ``K`` alone).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from duhamel._element_base import Element
+from duhamel._protocols import Model
+from duhamel._validate import issparse
+from duhamel.elements import LinearCoupling
+from duhamel.system import System
+
+__all__ = ["Background", "LinearPart", "background"]
+
+
+@dataclass(frozen=True)
+class LinearPart:
+    """What an element gave to the background: ``k0 x + c0 x'`` at its `dofs`."""
+
+    dofs: tuple[int, ...]
+    k0: NDArray[np.float64]
+    c0: NDArray[np.float64]
+
+    def force(self, x: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The part's force along histories of the local ``x`` and ``v`` (rows: instants)."""
+        return x @ self.k0.T + v @ self.c0.T
+
+
+@dataclass(frozen=True, eq=False)
+class _Remainder(Element):
+    """An element without its linear part (what the run's pseudo-force evaluates)."""
+
+    element: Any
+    spec: tuple
+
+    @property
+    def _path_dependent(self) -> bool:  # type: ignore[override]
+        return bool(self.element._path_dependent)
+
+    def _validate(self, system: Model) -> None:
+        self.element._validate(system)
+
+    def _spec(self) -> tuple:
+        return self.spec
+
+
+@dataclass(frozen=True)
+class Background:
+    """The system a modal run integrates, and per force element (couplings left out, in
+    order) the linear part moved into its background (None: none)."""
+
+    system: System
+    linear: tuple[LinearPart | None, ...]
+
+
+def _parts(system: System) -> list[tuple[tuple[int, ...], NDArray[np.float64]] | None]:
+    return [e._linear() for e in system.elements if not isinstance(e, LinearCoupling)]
+
+
+def background(system: System, linear_parts: str = "auto") -> Background:
+    """The background of a modal run of `system` (cached on it: its modes are reused by
+    later runs while the elements stay the same)."""
+    forces = [e for e in system.elements if not isinstance(e, LinearCoupling)]
+    parts = _parts(system)
+    law = system.mass_law
+    if linear_parts == "auto" and system.damping == "zeta":
+        linear_parts = "pseudo-force"  # the ratios are those of the modes of K
+    if (
+        linear_parts not in ("auto", "background")
+        or all(p is None for p in parts)
+        or (law is not None and law.scale_stiffness)
+        or system._modes.supplied
+    ):
+        return Background(system, (None,) * len(forces))
+    key = tuple(id(e) for e in system.elements)
+    cached = getattr(system, "_background", None)
+    if cached is None or cached[0] != key:
+        cached = (key, *_derive(system, parts), tuple(system.elements))
+        system._background = cached  # type: ignore[attr-defined]
+    derived, linear = cached[1], cached[2]
+    derived.loads, derived.mass_law = list(system.loads), system.mass_law
+    return Background(derived, linear)
+
+
+def _derive(
+    system: System, parts: list[tuple[tuple[int, ...], NDArray[np.float64]] | None]
+) -> tuple[System, tuple[LinearPart | None, ...]]:
+    n = system.n_dof
+    rows, cols, vals = [], [], []
+    for part in parts:
+        if part is None:
+            continue
+        dofs, k0 = part
+        idx = np.asarray(dofs)
+        rows.append(np.repeat(idx, idx.size))
+        cols.append(np.tile(idx, idx.size))
+        vals.append(np.asarray(k0, dtype=np.float64).ravel())
+    import scipy.sparse as sp
+
+    added = sp.coo_array(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)
+    ).tocsr()
+    K = system.K + added if issparse(system.K) else np.asarray(system.K) + added.toarray()
+    if issparse(K):
+        K = sp.csr_array(K)
+    derived = system._with_stiffness(K)
+    beta = system.rayleigh[1] if system.damping == "rayleigh" else 0.0  # type: ignore[index]
+    linear: list[LinearPart | None] = []
+    i = 0
+    for element in system.elements:
+        if isinstance(element, LinearCoupling):
+            derived.elements.append(element)
+            continue
+        part = parts[i]
+        i += 1
+        if part is None:
+            derived.elements.append(element)
+            linear.append(None)
+            continue
+        dofs, k0 = part
+        c0 = beta * k0
+        spec = element._remainder_spec()
+        if beta != 0.0:
+            spec = (*spec[:3], c0) if spec[0] == "shifted" else ("shifted", spec, 0.0 * k0, c0)
+        derived.elements.append(_Remainder(element, spec))
+        linear.append(LinearPart(dofs, k0, c0))
+    return derived, tuple(linear)
