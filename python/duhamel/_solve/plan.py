@@ -19,6 +19,7 @@ from numpy.typing import NDArray
 
 from duhamel._coupled import CONDITION_LIMIT, FirstOrderModes, first_order_modes
 from duhamel._solve.background import background
+from duhamel._solve.correction import corrected
 from duhamel._specs import (
     LoadSpec,
     MassSpec,
@@ -160,6 +161,13 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
     bg = background(system, integrator.linear_parts)
     system = bg.system
     basis = system.modal(integrator.modes)
+    correct = integrator.static_correction
+    if correct is None:
+        correct = integrator.modes is not None and any(
+            not isinstance(e, LinearCoupling) for e in system.elements
+        )
+    if correct:
+        basis = corrected(system, basis)
     elements = core_elements(system.elements)
     has_elements = bool(system.elements)
     coupled = basis.c_coupling is not None or any(

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from duhamel._validate import _int_scalar, positive_int
 from duhamel.integrators.base import Integrator, newton_options
 
@@ -96,6 +98,16 @@ class Semianalytic(Integrator):
         "background", except with modal damping ratios, whose meaning it keeps
         ("pseudo-force"). Also "pseudo-force" whatever is asked: a mass law that scales the
         stiffness, a basis given to ``System.use_basis`` (docs/nonlinear.md).
+    static_correction : bool or None
+        With `modes` below the number of dofs: enrich the modes with the static responses
+        to unit forces along the elements' deformations and to the load patterns
+        (load-dependent Ritz vectors, as FNA uses), mass-orthogonalised and made modal by a
+        Rayleigh-Ritz solve, so every coordinate is still an exact oscillator. It gives the
+        local response at stiff links and under concentrated loads that the truncated modes
+        would carry (on a 120-dof chain with three stiff springs: 87 % error at the springs
+        with 5 modes, 2e-5 with 5 modes + 4 vectors); the run then has more coordinates
+        than `modes` (``stats.modes``). None (default): on when `modes` is given and the
+        system has elements; a linear run keeps its plain modal truncation unless True.
 
     Examples
     --------
@@ -103,7 +115,7 @@ class Semianalytic(Integrator):
     >>> duhamel.Semianalytic()
     Semianalytic(modes=None, scheme='b', quadrature='trapezoid', tol=1e-10, max_iter=25, \
 mass_treatment='eliminate', solver='auto', coupling='auto', subdivisions=4, \
-linear_parts='auto')
+linear_parts='auto', static_correction=None)
     >>> duhamel.Semianalytic(modes=5, quadrature="exact").quadrature
     'exact'
     """
@@ -118,6 +130,7 @@ linear_parts='auto')
     coupling: str = "auto"
     subdivisions: int = 4
     linear_parts: str = "auto"
+    static_correction: bool | None = None
 
     def __post_init__(self) -> None:
         if self.modes is not None:
@@ -131,3 +144,10 @@ linear_parts='auto')
         if not 0 <= depth <= 30:
             raise ValueError(f"`subdivisions` must be an integer in [0, 30], got {depth}")
         object.__setattr__(self, "subdivisions", depth)
+        if self.static_correction is not None:
+            if not isinstance(self.static_correction, bool | np.bool_):
+                raise TypeError(
+                    f"`static_correction` must be True, False or None, got "
+                    f"{self.static_correction!r}"
+                )
+            object.__setattr__(self, "static_correction", bool(self.static_correction))

@@ -1,0 +1,180 @@
+"""Static correction of a reduced modal basis (load-dependent Ritz vectors, as FNA uses).
+
+Free-interface modes cannot represent the local response at a stiff nonlinear link or under
+a concentrated load: that is what the truncated modes would have carried, quasi-statically.
+The basis is enriched with the static responses ``K^-1 f`` to unit forces along each
+element's deformations (``e_i - e_j`` for a two-node element, ``e_d`` at each dof of the
+others) and to the load patterns, made mass-orthogonal to the kept modes and among
+themselves (dependent vectors dropped), and rotated by a Rayleigh-Ritz solve in their span.
+As the kept modes are eigenvectors, ``K`` stays diagonal on the whole enriched basis: every
+coordinate is still an uncoupled oscillator, stepped with its exact transition matrices.
+
+A static load whose pattern is one of those vectors is then represented exactly: its static
+response lies in the basis.
+"""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from duhamel._eigen import SHIFT_RTOL
+from duhamel._validate import issparse
+from duhamel.elements import LinearCoupling
+from duhamel.loads import Callable
+from duhamel.modal import ModalBasis, damped
+from duhamel.system import System
+
+__all__ = ["corrected", "force_directions"]
+
+Array = NDArray[np.float64]
+
+#: Correction vectors whose M-norm falls below this fraction of their size after the kept
+#: modes are removed are dependent (already in the basis) and dropped.
+DEPENDENT_RTOL = 1e-8
+
+
+def _element_dofs(element: Any) -> tuple[list[int], bool]:
+    """The element's global dofs and whether it acts on one deformation ``x_i - x_j``."""
+    element = getattr(element, "element", element)  # a remainder: the element it wraps
+    if hasattr(element, "i"):
+        j = getattr(element, "j", None)
+        return ([int(element.i)] if j is None else [int(element.i), int(j)]), j is not None
+    if hasattr(element, "dof"):
+        return [int(element.dof)], False
+    if hasattr(element, "dof_x"):
+        return [int(element.dof_x), int(element.dof_y)], False
+    return [int(d) for d in element.dofs], False
+
+
+def force_directions(system: System) -> Array:
+    """Unit force patterns along the elements' deformations and the load patterns of
+    `system`, as columns (Python load functions have none)."""
+    n = system.n_dof
+    cols: list[Array] = []
+    for element in system.elements:
+        if isinstance(element, LinearCoupling):
+            continue
+        dofs, relative = _element_dofs(element)
+        if relative:
+            f = np.zeros(n)
+            f[dofs[0]], f[dofs[1]] = 1.0, -1.0
+            cols.append(f)
+            continue
+        for d in dofs:
+            f = np.zeros(n)
+            f[d] = 1.0
+            cols.append(f)
+    for load in system.loads:
+        if isinstance(load, Callable):
+            continue
+        for pattern, _, _ in load._specs(system):
+            p = np.asarray(pattern, dtype=np.float64)
+            if np.any(p):
+                cols.append(p / np.abs(p).max())
+    return np.stack(cols, axis=1) if cols else np.zeros((n, 0))
+
+
+def _static(system: System, basis: ModalBasis, f: Array) -> Array:
+    """``K^-1 f`` for the forces `f` with their components on the rigid-body modes of `basis`
+    removed first (forces that had nothing else are dropped), by iterative refinement on the
+    factorisation of ``K - sigma M`` (shared with the modal analysis for a sparse model)."""
+    M = system.M
+    scale = max(float(np.max(np.abs(basis.omega2))), system._modes._ratio)
+    rigid = basis.omega2 <= 1e-10 * scale if scale > 0.0 else np.ones(basis.n_modes, bool)
+    if np.any(rigid):
+        phi0 = basis.phi[:, rigid]
+        size = np.abs(f).max(axis=0)
+        f = f - np.asarray(M @ phi0) @ (phi0.T @ f)
+        f = f[:, np.abs(f).max(axis=0) > 1e-10 * size]
+    if f.shape[1] == 0:
+        return f
+    if issparse(system.M) or issparse(system.K):
+        lu, sigma, Mc, _ = system._modes._factorisation()
+        solve = lu.solve
+        mass = Mc
+    else:
+        import scipy.linalg
+
+        K, Md = np.asarray(system.K), np.asarray(M)
+        ratio = float(np.max(np.abs(np.diag(K)) / np.diag(Md)))
+        sigma = -SHIFT_RTOL * (ratio if ratio > 0.0 else 1.0)
+        factor = scipy.linalg.lu_factor(K - sigma * Md, check_finite=False)
+        solve = lambda b: scipy.linalg.lu_solve(factor, b)  # noqa: E731
+        mass = Md
+    x = np.asarray(solve(f))
+    for _ in range(3):  # (K - sigma M) x_{k+1} = f - sigma M x_k converges to K^-1 f
+        x = np.asarray(solve(f - sigma * np.asarray(mass @ x)))
+    return x
+
+
+def _m_orthonormal(system: System, phi: Array, x: Array) -> Array:
+    """The part of the columns of `x` M-orthogonal to `phi`, M-orthonormalised, dependent
+    directions dropped. Computed with M scaled to unit diagonal (models in any units)."""
+    scale = float(np.max(system.M.diagonal()))
+    Ms = system.M / scale  # phi is Ms-orthogonal with phi.T Ms phi = I / scale
+    x = x[:, np.all(np.isfinite(x), axis=0) & (np.abs(x).max(axis=0) > 0)]
+    if x.shape[1] == 0:
+        return x
+    x = x / np.abs(x).max(axis=0)
+    x = x / np.sqrt(np.einsum("ij,ij->j", x, np.asarray(Ms @ x)))
+
+    def project(y: Array) -> Array:
+        return y - phi @ ((phi.T @ np.asarray(Ms @ y)) * scale)
+
+    x = project(project(x))  # twice: orthogonal to working precision
+    g = x.T @ np.asarray(Ms @ x)
+    s, u = np.linalg.eigh((g + g.T) / 2)
+    keep = s > DEPENDENT_RTOL**2  # the columns had unit norm before the projection
+    if not np.any(keep):
+        return x[:, :0]
+    y = project(x @ (u[:, keep] / np.sqrt(s[keep])))
+    g = y.T @ np.asarray(Ms @ y)
+    c = np.linalg.cholesky((g + g.T) / 2)
+    return np.linalg.solve(c, y.T).T / np.sqrt(scale)  # M-orthonormal
+
+
+def _damping(system: System, n_modes: int, order: NDArray[np.intp]) -> Any:
+    """`system`'s damping for :func:`duhamel.modal.damped` on the enriched basis (columns in
+    `order`): per-mode ratios extended to the correction vectors with the last mode's."""
+    z = system.zeta
+    if system.damping == "zeta" and isinstance(z, np.ndarray):
+        extra = np.full(order.size - n_modes, z[min(n_modes, z.size) - 1])
+        z = np.concatenate([z[:n_modes], extra])[order]
+    return SimpleNamespace(
+        damping=system.damping, zeta=z, rayleigh=system.rayleigh, C=system.C, K=system.K, M=system.M
+    )
+
+
+def corrected(system: System, basis: ModalBasis) -> ModalBasis:
+    """`basis` (the lowest modes of `system`) enriched with the static responses to its
+    elements' deformation forces and load patterns; cached on `system` per basis size and
+    force patterns."""
+    f = force_directions(system)
+    key = (basis.n_modes, f.shape[1], f.tobytes())
+    cache = system.__dict__.setdefault("_corrected", {})
+    if key in cache:
+        return cache[key]
+    n = basis.n_modes
+    if f.shape[1] == 0 or n == system.n_dof:
+        return basis
+    try:
+        y = _m_orthonormal(system, basis.phi, _static(system, basis, f))
+    except np.linalg.LinAlgError:  # vectors dependent to round-off: nothing to add
+        y = np.zeros((system.n_dof, 0))
+    if y.shape[1]:
+        ky = y.T @ np.asarray(system.K @ y)
+        theta, w = np.linalg.eigh((ky + ky.T) / 2)
+        y = y @ w
+        lam = np.concatenate([basis.omega2, np.maximum(theta, 0.0)])
+        phi = np.hstack([basis.phi, y])
+    else:
+        lam, phi = np.asarray(basis.omega2), np.asarray(basis.phi)
+    order = np.argsort(lam, kind="stable")
+    lam, phi = lam[order], np.ascontiguousarray(phi[:, order])
+    result = damped(lam, phi, _damping(system, n, order))
+    cache[key] = result
+    return result
