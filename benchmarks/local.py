@@ -50,12 +50,16 @@ class Setup:
     modes: tuple[int, ...] = (50, 100, 200)
     springs: tuple[int, ...] = (3, 30, 100)
     modal_newton_up_to: int = 100
+    reference_modes: int = 300
+    accuracy_springs: int = 3
     steps: int = 10_000
     dt: float = 1e-3
     repeats: int = 3
 
 
-QUICK = Setup(shape=(8, 8, 8), modes=(20, 40), springs=(3, 10), steps=2000, repeats=1)
+QUICK = Setup(
+    shape=(8, 8, 8), modes=(20, 40), springs=(3, 10), steps=2000, repeats=1, reference_modes=80
+)
 
 
 def lattice(shape: tuple[int, int, int], k: float) -> tuple[sp.csr_array, sp.csr_array]:
@@ -84,6 +88,24 @@ def _run(system: duhamel.System, modes: int, solver: str, s: Setup, tip: int) ->
     return sol.stats.wall_time / s.steps
 
 
+def accuracy(s: Setup, system: duhamel.System, dofs: np.ndarray) -> dict:
+    """Error at the spring dofs (max over time and springs, relative to the reference's
+    peak there) with and without the static correction, against the run with
+    `reference_modes` modes plus the correction; and the coordinates each run has."""
+    kw = {"t_end": s.steps * s.dt, "dt": s.dt, "dofs": dofs}
+    ref_run = duhamel.Semianalytic(modes=s.reference_modes, static_correction=True)
+    ref = duhamel.solve(system, ref_run, **kw)
+    peak = np.abs(ref.x).max()
+    out = {"reference": ref.stats.modes, "rows": []}
+    for mm in s.modes:
+        for correct in (False, True):
+            run = duhamel.Semianalytic(modes=mm, static_correction=correct)
+            sol = duhamel.solve(system, run, **kw)
+            err = float(np.abs(sol.x - ref.x).max() / peak)
+            out["rows"].append((mm, correct, sol.stats.modes, err))
+    return out
+
+
 def measure(s: Setup) -> dict:
     m, k = lattice(s.shape, s.k)
     n = m.shape[0]
@@ -103,6 +125,12 @@ def measure(s: Setup) -> dict:
             sys_.add(E.Cubic(int(d), s.k3))
         return sys_
 
+    ref_basis = duhamel.System(m, k, zeta=0.02).use_basis(biggest, extend=True)
+    ref_basis = ref_basis.modal(s.reference_modes)
+    acc_system = duhamel.System(m, k, zeta=0.02).use_basis(ref_basis).add_load(load)
+    for d in spring_dofs[: s.accuracy_springs]:
+        acc_system.add(E.Cubic(int(d), s.k3))
+    acc = accuracy(s, acc_system, np.sort(spring_dofs[: s.accuracy_springs]))
     linear = {mm: np.inf for mm in s.modes}
     timed: dict[tuple[int, int, str], float] = {}
     systems = {ns: system(ns) for ns in (0, *s.springs)}
@@ -122,6 +150,7 @@ def measure(s: Setup) -> dict:
         "linear": linear,
         "timed": timed,
         "load": (load_before, os.getloadavg()[0]),
+        "accuracy": acc,
     }
 
 
@@ -137,6 +166,10 @@ def markdown(s: Setup, r: dict) -> list[str]:
         f"shift-invert eigsh): {r['eig_seconds']:.1f} s. 1-min load average before "
         f"{r['load'][0]:.2f}, after {r['load'][1]:.2f} (2 cores).",
         "",
+        "With `modes` given and springs present, the static correction is on (the default):",
+        "the run has one more coordinate per spring and one for the load. Linear: no springs,",
+        "no correction (plain modes).",
+        "",
         "| modes | linear [us/step] | springs | element-space Newton [us/step] | x linear "
         "| modal Newton [us/step] | x linear |",
         "|---:|---:|---:|---:|---:|---:|---:|",
@@ -151,6 +184,18 @@ def markdown(s: Setup, r: dict) -> list[str]:
                 f"| {mm} | {lin * us:.2f} | {ns} | {loc * us:.1f} | {loc / lin:.0f} | "
                 f"{d[0]} | {d[1]} |"
             )
+    a = r["accuracy"]
+    out += [
+        "",
+        f"Accuracy at the {s.accuracy_springs} spring dofs (max error over time and springs / "
+        f"the reference's peak there) against {s.reference_modes} modes + static correction "
+        f"({a['reference']} coordinates), same steps:",
+        "",
+        "| modes | static correction | coordinates | error at the springs |",
+        "|---:|:---:|---:|---:|",
+    ]
+    for mm, correct, n, err in a["rows"]:
+        out.append(f"| {mm} | {'yes' if correct else 'no'} | {n} | {err:.2e} |")
     return out
 
 
