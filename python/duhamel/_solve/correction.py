@@ -103,11 +103,15 @@ def _static(system: System, basis: ModalBasis, f: Array) -> Array:
         ratio = float(np.max(np.abs(np.diag(K)) / np.diag(Md)))
         sigma = -SHIFT_RTOL * (ratio if ratio > 0.0 else 1.0)
         factor = scipy.linalg.lu_factor(K - sigma * Md, check_finite=False)
-        solve = lambda b: scipy.linalg.lu_solve(factor, b)  # noqa: E731
+        solve = lambda b: scipy.linalg.lu_solve(factor, b, check_finite=False)  # noqa: E731
         mass = Md
-    x = np.asarray(solve(f))
-    for _ in range(3):  # (K - sigma M) x_{k+1} = f - sigma M x_k converges to K^-1 f
-        x = np.asarray(solve(f - sigma * np.asarray(mass @ x)))
+    with np.errstate(all="ignore"):  # overflow in extreme units: such columns are dropped
+        x = np.asarray(solve(f))
+        for _ in range(3):  # (K - sigma M) x_{k+1} = f - sigma M x_k converges to K^-1 f
+            step = np.asarray(solve(f - sigma * np.asarray(mass @ x)))
+            if not np.all(np.isfinite(step)):
+                break  # keep the last finite iterate
+            x = step
     return x
 
 
