@@ -295,13 +295,10 @@ def table1(
         sol = duhamel.solve(system, enriched, **kw)
         corrected[m] = (sol.stats.modes, _relative_error(_planar(sol.x, nodes) / scale, full))
     truncated = {
-        m: duhamel.Semianalytic(modes=m, coupling=COUPLING, static_correction=False)
-        for m in modes
+        m: duhamel.Semianalytic(modes=m, coupling=COUPLING, static_correction=False) for m in modes
     }
     linear_runs = {
-        m: _planar(duhamel.solve(linear, truncated[m], **kw).x, nodes)
-        / scale
-        for m in modes
+        m: _planar(duhamel.solve(linear, truncated[m], **kw).x, nodes) / scale for m in modes
     }
     linear_errors = {m: _relative_error(linear_runs[m], linear_runs[modes[0]]) for m in modes}
     fine = duhamel.solve(
