@@ -37,7 +37,7 @@ from duhamel.store import resume
 from duhamel.system import ModalBasis, System
 
 if TYPE_CHECKING:
-    from duhamel import analysis, exact, rotor
+    from duhamel import analysis, exact, records, rotor
     from duhamel import paper as paper  # lazy too, but not in __all__ (`import *` skips it)
 
 __all__ = [
@@ -64,6 +64,7 @@ __all__ = [
     "loads",
     "mass",
     "oscillator",
+    "records",
     "resume",
     "rotor",
     "solve",
@@ -72,7 +73,7 @@ __all__ = [
 
 #: Subpackages imported on first access (PEP 562), so that ``import duhamel`` stays light:
 #: they pull in scipy.optimize, scipy.special, scipy.signal ... which most runs never need.
-_LAZY = frozenset({"analysis", "exact", "paper", "rotor"})
+_LAZY = frozenset({"analysis", "exact", "paper", "records", "rotor"})
 
 
 def __getattr__(name: str) -> Any:
