@@ -23,7 +23,7 @@ $(VENV)/.deps: pyproject.toml | $(VPY)
 		"tqdm>=4.66" "pytest>=8" "mpmath>=1.3" "ruff==0.17.6" "hypothesis==6.170.15" \
 		"ross-rotordynamics==2.3.0; python_version < '3.12'" "plotly>=4.7,<7; python_version < '3.12'" \
 		"ross-rotordynamics==3.0.0; python_version == '3.12'" \
-		"ross-rotordynamics==3.1.0; python_version >= '3.13'" "zarr>=3,<4"
+		"ross-rotordynamics==3.1.0; python_version >= '3.13'" "zarr>=3,<4" "xarray>=2024.1"
 	touch $@
 
 # Release build of the Rust core, installed into the venv (cargo makes it incremental).

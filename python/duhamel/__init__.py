@@ -37,7 +37,7 @@ from duhamel.store import resume
 from duhamel.system import ModalBasis, System
 
 if TYPE_CHECKING:
-    from duhamel import analysis, exact, records, rotor
+    from duhamel import analysis, exact, records, rotor, spectra
     from duhamel import paper as paper  # lazy too, but not in __all__ (`import *` skips it)
 
 __all__ = [
@@ -68,12 +68,13 @@ __all__ = [
     "resume",
     "rotor",
     "solve",
+    "spectra",
     "speed",
 ]
 
 #: Subpackages imported on first access (PEP 562), so that ``import duhamel`` stays light:
 #: they pull in scipy.optimize, scipy.special, scipy.signal ... which most runs never need.
-_LAZY = frozenset({"analysis", "exact", "paper", "records", "rotor"})
+_LAZY = frozenset({"analysis", "exact", "paper", "records", "rotor", "spectra"})
 
 
 def __getattr__(name: str) -> Any:

@@ -20,6 +20,7 @@ pub mod mass;
 pub mod output;
 pub mod problem;
 pub mod pseudo;
+pub mod spectra;
 pub mod speed;
 
 pub use driver::{Control, Unattended};

@@ -21,6 +21,7 @@ mod loads;
 mod mass;
 mod problem;
 mod pseudo;
+mod spectra;
 mod speed;
 
 use duhamel_core::Transfer;
@@ -152,6 +153,10 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(pseudo::solve_pseudo, m)?)?;
     m.add_function(wrap_pyfunction!(direct::solve_direct, m)?)?;
     m.add_function(wrap_pyfunction!(direct::element_stiffness, m)?)?;
+    m.add_function(wrap_pyfunction!(spectra::elastic_spectra, m)?)?;
+    m.add_function(wrap_pyfunction!(spectra::rotd_peaks, m)?)?;
+    m.add_function(wrap_pyfunction!(spectra::ductility_spectrum, m)?)?;
+    m.add_function(wrap_pyfunction!(spectra::bilinear_peak, m)?)?;
     m.add_function(wrap_pyfunction!(guard::_panic_for_tests, m)?)?;
     m.add_class::<speed::SpeedLaw>()?;
     m.add_class::<loads::TimeFunction>()?;
