@@ -3,7 +3,7 @@
 
 use rayon::prelude::*;
 
-use super::{check, on_pool, Record, Step};
+use super::common::{check, on_pool, Record, Step};
 use crate::error::CoreError;
 
 /// Oscillators advanced together in one pass over a record (independent recurrences, so the

@@ -11,7 +11,8 @@
 
 use rayon::prelude::*;
 
-use super::{check, elastic, on_pool, Record, Step};
+use super::common::{check, on_pool, Record, Step};
+use super::elastic::elastic;
 use crate::error::CoreError;
 use crate::kernel::oscillator::Transfer;
 

@@ -5,7 +5,7 @@
 
 use rayon::prelude::*;
 
-use super::{check, on_pool, Record, Step};
+use super::common::{check, on_pool, Record, Step};
 use crate::error::CoreError;
 
 /// Displacement history of one oscillator under `-acc`.

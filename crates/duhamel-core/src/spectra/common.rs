@@ -1,0 +1,103 @@
+//! What every spectrum shares: the record, the exact step of one oscillator, input checks
+//! and the thread pool.
+
+use crate::error::CoreError;
+use crate::kernel::oscillator::Transfer;
+
+/// One record: accelerations (any consistent unit) at samples `dt` apart.
+#[derive(Debug, Clone, Copy)]
+pub struct Record<'a> {
+    /// Samples of the ground acceleration.
+    pub acc: &'a [f64],
+    /// Sampling interval.
+    pub dt: f64,
+}
+
+/// The per-step recurrence of one oscillator under a piecewise-linear load
+/// `p(s dt) = p0 + (p1 - p0) s`: `(x, v) <- A (x, v) + b0 p0 + b1 p1`.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Step {
+    pub a: [[f64; 2]; 2],
+    /// Response to `p0` (`m0 - m1`) and to `p1` (`m1`), rows displacement and velocity.
+    pub b0: [f64; 2],
+    pub b1: [f64; 2],
+}
+
+impl Step {
+    /// The exact step of `x'' + 2 zeta omega x' + omega^2 x = p` over `dt`.
+    pub(crate) fn new(omega: f64, zeta: f64, dt: f64) -> Result<Self, CoreError> {
+        let tr = Transfer::from_omega_zeta(omega, zeta, dt);
+        if !tr.is_finite() {
+            return Err(CoreError::InvalidInput {
+                name: "periods",
+                problem: format!(
+                    "give step matrices that overflow at omega = {omega:e} rad/s, zeta = \
+                     {zeta}, dt = {dt:e} s"
+                ),
+            });
+        }
+        let m = tr.m;
+        Ok(Step {
+            a: tr.a,
+            b0: [m[0][0] - m[0][1], m[1][0] - m[1][1]],
+            b1: [m[0][1], m[1][1]],
+        })
+    }
+}
+
+/// Checks the inputs shared by every spectrum.
+pub(crate) fn check(
+    records: &[Record],
+    periods: &[f64],
+    dampings: &[f64],
+) -> Result<(), CoreError> {
+    let bad = |name, problem: String| Err(CoreError::InvalidInput { name, problem });
+    for (i, r) in records.iter().enumerate() {
+        if !(r.dt.is_finite() && r.dt > 0.0) {
+            return bad(
+                "dt",
+                format!("of record {i} must be positive and finite, got {}", r.dt),
+            );
+        }
+        if r.acc.len() < 2 {
+            return bad(
+                "motions",
+                format!("record {i} has {} samples, needs 2", r.acc.len()),
+            );
+        }
+        if let Some(k) = r.acc.iter().position(|a| !a.is_finite()) {
+            return bad(
+                "motions",
+                format!("record {i} has a non-finite sample at index {k}"),
+            );
+        }
+    }
+    if let Some(&p) = periods.iter().find(|p| !(p.is_finite() && **p >= 0.0)) {
+        return bad("periods", format!("must be finite and >= 0, got {p}"));
+    }
+    if let Some(&z) = dampings.iter().find(|z| !(z.is_finite() && **z >= 0.0)) {
+        return bad("damping", format!("must be finite and >= 0, got {z}"));
+    }
+    Ok(())
+}
+
+/// Runs `f` on a rayon pool of `threads` workers (at most the cores), or on the global pool.
+pub(crate) fn on_pool<T: Send>(
+    threads: Option<usize>,
+    f: impl FnOnce() -> T + Send,
+) -> Result<T, CoreError> {
+    match threads {
+        None => Ok(f()),
+        Some(n) => {
+            let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n.clamp(1, cores))
+                .build()
+                .map_err(|e| CoreError::InvalidInput {
+                    name: "threads",
+                    problem: e.to_string(),
+                })?;
+            Ok(pool.install(f))
+        }
+    }
+}
