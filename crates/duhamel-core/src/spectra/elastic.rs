@@ -1,9 +1,7 @@
 //! Elastic response spectra: peak relative displacement, relative velocity and absolute
 //! acceleration of damped oscillators under piecewise-linear records.
 
-use rayon::prelude::*;
-
-use super::common::{check, on_pool, Record, Step};
+use super::common::{check, map_tasks, Record, Step};
 use crate::error::CoreError;
 
 /// Oscillators advanced together in one pass over a record (independent recurrences, so the
@@ -46,23 +44,45 @@ impl Lanes {
     }
 }
 
+/// `max(m, y)` as one `maxpd` (`f64::max`'s NaN rule costs a compare and blend per lane; a
+/// NaN here is caught by the finiteness check of the final state).
+#[inline(always)]
+fn larger(m: f64, y: f64) -> f64 {
+    if y > m {
+        y
+    } else {
+        m
+    }
+}
+
 /// Peaks `[sd, sv, sa]` of the lanes over the record `acc` (load `-acc`), and whether the
 /// final states are finite (an overflow shows there, even where `max` skipped a NaN).
+///
+/// Every coefficient is copied to a local fixed-size array and every lane loop has a
+/// constant trip count, so the compiler keeps the state in vector registers and vectorises
+/// across the lanes.
 fn run(acc: &[f64], o: &Lanes) -> ([[f64; LANES]; 3], bool) {
+    let [[a00, a01], [a10, a11]] = o.a;
+    let [b0x, b0v] = o.b0;
+    let [b1x, b1v] = o.b1;
+    let (k, c) = (o.k, o.c);
     let (mut x, mut v) = ([0.0; LANES], [0.0; LANES]);
-    let mut peak = [[0.0f64; LANES]; 3];
-    for w in acc.windows(2) {
-        let (p0, p1) = (-w[0], -w[1]);
+    let (mut px, mut pv, mut pa) = ([0.0f64; LANES], [0.0f64; LANES], [0.0f64; LANES]);
+    let mut p0 = -acc[0];
+    for &next in &acc[1..] {
+        let p1 = -next;
         for l in 0..LANES {
-            let xn = o.a[0][0][l] * x[l] + o.a[0][1][l] * v[l] + o.b0[0][l] * p0 + o.b1[0][l] * p1;
-            let vn = o.a[1][0][l] * x[l] + o.a[1][1][l] * v[l] + o.b0[1][l] * p0 + o.b1[1][l] * p1;
+            let xn = a00[l].mul_add(x[l], a01[l].mul_add(v[l], b0x[l].mul_add(p0, b1x[l] * p1)));
+            let vn = a10[l].mul_add(x[l], a11[l].mul_add(v[l], b0v[l].mul_add(p0, b1v[l] * p1)));
             x[l] = xn;
             v[l] = vn;
-            peak[0][l] = peak[0][l].max(xn.abs());
-            peak[1][l] = peak[1][l].max(vn.abs());
-            peak[2][l] = peak[2][l].max((o.k[l] * xn + o.c[l] * vn).abs());
+            px[l] = larger(px[l], xn.abs());
+            pv[l] = larger(pv[l], vn.abs());
+            pa[l] = larger(pa[l], k[l].mul_add(xn, c[l] * vn).abs());
         }
+        p0 = p1;
     }
+    let peak = [px, pv, pa];
     let finite = x
         .iter()
         .chain(&v)
@@ -123,9 +143,7 @@ pub fn elastic(
             })
             .collect())
     };
-    let results = on_pool(threads, || {
-        tasks.par_iter().map(task).collect::<Result<Vec<_>, _>>()
-    })??;
+    let results = map_tasks(threads, &tasks, task)?;
     let mut out = Peaks {
         sd: Vec::with_capacity(nr * nd * np),
         sv: Vec::with_capacity(nr * nd * np),

@@ -9,9 +9,7 @@
 //! `|z| < u_y` or unloading, `z' = 0` on yield (`|z| = u_y`, `z u' > 0`). Kinematic hardening
 //! with post-yield stiffness `alpha k`; the yield force is `f_y = k u_y`.
 
-use rayon::prelude::*;
-
-use super::common::{check, on_pool, Record, Step};
+use super::common::{check, map_tasks, Record, Step};
 use super::elastic::elastic;
 use crate::error::CoreError;
 use crate::kernel::oscillator::Transfer;
@@ -53,10 +51,7 @@ impl Branch {
                 }
             }
         };
-        (
-            s.a[0][0] * x + s.a[0][1] * v + s.b0[0] * q.0 + s.b1[0] * q.1,
-            s.a[1][0] * x + s.a[1][1] * v + s.b0[1] * q.0 + s.b1[1] * q.1,
-        )
+        s.apply(x, v, q.0, q.1)
     }
 }
 
@@ -116,7 +111,7 @@ pub fn peak_displacement(o: &Bilinear, uy: f64, rec: Record) -> Result<f64, Core
     let mut peak = 0.0f64;
     for (step, w) in rec.acc.windows(2).enumerate() {
         let (p0, p1) = (-w[0], -w[1]);
-        let load = |s: f64| p0 + (p1 - p0) * s;
+        let load = |s: f64| p0 * (1.0 - s) + p1 * s; // exact at both ends
         let mut s = 0.0; // fraction of the step done
         let mut events = 0;
         // the branch decided by a sub-step that found no event (None: by the state)
@@ -284,9 +279,7 @@ pub fn ductility_spectrum(
         }
         Ok(lo * sd[p])
     };
-    on_pool(threads, || {
-        tasks.par_iter().map(task).collect::<Result<Vec<_>, _>>()
-    })?
+    map_tasks(threads, &tasks, task)
 }
 
 #[cfg(test)]

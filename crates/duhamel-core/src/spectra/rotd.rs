@@ -3,9 +3,7 @@
 //! as `x1 cos theta + x2 sin theta`; RotDnn is the nn-th percentile over the directions of
 //! the peak of that projection (RotD50 the median, RotD100 the largest).
 
-use rayon::prelude::*;
-
-use super::common::{check, on_pool, Record, Step};
+use super::common::{check, map_tasks, Record, Step};
 use crate::error::CoreError;
 
 /// Displacement history of one oscillator under `-acc`.
@@ -14,10 +12,7 @@ fn displacement(acc: &[f64], s: &Step) -> Vec<f64> {
     let mut out = Vec::with_capacity(acc.len());
     out.push(0.0);
     for w in acc.windows(2) {
-        let (p0, p1) = (-w[0], -w[1]);
-        let xn = s.a[0][0] * x + s.a[0][1] * v + s.b0[0] * p0 + s.b1[0] * p1;
-        v = s.a[1][0] * x + s.a[1][1] * v + s.b0[1] * p0 + s.b1[1] * p1;
-        x = xn;
+        (x, v) = s.apply(x, v, -w[0], -w[1]);
         out.push(x);
     }
     out
@@ -87,9 +82,7 @@ pub fn rotd(
         }
         Ok(peak)
     };
-    let out = on_pool(threads, || {
-        tasks.par_iter().map(task).collect::<Result<Vec<_>, _>>()
-    })??;
+    let out = map_tasks(threads, &tasks, task)?;
     Ok(out.into_iter().flatten().collect())
 }
 
