@@ -55,3 +55,23 @@ def test_lattice_from_matrixmarket() -> None:
     err = np.abs(sol.x - full.x).max() / np.abs(full.x).max()
     print(f"\n30 modes + correction vs all 512 modes at the tip: {err:.2e}")
     assert err < 2e-2  # measured 9.4e-3 (the load's dynamics in the truncated modes)
+
+
+def test_spectra_example(tmp_path: Path) -> None:
+    """Records and spectra: the .AT2 written and read back, the spectra consistent with each
+    other (RotD100 >= each component; ductility 1 is the elastic spectrum)."""
+    import importlib.util
+
+    import numpy as np
+
+    spec = importlib.util.spec_from_file_location("spectra_ex", ROOT / "examples" / "spectra.py")
+    assert spec is not None and spec.loader is not None
+    ex = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ex)
+    out = ex.main(["--save", str(tmp_path / "spectra.png")])
+    assert (tmp_path / "spectra.png").stat().st_size > 10_000
+    el, rd, duct = out["el"], out["rotd"], out["ductility"]
+    assert np.all(rd.sd[0, 1] >= el.sd[:, 1].max(axis=0) * (1 - 1e-12))
+    np.testing.assert_array_equal(duct.uy[0, 0], el.sd[0, 1])
+    h1 = out["motions"][0]
+    np.testing.assert_allclose(h1.a / 9.80665, ex.synthetic(1, 0.35), rtol=1e-7, atol=0)
