@@ -1,0 +1,257 @@
+"""Hysteretic and device elements: duhamel against OpenSees on the same SDOF models (issue 13).
+
+A one-storey frame (m = 1e5 kg, frame stiffness for T = 1 s, 2 % mass-proportional damping)
+with one device in parallel, under the same 20-s synthetic record (filtered noise, PGA 0.4 g,
+200 samples per second, linear between samples in both codes):
+
+* ``Bilinear(k = k_frame, fy = 0.1 m g, alpha = 0.05)`` against OpenSees ``Steel01`` (the same
+  law: kinematic hardening, no isotropic hardening);
+* ``BoucWen(k = k_frame, fy = 0.1 m g, alpha = 0.05, n = 1, beta = gamma = 0.5)`` against
+  OpenSees ``BoucWen`` with ``z`` in displacement units (``beta, gamma`` scaled by ``k / fy``,
+  ``A0 = 1``, no degradation);
+* ``ViscousDamper(c, exponent = 0.5)`` (c for 10 % damping at 0.1 m/s) against OpenSees
+  ``Viscous`` (the same power law; duhamel regularises below 1e-4 m/s).
+
+OpenSees: ``zeroLength`` elements, ``UniformExcitation`` with a ``Path`` series, Newmark
+average acceleration, Newton with ``NormDispIncr`` 1e-12, the displacement recorded every step
+to a file by a ``Node`` recorder and ``analyze(n, dt)`` in one call (its fastest route;
+reading the file back is not timed). duhamel: ``Semianalytic()`` (defaults: the device's
+initial stiffness in the modal background, the remainder as a pseudo-force; path-dependent
+elements committed once per step), saving at the record's samples.
+
+Accuracy: each code against its own converged run (``dt = 0.005 / 256``), the largest
+difference over the record's samples divided by the peak displacement; the two converged runs
+are compared with each other (plotting accuracy). Time to equal accuracy: for each code, the
+largest step ``0.005 / 2^j`` whose error is below the level, timed over the whole call (model
+set-up included, best of repeats, the codes interleaved); the ratio is OpenSees over duhamel.
+
+Usage::
+
+    python benchmarks/devices.py                          # print the tables
+    python benchmarks/devices.py --append BENCHMARKS.md   # as a section of BENCHMARKS.md
+    python benchmarks/devices.py --quick                  # smoke test
+
+Needs openseespy (``pip install openseespy``; on a fresh Debian/Ubuntu machine also
+``apt-get install -y libblas3 liblapack3``).
+"""
+
+from __future__ import annotations
+
+import os
+
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import argparse  # noqa: E402
+import tempfile  # noqa: E402
+import time  # noqa: E402
+from collections.abc import Callable  # noqa: E402
+from dataclasses import dataclass  # noqa: E402
+
+import numpy as np  # noqa: E402
+import scipy.signal  # noqa: E402
+
+import duhamel  # noqa: E402
+from duhamel import elements as E  # noqa: E402
+from duhamel.records import G, GroundMotion  # noqa: E402
+
+M = 1e5
+OMEGA = 2 * np.pi
+K_FRAME = M * OMEGA**2
+A0 = 2 * 0.02 * OMEGA  # mass-proportional damping, 2 % at T = 1 s
+FY = 0.1 * M * G
+DT_REC = 0.005
+
+
+def record(seconds: float) -> GroundMotion:
+    n = round(seconds / DT_REC) + 1
+    rng = np.random.default_rng(13)
+    t = DT_REC * np.arange(n)
+    b, a = scipy.signal.butter(4, [0.3, 8.0], btype="band", fs=1 / DT_REC)
+    env = np.minimum(t / 2.0, 1.0) * np.exp(-np.maximum(t - 8.0, 0.0) / 4.0)
+    x = env * scipy.signal.lfilter(b, a, rng.normal(size=n))
+    return GroundMotion(0.4 * x / np.abs(x).max(), DT_REC, units="g", name="synthetic")
+
+
+@dataclass(frozen=True)
+class Case:
+    name: str
+    device: duhamel.elements.Element
+    opensees: Callable[[int], None]  # defines uniaxialMaterial `tag`
+
+
+def cases() -> list[Case]:
+    import openseespy.opensees as ops
+
+    s = K_FRAME / FY  # OpenSees' z is a displacement: beta, gamma scale with (k / fy)^n
+    c = 0.1 * 2 * M * OMEGA * 0.1**0.5  # 10 % damping-equivalent force at 0.1 m/s
+    return [
+        Case(
+            "Bilinear / Steel01",
+            E.Bilinear(0, k=K_FRAME, fy=FY, alpha=0.05),
+            lambda tag: ops.uniaxialMaterial("Steel01", tag, FY, K_FRAME, 0.05),
+        ),
+        Case(
+            "BoucWen / BoucWen",
+            E.BoucWen(0, k=K_FRAME, fy=FY, alpha=0.05, n=1.0, beta=0.5, gamma=0.5),
+            lambda tag: ops.uniaxialMaterial(
+                "BoucWen", tag, 0.05, K_FRAME, 1.0, 0.5 * s, 0.5 * s, 1.0, 0.0, 0.0, 0.0
+            ),
+        ),
+        Case(
+            "ViscousDamper / Viscous",
+            E.ViscousDamper(0, c=c, exponent=0.5),
+            lambda tag: ops.uniaxialMaterial("Viscous", tag, c, 0.5),
+        ),
+    ]
+
+
+def run_duhamel(case: Case, gm: GroundMotion, k: int) -> np.ndarray:
+    s = duhamel.System(M * np.eye(1), K_FRAME * np.eye(1), C=A0 * M * np.eye(1))
+    s.add(case.device).add_load(gm.as_load(np.ones(1)))
+    sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=gm.duration, dt=DT_REC / k, save_every=k)
+    return sol.x[:, 0]
+
+
+def run_opensees(case: Case, gm: GroundMotion, k: int, path: str) -> None:
+    import openseespy.opensees as ops
+
+    ops.wipe()
+    ops.model("basic", "-ndm", 1, "-ndf", 1)
+    ops.node(1, 0.0)
+    ops.node(2, 0.0)
+    ops.fix(1, 1)
+    ops.mass(2, M)
+    ops.uniaxialMaterial("Elastic", 1, K_FRAME)
+    case.opensees(2)
+    ops.element("zeroLength", 1, 1, 2, "-mat", 1, 2, "-dir", 1, 1)
+    ops.timeSeries("Path", 1, "-dt", DT_REC, "-values", *gm.a.tolist())
+    ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
+    ops.rayleigh(A0, 0.0, 0.0, 0.0)
+    ops.constraints("Plain")
+    ops.numberer("Plain")
+    ops.system("BandGeneral")
+    ops.test("NormDispIncr", 1e-12, 50)
+    ops.algorithm("Newton")
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+    ops.recorder("Node", "-file", path, "-node", 2, "-dof", 1, "disp")
+    n = (gm.a.size - 1) * k
+    if ops.analyze(n, DT_REC / k) != 0:
+        raise RuntimeError(f"OpenSees failed on {case.name} at dt = {DT_REC / k}")
+    ops.wipe()  # closes the recorder
+
+
+def read_opensees(path: str, k: int, n: int) -> np.ndarray:
+    x = np.loadtxt(path).reshape(-1)
+    return np.concatenate([[0.0], x[k - 1 :: k]])[:n]
+
+
+def timed(f: Callable[[], object]) -> float:
+    t0 = time.perf_counter()
+    f()
+    return time.perf_counter() - t0
+
+
+def measure(quick: bool) -> dict:
+    load0 = os.getloadavg()[0]
+    gm = record(6.0 if quick else 20.0)
+    ks = [1, 2, 4, 8, 16, 32, 64]
+    k_ref = 64 if quick else 256
+    repeats = 1 if quick else 3
+    tmp = tempfile.mkdtemp()
+    path = os.path.join(tmp, "disp.out")
+    out = []
+    for case in cases():
+        ref_d = run_duhamel(case, gm, k_ref)
+        run_opensees(case, gm, k_ref, path)
+        ref_o = read_opensees(path, k_ref, gm.a.size)
+        peak = np.abs(ref_d).max()
+        row = {"name": case.name, "cross": float(np.abs(ref_d - ref_o).max() / peak), "k": {}}
+        for k in ks:
+            xd = run_duhamel(case, gm, k)
+            run_opensees(case, gm, k, path)
+            xo = read_opensees(path, k, gm.a.size)
+            td = min(timed(lambda k=k, c=case: run_duhamel(c, gm, k)) for _ in range(repeats))
+            to = min(
+                timed(lambda k=k, c=case: run_opensees(c, gm, k, path)) for _ in range(repeats)
+            )
+            row["k"][k] = {
+                "err_d": float(np.abs(xd - ref_d).max() / peak),
+                "err_o": float(np.abs(xo - ref_o).max() / peak),
+                "t_d": td,
+                "t_o": to,
+            }
+        out.append(row)
+    return {
+        "rows": out,
+        "n": gm.a.size,
+        "seconds": gm.duration,
+        "load": (load0, os.getloadavg()[0]),
+    }
+
+
+def to_accuracy(row: dict, level: float, who: str) -> tuple[int, float] | None:
+    for k, r in sorted(row["k"].items()):
+        if r[f"err_{who}"] <= level:
+            return k, r[f"t_{who}"]
+    return None
+
+
+def markdown(r: dict) -> list[str]:
+    out = [
+        "## Devices against OpenSees (issue 13)",
+        "",
+        "Generated by `benchmarks/devices.py --append BENCHMARKS.md`. One-storey frame (T = 1 s, "
+        "2 % mass-proportional damping) with one device, synthetic record of "
+        f"{r['seconds']:.0f} s at 200 Hz (PGA 0.4 g). Error: largest difference at the "
+        "record's samples against the same code at dt = 0.005/256, over the peak displacement; "
+        "time: the whole call (set-up included), best of repeats, codes interleaved. "
+        f"1-min load average before {r['load'][0]:.2f}, after {r['load'][1]:.2f}.",
+        "",
+        "| model | converged duhamel vs converged OpenSees | dt = 0.005/k | duhamel error | "
+        "duhamel [ms] | OpenSees error | OpenSees [ms] |",
+        "|---|---:|---:|---:|---:|---:|---:|",
+    ]
+    for row in r["rows"]:
+        for k, v in sorted(row["k"].items()):
+            out.append(
+                f"| {row['name']} | {row['cross']:.1e} | {k} | {v['err_d']:.1e} | "
+                f"{1e3 * v['t_d']:.1f} | {v['err_o']:.1e} | {1e3 * v['t_o']:.1f} |"
+            )
+    out += [
+        "",
+        "Time to equal accuracy (the largest step reaching the level, each code):",
+        "",
+        "| model | level | duhamel k, ms | OpenSees k, ms | OpenSees / duhamel |",
+        "|---|---:|---:|---:|---:|",
+    ]
+    for row in r["rows"]:
+        for level in (1e-2, 1e-3, 1e-4):
+            d, o = to_accuracy(row, level, "d"), to_accuracy(row, level, "o")
+            if d is None or o is None:
+                show = [f"{w[0]}, {1e3 * w[1]:.1f}" if w else "not reached" for w in (d, o)]
+                out.append(f"| {row['name']} | {level:.0e} | {show[0]} | {show[1]} | - |")
+                continue
+            out.append(
+                f"| {row['name']} | {level:.0e} | {d[0]}, {1e3 * d[1]:.1f} | "
+                f"{o[0]}, {1e3 * o[1]:.1f} | {o[1] / d[1]:.1f} |"
+            )
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--append", help="append the section to this markdown file")
+    parser.add_argument("--quick", action="store_true", help="a short record, one repeat")
+    args = parser.parse_args(argv)
+    text = "\n".join(markdown(measure(args.quick))) + "\n"
+    print(text)
+    if args.append:
+        with open(args.append, "a", encoding="utf-8") as f:
+            f.write("\n" + text)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
