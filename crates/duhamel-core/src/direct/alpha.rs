@@ -20,7 +20,8 @@
 //! the inertia at `t_{n+1-am}` and cost an order whenever `am != af` (HHT measured first
 //! order on the decaying-mass pendulum).
 
-use super::assembly::{Factorization, IterationMatrix};
+use super::assembly::{singular, Factorization, IterationMatrix};
+use super::lowrank::LowRank;
 use super::model::{Coefs, Model, C, K, KC, M};
 use super::problem::AlphaParams;
 use super::stepper::Stepper;
@@ -35,6 +36,11 @@ pub(crate) struct Alpha<'a> {
     max_iter: usize,
     it: IterationMatrix<'a>,
     lu: Option<Factorization>,
+    /// Sparse model, constant linear part, elements on few dofs: the linear part is
+    /// factorised once and the elements' tangents enter as a low-rank update
+    /// ([`LowRank`]); None until the first factorisation, or when not applicable.
+    low: Option<LowRank>,
+    low_rank: bool,
     /// The iteration matrix is the same for every step (no elements, constant mass).
     constant: bool,
     /// The step equation is nonlinear in `a1` (Newton iterations needed).
@@ -67,6 +73,12 @@ impl<'a> Alpha<'a> {
         let n = model.n;
         let newton = !p.elements.is_empty() && (par.beta != 0.0 || model.velocity_elements);
         let constant = p.mass.is_none() && !newton && !model.varying_scale;
+        let it = model.iteration_matrix(1)?;
+        let low_rank = newton
+            && it.is_sparse()
+            && p.mass.is_none()
+            && !model.varying_scale
+            && LowRank::dofs(model).is_some();
         let [x0, v0, a0] = state;
         let k0 = model.coefs(0.0, false);
         let mut fint = vec![0.0; n];
@@ -78,8 +90,10 @@ impl<'a> Alpha<'a> {
             dt: p.dt,
             tol: p.tol,
             max_iter: p.max_iter,
-            it: model.iteration_matrix(1)?,
+            it,
             lu: None,
+            low: None,
+            low_rank,
             constant,
             newton,
             fint,
@@ -109,6 +123,14 @@ impl<'a> Alpha<'a> {
         } = self.par;
         let h = self.dt;
         let (cv, kx) = ((1.0 - af) * g * h, (1.0 - af) * b * h * h);
+        if let Some(low) = self.low.as_mut() {
+            // the linear part is constant: only the elements' tangents changed
+            return if low.update(model, kx, cv) {
+                Ok(())
+            } else {
+                Err(singular())
+            };
+        }
         let it = &mut self.it;
         it.clear();
         model.add(it, M, (0, 0), (1.0 - am) * mu_f + cv * k1.dmu);
@@ -117,6 +139,14 @@ impl<'a> Alpha<'a> {
         model.add(it, KC, (0, 0), kx);
         for (j, w) in model.scales(t1).enumerate() {
             model.add_scaled(it, j, (0, 0), kx * w, cv * w);
+        }
+        if self.low_rank {
+            let base = it.factorize()?;
+            self.factorizations += 1;
+            let dofs = LowRank::dofs(model).expect("checked in new");
+            self.low = Some(LowRank::new(base, model.n, dofs, singular)?);
+            self.lu = None;
+            return self.factorize(model, k1, mu_f, t1);
         }
         if self.newton {
             model.add_tangents(it, (0, 0), kx, cv);
@@ -175,7 +205,7 @@ impl Stepper for Alpha<'_> {
             step: 0,
             last_good_time: Some(t),
         };
-        let mut factor = self.lu.is_none() || !self.constant;
+        let mut factor = (self.lu.is_none() && self.low.is_none()) || !self.constant;
         let mut iters = 0;
         let mut done = false;
         let mut last = f64::INFINITY;
@@ -208,10 +238,17 @@ impl Stepper for Alpha<'_> {
             for ri in self.r.iter_mut() {
                 *ri = -*ri;
             }
-            // Set by `factorize` on the first pass (`factor` starts true while `lu` is None;
+            // Set by `factorize` on the first pass (`factor` starts true while neither is set;
             // a failed factorisation returns above): the `expect` cannot fail.
-            let lu = self.lu.as_ref().expect("factorised above");
-            if !lu.solve_in_place(&mut self.r) {
+            let solved = match self.low.as_mut() {
+                Some(low) => low.solve_in_place(&mut self.r),
+                None => self
+                    .lu
+                    .as_ref()
+                    .expect("factorised above")
+                    .solve_in_place(&mut self.r),
+            };
+            if !solved {
                 return Err(nonfinite());
             }
             for (ai, di) in self.a1.iter_mut().zip(&self.r) {

@@ -191,7 +191,7 @@ impl Factorization {
     }
 }
 
-fn singular() -> CoreError {
+pub(crate) fn singular() -> CoreError {
     CoreError::InvalidInput {
         name: "dt",
         problem: "gives a singular iteration matrix (check M, C, K and the element tangents)"

@@ -20,6 +20,7 @@ pub mod assembly;
 
 mod alpha;
 mod hermite;
+mod lowrank;
 mod model;
 mod problem;
 mod stepper;
