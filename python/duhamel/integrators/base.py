@@ -58,8 +58,13 @@ class DirectIntegrator(Integrator):
     ``M(t) x'' + C x' + K x + r(x, x', t) = f(t)`` (no modal transformation).
 
     See docs/direct.md. :func:`duhamel.solve` returns a :class:`~duhamel.Solution` whose
-    ``modal`` is None for them.
+    ``modal`` is None for them. Path-dependent elements (hysteresis, a ``Callable`` with
+    ``state``) are evaluated from their committed internal variables at every Newton
+    iteration and committed once per accepted step, at its end state.
     """
+
+    #: The internal variables of path-dependent elements are committed once per step.
+    _commits_state = True
 
     def _method(self) -> Any:  # pragma: no cover - abstract
         """The method as the core takes it (a ``_core.Method``)."""

@@ -116,6 +116,7 @@ pub fn integrate(
             .external(&[t0], forcing.as_deref_mut(), &mut f)
             .map_err(at0)?;
         let k0 = model.coefs(t0, false);
+        model.start(&x, &v);
         match problem.a0 {
             Some(a0) => a.copy_from_slice(a0),
             None => model
@@ -179,6 +180,9 @@ pub fn integrate(
                     t,
                     [&mut x, &mut v, &mut a],
                 )
+                .map_err(|e| (e, step + 1))?;
+            model
+                .commit(&x, &v, time(step + 1))
                 .map_err(|e| (e, step + 1))?;
             stats.newton_iterations += iters;
             stats.factorizations = stepper.factorizations();

@@ -219,6 +219,38 @@ impl<'a> Model<'a> {
         Ok(())
     }
 
+    /// Gathers each element's local state from the global `(x, v)`.
+    fn gather(&mut self, x: &[f64], v: &[f64]) {
+        for slot in &mut self.slots {
+            for (j, &d) in slot.element.dofs().iter().enumerate() {
+                slot.x[j] = x[d];
+                slot.v[j] = v[d];
+            }
+        }
+    }
+
+    /// Sets the path-dependent elements' internal variables to their initial values at the
+    /// run's initial state `(x, v)`.
+    pub fn start(&mut self, x: &[f64], v: &[f64]) {
+        self.gather(x, v);
+        for slot in &mut self.slots {
+            slot.start();
+        }
+    }
+
+    /// Commits the path-dependent elements' internal variables at the accepted step's end
+    /// state `(x, v)` and time `t` (once per step; the Newton iterations inside a step
+    /// evaluate trial states from the committed ones).
+    pub fn commit(&mut self, x: &[f64], v: &[f64], t: f64) -> Result<(), CoreError> {
+        if self.slots.iter().any(|s| s.stateful()) {
+            self.gather(x, v);
+            for slot in &mut self.slots {
+                slot.commit(t)?;
+            }
+        }
+        Ok(())
+    }
+
     /// The internal force `F = mu' M v + C v + s K x + Kc x + sum_j w_j (K_j x + C_j v)
     /// + r(x, v, t)` into `out`.
     pub fn internal(
