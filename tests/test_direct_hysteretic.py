@@ -33,7 +33,8 @@ ELEMENTS = {
 
 
 def reference(element) -> duhamel.Solution:
-    return duhamel.solve(sdof(element), duhamel.Semianalytic(), t_end=T_END, dt=T_END / (800 * 2**6))
+    dt = T_END / (800 * 2**6)
+    return duhamel.solve(sdof(element), duhamel.Semianalytic(), t_end=T_END, dt=dt)
 
 
 @pytest.mark.parametrize("name", sorted(ELEMENTS))
