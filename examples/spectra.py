@@ -18,7 +18,7 @@ import tempfile
 import numpy as np
 import scipy.signal
 
-from duhamel.records import G, GroundMotion, read_at2
+from duhamel.records import G, read_at2
 from duhamel.spectra import ductility_spectrum, response_spectrum, rotd
 
 DT, N = 0.005, 8000
