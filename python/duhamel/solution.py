@@ -311,6 +311,42 @@ class Solution:
             f"t=[{self.t[0] if self.t.size else 0.0:g}, {self.t[-1] if self.t.size else 0.0:g}])"
         )
 
+    def to_xarray(self, labels: Sequence[str] | None = None) -> Any:
+        """The history as an ``xarray.Dataset``: variables ``x``, ``v``, ``a`` with dims
+        ``(time, dof)``, coordinates ``time`` (s), ``dof`` (the model's dof indices) and, with
+        `labels` (one name per dof of the model), ``label``;
+        attributes ``integrator``, ``dt``, ``t0``, ``steps``. Writes to netCDF or zarr with
+        xarray's ``to_netcdf``/``to_zarr``. Needs xarray (``pip install 'duhamel[xarray]'``).
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> sys = duhamel.System(np.eye(2), np.diag([1.0, 4.0]))
+        >>> sol = duhamel.solve(sys, duhamel.Semianalytic(), t_end=1.0, dt=0.1, x0=[1.0, 0.0])
+        >>> ds = sol.to_xarray(labels=["base", "roof"])
+        >>> dict(ds.sizes), ds["label"].values.tolist()
+        ({'time': 11, 'dof': 2}, ['base', 'roof'])
+        """
+        from duhamel._labelled import to_xarray
+
+        return to_xarray(self, labels)
+
+    def to_dataframe(self, quantity: str = "x", labels: Sequence[str] | None = None) -> Any:
+        """One quantity (``'x'``, ``'v'`` or ``'a'``) as a ``pandas.DataFrame`` indexed by
+        time, one column per saved dof (named by `labels` when given). Needs pandas.
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> sys = duhamel.System(np.eye(1), np.eye(1))
+        >>> sol = duhamel.solve(sys, duhamel.Semianalytic(), t_end=1.0, dt=0.5, x0=[1.0])
+        >>> sol.to_dataframe().shape
+        (3, 1)
+        """
+        from duhamel._labelled import to_dataframe
+
+        return to_dataframe(self, quantity, labels)
+
     def plot(self, dofs: Any = None, quantity: str = "x", ax: Any = None) -> Any:
         """Plot the history of some output degrees of freedom with matplotlib.
 
