@@ -16,14 +16,15 @@ $(VPY):
 	$(PY) -m venv $(VENV)
 	$(VPY) -m pip install --quiet --upgrade pip
 
-# Python dependencies (runtime + test + plot + store + ross extras; ross as pyproject.toml pins
+# Python dependencies (runtime + test + plot + store + xarray + dask + ross extras; ross as pyproject.toml pins
 # it per Python: about 210 MB and 40 s on first install); redone when pyproject.toml changes.
 $(VENV)/.deps: pyproject.toml | $(VPY)
 	$(VPY) -m pip install --quiet "maturin>=1.7,<2" "numpy>=2" "scipy>=1.11" "matplotlib>=3.8" \
 		"tqdm>=4.66" "pytest>=8" "mpmath>=1.3" "ruff==0.17.6" "hypothesis==6.170.15" \
 		"ross-rotordynamics==2.3.0; python_version < '3.12'" "plotly>=4.7,<7; python_version < '3.12'" \
 		"ross-rotordynamics==3.0.0; python_version == '3.12'" \
-		"ross-rotordynamics==3.1.0; python_version >= '3.13'" "zarr>=3,<4" "xarray>=2024.1"
+		"ross-rotordynamics==3.1.0; python_version >= '3.13'" "zarr>=3,<4" "xarray>=2024.1" \
+		"dask[distributed]>=2024.1"
 	touch $@
 
 # Release build of the Rust core, installed into the venv (cargo makes it incremental).

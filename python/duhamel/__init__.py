@@ -37,7 +37,7 @@ from duhamel.store import resume
 from duhamel.system import ModalBasis, System
 
 if TYPE_CHECKING:
-    from duhamel import analysis, exact, records, rotor, spectra
+    from duhamel import analysis, ensemble, exact, records, rotor, spectra
     from duhamel import paper as paper  # lazy too, but not in __all__ (`import *` skips it)
 
 __all__ = [
@@ -60,6 +60,7 @@ __all__ = [
     "__version__",
     "analysis",
     "elements",
+    "ensemble",
     "exact",
     "loads",
     "mass",
@@ -74,7 +75,7 @@ __all__ = [
 
 #: Subpackages imported on first access (PEP 562), so that ``import duhamel`` stays light:
 #: they pull in scipy.optimize, scipy.special, scipy.signal ... which most runs never need.
-_LAZY = frozenset({"analysis", "exact", "paper", "records", "rotor", "spectra"})
+_LAZY = frozenset({"analysis", "ensemble", "exact", "paper", "records", "rotor", "spectra"})
 
 
 def __getattr__(name: str) -> Any:

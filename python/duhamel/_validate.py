@@ -222,9 +222,16 @@ def issparse(value: Any) -> bool:
 
     A caller cannot hold a sparse matrix without having imported ``scipy.sparse``, so when it
     is not in ``sys.modules`` the answer is False (and ``import duhamel`` stays scipy-free).
+    While another thread is still importing it (runs in parallel threads, e.g.
+    :func:`duhamel.ensemble.solve_many`) the module is there without its functions: the
+    import statement then waits for that import to finish.
     """
     sparse = sys.modules.get("scipy.sparse")
-    return sparse is not None and bool(sparse.issparse(value))
+    if sparse is None:
+        return False
+    if not hasattr(sparse, "issparse"):  # partially initialised by another thread
+        import scipy.sparse as sparse
+    return bool(sparse.issparse(value))
 
 
 def as_square_matrix(

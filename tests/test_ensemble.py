@@ -1,0 +1,83 @@
+"""Ensembles (issue 14, part): solve_many in-process threads and on a Dask LocalCluster give
+the runs of one-at-a-time solve bit for bit, in the order of the parameters; reductions,
+labelled stacking, failures named by case."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import duhamel
+from duhamel.ensemble import solve_many
+from duhamel.records import GroundMotion
+
+N = 10
+T = 0.01 * np.arange(801)
+RECORDS = [
+    GroundMotion(np.sin((3 + k) * T) * np.exp(-0.3 * T) * (1 + 0.1 * k), 0.01, units="g")
+    for k in range(4)
+]
+
+
+def building(p: dict) -> duhamel.System:
+    """A 10-storey shear building with a yielding first storey under a scaled record."""
+    k = 2e7 * np.ones(N)
+    K = np.diag(k + np.r_[k[1:], 0.0]) - np.diag(k[1:], 1) - np.diag(k[1:], -1)
+    s = duhamel.System(1e5 * np.eye(N), K, zeta=0.05)
+    s.add(duhamel.elements.Bilinear(0, k=1e7, fy=2e5, alpha=0.05))
+    return s.add_load(RECORDS[p["record"]].scaled(p["scale"]).as_load(np.ones(N)))
+
+
+PARAMS = [{"record": r, "scale": s} for r in range(4) for s in (0.5, 1.0, 1.5)]
+KW = {"t_end": 8.0, "dt": 0.01}
+
+
+def peak_drift(sol: duhamel.Solution) -> dict:
+    return {"roof": float(np.abs(sol.x[:, -1]).max()), "drift": float(np.abs(sol.x[:, 0]).max())}
+
+
+def test_threads_equal_one_at_a_time() -> None:
+    ens = solve_many(building, PARAMS, duhamel.Semianalytic(), workers=2, **KW)
+    assert len(ens) == len(PARAMS) and ens.stats["where"] == "threads"
+    for p, sol in zip(PARAMS, ens.results, strict=True):
+        one = duhamel.solve(building(p), duhamel.Semianalytic(), threads=1, **KW)
+        np.testing.assert_array_equal(sol.x, one.x)
+    ds = ens.to_xarray()
+    assert dict(ds.sizes) == {"case": 12, "time": 801, "dof": N}
+    np.testing.assert_array_equal(ds["scale"].values, [p["scale"] for p in PARAMS])
+
+
+def test_reduce_and_dask_cluster_bit_for_bit() -> None:
+    distributed = pytest.importorskip("distributed")
+    local = solve_many(building, PARAMS, duhamel.Semianalytic(), reduce=peak_drift, **KW)
+    with (
+        distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        remote = solve_many(
+            building, PARAMS, duhamel.Semianalytic(), reduce=peak_drift, client=client, **KW
+        )
+    assert remote.stats["where"] == "dask" and remote.stats["chunk_size"] == 2
+    assert remote.results == local.results  # bit for bit, in order
+    ds = local.to_xarray()
+    np.testing.assert_array_equal(ds["roof"].values, [r["roof"] for r in local.results])
+    # the peaks grow with the scale of each record
+    roof = ds["roof"].values.reshape(4, 3)
+    assert np.all(np.diff(roof, axis=1) > 0)
+
+
+def test_failures_name_the_case() -> None:
+    def bad(p):
+        if p == 2:
+            raise ValueError("`k` is broken")
+        return duhamel.System(np.eye(1), np.eye(1))
+
+    with pytest.raises(ValueError, match="`k` is broken") as err:
+        solve_many(bad, range(4), duhamel.Semianalytic(), t_end=0.1, dt=0.01, workers=2)
+    assert any("case 2: params = 2" in n for n in err.value.__notes__)
+    with pytest.raises(TypeError, match="`make_system`"):
+        solve_many(3, [1], duhamel.Semianalytic(), t_end=0.1, dt=0.01)
+    with pytest.raises(ValueError, match="`threads`"):
+        solve_many(bad, [1], duhamel.Semianalytic(), t_end=0.1, dt=0.01, threads=2)
