@@ -48,12 +48,11 @@ import os
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
-import argparse  # noqa: E402
 import tempfile  # noqa: E402
-import time  # noqa: E402
 from collections.abc import Callable  # noqa: E402
 from dataclasses import dataclass  # noqa: E402
 
+import _section  # noqa: E402
 import numpy as np  # noqa: E402
 import scipy.signal  # noqa: E402
 
@@ -220,12 +219,6 @@ def read_opensees(path: str, k: int, n: int) -> np.ndarray:
     return np.concatenate([[0.0], x[k - 1 :: k]])[:n]
 
 
-def timed(f: Callable[[], object]) -> float:
-    t0 = time.perf_counter()
-    f()
-    return time.perf_counter() - t0
-
-
 def measure(quick: bool) -> dict:
     load0 = os.getloadavg()[0]
     gm = record(6.0 if quick else 20.0)
@@ -245,9 +238,12 @@ def measure(quick: bool) -> dict:
             xd = run_duhamel(case, gm, k)
             run_opensees(case, gm, k, path)
             xo = read_opensees(path, k, gm.a.size)
-            td = min(timed(lambda k=k, c=case: run_duhamel(c, gm, k)) for _ in range(repeats))
+            td = min(
+                _section.timed(lambda k=k, c=case: run_duhamel(c, gm, k)) for _ in range(repeats)
+            )
             to = min(
-                timed(lambda k=k, c=case: run_opensees(c, gm, k, path)) for _ in range(repeats)
+                _section.timed(lambda k=k, c=case: run_opensees(c, gm, k, path))
+                for _ in range(repeats)
             )
             row["k"][k] = {
                 "err_d": float(np.abs(xd - ref_d).max() / peak),
@@ -315,16 +311,9 @@ def markdown(r: dict) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--append", help="append the section to this markdown file")
-    parser.add_argument("--quick", action="store_true", help="a short record, one repeat")
-    args = parser.parse_args(argv)
-    text = "\n".join(markdown(measure(args.quick))) + "\n"
-    print(text)
-    if args.append:
-        with open(args.append, "a", encoding="utf-8") as f:
-            f.write("\n" + text)
-    return 0
+    return _section.main(
+        __doc__, lambda quick: markdown(measure(quick)), "a short record, one repeat", argv
+    )
 
 
 if __name__ == "__main__":

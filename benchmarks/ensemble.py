@@ -21,10 +21,10 @@ import os
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
-import argparse  # noqa: E402
 import sys  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests"))
+import _section  # noqa: E402
 import test_ensemble as model  # noqa: E402
 
 import duhamel  # noqa: E402
@@ -90,16 +90,9 @@ def markdown(r: dict) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--append", help="append the section to this markdown file")
-    parser.add_argument("--quick", action="store_true", help="20 runs")
-    args = parser.parse_args(argv)
-    text = "\n".join(markdown(measure(5 if args.quick else 50))) + "\n"
-    print(text)
-    if args.append:
-        with open(args.append, "a", encoding="utf-8") as f:
-            f.write("\n" + text)
-    return 0
+    return _section.main(
+        __doc__, lambda quick: markdown(measure(5 if quick else 50)), "20 runs", argv
+    )
 
 
 if __name__ == "__main__":

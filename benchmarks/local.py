@@ -28,10 +28,10 @@ import os
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
-import argparse  # noqa: E402
 import time  # noqa: E402
 from dataclasses import dataclass  # noqa: E402
 
+import _section  # noqa: E402
 import numpy as np  # noqa: E402
 import scipy.sparse as sp  # noqa: E402
 
@@ -199,19 +199,17 @@ def markdown(s: Setup, r: dict) -> list[str]:
     return out
 
 
+def _measured(s: Setup) -> tuple[Setup, dict]:
+    return s, measure(s)
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--append", help="append the section to this markdown file")
-    parser.add_argument("--quick", action="store_true", help="a small lattice, one repeat")
-    args = parser.parse_args(argv)
-    setup = QUICK if args.quick else Setup()
-    lines = markdown(setup, measure(setup))
-    text = "\n".join(lines) + "\n"
-    print(text)
-    if args.append:
-        with open(args.append, "a", encoding="utf-8") as f:
-            f.write("\n" + text)
-    return 0
+    return _section.main(
+        __doc__,
+        lambda quick: markdown(*_measured(QUICK if quick else Setup())),
+        "a small lattice, one repeat",
+        argv,
+    )
 
 
 if __name__ == "__main__":

@@ -21,13 +21,13 @@ import os
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
-import argparse  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
 
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(__file__))
+import _section  # noqa: E402
 import local  # noqa: E402
 
 import duhamel  # noqa: E402
@@ -81,18 +81,14 @@ def markdown(r: dict) -> list[str]:
     return lines
 
 
+#: (lattice shape, run lengths in steps) of the full and the --quick runs.
+_SIZES = {False: ((30, 30, 33), (5, 45)), True: ((8, 8, 8), (5, 25))}
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--append", help="append the section to this markdown file")
-    parser.add_argument("--quick", action="store_true", help="a small lattice")
-    args = parser.parse_args(argv)
-    shape, lengths = ((8, 8, 8), (5, 25)) if args.quick else ((30, 30, 33), (5, 45))
-    text = "\n".join(markdown(measure(shape, lengths))) + "\n"
-    print(text)
-    if args.append:
-        with open(args.append, "a", encoding="utf-8") as f:
-            f.write("\n" + text)
-    return 0
+    return _section.main(
+        __doc__, lambda quick: markdown(measure(*_SIZES[quick])), "a small lattice", argv
+    )
 
 
 if __name__ == "__main__":

@@ -34,7 +34,6 @@ import os
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
-import argparse  # noqa: E402
 import sys  # noqa: E402
 import tempfile  # noqa: E402
 import time  # noqa: E402
@@ -42,6 +41,7 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(__file__))
+import _section  # noqa: E402
 import local  # noqa: E402
 
 import duhamel  # noqa: E402
@@ -167,21 +167,14 @@ def markdown(r: dict) -> list[str]:
     return out
 
 
+#: (lattice shape, seconds, reduced mode counts, step divisions) of the full and --quick runs.
+_SIZES = {False: ((10, 10, 10), 1.0, (50, 100), (1, 2, 4)), True: ((6, 6, 6), 0.2, (20,), (1,))}
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--append", help="append the section to this markdown file")
-    parser.add_argument("--quick", action="store_true", help="a 6 x 6 x 6 lattice")
-    args = parser.parse_args(argv)
-    if args.quick:
-        r = measure((6, 6, 6), 0.2, (20,), (1,))
-    else:
-        r = measure((10, 10, 10), 1.0, (50, 100), (1, 2, 4))
-    text = "\n".join(markdown(r)) + "\n"
-    print(text)
-    if args.append:
-        with open(args.append, "a", encoding="utf-8") as f:
-            f.write("\n" + text)
-    return 0
+    return _section.main(
+        __doc__, lambda quick: markdown(measure(*_SIZES[quick])), "a 6 x 6 x 6 lattice", argv
+    )
 
 
 if __name__ == "__main__":

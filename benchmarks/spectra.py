@@ -27,10 +27,9 @@ import os
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
-import argparse  # noqa: E402
-import time  # noqa: E402
 from collections.abc import Callable  # noqa: E402
 
+import _section  # noqa: E402
 import numpy as np  # noqa: E402
 import scipy.signal  # noqa: E402
 
@@ -104,12 +103,6 @@ def contenders(acc: np.ndarray, freqs: np.ndarray) -> dict[str, tuple[Callable, 
     return out
 
 
-def timed(f: Callable[[], object]) -> float:
-    t0 = time.perf_counter()
-    f()
-    return time.perf_counter() - t0
-
-
 def measure(quick: bool) -> dict:
     load0 = os.getloadavg()[0]
     acc = record()
@@ -132,13 +125,13 @@ def measure(quick: bool) -> dict:
     times: dict[str, list[float]] = {name: [] for name in cs}
     for _ in range(repeats):  # interleaved
         for name, (f, _) in cs.items():
-            times[name].append(timed(f))
+            times[name].append(_section.timed(f))
     n_batch = 20 if quick else 1000
     batch = [GroundMotion(record(seed=s), DT) for s in range(n_batch)]
     batch_times = {}
     for threads in (1, None):
         best = min(
-            timed(lambda t=threads: response_spectrum(batch, periods, ZETA, threads=t))
+            _section.timed(lambda t=threads: response_spectrum(batch, periods, ZETA, threads=t))
             for _ in range(1 if quick else 2)
         )
         batch_times["1 core" if threads == 1 else f"all cores ({os.cpu_count()})"] = best
@@ -189,16 +182,9 @@ def markdown(r: dict) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--append", help="append the section to this markdown file")
-    parser.add_argument("--quick", action="store_true", help="few repeats, a small batch")
-    args = parser.parse_args(argv)
-    text = "\n".join(markdown(measure(args.quick))) + "\n"
-    print(text)
-    if args.append:
-        with open(args.append, "a", encoding="utf-8") as f:
-            f.write("\n" + text)
-    return 0
+    return _section.main(
+        __doc__, lambda quick: markdown(measure(quick)), "few repeats, a small batch", argv
+    )
 
 
 if __name__ == "__main__":

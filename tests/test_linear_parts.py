@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from _models import grounded_chain
 
 import duhamel
 from duhamel import elements as E
@@ -17,12 +18,7 @@ N = 6
 
 
 def chain(n: int = N, k: float = 100.0) -> np.ndarray:
-    K = np.zeros((n, n))
-    for i in range(n):
-        K[i, i] += k
-        if i + 1 < n:
-            K[i : i + 2, i : i + 2] += k * np.array([[1.0, -1.0], [-1.0, 1.0]])
-    return K
+    return grounded_chain(n, k)
 
 
 def loaded(system: duhamel.System) -> duhamel.System:

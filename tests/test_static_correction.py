@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from _models import grounded_chain
 
 import duhamel
 from duhamel import elements as E
@@ -18,12 +19,7 @@ SPRINGS = (15, 30, 45)
 
 
 def chain(n: int = N, k: float = 1e6) -> np.ndarray:
-    K = np.zeros((n, n))
-    for i in range(n):
-        K[i, i] += k
-        if i + 1 < n:
-            K[i : i + 2, i : i + 2] += k * np.array([[1.0, -1.0], [-1.0, 1.0]])
-    return K
+    return grounded_chain(n, k)
 
 
 T = np.linspace(0.0, 1.0, 1001)
