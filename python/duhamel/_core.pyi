@@ -152,6 +152,42 @@ def element_stiffness(
 ) -> tuple[NDArray[np.int64], NDArray[np.int64], Array]:
     """The elements' stiffness ``dr/dx`` at a state, as COO triplets."""
 
+def elastic_spectra(
+    records: list[Array],
+    dts: list[float],
+    periods: Array,
+    dampings: Array,
+    threads: int | None = None,
+) -> tuple[Array, Array, Array]:
+    """Peaks ``(sd, sv, sa)``, each flat ``[record][damping][period]``."""
+
+def rotd_peaks(
+    first: Array,
+    second: Array,
+    dt: float,
+    periods: Array,
+    dampings: Array,
+    n_angles: int,
+    threads: int | None = None,
+) -> Array:
+    """Peak displacement per direction, flat ``[damping][period][angle]``."""
+
+def ductility_spectrum(
+    acc: Array,
+    dt: float,
+    periods: Array,
+    zeta: float,
+    alpha: float,
+    ductilities: Array,
+    threads: int | None = None,
+) -> Array:
+    """Yield displacements reaching each ductility, flat ``[ductility][period]``."""
+
+def bilinear_peak(
+    acc: Array, dt: float, omega: float, zeta: float, alpha: float, uy: float
+) -> float:
+    """Peak displacement at the samples of one bilinear oscillator."""
+
 def _panic_for_tests(kind: str) -> None:
     """Test only: panics on purpose (``kind`` "here", "detached" with the GIL released,
     "rayon" in a rayon worker, "thread" in a scoped thread), to check that a panic comes out
