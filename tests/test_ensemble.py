@@ -81,3 +81,40 @@ def test_failures_name_the_case() -> None:
         solve_many(3, [1], duhamel.Semianalytic(), t_end=0.1, dt=0.01)
     with pytest.raises(ValueError, match="`threads`"):
         solve_many(bad, [1], duhamel.Semianalytic(), t_end=0.1, dt=0.01, threads=2)
+
+
+def test_on_error_keep_and_ida_scaling() -> None:
+    """A diverging run is kept as its SolverError with on_error='keep'; IDA scales every
+    motion to the target Sa(T) exactly, and a linear structure's measure is proportional to
+    the intensity (measure / intensity constant per motion to round-off)."""
+
+    def unstable(c):
+        return duhamel.System(np.eye(1), np.eye(1), C=c * np.eye(1))
+
+    ens = solve_many(
+        unstable, [0.1, -300.0], duhamel.Semianalytic(), t_end=10.0, dt=0.01, x0=[1.0],
+        on_error="keep", workers=2,
+    )  # fmt: skip
+    assert isinstance(ens.results[0], duhamel.Solution)
+    assert isinstance(ens.results[1], duhamel.SolverError)
+    with pytest.raises(duhamel.SolverError) as err:
+        solve_many(unstable, [-300.0], duhamel.Semianalytic(), t_end=10.0, dt=0.01, x0=[1.0])
+    assert any("case 0" in n for n in err.value.__notes__)
+
+    from duhamel.ensemble import ida
+    from duhamel.spectra import response_spectrum
+
+    def linear(motion):
+        s = duhamel.System(1e5 * np.eye(2), 4e7 * np.array([[2.0, -1.0], [-1.0, 1.0]]), zeta=0.05)
+        return s.add_load(motion.as_load(np.ones(2)))
+
+    roof = lambda sol: float(np.abs(sol.x[:, 1]).max())  # noqa: E731
+    res = ida(linear, RECORDS[:3], [1.0, 2.0, 4.0], roof, period=0.5)
+    ratio = res.measures / res.intensities
+    np.testing.assert_allclose(ratio, ratio[:, :1] * np.ones(3), rtol=1e-10)
+    scaled = RECORDS[1].scaled(res.factors[1, 2])
+    psa = response_spectrum(scaled, [0.5], 0.05).psa[0, 0, 0]
+    assert psa == pytest.approx(4.0, rel=1e-12)
+    assert res.fractiles().shape == (3, 3)
+    with pytest.raises(ValueError, match="`period`"):
+        ida(linear, RECORDS[:1], [1.0], roof)

@@ -34,10 +34,11 @@ from typing import Any
 
 import numpy as np
 
+from duhamel.errors import SolverError
 from duhamel.solution import Solution
 from duhamel.solve import solve
 
-__all__ = ["Ensemble", "solve_many"]
+__all__ = ["IDA", "Ensemble", "ida", "solve_many"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -99,9 +100,16 @@ def _run_one(
     reduce: Callable[[Solution], Any] | None,
     options: dict[str, Any],
 ) -> Any:
+    options = dict(options)
+    keep = options.pop("_keep_solver_errors", False)
     try:
         sol = solve(make_system(p), integrator, threads=1, **options)
         return sol if reduce is None else reduce(sol)
+    except SolverError as exc:
+        if keep:
+            return exc
+        exc.add_note(f"in duhamel.ensemble.solve_many, case {index}: params = {p!r}")
+        raise
     except Exception as exc:
         exc.add_note(f"in duhamel.ensemble.solve_many, case {index}: params = {p!r}")
         raise
@@ -129,6 +137,7 @@ def solve_many(
     client: Any = None,
     workers: int | None = None,
     chunk_size: int | None = None,
+    on_error: str = "raise",
     **solve_options: Any,
 ) -> Ensemble:
     """Run ``solve(make_system(p), integrator, t_end=t_end, dt=dt, **solve_options)`` for
@@ -153,6 +162,10 @@ def solve_many(
         In-process threads (default: the machine's cores).
     chunk_size : int, optional
         Runs per Dask task (default: about four tasks per worker thread).
+    on_error : {'raise', 'keep'}, optional
+        A run that stops with :class:`duhamel.SolverError` (divergence, no convergence: a
+        collapse in a study): raise it (default), or keep the exception as that run's result
+        and go on.
     **solve_options
         Passed to :func:`duhamel.solve` (``x0``, ``v0``, ``save_every``, ``dofs``...); each run
         uses one thread (``threads=1``): the parallelism is across runs.
@@ -173,8 +186,12 @@ def solve_many(
         raise TypeError(f"`reduce` must be callable, got {type(reduce).__name__}")
     if "threads" in solve_options:
         raise ValueError("`threads` is set per run by solve_many (1); use `workers`")
+    if on_error not in ("raise", "keep"):
+        raise ValueError(f"`on_error` must be 'raise' or 'keep', got {on_error!r}")
     ps = list(params)
     options = {"t_end": t_end, "dt": dt, **solve_options}
+    if on_error == "keep":
+        options["_keep_solver_errors"] = True
     started = time.perf_counter()
     if client is None:
         n = (os.cpu_count() or 1) if workers is None else int(workers)
@@ -207,3 +224,127 @@ def solve_many(
         stats = {"where": "dask", "workers": threads, "chunk_size": size}
     stats.update(runs=len(ps), wall_time=time.perf_counter() - started)
     return Ensemble(ps, results, stats)
+
+
+@dataclass(frozen=True, eq=False)
+class IDA:
+    """Incremental dynamic analysis curves: ``measures[i, j]`` is the response measure of
+    motion ``i`` scaled to intensity ``intensities[j]``; ``inf`` where the run collapsed (it
+    stopped with :class:`duhamel.SolverError`)."""
+
+    intensities: np.ndarray
+    measures: np.ndarray
+    names: list[str]
+    intensity: str
+    factors: np.ndarray
+
+    def fractiles(self, q: Sequence[float] = (16, 50, 84)) -> np.ndarray:
+        """Percentiles `q` of the measure over the motions at each intensity (collapses
+        count as infinitely large), shape ``(len(q), n_intensities)``."""
+        return np.percentile(self.measures, np.asarray(q, dtype=float), axis=0)
+
+    def plot(self, ax: Any = None, q: Sequence[float] = (16, 50, 84)) -> Any:
+        """The IDA curves (measure on x, intensity on y), one thin line per motion, and the
+        fractiles; returns the matplotlib Axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(6, 4.5))
+        finite = np.where(np.isfinite(self.measures), self.measures, np.nan)
+        for row in finite:
+            ax.plot(row, self.intensities, color="0.75", lw=0.8)
+        for qi, curve in zip(q, self.fractiles(q), strict=True):
+            ax.plot(np.where(np.isfinite(curve), curve, np.nan), self.intensities, lw=2.2,
+                    label=f"{qi:g} %")  # fmt: skip
+        ax.set_xlabel("response measure")
+        ax.set_ylabel(self.intensity)
+        ax.legend(title="fractiles", fontsize="small")
+        ax.grid(True, alpha=0.3)
+        return ax
+
+
+def _scale_factor(motion: Any, intensity: str, period: float | None, damping: float) -> float:
+    """Intensity of `motion` at scale 1: its PGA, or its PSA at `period`."""
+    if intensity == "pga":
+        return float(motion.pga)
+    from duhamel.spectra import response_spectrum
+
+    return float(response_spectrum(motion, [period], damping, threads=1).psa[0, 0, 0])
+
+
+def _ida_case(case: tuple[Any, Any, float]) -> Any:
+    factory, motion, factor = case
+    return factory(motion.scaled(factor))
+
+
+def ida(
+    system_factory: Callable[[Any], Any],
+    motions: Sequence[Any],
+    intensities: Sequence[float],
+    measure: Callable[[Solution], float],
+    integrator: Any = None,
+    *,
+    intensity: str = "sa",
+    period: float | None = None,
+    damping: float = 0.05,
+    dt: float | None = None,
+    client: Any = None,
+    workers: int | None = None,
+) -> IDA:
+    """Incremental dynamic analysis (Vamvatsikos and Cornell 2002): every motion scaled to
+    every intensity, one run each, its response measure kept.
+
+    Parameters
+    ----------
+    system_factory : callable
+        ``GroundMotion -> System`` loaded by that (scaled) motion.
+    motions : sequence of GroundMotion
+        The records.
+    intensities : sequence of float
+        Target intensities: PSA at `period` (m/s^2) for ``intensity='sa'``, PGA (m/s^2) for
+        ``'pga'``.
+    measure : callable
+        ``Solution -> float``, e.g. the peak inter-storey drift.
+    integrator : optional
+        Default ``duhamel.Semianalytic()``.
+    intensity : {'sa', 'pga'}
+        How the motions are scaled.
+    period, damping : float
+        The spectral period (s; required for ``'sa'``) and damping of Sa.
+    dt : float, optional
+        Step (default: each motion's sampling interval).
+    client, workers
+        As in :func:`solve_many` (a Dask cluster, or in-process threads).
+
+    Returns
+    -------
+    IDA
+        ``measures`` of shape ``(n_motions, n_intensities)``, ``fractiles()``, ``plot()``.
+    """
+    from duhamel.integrators import Semianalytic
+
+    if intensity not in ("sa", "pga"):
+        raise ValueError(f"`intensity` must be 'sa' or 'pga', got {intensity!r}")
+    if intensity == "sa" and not (period is not None and period > 0):
+        raise ValueError(f"`period` must be a positive period (s) for intensity='sa', got {period}")
+    ims = np.asarray(intensities, dtype=float)
+    if ims.ndim != 1 or ims.size == 0 or np.any(~np.isfinite(ims)) or np.any(ims <= 0):
+        raise ValueError("`intensities` must be a non-empty 1-D array of positive numbers")
+    motions = list(motions)
+    if not motions:
+        raise ValueError("`motions` is empty")
+    integ = Semianalytic() if integrator is None else integrator
+    unit = np.array([_scale_factor(m, intensity, period, damping) for m in motions])
+    if np.any(unit <= 0):
+        raise ValueError("a motion has zero intensity: it cannot be scaled")
+    factors = ims[None, :] / unit[:, None]
+    rows = []
+    for i, m in enumerate(motions):
+        cases = [(system_factory, m, float(f)) for f in factors[i]]
+        ens = solve_many(
+            _ida_case, cases, integ, t_end=m.duration, dt=dt or m.dt, reduce=measure,
+            client=client, workers=workers, on_error="keep",
+        )  # fmt: skip
+        rows.append([np.inf if isinstance(r, SolverError) else float(r) for r in ens.results])
+    label = "PGA [m/s^2]" if intensity == "pga" else f"Sa(T = {period:g} s) [m/s^2]"
+    return IDA(ims, np.array(rows), [m.name for m in motions], label, factors)
