@@ -118,3 +118,15 @@ def test_on_error_keep_and_ida_scaling() -> None:
     assert res.fractiles().shape == (3, 3)
     with pytest.raises(ValueError, match="`period`"):
         ida(linear, RECORDS[:1], [1.0], roof)
+
+
+def test_to_xarray_refuses_failed_cases() -> None:
+    def unstable(c):
+        return duhamel.System(np.eye(1), np.eye(1), C=c * np.eye(1))
+
+    ens = solve_many(
+        unstable, [0.1, -300.0], duhamel.Semianalytic(), t_end=10.0, dt=0.01, x0=[1.0],
+        on_error="keep", reduce=lambda sol: float(np.abs(sol.x).max()),
+    )  # fmt: skip
+    with pytest.raises(ValueError, match=r"cases \[1\] failed"):
+        ens.to_xarray()

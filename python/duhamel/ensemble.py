@@ -68,8 +68,16 @@ class Ensemble:
         :meth:`~duhamel.Solution.to_xarray` datasets (same times and dofs), dicts of numbers
         or arrays as one variable per key, numbers or arrays as ``result``. Parameters that
         are dicts of scalars become coordinates along ``case``."""
-        import xarray as xr
-
+        try:
+            import xarray as xr
+        except ImportError as exc:
+            raise ImportError("to_xarray needs xarray: pip install 'duhamel[xarray]'") from exc
+        failed = [i for i, r in enumerate(self.results) if isinstance(r, BaseException)]
+        if failed:
+            raise ValueError(
+                f"cases {failed[:10]} failed (their results are the exceptions): select the "
+                "others from `results` before stacking"
+            )
         n = len(self.results)
         first = self.results[0] if n else None
         if isinstance(first, Solution):
