@@ -136,6 +136,18 @@ def run_duhamel(case: Case, gm: GroundMotion, k: int) -> np.ndarray:
     return sol.x[:, 0]
 
 
+def _transient(ops, path: str) -> None:
+    """Newmark average acceleration, Newton at NormDispIncr 1e-12, node 2's x recorded."""
+    ops.constraints("Plain")
+    ops.numberer("Plain")
+    ops.system("BandGeneral")
+    ops.test("NormDispIncr", 1e-12, 50)
+    ops.algorithm("Newton")
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+    ops.recorder("Node", "-file", path, "-node", 2, "-dof", 1, "disp")
+
+
 def run_opensees_fps(gm: GroundMotion, k: int, path: str) -> None:
     import openseespy.opensees as ops
 
@@ -169,14 +181,7 @@ def run_opensees_fps(gm: GroundMotion, k: int, path: str) -> None:
     ops.wipeAnalysis()
     ops.timeSeries("Path", 2, "-dt", DT_REC, "-values", *gm.a.tolist())
     ops.pattern("UniformExcitation", 2, 1, "-accel", 2)
-    ops.constraints("Plain")
-    ops.numberer("Plain")
-    ops.system("BandGeneral")
-    ops.test("NormDispIncr", 1e-12, 50)
-    ops.algorithm("Newton")
-    ops.integrator("Newmark", 0.5, 0.25)
-    ops.analysis("Transient")
-    ops.recorder("Node", "-file", path, "-node", 2, "-dof", 1, "disp")
+    _transient(ops, path)
     if ops.analyze((gm.a.size - 1) * k, DT_REC / k) != 0:
         raise RuntimeError(f"OpenSees failed on the friction pendulum at dt = {DT_REC / k}")
     ops.wipe()
@@ -200,14 +205,7 @@ def run_opensees(case: Case, gm: GroundMotion, k: int, path: str) -> None:
     ops.timeSeries("Path", 1, "-dt", DT_REC, "-values", *gm.a.tolist())
     ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
     ops.rayleigh(A0, 0.0, 0.0, 0.0)
-    ops.constraints("Plain")
-    ops.numberer("Plain")
-    ops.system("BandGeneral")
-    ops.test("NormDispIncr", 1e-12, 50)
-    ops.algorithm("Newton")
-    ops.integrator("Newmark", 0.5, 0.25)
-    ops.analysis("Transient")
-    ops.recorder("Node", "-file", path, "-node", 2, "-dof", 1, "disp")
+    _transient(ops, path)
     n = (gm.a.size - 1) * k
     if ops.analyze(n, DT_REC / k) != 0:
         raise RuntimeError(f"OpenSees failed on {case.name} at dt = {DT_REC / k}")

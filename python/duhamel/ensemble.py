@@ -100,38 +100,29 @@ class Ensemble:
         return ds
 
 
-def _run_one(
-    make_system: Callable[[Any], Any],
-    p: Any,
-    index: int,
-    integrator: Any,
-    reduce: Callable[[Solution], Any] | None,
-    options: dict[str, Any],
-) -> Any:
-    options = dict(options)
-    keep = options.pop("_keep_solver_errors", False)
-    try:
-        sol = solve(make_system(p), integrator, threads=1, **options)
-        return sol if reduce is None else reduce(sol)
-    except SolverError as exc:
-        if keep:
-            return exc
-        exc.add_note(f"in duhamel.ensemble.solve_many, case {index}: params = {p!r}")
-        raise
-    except Exception as exc:
-        exc.add_note(f"in duhamel.ensemble.solve_many, case {index}: params = {p!r}")
-        raise
+@dataclass(frozen=True)
+class _Job:
+    """One study's runs: picklable, so that a Dask worker receives it whole."""
 
+    make_system: Callable[[Any], Any]
+    integrator: Any
+    reduce: Callable[[Solution], Any] | None
+    options: dict[str, Any]
+    keep_failures: bool
 
-def _run_chunk(
-    chunk: Sequence[tuple[int, Any]],
-    make_system: Callable[[Any], Any],
-    integrator: Any,
-    reduce: Callable[[Solution], Any] | None,
-    options: dict[str, Any],
-) -> list[Any]:
-    """A Dask task: several runs, one after the other."""
-    return [_run_one(make_system, p, i, integrator, reduce, options) for i, p in chunk]
+    def __call__(self, index: int, p: Any) -> Any:
+        try:
+            sol = solve(self.make_system(p), self.integrator, threads=1, **self.options)
+            return sol if self.reduce is None else self.reduce(sol)
+        except Exception as exc:
+            if self.keep_failures and isinstance(exc, SolverError):
+                return exc
+            exc.add_note(f"in duhamel.ensemble.solve_many, case {index}: params = {p!r}")
+            raise
+
+    def chunk(self, cases: Sequence[tuple[int, Any]]) -> list[Any]:
+        """A Dask task: several runs, one after the other."""
+        return [self(i, p) for i, p in cases]
 
 
 def solve_many(
@@ -198,18 +189,14 @@ def solve_many(
         raise ValueError(f"`on_error` must be 'raise' or 'keep', got {on_error!r}")
     ps = list(params)
     options = {"t_end": t_end, "dt": dt, **solve_options}
-    if on_error == "keep":
-        options["_keep_solver_errors"] = True
+    job = _Job(make_system, integrator, reduce, options, on_error == "keep")
     started = time.perf_counter()
     if client is None:
         n = (os.cpu_count() or 1) if workers is None else int(workers)
         if n < 1:
             raise ValueError(f"`workers` must be >= 1, got {workers}")
         with ThreadPoolExecutor(max_workers=n) as pool:
-            futures = [
-                pool.submit(_run_one, make_system, p, i, integrator, reduce, options)
-                for i, p in enumerate(ps)
-            ]
+            futures = [pool.submit(job, i, p) for i, p in enumerate(ps)]
             results = [f.result() for f in futures]
         stats = {"where": "threads", "workers": n, "chunk_size": 1}
     else:
@@ -219,15 +206,7 @@ def solve_many(
         size = int(chunk_size) if chunk_size else max(1, math.ceil(len(ps) / (4 * threads)))
         indexed = list(enumerate(ps))
         chunks = [indexed[i : i + size] for i in range(0, len(indexed), size)]
-        futures = client.map(
-            _run_chunk,
-            chunks,
-            make_system=make_system,
-            integrator=integrator,
-            reduce=reduce,
-            options=options,
-            pure=False,
-        )
+        futures = client.map(job.chunk, chunks, pure=False)
         results = [r for chunk in client.gather(futures) for r in chunk]
         stats = {"where": "dask", "workers": threads, "chunk_size": size}
     stats.update(runs=len(ps), wall_time=time.perf_counter() - started)

@@ -393,9 +393,9 @@ def ductility_spectrum(
     mu = np.atleast_1d(as_float_array(ductility, "ductility"))
     if mu.ndim != 1 or mu.size == 0 or np.any(mu < 1.0):
         raise ValueError(f"`ductility` must be factors >= 1, got {ductility}")
-    zeta = float(_dampings(damping)[0]) if np.ndim(damping) == 0 else None
-    if zeta is None:
+    if np.ndim(damping) != 0:
         raise ValueError("`damping` must be one ratio for a ductility spectrum")
+    zeta = float(_dampings(damping)[0])
     uy = np.stack(
         [
             _core.ductility_spectrum(m.a, m.dt, p, zeta, float(alpha), mu, threads).reshape(

@@ -144,7 +144,7 @@ impl<'a> Alpha<'a> {
             let base = it.factorize()?;
             self.factorizations += 1;
             let dofs = LowRank::dofs(model).expect("checked in new");
-            self.low = Some(LowRank::new(base, model.n, dofs, singular)?);
+            self.low = Some(LowRank::new(base, model.n, dofs)?);
             self.lu = None;
             return self.factorize(model, k1, mu_f, t1);
         }

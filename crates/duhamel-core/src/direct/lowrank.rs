@@ -12,7 +12,7 @@
 //! exact, not an approximation of the tangent: the iterates are those of the full Newton
 //! matrix up to round-off. `S` is refactorised whenever the tangents change (`O(nl^3)`).
 
-use super::assembly::Factorization;
+use super::assembly::{singular, Factorization};
 use super::model::Model;
 use crate::dense::DenseLu;
 use crate::error::CoreError;
@@ -31,8 +31,9 @@ pub(crate) struct LowRank {
     z: Vec<f64>,
     /// `W = P^T Z`, row-major `nl x nl`.
     w: Vec<f64>,
-    /// Tangent block `D`, row-major `nl x nl`.
+    /// Tangent block `D` and `S = I + D W`, row-major `nl x nl`.
     d: Vec<f64>,
+    s_matrix: Vec<f64>,
     s: DenseLu,
     u: Vec<f64>,
     work: Vec<f64>,
@@ -70,7 +71,6 @@ impl LowRank {
         base: Factorization,
         n: usize,
         (dofs, local): (Vec<usize>, Vec<Vec<usize>>),
-        singular: impl Fn() -> CoreError,
     ) -> Result<Self, CoreError> {
         let nl = dofs.len();
         let mut z = vec![0.0; n * nl];
@@ -95,6 +95,7 @@ impl LowRank {
             z,
             w,
             d: vec![0.0; nl * nl],
+            s_matrix: vec![0.0; nl * nl],
             s: DenseLu::default(),
             u: vec![0.0; nl],
             work: vec![0.0; nl],
@@ -115,7 +116,8 @@ impl LowRank {
                 }
             }
         }
-        let mut s = vec![0.0; nl * nl];
+        let s = &mut self.s_matrix;
+        s.fill(0.0);
         for i in 0..nl {
             for k in 0..nl {
                 let dik = self.d[i * nl + k];
@@ -128,7 +130,7 @@ impl LowRank {
             }
             s[i * nl + i] += 1.0;
         }
-        self.s.refactor(nl, &s)
+        self.s.refactor(nl, &self.s_matrix)
     }
 
     /// `A^-1 r` in place of `r`; false if it is not finite.

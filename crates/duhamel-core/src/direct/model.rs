@@ -205,12 +205,9 @@ impl<'a> Model<'a> {
         tangent: bool,
         out: &mut [f64],
     ) -> Result<(), CoreError> {
+        self.gather(x, v);
         for slot in &mut self.slots {
             let dofs = slot.element.dofs();
-            for (j, &d) in dofs.iter().enumerate() {
-                slot.x[j] = x[d];
-                slot.v[j] = v[d];
-            }
             slot.evaluate(t, tangent)?;
             for (j, &d) in dofs.iter().enumerate() {
                 out[d] += slot.r[j];

@@ -36,12 +36,17 @@ impl Step {
                 ),
             });
         }
+        Ok(Step::from_transfer(&tr))
+    }
+
+    /// The recurrence of the exact matrices `tr` (load linear over the step).
+    pub(crate) fn from_transfer(tr: &Transfer) -> Self {
         let m = tr.m;
-        Ok(Step {
+        Step {
             a: tr.a,
             b0: [m[0][0] - m[0][1], m[1][0] - m[1][1]],
             b1: [m[0][1], m[1][1]],
-        })
+        }
     }
 }
 

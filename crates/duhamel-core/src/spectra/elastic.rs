@@ -130,7 +130,11 @@ pub fn elastic(
                 ),
             });
         }
-        let pga = rec.acc.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+        let pga = if span.contains(&0.0) {
+            rec.acc.iter().fold(0.0f64, |m, a| m.max(a.abs()))
+        } else {
+            0.0 // unused
+        };
         Ok(span
             .iter()
             .enumerate()

@@ -41,15 +41,7 @@ impl Branch {
     fn advance(&self, full: Option<&Step>, h: f64, x: f64, v: f64, q: (f64, f64)) -> (f64, f64) {
         let s = match full {
             Some(s) => *s,
-            None => {
-                let tr = Transfer::new(self.stiffness, self.c, h);
-                let m = tr.m;
-                Step {
-                    a: tr.a,
-                    b0: [m[0][0] - m[0][1], m[1][0] - m[1][1]],
-                    b1: [m[0][1], m[1][1]],
-                }
-            }
+            None => Step::from_transfer(&Transfer::new(self.stiffness, self.c, h)),
         };
         s.apply(x, v, q.0, q.1)
     }
@@ -101,12 +93,7 @@ pub fn peak_displacement(o: &Bilinear, uy: f64, rec: Record) -> Result<f64, Core
         c,
     };
     let full_el = Step::new(o.omega, o.zeta, rec.dt)?;
-    let tr = Transfer::new(plastic.stiffness, c, rec.dt);
-    let full_pl = Step {
-        a: tr.a,
-        b0: [tr.m[0][0] - tr.m[0][1], tr.m[1][0] - tr.m[1][1]],
-        b1: [tr.m[0][1], tr.m[1][1]],
-    };
+    let full_pl = Step::from_transfer(&Transfer::new(plastic.stiffness, c, rec.dt));
     let (mut u, mut v, mut z) = (0.0f64, 0.0f64, 0.0f64);
     let mut peak = 0.0f64;
     for (step, w) in rec.acc.windows(2).enumerate() {
