@@ -56,3 +56,31 @@ def test_dataframe() -> None:
     assert list(sol.to_dataframe().columns) == [0, 1, 2]
     with pytest.raises(ValueError, match="`quantity`"):
         sol.to_dataframe("q")
+
+
+def test_models_carry_their_dof_labels(tmp_path) -> None:
+    from duhamel.rotor import STEEL, Bearing, Rotor, Shaft
+
+    rotor = Rotor(
+        [Shaft(0.3, 0.05, material=STEEL)] * 2, [], [Bearing(0, 1e7, 1e7), Bearing(2, 1e7, 1e7)]
+    )
+    system = rotor.system(0.0)
+    assert system.dof_labels == rotor.dof_labels and system.dof_labels[:5] == (
+        "x_0", "y_0", "theta_x_0", "theta_y_0", "x_1",
+    )  # fmt: skip
+    kw = {"t_end": 1e-3, "dt": 1e-4, "x0": np.r_[1e-5, np.zeros(11)], "dofs": [7, 0]}
+    for sol in (
+        duhamel.solve(system, duhamel.Semianalytic(), **kw),
+        duhamel.solve(system, duhamel.Newmark(), **kw),
+        duhamel.solve(system, duhamel.Semianalytic(), store=tmp_path / "r.zarr", **kw),
+    ):
+        assert list(sol.to_xarray()["label"].values) == ["theta_y_1", "x_0"]
+        assert list(sol.to_dataframe().columns) == ["theta_y_1", "x_0"]
+    assert list(sol.to_xarray(labels=[f"d{i}" for i in range(12)])["label"].values) == [
+        "d7", "d0",
+    ]  # fmt: skip
+    s = duhamel.System(np.eye(2), np.eye(2))
+    with pytest.raises(ValueError, match="`labels` must name all 2"):
+        s.label_dofs(["a"])
+    with pytest.raises(ValueError, match="distinct"):
+        s.label_dofs(["a", "a"])

@@ -313,7 +313,7 @@ def solve_direct(
             newton_iterations=int(result.newton_iterations),
             factorizations=int(result.factorizations),
         ),
-        meta={"dt": dt, "t0": t0, "integrator": integrator},
+        meta={"dt": dt, "t0": t0, "integrator": integrator, "labels": system.dof_labels},
     )
     if error is None and kept < result.t.size:
         raise overflow_error(result.t, kept, dt, t0, solution)

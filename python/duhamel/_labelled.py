@@ -13,7 +13,10 @@ UNITS = {"x": "displacement", "v": "velocity", "a": "acceleration"}
 
 
 def _labels(sol: Any, labels: Sequence[str] | None) -> list[str] | None:
-    """The labels of the saved dofs, from `labels` given for every dof of the model."""
+    """The labels of the saved dofs, from `labels` given for every dof of the model (default:
+    the model's own, :meth:`duhamel.System.label_dofs`)."""
+    if labels is None:
+        labels = sol.meta.get("labels")
     if labels is None:
         return None
     labels = [str(v) for v in labels]

@@ -314,7 +314,8 @@ class Solution:
     def to_xarray(self, labels: Sequence[str] | None = None) -> Any:
         """The history as an ``xarray.Dataset``: variables ``x``, ``v``, ``a`` with dims
         ``(time, dof)``, coordinates ``time`` (s), ``dof`` (the model's dof indices) and, with
-        `labels` (one name per dof of the model), ``label``;
+        `labels` (one name per dof of the model; default the model's own,
+        :meth:`duhamel.System.label_dofs`, e.g. a rotor's ``x_0``, ``theta_y_3``), ``label``;
         attributes ``integrator``, ``dt``, ``t0``, ``steps``. Writes to netCDF or zarr with
         xarray's ``to_netcdf``/``to_zarr``. Needs xarray (``pip install 'duhamel[xarray]'``).
 
@@ -333,7 +334,8 @@ class Solution:
 
     def to_dataframe(self, quantity: str = "x", labels: Sequence[str] | None = None) -> Any:
         """One quantity (``'x'``, ``'v'`` or ``'a'``) as a ``pandas.DataFrame`` indexed by
-        time, one column per saved dof (named by `labels` when given). Needs pandas.
+        time, one column per saved dof (named by `labels`, or by the model's own labels).
+        Needs pandas.
 
         Examples
         --------

@@ -318,7 +318,7 @@ def solve(
             coupling=route.coupling,
             eigenvector_condition=None if route.modes is None else route.modes.condition,
         ),
-        meta={"dt": dt, "t0": t0, "integrator": integrator},
+        meta={"dt": dt, "t0": t0, "integrator": integrator, "labels": system.dof_labels},
         elements=element_histories(
             [e for e in system.elements if not isinstance(e, LinearCoupling)],
             result.t[:kept],

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numbers
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
@@ -137,6 +138,7 @@ class System:
         self.mass_law: Any = None
         self._modal_cache: dict[int, ModalBasis] = {}
         self._modes = Modes(self._M, self._K)
+        self._labels: tuple[str, ...] | None = None
 
     # ---------------------------------------------------------------- properties
     @property
@@ -178,6 +180,46 @@ class System:
     def is_sparse(self) -> bool:
         """Whether `M` or `K` is stored as a scipy.sparse matrix."""
         return issparse(self._M) or issparse(self._K)
+
+    @property
+    def dof_labels(self) -> tuple[str, ...] | None:
+        """Names of the degrees of freedom (``None`` if not named), see :meth:`label_dofs`."""
+        return self._labels
+
+    def label_dofs(self, labels: Sequence[str]) -> System:
+        """Name every degree of freedom; solutions carry the names into
+        :meth:`~duhamel.Solution.to_xarray` and :meth:`~duhamel.Solution.to_dataframe`.
+
+        Parameters
+        ----------
+        labels : sequence of str
+            One distinct name per dof, in dof order (a rotor names its dofs ``x_0``,
+            ``theta_y_3``...).
+
+        Returns
+        -------
+        System
+            ``self``, so calls can be chained.
+
+        Raises
+        ------
+        ValueError
+            If there is not one name per dof or two dofs share a name.
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> s = duhamel.System(np.eye(2), np.eye(2)).label_dofs(["roof", "base"])
+        >>> s.dof_labels
+        ('roof', 'base')
+        """
+        names = tuple(str(v) for v in labels)
+        if len(names) != self.n_dof:
+            raise ValueError(f"`labels` must name all {self.n_dof} dofs, got {len(names)}")
+        if len(set(names)) != len(names):
+            raise ValueError("`labels` must be distinct")
+        self._labels = names
+        return self
 
     def __repr__(self) -> str:
         return (

@@ -24,16 +24,17 @@ from numpy.typing import ArrayLike, NDArray
 from duhamel._validate import finite_float
 from duhamel.elements import Element
 from duhamel.loads import Load
+from duhamel.rotor._analyses import RotorAnalyses
 from duhamel.rotor._speed import constant_speed, speed_or_law
 from duhamel.rotor.assembly import Assembly, RotorMatrices
 from duhamel.rotor.bearing import Bearing
-from duhamel.rotor.campbell import Campbell, campbell
+from duhamel.rotor.campbell import Campbell
 from duhamel.rotor.components import checked_components, placements
 from duhamel.rotor.damping import damping_spec, structural_damping
 from duhamel.rotor.disk import Disk
 from duhamel.rotor.dofs import DIRECTIONS, dof_index
 from duhamel.rotor.loads import Gravity, RotorLoad
-from duhamel.rotor.modes import Modes, complex_modes
+from duhamel.rotor.modes import Modes
 from duhamel.rotor.shaft import Shaft
 from duhamel.rotor.transient import (
     add_couplings,
@@ -48,7 +49,7 @@ from duhamel.system import System
 __all__ = ["DIRECTIONS", "Campbell", "Modes", "Rotor", "RotorMatrices"]
 
 
-class Rotor:
+class Rotor(RotorAnalyses):
     """A finite-element rotor: Timoshenko shaft elements, rigid disks and bearings.
 
     Parameters
@@ -117,6 +118,12 @@ class Rotor:
     def n_dof(self) -> int:
         """Number of degrees of freedom, ``4 n_nodes``."""
         return 4 * self.n_nodes
+
+    @property
+    def dof_labels(self) -> tuple[str, ...]:
+        """Name of each dof: ``x_0, y_0, theta_x_0, theta_y_0, x_1, ...`` (its system's
+        :attr:`~duhamel.System.dof_labels`)."""
+        return tuple(f"{d}_{node}" for node in range(self.n_nodes) for d in DIRECTIONS)
 
     @property
     def nodes_z(self) -> NDArray[np.float64]:
@@ -377,7 +384,7 @@ class Rotor:
         for element in self.nonlinear_elements(w_const):
             system.add(element)
         add_rotor_loads(system, self, loads, w)
-        return system
+        return system.label_dofs(self.dof_labels)
 
     def nonlinear_elements(self, speed: float = 0.0) -> list[Element]:
         """The bearings' nonlinear parts as :mod:`duhamel.elements` (global dofs).
@@ -389,112 +396,3 @@ class Rotor:
         """
         w = constant_speed(speed)
         return bearing_elements(self.bearings, self.dof, lambda: self.static_deflection(speed=w), w)
-
-    # ------------------------------------------------------------------ eigenvalues
-    def modes(self, speed: float = 0.0, n: int | None = None) -> Modes:
-        """Complex modes at constant `speed` from the first-order eigenproblem.
-
-        ``(lambda^2 M + lambda (C + speed G) + K) u = 0`` with the full ``K`` and ``C`` (all
-        bearing terms), linearised as ``[[0, s I], [-K/s, -(C + speed G)]] z = lambda
-        [[I, 0], [0, M]] z`` (``s`` a frequency scale) and solved by the QZ algorithm, so
-        that massless degrees of freedom (``rho = 0`` shafts, Jeffcott models) are allowed:
-        they give infinite eigenvalues, which are dropped. Only oscillatory modes are kept
-        (``Im(lambda) > 1e-6 max|lambda|``: rigid-body and overdamped modes are left out).
-
-        Parameters
-        ----------
-        speed : float
-            Spin speed (rad/s); speed-dependent bearings take their coefficients there.
-        n : int, optional
-            Keep the lowest `n` modes (default: all oscillatory ones).
-
-        Returns
-        -------
-        Modes
-        """
-        w = constant_speed(speed)
-        M, K, C, G = self.matrices(w)
-        lengths = [s.L for s in self.shafts]
-        ell = float(np.mean(lengths)) if lengths else 1.0
-        return complex_modes(M, C + w * G, K, speed=w, n=n, length_scale=ell)
-
-    def natural_frequencies(self, speed: float = 0.0, n: int | None = None) -> NDArray[np.float64]:
-        """Damped natural frequencies (rad/s, ascending) at constant `speed`:
-        ``Im(lambda)`` of :meth:`modes`."""
-        return self.modes(speed, n).frequencies
-
-    def campbell(
-        self, speeds: ArrayLike, n_modes: int | None = None, *, track: bool = True
-    ) -> Campbell:
-        """Damped natural frequencies at each of `speeds` (rad/s), modes tracked by shape.
-
-        With ``track=True`` (the default) the modes at each speed are matched to those at the
-        next lower speed by their shapes: the cost ``1 - MAC`` (:meth:`Modes.mac`: rotations
-        weighted by the mean element length) of every pair is minimised over one-to-one
-        assignments (``scipy.optimize.linear_sum_assignment``; the relative eigenvalue
-        distance, weighted ``1e-6``, only breaks ties). Column ``j`` then follows one branch
-        through crossings: where a forward whirl branch crosses a backward one, the columns
-        do not swap. All oscillatory modes are tracked; `n_modes` then selects what is shown.
-        With ``track=False``, column ``j`` is the ``j``-th lowest frequency at each speed.
-
-        Parameters
-        ----------
-        speeds : array_like
-            Spin speeds (rad/s), in any order: the tracking walks them in ascending order and
-            the rows come back in the order given (repeated speeds are allowed). Across zero
-            speed a branch keeps its orbit sense, so its whirl label (relative to the spin)
-            changes from backward to forward there.
-        n_modes : int, optional
-            Show the lowest `n_modes` modes at each speed (default: all oscillatory modes).
-            Untracked: ``n_modes`` columns. Tracked: one column per branch that is among the
-            lowest ``n_modes`` at some speed, NaN where it is not (so a branch may enter or
-            leave the window where it crosses the ``n_modes``-th mode, and there may be more
-            than ``n_modes`` columns); every row shows the same frequencies as untracked.
-        track : bool
-            Keyword only. Track modes through crossings (default), or sort them by
-            frequency at each speed (the behaviour before tracking existed).
-
-        Returns
-        -------
-        Campbell
-            Tracked columns are ordered by where their branch enters: first the branches at
-            the lowest speed, ascending, then branches that appear (modes that become
-            oscillatory, or enter the ``n_modes`` window) at higher speeds. A mode that stops
-            being oscillatory ends its branch (NaN from there); ``Campbell.mac`` flags poorly
-            resolved crossings.
-
-        Examples
-        --------
-        A disk at mid-span: the backward whirl of the tilt mode falls through the forward
-        whirl of the translational mode near 4000 rad/s.
-
-        >>> import numpy as np
-        >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft
-        >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
-        ...               [Bearing(0, 1e7, 1e7), Bearing(4, 1e7, 1e7)])
-        >>> speeds = np.linspace(0.0, 5000.0, 26)
-        >>> tracked = rotor.campbell(speeds, n_modes=4)
-        >>> tracked.frequencies.shape
-        (26, 4)
-        >>> [np.unique(tracked.whirl[:, j]).tolist() for j in range(4)]
-        [['backward'], ['forward'], ['backward'], ['forward']]
-        >>> np.round(tracked.frequencies[-1], 1).tolist()    # at 5000 rad/s
-        [263.9, 266.1, 216.1, 2167.8]
-        >>> untracked = rotor.campbell(speeds, n_modes=4, track=False)
-        >>> np.unique(untracked.whirl[1:, 1]).tolist()       # the second lowest: two branches
-        ['backward', 'forward']
-        >>> round(float(np.nanmin(tracked.mac)), 3)          # every matched pair
-        0.993
-        """
-        return campbell(self.modes, speeds, n_modes, track=track)
-
-    def plot_campbell(
-        self,
-        speeds: ArrayLike,
-        n_modes: int | None = None,
-        *,
-        track: bool = True,
-        **kwargs: Any,
-    ) -> Any:
-        """:meth:`campbell` then :func:`duhamel.rotor.plot_campbell`; returns the Axes."""
-        return self.campbell(speeds, n_modes, track=track).plot(**kwargs)

@@ -376,4 +376,6 @@ def from_ross(
     else:
         system = System(conv(M), conv(k_sym))
     add_couplings(system, G, w, k_skew, c_skew, conv)
+    if len(set(names)) == len(names):
+        system.label_dofs(names)
     return RossModel(system=system, dofs=dofs, matrices=matrices)

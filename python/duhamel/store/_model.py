@@ -72,6 +72,8 @@ class Model:
     )
     #: Per force element, the linear part ``(dofs, k0, c0)`` its background took over.
     linear: list[tuple | None] = field(default_factory=list)
+    #: The system's dof names (:meth:`duhamel.System.label_dofs`), or None.
+    labels: tuple[str, ...] | None = None
 
     # --- data form -------------------------------------------------------------------------
     def to_tree(self) -> dict[str, Any]:
@@ -321,6 +323,7 @@ def capture(
             if isinstance(load, BaseAcceleration)
         ],
         linear=[None if p is None else (p.dofs, p.k0, p.c0) for p in run.linear],
+        labels=system.dof_labels,
     )
 
 

@@ -107,6 +107,7 @@ def _solution(
             "dt": grid["dt"],
             "t0": grid["t0"],
             "integrator": model.semianalytic(),
+            "labels": model.labels,
             "store": str(getattr(group.store, "root", group.store)),
         },
         elements=histories,
