@@ -130,3 +130,47 @@ def test_to_xarray_refuses_failed_cases() -> None:
     )  # fmt: skip
     with pytest.raises(ValueError, match=r"cases \[1\] failed"):
         ens.to_xarray()
+
+
+def test_shared_basis_and_zarr_store(tmp_path) -> None:
+    """One basis for all runs gives the per-run results bit for bit (threads and a cluster
+    that receives it scattered once); results appended to zarr equal the in-memory dataset;
+    a basis that does not fit a case's model is refused naming the case."""
+    distributed = pytest.importorskip("distributed")
+    integ = duhamel.Semianalytic()
+    own = solve_many(building, PARAMS, integ, reduce=peak_drift, **KW)
+    shared = solve_many(building, PARAMS, integ, reduce=peak_drift, basis="first", **KW)
+    assert shared.results == own.results and shared.stats["basis"] == "shared"
+    store = solve_many(
+        building, PARAMS, integ, basis=building(PARAMS[0]).modal(), to_zarr=tmp_path / "a.zarr",
+        chunk_size=5, dofs=[0, 9], **KW,
+    )  # fmt: skip
+    assert store.results == [] and len(store) == 12
+    full = solve_many(building, PARAMS, integ, dofs=[0, 9], **KW).to_xarray()
+    back = store.to_xarray()
+    np.testing.assert_array_equal(back["x"].values, full["x"].values)
+    np.testing.assert_array_equal(back["scale"].values, full["scale"].values)
+    assert back["x"].encoding["chunks"][0] == 5
+    with (
+        distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        remote = solve_many(
+            building, PARAMS, integ, reduce=peak_drift, client=client, basis="first",
+            to_zarr=tmp_path / "b.zarr", **KW,
+        )  # fmt: skip
+    ds = remote.to_xarray()
+    assert ds["roof"].values.tolist() == [r["roof"] for r in own.results]
+
+    def stiffer(k):
+        return duhamel.System(np.eye(2), k * np.array([[2.0, -1.0], [-1.0, 1.0]]))
+
+    with pytest.raises(ValueError) as err:
+        solve_many(stiffer, [1.0, 2.0], integ, t_end=0.1, dt=0.01, basis="first", workers=1)
+    assert any("case 1" in n for n in err.value.__notes__)
+    with pytest.raises(ValueError, match="`basis`"):
+        solve_many(stiffer, [1.0], integ, t_end=0.1, dt=0.01, basis="all")
+    with pytest.raises(ValueError, match="`to_zarr`"):
+        solve_many(stiffer, [1.0], integ, t_end=0.1, dt=0.01, to_zarr="x", on_error="keep")

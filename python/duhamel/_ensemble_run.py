@@ -1,0 +1,261 @@
+""":func:`~duhamel.ensemble.solve_many` and its :class:`~duhamel.ensemble.Ensemble`: the
+runs of a study in a pool of threads or on a Dask cluster, results in the order of the
+parameters, kept in memory or appended to a zarr store as they finish."""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from duhamel._ensemble_zarr import ZarrWriter, stack
+from duhamel.errors import SolverError
+from duhamel.modal import ModalBasis
+from duhamel.solution import Solution
+from duhamel.solve import solve
+
+__all__ = ["Ensemble", "solve_many"]
+
+
+@dataclass(frozen=True, eq=False)
+class Ensemble:
+    """Results of :func:`solve_many`, in the order of `params`.
+
+    Attributes
+    ----------
+    params : list
+        The parameters, as given.
+    results : list
+        Per run, the Solution or what `reduce` returned; empty when the results were written
+        to a zarr store (`store`).
+    stats : dict
+        ``runs``, ``wall_time`` (s), ``workers``, ``where`` (``'threads'`` or ``'dask'``),
+        ``chunk_size``, ``basis`` (``'per run'`` or ``'shared'``).
+    store : pathlib.Path or None
+        The zarr store the results were written to (``solve_many(to_zarr=...)``).
+    """
+
+    params: list[Any]
+    results: list[Any]
+    stats: dict[str, Any] = field(default_factory=dict)
+    store: Path | None = None
+
+    def __len__(self) -> int:
+        return len(self.params)
+
+    def to_xarray(self) -> Any:
+        """The results stacked along a ``case`` dimension: Solutions as their
+        :meth:`~duhamel.Solution.to_xarray` datasets (same times and dofs), dicts of numbers
+        or arrays as one variable per key, numbers or arrays as ``result``. Parameters that
+        are dicts of scalars become coordinates along ``case``. Results written to a zarr
+        store are opened from it (lazily)."""
+        if self.store is not None:
+            import xarray as xr
+
+            return xr.open_zarr(self.store, consolidated=False)
+        return stack(self.params, self.results)
+
+
+@dataclass(frozen=True)
+class _Job:
+    """One study's runs: picklable, so that a Dask worker receives it whole."""
+
+    make_system: Callable[[Any], Any]
+    integrator: Any
+    reduce: Callable[[Solution], Any] | None
+    options: dict[str, Any]
+    keep_failures: bool
+
+    def __call__(self, index: int, p: Any, basis: ModalBasis | None = None) -> Any:
+        try:
+            system = self.make_system(p)
+            if basis is not None:
+                system.use_basis(basis)
+            sol = solve(system, self.integrator, threads=1, **self.options)
+            return sol if self.reduce is None else self.reduce(sol)
+        except Exception as exc:
+            if self.keep_failures and isinstance(exc, SolverError):
+                return exc
+            exc.add_note(f"in duhamel.ensemble.solve_many, case {index}: params = {p!r}")
+            raise
+
+    def chunk(self, cases: Sequence[tuple[int, Any]], basis: ModalBasis | None = None) -> list:
+        """A Dask task: several runs, one after the other."""
+        return [self(i, p, basis) for i, p in cases]
+
+
+def _shared_basis(basis: Any, make_system: Callable, ps: list, integrator: Any) -> Any:
+    """The ModalBasis every run uses, or None (each run computes its own)."""
+    if basis is None or isinstance(basis, ModalBasis):
+        return basis
+    if basis != "first":
+        raise ValueError(f"`basis` must be None, 'first' or a duhamel.ModalBasis, got {basis!r}")
+    if not ps:
+        return None
+    modes = getattr(integrator, "modes", None)
+    try:
+        return make_system(ps[0]).modal(modes)
+    except Exception as exc:
+        exc.add_note("in duhamel.ensemble.solve_many, computing the shared basis of case 0")
+        raise
+
+
+def _threads(job: _Job, ps: list, n: int, basis: Any) -> Iterator[Any]:
+    """The results in order, at most a few runs per thread in flight."""
+    with ThreadPoolExecutor(max_workers=n) as pool:
+        window, pending, nxt = 4 * n, {}, 0
+        for i in range(len(ps)):
+            while len(pending) < window and nxt < len(ps):
+                pending[nxt] = pool.submit(job, nxt, ps[nxt], basis)
+                nxt += 1
+            yield pending.pop(i).result()
+
+
+def _dask(job: _Job, ps: list, client: Any, size: int, basis: Any) -> Iterator[Any]:
+    """The results in order from chunked tasks on the cluster (the basis scattered once)."""
+    shared = None if basis is None else client.scatter(basis, broadcast=True)
+    indexed = list(enumerate(ps))
+    chunks = [indexed[i : i + size] for i in range(0, len(indexed), size)]
+    futures = client.map(job.chunk, chunks, basis=shared, pure=False)
+    for k in range(len(futures)):
+        chunk = futures[k].result()
+        futures[k] = None  # the cluster can forget it
+        yield from chunk
+
+
+def solve_many(
+    make_system: Callable[[Any], Any],
+    params: Iterable[Any],
+    integrator: Any,
+    *,
+    t_end: float,
+    dt: float,
+    reduce: Callable[[Solution], Any] | None = None,
+    client: Any = None,
+    workers: int | None = None,
+    chunk_size: int | None = None,
+    on_error: str = "raise",
+    basis: ModalBasis | str | None = None,
+    to_zarr: str | Path | None = None,
+    **solve_options: Any,
+) -> Ensemble:
+    """Run ``solve(make_system(p), integrator, t_end=t_end, dt=dt, **solve_options)`` for
+    every ``p`` in `params`.
+
+    Parameters
+    ----------
+    make_system : callable
+        ``p -> System`` (picklable for a Dask cluster: a module-level function).
+    params : iterable
+        Any values: a record and a scale factor, a dict of stiffnesses, an initial state...
+    integrator : Semianalytic or DirectIntegrator
+        The same for every run.
+    t_end, dt : float
+        As in :func:`duhamel.solve`.
+    reduce : callable, optional
+        ``Solution -> anything`` kept per run instead of the Solution (peaks, drifts, a few
+        histories).
+    client : dask.distributed.Client, optional
+        Run on this cluster instead of in-process threads.
+    workers : int, optional
+        In-process threads (default: the machine's cores).
+    chunk_size : int, optional
+        Runs per Dask task (default: about four tasks per worker thread), and cases per
+        block of a zarr store (default 64 in-process).
+    on_error : {'raise', 'keep'}, optional
+        A run that stops with :class:`duhamel.SolverError` (divergence, no convergence: a
+        collapse in a study): raise it (default), or keep the exception as that run's result
+        and go on.
+    basis : ModalBasis or 'first', optional
+        The undamped modes every run uses (:meth:`duhamel.System.use_basis`) instead of
+        computing its own: a basis, or ``'first'`` to compute it once from the first case's
+        system. For studies that vary the loads, records or elements of one linear model;
+        on a cluster the basis is scattered to every worker once. A run whose model it does
+        not fit raises ValueError.
+    to_zarr : str or path, optional
+        A new zarr store to which the results are appended in case order as the runs
+        finish (blocks of `chunk_size` cases, stacked as :meth:`Ensemble.to_xarray` does), so
+        that no more than a few blocks are ever in memory; ``results`` is then empty and
+        :meth:`Ensemble.to_xarray` opens the store. Needs xarray and zarr; not with
+        ``on_error='keep'``.
+    **solve_options
+        Passed to :func:`duhamel.solve` (``x0``, ``v0``, ``save_every``, ``dofs``...); each run
+        uses one thread (``threads=1``): the parallelism is across runs.
+
+    Returns
+    -------
+    Ensemble
+        ``results`` in the order of `params`.
+
+    Raises
+    ------
+    Exception
+        The first failing run's exception, with a note naming its case index and parameters.
+
+    Examples
+    --------
+    >>> import numpy as np, duhamel
+    >>> from duhamel.ensemble import solve_many
+    >>> def loaded(amplitude):
+    ...     s = duhamel.System(np.eye(2), [[2.0, -1.0], [-1.0, 1.0]], zeta=0.02)
+    ...     return s.add_load(duhamel.loads.Harmonic(1, amplitude, omega=1.0))
+    >>> ens = solve_many(loaded, [1.0, 2.0], duhamel.Semianalytic(), t_end=20.0, dt=0.05,
+    ...                  basis="first", reduce=lambda sol: float(np.abs(sol.x).max()))
+    >>> ens.stats["basis"], round(ens.results[1] / ens.results[0], 12)
+    ('shared', 2.0)
+    """
+    if not callable(make_system):
+        raise TypeError(f"`make_system` must be callable, got {type(make_system).__name__}")
+    if reduce is not None and not callable(reduce):
+        raise TypeError(f"`reduce` must be callable, got {type(reduce).__name__}")
+    if "threads" in solve_options:
+        raise ValueError("`threads` is set per run by solve_many (1); use `workers`")
+    if on_error not in ("raise", "keep"):
+        raise ValueError(f"`on_error` must be 'raise' or 'keep', got {on_error!r}")
+    if to_zarr is not None and on_error == "keep":
+        raise ValueError("`to_zarr` stores complete studies: use on_error='raise' with it")
+    if chunk_size is not None and int(chunk_size) < 1:
+        raise ValueError(f"`chunk_size` must be >= 1, got {chunk_size}")
+    ps = list(params)
+    options = {"t_end": t_end, "dt": dt, **solve_options}
+    job = _Job(make_system, integrator, reduce, options, on_error == "keep")
+    started = time.perf_counter()
+    shared = _shared_basis(basis, make_system, ps, integrator)
+    if client is None:
+        n = (os.cpu_count() or 1) if workers is None else int(workers)
+        if n < 1:
+            raise ValueError(f"`workers` must be >= 1, got {workers}")
+        size = int(chunk_size) if chunk_size else 64
+        stream = _threads(job, ps, n, shared)
+        stats = {"where": "threads", "workers": n, "chunk_size": 1}
+    else:
+        threads = sum(client.nthreads().values()) or 1
+        size = int(chunk_size) if chunk_size else max(1, math.ceil(len(ps) / (4 * threads)))
+        stream = _dask(job, ps, client, size, shared)
+        stats = {"where": "dask", "workers": threads, "chunk_size": size}
+    results: list[Any] = []
+    store = None
+    if to_zarr is None:
+        results = list(stream)
+    else:
+        writer = ZarrWriter(to_zarr, size)
+        block: list[Any] = []
+        for result in stream:
+            block.append(result)
+            if len(block) == size:
+                writer.write(ps[writer.written : writer.written + size], block)
+                block = []
+        if block:
+            writer.write(ps[writer.written :], block)
+        store = writer.path
+    stats.update(
+        runs=len(ps),
+        wall_time=time.perf_counter() - started,
+        basis="per run" if shared is None else "shared",
+    )
+    return Ensemble(ps, results, stats, store)
