@@ -18,6 +18,7 @@ Examples
 (501, 20)
 """
 
+from duhamel.rotor._plot_response import plot_bode, plot_mode_shape, plot_polar
 from duhamel.rotor._speed import constant_speed, rpm
 from duhamel.rotor.assembly import RotorMatrices
 from duhamel.rotor.bearing import Bearing
@@ -31,6 +32,7 @@ from duhamel.rotor.modes import Modes
 from duhamel.rotor.plot import plot_campbell, plot_orbit
 from duhamel.rotor.ross import RossDofs, RossModel, from_ross
 from duhamel.rotor.shaft import Shaft, cowper_shear_coefficient
+from duhamel.rotor.unbalance import Peak, UnbalanceResponse, unbalance_response
 
 __all__ = [
     "DIRECTIONS",
@@ -41,6 +43,7 @@ __all__ = [
     "Gravity",
     "Material",
     "Modes",
+    "Peak",
     "RossDofs",
     "RossModel",
     "Rotor",
@@ -49,11 +52,16 @@ __all__ = [
     "Shaft",
     "SuddenForce",
     "Unbalance",
+    "UnbalanceResponse",
     "VectorStep",
     "constant_speed",
     "cowper_shear_coefficient",
     "from_ross",
+    "plot_bode",
     "plot_campbell",
+    "plot_mode_shape",
     "plot_orbit",
+    "plot_polar",
     "rpm",
+    "unbalance_response",
 ]

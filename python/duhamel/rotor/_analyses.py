@@ -3,14 +3,17 @@ Campbell diagram (a mixin of :class:`~duhamel.rotor.Rotor`, which owns the model
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from duhamel.rotor._plot_response import plot_mode_shape
 from duhamel.rotor._speed import constant_speed
 from duhamel.rotor.campbell import Campbell, campbell
 from duhamel.rotor.modes import Modes, complex_modes
+from duhamel.rotor.unbalance import UnbalanceResponse, unbalance_response
 
 __all__ = ["RotorAnalyses"]
 
@@ -20,6 +23,57 @@ class RotorAnalyses:
 
     shafts: tuple[Any, ...]
     matrices: Any  # the Rotor's method: speed -> RotorMatrices
+    dof: Any  # the Rotor's method: (node, direction) -> dof
+    nodes_z: Any
+    has_speed_dependent_bearings: bool
+
+    def unbalance_response(
+        self, speeds: ArrayLike, unbalances: Sequence[tuple[int, float, float]]
+    ) -> UnbalanceResponse:
+        """Steady-state unbalance response at each of `speeds`, exact in the frequency
+        domain: ``(K - Omega^2 M + i Omega (C + Omega G)) X = F`` per speed, with the bearing
+        coefficients (and Rayleigh/modal structural damping) at that speed.
+
+        Parameters
+        ----------
+        speeds : array_like
+            Spin speeds (rad/s).
+        unbalances : list of (node, m_e, phase)
+            Unbalance (kg m) at a node and its angle at ``t = 0`` (rad, from x towards y):
+            the force ``m_e Omega^2 (cos(Omega t + phase), sin(Omega t + phase))`` of
+            :class:`~duhamel.rotor.Unbalance`.
+
+        Returns
+        -------
+        UnbalanceResponse
+            ``response`` of shape ``(n_speeds, n_dof)``, ``x(t) = Re(X e^{i Omega t})``;
+            amplitudes, phases, orbit axes, :meth:`~UnbalanceResponse.peaks` (critical speeds,
+            amplification factors, API 684 separation margins), Bode and polar plots.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft
+        >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
+        ...               [Bearing(0, 1e7, 1e7, cxx=500.0, cyy=500.0),
+        ...                Bearing(4, 1e7, 1e7, cxx=500.0, cyy=500.0)], zeta=0.02)
+        >>> res = rotor.unbalance_response(np.linspace(100.0, 500.0, 401), [(2, 1e-4, 0.0)])
+        >>> res.response.shape
+        (401, 20)
+        >>> peak = res.peaks(2, operating=(300.0, 450.0))[0]
+        >>> round(peak.speed, 1), round(peak.amplification_factor, 1), round(peak.margin, 3)
+        (265.2, 23.7, 0.131)
+        """
+        if self.has_speed_dependent_bearings:
+            mats: Any = self.matrices
+        else:
+            mats = self.matrices(0.0)
+        return unbalance_response(mats, speeds, unbalances, dof=self.dof)
+
+    def plot_mode(self, speed: float, j: int, **kwargs: Any) -> Any:
+        """Mode `j` at `speed` along the axis (:func:`duhamel.rotor.plot_mode_shape`:
+        ``kind='3d'`` orbits or ``'2d'`` major semi-axis); returns the Axes."""
+        return plot_mode_shape(self.nodes_z, self.modes(speed), j, **kwargs)
 
     # ------------------------------------------------------------------ eigenvalues
     def modes(self, speed: float = 0.0, n: int | None = None) -> Modes:
@@ -129,3 +183,82 @@ class RotorAnalyses:
     ) -> Any:
         """:meth:`campbell` then :func:`duhamel.rotor.plot_campbell`; returns the Axes."""
         return self.campbell(speeds, n_modes, track=track).plot(**kwargs)
+
+    def critical_speeds(
+        self,
+        speeds: ArrayLike,
+        *,
+        harmonic: float = 1.0,
+        whirl: str | None = "forward",
+        n_modes: int | None = None,
+    ) -> NDArray[np.float64]:
+        """Critical speeds: where a damped natural frequency equals `harmonic` times the spin
+        speed (the crossings of the Campbell diagram with the excitation line).
+
+        The tracked :meth:`campbell` on `speeds` brackets each crossing; each is then refined
+        on the eigenproblem itself (Brent's method to 1e-12 relative, following the branch by
+        its shape), so the result does not depend on the grid once the grid separates the
+        crossings.
+
+        Parameters
+        ----------
+        speeds : array_like
+            Spin speeds (rad/s) spanning the range searched.
+        harmonic : float
+            Keyword only. Excitation order (1: unbalance, synchronous).
+        whirl : {'forward', 'backward'} or None
+            Keyword only. Only branches of this whirl (default forward, which unbalance
+            excites in an isotropic rotor); None: all.
+        n_modes : int, optional
+            Keyword only. Branches among the lowest `n_modes` modes.
+
+        Returns
+        -------
+        ndarray
+            Critical speeds (rad/s), ascending.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft
+        >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
+        ...               [Bearing(0, 1e7, 1e7, cxx=500.0, cyy=500.0),
+        ...                Bearing(4, 1e7, 1e7, cxx=500.0, cyy=500.0)])
+        >>> np.round(rotor.critical_speeds(np.linspace(0.0, 1000.0, 21)), 3).tolist()
+        [265.035]
+        """
+        from scipy.optimize import brentq
+
+        if whirl not in ("forward", "backward", None):
+            raise ValueError(f"`whirl` must be 'forward', 'backward' or None, got {whirl!r}")
+        h = float(harmonic)
+        if not (np.isfinite(h) and h > 0.0):
+            raise ValueError(f"`harmonic` must be a positive number, got {harmonic!r}")
+        diagram = self.campbell(np.unique(np.asarray(speeds, dtype=float)), n_modes)
+        ws, freq = diagram.speeds, diagram.frequencies
+        found = []
+        for j in range(freq.shape[1]):
+            g = freq[:, j] - h * ws
+            for p in range(ws.size - 1):
+                if not (np.isfinite(g[p]) and np.isfinite(g[p + 1]) and g[p] * g[p + 1] <= 0):
+                    continue
+                if whirl is not None and whirl not in (
+                    diagram.whirl[p, j],
+                    diagram.whirl[p + 1, j],
+                ):
+                    continue
+                a, b = float(ws[p]), float(ws[p + 1])
+                here = self.modes(a)
+                ref = here.shapes[:, int(np.argmin(np.abs(here.frequencies - freq[p, j])))]
+
+                def branch(w: float, ref: NDArray = ref, f0: float = freq[p, j]) -> float:
+                    m = self.modes(w)
+                    mac = m.mac(Modes(w, np.zeros(1, complex), ref[:, None], ("",), m.length_scale))
+                    score = mac[:, 0] - 1e-9 * np.abs(m.frequencies - f0) / max(abs(f0), 1.0)
+                    return float(m.frequencies[int(np.argmax(score))]) - h * w
+
+                if g[p] == 0.0:
+                    found.append(a)
+                elif g[p + 1] != 0.0:
+                    found.append(brentq(branch, a, b, xtol=1e-12 * max(abs(b), 1.0), rtol=1e-14))
+        return np.unique(np.asarray(found, dtype=float))

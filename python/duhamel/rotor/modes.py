@@ -6,7 +6,7 @@ theta_y)``). Forward whirl is an orbit in the sense of the spin, from +x towards
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -15,8 +15,16 @@ __all__ = ["Modes", "complex_modes"]
 
 #: Eigenvalues with ``Im(lambda) <= ZERO_FREQUENCY_RTOL * max|lambda|`` are not oscillatory:
 #: rigid-body modes (whose defective zero eigenvalues come out of the eigensolver as pairs of
-#: size about ``sqrt(eps) max|lambda|``) and overdamped modes.
+#: size about ``sqrt(eps) max|lambda|``).
 ZERO_FREQUENCY_RTOL = 1e-6
+#: A mode ``e^{lambda t}`` is overdamped (not oscillatory) when it decays by more than the
+#: double precision, ``e^{-OVERDAMPED_DECAY} = eps``, before its first zero crossing (a quarter
+#: of its period): ``|Re(lambda)| pi / (2 Im(lambda)) >= ln(1 / eps)``, i.e. damping ratio
+#: above 0.99905. Real eigenvalue pairs split by round-off into ``sigma +- i eps'`` (a
+#: relative ``Im`` of ``sqrt(eps)`` at most, near a double root) and the nearly real pairs
+#: that gyroscopic coupling makes of two overdamped motions are far beyond it; every mode
+#: whose oscillation could show in a computed response is far below it.
+OVERDAMPED_DECAY = float(np.log(1.0 / np.finfo(float).eps))
 #: Orbit sense: a node counts when its amplitude is at least this fraction of the largest
 #: node's, and its signed orbit area at least ``PLANAR_RTOL`` times its amplitude.
 NODE_RTOL = 1e-4
@@ -49,6 +57,11 @@ class Modes:
     length_scale : float
         Length (m) that weights the rotations against the translations in :meth:`mac` and in
         the whirl (the rotor's mean element length; 1 by default).
+    overdamped : ndarray of complex
+        The finite eigenvalues that are not oscillatory, sorted by decay rate (slowest
+        first): overdamped motions (damping ratio above 0.99905, see
+        :data:`OVERDAMPED_DECAY`; real pairs, and nearly real pairs that the gyroscopic terms
+        couple) and rigid-body modes (eigenvalue 0). Never listed as natural frequencies.
     """
 
     speed: float
@@ -56,6 +69,7 @@ class Modes:
     shapes: NDArray[np.complex128]
     whirl: tuple[str, ...]
     length_scale: float = 1.0
+    overdamped: NDArray[np.complex128] = field(default_factory=lambda: np.zeros(0, dtype=complex))
 
     @property
     def n_modes(self) -> int:
@@ -76,6 +90,33 @@ class Modes:
     def log_dec(self) -> NDArray[np.float64]:
         """Logarithmic decrement ``-2 pi Re(lambda) / Im(lambda)`` (negative: unstable)."""
         return -2.0 * np.pi * self.eigenvalues.real / self.eigenvalues.imag
+
+    def summary(self) -> str:
+        """A table of the modes: frequency (rad/s and Hz), damping ratio, log decrement and
+        whirl, then the overdamped eigenvalues.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor.modes import complex_modes
+        >>> M, K = np.eye(4), np.diag([4.0, 4.0, 100.0, 100.0])
+        >>> print(complex_modes(M, 0.1 * np.eye(4), K, speed=0.0, n=2).summary())
+        mode  freq [rad/s]   freq [Hz]     zeta   log dec  whirl
+           0        1.9994      0.3182   0.0250    0.1571  backward
+           1        1.9994      0.3182   0.0250    0.1571  forward
+        overdamped: none
+        """
+        lines = [f"{'mode':>4}  {'freq [rad/s]':>12}  {'freq [Hz]':>10}  {'zeta':>7}  "
+                 f"{'log dec':>8}  whirl"]  # fmt: skip
+        for j in range(self.n_modes):
+            f = float(self.eigenvalues[j].imag)
+            lines.append(
+                f"{j:>4}  {f:>12.4f}  {f / (2 * np.pi):>10.4f}  "
+                f"{self.damping_ratios[j]:>7.4f}  {self.log_dec[j]:>8.4f}  {self.whirl[j]}"
+            )
+        over = ", ".join(f"{v:.4g}" for v in self.overdamped) if self.overdamped.size else "none"
+        lines.append(f"overdamped: {over}")
+        return "\n".join(lines)
 
     def mac(self, other: Modes) -> NDArray[np.float64]:
         """Modal assurance criterion between these mode shapes and `other`'s.
@@ -153,7 +194,7 @@ def complex_modes(
     >>> modes.frequencies.tolist(), modes.whirl
     ([2.0, 2.0], ('backward', 'forward'))
     """
-    lam, shapes = _complex_modes(M, D, K)
+    lam, shapes, over = _complex_modes(M, D, K)
     if n is not None:
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
             raise ValueError(f"`n` must be a positive integer, got {n!r}")
@@ -165,13 +206,14 @@ def complex_modes(
     if speed < 0.0:  # spinning about -z: the whirl sense relative to the spin flips
         flip = {"forward": "backward", "backward": "forward"}
         whirl = tuple(flip.get(k, k) for k in whirl)
-    return Modes(speed=speed, eigenvalues=lam, shapes=shapes, whirl=whirl, length_scale=ell)
+    return Modes(speed, lam, shapes, whirl, length_scale=ell, overdamped=over)
 
 
 def _complex_modes(
     M: NDArray[np.float64], D: NDArray[np.float64], K: NDArray[np.float64]
-) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
-    """Oscillatory eigenpairs of ``lambda^2 M + lambda D + K``, ``Im(lambda) > 0``, ascending.
+) -> tuple[NDArray[np.complex128], NDArray[np.complex128], NDArray[np.complex128]]:
+    """Oscillatory eigenpairs of ``lambda^2 M + lambda D + K``, ``Im(lambda) > 0``, ascending,
+    and the other finite eigenvalues (overdamped and rigid-body, slowest first).
 
     Without damping and gyroscopic terms (``D = 0``, ``K`` symmetric, ``M`` positive
     definite) the eigenvalues are ``+-i omega`` with ``omega^2`` those of ``(K, M)``: solved by
@@ -189,7 +231,8 @@ def _complex_modes(
         else:
             omega = np.sqrt(np.clip(lam2, 0.0, None))
             keep = omega > ZERO_FREQUENCY_RTOL * float(omega.max())
-            return 1j * omega[keep], _normalise(vec[:, keep].astype(complex))
+            rigid = np.zeros(2 * int(np.count_nonzero(~keep)), dtype=complex)
+            return 1j * omega[keep], _normalise(vec[:, keep].astype(complex)), rigid
     kmax, mmax = float(np.max(np.abs(np.diag(K)))), float(np.max(np.diag(M)))
     s = np.sqrt(kmax / mmax) if kmax > 0.0 and mmax > 0.0 else 1.0
     eye, zero = np.eye(n), np.zeros((n, n))
@@ -199,11 +242,25 @@ def _complex_modes(
     finite = np.isfinite(lam)
     lam, vec = lam[finite], vec[:n, finite] / s
     if lam.size == 0:
-        return np.zeros(0, dtype=complex), np.zeros((n, 0), dtype=complex)
-    keep = lam.imag > ZERO_FREQUENCY_RTOL * float(np.max(np.abs(lam)))
+        empty = np.zeros(0, dtype=complex)
+        return empty, np.zeros((n, 0), dtype=complex), empty
+    keep = oscillatory(lam, float(np.max(np.abs(lam))))
+    other = ~keep & ~oscillatory(lam.conj(), float(np.max(np.abs(lam))))
+    over = lam[other]
+    over = over[np.lexsort((over.imag, -over.real))]
     lam, vec = lam[keep], vec[:, keep]
     order = np.argsort(lam.imag, kind="stable")
-    return lam[order], _normalise(vec[:, order])
+    return lam[order], _normalise(vec[:, order]), over
+
+
+def oscillatory(lam: NDArray[np.complex128], scale: float) -> NDArray[np.bool_]:
+    """Which eigenvalues are oscillatory modes with ``Im(lambda) > 0``: not rigid-body
+    (``Im(lambda) > ZERO_FREQUENCY_RTOL scale``, `scale` the largest ``|lambda|``) and not
+    overdamped (see :data:`OVERDAMPED_DECAY`)."""
+    im = lam.imag
+    return (im > ZERO_FREQUENCY_RTOL * scale) & (
+        np.abs(lam.real) * (np.pi / 2.0) < OVERDAMPED_DECAY * im
+    )
 
 
 def _weighted(shapes: NDArray[np.complex128], ell: float) -> NDArray[np.complex128]:
