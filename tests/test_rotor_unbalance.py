@@ -40,8 +40,7 @@ def test_equals_the_steady_state_of_a_transient(w) -> None:
     # 2.7 s: the slowest start-up transient (zeta ~ 0.05 at 265 rad/s) decays by e^-35 ...
     periods = int(120 * w / 280.0)
     err = {
-        k: np.abs(steady_amplitude(r, w, k, periods) - X).max() / np.abs(X).max()
-        for k in (50, 100)
+        k: np.abs(steady_amplitude(r, w, k, periods) - X).max() / np.abs(X).max() for k in (50, 100)
     }
     assert err[100] < 1e-6
     # ... so what remains is the time step's: it converges to the frequency-domain
