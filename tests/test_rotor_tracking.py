@@ -18,6 +18,10 @@ import pytest
 import duhamel
 from duhamel.rotor import Bearing, Disk, Material, Rotor, Shaft
 
+# the tables are evaluated beyond their ends on purpose (the end values are held):
+# tests/test_rotor_bearing_tables.py checks the warning
+pytestmark = pytest.mark.filterwarnings("ignore::duhamel.rotor.bearing.TableRangeWarning")
+
 E_MOD, NU = 211e9, 0.3
 G_MOD = E_MOD / (2 * (1 + NU))
 MAT = Material(E=E_MOD, rho=7810.0, nu=NU)
@@ -207,7 +211,7 @@ def test_modes_that_appear_and_disappear_end_their_branches():
     c_crit = 2 * math.sqrt(kt * MASS)
     table = [0.0, 2000.0, 6000.0, 8000.0]
     c_table = [3 * c_crit, 0.3 * c_crit, 0.3 * c_crit, 3 * c_crit]
-    damper = Bearing(1, 0.0, 0.0, cxx=c_table, cyy=c_table, speeds=table)
+    damper = Bearing(1, 0.0, 0.0, cxx=c_table, cyy=c_table, speeds=table, interpolation="linear")
     rotor, _, _ = jeffcott(damper)
     speeds = np.linspace(0.0, 8000.0, 41)
     c = np.interp(speeds, table, c_table)
@@ -298,7 +302,7 @@ def fluid_rotor(bearing_at, **kw) -> Rotor:
 
 
 def tabulated(node: int, **extra) -> Bearing:
-    return Bearing(node, **COEFFS, speeds=TABLE, **extra)
+    return Bearing(node, **COEFFS, speeds=TABLE, interpolation="linear", **extra)
 
 
 def constant(speed: float):

@@ -3,6 +3,8 @@ against the spin speed, with an optional cubic law and rub."""
 
 from __future__ import annotations
 
+import functools
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -14,7 +16,23 @@ from duhamel._validate import as_float_array, finite_float, nonneg_float, positi
 from duhamel.rotor._speed import constant_speed
 from duhamel.rotor.dofs import local_dof_mapping, node_index
 
-__all__ = ["Bearing", "Coefficient"]
+__all__ = ["Bearing", "Coefficient", "TableRangeWarning"]
+
+
+class TableRangeWarning(UserWarning):
+    """A speed-dependent bearing was evaluated outside its table of speeds (its end values
+    are held there)."""
+
+
+@functools.lru_cache(maxsize=256)
+def _pchip(speeds: tuple[float, ...], values: tuple[float, ...]) -> Any:
+    """The shape-preserving cubic (Fritsch-Carlson, scipy's PchipInterpolator) through the
+    table; a single point is a constant."""
+    from scipy.interpolate import PchipInterpolator
+
+    if len(speeds) == 1:
+        return lambda w: values[0]
+    return PchipInterpolator(speeds, values, extrapolate=False)
 
 
 def _contact(value: Any) -> tuple[float, float, float] | None:
@@ -120,13 +138,14 @@ class Bearing:
     **Speed-dependent coefficients** (fluid-film bearings and seals, as ROSS's bearings with
     a ``frequency`` argument): give the spin speeds of a table as `speeds` (rad/s, strictly
     ascending) and any of ``kxx .. cyx`` as one value per speed (the others stay numbers:
-    constant). At a spin speed the coefficients are interpolated linearly between the table
-    points (:meth:`stiffness_at`, :meth:`damping_at`); **outside the table the end values
-    are held** (no extrapolation: a fluid film's coefficients extrapolated linearly soon turn
-    negative). ROSS 2.3 fits a smoothing spline through the points and extrapolates it;
-    linear interpolation reproduces the table points exactly. The table is against the
-    *signed* spin speed, so a rotor spinning about ``-z`` (negative speed) reads the table
-    at negative speeds (or holds its first value). :attr:`stiffness` and :attr:`damping`
+    constant). At a spin speed the coefficients are interpolated between the table points
+    (:meth:`stiffness_at`, :meth:`damping_at`) by the shape-preserving piecewise cubic
+    (PCHIP, as ROSS 3; no overshoot, monotone data stay monotone) or, with
+    ``interpolation="linear"``, linearly; both reproduce the table points exactly.
+    **Outside the table the end values are held** with a :class:`TableRangeWarning` (no
+    extrapolation: a fluid film's coefficients extrapolated soon turn negative). The table is
+    against the *signed* spin speed, so a rotor spinning about ``-z`` (negative speed) reads
+    the table at negative speeds (or holds its first value). :attr:`stiffness` and :attr:`damping`
     have no speed to evaluate such a bearing at and raise ``ValueError``; a
     :class:`~duhamel.rotor.Rotor` evaluates its bearings at the speed of each call.
 
@@ -164,6 +183,8 @@ class Bearing:
         Keyword only. Spin speeds (rad/s, strictly ascending, finite) of the coefficient
         tables: each of ``kxx .. cyx`` is then a number (constant) or an array of
         ``len(speeds)`` values. Stored as a tuple, as are the tables.
+    interpolation : {'pchip', 'linear'}
+        Keyword only. How the tables are interpolated between their points.
 
     Raises
     ------
@@ -188,16 +209,23 @@ class Bearing:
     ...                 cxx=[5e3, 4e3, 3e3], cyy=[6e3, 5e3, 4e3], speeds=[100, 200, 400])
     >>> fluid.is_speed_dependent
     True
-    >>> fluid.stiffness_at(150.0).tolist()        # halfway between 100 and 200 rad/s
-    [[15000000.0, 2000000.0], [-2000000.0, 25000000.0]]
-    >>> fluid.damping_at(1000.0).tolist()         # above the table: its last values
+    >>> fluid.stiffness_at(200.0).tolist()        # a table point
+    [[20000000.0, 3000000.0], [-3000000.0, 30000000.0]]
+    >>> round(float(fluid.stiffness_at(150.0)[0, 1]))  # PCHIP between 100 and 200 rad/s
+    1954776
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     fluid.damping_at(1000.0).tolist()     # above the table: its last values, held
     [[3000.0, 0.0], [0.0, 4000.0]]
+    >>> caught[0].category.__name__
+    'TableRangeWarning'
 
     As every rotor component, it owns its matrices on its local dofs (:meth:`dof_mapping`),
     here at a spin speed:
 
-    >>> list(fluid.dof_mapping()), fluid.K(150.0)[0].tolist(), fluid.M().any().item()
-    (['x_0', 'y_0'], [15000000.0, 2000000.0], False)
+    >>> list(fluid.dof_mapping()), fluid.K(200.0)[0].tolist(), fluid.M().any().item()
+    (['x_0', 'y_0'], [20000000.0, 3000000.0], False)
     """
 
     node: int
@@ -213,8 +241,13 @@ class Bearing:
     x_stat: float | None = None
     contact: tuple[float, float, float] | None = None
     speeds: Sequence[float] | NDArray[np.float64] | None = field(default=None, kw_only=True)
+    interpolation: str = field(default="pchip", kw_only=True)
 
     def __post_init__(self) -> None:
+        if self.interpolation not in ("pchip", "linear"):
+            raise ValueError(
+                f"`interpolation` must be 'pchip' or 'linear', got {self.interpolation!r}"
+            )
         object.__setattr__(self, "node", node_index(self.node))
         speeds = _speed_table(self.speeds)
         object.__setattr__(self, "speeds", speeds)
@@ -232,9 +265,23 @@ class Bearing:
 
     def _value(self, name: str, speed: float) -> float:
         value = getattr(self, name)
-        if isinstance(value, tuple):
-            return float(np.interp(speed, self.speeds, value))
-        return float(value)
+        if not isinstance(value, tuple):
+            return float(value)
+        table = self.speeds
+        assert table is not None  # a tuple coefficient has its speeds (checked on creation)
+        if not table[0] <= speed <= table[-1]:
+            warnings.warn(
+                f"the bearing at node {self.node} is evaluated at {speed:g} rad/s, outside its "
+                f"table [{table[0]:g}, {table[-1]:g}] rad/s: its end values are held",
+                TableRangeWarning,
+                stacklevel=4,
+            )
+            return float(value[0] if speed < table[0] else value[-1])
+        if speed in table:  # the table's own values, exactly
+            return float(value[table.index(speed)])
+        if self.interpolation == "linear":
+            return float(np.interp(speed, table, value))
+        return float(_pchip(table, value)(speed))
 
     def _matrix(self, names: tuple[str, str, str, str], speed: float) -> NDArray[np.float64]:
         xx, xy, yx, yy = (self._value(name, speed) for name in names)
@@ -268,14 +315,15 @@ class Bearing:
 
     def stiffness_at(self, speed: float) -> NDArray[np.float64]:
         """``[[kxx, kxy], [kyx, kyy]]`` at spin speed `speed` (rad/s): the tables interpolated
-        linearly, their end values held outside them; constants as they are.
+        (PCHIP or linear, :attr:`interpolation`), their end values held outside them (with a
+        :class:`TableRangeWarning`); constants as they are.
 
         Examples
         --------
         >>> from duhamel.rotor import Bearing
         >>> b = Bearing(0, kxx=[1e7, 3e7], kyy=2e7, speeds=[0.0, 1000.0])
-        >>> b.stiffness_at(250.0).tolist(), b.stiffness_at(-50.0)[0, 0].item()
-        ([[15000000.0, 0.0], [0.0, 20000000.0]], 10000000.0)
+        >>> b.stiffness_at(250.0).tolist()     # two points: PCHIP is the straight line
+        [[15000000.0, 0.0], [0.0, 20000000.0]]
         """
         return self._matrix(("kxx", "kxy", "kyx", "kyy"), constant_speed(speed))
 
