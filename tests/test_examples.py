@@ -95,3 +95,24 @@ def test_ida_example(tmp_path: Path) -> None:
     assert np.all(f[0] <= f[1]) and np.all(f[1] <= f[2]) and np.all(np.diff(f[1]) > 0)
     elastic = res.measures[:, 0] / res.intensities[0]  # 0.2 g: below yield
     np.testing.assert_allclose(res.measures[:, 1] / res.intensities[1], elastic, rtol=1e-9)
+
+
+def test_journal_whirl_example() -> None:
+    """Oil whirl on short journal bearings: the linear threshold's whirl is at half the
+    speed, and in a run-up through it the subsynchronous whirl emerges within 15 % above the
+    threshold at 0.4-0.55 x speed (below it only the broadband excitation's level)."""
+    import importlib.util
+
+    import duhamel
+
+    spec = importlib.util.spec_from_file_location("whirl", ROOT / "examples" / "journal_whirl.py")
+    assert spec is not None and spec.loader is not None
+    ex = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ex)
+    out = ex.run(500.0, 780.0, 2.8, 1e-4, duhamel.Semianalytic())
+    w_th = out["threshold"]
+    assert 0.48 < out["whirl"] / w_th < 0.52
+    onset = out["onset"]
+    assert 0.95 * w_th < onset["speed"] < 1.15 * w_th
+    assert 0.4 < onset["ratio"] < 0.55
+    assert 0.0 < out["eccentricity"] < 1.0

@@ -17,6 +17,7 @@ import pytest
 
 import duhamel
 from duhamel.rotor import Bearing, Disk, Material, Rotor, Shaft
+from duhamel.rotor.bearing import TableRangeWarning
 
 # the tables are evaluated beyond their ends on purpose (the end values are held):
 # tests/test_rotor_bearing_tables.py checks the warning
@@ -438,19 +439,65 @@ def test_speed_dependent_system_and_cubic_law():
         tabulated(0, beta=0.1, x_stat=1e-5).elements(0, 1)
 
 
-def test_speed_dependent_bearings_refuse_a_run_up():
-    rotor = fluid_rotor(tabulated)
-    run_up = duhamel.speed.LinearRunUp(omega0=0.0, omega1=600.0, t1=1.0)
-    with pytest.raises(
-        ValueError, match=r"`speed` is the varying speed law .*nodes \[0\] .*speed-dependent"
-    ):
-        rotor.system(run_up)
+def test_speed_dependent_bearings_follow_a_run_up():
+    """A run-up through the table: the bearing coefficients follow the speed law (PCHIP or
+    linear, as Bearing.stiffness_at); against DOP853 on the ODE written out here with
+    ``K(omega(t))``, ``C(omega(t))`` from Bearing.stiffness_at / damping_at, second order."""
+    from scipy.integrate import solve_ivp
+
+    rotor = fluid_rotor(lambda n: Bearing(n, **COEFFS, speeds=TABLE))
+    w0, w1, t1 = 150.0, 550.0, 0.04
+    run_up = duhamel.speed.LinearRunUp(omega0=w0, omega1=w1, t1=t1)
+    system = rotor.system(run_up)
+    n = rotor.n_dof
+    Minv = np.linalg.inv(rotor.mass_matrix)
+    d = [rotor.dof(0, "x"), rotor.dof(0, "y")]
+    table = rotor.bearings[0]
+    _, K_rest, C_rest, G = rotor.matrices(w0)  # all but the tabulated bearing
+    K_rest[np.ix_(d, d)] -= table.stiffness_at(w0)
+    C_rest[np.ix_(d, d)] -= table.damping_at(w0)
+    f = np.zeros(n)
+    f[rotor.dof(2, "x")], f[rotor.dof(2, "y")] = 1e3, -5e2
+    x0 = np.linalg.solve(rotor.matrices(w0).K, f)  # released from a static deflection
+
+    def rhs(t, z):
+        w = w0 + (w1 - w0) * min(t / t1, 1.0)
+        K, C = K_rest.copy(), C_rest.copy()
+        K[np.ix_(d, d)] += table.stiffness_at(w)
+        C[np.ix_(d, d)] += table.damping_at(w)
+        x, v = z[:n], z[n:]
+        return np.r_[v, -Minv @ (K @ x + (C + w * G) @ v)]
+
+    ref = solve_ivp(rhs, (0.0, t1), np.r_[x0, np.zeros(n)], method="DOP853", rtol=1e-10,
+                    atol=1e-15, dense_output=True)  # fmt: skip
+    translations = np.r_[0:n:4, 1:n:4]
+    errors = []
+    for dt in (1e-4, 5e-5):
+        sol = duhamel.solve(system, duhamel.Semianalytic(), t_end=t1, dt=dt, x0=x0)
+        exact = ref.sol(sol.t)[:n].T[:, translations]
+        errors.append(float(np.abs(sol.x[:, translations] - exact).max() / np.abs(exact).max()))
+    print(f"\nrun-up through the table (PCHIP): {errors}")
+    assert errors[1] < 3e-5
+    assert 2.8 < errors[0] / errors[1] < 4.5  # second order
+    # the element follows the law with the bearing's own interpolation, PCHIP or linear
+    from duhamel._specs import element
+
+    for kind in ("pchip", "linear"):
+        b = Bearing(0, **COEFFS, speeds=TABLE, interpolation=kind)
+        r = fluid_rotor(lambda n, b=b: b)
+        (table_el,) = [e for e in r.system(run_up).elements if hasattr(e, "law")]
+        for t in (0.0, 0.013, 0.029, 0.05):
+            w = w0 + (w1 - w0) * min(t / t1, 1.0)
+            got = element(table_el._spec()).evaluate(np.array([1.0, 0.0]), np.zeros(2), t)[0]
+            want = b.stiffness_at(w)[:, 0] - b.stiffness_at(w0)[:, 0]
+            np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * abs(want).max() + 1e-6)
     # a constant law is a constant speed
     a = rotor.system(duhamel.speed.ConstantSpeed(450.0))
     b = rotor.system(450.0)
     assert np.array_equal(a.K, b.K) and np.array_equal(a.C, b.C)
-    # constant-coefficient rotors still run up
-    assert fluid_rotor(constant(300.0)).system(run_up).elements[0].scale is run_up
+    # beyond the table: warned, the end values held
+    with pytest.warns(TableRangeWarning, match="beyond the table"):
+        rotor.system(duhamel.speed.LinearRunUp(omega0=0.0, omega1=900.0, t1=1.0))
 
 
 @pytest.mark.parametrize(

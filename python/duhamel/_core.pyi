@@ -76,6 +76,28 @@ class Element:
     def callable(
         dofs: Sequence[int], func: Callable[..., Any], jacobian: Callable[..., Any] | None = None
     ) -> Element: ...
+    @staticmethod
+    def journal_bearing(
+        dof_x: int,
+        dof_y: int,
+        radius: float,
+        length: float,
+        clearance: float,
+        viscosity: float,
+        law: SpeedLaw,
+    ) -> Element: ...
+    @staticmethod
+    def speed_table(
+        dof_x: int,
+        dof_y: int,
+        speeds: Sequence[float],
+        values: Sequence[Sequence[float]],
+        slopes: Sequence[Sequence[float]] | None,
+        law: SpeedLaw,
+    ) -> Element: ...
+    def evaluate(
+        self, x: Array, v: Array, t: float
+    ) -> tuple[list[float], list[float], list[float]]: ...
 
 class Matrix:
     @staticmethod

@@ -112,6 +112,12 @@ def element(spec: tuple) -> Any:
         return _core.Element.damper(*args)
     if kind == "contact":
         return _core.Element.contact(*args)
+    if kind == "speed_table":
+        *table, law = args
+        return _core.Element.speed_table(*table, speed_law(law))
+    if kind == "journal":
+        *geometry, law = args
+        return _core.Element.journal_bearing(*geometry, speed_law(law))
     if kind in _DEVICES:
         return getattr(_core.Element, kind)(*args)
     if kind == "shifted":

@@ -35,8 +35,9 @@ class SolverError(DuhamelError, RuntimeError):
         The time at which the run failed.
     reason : str
         ``"nonfinite"`` (the state overflowed or became NaN: a diverging response),
-        ``"convergence"`` (the implicit step equation did not converge) or ``"callback"``
-        (a Python load or element function failed).
+        ``"convergence"`` (the implicit step equation did not converge), ``"domain"`` (an
+        element reached a state it is not defined at: a journal at its bearing's wall) or
+        ``"callback"`` (a Python load or element function failed).
     step : int or None
         The step that could not be completed (steps count from 1: step ``n`` ends at
         ``t0 + n dt``), as the engine reports it.

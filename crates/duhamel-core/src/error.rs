@@ -47,6 +47,17 @@ pub enum CoreError {
         step: usize,
         message: String,
     },
+    /// An element was evaluated at a state outside the states it is defined for (a journal
+    /// at or beyond its bearing's wall). A step where a Newton iterate strays there is
+    /// retried in halves; this is the error when that does not help.
+    #[error("{message} at t = {time} (step {step}); {}", kept(last_good_time))]
+    OutOfDomain {
+        message: String,
+        time: f64,
+        step: usize,
+        /// The last saved time kept, None when nothing is.
+        last_good_time: Option<f64>,
+    },
     /// The caller asked the run to stop (Ctrl-C): the history up to `time` is kept.
     #[error(
         "interrupted at t = {time} (before step {step}); the history up to t = {time} is kept"
@@ -69,6 +80,7 @@ impl CoreError {
             CoreError::NonFinite { step, .. }
             | CoreError::NoConvergence { step, .. }
             | CoreError::Callback { step, .. }
+            | CoreError::OutOfDomain { step, .. }
             | CoreError::Interrupted { step, .. } => Some(*step),
             _ => None,
         }
@@ -109,6 +121,12 @@ impl CoreError {
                 time,
                 step,
                 message,
+            },
+            CoreError::OutOfDomain { message, .. } => CoreError::OutOfDomain {
+                message,
+                time: end,
+                step,
+                last_good_time: kept_time,
             },
             CoreError::Interrupted { .. } => CoreError::Interrupted { time: start, step },
             input => input,

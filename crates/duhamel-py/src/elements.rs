@@ -3,6 +3,7 @@
 
 use duhamel_core::elements::{Bilinear, BoucWen, FrictionPendulum, Gap, ViscousDamper};
 use duhamel_core::elements::{Contact, Damper, Element, Polynomial, Shifted, Spring};
+use duhamel_core::elements::{ShortJournalBearing, SpeedTableBearing, Tangent};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -22,6 +23,8 @@ enum Spec {
     FrictionPendulum(FrictionPendulum),
     ViscousDamper(ViscousDamper),
     Gap(Gap),
+    Journal(ShortJournalBearing),
+    SpeedTable(SpeedTableBearing),
     Callable {
         dofs: Vec<usize>,
         func: Py<PyAny>,
@@ -90,6 +93,88 @@ impl ElementSpec {
             .map_err(core_err)
         })?;
         Ok(ElementSpec(Spec::Contact(e)))
+    }
+
+    /// Short (Ocvirk) journal bearing with half-film cavitation, spinning at `law`.
+    #[staticmethod]
+    #[allow(clippy::too_many_arguments)]
+    fn journal_bearing(
+        dof_x: usize,
+        dof_y: usize,
+        radius: f64,
+        length: f64,
+        clearance: f64,
+        viscosity: f64,
+        law: &crate::speed::SpeedLaw,
+    ) -> PyResult<Self> {
+        let e = guarded(|| {
+            ShortJournalBearing::new(dof_x, dof_y, radius, length, clearance, viscosity, law.0)
+                .map_err(core_err)
+        })?;
+        Ok(ElementSpec(Spec::Journal(e)))
+    }
+
+    /// A bearing with stiffness and damping tabulated against the spin speed (`values` and
+    /// optional Hermite `slopes`: 8 rows `kxx .. cyy` of `len(speeds)`), at `law`.
+    #[staticmethod]
+    #[pyo3(signature = (dof_x, dof_y, speeds, values, slopes, law))]
+    fn speed_table(
+        dof_x: usize,
+        dof_y: usize,
+        speeds: Vec<f64>,
+        values: Vec<Vec<f64>>,
+        slopes: Option<Vec<Vec<f64>>>,
+        law: &crate::speed::SpeedLaw,
+    ) -> PyResult<Self> {
+        let e = guarded(|| {
+            SpeedTableBearing::new(dof_x, dof_y, speeds, values, slopes, law.0).map_err(core_err)
+        })?;
+        Ok(ElementSpec(Spec::SpeedTable(e)))
+    }
+
+    /// The restoring force and its tangents `(r, dr/dx, dr/dx')` (row-major) of a
+    /// path-independent element at local displacements `x`, velocities `v`, time `t`.
+    fn evaluate(
+        &self,
+        py: Python<'_>,
+        x: &Bound<'_, PyAny>,
+        v: &Bound<'_, PyAny>,
+        t: f64,
+    ) -> PyResult<(Vec<f64>, Vec<f64>, Vec<f64>)> {
+        let mut built = Built {
+            elements: Vec::new(),
+            python: Vec::new(),
+        };
+        let element = make(py, self, &mut built)?;
+        let n = element.dofs().len();
+        if element.state_len() > 0 {
+            return Err(PyValueError::new_err(
+                "evaluate: a path-dependent element's force depends on its history",
+            ));
+        }
+        let (x, v) = (vec_of(x, "x")?, vec_of(v, "v")?);
+        if x.len() != n || v.len() != n {
+            return Err(PyValueError::new_err(format!(
+                "evaluate: `x` and `v` must have the element's {n} local dofs, got {} and {}",
+                x.len(),
+                v.len()
+            )));
+        }
+        let (mut r, mut kx, mut cv) = (vec![0.0; n], vec![0.0; n * n], vec![0.0; n * n]);
+        let result = guarded(|| {
+            let tangent = Tangent {
+                kx: &mut kx,
+                cv: &mut cv,
+            };
+            element
+                .eval(&x, &v, t, &mut r, Some(tangent))
+                .map_err(core_err)
+        });
+        if let Some(err) = built.take_error() {
+            return Err(err);
+        }
+        result?;
+        Ok((r, kx, cv))
     }
 
     /// Bilinear elastoplastic spring with kinematic hardening.
@@ -265,6 +350,8 @@ fn make(py: Python<'_>, spec: &ElementSpec, built: &mut Built) -> PyResult<Box<d
         Spec::FrictionPendulum(e) => Box::new(e.clone()),
         Spec::ViscousDamper(e) => Box::new(e.clone()),
         Spec::Gap(e) => Box::new(e.clone()),
+        Spec::Journal(e) => Box::new(e.clone()),
+        Spec::SpeedTable(e) => Box::new(e.clone()),
         Spec::Callable {
             dofs,
             func,
@@ -300,6 +387,8 @@ impl ElementSpec {
             Spec::FrictionPendulum(e) => e.dofs().len(),
             Spec::ViscousDamper(e) => e.dofs().len(),
             Spec::Gap(e) => e.dofs().len(),
+            Spec::Journal(e) => e.dofs().len(),
+            Spec::SpeedTable(e) => e.dofs().len(),
             Spec::Callable { dofs, .. } => dofs.len(),
             Spec::Shifted { inner, .. } => inner.get().n_dofs(),
         }

@@ -21,7 +21,7 @@ pub(crate) fn core_err(e: CoreError) -> PyErr {
 /// `KeyboardInterrupt`.
 #[pyclass(frozen, module = "duhamel._core")]
 pub(crate) struct RunError {
-    /// "nonfinite", "convergence", "callback" or "interrupted".
+    /// "nonfinite", "convergence", "domain", "callback" or "interrupted".
     #[pyo3(get)]
     kind: &'static str,
     /// The core's message.
@@ -77,6 +77,12 @@ impl RunError {
                 Some(iterations),
             ),
             CoreError::Callback { time, step, .. } => ("callback", time, step, None, None, None),
+            CoreError::OutOfDomain {
+                time,
+                step,
+                last_good_time,
+                ..
+            } => ("domain", time, step, last_good_time, None, None),
             CoreError::Interrupted { time, step } => {
                 ("interrupted", time, step, Some(time), None, None)
             }
@@ -109,6 +115,9 @@ impl RunError {
                 last_good_time: t, ..
             }
             | CoreError::NoConvergence {
+                last_good_time: t, ..
+            }
+            | CoreError::OutOfDomain {
                 last_good_time: t, ..
             } => *t = last_good_time,
             _ => {}

@@ -18,13 +18,20 @@ Examples
 (501, 20)
 """
 
-from duhamel.rotor._plot_response import plot_bode, plot_mode_shape, plot_polar
+from duhamel.rotor._plot_response import (
+    plot_bode,
+    plot_mode_shape,
+    plot_polar,
+    plot_spectrogram,
+    spectrogram,
+)
 from duhamel.rotor._speed import constant_speed, rpm
 from duhamel.rotor.assembly import RotorMatrices
 from duhamel.rotor.bearing import Bearing
 from duhamel.rotor.campbell import Campbell
 from duhamel.rotor.disk import Disk
 from duhamel.rotor.dofs import DIRECTIONS
+from duhamel.rotor.journal import ShortJournalBearing
 from duhamel.rotor.loads import Gravity, RotorLoad, SuddenForce, Unbalance, VectorStep
 from duhamel.rotor.material import STEEL, Material
 from duhamel.rotor.model import Rotor
@@ -50,6 +57,7 @@ __all__ = [
     "RotorLoad",
     "RotorMatrices",
     "Shaft",
+    "ShortJournalBearing",
     "SuddenForce",
     "Unbalance",
     "UnbalanceResponse",
@@ -62,6 +70,8 @@ __all__ = [
     "plot_mode_shape",
     "plot_orbit",
     "plot_polar",
+    "plot_spectrogram",
     "rpm",
+    "spectrogram",
     "unbalance_response",
 ]

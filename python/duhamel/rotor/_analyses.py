@@ -70,6 +70,29 @@ class RotorAnalyses:
             mats = self.matrices(0.0)
         return unbalance_response(mats, speeds, unbalances, dof=self.dof)
 
+    def static_equilibrium(self, speed: float, g: float = 9.81) -> NDArray[np.float64]:
+        """The static state under the rotor's own weight (along ``-y``) at spin `speed`:
+        the linear structure and bearings and the journal bearings' film forces (at rest)
+        in balance, found by Newton's method on their exact tangents (backtracking keeps
+        every journal inside its clearance) to 1e-12 of the weight. Without journal
+        bearings it is :meth:`static_deflection`.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor import STEEL, Disk, Rotor, Shaft, ShortJournalBearing
+        >>> journals = [ShortJournalBearing(n, 0.05, 0.02, 5e-5, 0.02) for n in (0, 2)]
+        >>> rotor = Rotor([Shaft(0.3, 0.05, material=STEEL)] * 2, [Disk(1, 20.0, 0.1, 0.05)],
+        ...               journals)
+        >>> x = rotor.static_equilibrium(500.0)
+        >>> e = np.hypot(x[0], x[1]) / 5e-5          # eccentricity ratio at bearing 0
+        >>> bool(0.0 < e < 1.0), bool(x[1] < 0.0)
+        (True, True)
+        """
+        from duhamel.rotor._equilibrium import static_equilibrium
+
+        return static_equilibrium(self, constant_speed(speed), g)
+
     def plot_mode(self, speed: float, j: int, **kwargs: Any) -> Any:
         """Mode `j` at `speed` along the axis (:func:`duhamel.rotor.plot_mode_shape`:
         ``kind='3d'`` orbits or ``'2d'`` major semi-axis); returns the Axes."""

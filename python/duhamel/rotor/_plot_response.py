@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-__all__ = ["plot_bode", "plot_mode_shape", "plot_polar"]
+__all__ = ["plot_bode", "plot_mode_shape", "plot_polar", "plot_spectrogram", "spectrogram"]
 
 _COLOURS = {"forward": "tab:red", "backward": "tab:blue"}
 
@@ -143,4 +143,62 @@ def plot_polar(response: Any, node: int, direction: str = "x", *, ax: Any = None
     ax.set_ylabel("Im X (m)")
     ax.set_title(f"node {node}, {direction}")
     ax.legend(fontsize="small")
+    return ax
+
+
+def spectrogram(
+    t: ArrayLike, x: ArrayLike, speed: Any, *, window: float | None = None, overlap: float = 0.75
+) -> tuple[Any, Any, Any, Any]:
+    """Short-time amplitude spectra of a signal `x` sampled at the uniform times `t`, with
+    the spin speed at each window's centre: ``(times, speeds, frequencies, amplitudes)``
+    (rad/s; amplitudes of shape ``(n_frequencies, n_times)``, in the units of `x`, peak
+    amplitude of a sinusoid). `speed` is a number or a :mod:`duhamel.speed` law; `window`
+    the window length (s; default an eighth of the record), Hann-windowed.
+    """
+    import scipy.signal
+
+    ts, xs = np.asarray(t, dtype=float), np.asarray(x, dtype=float)
+    if ts.ndim != 1 or xs.shape != ts.shape or ts.size < 16:
+        raise ValueError("`t` and `x` must be 1-D of the same length (at least 16 samples)")
+    dt = float(ts[1] - ts[0])
+    length = (ts[-1] - ts[0]) / 8.0 if window is None else float(window)
+    nperseg = max(16, min(ts.size, round(length / dt)))
+    f, tc, Z = scipy.signal.stft(
+        xs - xs.mean(), fs=1.0 / dt, window="hann", nperseg=nperseg,
+        noverlap=int(overlap * nperseg), boundary=None, padded=False,
+    )  # fmt: skip
+    tc = tc + ts[0]
+    law = getattr(speed, "omega", None)
+    w = np.asarray(law(tc), dtype=float) if law is not None else np.full(tc.size, float(speed))
+    return tc, w, 2.0 * np.pi * f, 2.0 * np.abs(Z)
+
+
+def plot_spectrogram(
+    t: ArrayLike,
+    x: ArrayLike,
+    speed: Any,
+    *,
+    orders: tuple[float, ...] = (0.5, 1.0),
+    window: float | None = None,
+    ax: Any = None,
+) -> Any:
+    """A run-up's spectrogram against the spin speed (a waterfall seen from above):
+    amplitude (log colour scale) over speed and frequency, with the lines of the given
+    `orders` (frequency = order x speed). Returns the Axes."""
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import LogNorm
+
+    _, w, f, A = spectrogram(t, x, speed, window=window)
+    ax = ax if ax is not None else plt.subplots(figsize=(6.5, 4.5))[1]
+    top = float(A.max()) if A.size and A.max() > 0 else 1.0
+    mesh = ax.pcolormesh(w, f, np.maximum(A, 1e-6 * top), shading="nearest",
+                         norm=LogNorm(vmin=1e-5 * top, vmax=top), cmap="viridis")  # fmt: skip
+    plt.colorbar(mesh, ax=ax, label="amplitude (units of x)")
+    for order in orders:
+        ax.plot(w, order * w, "--", color="w", lw=1)
+        ax.annotate(f"{order:g}x", (w[-1], order * w[-1]), color="w", fontsize="small",
+                    ha="right", va="bottom")  # fmt: skip
+    ax.set_ylim(0.0, 1.5 * max(orders) * float(w.max()))
+    ax.set_xlabel("speed (rad/s)")
+    ax.set_ylabel("frequency (rad/s)")
     return ax

@@ -197,7 +197,8 @@ class Gravity(RotorLoad):
         """The load vector ``g M r`` along `direction`, length ``rotor.n_dof``."""
         r = np.zeros(rotor.n_dof)
         r[0::4], r[1::4] = self.direction
-        return self.g * np.asarray(rotor.matrices().M @ r)
+        M = getattr(rotor, "mass_matrix", None)  # a Rotor's, without evaluating its bearings
+        return self.g * np.asarray((rotor.matrices().M if M is None else M) @ r)
 
     def loads(self, rotor: RotorModel, speed: Any = None) -> list[Load]:
         """One :class:`VectorStep` with :meth:`vector`."""

@@ -25,7 +25,9 @@ from duhamel._validate import finite_float
 from duhamel.elements import Element
 from duhamel.loads import Load
 from duhamel.rotor._analyses import RotorAnalyses
+from duhamel.rotor._equilibrium import journal_matrices, journal_parts, split_journals
 from duhamel.rotor._speed import constant_speed, speed_or_law
+from duhamel.rotor._speed_table import speed_table_elements
 from duhamel.rotor.assembly import Assembly, RotorMatrices
 from duhamel.rotor.bearing import Bearing
 from duhamel.rotor.campbell import Campbell
@@ -33,6 +35,7 @@ from duhamel.rotor.components import checked_components, placements
 from duhamel.rotor.damping import damping_spec, structural_damping
 from duhamel.rotor.disk import Disk
 from duhamel.rotor.dofs import DIRECTIONS, dof_index
+from duhamel.rotor.journal import ShortJournalBearing
 from duhamel.rotor.loads import Gravity, RotorLoad
 from duhamel.rotor.modes import Modes
 from duhamel.rotor.shaft import Shaft
@@ -41,7 +44,6 @@ from duhamel.rotor.transient import (
     add_rotor_loads,
     background,
     bearing_elements,
-    check_constant_bearings,
     storage,
 )
 from duhamel.system import System
@@ -105,8 +107,15 @@ class Rotor(RotorAnalyses):
         self.shafts: tuple[Shaft, ...]
         self.disks: tuple[Disk, ...]
         self.bearings: tuple[Bearing, ...]
-        self.shafts, self.disks, self.bearings = checked_components(shafts, disks, bearings)
+        #: The nonlinear :class:`ShortJournalBearing` s given among `bearings`.
+        self.journals: tuple[ShortJournalBearing, ...]
+        linear, self.journals = split_journals(bearings, len(self._shafts_of(shafts)) + 1)
+        self.shafts, self.disks, self.bearings = checked_components(shafts, disks, linear)
         self._zeta, self._rayleigh = damping_spec(zeta, rayleigh, self.n_dof)
+
+    @staticmethod
+    def _shafts_of(shafts: Any) -> tuple[Any, ...]:
+        return (shafts,) if isinstance(shafts, Shaft) else tuple(shafts)
 
     # ------------------------------------------------------------------ layout
     @property
@@ -118,6 +127,11 @@ class Rotor(RotorAnalyses):
     def n_dof(self) -> int:
         """Number of degrees of freedom, ``4 n_nodes``."""
         return 4 * self.n_nodes
+
+    @property
+    def mass_matrix(self) -> NDArray[np.float64]:
+        """The mass matrix ``M`` (a copy; speed-independent)."""
+        return self._assembly.M.copy()
 
     @property
     def dof_labels(self) -> tuple[str, ...]:
@@ -239,6 +253,14 @@ class Rotor(RotorAnalyses):
         (100000.0, -100000.0, True)
         """
         w = finite_float(speed, "speed")
+        mats = self._linear_matrices(w)
+        if not self.journals:
+            return mats
+        k_j, c_j = journal_matrices(self, w)
+        return RotorMatrices(mats.M, mats.K + k_j, mats.C + c_j, mats.G)
+
+    def _linear_matrices(self, w: float) -> RotorMatrices:
+        """:meth:`matrices` without the journal bearings."""
         a = self._assembly
         kb, cb = a.supports_at(w)
         K = a.K_structure + kb
@@ -306,9 +328,10 @@ class Rotor(RotorAnalyses):
         ----------
         speed : float or speed law
             Spin speed (rad/s), or a :mod:`duhamel.speed` law (``ConstantSpeed``, or
-            ``LinearRunUp`` for a run-up or run-down; the bearing coefficients stay
-            constant, so a varying law needs constant-coefficient bearings). Speed-dependent
-            bearings are evaluated at a constant speed.
+            ``LinearRunUp`` for a run-up or run-down). Along a varying law the
+            speed-dependent bearings follow the speed (their coefficients at the initial
+            speed in the background, the change as an element); the structural damping
+            (Rayleigh or modal, built on ``K_sym``) is that of the initial speed.
         loads : iterable
             Loads to add.
         sparse : bool
@@ -323,11 +346,8 @@ class Rotor(RotorAnalyses):
         Raises
         ------
         ValueError
-            If a node has no mass (``rho = 0`` shafts without a disk there), an
-            ``Unbalance`` has a speed other than `speed`, or `speed` varies (a run-up) and a
-            bearing has speed-dependent coefficients: the engine's couplings are constant
-            matrices times a scalar law and cannot follow coefficients that change with the
-            speed.
+            If a node has no mass (``rho = 0`` shafts without a disk there), or an
+            ``Unbalance`` has a speed other than `speed`.
         TypeError
             If `speed` is neither a number nor a speed law.
 
@@ -356,8 +376,10 @@ class Rotor(RotorAnalyses):
         >>> sol = duhamel.solve(system, duhamel.Newmark(), t_end=0.15, dt=1e-4)
         """
         w = speed_or_law(speed)  # a float, or a varying SpeedLaw
-        check_constant_bearings(w, self.bearings)
-        w_const = w if isinstance(w, float) else 0.0  # where the bearings are evaluated
+        # where the bearings are evaluated: the speed, or a run-up's initial speed (the
+        # speed-dependent bearings then follow the law as elements, less these values)
+        w_const = w if isinstance(w, float) else float(w.omega(0.0))
+        tables = [] if isinstance(w, float) else speed_table_elements(self, w, w_const)
         massless = self._massless_nodes()
         if massless:
             raise ValueError(
@@ -367,6 +389,9 @@ class Rotor(RotorAnalyses):
             )
         a = self._assembly
         kb, cb = a.supports_at(w_const)
+        journals = journal_parts(self, w)  # linearised at the equilibrium, into the background
+        for part in journals:
+            kb, cb = kb + part.K, cb + part.C
         M, k_sym = a.M, a.k_sym(kb)
         k_skew, c_skew = (kb - kb.T) / 2.0, (cb - cb.T) / 2.0
         c_sym = (cb + cb.T) / 2.0
@@ -382,6 +407,10 @@ class Rotor(RotorAnalyses):
         )
         add_couplings(system, a.G, w, k_skew, c_skew, conv)
         for element in self.nonlinear_elements(w_const):
+            system.add(element)
+        for part in journals:
+            system.add(part.element)
+        for element in tables:
             system.add(element)
         add_rotor_loads(system, self, loads, w)
         return system.label_dofs(self.dof_labels)

@@ -26,7 +26,6 @@ __all__ = [
     "add_rotor_loads",
     "background",
     "bearing_elements",
-    "check_constant_bearings",
     "nonzero",
     "storage",
 ]
@@ -52,27 +51,6 @@ def storage(sparse: bool) -> Callable[[Any], Any]:
     import scipy.sparse as sp
 
     return sp.csr_array
-
-
-def check_constant_bearings(speed: float | SpeedLaw, bearings: Iterable[Bearing]) -> None:
-    """Refuse a varying speed law (a run-up) when a bearing has speed-dependent coefficients.
-
-    Examples
-    --------
-    >>> from duhamel.rotor import Bearing
-    >>> from duhamel.rotor.transient import check_constant_bearings
-    >>> check_constant_bearings(100.0, [Bearing(0, [1e6, 2e6], 1e6, speeds=[0, 100])])
-    """
-    nodes = sorted({b.node for b in bearings if b.is_speed_dependent})
-    if isinstance(speed, SpeedLaw) and nodes:
-        raise ValueError(
-            f"`speed` is the varying speed law {speed!r}, but the bearings at nodes {nodes} "
-            "have speed-dependent coefficients: the transient engine applies constant "
-            "bearing matrices (its couplings are constant matrices times a scalar speed "
-            "law), so it cannot follow coefficients that change with the speed. Use a "
-            "constant speed, or constant-coefficient bearings (e.g. from "
-            "Bearing.stiffness_at / damping_at at a representative speed)"
-        )
 
 
 def background(

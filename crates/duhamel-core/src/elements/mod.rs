@@ -8,9 +8,11 @@
 mod contact;
 mod element;
 mod hysteretic;
+mod journal;
 mod polynomial;
 mod shifted;
 mod spring;
+mod table;
 
 pub use contact::Contact;
 pub(crate) use element::Evaluation;
@@ -18,6 +20,8 @@ pub use element::{Element, History, ModalCubic, Tangent};
 pub use hysteretic::{
     Bilinear, BoucWen, FrictionPendulum, Gap, ViscousDamper, DEFAULT_V0, DEFAULT_YIELD_DISPLACEMENT,
 };
+pub use journal::ShortJournalBearing;
 pub use polynomial::Polynomial;
 pub use shifted::Shifted;
 pub use spring::{Damper, Spring};
+pub use table::SpeedTableBearing;

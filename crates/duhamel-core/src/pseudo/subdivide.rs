@@ -52,7 +52,10 @@ pub(super) struct Subdivider<'r> {
 
 /// Whether a failed step may be retried in halves.
 pub(super) fn retriable(error: &CoreError) -> bool {
-    matches!(error, CoreError::NoConvergence { .. })
+    matches!(
+        error,
+        CoreError::NoConvergence { .. } | CoreError::OutOfDomain { .. }
+    )
 }
 
 impl<'r> Subdivider<'r> {
