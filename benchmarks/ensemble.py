@@ -25,6 +25,7 @@ import sys  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests"))
 import _section  # noqa: E402
+import numpy as np  # noqa: E402
 import test_ensemble as model  # noqa: E402
 
 import duhamel  # noqa: E402
@@ -50,6 +51,12 @@ def measure(n_scales: int) -> dict:
             if key not in best or ens.stats["wall_time"] < best[key].stats["wall_time"]:
                 best[key] = ens
     one, many = best["one"], best["many"]
+    long_kw = {**kw, "t_end": 40.0}  # 4,000 steps per run: the Rust loop dominates
+    long = {}
+    for _ in range(3):
+        for key, workers in (("long_one", 1), ("long_many", cores)):
+            t = solve_many(model.building, params, integ, workers=workers, **long_kw)
+            long[key] = min(long.get(key, np.inf), t.stats["wall_time"])
     with (
         distributed.LocalCluster(
             n_workers=cores, threads_per_worker=1, processes=True, dashboard_address=None
@@ -70,6 +77,7 @@ def measure(n_scales: int) -> dict:
         "dask_shared": dask_shared.stats["wall_time"],
         "one_shared": best["one_shared"].stats["wall_time"],
         "many_shared": best["many_shared"].stats["wall_time"],
+        **long,
         "cores": cores,
         "chunk": dask.stats["chunk_size"],
         "tasks": n_tasks,
@@ -102,6 +110,10 @@ def markdown(r: dict) -> list[str]:
         f"{n / r['many_shared']:.0f} | {r['one'] / r['many_shared']:.2f} |",
         f"| Dask, basis scattered once | {r['dask_shared']:.2f} | "
         f"{n / r['dask_shared']:.0f} | {r['one'] / r['dask_shared']:.2f} |",
+        f"| 4,000-step runs, in-process, 1 thread | {r['long_one']:.2f} | "
+        f"{n / r['long_one']:.0f} | 1.0 |",
+        f"| 4,000-step runs, in-process, {r['cores']} threads | {r['long_many']:.2f} | "
+        f"{n / r['long_many']:.0f} | {r['long_one'] / r['long_many']:.2f} |",
         "",
         "In-process rows: best of 3 interleaved repeats.",
         "",
