@@ -55,6 +55,14 @@ class Campbell:
     mac: NDArray[np.float64] | None = None
     tracked: bool = False
 
+    @property
+    def log_dec(self) -> NDArray[np.float64]:
+        """Logarithmic decrements ``2 pi zeta / sqrt(1 - zeta^2)`` of the cells (NaN where
+        missing; negative: unstable)."""
+        z = self.damping_ratios
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return 2.0 * np.pi * z / np.sqrt(1.0 - z**2)
+
     def plot(self, **kwargs: Any) -> Any:
         """Plot with :func:`duhamel.rotor.plot_campbell` (same keywords); returns the Axes."""
         from duhamel.rotor.plot import plot_campbell
