@@ -27,18 +27,22 @@ MAX_ITER = 100
 RTOL = 1e-12
 
 
-def split_journals(bearings: Any, n_nodes: int) -> tuple[list[Any], tuple[Any, ...]]:
-    """`bearings` as the linear ones (checked later with the other components) and the
-    journal bearings (checked here: node on the rotor)."""
-    items = [bearings] if not isinstance(bearings, Sequence | list | tuple) else list(bearings)
+def split_journals(bearings: Any) -> tuple[list[Any], tuple[Any, ...]]:
+    """`bearings` (one, or a sequence) as the linear ones (checked with the other
+    components) and the journal bearings."""
+    items = list(bearings) if isinstance(bearings, Sequence) else [bearings]
     journals = tuple(b for b in items if isinstance(b, ShortJournalBearing))
+    return [b for b in items if not isinstance(b, ShortJournalBearing)], journals
+
+
+def check_journal_nodes(journals: Sequence[Any], n_nodes: int) -> None:
+    """Every journal bearing on a node of the rotor."""
     for i, b in enumerate(journals):
         if b.node >= n_nodes:
             raise ValueError(
                 f"the journal bearing {i} is at node {b.node}, but the rotor has nodes "
                 f"0..{n_nodes - 1}"
             )
-    return [b for b in items if not isinstance(b, ShortJournalBearing)], journals
 
 
 def _journal_forces(

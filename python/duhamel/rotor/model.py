@@ -25,7 +25,12 @@ from duhamel._validate import finite_float
 from duhamel.elements import Element
 from duhamel.loads import Load
 from duhamel.rotor._analyses import RotorAnalyses
-from duhamel.rotor._equilibrium import journal_matrices, journal_parts, split_journals
+from duhamel.rotor._equilibrium import (
+    check_journal_nodes,
+    journal_matrices,
+    journal_parts,
+    split_journals,
+)
 from duhamel.rotor._speed import constant_speed, speed_or_law
 from duhamel.rotor._speed_table import speed_table_elements
 from duhamel.rotor.assembly import Assembly, RotorMatrices
@@ -109,13 +114,10 @@ class Rotor(RotorAnalyses):
         self.bearings: tuple[Bearing, ...]
         #: The nonlinear :class:`ShortJournalBearing` s given among `bearings`.
         self.journals: tuple[ShortJournalBearing, ...]
-        linear, self.journals = split_journals(bearings, len(self._shafts_of(shafts)) + 1)
+        linear, self.journals = split_journals(bearings)
         self.shafts, self.disks, self.bearings = checked_components(shafts, disks, linear)
+        check_journal_nodes(self.journals, self.n_nodes)
         self._zeta, self._rayleigh = damping_spec(zeta, rayleigh, self.n_dof)
-
-    @staticmethod
-    def _shafts_of(shafts: Any) -> tuple[Any, ...]:
-        return (shafts,) if isinstance(shafts, Shaft) else tuple(shafts)
 
     # ------------------------------------------------------------------ layout
     @property
@@ -170,7 +172,9 @@ class Rotor(RotorAnalyses):
     def __repr__(self) -> str:
         return (
             f"Rotor(nodes={self.n_nodes}, n_dof={self.n_dof}, shafts={len(self.shafts)}, "
-            f"disks={len(self.disks)}, bearings={len(self.bearings)})"
+            f"disks={len(self.disks)}, bearings={len(self.bearings)}"
+            + (f", journals={len(self.journals)}" if self.journals else "")
+            + ")"
         )
 
     # ------------------------------------------------------------------ assembly
