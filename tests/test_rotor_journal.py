@@ -81,3 +81,14 @@ def test_transient_rests_at_the_equilibrium_and_errors_are_clear() -> None:
                       v0=[0.0, -5.0, 0.0, 0.0])  # fmt: skip
     assert err.value.reason == "domain" and "eccentricity ratio" in str(err.value)
     assert err.value.partial.t.size >= 1
+
+
+def test_unbalance_response_uses_each_speeds_linearisation() -> None:
+    rotor = rotor_on_one_journal(20.0)
+    ws = np.array([200.0, 400.0])
+    res = rotor.unbalance_response(ws, [(0, 1e-5, 0.0)])
+    for i, w in enumerate(ws):
+        M, K, Cm, G = rotor.matrices(w)
+        F = 1e-5 * w**2 * np.array([1.0, -1j, 0.0, 0.0])
+        ref = np.linalg.solve(K - w**2 * M + 1j * w * (Cm + w * G), F)
+        np.testing.assert_allclose(res.response[i], ref, rtol=1e-12)

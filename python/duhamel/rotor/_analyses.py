@@ -26,6 +26,7 @@ class RotorAnalyses:
     dof: Any  # the Rotor's method: (node, direction) -> dof
     nodes_z: Any
     has_speed_dependent_bearings: bool
+    journals: tuple[Any, ...]
 
     def unbalance_response(
         self, speeds: ArrayLike, unbalances: Sequence[tuple[int, float, float]]
@@ -64,8 +65,8 @@ class RotorAnalyses:
         >>> round(peak.speed, 1), round(peak.amplification_factor, 1), round(peak.margin, 3)
         (265.2, 23.7, 0.131)
         """
-        if self.has_speed_dependent_bearings:
-            mats: Any = self.matrices
+        if self.has_speed_dependent_bearings or self.journals:
+            mats: Any = self.matrices  # the coefficients (linearisations) of each speed
         else:
             mats = self.matrices(0.0)
         return unbalance_response(mats, speeds, unbalances, dof=self.dof)
