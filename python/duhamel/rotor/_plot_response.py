@@ -41,6 +41,17 @@ def plot_mode_shape(
     Returns
     -------
     matplotlib Axes
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft, plot_mode_shape
+    >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
+    ...               [Bearing(0, 1e7, 1e7), Bearing(4, 1e7, 1e7)])
+    >>> ax = plot_mode_shape(rotor.nodes_z, rotor.modes(500.0), 1, kind="2d")
+    >>> ax.get_xlabel()
+    'z (m)'
     """
     import matplotlib.pyplot as plt
 
@@ -94,6 +105,19 @@ def plot_bode(response: Any, node: int, direction: str | None = None, *, axes: A
     -------
     (Axes, Axes)
         Amplitude and phase axes (the phase only for a direction).
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import numpy as np
+    >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft, plot_bode
+    >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
+    ...               [Bearing(0, 1e7, 1e7), Bearing(4, 1e7, 1e7)], zeta=0.02)
+    >>> res = rotor.unbalance_response(np.linspace(100.0, 500.0, 101), [(2, 1e-4, 0.0)])
+    >>> amplitude, phase = plot_bode(res, 2, "x")
+    >>> amplitude.get_yscale()
+    'log'
     """
     import matplotlib.pyplot as plt
 
@@ -126,7 +150,20 @@ def plot_bode(response: Any, node: int, direction: str | None = None, *, axes: A
 
 def plot_polar(response: Any, node: int, direction: str = "x", *, ax: Any = None) -> Any:
     """The complex amplitude ``X`` of one dof traced over the speeds (polar / Nyquist plot,
-    speed increasing along the curve, its ends marked)."""
+    speed increasing along the curve, its ends marked); returns the Axes.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import numpy as np
+    >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft, plot_polar
+    >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
+    ...               [Bearing(0, 1e7, 1e7), Bearing(4, 1e7, 1e7)], zeta=0.02)
+    >>> res = rotor.unbalance_response(np.linspace(100.0, 500.0, 101), [(2, 1e-4, 0.0)])
+    >>> plot_polar(res, 2, "y").get_title()
+    'node 2, y'
+    """
     import matplotlib.pyplot as plt
 
     ax = ax if ax is not None else plt.subplots()[1]
@@ -154,6 +191,16 @@ def spectrogram(
     (rad/s; amplitudes of shape ``(n_frequencies, n_times)``, in the units of `x`, peak
     amplitude of a sinusoid). `speed` is a number or a :mod:`duhamel.speed` law; `window`
     the window length (s; default an eighth of the record), Hann-windowed.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from duhamel.rotor import spectrogram
+    >>> t = np.arange(0.0, 2.0, 1e-3)
+    >>> times, speeds, freqs, amps = spectrogram(t, 3e-6 * np.sin(200.0 * t), 400.0)
+    >>> k = np.unravel_index(np.argmax(amps), amps.shape)
+    >>> round(float(freqs[k[0]])), round(float(amps[k]) * 1e6, 1), float(speeds[0])
+    (201, 3.0, 400.0)
     """
     import scipy.signal
 
@@ -184,7 +231,19 @@ def plot_spectrogram(
 ) -> Any:
     """A run-up's spectrogram against the spin speed (a waterfall seen from above):
     amplitude (log colour scale) over speed and frequency, with the lines of the given
-    `orders` (frequency = order x speed). Returns the Axes."""
+    `orders` (frequency = order x speed). Returns the Axes.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import numpy as np, duhamel
+    >>> from duhamel.rotor import plot_spectrogram
+    >>> law = duhamel.speed.LinearRunUp(omega0=100.0, omega1=300.0, t1=2.0)
+    >>> t = np.arange(0.0, 2.0, 1e-3)
+    >>> plot_spectrogram(t, np.sin(law.theta(t)), law).get_ylabel()
+    'frequency (rad/s)'
+    """
     import matplotlib.pyplot as plt
     from matplotlib.colors import LogNorm
 

@@ -121,6 +121,15 @@ def ocvirk_coefficients(
     = pi / (2 (1 - e^2)^(3/2))``, ``int_0^pi cos^2 / (1 - e cos)^3 = pi (1 + 2e^2) / (2 (1 -
     e^2)^(5/2))``. The tangents of a rotationally symmetric bearing rotate with the journal's
     angle: for another direction, rotate ``r``, ``K`` and ``C``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from duhamel.rotor.journal import JournalElement, ocvirk_coefficients
+    >>> r, K, C = ocvirk_coefficients(0.5, 300.0, 0.025, 0.02, 5e-5, 0.02)
+    >>> r2, K2, C2 = JournalElement(0, 1, 0.025, 0.02, 5e-5, 0.02, 300.0).evaluate([2.5e-5, 0])
+    >>> bool(np.allclose(K, K2, rtol=1e-10) and np.allclose(C, C2, rtol=1e-10))
+    True
     """
     e, w = float(eccentricity), float(speed)
     if not 0.0 < e < 1.0:
@@ -209,13 +218,29 @@ class ShortJournalBearing:
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Stiffness and damping ``(K, C)`` (2 x 2, ``[[xx, xy], [yx, yy]]``) linearised at
         the journal `position` (m, at rest) and constant `speed`: the force's exact
-        tangents."""
+        tangents.
+
+        Examples
+        --------
+        >>> from duhamel.rotor import ShortJournalBearing
+        >>> b = ShortJournalBearing(0, 0.05, 0.02, 5e-5, 0.02)
+        >>> K, C = b.coefficients([1e-5, -2e-5], speed=300.0)
+        >>> K.shape, bool(C[0, 0] > 0)
+        ((2, 2), True)
+        """
         _, K, C = self.element(0, 1, speed).evaluate(position)
         return K, C
 
     def sommerfeld(self, load: float, speed: float) -> float:
         """Sommerfeld number ``S = mu N L D / W (R / c)^2`` (``N`` in rev/s) for a `load` W
-        (N) at `speed` (rad/s)."""
+        (N) at `speed` (rad/s).
+
+        Examples
+        --------
+        >>> from duhamel.rotor import ShortJournalBearing
+        >>> round(ShortJournalBearing(0, 0.05, 0.02, 5e-5, 0.02).sommerfeld(100.0, 300.0), 4)
+        2.3873
+        """
         n = speed / (2 * np.pi)
         return (
             self.viscosity
