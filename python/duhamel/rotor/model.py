@@ -323,7 +323,12 @@ class Rotor(RotorAnalyses):
         * ``LinearCoupling(K=skew(K_b), C=skew(C_b))``: the skew-symmetric parts of the
           bearing stiffness and damping (omitted when zero).
         * The bearings' nonlinear parts: ``Cubic`` on x and y for a cubic law, ``Contact``
-          for a rub.
+          for a rub; each :class:`ShortJournalBearing` as a ``JournalElement`` following the
+          speed (law), its stiffness and damping linearised at the static equilibrium of the
+          initial speed carried by the background instead (start the run from
+          :meth:`static_equilibrium` with :class:`Gravity` among the loads).
+        * Along a varying law, each speed-dependent bearing's change from its initial
+          coefficients as an element following the law.
         * `loads`: rotor loads (:class:`Unbalance`, :class:`Gravity`, :class:`SuddenForce`;
           an ``Unbalance`` without its own speed takes `speed`, a run-up included) and plain
           :mod:`duhamel.loads`.
