@@ -8,7 +8,8 @@ e^{i phase}``, ``F_y = -i F_x``. The steady state is ``x(t) = Re(X e^{i Omega t}
 
     (K(Omega) - Omega^2 M + i Omega (C(Omega) + Omega G)) X = F,
 
-one complex solve per speed: exact, with the bearings' coefficients at each speed.
+one complex solve per speed: exact, with the bearings' coefficients at each speed (dense
+and batched for small models, banded LU for long rotors, :mod:`duhamel.rotor._banded`).
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._validate import as_float_array, finite_float, positive_float
+from duhamel.rotor._banded import banded_responses, bandwidths, worth_banding
 
 __all__ = ["Peak", "UnbalanceResponse", "unbalance_response"]
 
@@ -329,8 +331,15 @@ def unbalance_response(
         F0[int(dof(node, "y"))] += -1j * fx
     mats = matrices if fixed is None else tuple(np.asarray(a) for a in fixed)
     out = np.empty((ws.size, n), dtype=complex)
-    for start in range(0, ws.size, _BATCH):
-        out[start : start + _BATCH] = _direct(mats, ws[start : start + _BATCH], F0)
+    if fixed is not None and worth_banding(n, *bandwidths(mats)):
+        out[:] = banded_responses(mats, ws, F0, *bandwidths(mats))
+    elif fixed is None and worth_banding(n, *bandwidths(matrices(float(ws[0])))):
+        for s, w in enumerate(ws):  # speed-dependent matrices, each speed's band
+            at = tuple(np.asarray(a) for a in matrices(float(w)))
+            out[s] = banded_responses(at, ws[s : s + 1], F0, *bandwidths(at))[0]
+    else:
+        for start in range(0, ws.size, _BATCH):
+            out[start : start + _BATCH] = _direct(mats, ws[start : start + _BATCH], F0)
     if not np.all(np.isfinite(out)):
         raise ValueError("the unbalance response is not finite (an undamped resonance?)")
     return UnbalanceResponse(ws, out, dof, cases)
