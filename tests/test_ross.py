@@ -333,3 +333,5 @@ def test_unbalance_response_matches_ross_run_unbalance_response(ross):
     assert err < 1e-10
     peaks = res.peaks(2)
     assert peaks and all(np.isfinite(p.amplification_factor) for p in peaks)
+    same = model.unbalance_response(speeds, [(2, 1e-3, 0.4)]).response
+    np.testing.assert_array_equal(same, res.response)

@@ -36,7 +36,8 @@ def steady_amplitude(r: Rotor, w: float, per_period: int, periods: int) -> np.nd
 @pytest.mark.parametrize("w", [280.0, 700.0])
 def test_equals_the_steady_state_of_a_transient(w) -> None:
     r = rotor()
-    X = r.unbalance_response([w], [(2, 1e-4, 0.7)]).response[0, [r.dof(2, "x"), r.dof(2, "y")]]
+    X = r.unbalance_response([w], [Unbalance(2, m_e=1e-4, phase=0.7)]).response
+    X = X[0, [r.dof(2, "x"), r.dof(2, "y")]]
     # 2.7 s: the slowest start-up transient (zeta ~ 0.05 at 265 rad/s) decays by e^-35 ...
     periods = int(120 * w / 280.0)
     err = {

@@ -203,6 +203,15 @@ class RossModel(NamedTuple):
     dofs: RossDofs
     matrices: RotorMatrices
 
+    def unbalance_response(self, speeds: Any, unbalances: Any) -> Any:
+        """Steady-state unbalance response (:func:`duhamel.rotor.unbalance_response`) with
+        these matrices (ROSS's ``K`` and ``C`` at the model's `frequency`; for
+        frequency-dependent bearings pass ``lambda w: from_ross(rotor, w).matrices`` to
+        :func:`~duhamel.rotor.unbalance_response` instead), unbalances at ROSS nodes."""
+        from duhamel.rotor.unbalance import unbalance_response
+
+        return unbalance_response(self.matrices, speeds, unbalances, dof=self.dofs)
+
 
 def _labels(rotor: Any) -> dict[int, str]:
     """ROSS global dof index -> name (``"x_3"``), from every element's ``dof_global_index``."""

@@ -263,6 +263,8 @@ def _unbalances(value: Any) -> tuple[tuple[int, float, float], ...]:
         raise ValueError("`unbalances` is empty")
     out = []
     for item in items:
+        if all(hasattr(item, a) for a in ("node", "m_e", "phase")):  # a rotor Unbalance
+            item = (item.node, item.m_e, item.phase)
         parts = tuple(item) if not isinstance(item, str) else ()
         if len(parts) not in (2, 3):
             raise ValueError(f"each unbalance must be (node, m_e[, phase]), got {item!r}")
@@ -292,7 +294,8 @@ def unbalance_response(
     speeds : array_like
         Spin speeds (rad/s).
     unbalances : list of (node, m_e, phase)
-        Unbalance (kg m) and its angle at ``t = 0`` (rad) at each node.
+        Unbalance (kg m) and its angle at ``t = 0`` (rad) at each node (or
+        :class:`duhamel.rotor.Unbalance` loads; their speeds are not used).
     dof : callable
         Keyword only. ``(node, direction) -> dof`` (``Rotor.dof``, or ``from_ross``'s
         ``dofs``).
