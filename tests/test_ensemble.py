@@ -174,3 +174,20 @@ def test_shared_basis_and_zarr_store(tmp_path) -> None:
         solve_many(stiffer, [1.0], integ, t_end=0.1, dt=0.01, basis="all")
     with pytest.raises(ValueError, match="`to_zarr`"):
         solve_many(stiffer, [1.0], integ, t_end=0.1, dt=0.01, to_zarr="x", on_error="keep")
+
+
+def test_per_run_initial_states() -> None:
+    """make_system may return (system, options): a Monte Carlo over initial states."""
+
+    def free(x0):
+        return duhamel.System(np.eye(1), 4.0 * np.eye(1)), {"x0": [x0]}
+
+    ens = solve_many(free, [0.5, 1.0, 2.0], duhamel.Semianalytic(), t_end=1.0, dt=0.01,
+                     reduce=lambda sol: float(sol.x[-1, 0]))  # fmt: skip
+    np.testing.assert_allclose(ens.results, np.array([0.5, 1.0, 2.0]) * np.cos(2.0), rtol=1e-12)
+
+    def bad(p):
+        return duhamel.System(np.eye(1), np.eye(1)), {"dt": 0.1}
+
+    with pytest.raises(ValueError, match="`dt`"):
+        solve_many(bad, [1], duhamel.Semianalytic(), t_end=0.1, dt=0.01)

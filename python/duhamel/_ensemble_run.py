@@ -73,10 +73,18 @@ class _Job:
 
     def __call__(self, index: int, p: Any, basis: ModalBasis | None = None) -> Any:
         try:
-            system = self.make_system(p)
+            system, options = self.make_system(p), self.options
+            if isinstance(system, tuple) and len(system) == 2 and isinstance(system[1], dict):
+                system, own = system  # per-run solve options: an initial state, a dofs list
+                if "threads" in own or "t_end" in own or "dt" in own:
+                    raise ValueError(
+                        "make_system's options may not set `threads`, `t_end` or `dt` (the "
+                        "study's grid)"
+                    )
+                options = {**options, **own}
             if basis is not None:
                 system.use_basis(basis)
-            sol = solve(system, self.integrator, threads=1, **self.options)
+            sol = solve(system, self.integrator, threads=1, **options)
             return sol if self.reduce is None else self.reduce(sol)
         except Exception as exc:
             if self.keep_failures and isinstance(exc, SolverError):
@@ -150,7 +158,9 @@ def solve_many(
     Parameters
     ----------
     make_system : callable
-        ``p -> System`` (picklable for a Dask cluster: a module-level function).
+        ``p -> System``, or ``p -> (System, options)`` with per-run :func:`duhamel.solve`
+        options (an initial state ``x0``/``v0`` drawn per case...) that override
+        `solve_options` (picklable for a Dask cluster: a module-level function).
     params : iterable
         Any values: a record and a scale factor, a dict of stiffnesses, an initial state...
     integrator : Semianalytic or DirectIntegrator
