@@ -29,7 +29,7 @@
 //! stays centred) and `dr/dx = k sigmoid(-g / eps) I`, `dr/dv = 0`. For the usual
 //! `g >> eps` both are zero to round-off anyway.
 
-use super::element::{Element, Tangent};
+use super::element::{check, distinct, Element, Tangent};
 use crate::error::CoreError;
 
 /// Below this radius the shaft is taken as exactly centred.
@@ -61,19 +61,6 @@ pub struct Contact {
     velocity_smoothing: f64,
 }
 
-fn check(name: &'static str, value: f64, positive: bool) -> Result<(), CoreError> {
-    let ok = value.is_finite() && if positive { value > 0.0 } else { value >= 0.0 };
-    if ok {
-        Ok(())
-    } else {
-        let domain = if positive { "> 0" } else { ">= 0" };
-        Err(CoreError::InvalidInput {
-            name,
-            problem: format!("must be finite and {domain}, got {value}"),
-        })
-    }
-}
-
 impl Contact {
     /// Contact on the dofs `(dof_x, dof_y)` with radial `clearance >= 0`, contact
     /// `stiffness > 0`, Coulomb `friction >= 0`, displacement `smoothing > 0` (a length) and
@@ -87,12 +74,7 @@ impl Contact {
         smoothing: f64,
         velocity_smoothing: f64,
     ) -> Result<Self, CoreError> {
-        if dof_x == dof_y {
-            return Err(CoreError::InvalidInput {
-                name: "dof_y",
-                problem: format!("must differ from dof_x (both are {dof_x})"),
-            });
-        }
+        distinct(dof_x, dof_y)?;
         check("clearance", clearance, false)?;
         check("stiffness", stiffness, true)?;
         check("friction", friction, false)?;

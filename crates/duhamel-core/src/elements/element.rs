@@ -91,6 +91,32 @@ pub trait Element: Send + Sync {
 /// Coefficients `a[i][j]` of `sum a[i][j] q^i v^j` (`i + j <= 3`).
 pub type ModalCubic = [[f64; 4]; 4];
 
+/// `value` must be finite, and `> 0` (`positive`) or `>= 0` (otherwise); the error names
+/// the parameter.
+pub(crate) fn check(name: &'static str, value: f64, positive: bool) -> Result<(), CoreError> {
+    let ok = value.is_finite() && if positive { value > 0.0 } else { value >= 0.0 };
+    if ok {
+        Ok(())
+    } else {
+        let domain = if positive { "> 0" } else { ">= 0" };
+        Err(CoreError::InvalidInput {
+            name,
+            problem: format!("must be finite and {domain}, got {value}"),
+        })
+    }
+}
+
+/// The two lateral dofs of a journal/shaft-centre element must differ (named `"dof_y"`).
+pub(crate) fn distinct(dof_x: usize, dof_y: usize) -> Result<(), CoreError> {
+    if dof_x == dof_y {
+        return Err(CoreError::InvalidInput {
+            name: "dof_y",
+            problem: format!("must differ from dof_x (both are {dof_x})"),
+        });
+    }
+    Ok(())
+}
+
 /// `phi_i - phi_j` for a two-node element (`phi_j = 0` when grounded).
 pub(crate) fn relative(phi: &[f64]) -> f64 {
     phi[0] - phi.get(1).copied().unwrap_or(0.0)

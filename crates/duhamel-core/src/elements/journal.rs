@@ -32,7 +32,7 @@
 //! Where `a = b = 0` (a centred journal at rest, or pure spin at the centre) the film
 //! carries nothing and the half circle is taken at `beta = 0` for the tangents.
 
-use super::element::{Element, Tangent};
+use super::element::{check, distinct, Element, Tangent};
 use crate::error::CoreError;
 use crate::speed::SpeedLaw;
 
@@ -60,17 +60,6 @@ pub struct ShortJournalBearing {
     points: Vec<(f64, f64, f64)>,
 }
 
-fn positive(name: &'static str, value: f64) -> Result<(), CoreError> {
-    if value.is_finite() && value > 0.0 {
-        Ok(())
-    } else {
-        Err(CoreError::InvalidInput {
-            name,
-            problem: format!("must be finite and > 0, got {value}"),
-        })
-    }
-}
-
 /// Force and tangents at one state: `(r, dr/dx, dr/dx')`, row-major 2 x 2.
 pub type JournalForce = ([f64; 2], [f64; 4], [f64; 4]);
 
@@ -86,16 +75,11 @@ impl ShortJournalBearing {
         viscosity: f64,
         law: SpeedLaw,
     ) -> Result<Self, CoreError> {
-        if dof_x == dof_y {
-            return Err(CoreError::InvalidInput {
-                name: "dof_y",
-                problem: format!("must differ from dof_x (both are {dof_x})"),
-            });
-        }
-        positive("radius", radius)?;
-        positive("length", length)?;
-        positive("clearance", clearance)?;
-        positive("viscosity", viscosity)?;
+        distinct(dof_x, dof_y)?;
+        check("radius", radius, true)?;
+        check("length", length, true)?;
+        check("clearance", clearance, true)?;
+        check("viscosity", viscosity, true)?;
         law.validate()?;
         let width = std::f64::consts::PI / PANELS as f64;
         let mut points = Vec::with_capacity(8 * PANELS);

@@ -10,7 +10,7 @@
 //! or the broken line through it, held at its end values outside the table. Linear in the
 //! state: the tangents are `K` and `C` themselves.
 
-use super::element::{Element, Tangent};
+use super::element::{distinct, Element, Tangent};
 use crate::error::CoreError;
 use crate::speed::SpeedLaw;
 
@@ -44,12 +44,7 @@ impl SpeedTableBearing {
         slopes: Option<Vec<Vec<f64>>>,
         law: SpeedLaw,
     ) -> Result<Self, CoreError> {
-        if dof_x == dof_y {
-            return Err(invalid(
-                "dof_y",
-                format!("must differ from dof_x (both are {dof_x})"),
-            ));
-        }
+        distinct(dof_x, dof_y)?;
         if speeds.is_empty() || speeds.windows(2).any(|w| w[1] <= w[0] || !w[1].is_finite()) {
             return Err(invalid(
                 "speeds",

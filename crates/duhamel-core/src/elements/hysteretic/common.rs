@@ -3,19 +3,7 @@
 
 use crate::error::CoreError;
 
-/// `value` must be finite, and `> 0` (`positive`) or `>= 0` (otherwise).
-pub(crate) fn check(name: &'static str, value: f64, positive: bool) -> Result<(), CoreError> {
-    let ok = value.is_finite() && if positive { value > 0.0 } else { value >= 0.0 };
-    if ok {
-        Ok(())
-    } else {
-        let domain = if positive { "> 0" } else { ">= 0" };
-        Err(CoreError::InvalidInput {
-            name,
-            problem: format!("must be finite and {domain}, got {value}"),
-        })
-    }
-}
+pub(crate) use crate::elements::element::check;
 
 /// The post-yield stiffness ratio: finite and `<= 1` (negative: softening).
 pub(crate) fn check_alpha(alpha: f64) -> Result<(), CoreError> {

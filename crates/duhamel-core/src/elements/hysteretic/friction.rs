@@ -32,6 +32,7 @@
 //! direction); [`Element::eval`] (no history) is this virgin loading.
 
 use super::common::{check, finite};
+use crate::elements::element::distinct;
 use crate::elements::element::{Element, History, Tangent};
 use crate::error::CoreError;
 
@@ -60,12 +61,7 @@ impl FrictionPendulum {
         weight: f64,
         yield_displacement: f64,
     ) -> Result<Self, CoreError> {
-        if dof_x == dof_y {
-            return Err(CoreError::InvalidInput {
-                name: "dof_y",
-                problem: format!("must differ from dof_x (both are {dof_x})"),
-            });
-        }
+        distinct(dof_x, dof_y)?;
         check("radius", radius, true)?;
         check("mu", mu, false)?;
         check("weight", weight, true)?;
