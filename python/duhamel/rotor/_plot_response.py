@@ -8,6 +8,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from duhamel.rotor._orbit import circular_parts
+
 __all__ = ["plot_bode", "plot_mode_shape", "plot_polar", "plot_spectrogram", "spectrogram"]
 
 _COLOURS = {"forward": "tab:red", "backward": "tab:blue"}
@@ -71,7 +73,7 @@ def plot_mode_shape(
     )
     if kind == "2d":
         ax = ax if ax is not None else plt.subplots()[1]
-        major = np.abs(X + 1j * Y) / 2.0 + np.abs(np.conj(X) + 1j * np.conj(Y)) / 2.0
+        major = sum(circular_parts(X, Y))
         ax.plot(zs, major, color=colour, lw=2, label="major semi-axis")
         ax.plot(zs, X.real, "--", color="0.4", label="x at t = 0")
         ax.plot(zs, Y.real, ":", color="0.4", label="y at t = 0")

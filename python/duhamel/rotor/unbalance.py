@@ -23,6 +23,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from duhamel._validate import as_float_array, finite_float, positive_float
 from duhamel.rotor._banded import banded_responses, bandwidths, worth_banding
+from duhamel.rotor._orbit import circular_parts
 
 __all__ = ["Peak", "UnbalanceResponse", "unbalance_response"]
 
@@ -149,8 +150,7 @@ class UnbalanceResponse:
         return np.angle(self._at(node, direction))
 
     def _forward_backward(self, node: int) -> tuple[NDArray, NDArray]:
-        x, y = self._at(node, "x"), self._at(node, "y")
-        return np.abs(x + 1j * y) / 2.0, np.abs(np.conj(x) + 1j * np.conj(y)) / 2.0
+        return circular_parts(self._at(node, "x"), self._at(node, "y"))
 
     def major_axis(self, node: int) -> NDArray[np.float64]:
         """Major semi-axis of the node's elliptical orbit (m): ``|F| + |B|`` with the forward
@@ -325,7 +325,8 @@ def unbalance_response(
         raise ValueError("`speeds` is empty")
     cases = _unbalances(unbalances)
     fixed = None if callable(matrices) else matrices
-    M0 = np.asarray((fixed if fixed is not None else matrices(float(ws[0])))[0])
+    first = tuple(np.asarray(a) for a in (fixed if fixed is not None else matrices(float(ws[0]))))
+    M0 = first[0]
     n = M0.shape[0]
     F0 = np.zeros(n, dtype=complex)  # per unit Omega^2
     for node, m_e, phase in cases:
@@ -334,9 +335,10 @@ def unbalance_response(
         F0[int(dof(node, "y"))] += -1j * fx
     mats = matrices if fixed is None else tuple(np.asarray(a) for a in fixed)
     out = np.empty((ws.size, n), dtype=complex)
-    if fixed is not None and worth_banding(n, *bandwidths(mats)):
-        out[:] = banded_responses(mats, ws, F0, *bandwidths(mats))
-    elif fixed is None and worth_banding(n, *bandwidths(matrices(float(ws[0])))):
+    band = bandwidths(first)
+    if fixed is not None and worth_banding(n, *band):
+        out[:] = banded_responses(mats, ws, F0, *band)
+    elif fixed is None and worth_banding(n, *band):
         for s, w in enumerate(ws):  # speed-dependent matrices, each speed's band
             at = tuple(np.asarray(a) for a in matrices(float(w)))
             out[s] = banded_responses(at, ws[s : s + 1], F0, *bandwidths(at))[0]
