@@ -545,11 +545,13 @@ def _reproduce(tmp):
     and the numbers of its report's tables."""
     out_dir = os.path.join(tmp, "reproduce")
     names = "fig1,fig2,fig3,fig4,fig5,fig6,fig7,fig8,rotor,table1"
-    subprocess.run(
+    done = subprocess.run(
         [sys.executable, "-m", "duhamel", "reproduce", "--out", out_dir, "--only", names,
          "--quiet"],
-        check=True, env=os.environ.copy(),
+        env=os.environ.copy(), capture_output=True, text=True, check=False,
     )  # fmt: skip
+    if done.returncode != 0:
+        raise RuntimeError(f"duhamel reproduce failed ({done.returncode}): {done.stderr[-2000:]}")
     with open(os.path.join(out_dir, "report.md"), encoding="utf-8") as f:
         rows = report_numbers(f.read())
     return {f"row {k:02d} {key[:50]}": np.array(v) for k, (key, v) in enumerate(rows.items())}
@@ -649,9 +651,8 @@ def check(args):
         if proc.returncode != 0:
             print(f"the {side} build's worker failed (exit {proc.returncode})", file=sys.stderr)
             return 2
-        seconds[side] = dict(
-            (row["case"], row["seconds"]) for row in map(json.loads, out.splitlines())
-        )
+        rows = [json.loads(x) for x in out.splitlines() if x.startswith('{"case"')]
+        seconds[side] = {row["case"]: row["seconds"] for row in rows}
     old = set(seconds["old"])
     new = set(seconds["new"])
     rows, bad = [], 0
