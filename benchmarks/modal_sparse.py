@@ -47,7 +47,7 @@ def lattice(n: int, *, free: bool) -> tuple[Any, Any]:
 
 def count_factorisations() -> list[int]:
     """Counts calls of ``symmetric_lu`` wherever duhamel's modules imported it."""
-    import duhamel._validate as validate
+    import duhamel._engine.validate as validate
 
     calls = [0]
     original = validate.symmetric_lu

@@ -9,8 +9,8 @@ import scipy.io
 import scipy.sparse as sp
 
 import duhamel
-import duhamel._eigen as eigen
-import duhamel._validate as validate
+import duhamel._engine.eigen as eigen
+import duhamel._engine.validate as validate
 from duhamel import ModalBasis, System
 
 FIELDS = ("phi", "omega2", "omega", "c", "zeta")

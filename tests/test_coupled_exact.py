@@ -25,7 +25,7 @@ import scipy.sparse as sp
 import duhamel
 from duhamel import elements as E
 from duhamel import loads as L
-from duhamel._coupled import CONDITION_LIMIT, first_order_modes
+from duhamel._engine.coupled import CONDITION_LIMIT, first_order_modes
 from duhamel.rotor import Bearing, Disk, Material, Rotor, Shaft, SuddenForce, Unbalance, rpm
 
 
@@ -771,7 +771,7 @@ def test_near_defective_error_law_and_limit(monkeypatch):
     place every accepted run is that accurate while the others fall back."""
     gs = [1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4]
     conds, errs = [], []
-    monkeypatch.setattr(sys.modules["duhamel._solve.plan"], "CONDITION_LIMIT", np.inf)
+    monkeypatch.setattr(sys.modules["duhamel._engine.plan"], "CONDITION_LIMIT", np.inf)
     for g in gs:
         sol, xs, x = _near_defective_run(critical_and_gyroscopic, g)
         assert sol.stats.coupling == "exact"

@@ -129,7 +129,7 @@ def budget(weight: float) -> settings:
 #: ``test_former_defect`` (regression tests).
 DEFECTS = {
     "D1": "an integer beyond the float range leaks OverflowError from every real-number "
-    "parameter (duhamel._validate._real_scalar, loads._finite: float(10**400))",
+    "parameter (duhamel._engine.validate._real_scalar, loads._finite: float(10**400))",
     "D2": "scipy's ArpackError leaks from System.modal (sparse shift-invert) at extreme scales",
     "D3": "numpy/scipy errors leak from System.modal and the direct integrators' eigenvalue "
     "estimate at extreme scales: LinAlgError, ValueError('array must not contain infs or "

@@ -480,7 +480,7 @@ def test_speed_dependent_bearings_follow_a_run_up():
     assert errors[1] < 3e-5
     assert 2.8 < errors[0] / errors[1] < 4.5  # second order
     # the element follows the law with the bearing's own interpolation, PCHIP or linear
-    from duhamel._specs import element
+    from duhamel._engine.specs import element
 
     for kind in ("pchip", "linear"):
         b = Bearing(0, **COEFFS, speeds=TABLE, interpolation=kind)

@@ -350,7 +350,7 @@ def test_engine_scaled_path_with_a_unit_law_is_the_constant_path():
     # the matrices in another order.
     from types import SimpleNamespace
 
-    from duhamel._specs import LoadSpec, ScaledSpec, time_function
+    from duhamel._engine.specs import LoadSpec, ScaledSpec, time_function
 
     system = _coupled(K=KQ, C=GROT)
     basis = system.modal(None)
@@ -377,7 +377,7 @@ def test_engine_scaled_path_with_a_unit_law_is_the_constant_path():
     b = _core.solve_pseudo(problem, nonlinear(scaled=[ScaledSpec(kq, cq, unit)]), None, None)
     np.testing.assert_array_equal(a.q, b.q)
 
-    from duhamel._direct import _matrix, core_matrices, physical_matrices
+    from duhamel._engine.direct import _matrix, core_matrices, physical_matrices
 
     mats = core_matrices(physical_matrices(_coupled(K=KQ, C=GROT)))
     bare = core_matrices(physical_matrices(duhamel.System(MROT, KROT, rayleigh=RAYLEIGH_ROT)))

@@ -12,7 +12,7 @@ from _models import grounded_chain
 import duhamel
 from duhamel import elements as E
 from duhamel import loads as L
-from duhamel._solve.correction import corrected
+from duhamel._engine.correction import corrected
 
 N = 60
 SPRINGS = (15, 30, 45)
@@ -116,7 +116,7 @@ def test_the_enriched_basis_is_modal() -> None:
     quotients; a load pattern already in the modes' span adds nothing."""
     s = building(rayleigh=(0.5, 1e-4))
     run = duhamel.Semianalytic(modes=6)
-    from duhamel._solve.background import background
+    from duhamel._engine.background import background
 
     system = background(s, run.linear_parts).system
     basis = corrected(system, system.modal(6))

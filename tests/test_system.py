@@ -1,4 +1,4 @@
-"""Tests for duhamel.system (System, ModalBasis) and the duhamel._validate helpers."""
+"""Tests for duhamel.system (System, ModalBasis) and the duhamel._engine.validate helpers."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from duhamel import _validate as v
+from duhamel._engine import validate as v
 from duhamel.system import ModalBasis, System
 
 # ------------------------------------------------------------------------------ fixtures

@@ -1,8 +1,8 @@
 """Type stub of the native module ``duhamel._core`` (Rust, PyO3).
 
 The spec classes are made once, in Python, and checked by the core when made; a run reads
-its problem from the attributes of a spec object (``duhamel._solve.plan.ModalSpec``, or the
-namespaces built in ``duhamel.solve`` and ``duhamel._direct``) and returns a
+its problem from the attributes of a spec object (``duhamel._engine.plan.ModalSpec``, or the
+namespaces built in ``duhamel.solve`` and ``duhamel._engine.direct``) and returns a
 :class:`RunResult`. The protocols below (stub only, ``type_check_only``) name the attributes
 each run reads. ``tests/test_stub.py`` checks that this stub names every binding with its
 parameters, and nothing else.
@@ -26,7 +26,7 @@ Forcing = Callable[[float], ArrayLike] | None
 
 @type_check_only
 class _LoadTerm(Protocol):
-    """One load term ``pattern * time(t)`` (``duhamel._specs.LoadSpec``)."""
+    """One load term ``pattern * time(t)`` (``duhamel._engine.specs.LoadSpec``)."""
 
     @property
     def pattern(self) -> Array: ...
@@ -35,7 +35,7 @@ class _LoadTerm(Protocol):
 
 @type_check_only
 class _ModalProblem(Protocol):
-    """The modal problem of every modal route (``duhamel._solve.plan.ModalSpec``); an
+    """The modal problem of every modal route (``duhamel._engine.plan.ModalSpec``); an
     optional ``step0: int`` is the grid point a continued run starts at."""
 
     @property
@@ -126,7 +126,7 @@ class _Options(Protocol):
 
 @type_check_only
 class _Mass(Protocol):
-    """A mass law as a run takes it (``duhamel._specs.MassSpec``): ``form`` "acceleration"
+    """A mass law as a run takes it (``duhamel._engine.specs.MassSpec``): ``form`` "acceleration"
     | "momentum", ``treatment`` "eliminate" | "estimate"."""
 
     @property
@@ -140,7 +140,7 @@ class _Mass(Protocol):
 
 @type_check_only
 class _ScaledModal(Protocol):
-    """A modal coupling ``law(t) (k q + c q')`` (``duhamel._specs.ScaledSpec``)."""
+    """A modal coupling ``law(t) (k q + c q')`` (``duhamel._engine.specs.ScaledSpec``)."""
 
     @property
     def k(self) -> Array | None: ...
@@ -182,7 +182,7 @@ class _ScaledPhysical(Protocol):
 
 @type_check_only
 class _DirectProblem(Protocol):
-    """The physical problem of a direct integrator (``duhamel._direct``)."""
+    """The physical problem of a direct integrator (``duhamel._engine.direct``)."""
 
     @property
     def m(self) -> Matrix: ...

@@ -19,8 +19,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._element_base import Element, nonneg, pair, pair_stiffness, positive
-from duhamel._protocols import Model
-from duhamel._validate import dof_index, finite_float
+from duhamel._engine.protocols import Model
+from duhamel._engine.validate import dof_index, finite_float
 
 __all__ = ["Bilinear", "BoucWen", "FrictionPendulum", "Gap", "ViscousDamper"]
 

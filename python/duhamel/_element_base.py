@@ -8,8 +8,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._protocols import Model
-from duhamel._validate import dof_index, finite_float
+from duhamel._engine.protocols import Model
+from duhamel._engine.validate import dof_index, finite_float
 
 __all__ = ["Element", "nonneg", "pair", "pair_stiffness", "positive"]
 

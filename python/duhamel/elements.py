@@ -19,8 +19,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from duhamel._devices import Bilinear, BoucWen, FrictionPendulum, Gap, ViscousDamper
 from duhamel._element_base import Element, nonneg, pair, pair_stiffness
-from duhamel._protocols import Model
-from duhamel._validate import (
+from duhamel._engine.protocols import Model
+from duhamel._engine.validate import (
     as_float_array,
     as_square_matrix,
     dof_index,

@@ -25,9 +25,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._protocols import Model
-from duhamel._specs import time_function
-from duhamel._validate import as_float_array, dof_index, finite_float
+from duhamel._engine.protocols import Model
+from duhamel._engine.specs import time_function
+from duhamel._engine.validate import as_float_array, dof_index, finite_float
 from duhamel.speed import ConstantSpeed, LinearRunUp, SpeedLaw, as_speed_law
 
 __all__ = [

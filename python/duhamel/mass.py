@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._validate import as_float_array, finite_float
+from duhamel._engine.validate import as_float_array, finite_float
 
 __all__ = ["MU_FLOOR", "Exponential", "Harmonic", "MassLaw", "Tabulated"]
 

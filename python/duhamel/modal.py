@@ -18,7 +18,7 @@ from typing import Any, Protocol
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._validate import as_float_array, as_square_matrix, issparse, positive_float
+from duhamel._engine.validate import as_float_array, as_square_matrix, issparse, positive_float
 
 __all__ = ["ModalBasis"]
 

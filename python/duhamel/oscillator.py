@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel import _core
-from duhamel._validate import positive_float
+from duhamel._engine.validate import positive_float
 
 __all__ = ["transfer_matrices", "transfer_moments"]
 

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._validate import as_float_array
+from duhamel._engine.validate import as_float_array
 from duhamel.loads import BaseAcceleration
 
 __all__ = ["UNITS", "G", "GroundMotion", "read_at2", "read_text"]

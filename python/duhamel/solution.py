@@ -161,7 +161,7 @@ class SolveStats:
         For ``coupling == "exact"``: the 1-norm condition number ``kappa`` of the
         first-order eigenvector matrix (a few for well-separated modes; the round-off of the
         run grows like ``kappa^2`` times the unit round-off near a defective system, which
-        is why ``kappa`` above ``duhamel._coupled.CONDITION_LIMIT`` = 1e4 is refused).
+        is why ``kappa`` above ``duhamel._engine.coupled.CONDITION_LIMIT`` = 1e4 is refused).
     """
 
     steps: int

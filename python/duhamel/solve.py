@@ -12,12 +12,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel import _core
-from duhamel._direct import solve_direct
-from duhamel._solve.output import check_memory, output_maps, physical
-from duhamel._solve.plan import ModalSpec, Plan, mass, modal_loads, plan
-from duhamel._solve.run import ModalCallable, Progress, overflow_error, raise_failure, watch
-from duhamel._structural import element_histories
-from duhamel._validate import (
+from duhamel._engine.direct import solve_direct
+from duhamel._engine.output import check_memory, output_maps, physical
+from duhamel._engine.plan import ModalSpec, Plan, mass, modal_loads, plan
+from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
+from duhamel._engine.validate import (
     MAX_COUNT,
     as_float_array,
     dof_list,
@@ -25,6 +24,7 @@ from duhamel._validate import (
     positive_float,
     positive_int,
 )
+from duhamel._structural import element_histories
 from duhamel.elements import LinearCoupling
 from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import Callable, support_terms

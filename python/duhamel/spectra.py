@@ -36,7 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel import _core
-from duhamel._validate import as_float_array
+from duhamel._engine.validate import as_float_array
 from duhamel.records import G, GroundMotion
 
 __all__ = [

@@ -23,8 +23,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._specs import speed_law
-from duhamel._validate import finite_float
+from duhamel._engine.specs import speed_law
+from duhamel._engine.validate import finite_float
 
 __all__ = ["ConstantSpeed", "LinearRunUp", "SpeedLaw", "as_speed_law"]
 

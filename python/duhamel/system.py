@@ -9,8 +9,8 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._eigen import Modes
-from duhamel._validate import (
+from duhamel._engine.eigen import Modes
+from duhamel._engine.validate import (
     as_float_array,
     as_square_matrix,
     check_nonneg_diagonal,

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._validate import as_float_array, positive_float
+from duhamel._engine.validate import as_float_array, positive_float
 from duhamel.analysis._linear import check_system, modal_model
 from duhamel.analysis.convergence import Convergence, ReferenceProblem, convergence_order
 from duhamel.analysis.matrices import _spectrum, amplification_matrix

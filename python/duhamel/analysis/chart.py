@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel import elements
-from duhamel._validate import as_float_array, finite_float, positive_float
+from duhamel._engine.validate import as_float_array, finite_float, positive_float
 from duhamel.analysis._linear import modal_model
 from duhamel.analysis.matrices import ClosedFormNewmark, _alpha_sign, amplification_eigenvalues
 from duhamel.integrators import Semianalytic

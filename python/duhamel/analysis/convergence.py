@@ -9,7 +9,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._validate import as_float_array, positive_float
+from duhamel._engine.validate import as_float_array, positive_float
 from duhamel.solve import solve
 from duhamel.system import System
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._validate import as_float_array
+from duhamel._engine.validate import as_float_array
 
 __all__ = ["Array", "times"]
 

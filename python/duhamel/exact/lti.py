@@ -10,7 +10,7 @@ import numpy as np
 import scipy.linalg
 from numpy.typing import ArrayLike
 
-from duhamel._validate import as_float_array, finite_float, issparse
+from duhamel._engine.validate import as_float_array, finite_float, issparse
 from duhamel.exact._common import Array
 from duhamel.exact._common import times as _times
 from duhamel.system import System

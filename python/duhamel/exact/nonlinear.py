@@ -10,7 +10,7 @@ import numpy as np
 import scipy.special as sc
 from numpy.typing import ArrayLike
 
-from duhamel._validate import finite_float, nonneg_float
+from duhamel._engine.validate import finite_float, nonneg_float
 from duhamel.exact._common import Array
 from duhamel.exact._common import times as _times
 

@@ -9,7 +9,7 @@ import numpy as np
 import scipy.special as sc
 from numpy.typing import ArrayLike
 
-from duhamel._validate import finite_float, positive_float
+from duhamel._engine.validate import finite_float, positive_float
 from duhamel.exact._common import Array
 from duhamel.exact._common import times as _times
 

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from duhamel._validate import finite_float, positive_int
+from duhamel._engine.validate import finite_float, positive_int
 
 __all__ = ["MAX_ITER", "DirectIntegrator", "Integrator", "newton_options", "real"]
 

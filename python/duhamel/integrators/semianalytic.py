@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from duhamel._validate import _int_scalar, positive_int
+from duhamel._engine.validate import _int_scalar, positive_int
 from duhamel.integrators.base import Integrator, newton_options
 
 __all__ = ["Semianalytic"]

@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from duhamel._validate import finite_float
+from duhamel._engine.validate import finite_float
 from duhamel.speed import SpeedLaw
 
 __all__ = ["constant_speed", "rpm", "speed_or_law"]

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from duhamel._element_base import Element
-from duhamel._validate import dof_index
+from duhamel._engine.validate import dof_index
 from duhamel.rotor.bearing import Bearing, TableRangeWarning
 
 __all__ = ["SpeedTableElement", "speed_table_elements"]

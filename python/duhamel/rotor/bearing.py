@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._validate import as_float_array, finite_float, nonneg_float, positive_float
+from duhamel._engine.validate import as_float_array, finite_float, nonneg_float, positive_float
 from duhamel.rotor._speed import constant_speed
 from duhamel.rotor.dofs import local_dof_mapping, node_index
 

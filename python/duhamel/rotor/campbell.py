@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._validate import as_float_array
+from duhamel._engine.validate import as_float_array
 from duhamel.rotor.modes import CLUSTER_RTOL, Modes, _mac_columns
 
 __all__ = ["Campbell", "campbell"]

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._validate import as_float_array, finite_float
+from duhamel._engine.validate import as_float_array, finite_float
 
 __all__ = ["damping_spec", "structural_damping"]
 

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._validate import nonneg_float, positive_float
+from duhamel._engine.validate import nonneg_float, positive_float
 from duhamel.rotor.dofs import DIRECTIONS, local_dof_mapping, node_index
 from duhamel.rotor.material import Material
 

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._element_base import Element, positive
-from duhamel._validate import dof_index, finite_float
+from duhamel._engine.validate import dof_index, finite_float
 from duhamel.rotor.dofs import node_index
 from duhamel.speed import ConstantSpeed, SpeedLaw
 
@@ -102,7 +102,7 @@ class JournalElement(Element):
         """The restoring force ``r`` (N) at the journal's `position` (m) and `velocity` (m/s)
         at time `t`, and its exact tangents ``dr/dx`` (N/m), ``dr/dx'`` (N s/m): the
         bearing's stiffness and damping coefficients at that state."""
-        from duhamel._specs import element
+        from duhamel._engine.specs import element
 
         r, kx, cv = element(self._film()._spec()).evaluate(
             np.asarray(position, float), np.asarray(velocity, float), float(t)

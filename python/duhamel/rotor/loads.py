@@ -14,8 +14,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._protocols import Model
-from duhamel._validate import as_float_array, finite_float, positive_float
+from duhamel._engine.protocols import Model
+from duhamel._engine.validate import as_float_array, finite_float, positive_float
 from duhamel.loads import Load, Step
 from duhamel.loads import Unbalance as UnbalanceLoad
 from duhamel.rotor._protocols import RotorModel

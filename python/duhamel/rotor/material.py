@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from duhamel._validate import finite_float, positive_float
+from duhamel._engine.validate import finite_float, positive_float
 
 __all__ = ["STEEL", "Material"]
 

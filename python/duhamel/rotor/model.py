@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._validate import finite_float
+from duhamel._engine.validate import finite_float
 from duhamel.elements import Element
 from duhamel.loads import Load
 from duhamel.rotor._analyses import RotorAnalyses

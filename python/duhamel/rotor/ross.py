@@ -21,7 +21,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._validate import as_float_array, finite_float
+from duhamel._engine.validate import as_float_array, finite_float
 from duhamel.loads import Load, Tabulated
 from duhamel.loads import Unbalance as UnbalanceLoad
 from duhamel.rotor._speed import constant_speed

@@ -20,7 +20,7 @@ from functools import cached_property
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._validate import finite_float, positive_float
+from duhamel._engine.validate import finite_float, positive_float
 from duhamel.rotor.dofs import DIRECTIONS, local_dof_mapping
 from duhamel.rotor.material import Material
 

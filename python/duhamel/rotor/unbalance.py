@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._validate import as_float_array, finite_float, positive_float
+from duhamel._engine.validate import as_float_array, finite_float, positive_float
 from duhamel.rotor._banded import banded_responses, bandwidths, worth_banding
 from duhamel.rotor._orbit import circular_parts
 

@@ -2,7 +2,7 @@
 the user's :class:`duhamel.System`, and what its :class:`duhamel.Solution` is built from.
 
 Taken from the system exactly as :func:`duhamel.solve` takes it (the route of
-:func:`duhamel._solve.plan.plan`, the loads projected as :func:`~duhamel._solve.plan.
+:func:`duhamel._engine.plan.plan`, the loads projected as :func:`~duhamel._engine.plan.
 modal_loads` projects them, the elements' ``_spec()`` tuples), so a stored run steps the same
 numbers as the in-memory one.
 """
@@ -18,13 +18,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel import _core
-from duhamel._coupled import FirstOrderModes
-from duhamel._solve.background import LinearPart, background
-from duhamel._solve.output import output_maps
-from duhamel._solve.plan import Couplings, Plan, plan
-from duhamel._specs import LoadSpec, MassSpec, ScaledSpec, element, mass_law, speed_law
-from duhamel._specs import time_function as core_time
-from duhamel._validate import as_float_array
+from duhamel._engine.background import LinearPart, background
+from duhamel._engine.coupled import FirstOrderModes
+from duhamel._engine.output import output_maps
+from duhamel._engine.plan import Couplings, Plan, plan
+from duhamel._engine.specs import LoadSpec, MassSpec, ScaledSpec, element, mass_law, speed_law
+from duhamel._engine.specs import time_function as core_time
+from duhamel._engine.validate import as_float_array
 from duhamel.elements import LinearCoupling
 from duhamel.integrators import Semianalytic
 from duhamel.loads import BaseAcceleration, Callable
@@ -101,7 +101,7 @@ class Model:
         return Semianalytic(**self.integrator)
 
     def plan(self) -> Plan:
-        """The route, as :func:`duhamel._solve.output.physical` reads it."""
+        """The route, as :func:`duhamel._engine.output.physical` reads it."""
         scaled = [ScaledSpec(k, c, speed_law(law)) for k, c, law in self.scaled]
         return Plan(
             self.route,

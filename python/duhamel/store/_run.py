@@ -13,9 +13,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._core import __version__
-from duhamel._solve.output import ROW_BLOCK, physical
-from duhamel._solve.run import Progress, overflow_error, raise_failure, watch
-from duhamel._validate import positive_int
+from duhamel._engine.output import ROW_BLOCK, physical
+from duhamel._engine.run import Progress, overflow_error, raise_failure, watch
+from duhamel._engine.validate import positive_int
 from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import support_terms
 from duhamel.solution import Solution

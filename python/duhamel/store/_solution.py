@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._solve.background import LinearPart
+from duhamel._engine.background import LinearPart
 from duhamel._structural import ElementHistory
 from duhamel.loads import support_terms
 from duhamel.solution import ModalHistory, Solution, SolveStats

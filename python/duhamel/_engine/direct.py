@@ -10,11 +10,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel import _core
-from duhamel._solve.plan import mass
-from duhamel._solve.run import callback_error, overflow_error, raise_failure
-from duhamel._specs import LoadSpec, ScaledSpec, speed_law, time_function
-from duhamel._specs import elements as core_elements
-from duhamel._validate import issparse
+from duhamel._engine.plan import mass
+from duhamel._engine.run import callback_error, overflow_error, raise_failure
+from duhamel._engine.specs import LoadSpec, ScaledSpec, speed_law, time_function
+from duhamel._engine.specs import elements as core_elements
+from duhamel._engine.validate import issparse
 from duhamel.elements import LinearCoupling
 from duhamel.integrators import CentralDifference, CubicHermite, DirectIntegrator
 from duhamel.loads import Callable

@@ -21,8 +21,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._eigen import SHIFT_RTOL
-from duhamel._validate import issparse
+from duhamel._engine.eigen import SHIFT_RTOL
+from duhamel._engine.validate import issparse
 from duhamel.elements import LinearCoupling
 from duhamel.loads import Callable
 from duhamel.modal import ModalBasis, damped

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._solve.plan import Plan
+from duhamel._engine.plan import Plan
 from duhamel.solution import ModalHistory
 
 __all__ = ["ROW_BLOCK", "check_memory", "output_maps", "physical", "rows_product"]

@@ -24,8 +24,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._element_base import Element
-from duhamel._protocols import Model
-from duhamel._validate import issparse
+from duhamel._engine.protocols import Model
+from duhamel._engine.validate import issparse
 from duhamel.elements import LinearCoupling
 from duhamel.system import System
 

@@ -8,7 +8,7 @@ computes more only when more are asked for:
   symmetric SuperLU factorisation of ``K - sigma M`` made once per system and kept. Its
   inertia proves ``K - sigma M`` positive definite (so no eigenvalue lies below ``sigma``,
   where the iteration could miss it); it serves every later growth; and it answers the
-  stiffness's own semidefiniteness check (:func:`~duhamel._validate.check_semidefinite`)
+  stiffness's own semidefiniteness check (:func:`~duhamel._engine.validate.check_semidefinite`)
   whenever ``|sigma| |M| <= tau``, so a free-free model needs no second factorisation.
 
 Growth: with ``m`` modes known, ``k`` more are the lowest ``k`` of the problem restricted to
@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._validate import check_semidefinite, issparse, symmetric_lu
+from duhamel._engine.validate import check_semidefinite, issparse, symmetric_lu
 
 __all__ = ["NEG_EIG_RTOL", "SHIFT_RTOL", "ZERO_EIG_RTOL", "Modes"]
 
@@ -56,7 +56,7 @@ class Modes:
     Examples
     --------
     >>> import numpy as np
-    >>> from duhamel._eigen import Modes
+    >>> from duhamel._engine.eigen import Modes
     >>> modes = Modes(np.eye(3), np.diag([3.0, 1.0, 2.0]))
     >>> lam, phi = modes.lowest(2)
     >>> lam.tolist(), modes.lowest(3)[0].tolist()

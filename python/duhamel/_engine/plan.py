@@ -17,10 +17,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._coupled import CONDITION_LIMIT, FirstOrderModes, first_order_modes
-from duhamel._solve.background import background
-from duhamel._solve.correction import corrected
-from duhamel._specs import (
+from duhamel._engine.background import background
+from duhamel._engine.correction import corrected
+from duhamel._engine.coupled import CONDITION_LIMIT, FirstOrderModes, first_order_modes
+from duhamel._engine.specs import (
     LoadSpec,
     MassSpec,
     ScaledSpec,
@@ -28,7 +28,7 @@ from duhamel._specs import (
     speed_law,
     time_function,
 )
-from duhamel._specs import elements as core_elements
+from duhamel._engine.specs import elements as core_elements
 from duhamel.elements import LinearCoupling
 from duhamel.integrators import Semianalytic
 from duhamel.loads import Callable
@@ -68,7 +68,7 @@ class Plan:
         The core elements of the corrector (a LinearCoupling is a coupling, not an element).
     linear : tuple
         Per force element, the linear part its background took over (``LinearPart`` or
-        None; see ``duhamel._solve.background``): the element's force is the core's plus it.
+        None; see ``duhamel._engine.background``): the element's force is the core's plus it.
     """
 
     route: str

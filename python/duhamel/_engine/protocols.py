@@ -18,7 +18,7 @@ class Model(Protocol):
     Examples
     --------
     >>> import numpy as np, duhamel
-    >>> from duhamel._protocols import Model
+    >>> from duhamel._engine.protocols import Model
     >>> def size(model: Model) -> int:
     ...     return model.n_dof
     >>> size(duhamel.System(np.eye(3), np.eye(3)))
