@@ -25,7 +25,7 @@ from duhamel._engine.validate import (
     positive_int,
 )
 from duhamel._structural import element_histories
-from duhamel.elements import LinearCoupling
+from duhamel.elements.basic import LinearCoupling
 from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import Callable, support_terms
 from duhamel.solution import Solution, SolveStats

@@ -22,7 +22,7 @@ from duhamel._engine.validate import (
     positive_float,
     warn_heavy_damping,
 )
-from duhamel.elements import Element
+from duhamel.elements.base import Element
 from duhamel.loads import Load
 from duhamel.mass import MassLaw, _Attached
 from duhamel.modal import ModalBasis, backward_errors, damped, orthonormality_error

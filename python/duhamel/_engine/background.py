@@ -23,10 +23,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._element_base import Element
 from duhamel._engine.protocols import Model
 from duhamel._engine.validate import issparse
-from duhamel.elements import LinearCoupling
+from duhamel.elements.base import Element
+from duhamel.elements.basic import LinearCoupling
 from duhamel.system import System
 
 __all__ = ["Background", "LinearPart", "background"]

@@ -15,7 +15,7 @@ from duhamel._engine.run import callback_error, overflow_error, raise_failure
 from duhamel._engine.specs import LoadSpec, ScaledSpec, speed_law, time_function
 from duhamel._engine.specs import elements as core_elements
 from duhamel._engine.validate import issparse
-from duhamel.elements import LinearCoupling
+from duhamel.elements.basic import LinearCoupling
 from duhamel.integrators import CentralDifference, CubicHermite, DirectIntegrator
 from duhamel.loads import Callable
 from duhamel.solution import Solution, SolveStats

@@ -29,7 +29,7 @@ from duhamel._engine.specs import (
     time_function,
 )
 from duhamel._engine.specs import elements as core_elements
-from duhamel.elements import LinearCoupling
+from duhamel.elements.basic import LinearCoupling
 from duhamel.integrators import Semianalytic
 from duhamel.loads import Callable
 from duhamel.system import ModalBasis, System

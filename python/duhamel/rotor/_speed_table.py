@@ -11,8 +11,8 @@ from typing import Any
 
 import numpy as np
 
-from duhamel._element_base import Element
 from duhamel._engine.validate import dof_index
+from duhamel.elements.base import Element
 from duhamel.rotor.bearing import Bearing, TableRangeWarning
 
 __all__ = ["SpeedTableElement", "speed_table_elements"]

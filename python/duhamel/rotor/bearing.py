@@ -371,7 +371,7 @@ class Bearing:
             ``Cubic`` elements on x and y (when ``beta != 0``) and a ``Contact`` (when
             `contact` is given).
         """
-        from duhamel.elements import Contact, Cubic
+        from duhamel.elements.basic import Contact, Cubic
 
         out: list[Any] = []
         if self.beta != 0.0:

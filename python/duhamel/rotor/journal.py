@@ -17,8 +17,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._element_base import Element, positive
 from duhamel._engine.validate import dof_index, finite_float
+from duhamel.elements.base import Element, positive
 from duhamel.rotor.dofs import node_index
 from duhamel.speed import ConstantSpeed, SpeedLaw
 

@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._engine.validate import finite_float
-from duhamel.elements import Element
+from duhamel.elements.base import Element
 from duhamel.loads import Load
 from duhamel.rotor._analyses import RotorAnalyses
 from duhamel.rotor._equilibrium import (

@@ -13,7 +13,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel.elements import Element, LinearCoupling
+from duhamel.elements.base import Element
+from duhamel.elements.basic import LinearCoupling
 from duhamel.loads import Load
 from duhamel.rotor._protocols import RotorModel
 from duhamel.rotor.bearing import Bearing

@@ -25,7 +25,7 @@ from duhamel._engine.plan import Couplings, Plan, plan
 from duhamel._engine.specs import LoadSpec, MassSpec, ScaledSpec, element, mass_law, speed_law
 from duhamel._engine.specs import time_function as core_time
 from duhamel._engine.validate import as_float_array
-from duhamel.elements import LinearCoupling
+from duhamel.elements.basic import LinearCoupling
 from duhamel.integrators import Semianalytic
 from duhamel.loads import BaseAcceleration, Callable
 from duhamel.system import System

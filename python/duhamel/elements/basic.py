@@ -1,11 +1,5 @@
-"""Force elements: restoring forces ``r(x, x', t)`` on the left-hand side,
-``M x'' + C x' + K x + r(x, x', t) = f(t)``, added with :meth:`duhamel.System.add`.
-
-Every element except :class:`Callable` is evaluated in Rust with analytic tangents. The
-integrator treats the element forces as modal pseudo-forces; :class:`LinearCoupling` is
-projected on the modes once. The hysteretic and device elements of earthquake engineering
-(:class:`Bilinear`, :class:`BoucWen`, :class:`FrictionPendulum`, :class:`ViscousDamper`,
-:class:`Gap`) are defined in ``duhamel._devices`` and exported here.
+"""The basic force elements: polynomial and cubic springs, linear springs and dampers, the
+linear coupling, the contact and the Python callable; exported from :mod:`duhamel.elements`.
 """
 
 from __future__ import annotations
@@ -17,8 +11,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._devices import Bilinear, BoucWen, FrictionPendulum, Gap, ViscousDamper
-from duhamel._element_base import Element, nonneg, pair, pair_stiffness
 from duhamel._engine.protocols import Model
 from duhamel._engine.validate import (
     as_float_array,
@@ -27,21 +19,16 @@ from duhamel._engine.validate import (
     finite_float,
     issparse,
 )
+from duhamel.elements.base import Element, nonneg, pair, pair_stiffness
 
 __all__ = [
-    "Bilinear",
-    "BoucWen",
     "Callable",
     "Contact",
     "Cubic",
     "Damper",
-    "Element",
-    "FrictionPendulum",
-    "Gap",
     "LinearCoupling",
     "Polynomial",
     "Spring",
-    "ViscousDamper",
 ]
 
 

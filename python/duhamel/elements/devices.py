@@ -18,9 +18,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._element_base import Element, nonneg, pair, pair_stiffness, positive
 from duhamel._engine.protocols import Model
 from duhamel._engine.validate import dof_index, finite_float
+from duhamel.elements.base import Element, nonneg, pair, pair_stiffness, positive
 
 __all__ = ["Bilinear", "BoucWen", "FrictionPendulum", "Gap", "ViscousDamper"]
 
