@@ -31,7 +31,7 @@ from duhamel.integrators import (
     Newmark,
     Semianalytic,
 )
-from duhamel.solution import ModalHistory, Solution, SolveStats
+from duhamel.results import ModalHistory, Solution, SolveStats
 from duhamel.solve import solve
 from duhamel.store import resume
 from duhamel.system import ModalBasis, System

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from duhamel.solution import Solution
+from duhamel.results.solution import Solution
 
 
 def _xarray() -> Any:

@@ -11,7 +11,7 @@ import numpy as np
 
 from duhamel._ensemble_run import solve_many
 from duhamel.errors import SolverError
-from duhamel.solution import Solution
+from duhamel.results.solution import Solution
 
 __all__ = ["IDA", "ida"]
 

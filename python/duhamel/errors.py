@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from duhamel.solution import Solution
+    from duhamel.results.solution import Solution
 
 
 class DuhamelError(Exception):

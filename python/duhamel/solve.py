@@ -24,11 +24,11 @@ from duhamel._engine.validate import (
     positive_float,
     positive_int,
 )
-from duhamel._structural import element_histories
 from duhamel.elements.basic import LinearCoupling
 from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import Callable, support_terms
-from duhamel.solution import Solution, SolveStats
+from duhamel.results.solution import Solution, SolveStats
+from duhamel.results.structural import element_histories
 from duhamel.system import ModalBasis, System
 
 __all__ = ["solve"]

@@ -18,7 +18,7 @@ from duhamel._engine.validate import issparse
 from duhamel.elements.basic import LinearCoupling
 from duhamel.integrators import CentralDifference, CubicHermite, DirectIntegrator
 from duhamel.loads import Callable
-from duhamel.solution import Solution, SolveStats
+from duhamel.results.solution import Solution, SolveStats
 from duhamel.system import System
 
 #: Below this order the stability check of the central difference method uses a dense

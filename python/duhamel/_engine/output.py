@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._engine.plan import Plan
-from duhamel.solution import ModalHistory
+from duhamel.results.solution import ModalHistory
 
 __all__ = ["ROW_BLOCK", "check_memory", "output_maps", "physical", "rows_product"]
 

@@ -7,8 +7,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
+    from duhamel.results.solution import Solution
     from duhamel.rotor._protocols import CampbellData, DofNumbering
-    from duhamel.solution import Solution
 
 __all__ = ["plot_campbell", "plot_orbit"]
 

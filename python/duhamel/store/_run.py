@@ -18,7 +18,7 @@ from duhamel._engine.run import Progress, overflow_error, raise_failure, watch
 from duhamel._engine.validate import positive_int
 from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import support_terms
-from duhamel.solution import Solution
+from duhamel.results.solution import Solution
 from duhamel.store._codec import Checkpoint, StoreError, decode, dumps, encode, pack, unpack
 from duhamel.store._model import Model, capture
 from duhamel.store._solution import _shifted, _solution

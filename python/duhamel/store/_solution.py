@@ -11,9 +11,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._engine.background import LinearPart
-from duhamel._structural import ElementHistory
 from duhamel.loads import support_terms
-from duhamel.solution import ModalHistory, Solution, SolveStats
+from duhamel.results.solution import ModalHistory, Solution, SolveStats
+from duhamel.results.structural import ElementHistory
 from duhamel.store._array import StoredArray
 from duhamel.store._model import Model
 

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._structural import ElementHistory, drifts
+from duhamel.results.structural import ElementHistory, drifts
 
 __all__ = ["ModalHistory", "Solution", "SolveStats"]
 
@@ -328,7 +328,7 @@ class Solution:
         >>> dict(ds.sizes), ds["label"].values.tolist()
         ({'time': 11, 'dof': 2}, ['base', 'roof'])
         """
-        from duhamel._labelled import to_xarray
+        from duhamel.results.labelled import to_xarray
 
         return to_xarray(self, labels)
 
@@ -345,7 +345,7 @@ class Solution:
         >>> sol.to_dataframe().shape
         (3, 1)
         """
-        from duhamel._labelled import to_dataframe
+        from duhamel.results.labelled import to_dataframe
 
         return to_dataframe(self, quantity, labels)
 
