@@ -31,8 +31,8 @@ from duhamel.integrators import (
     Newmark,
     Semianalytic,
 )
+from duhamel.prepared import solve
 from duhamel.results import ModalHistory, Solution, SolveStats
-from duhamel.solve import solve
 from duhamel.store import resume
 from duhamel.system import ModalBasis, System
 

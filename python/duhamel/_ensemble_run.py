@@ -16,8 +16,8 @@ from typing import Any
 from duhamel._ensemble_zarr import ZarrWriter, stack
 from duhamel.errors import SolverError
 from duhamel.modal import ModalBasis
+from duhamel.prepared import solve
 from duhamel.results.solution import Solution
-from duhamel.solve import solve
 
 __all__ = ["Ensemble", "solve_many"]
 

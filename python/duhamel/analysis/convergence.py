@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._engine.validate import as_float_array, positive_float
-from duhamel.solve import solve
+from duhamel.prepared import solve
 from duhamel.system import System
 
 __all__ = ["Convergence", "ReferenceProblem", "convergence_order"]

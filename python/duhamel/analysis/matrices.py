@@ -10,7 +10,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from duhamel._engine.validate import as_float_array, finite_float, positive_float
 from duhamel.analysis._linear import ModalModel, check_system, modal_model, unloaded
-from duhamel.solve import solve
+from duhamel.prepared import solve
 from duhamel.system import System
 
 __all__ = [
