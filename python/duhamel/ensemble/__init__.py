@@ -26,7 +26,7 @@ Examples
 
 from __future__ import annotations
 
-from duhamel._ensemble_run import Ensemble, solve_many
-from duhamel._ida import IDA, ida
+from duhamel.ensemble.ida import IDA, ida
+from duhamel.ensemble.run import Ensemble, solve_many
 
 __all__ = ["IDA", "Ensemble", "ida", "solve_many"]

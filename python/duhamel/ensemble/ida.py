@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from duhamel._ensemble_run import solve_many
+from duhamel.ensemble.run import solve_many
 from duhamel.errors import SolverError
 from duhamel.results.solution import Solution
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from duhamel._ensemble_zarr import ZarrWriter, stack
+from duhamel.ensemble.zarr import ZarrWriter, stack
 from duhamel.errors import SolverError
 from duhamel.modal import ModalBasis
 from duhamel.prepared import solve
