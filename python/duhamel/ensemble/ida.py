@@ -57,7 +57,7 @@ def _scale_factor(motion: Any, intensity: str, period: float | None, damping: fl
     """Intensity of `motion` at scale 1: its PGA, or its PSA at `period`."""
     if intensity == "pga":
         return float(motion.pga)
-    from duhamel.spectra import response_spectrum
+    from duhamel.spectra.response import response_spectrum
 
     return float(response_spectrum(motion, [period], damping, threads=1).psa[0, 0, 0])
 

@@ -1,30 +1,6 @@
-"""Response spectra of ground motions, exact for records linear between their samples.
-
-Each oscillator ``x'' + 2 zeta omega x' + omega^2 x = -a_g(t)`` is stepped with its exact
-transition and load-transfer matrices (the Nigam-Jennings method, which is duhamel's method
-for one oscillator): no sub-stepping, no error from ``omega dt`` however small or large. The
-loops run in Rust, in parallel over records x dampings x periods, several oscillators per pass
-over a record. Peaks are taken at the record's samples.
-
-* :func:`response_spectrum`: ``sd``, ``sv`` (relative), ``sa`` (absolute acceleration),
-  ``psv = omega sd`` and ``psa = omega^2 sd``;
-* :func:`rotd`: RotD50/RotD100 (Boore 2010) of two horizontal components;
-* :func:`ductility_spectrum`: constant-ductility inelastic spectra of the bilinear
-  oscillator (the yield strength found per period).
-
-Examples
---------
->>> import numpy as np
->>> from duhamel.records import GroundMotion
->>> from duhamel.spectra import response_spectrum
->>> t = np.arange(0.0, 20.0, 0.01)
->>> gm = GroundMotion(0.3 * np.sin(2 * np.pi * t) * np.exp(-0.2 * t), dt=0.01, units="g")
->>> rs = response_spectrum(gm, periods=[0.0, 0.5, 1.0, 2.0], damping=[0.02, 0.05])
->>> rs.psa.shape  # (motions, dampings, periods)
-(1, 2, 4)
->>> bool(rs.sa[0, 0, 2] > rs.sa[0, 1, 2] > gm.pga)  # resonance at 1 s, less with damping
-True
-"""
+"""Response spectra (:func:`response_spectrum`), RotD spectra (:func:`rotd`) and
+constant-ductility spectra (:func:`ductility_spectrum`) with their result classes;
+exported from :mod:`duhamel.spectra`, plotted by :mod:`.plot`."""
 
 from __future__ import annotations
 
@@ -37,7 +13,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from duhamel import _core
 from duhamel._engine.validate import as_float_array
-from duhamel.records import G, GroundMotion
+from duhamel.records.motion import G, GroundMotion
 
 __all__ = [
     "DuctilitySpectrum",
@@ -158,14 +134,14 @@ class ResponseSpectrum:
         """Plot one quantity against period (log axes), one line per motion and damping;
         ``tripartite=True`` draws ``psv`` with lines of constant ``sd`` and ``psa``.
         Returns the matplotlib Axes."""
-        from duhamel._spectra_plot import plot_spectrum
+        from duhamel.spectra.plot import plot_spectrum
 
         return plot_spectrum(self, quantity, tripartite, ax)
 
     def to_xarray(self) -> Any:
         """An ``xarray.Dataset`` with dims (motion, damping, period) and variables sd, sv, sa,
         psv, psa (needs xarray: ``pip install 'duhamel[xarray]'``)."""
-        from duhamel._spectra_plot import dataset
+        from duhamel.spectra.plot import dataset
 
         return dataset(self, ("sd", "sv", "sa", "psv", "psa"))
 
