@@ -161,18 +161,16 @@ def test_lazy_subpackages_in_this_session():
 
 
 def _module_graph() -> dict[str, set[str]]:
-    """Imports between duhamel's modules (package ``__init__`` files left out), at any level:
-    module level, inside functions and under ``TYPE_CHECKING``."""
+    """Imports between duhamel's modules (a package ``__init__`` stands for what it imports),
+    at any level: module level, inside functions and under ``TYPE_CHECKING``."""
     root = Path(duhamel.__file__).resolve().parent
     files = {}
     for path in root.rglob("*.py"):
         parts = path.relative_to(root.parent).with_suffix("").parts
         files[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
     packages = {name for name, path in files.items() if path.name == "__init__.py"}
-    graph: dict[str, set[str]] = {}
+    imports: dict[str, set[str]] = {}
     for name, path in files.items():
-        if name in packages:
-            continue
         found = set()
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
             if isinstance(node, ast.Import):
@@ -182,10 +180,27 @@ def _module_graph() -> dict[str, set[str]]:
                 if node.level:
                     parent = name.split(".")[: -node.level]
                     base = ".".join([*parent, base] if base else parent)
-                found.update(f"{base}.{alias.name}" for alias in node.names)
-                found.add(base)
-        graph[name] = {m for m in found if m in files and m not in packages and m != name}
-    return graph
+                for alias in node.names:
+                    # `from package import module` needs the module; anything else, the
+                    # package's __init__ (or the module named by `base`).
+                    sub = f"{base}.{alias.name}"
+                    found.add(sub if sub in files else base)
+        imports[name] = {m for m in found if m in files and m != name}
+
+    def resolve(modules: set[str], seen: frozenset[str] = frozenset()) -> set[str]:
+        # A subpackage stands for the modules its __init__ imports (`from duhamel.elements
+        # import Element` runs duhamel/elements/__init__.py); the root package does not.
+        out = set()
+        for m in modules:
+            if m not in packages:
+                out.add(m)
+            elif m != root.name and m not in seen:
+                out |= resolve(imports[m], seen | {m})
+        return out
+
+    return {
+        name: resolve(found) - {name} for name, found in imports.items() if name not in packages
+    }
 
 
 def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
@@ -223,8 +238,23 @@ def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
 def test_no_import_cycles():
     graph = _module_graph()
     assert "duhamel.system" in graph and "duhamel.elements.base" in graph["duhamel.system"]
+    assert "duhamel.elements.basic" in graph["duhamel.analysis.chart"]  # through the package
     assert _cycles(graph) == [], "modules that import each other (use a Protocol)"
 
 
 def test_cycle_detection_works():
     assert _cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+
+
+def test_no_private_module_at_the_top_level():
+    # Every concept lives in its package (elements/, results/, _engine/ ...); the top level
+    # holds the public modules, the binding and its stub.
+    root = Path(duhamel.__file__).resolve().parent
+    private = sorted(
+        p.name
+        for p in root.iterdir()
+        if p.name.startswith("_")
+        and p.name not in ("__init__.py", "__main__.py", "__pycache__", "_core.pyi", "_engine")
+        and not p.name.startswith("_core.")
+    )
+    assert private == []
