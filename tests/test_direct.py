@@ -23,7 +23,7 @@ from scipy.integrate import solve_ivp
 import duhamel
 from duhamel import elements as E
 from duhamel import loads as L
-from duhamel._engine.direct import step_matrix
+from duhamel._engine.direct_run import step_matrix
 from duhamel.exact import bessel_mass, decaying_mass_pendulum, duffing, linear
 
 SECOND_ORDER = {

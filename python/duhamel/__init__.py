@@ -31,7 +31,7 @@ from duhamel.integrators import (
     Newmark,
     Semianalytic,
 )
-from duhamel.prepared import solve
+from duhamel.prepared import Prepared, prepare, solve
 from duhamel.results import ModalHistory, Solution, SolveStats
 from duhamel.store import resume
 from duhamel.system import ModalBasis, System
@@ -52,6 +52,7 @@ __all__ = [
     "ModalBasis",
     "ModalHistory",
     "Newmark",
+    "Prepared",
     "Semianalytic",
     "Solution",
     "SolveStats",
@@ -65,6 +66,7 @@ __all__ = [
     "loads",
     "mass",
     "oscillator",
+    "prepare",
     "records",
     "resume",
     "rotor",

@@ -1,37 +1,32 @@
-"""``duhamel.solve``: run an integrator on a model."""
+"""``duhamel.prepare`` and ``duhamel.solve``: a model prepared once for many runs, and the
+one-call form of a single run (``solve(...)`` is ``prepare(...).run(...)``)."""
 
 from __future__ import annotations
 
 import math
 import os
 import time as _time
-from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from duhamel import _core
-from duhamel._engine.direct import solve_direct
-from duhamel._engine.output import check_memory, output_maps, physical
-from duhamel._engine.plan import ModalSpec, Plan, mass, modal_loads, plan
-from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
+from duhamel._engine import modal
+from duhamel._engine.direct_run import DirectSetup, prepare_direct
+from duhamel._engine.run import Progress
 from duhamel._engine.validate import (
     MAX_COUNT,
-    as_float_array,
     dof_list,
     finite_float,
     positive_float,
     positive_int,
 )
-from duhamel.elements.basic import LinearCoupling
 from duhamel.integrators import DirectIntegrator, Semianalytic
-from duhamel.loads import Callable, support_terms
-from duhamel.results.solution import Solution, SolveStats
-from duhamel.results.structural import element_histories
-from duhamel.system import ModalBasis, System
+from duhamel.loads import Load
+from duhamel.results.solution import Solution
+from duhamel.system import System
 
-__all__ = ["solve"]
+__all__ = ["Prepared", "prepare", "solve"]
 
 
 def _steps(t_end: Any, dt: float, t0: float) -> int:
@@ -50,72 +45,300 @@ def _steps(t_end: Any, dt: float, t0: float) -> int:
         )
     # The step times t0 + n dt must be told apart: the grid's largest time resolves dt.
     largest = max(abs(t0), abs(t_end))
-    if float(np.spacing(largest)) > 1e-3 * dt:
+    if math.ulp(largest) > 1e-3 * dt:
         raise ValueError(
             f"`dt` = {dt:g} is below the resolution of the times around `t0` = {t0:g} "
-            f"(`t_end` = {t_end:g}): doubles there are {float(np.spacing(largest)):.3g} apart, "
+            f"(`t_end` = {t_end:g}): doubles there are {math.ulp(largest):.3g} apart, "
             "so the step times would not be distinct; measure time from a nearer origin "
             "(a smaller `t0`) or use a larger `dt`"
         )
     return max(1, math.floor(steps))
 
 
-def _initial(value: ArrayLike | None, name: str, system: System, basis: ModalBasis) -> NDArray:
-    """Modal coordinates of an initial state: ``Phi^T M x``."""
-    if value is None:
-        return np.zeros(basis.phi.shape[1])
-    x = as_float_array(value, name, ndim=1, shape=(system.n_dof,))
-    return np.ascontiguousarray(basis.phi.T @ np.asarray(system.M @ x, dtype=np.float64))
-
-
-def _run(
-    route: Plan,
-    spec: ModalSpec,
-    integrator: Semianalytic,
-    phi_out: NDArray,
-    forcing: Any,
-    report: Progress | None,
-    system: System,
-) -> Any:
-    """Runs the route in the core; returns its ``RunResult``."""
-    if route.route == "uncoupled":
-        return _core.solve_uncoupled(spec, forcing, report)
-    phi = spec.phi
-    if route.route == "first-order":
-        fo = route.modes
-        assert fo is not None
-        eta0 = fo.initial(spec.q0, spec.v0)
-        parts = (fo.lam.real, fo.lam.imag, fo.gain.real, fo.gain.imag, eta0.real, eta0.imag)
-        names = ("lambda_re", "lambda_im", "gain_re", "gain_im", "eta0_re", "eta0_im")
-        modes = SimpleNamespace(
-            **{
-                n: np.ascontiguousarray(p, dtype=np.float64)
-                for n, p in zip(names, parts, strict=True)
-            }
-        )
-        outputs = output_maps(route, phi_out, len(spec.loads))
-        nonlinear = (
-            SimpleNamespace(
-                phi=phi,
-                elements=route.elements,
-                back=fo.back,
-                tol=float(integrator.tol),
-                max_iter=int(integrator.max_iter),
-            )
-            if route.elements
-            else None
-        )
-        return _core.solve_first_order(spec, modes, outputs, nonlinear, forcing, report)
-    nonlinear = SimpleNamespace(
-        phi=phi,
-        elements=route.elements,
-        options=integrator,
-        coupling_k=route.couplings.k,
-        coupling_c=route.couplings.c,
-        scaled=route.couplings.scaled,
-        mass=mass(system, integrator),
+def _fingerprint(system: System) -> tuple:
+    """What identifies the state of `system` a preparation was made from."""
+    return (
+        tuple(map(id, system.loads)),
+        tuple(map(id, system.elements)),
+        id(system.mass_law),
+        id(system._modes),
+        system._modes.supplied,
+        system.dof_labels,
     )
-    return _core.solve_pseudo(spec, nonlinear, forcing, report)
+
+
+def _with_loads(system: System, loads: list[Load]) -> System:
+    """`system` with `loads` instead of its own (sharing its modes and caches)."""
+    other = object.__new__(System)
+    other.__dict__.update(system.__dict__)
+    other.loads = list(loads)
+    return other
+
+
+class Prepared:
+    """A model prepared for runs with one integrator and one step `dt`.
+
+    Made by :func:`duhamel.prepare`. It holds what does not change between runs of the
+    model: the modal (or Ritz) basis with its static correction, the route and the
+    first-order modes of a coupled background, the core's elements and the loads projected
+    on the modes (direct integrators: the physical matrices). :meth:`run` adds a run's
+    grid, initial state and, optionally, its own loads.
+
+    What is shared and what is not: the system's matrices, damping, elements (with their
+    parameters) and mass law are taken when the model is prepared — changing the system
+    afterwards (``add``, ``add_load``, ``set_mass_law``) does not change a `Prepared`; prepare
+    it again. Element parameters that vary per run (a friction coefficient, an upper or
+    lower bound of a device) need a new `Prepared` (each starts its hysteretic elements from
+    their initial state anyway: runs are independent). Loads may change per run
+    (``run(loads=[...])``) at the cost of their projection on the modes.
+
+    Attributes
+    ----------
+    system : System
+        The model as it was prepared.
+    integrator : Semianalytic or a direct integrator
+        The integrator.
+    dt : float
+        The step.
+    route : str
+        "uncoupled", "first-order" or "pseudo-force" (semi-analytic), or "direct".
+    n_modes : int
+        Modal coordinates integrated (0 for a direct integrator).
+
+    Examples
+    --------
+    >>> import numpy as np, duhamel
+    >>> frame = duhamel.System(np.eye(2), np.array([[2.0, -1.0], [-1.0, 1.0]]), zeta=0.05)
+    >>> run = duhamel.prepare(frame, duhamel.Semianalytic(), dt=0.05)
+    >>> records = [duhamel.loads.BaseAcceleration(np.ones(2), [0.0, 1.0, 2.0], [0.0, s, 0.0])
+    ...            for s in (1.0, 2.0)]
+    >>> peaks = [np.abs(run.run(t_end=5.0, loads=[r]).x).max() for r in records]
+    >>> float(round(peaks[1] / peaks[0], 12))   # linear: twice the record, twice the response
+    2.0
+    """
+
+    def __init__(self, system: System, integrator: Any, dt: float, threads: int | None) -> None:
+        self.system = system
+        self.integrator = integrator
+        self.dt = dt
+        self.threads = threads
+        self._fingerprint = _fingerprint(system)
+        self._modal: modal.ModalSetup | None = None
+        self._direct: DirectSetup | None = None
+        if isinstance(integrator, DirectIntegrator):
+            self._direct = prepare_direct(system, integrator)
+        else:
+            self._modal = modal.setup(system, integrator, threads)
+
+    def matches(self, system: System, integrator: Any, dt: float) -> bool:
+        """Whether this is the preparation of `system` as it is now, with `integrator` and
+        `dt` (no load, element or mass law added or removed since, no basis supplied)."""
+        return (
+            system is self.system
+            and _fingerprint(system) == self._fingerprint
+            and integrator == self.integrator
+            and dt == self.dt
+        )
+
+    @property
+    def route(self) -> str:
+        return "direct" if self._modal is None else self._modal.route.route
+
+    @property
+    def n_modes(self) -> int:
+        return 0 if self._modal is None else self._modal.n_modes
+
+    def __repr__(self) -> str:
+        return (
+            f"Prepared({type(self.integrator).__name__}, dt={self.dt:g}, route={self.route!r}, "
+            f"n_dof={self.system.n_dof}, modes={self.n_modes})"
+        )
+
+    def run(
+        self,
+        *,
+        t_end: float,
+        t0: float = 0.0,
+        x0: ArrayLike | None = None,
+        v0: ArrayLike | None = None,
+        loads: list[Load] | None = None,
+        save_every: int = 1,
+        dofs: ArrayLike | None = None,
+        store: str | os.PathLike[str] | Any = None,
+        checkpoint_every: int | None = None,
+        progress: bool | Progress | None = False,
+    ) -> Solution:
+        """Runs the prepared model from `t0` to `t_end`.
+
+        Parameters
+        ----------
+        t_end : float
+            End time; the run takes ``floor((t_end - t0) / dt)`` steps.
+        t0 : float
+            Start time (default 0); loads keep their absolute time axis.
+        x0, v0 : array_like, shape (n_dof,), optional
+            Initial displacements and velocities (zero by default).
+        loads : list of duhamel.loads loads, optional
+            The loads of this run instead of the system's (a new record, a scaled record);
+            None uses the system's loads.
+        save_every : int
+            Keep every `save_every`-th step (the last step is always kept).
+        dofs : sequence of int, optional
+            Degrees of freedom to recover (default: all).
+        store : str, os.PathLike or duhamel.store.Store, optional
+            Stream the run to a new zarr store (see :func:`duhamel.solve`).
+        checkpoint_every : int, optional
+            With `store`: a checkpoint every this many segments (default 1).
+        progress : bool or callable, optional
+            A progress bar (``True``) or a function ``(step, n_steps, t)``.
+
+        Returns
+        -------
+        Solution
+            As :func:`duhamel.solve` returns it (the same numbers, bit for bit).
+
+        Raises
+        ------
+        ValueError, TypeError, SolverError, KeyboardInterrupt
+            As :func:`duhamel.solve`.
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> s = duhamel.System(np.eye(1), np.array([[4.0]]))
+        >>> p = duhamel.prepare(s, duhamel.Semianalytic(), dt=0.1)
+        >>> sol = p.run(t_end=1.0, x0=[1.0])     # x = cos(2 t), exactly at any step
+        >>> bool(abs(sol.x[-1, 0] - np.cos(2.0)) < 1e-14)
+        True
+        """
+        return self._run(
+            t_end=t_end, t0=t0, x0=x0, v0=v0, loads=loads, save_every=save_every, dofs=dofs,
+            store=store, checkpoint_every=checkpoint_every, progress=progress,
+            started=_time.perf_counter(),
+        )  # fmt: skip
+
+    def _run(
+        self,
+        *,
+        t_end: float,
+        t0: float,
+        x0: ArrayLike | None,
+        v0: ArrayLike | None,
+        loads: list[Load] | None,
+        save_every: int,
+        dofs: ArrayLike | None,
+        store: Any,
+        checkpoint_every: int | None,
+        progress: bool | Progress | None,
+        started: float,
+    ) -> Solution:
+        dt = self.dt
+        t0 = finite_float(t0, "t0")
+        n_steps = _steps(t_end, dt, t0)
+        # A stride beyond the run keeps its first and last instants, as the run's length does.
+        save_every = min(positive_int(save_every, "save_every", maximum=2**64), n_steps)
+        system = self.system
+        out_dofs = None if dofs is None else dof_list(dofs, "dofs", system.n_dof)
+        if loads is not None:
+            loads = _checked_loads(loads, system)
+        if store is not None:
+            from duhamel.store._run import run_stored
+
+            target = system if loads is None else _with_loads(system, loads)
+            chosen = np.arange(system.n_dof) if out_dofs is None else out_dofs
+            return run_stored(
+                target, self.integrator, store=store, checkpoint_every=checkpoint_every,
+                t0=t0, dt=dt, n_steps=n_steps, save_every=save_every, out_dofs=chosen, x0=x0,
+                v0=v0, threads=self.threads, progress=progress, started=started,
+            )  # fmt: skip
+        if self._direct is not None:
+            return self._direct.run(
+                t0=t0, dt=dt, n_steps=n_steps, save_every=save_every, dofs=out_dofs,
+                x0=x0, v0=v0, loads=loads, progress=progress, started=started,
+            )  # fmt: skip
+        assert self._modal is not None
+        opts = modal.RunOptions(
+            t0, dt, n_steps, save_every, out_dofs, x0, v0, loads, progress, started
+        )
+        return modal.run(self._modal, opts)
+
+
+def _checked_loads(loads: Any, system: System) -> list[Load]:
+    """A run's `loads`, each checked against `system`."""
+    if isinstance(loads, Load) or not isinstance(loads, list | tuple):
+        raise TypeError(
+            f"`loads` must be a list of duhamel.loads loads (or None for the system's own), "
+            f"got {type(loads).__name__}"
+        )
+    for i, load in enumerate(loads):
+        if not isinstance(load, Load):
+            raise TypeError(
+                f"`loads[{i}]` must be a duhamel.loads load (Step, Harmonic, Tabulated, "
+                f"BaseAcceleration, Unbalance, Callable), got {type(load).__name__}"
+            )
+        load._validate(system)
+    return list(loads)
+
+
+def _checked(system: Any, integrator: Any) -> None:
+    if not isinstance(system, System):
+        raise TypeError(f"`system` must be a duhamel.System, got {type(system).__name__}")
+    if not isinstance(integrator, Semianalytic | DirectIntegrator):
+        raise TypeError(
+            f"`integrator` must be a duhamel integrator such as duhamel.Semianalytic() or "
+            f"duhamel.Newmark(), got {type(integrator).__name__}"
+        )
+
+
+def prepare(
+    system: System,
+    integrator: Semianalytic | DirectIntegrator,
+    *,
+    dt: float,
+    threads: int | None = None,
+) -> Prepared:
+    """Prepares `system` for runs with `integrator` and step `dt` (see :class:`Prepared`).
+
+    A study of many runs of one model — records of a suite, scale factors of an IDA, initial
+    conditions — prepares it once and calls :meth:`Prepared.run` per case: the modal
+    analysis, the route and the core's model are not made again.
+
+    Parameters
+    ----------
+    system : System
+        The model, with its elements and (default) loads.
+    integrator : Semianalytic, Newmark, HHT, GeneralizedAlpha, CentralDifference or CubicHermite
+        The time integrator and its options.
+    dt : float
+        Step length, ``> 0``.
+    threads : int, optional
+        Worker threads of the semi-analytic linear time loop (default: all cores).
+
+    Returns
+    -------
+    Prepared
+
+    Raises
+    ------
+    ValueError, TypeError
+        Bad input; the message names the parameter.
+
+    Examples
+    --------
+    >>> import numpy as np, duhamel
+    >>> s = duhamel.System(np.eye(2), np.array([[2.0, -1.0], [-1.0, 1.0]]), zeta=0.02)
+    >>> _ = s.add_load(duhamel.loads.Step(dof=1, amplitude=1.0))
+    >>> p = duhamel.prepare(s, duhamel.Semianalytic(), dt=0.1)
+    >>> a = p.run(t_end=10.0)
+    >>> b = duhamel.solve(s, duhamel.Semianalytic(), t_end=10.0, dt=0.1)
+    >>> bool(np.array_equal(a.x, b.x))
+    True
+    """
+    _checked(system, integrator)
+    dt = positive_float(dt, "dt")
+    if threads is not None:
+        threads = positive_int(threads, "threads")
+    return Prepared(system, integrator, dt, threads)
 
 
 def solve(
@@ -216,123 +439,8 @@ def solve(
     (np.float64(10.0), np.float64(20.0))
     """
     started = _time.perf_counter()
-    if not isinstance(system, System):
-        raise TypeError(f"`system` must be a duhamel.System, got {type(system).__name__}")
-    if not isinstance(integrator, Semianalytic | DirectIntegrator):
-        raise TypeError(
-            f"`integrator` must be a duhamel integrator such as duhamel.Semianalytic() or "
-            f"duhamel.Newmark(), got {type(integrator).__name__}"
-        )
-    dt = positive_float(dt, "dt")
-    t0 = finite_float(t0, "t0")
-    n_steps = _steps(t_end, dt, t0)
-    # A stride beyond the run keeps its first and last instants, as the run's length does.
-    save_every = min(positive_int(save_every, "save_every", maximum=2**64), n_steps)
-    if threads is not None:
-        threads = positive_int(threads, "threads")
-    out_dofs = np.arange(system.n_dof) if dofs is None else dof_list(dofs, "dofs", system.n_dof)
-    if store is not None:
-        from duhamel.store._run import run_stored
-
-        return run_stored(
-            system, integrator, store=store, checkpoint_every=checkpoint_every, t0=t0, dt=dt,
-            n_steps=n_steps, save_every=save_every, out_dofs=out_dofs, x0=x0, v0=v0,
-            threads=threads, progress=progress, started=started,
-        )  # fmt: skip
-    if isinstance(integrator, DirectIntegrator):
-        hysteretic = [
-            e for e in system.elements if e._path_dependent or getattr(e, "state", None) is not None
-        ]
-        if hysteretic and not getattr(integrator, "_commits_state", False):
-            raise ValueError(
-                f"`integrator`: {type(integrator).__name__} does not yet commit the internal "
-                f"variables of path-dependent elements ({type(hysteretic[0]).__name__}); use "
-                "duhamel.Semianalytic()"
-            )
-        n = system.n_dof
-        fns = [load.fn for load in system.loads if isinstance(load, Callable)]
-        with watch(progress, n_steps) as report:
-            return solve_direct(
-                system,
-                integrator,
-                dt=dt,
-                n_steps=n_steps,
-                x0=np.zeros(n) if x0 is None else as_float_array(x0, "x0", ndim=1, shape=(n,)),
-                v0=np.zeros(n) if v0 is None else as_float_array(v0, "v0", ndim=1, shape=(n,)),
-                save_every=save_every,
-                out_dofs=out_dofs,
-                forcing=ModalCallable(fns, n) if fns else None,
-                started=started,
-                t0=t0,
-                progress=report,
-            )
-
-    route = plan(system, integrator)
-    basis = route.basis
-    phi = basis.phi
-    specs, fns = modal_loads(system, phi)
-    spec = ModalSpec(
-        k=np.ascontiguousarray(basis.omega2, dtype=np.float64),
-        c=np.ascontiguousarray(basis.c, dtype=np.float64),
-        q0=_initial(x0, "x0", system, basis),
-        v0=_initial(v0, "v0", system, basis),
-        loads=specs,
-        t0=t0,
-        dt=dt,
-        n_steps=n_steps,
-        save_every=save_every,
-        threads=threads,
-        phi=np.ascontiguousarray(phi),
-    )
-    forcing = ModalCallable(fns, system.n_dof) if fns else None
-    phi_out = phi[out_dofs, :]
-    # The engine keeps q and v (or the first-order coordinates), loads and pseudo-forces.
-    check_memory(n_steps, save_every, len(out_dofs), 4 * basis.n_modes + len(specs))
-    with watch(progress, n_steps) as report:
-        loop_start = _time.perf_counter()
-        result = _run(route, spec, integrator, phi_out, forcing, report, system)
-        wall = _time.perf_counter() - loop_start
-
-    patterns = (
-        np.stack([s.pattern for s in specs], axis=1) if specs else np.zeros((phi.shape[1], 0))
-    )
-    kept, x, vel, acc, modal = physical(result, route, phi_out, patterns)
-    error = result.error
-    solution = Solution(
-        t=result.t[:kept],
-        x=x,
-        v=vel,
-        a=acc,
-        dofs=np.asarray(out_dofs, dtype=np.int64),
-        modal=modal,
-        stats=SolveStats(
-            steps=n_steps if error is None else error.step - 1,
-            wall_time=wall,
-            total_time=_time.perf_counter() - started,
-            modes=phi.shape[1],
-            newton_iterations=int(result.newton_iterations),
-            closed_form_steps=int(result.closed_form_steps),
-            factorizations=int(result.factorizations),
-            subdivided_steps=int(result.subdivided_steps),
-            subdivision_depth=int(result.subdivision_depth),
-            coupling=route.coupling,
-            eigenvector_condition=None if route.modes is None else route.modes.condition,
-        ),
-        meta={"dt": dt, "t0": t0, "integrator": integrator, "labels": system.dof_labels},
-        elements=element_histories(
-            [e for e in system.elements if not isinstance(e, LinearCoupling)],
-            result.t[:kept],
-            result,
-            kept,
-            route.linear,
-        ),
-        base=support_terms(system.loads, np.asarray(out_dofs, dtype=np.int64)),
-    )
-    if error is None and kept < result.t.size:
-        raise overflow_error(result.t, kept, dt, t0, solution)
-    if error is not None:
-        if kept < result.t.size:
-            # The outputs of the last states overflowed before the coordinates did.
-            error = error.kept_until(float(result.t[kept - 1]) if kept else None)
-        raise_failure(error, solution)
-    return solution
+    prepared = prepare(system, integrator, dt=dt, threads=threads)
+    return prepared._run(
+        t_end=t_end, t0=t0, x0=x0, v0=v0, loads=None, save_every=save_every, dofs=dofs,
+        store=store, checkpoint_every=checkpoint_every, progress=progress, started=started,
+    )  # fmt: skip

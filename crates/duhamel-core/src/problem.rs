@@ -1,6 +1,8 @@
 //! What every modal route integrates: the background modes, loads, initial state, time grid
 //! and what to keep.
 
+use std::sync::{Arc, Mutex};
+
 use crate::error::CoreError;
 use crate::loads::{check_loads, ModalLoad};
 
@@ -112,20 +114,30 @@ impl ModalProblem<'_> {
     }
 
     /// The rayon pool for `threads` (at most the machine's cores: more threads than cores
-    /// only contend), or None for the global pool.
-    pub(crate) fn pool(&self) -> Result<Option<rayon::ThreadPool>, CoreError> {
+    /// only contend), or None for the global pool. Pools are made once per size and kept:
+    /// a study of many short runs with `threads` set would otherwise start and join that many
+    /// threads per run.
+    pub(crate) fn pool(&self) -> Result<Option<Arc<rayon::ThreadPool>>, CoreError> {
         let Some(n) = self.threads else {
             return Ok(None);
         };
         let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n.clamp(1, cores))
+        let size = n.clamp(1, cores);
+        static POOLS: Mutex<Vec<(usize, Arc<rayon::ThreadPool>)>> = Mutex::new(Vec::new());
+        let mut pools = POOLS.lock().unwrap_or_else(|p| p.into_inner());
+        if let Some((_, pool)) = pools.iter().find(|(s, _)| *s == size) {
+            return Ok(Some(pool.clone()));
+        }
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(size)
             .build()
-            .map(Some)
+            .map(Arc::new)
             .map_err(|e| CoreError::InvalidInput {
                 name: "threads",
                 problem: e.to_string(),
-            })
+            })?;
+        pools.push((size, pool.clone()));
+        Ok(Some(pool))
     }
 }
 

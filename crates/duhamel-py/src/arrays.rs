@@ -40,15 +40,6 @@ pub(crate) fn flat_of(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> 
     vec_of(&obj.call_method0("ravel")?, name)
 }
 
-/// An optional float64 array attribute, flattened; `None` stays `None`.
-pub(crate) fn optional_flat(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Option<Vec<f64>>> {
-    if obj.is_none() {
-        Ok(None)
-    } else {
-        flat_of(obj, name).map(Some)
-    }
-}
-
 /// Non-negative integers from a 1-D int64 array.
 pub(crate) fn index_vec(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<usize>> {
     let arr = obj.cast::<numpy::PyArray1<i64>>().map_err(|_| {
@@ -61,12 +52,4 @@ pub(crate) fn index_vec(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<usiz
             usize::try_from(i).map_err(|_| PyValueError::new_err(format!("`{name}` is negative")))
         })
         .collect()
-}
-
-/// Attribute `name` of `obj`, extracted.
-pub(crate) fn attr<'py, T: pyo3::conversion::FromPyObjectOwned<'py>>(
-    obj: &Bound<'py, PyAny>,
-    name: &str,
-) -> PyResult<T> {
-    obj.getattr(name)?.extract::<T>().map_err(Into::into)
 }

@@ -1,149 +1,185 @@
-//! Binding of the background propagators' routes: uncoupled oscillators, first-order modes.
+//! Binding of the background propagators' routes: uncoupled oscillators, first-order modes
+//! (with the elements' corrector on them), and the outputs mapped during a run.
 
 use duhamel_core::background::first_order::{self, FirstOrderModes};
 use duhamel_core::background::uncoupled;
-use duhamel_core::output::Outputs;
+use duhamel_core::output::Outputs as CoreOutputs;
 use duhamel_core::pseudo::first_order::Nonlinear;
+use duhamel_core::ModalProblem;
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::arrays::{attr, flat_of};
+use crate::arrays::{flat_of, vec_of};
 use crate::driver::run;
-use crate::elements;
-use crate::guard::guarded;
+use crate::elements::{self, ElementSpec};
 use crate::history::RunResult;
 use crate::loads::PyForcing;
-use crate::problem::ModalInput;
+use crate::problem::RunSpec;
 
-/// Integrates uncoupled modal oscillators exactly; see `duhamel.solve`.
-///
-/// `problem` has the attributes of `duhamel._solve.plan.ModalSpec` (`phi` is used to project
-/// `forcing`, a Python function of time returning the physical load vector, or None);
-/// `progress` is None or a function `(step, n_steps, t)` called between blocks.
-#[pyfunction]
-pub(crate) fn solve_uncoupled(
+/// Runs uncoupled modal oscillators exactly.
+pub(crate) fn uncoupled(
     py: Python<'_>,
-    problem: &Bound<'_, PyAny>,
-    forcing: &Bound<'_, PyAny>,
+    problem: &ModalProblem<'_>,
+    forcing: Option<PyForcing>,
     progress: &Bound<'_, PyAny>,
 ) -> PyResult<RunResult> {
-    guarded(|| {
-        let input = ModalInput::extract(problem)?;
-        let p = input.problem();
-        let forcing = PyForcing::modal(forcing, &problem.getattr("phi")?, p.n_modes())?;
-        run(py, forcing, None, progress, |f, control| {
-            uncoupled::integrate(&p, f, control).map(|h| (h, ()))
-        })
+    run(py, forcing, None, progress, |f, control| {
+        uncoupled::integrate(problem, f, control).map(|h| (h, ()))
     })
 }
 
-/// Owned first-order modes: `lambda_re`, `lambda_im`, `gain_re`, `gain_im` (`r x m`),
-/// `eta0_re`, `eta0_im` attributes of a Python object.
-struct ModesInput {
-    parts: [Vec<f64>; 6],
+/// The elements' corrector on the first-order background: the elements (`_core.Element`s),
+/// `back` (`[Re eta | Im eta] @ back = [q | q']`, `2 r x 2 m`), and the Newton tolerance and
+/// iteration limit of the step equation (scheme b, trapezoid).
+#[pyclass(frozen, name = "Corrector", module = "duhamel._core")]
+pub(crate) struct Corrector {
+    elements: Vec<Py<ElementSpec>>,
+    back: Vec<f64>,
+    tol: f64,
+    max_iter: usize,
 }
 
-impl ModesInput {
-    fn extract(obj: &Bound<'_, PyAny>) -> PyResult<Self> {
-        let names = [
-            "lambda_re",
-            "lambda_im",
-            "gain_re",
-            "gain_im",
-            "eta0_re",
-            "eta0_im",
-        ];
-        let mut parts: [Vec<f64>; 6] = Default::default();
-        for (part, name) in parts.iter_mut().zip(names) {
-            *part = flat_of(&obj.getattr(name)?, name)?;
-        }
-        Ok(ModesInput { parts })
-    }
-
-    fn modes(&self) -> FirstOrderModes<'_> {
-        let [lr, li, gr, gi, er, ei] = &self.parts;
-        FirstOrderModes {
-            lambda_re: lr,
-            lambda_im: li,
-            gain_re: gr,
-            gain_im: gi,
-            eta0_re: er,
-            eta0_im: ei,
-        }
+#[pymethods]
+impl Corrector {
+    #[new]
+    fn new(
+        elements: Vec<Py<ElementSpec>>,
+        back: &Bound<'_, PyAny>,
+        tol: f64,
+        max_iter: usize,
+    ) -> PyResult<Self> {
+        Ok(Corrector {
+            elements,
+            back: flat_of(back, "back")?,
+            tol,
+            max_iter,
+        })
     }
 }
 
-/// Integrates a linear system with modal couplings exactly in its first-order modes; see
-/// `duhamel.solve`.
-///
-/// `modes` has `lambda_re`, `lambda_im`, `gain_re`, `gain_im`, `eta0_re`, `eta0_im`;
-/// `outputs` is None or has `map` (`2 r x n_cols`), `loads` (`n_loads x n_cols`) and
-/// `n_cols`, mapped during the run into `RunResult.outputs`; `nonlinear` is None or has
-/// `phi` (`n_dof x m`), `elements` (`_core.Element`s), `back` (`2 r x 2 m`), `tol` and
-/// `max_iter`: the elements then enter as a pseudo-force (scheme b, trapezoid).
-#[pyfunction]
-pub(crate) fn solve_first_order(
+/// The first-order route: eigenvalues `lambda` and gains (`r x m`, row `k` of `V^-1 B`) of
+/// the coupled background, as real and imaginary parts, and the elements' `corrector` (None:
+/// linear).
+#[pyclass(frozen, name = "FirstOrderRoute", module = "duhamel._core")]
+pub(crate) struct FirstOrderRoute {
+    lambda: [Vec<f64>; 2],
+    gain: [Vec<f64>; 2],
+    corrector: Option<Py<Corrector>>,
+}
+
+#[pymethods]
+impl FirstOrderRoute {
+    #[new]
+    #[pyo3(signature = (lambda_re, lambda_im, gain_re, gain_im, corrector=None))]
+    fn new(
+        lambda_re: &Bound<'_, PyAny>,
+        lambda_im: &Bound<'_, PyAny>,
+        gain_re: &Bound<'_, PyAny>,
+        gain_im: &Bound<'_, PyAny>,
+        corrector: Option<Py<Corrector>>,
+    ) -> PyResult<Self> {
+        Ok(FirstOrderRoute {
+            lambda: [
+                vec_of(lambda_re, "lambda_re")?,
+                vec_of(lambda_im, "lambda_im")?,
+            ],
+            gain: [flat_of(gain_re, "gain_re")?, flat_of(gain_im, "gain_im")?],
+            corrector,
+        })
+    }
+}
+
+/// Outputs mapped during a first-order run: `map` (`2 r x n_cols`: per unit of each
+/// coordinate) and `loads` (`n_loads x n_cols`: per unit value of each load's time function).
+#[pyclass(frozen, name = "Outputs", module = "duhamel._core")]
+pub(crate) struct Outputs {
+    map: Vec<f64>,
+    loads: Vec<f64>,
+    n_cols: usize,
+}
+
+#[pymethods]
+impl Outputs {
+    #[new]
+    fn new(map: &Bound<'_, PyAny>, loads: &Bound<'_, PyAny>, n_cols: usize) -> PyResult<Self> {
+        Ok(Outputs {
+            map: flat_of(map, "map")?,
+            loads: flat_of(loads, "loads")?,
+            n_cols,
+        })
+    }
+}
+
+/// One run on the first-order route: the mode shapes, the route, the run's problem and state, and
+/// the outputs to map.
+pub(crate) struct FirstOrderRun<'a> {
+    /// Mode shapes, `n_dof x n_modes` row-major.
+    pub(crate) phi: &'a [f64],
+    pub(crate) n_dof: usize,
+    pub(crate) route: &'a FirstOrderRoute,
+    pub(crate) problem: &'a ModalProblem<'a>,
+    pub(crate) run: &'a RunSpec,
+    pub(crate) outputs: Option<&'a Outputs>,
+}
+
+/// Integrates a linear system with modal couplings exactly in its first-order modes, the
+/// elements (if any) as a pseudo-force.
+pub(crate) fn first_order(
     py: Python<'_>,
-    problem: &Bound<'_, PyAny>,
-    modes: &Bound<'_, PyAny>,
-    outputs: &Bound<'_, PyAny>,
-    nonlinear: &Bound<'_, PyAny>,
-    forcing: &Bound<'_, PyAny>,
+    job: FirstOrderRun<'_>,
+    forcing: Option<PyForcing>,
     progress: &Bound<'_, PyAny>,
 ) -> PyResult<RunResult> {
-    guarded(|| {
-        let input = ModalInput::extract(problem)?;
-        let p = input.problem();
-        let modes = ModesInput::extract(modes)?;
-        let maps = if outputs.is_none() {
-            None
-        } else {
-            Some((
-                flat_of(&outputs.getattr("map")?, "map")?,
-                flat_of(&outputs.getattr("loads")?, "loads")?,
-                attr::<usize>(outputs, "n_cols")?,
-            ))
-        };
-        let outputs = maps.as_ref().map(|(map, loads, n_cols)| Outputs {
-            map,
-            loads,
-            n_cols: *n_cols,
-        });
-        let (nl_arrays, built) = if nonlinear.is_none() {
-            (None, elements::Built::default())
-        } else {
-            (
-                Some((
-                    flat_of(&nonlinear.getattr("phi")?, "phi")?,
-                    flat_of(&nonlinear.getattr("back")?, "back")?,
-                    attr::<f64>(nonlinear, "tol")?,
-                    attr::<usize>(nonlinear, "max_iter")?,
-                    crate::pseudo::element_state_of(nonlinear)?,
-                )),
-                elements::build(py, &nonlinear.getattr("elements")?)?,
-            )
-        };
-        let refs = built.refs();
-        let nonlinear = nl_arrays
-            .as_ref()
-            .map(|(phi, back, tol, max_iter, state)| Nonlinear {
-                phi,
-                n_dof: phi.len().checked_div(p.n_modes()).unwrap_or(0),
-                elements: &refs,
-                back,
-                tol: *tol,
-                max_iter: *max_iter,
-                element_state: state.as_deref(),
-            });
-        let forcing = PyForcing::modal(forcing, &problem.getattr("phi")?, p.n_modes())?;
-        run(py, forcing, Some(&built), progress, |f, control| {
-            first_order::integrate(
-                &p,
-                &modes.modes(),
-                outputs.as_ref(),
-                nonlinear.as_ref(),
-                f,
-                control,
-            )
-        })
+    let route = job.route;
+    let r = route.lambda[0].len();
+    let eta0 =
+        job.run.eta0.as_deref().ok_or_else(|| {
+            PyValueError::new_err("a first-order run needs its initial state `eta0`")
+        })?;
+    if eta0.len() != 2 * r {
+        return Err(PyValueError::new_err(format!(
+            "`eta0` must have {} entries (real and imaginary parts of {r} coordinates), got {}",
+            2 * r,
+            eta0.len()
+        )));
+    }
+    let modes = FirstOrderModes {
+        lambda_re: &route.lambda[0],
+        lambda_im: &route.lambda[1],
+        gain_re: &route.gain[0],
+        gain_im: &route.gain[1],
+        eta0_re: &eta0[..r],
+        eta0_im: &eta0[r..],
+    };
+    let outputs = job.outputs.map(|o| CoreOutputs {
+        map: &o.map,
+        loads: &o.loads,
+        n_cols: o.n_cols,
+    });
+    let corrector = route.corrector.as_ref().map(Py::get);
+    let built = match corrector {
+        Some(c) => elements::build_all(py, &c.elements)?,
+        None => elements::Built::default(),
+    };
+    let refs = built.refs();
+    let nonlinear = corrector.map(|c| Nonlinear {
+        phi: job.phi,
+        n_dof: job.n_dof,
+        elements: &refs,
+        back: &c.back,
+        tol: c.tol,
+        max_iter: c.max_iter,
+        element_state: job.run.element_state.as_deref(),
+    });
+    let problem = job.problem;
+    run(py, forcing, Some(&built), progress, |f, control| {
+        first_order::integrate(
+            problem,
+            &modes,
+            outputs.as_ref(),
+            nonlinear.as_ref(),
+            f,
+            control,
+        )
     })
 }

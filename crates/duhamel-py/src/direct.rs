@@ -2,7 +2,7 @@
 
 use duhamel_core::direct::assembly::Matrix as CoreMatrix;
 use duhamel_core::direct::{
-    self, AlphaParams, DirectProblem, Method as CoreMethod, ScaledCoupling,
+    self, AlphaParams, DirectProblem, Method as CoreMethod, ScaledCoupling as CoreScaled,
 };
 use duhamel_core::elements::Tangent;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
@@ -10,19 +10,20 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
-use crate::arrays::{attr, index_vec, vec_of};
-use crate::driver::run;
-use crate::elements;
+use crate::arrays::{index_vec, vec_of};
+use crate::driver::run as run_with;
+use crate::elements::{self, ElementSpec};
 use crate::error::core_err;
 use crate::guard::guarded;
 use crate::history::RunResult;
-use crate::loads::{loads_of, PyForcing};
-use crate::mass::mass_of;
-use crate::speed::speed_of;
+use crate::loads::{owned_loads, Load, PyForcing};
+use crate::mass::Mass;
+use crate::problem::Grid;
+use crate::speed::SpeedLaw;
 
 /// A dense or CSR sparse matrix for the direct integrators.
 #[pyclass(frozen, name = "Matrix", module = "duhamel._core")]
-pub(crate) struct Matrix(CoreMatrix);
+pub(crate) struct Matrix(pub(crate) CoreMatrix);
 
 #[pymethods]
 impl Matrix {
@@ -68,7 +69,7 @@ impl Matrix {
 
 /// A direct integration method.
 #[pyclass(frozen, name = "Method", module = "duhamel._core")]
-pub(crate) struct Method(CoreMethod);
+pub(crate) struct Method(pub(crate) CoreMethod);
 
 #[pymethods]
 impl Method {
@@ -90,104 +91,186 @@ impl Method {
     }
 }
 
-/// The matrix of attribute `name` (a `_core.Matrix`), or None.
-fn matrix_of(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Option<CoreMatrix>> {
-    let m = obj.getattr(name)?;
-    if m.is_none() {
-        return Ok(None);
-    }
-    Ok(Some(m.cast::<Matrix>()?.get().0.clone()))
+/// Matrices multiplied by a speed law `s(t)`: the force `s(t) (K x + C x')` (physical, direct
+/// integrators) or the modal pseudo-force `-s(t) (K q + C q')` (the gyroscopic `omega(t) G`
+/// of a run-up).
+#[pyclass(frozen, name = "ScaledCoupling", module = "duhamel._core")]
+pub(crate) struct ScaledCoupling {
+    pub(crate) k: Option<Py<Matrix>>,
+    pub(crate) c: Option<Py<Matrix>>,
+    pub(crate) law: duhamel_core::speed::SpeedLaw,
 }
 
-/// Owned couplings scaled by a speed law.
-type Scaled = (
-    Option<CoreMatrix>,
-    Option<CoreMatrix>,
-    duhamel_core::speed::SpeedLaw,
-);
+#[pymethods]
+impl ScaledCoupling {
+    #[new]
+    #[pyo3(signature = (k, c, law))]
+    fn new(k: Option<Py<Matrix>>, c: Option<Py<Matrix>>, law: &SpeedLaw) -> Self {
+        ScaledCoupling { k, c, law: law.0 }
+    }
+}
 
-/// Integrates the physical equations of motion directly; see `duhamel.solve`.
-///
-/// `problem` has `m`, `k`, `c`, `k_fixed` (`_core.Matrix` or None), `scaled` (objects with
-/// `k`, `c` matrices or None and a `law`), `elements`, `loads` (objects with physical
-/// `pattern` and `time`), `mass`, `x0`, `v0`, `a0` (or None: from the equation of motion),
-/// `t0`, `dt`, `n_steps`, `save_every`, `out_dofs` (int64), `method` (a `_core.Method`),
-/// `tol` and `max_iter`. `forcing` is None or a Python function of time returning physical
-/// loads; `progress` as for `solve_uncoupled`.
-#[pyfunction]
-pub(crate) fn solve_direct(
-    py: Python<'_>,
-    problem: &Bound<'_, PyAny>,
-    forcing: &Bound<'_, PyAny>,
-    progress: &Bound<'_, PyAny>,
-) -> PyResult<RunResult> {
-    guarded(|| {
-        let required = |name: &str| -> PyResult<CoreMatrix> {
-            matrix_of(problem, name)?.ok_or_else(|| {
-                PyValueError::new_err(format!("`{}` is required", name.to_uppercase()))
-            })
-        };
-        let m = required("m")?;
-        let k = required("k")?;
-        let c = matrix_of(problem, "c")?;
-        let k_fixed = matrix_of(problem, "k_fixed")?;
-        let mut owned: Vec<Scaled> = Vec::new();
-        for item in problem.getattr("scaled")?.try_iter()? {
-            let item = item?;
-            owned.push((
-                matrix_of(&item, "k")?,
-                matrix_of(&item, "c")?,
-                speed_of(&item.getattr("law")?)?,
-            ));
+/// The physical matrices of a direct run: mass `m` (constant part of `M(t)`), stiffness `k`
+/// (scaled with the mass law when the law says so), damping `c`, stiffness `k_fixed` that
+/// never scales (linear couplings), and couplings `scaled` by a speed law.
+#[pyclass(frozen, name = "Matrices", module = "duhamel._core")]
+pub(crate) struct Matrices {
+    m: Py<Matrix>,
+    k: Py<Matrix>,
+    c: Option<Py<Matrix>>,
+    k_fixed: Option<Py<Matrix>>,
+    scaled: Vec<Py<ScaledCoupling>>,
+}
+
+#[pymethods]
+impl Matrices {
+    #[new]
+    #[pyo3(signature = (m, k, c=None, k_fixed=None, scaled=Vec::new()))]
+    fn new(
+        m: Py<Matrix>,
+        k: Py<Matrix>,
+        c: Option<Py<Matrix>>,
+        k_fixed: Option<Py<Matrix>>,
+        scaled: Vec<Py<ScaledCoupling>>,
+    ) -> Self {
+        Matrices {
+            m,
+            k,
+            c,
+            k_fixed,
+            scaled,
         }
-        let scaled: Vec<ScaledCoupling> = owned
-            .iter()
-            .map(|(k, c, law)| ScaledCoupling {
-                k: k.as_ref(),
-                c: c.as_ref(),
-                law: *law,
-            })
-            .collect();
-        let a0 = problem.getattr("a0")?;
-        let a0 = if a0.is_none() {
-            None
-        } else {
-            Some(vec_of(&a0, "a0")?)
-        };
-        let x0 = vec_of(&problem.getattr("x0")?, "x0")?;
-        let v0 = vec_of(&problem.getattr("v0")?, "v0")?;
-        let loads = loads_of(&problem.getattr("loads")?)?;
-        let out_dofs = index_vec(&problem.getattr("out_dofs")?, "dofs")?;
-        let method = problem.getattr("method")?.cast::<Method>()?.get().0;
-        let built = elements::build(py, &problem.getattr("elements")?)?;
-        let refs = built.refs();
-        let mass = mass_of(&problem.getattr("mass")?)?;
-        let p = DirectProblem {
-            m: &m,
-            k: &k,
-            c: c.as_ref(),
-            k_fixed: k_fixed.as_ref(),
-            scaled: &scaled,
-            elements: &refs,
-            loads: &loads,
-            mass: mass.as_ref(),
-            x0: &x0,
-            v0: &v0,
-            a0: a0.as_deref(),
-            t0: attr(problem, "t0")?,
-            dt: attr(problem, "dt")?,
-            n_steps: attr(problem, "n_steps")?,
-            save_every: attr(problem, "save_every")?,
-            out_dofs: &out_dofs,
-            method,
-            tol: attr(problem, "tol")?,
-            max_iter: attr(problem, "max_iter")?,
-        };
-        let forcing = PyForcing::physical(forcing, x0.len());
-        run(py, forcing, Some(&built), progress, |f, control| {
-            direct::integrate(&p, f, control)
+    }
+}
+
+/// A model for the direct integrators: its `matrices`, force `elements`, `mass` law (None:
+/// constant), `method`, and the Newton `tol` and `max_iter` of implicit steps.
+#[pyclass(frozen, name = "DirectModel", module = "duhamel._core")]
+pub(crate) struct DirectModel {
+    matrices: Py<Matrices>,
+    elements: Vec<Py<ElementSpec>>,
+    mass: Option<Py<Mass>>,
+    method: CoreMethod,
+    tol: f64,
+    max_iter: usize,
+}
+
+/// One direct run: its grid, initial displacements `x0` and velocities `v0`, optionally the
+/// initial acceleration `a0` (generalized-alpha; None: from the equation of motion), and the
+/// dofs whose history is kept (`out_dofs`, int64).
+#[pyclass(frozen, name = "DirectRun", module = "duhamel._core")]
+pub(crate) struct DirectRun {
+    grid: Grid,
+    x0: Vec<f64>,
+    v0: Vec<f64>,
+    a0: Option<Vec<f64>>,
+    out_dofs: Vec<usize>,
+}
+
+#[pymethods]
+impl DirectRun {
+    #[new]
+    #[pyo3(signature = (grid, x0, v0, out_dofs, a0=None))]
+    fn new(
+        grid: &Grid,
+        x0: &Bound<'_, PyAny>,
+        v0: &Bound<'_, PyAny>,
+        out_dofs: &Bound<'_, PyAny>,
+        a0: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        Ok(DirectRun {
+            grid: *grid,
+            x0: vec_of(x0, "x0")?,
+            v0: vec_of(v0, "v0")?,
+            a0: a0.map(|a| vec_of(a, "a0")).transpose()?,
+            out_dofs: index_vec(out_dofs, "dofs")?,
         })
-    })
+    }
+}
+
+#[pymethods]
+impl DirectModel {
+    #[new]
+    fn new(
+        matrices: Py<Matrices>,
+        elements: Vec<Py<ElementSpec>>,
+        mass: Option<Py<Mass>>,
+        method: &Method,
+        tol: f64,
+        max_iter: usize,
+    ) -> Self {
+        DirectModel {
+            matrices,
+            elements,
+            mass,
+            method: method.0,
+            tol,
+            max_iter,
+        }
+    }
+
+    /// Integrates the physical equations of motion directly over `run`'s grid; `loads` are
+    /// `_core.Load`s with physical patterns, `forcing` None or a Python function of time
+    /// returning physical loads, `progress` as for `ModalModel.run`.
+    #[pyo3(signature = (run, loads, forcing=None, progress=None))]
+    fn run(
+        &self,
+        py: Python<'_>,
+        run: &DirectRun,
+        loads: Vec<PyRef<'_, Load>>,
+        forcing: Option<&Bound<'_, PyAny>>,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<RunResult> {
+        guarded(|| {
+            let mats = self.matrices.get();
+            let scaled: Vec<CoreScaled> = mats
+                .scaled
+                .iter()
+                .map(|s| {
+                    let s = s.get();
+                    CoreScaled {
+                        k: s.k.as_ref().map(|m| &m.get().0),
+                        c: s.c.as_ref().map(|m| &m.get().0),
+                        law: s.law,
+                    }
+                })
+                .collect();
+            let loads = owned_loads(&loads);
+            let built = elements::build_all(py, &self.elements)?;
+            let refs = built.refs();
+            let g = run.grid;
+            let p = DirectProblem {
+                m: &mats.m.get().0,
+                k: &mats.k.get().0,
+                c: mats.c.as_ref().map(|m| &m.get().0),
+                k_fixed: mats.k_fixed.as_ref().map(|m| &m.get().0),
+                scaled: &scaled,
+                elements: &refs,
+                loads: &loads,
+                mass: self.mass.as_ref().map(|m| &m.get().0),
+                x0: &run.x0,
+                v0: &run.v0,
+                a0: run.a0.as_deref(),
+                t0: g.t0,
+                dt: g.dt,
+                n_steps: g.n_steps,
+                save_every: g.save_every,
+                out_dofs: &run.out_dofs,
+                method: self.method,
+                tol: self.tol,
+                max_iter: self.max_iter,
+            };
+            let none = py.None().into_bound(py);
+            let forcing = PyForcing::physical(forcing.unwrap_or(&none), run.x0.len());
+            run_with(
+                py,
+                forcing,
+                Some(&built),
+                progress.unwrap_or(&none),
+                |f, control| direct::integrate(&p, f, control),
+            )
+        })
+    }
 }
 
 /// The elements' stiffness `dr/dx` at the state `(x, v)` and time `t`, as COO triplets

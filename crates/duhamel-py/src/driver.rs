@@ -76,16 +76,20 @@ where
 {
     guarded(|| {
         let mut control = PyControl::new(progress);
+        let started = std::time::Instant::now();
         let result = py.detach(|| {
             let f = forcing.as_mut().map(|f| f as &mut dyn ModalForcing);
             integrate(f, &mut control)
         });
+        let loop_time = started.elapsed().as_secs_f64();
         let causes = Causes {
             callback: forcing
                 .and_then(|f| f.error)
                 .or_else(|| built.and_then(Built::take_error)),
             control: control.error,
         };
-        finish(py, result, causes)
+        let mut result = finish(py, result, causes)?;
+        result.loop_time = loop_time;
+        Ok(result)
     })
 }

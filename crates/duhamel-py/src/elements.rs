@@ -45,6 +45,12 @@ pub(crate) struct ElementSpec(Spec);
 
 #[pymethods]
 impl ElementSpec {
+    /// The global dofs the element acts on, in its local order.
+    #[getter]
+    fn dofs(&self) -> Vec<usize> {
+        self.dof_list()
+    }
+
     /// `r = sum_k coefficients[k] x^k` at `dof`.
     #[staticmethod]
     fn polynomial(dof: usize, coefficients: &Bound<'_, PyAny>) -> PyResult<Self> {
@@ -95,18 +101,18 @@ impl ElementSpec {
         Ok(ElementSpec(Spec::Contact(e)))
     }
 
-    /// Short (Ocvirk) journal bearing with half-film cavitation, spinning at `law`.
+    /// Short (Ocvirk) journal bearing with half-film cavitation on the journal's dofs
+    /// `(x, y)`, spinning at `law`.
     #[staticmethod]
-    #[allow(clippy::too_many_arguments)]
     fn journal_bearing(
-        dof_x: usize,
-        dof_y: usize,
+        dofs: (usize, usize),
         radius: f64,
         length: f64,
         clearance: f64,
         viscosity: f64,
         law: &crate::speed::SpeedLaw,
     ) -> PyResult<Self> {
+        let (dof_x, dof_y) = dofs;
         let e = guarded(|| {
             ShortJournalBearing::new(dof_x, dof_y, radius, length, clearance, viscosity, law.0)
                 .map_err(core_err)
@@ -185,20 +191,19 @@ impl ElementSpec {
             .map(|e| ElementSpec(Spec::Bilinear(e)))
     }
 
-    /// Bouc-Wen smooth hysteretic spring.
+    /// Bouc-Wen smooth hysteretic spring on `d = x_i - x_j` (`j` None: to ground), its loop
+    /// shaped by `(n, beta, gamma)`.
     #[staticmethod]
-    #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (i, j, k, fy, alpha, n, beta, gamma))]
+    #[pyo3(signature = (i, j, k, fy, alpha, shape))]
     fn bouc_wen(
         i: usize,
         j: Option<usize>,
         k: f64,
         fy: f64,
         alpha: f64,
-        n: f64,
-        beta: f64,
-        gamma: f64,
+        shape: (f64, f64, f64),
     ) -> PyResult<Self> {
+        let (n, beta, gamma) = shape;
         guarded(|| BoucWen::new(i, j, k, fy, alpha, n, beta, gamma).map_err(core_err))
             .map(|e| ElementSpec(Spec::BoucWen(e)))
     }
@@ -321,6 +326,19 @@ impl Built {
     }
 }
 
+/// Builds fresh elements (initial state) of the specs a model holds.
+pub(crate) fn build_all(py: Python<'_>, specs: &[Py<ElementSpec>]) -> PyResult<Built> {
+    let mut built = Built {
+        elements: Vec::new(),
+        python: Vec::new(),
+    };
+    for spec in specs {
+        let element = make(py, spec.get(), &mut built)?;
+        built.elements.push(element);
+    }
+    Ok(built)
+}
+
 /// Builds the elements of a sequence of `_core.Element` specs.
 pub(crate) fn build(py: Python<'_>, specs: &Bound<'_, PyAny>) -> PyResult<Built> {
     let mut built = Built {
@@ -375,22 +393,27 @@ fn make(py: Python<'_>, spec: &ElementSpec, built: &mut Built) -> PyResult<Box<d
 }
 
 impl ElementSpec {
+    /// The global dofs the element acts on, in its local order.
+    fn dof_list(&self) -> Vec<usize> {
+        match &self.0 {
+            Spec::Polynomial(e) => e.dofs().to_vec(),
+            Spec::Spring(e) => e.dofs().to_vec(),
+            Spec::Damper(e) => e.dofs().to_vec(),
+            Spec::Contact(e) => e.dofs().to_vec(),
+            Spec::Bilinear(e) => e.dofs().to_vec(),
+            Spec::BoucWen(e) => e.dofs().to_vec(),
+            Spec::FrictionPendulum(e) => e.dofs().to_vec(),
+            Spec::ViscousDamper(e) => e.dofs().to_vec(),
+            Spec::Gap(e) => e.dofs().to_vec(),
+            Spec::Journal(e) => e.dofs().to_vec(),
+            Spec::SpeedTable(e) => e.dofs().to_vec(),
+            Spec::Callable { dofs, .. } => dofs.clone(),
+            Spec::Shifted { inner, .. } => inner.get().dof_list(),
+        }
+    }
+
     /// The number of local dofs of the element.
     fn n_dofs(&self) -> usize {
-        match &self.0 {
-            Spec::Polynomial(e) => e.dofs().len(),
-            Spec::Spring(e) => e.dofs().len(),
-            Spec::Damper(e) => e.dofs().len(),
-            Spec::Contact(e) => e.dofs().len(),
-            Spec::Bilinear(e) => e.dofs().len(),
-            Spec::BoucWen(e) => e.dofs().len(),
-            Spec::FrictionPendulum(e) => e.dofs().len(),
-            Spec::ViscousDamper(e) => e.dofs().len(),
-            Spec::Gap(e) => e.dofs().len(),
-            Spec::Journal(e) => e.dofs().len(),
-            Spec::SpeedTable(e) => e.dofs().len(),
-            Spec::Callable { dofs, .. } => dofs.len(),
-            Spec::Shifted { inner, .. } => inner.get().n_dofs(),
-        }
+        self.dof_list().len()
     }
 }

@@ -70,6 +70,10 @@ pub(crate) struct RunResult {
     subdivided_steps: usize,
     #[pyo3(get)]
     subdivision_depth: usize,
+    /// Seconds spent in the engine's loop (with the GIL released), as measured by the
+    /// binding: the run's cost without extraction and conversion.
+    #[pyo3(get)]
+    pub(crate) loop_time: f64,
     /// None, or why the run stopped early (the arrays then hold what was kept).
     #[pyo3(get)]
     error: Option<Py<RunError>>,
@@ -112,6 +116,7 @@ impl RunResult {
             factorizations: 0,
             subdivided_steps: 0,
             subdivision_depth: 0,
+            loop_time: 0.0,
             error: None,
         }
     }

@@ -1,8 +1,9 @@
 //! `duhamel._core`: the thin PyO3 binding of `duhamel-core`, module for module.
 //!
-//! Inputs are extracted into Rust values first (typed spec classes made once in Python:
-//! `TimeFunction`, `SpeedLaw`, `MassLaw`, `Element`, `Matrix`, `Method`; problems read from
-//! the attributes of Python spec objects); the time loop then runs with the GIL released,
+//! Inputs are typed classes, checked when made and extracted into Rust values once
+//! (`TimeFunction`, `SpeedLaw`, `MassLaw`, `Mass`, `Element`, `Load`, `Matrix`, `Method`; a
+//! prepared `ModalModel` with its route — `FirstOrderRoute`, `PseudoForceRoute` — or a
+//! `DirectModel`; per run a `RunSpec`/`DirectRun` on a `Grid`); the time loop then runs with the GIL released,
 //! taking it back between blocks to check for Ctrl-C and report progress. A run returns a
 //! `RunResult` (numpy arrays moved, not copied) whose `error` is None or a `RunError` with
 //! the fields of the core's error; input errors raise `ValueError`/`TypeError` naming the
@@ -19,6 +20,7 @@ mod guard;
 mod history;
 mod loads;
 mod mass;
+mod model;
 mod problem;
 mod pseudo;
 mod spectra;
@@ -148,10 +150,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(transfer, m)?)?;
     m.add_function(wrap_pyfunction!(transfer_kc, m)?)?;
-    m.add_function(wrap_pyfunction!(background::solve_uncoupled, m)?)?;
-    m.add_function(wrap_pyfunction!(background::solve_first_order, m)?)?;
-    m.add_function(wrap_pyfunction!(pseudo::solve_pseudo, m)?)?;
-    m.add_function(wrap_pyfunction!(direct::solve_direct, m)?)?;
     m.add_function(wrap_pyfunction!(direct::element_stiffness, m)?)?;
     m.add_function(wrap_pyfunction!(spectra::elastic_spectra, m)?)?;
     m.add_function(wrap_pyfunction!(spectra::rotd_peaks, m)?)?;
@@ -164,6 +162,20 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<elements::ElementSpec>()?;
     m.add_class::<direct::Matrix>()?;
     m.add_class::<direct::Method>()?;
+    m.add_class::<direct::ScaledCoupling>()?;
+    m.add_class::<direct::Matrices>()?;
+    m.add_class::<direct::DirectModel>()?;
+    m.add_class::<direct::DirectRun>()?;
+    m.add_class::<loads::Load>()?;
+    m.add_class::<mass::Mass>()?;
+    m.add_class::<problem::Grid>()?;
+    m.add_class::<problem::RunSpec>()?;
+    m.add_class::<background::Corrector>()?;
+    m.add_class::<background::FirstOrderRoute>()?;
+    m.add_class::<background::Outputs>()?;
+    m.add_class::<pseudo::Options>()?;
+    m.add_class::<pseudo::PseudoForceRoute>()?;
+    m.add_class::<model::ModalModel>()?;
     m.add_class::<history::RunResult>()?;
     m.add_class::<error::RunError>()?;
     Ok(())

@@ -6,7 +6,7 @@ use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::arrays::{flat_of, vec_of};
+use crate::arrays::vec_of;
 use crate::error::core_err;
 use crate::guard::guarded;
 use crate::speed::speed_of;
@@ -81,22 +81,56 @@ fn checked(f: CoreFunction) -> PyResult<TimeFunction> {
     Ok(TimeFunction(f))
 }
 
-/// The loads of a problem: a sequence of objects with `pattern` (float64 vector) and `time`
-/// (a `_core.TimeFunction`).
-pub(crate) fn loads_of(loads: &Bound<'_, PyAny>) -> PyResult<Vec<ModalLoad>> {
-    let mut out = Vec::new();
-    for item in loads.try_iter()? {
-        let item = item?;
-        let pattern = vec_of(&item.getattr("pattern")?, "load pattern")?;
-        let time = item
-            .getattr("time")?
-            .cast::<TimeFunction>()?
-            .get()
-            .0
-            .clone();
-        out.push(ModalLoad { pattern, time });
+/// A built-in load of a model: `pattern * s(t)` (modal pattern for the modal routes,
+/// physical for the direct integrators), checked when made.
+#[pyclass(frozen, name = "Load", module = "duhamel._core")]
+pub(crate) struct Load(pub(crate) ModalLoad);
+
+#[pymethods]
+impl Load {
+    #[new]
+    fn new(pattern: &Bound<'_, PyAny>, time: &TimeFunction) -> PyResult<Self> {
+        let pattern = vec_of(pattern, "load pattern")?;
+        if let Some(i) = pattern.iter().position(|x| !x.is_finite()) {
+            return Err(PyValueError::new_err(format!(
+                "a load's pattern must be finite, got {} at entry {i}",
+                pattern[i]
+            )));
+        }
+        Ok(Load(ModalLoad {
+            pattern,
+            time: time.0.clone(),
+        }))
     }
-    Ok(out)
+
+    /// The load's pattern.
+    #[getter]
+    fn pattern<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.0.pattern)
+    }
+
+    /// The load's time function.
+    #[getter]
+    fn time(&self) -> TimeFunction {
+        TimeFunction(self.0.time.clone())
+    }
+}
+
+/// The core's loads of a sequence of `_core.Load`s.
+pub(crate) fn owned_loads(loads: &[PyRef<'_, Load>]) -> Vec<ModalLoad> {
+    loads.iter().map(|l| l.0.clone()).collect()
+}
+
+/// Mode shapes `phi` (`n_dof x n_modes`, row-major), transposed: what [`PyForcing`]
+/// projects a physical load vector with.
+pub(crate) fn transposed(phi: &[f64], n_dof: usize, n_modes: usize) -> Vec<f64> {
+    let mut phi_t = vec![0.0; phi.len()];
+    for d in 0..n_dof {
+        for m in 0..n_modes {
+            phi_t[m * n_dof + d] = phi[d * n_modes + m];
+        }
+    }
+    phi_t
 }
 
 /// Calls a Python function of time and projects its load vector on the modes (or, for the
@@ -111,32 +145,15 @@ pub(crate) struct PyForcing {
 }
 
 impl PyForcing {
-    /// The forcing of `func` projected on the modes `phi` (`n_dof x n_modes`).
-    pub(crate) fn modal(
-        func: &Bound<'_, PyAny>,
-        phi: &Bound<'_, PyAny>,
-        n_modes: usize,
-    ) -> PyResult<Option<Self>> {
-        if func.is_none() {
-            return Ok(None);
-        }
-        let phi = flat_of(phi, "phi")?;
-        let n_dof = phi.len().checked_div(n_modes).unwrap_or(0);
-        if n_dof * n_modes != phi.len() {
-            return Err(PyValueError::new_err("`phi` must have n_modes columns"));
-        }
-        let mut phi_t = vec![0.0; phi.len()];
-        for d in 0..n_dof {
-            for m in 0..n_modes {
-                phi_t[m * n_dof + d] = phi[d * n_modes + m];
-            }
-        }
-        Ok(Some(PyForcing {
+    /// The forcing of `func` projected with the transposed mode shapes `phi_t`
+    /// (`n_modes x n_dof`, see [`transposed`]).
+    pub(crate) fn projected(func: &Bound<'_, PyAny>, phi_t: &[f64], n_dof: usize) -> Option<Self> {
+        (!func.is_none()).then(|| PyForcing {
             func: func.clone().unbind(),
-            phi_t: Some(phi_t),
+            phi_t: Some(phi_t.to_vec()),
             n_dof,
             error: None,
-        }))
+        })
     }
 
     /// The forcing of `func` returning physical loads, used as they are.

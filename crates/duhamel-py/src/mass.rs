@@ -4,7 +4,7 @@ use duhamel_core::mass::{MassForm, MassLaw as CoreLaw, MassTreatment, TimeVaryin
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::arrays::{attr, vec_of};
+use crate::arrays::vec_of;
 
 /// A mass law `mu(t)` (checked against the run's span when the run starts).
 #[pyclass(frozen, name = "MassLaw", module = "duhamel._core")]
@@ -42,36 +42,44 @@ impl MassLaw {
     }
 }
 
-/// The mass of a run: an object with `law` (a `_core.MassLaw`), `form` ("acceleration" or
-/// "momentum"), `scale_stiffness` (bool) and `treatment` ("eliminate" or "estimate"; the
-/// direct integrators ignore it).
-pub(crate) fn mass_of(obj: &Bound<'_, PyAny>) -> PyResult<Option<TimeVaryingMass>> {
-    if obj.is_none() {
-        return Ok(None);
+/// The mass of a run: the law `mu(t)`, the `form` of the inertia term ("acceleration":
+/// `mu M x''`, or "momentum": `(mu M x')'`), whether the stiffness scales with the mass, and
+/// the semi-analytic `treatment` ("eliminate" or "estimate"; the direct integrators ignore
+/// it). Checked when made.
+#[pyclass(frozen, name = "Mass", module = "duhamel._core")]
+pub(crate) struct Mass(pub(crate) TimeVaryingMass);
+
+#[pymethods]
+impl Mass {
+    #[new]
+    fn new(law: &MassLaw, form: &str, scale_stiffness: bool, treatment: &str) -> PyResult<Self> {
+        let form = match form {
+            "acceleration" => MassForm::Acceleration,
+            "momentum" => MassForm::Momentum,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "`form` must be 'acceleration' or 'momentum', got {other:?}"
+                )))
+            }
+        };
+        let treatment = match treatment {
+            "eliminate" => MassTreatment::Eliminate,
+            "estimate" => MassTreatment::Estimate,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "`mass_treatment` must be 'eliminate' or 'estimate', got {other:?}"
+                )))
+            }
+        };
+        Ok(Mass(TimeVaryingMass {
+            law: law.0.clone(),
+            form,
+            scale_stiffness,
+            treatment,
+        }))
     }
-    let law = obj.getattr("law")?.cast::<MassLaw>()?.get().0.clone();
-    let form = match attr::<String>(obj, "form")?.as_str() {
-        "acceleration" => MassForm::Acceleration,
-        "momentum" => MassForm::Momentum,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "`form` must be 'acceleration' or 'momentum', got {other:?}"
-            )))
-        }
-    };
-    let treatment = match attr::<String>(obj, "treatment")?.as_str() {
-        "eliminate" => MassTreatment::Eliminate,
-        "estimate" => MassTreatment::Estimate,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "`mass_treatment` must be 'eliminate' or 'estimate', got {other:?}"
-            )))
-        }
-    };
-    Ok(Some(TimeVaryingMass {
-        law,
-        form,
-        scale_stiffness: attr(obj, "scale_stiffness")?,
-        treatment,
-    }))
+
+    fn __repr__(&self) -> String {
+        format!("{:?}", self.0)
+    }
 }

@@ -1,66 +1,111 @@
-//! The modal problem, extracted once into Rust values.
+//! One run of a model: its time grid and initial state, as typed values.
 
 use duhamel_core::loads::ModalLoad;
 use duhamel_core::ModalProblem;
 use pyo3::prelude::*;
 
-use crate::arrays::{attr, vec_of};
-use crate::loads::loads_of;
+use crate::arrays::vec_of;
 
-/// The owned inputs of a [`ModalProblem`], extracted from a Python object with the
-/// attributes `k`, `c` (modal stiffness and damping), `q0`, `v0`, `loads`, `t0`, `dt`,
-/// `n_steps`, `save_every` and `threads` (see `duhamel._solve.plan`), and optionally
-/// `step0` (the grid point a continued run starts at; 0 otherwise).
-pub(crate) struct ModalInput {
-    k: Vec<f64>,
-    c: Vec<f64>,
-    q0: Vec<f64>,
-    v0: Vec<f64>,
-    loads: Vec<ModalLoad>,
-    t0: f64,
-    step0: usize,
-    dt: f64,
-    n_steps: usize,
-    save_every: usize,
-    threads: Option<usize>,
+/// The time grid of one run: `t0 + (step0 + n) dt`, `n = 0..=n_steps`, every `save_every`-th
+/// instant kept, on `threads` worker threads (None: all cores).
+#[pyclass(frozen, name = "Grid", module = "duhamel._core")]
+#[derive(Clone, Copy)]
+pub(crate) struct Grid {
+    pub(crate) t0: f64,
+    pub(crate) step0: usize,
+    pub(crate) dt: f64,
+    pub(crate) n_steps: usize,
+    pub(crate) save_every: usize,
+    pub(crate) threads: Option<usize>,
 }
 
-impl ModalInput {
-    /// Extracts the inputs; errors name the Python-side parameter.
-    pub(crate) fn extract(obj: &Bound<'_, PyAny>) -> PyResult<Self> {
-        Ok(ModalInput {
-            k: vec_of(&obj.getattr("k")?, "omega2")?,
-            c: vec_of(&obj.getattr("c")?, "c")?,
-            q0: vec_of(&obj.getattr("q0")?, "x0")?,
-            v0: vec_of(&obj.getattr("v0")?, "v0")?,
-            loads: loads_of(&obj.getattr("loads")?)?,
-            t0: attr(obj, "t0")?,
-            step0: if obj.hasattr("step0")? {
-                attr(obj, "step0")?
-            } else {
-                0
-            },
-            dt: attr(obj, "dt")?,
-            n_steps: attr(obj, "n_steps")?,
-            save_every: attr(obj, "save_every")?,
-            threads: attr(obj, "threads")?,
-        })
+#[pymethods]
+impl Grid {
+    #[new]
+    #[pyo3(signature = (t0, dt, n_steps, save_every, step0=0, threads=None))]
+    fn new(
+        t0: f64,
+        dt: f64,
+        n_steps: usize,
+        save_every: usize,
+        step0: usize,
+        threads: Option<usize>,
+    ) -> Self {
+        Grid {
+            t0,
+            step0,
+            dt,
+            n_steps,
+            save_every,
+            threads,
+        }
     }
 
-    /// The core's view of the inputs.
-    pub(crate) fn problem(&self) -> ModalProblem<'_> {
+    fn __repr__(&self) -> String {
+        format!(
+            "Grid(t0={}, dt={}, n_steps={}, save_every={}, step0={}, threads={:?})",
+            self.t0, self.dt, self.n_steps, self.save_every, self.step0, self.threads
+        )
+    }
+}
+
+/// One run of a prepared modal model (`duhamel._core.ModalModel.run`): its grid and the
+/// state it starts from — modal coordinates and velocities `q0`, `v0`; on the first-order
+/// route optionally the first-order coordinates `eta0` (`Re | Im`, else computed by the
+/// caller); the elements' committed variables of a continued run, `element_state`.
+#[pyclass(frozen, name = "RunSpec", module = "duhamel._core")]
+pub(crate) struct RunSpec {
+    pub(crate) grid: Grid,
+    pub(crate) q0: Vec<f64>,
+    pub(crate) v0: Vec<f64>,
+    pub(crate) eta0: Option<Vec<f64>>,
+    pub(crate) element_state: Option<Vec<f64>>,
+}
+
+#[pymethods]
+impl RunSpec {
+    #[new]
+    #[pyo3(signature = (grid, q0, v0, eta0=None, element_state=None))]
+    fn new(
+        grid: &Grid,
+        q0: &Bound<'_, PyAny>,
+        v0: &Bound<'_, PyAny>,
+        eta0: Option<&Bound<'_, PyAny>>,
+        element_state: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        Ok(RunSpec {
+            grid: *grid,
+            q0: vec_of(q0, "x0")?,
+            v0: vec_of(v0, "v0")?,
+            eta0: eta0.map(|e| vec_of(e, "eta0")).transpose()?,
+            element_state: element_state
+                .map(|e| vec_of(e, "element_state"))
+                .transpose()?,
+        })
+    }
+}
+
+impl RunSpec {
+    /// The core's problem of this run on the background `k`, `c` with `loads`.
+    pub(crate) fn problem<'a>(
+        &'a self,
+        k: &'a [f64],
+        c: &'a [f64],
+        loads: &'a [ModalLoad],
+    ) -> ModalProblem<'a> {
+        let g = &self.grid;
         ModalProblem {
-            k: &self.k,
-            c: &self.c,
+            k,
+            c,
             q0: &self.q0,
             v0: &self.v0,
-            loads: &self.loads,
-            t0: self.t0,
-            step0: self.step0,
-            dt: self.dt,
-            n_steps: self.n_steps,
-            save_every: self.save_every,
-            threads: self.threads,
+            loads,
+            t0: g.t0,
+            step0: g.step0,
+            dt: g.dt,
+            n_steps: g.n_steps,
+            save_every: g.save_every,
+            threads: g.threads,
         }
     }
 }

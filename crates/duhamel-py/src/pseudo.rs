@@ -1,149 +1,180 @@
-//! Binding of the pseudo-force route (the uncoupled background with the corrector).
+//! Binding of the pseudo-force route (the uncoupled background with the corrector): the
+//! integrator's options and the route's couplings, elements and mass law as typed values.
 
+use duhamel_core::direct::assembly::Matrix as CoreMatrix;
 use duhamel_core::pseudo::{
-    self, NonlinearProblem, Options, Quadrature, ScaledCoupling, Scheme, Solver,
+    self, NonlinearProblem, Options as CoreOptions, Quadrature, ScaledCoupling as CoreScaled,
+    Scheme, Solver,
 };
+use duhamel_core::ModalProblem;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::arrays::{attr, flat_of, optional_flat};
-use crate::driver::run;
-use crate::elements;
-use crate::guard::guarded;
+use crate::direct::{Matrix, ScaledCoupling};
+use crate::driver::run as drive;
+use crate::elements::{self, ElementSpec};
 use crate::history::RunResult;
 use crate::loads::PyForcing;
-use crate::mass::mass_of;
-use crate::problem::ModalInput;
-use crate::speed::speed_of;
+use crate::mass::Mass;
 
-/// The integrator settings of a `duhamel.Semianalytic` (`scheme`, `quadrature`, `tol`,
-/// `max_iter`, `solver` attributes).
-fn options_of(obj: &Bound<'_, PyAny>) -> PyResult<Options> {
-    let choice = |name: &str| attr::<String>(obj, name);
-    let scheme = match choice("scheme")?.as_str() {
-        "a" => Scheme::A,
-        "b" => Scheme::B,
-        "c" => Scheme::C,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "`scheme` must be 'a', 'b' or 'c', got {other:?}"
-            )))
-        }
-    };
-    let quadrature = match choice("quadrature")?.as_str() {
-        "trapezoid" => Quadrature::Trapezoid,
-        "parabolic" => Quadrature::Parabolic,
-        "exact" => Quadrature::Exact,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "`quadrature` must be 'trapezoid', 'parabolic' or 'exact', got {other:?}"
-            )))
-        }
-    };
-    let solver = match choice("solver")?.as_str() {
-        "auto" => Solver::Auto,
-        "newton" => Solver::Newton,
-        "modal-newton" => Solver::ModalNewton,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "`solver` must be 'auto', 'newton' or 'modal-newton', got {other:?}"
-            )))
-        }
-    };
-    Ok(Options {
-        scheme,
-        quadrature,
-        tol: attr(obj, "tol")?,
-        max_iter: attr(obj, "max_iter")?,
-        solver,
-        // An integrator object from before the option: the default depth.
-        subdivisions: if obj.hasattr("subdivisions")? {
-            attr(obj, "subdivisions")?
-        } else {
-            4
-        },
-    })
-}
+/// The settings of a `duhamel.Semianalytic` step equation, checked when made: `scheme`
+/// ("a", "b", "c"), `quadrature` ("trapezoid", "parabolic", "exact"), Newton `tol` and
+/// `max_iter`, `solver` ("auto", "newton", "modal-newton") and the levels of automatic step
+/// `subdivisions`.
+#[pyclass(frozen, name = "Options", module = "duhamel._core")]
+#[derive(Clone, Copy)]
+pub(crate) struct Options(pub(crate) CoreOptions);
 
-/// The optional `element_state` attribute (the elements' committed variables a continued
-/// run starts from): None when absent or None.
-pub(crate) fn element_state_of(obj: &Bound<'_, PyAny>) -> PyResult<Option<Vec<f64>>> {
-    if !obj.hasattr("element_state")? {
-        return Ok(None);
+#[pymethods]
+impl Options {
+    #[new]
+    fn new(
+        scheme: &str,
+        quadrature: &str,
+        tol: f64,
+        max_iter: usize,
+        solver: &str,
+        subdivisions: usize,
+    ) -> PyResult<Self> {
+        let scheme = match scheme {
+            "a" => Scheme::A,
+            "b" => Scheme::B,
+            "c" => Scheme::C,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "`scheme` must be 'a', 'b' or 'c', got {other:?}"
+                )))
+            }
+        };
+        let quadrature = match quadrature {
+            "trapezoid" => Quadrature::Trapezoid,
+            "parabolic" => Quadrature::Parabolic,
+            "exact" => Quadrature::Exact,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "`quadrature` must be 'trapezoid', 'parabolic' or 'exact', got {other:?}"
+                )))
+            }
+        };
+        let solver = match solver {
+            "auto" => Solver::Auto,
+            "newton" => Solver::Newton,
+            "modal-newton" => Solver::ModalNewton,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "`solver` must be 'auto', 'newton' or 'modal-newton', got {other:?}"
+                )))
+            }
+        };
+        Ok(Options(CoreOptions {
+            scheme,
+            quadrature,
+            tol,
+            max_iter,
+            solver,
+            subdivisions,
+        }))
     }
-    optional_flat(&obj.getattr("element_state")?, "element_state")
+
+    fn __repr__(&self) -> String {
+        format!("{:?}", self.0)
+    }
 }
 
-/// Owned modal couplings scaled by a speed law: `(K, C, law)`.
-type Scaled = (
-    Option<Vec<f64>>,
-    Option<Vec<f64>>,
-    duhamel_core::speed::SpeedLaw,
-);
+/// The pseudo-force route: the force `elements`, the integrator's `options`, constant modal
+/// couplings `coupling_k`, `coupling_c` (dense `_core.Matrix`, or None), couplings `scaled`
+/// by a speed law, and the `mass` law (None: constant mass).
+#[pyclass(frozen, name = "PseudoForceRoute", module = "duhamel._core")]
+pub(crate) struct PseudoForceRoute {
+    elements: Vec<Py<ElementSpec>>,
+    options: CoreOptions,
+    coupling: [Option<Py<Matrix>>; 2],
+    scaled: Vec<Py<ScaledCoupling>>,
+    mass: Option<Py<Mass>>,
+}
+
+#[pymethods]
+impl PseudoForceRoute {
+    #[new]
+    #[pyo3(signature = (elements, options, coupling_k=None, coupling_c=None, scaled=Vec::new(), mass=None))]
+    fn new(
+        elements: Vec<Py<ElementSpec>>,
+        options: &Options,
+        coupling_k: Option<Py<Matrix>>,
+        coupling_c: Option<Py<Matrix>>,
+        scaled: Vec<Py<ScaledCoupling>>,
+        mass: Option<Py<Mass>>,
+    ) -> Self {
+        PseudoForceRoute {
+            elements,
+            options: options.0,
+            coupling: [coupling_k, coupling_c],
+            scaled,
+            mass,
+        }
+    }
+}
+
+/// The row-major values of a dense modal matrix (a `_core.Matrix`).
+fn dense<'a>(m: Option<&'a Py<Matrix>>, name: &str) -> PyResult<Option<&'a [f64]>> {
+    match m.map(|m| &m.get().0) {
+        None => Ok(None),
+        Some(CoreMatrix::Dense { data, .. }) => Ok(Some(data)),
+        Some(_) => Err(PyValueError::new_err(format!(
+            "`{name}`: a modal coupling must be a dense matrix"
+        ))),
+    }
+}
+
+/// One run on the pseudo-force route.
+pub(crate) struct PseudoRun<'a> {
+    /// Mode shapes, `n_dof x n_modes` row-major.
+    pub(crate) phi: &'a [f64],
+    pub(crate) n_dof: usize,
+    pub(crate) route: &'a PseudoForceRoute,
+    pub(crate) problem: ModalProblem<'a>,
+    pub(crate) element_state: Option<&'a [f64]>,
+}
 
 /// Integrates a modal problem whose pseudo-force (elements, couplings, mass law) is solved
-/// every step; see `duhamel.solve`.
-///
-/// `nonlinear` has `phi` (`n_dof x m`), `elements` (`_core.Element`s), `options` (with
-/// `scheme`, `quadrature`, `tol`, `max_iter`, `solver`), `coupling_k`, `coupling_c` (modal,
-/// or None), `scaled` (objects with `k`, `c`, `law`: couplings scaled by a
-/// `_core.SpeedLaw`) and `mass` (None, or as `duhamel._core.MassLaw` with form, scaling and
-/// treatment).
-#[pyfunction]
-pub(crate) fn solve_pseudo(
+/// every step.
+pub(crate) fn run(
     py: Python<'_>,
-    problem: &Bound<'_, PyAny>,
-    nonlinear: &Bound<'_, PyAny>,
-    forcing: &Bound<'_, PyAny>,
+    job: PseudoRun<'_>,
+    forcing: Option<PyForcing>,
     progress: &Bound<'_, PyAny>,
 ) -> PyResult<RunResult> {
-    guarded(|| {
-        let input = ModalInput::extract(problem)?;
-        let mut base = input.problem();
-        // One mode-coupled step at a time: a single thread.
-        base.threads = Some(1);
-        let phi = flat_of(&nonlinear.getattr("phi")?, "phi")?;
-        let n_dof = phi.len().checked_div(base.n_modes()).unwrap_or(0);
-        let built = elements::build(py, &nonlinear.getattr("elements")?)?;
-        let refs = built.refs();
-        let coupling_k = optional_flat(&nonlinear.getattr("coupling_k")?, "coupling_k")?;
-        let coupling_c = optional_flat(&nonlinear.getattr("coupling_c")?, "coupling_c")?;
-        let mass = mass_of(&nonlinear.getattr("mass")?)?;
-        let options = options_of(&nonlinear.getattr("options")?)?;
-        let element_state = element_state_of(nonlinear)?;
-        let mut owned: Vec<Scaled> = Vec::new();
-        for item in nonlinear.getattr("scaled")?.try_iter()? {
-            let item = item?;
-            owned.push((
-                optional_flat(&item.getattr("k")?, "scaled coupling K")?,
-                optional_flat(&item.getattr("c")?, "scaled coupling C")?,
-                speed_of(&item.getattr("law")?)?,
-            ));
-        }
-        let scaled: Vec<ScaledCoupling> = owned
-            .iter()
-            .map(|(k, c, law)| ScaledCoupling {
-                k: k.as_deref(),
-                c: c.as_deref(),
-                law: *law,
+    let route = job.route;
+    let mut base = job.problem;
+    // One mode-coupled step at a time: a single thread.
+    base.threads = Some(1);
+    let built = elements::build_all(py, &route.elements)?;
+    let refs = built.refs();
+    let scaled = route
+        .scaled
+        .iter()
+        .map(|s| {
+            let s = s.get();
+            Ok(CoreScaled {
+                k: dense(s.k.as_ref(), "scaled coupling K")?,
+                c: dense(s.c.as_ref(), "scaled coupling C")?,
+                law: s.law,
             })
-            .collect();
-        let problem_nl = NonlinearProblem {
-            base,
-            phi: &phi,
-            n_dof,
-            elements: &refs,
-            coupling_k: coupling_k.as_deref(),
-            coupling_c: coupling_c.as_deref(),
-            scaled: &scaled,
-            mass: mass.as_ref(),
-            options,
-            element_state: element_state.as_deref(),
-        };
-        let forcing =
-            PyForcing::modal(forcing, &problem.getattr("phi")?, problem_nl.base.n_modes())?;
-        run(py, forcing, Some(&built), progress, |f, control| {
-            pseudo::integrate(&problem_nl, f, control)
         })
+        .collect::<PyResult<Vec<_>>>()?;
+    let problem = NonlinearProblem {
+        base,
+        phi: job.phi,
+        n_dof: job.n_dof,
+        elements: &refs,
+        coupling_k: dense(route.coupling[0].as_ref(), "coupling_k")?,
+        coupling_c: dense(route.coupling[1].as_ref(), "coupling_c")?,
+        scaled: &scaled,
+        mass: route.mass.as_ref().map(|m| &m.get().0),
+        options: route.options,
+        element_state: job.element_state,
+    };
+    drive(py, forcing, Some(&built), progress, |f, control| {
+        pseudo::integrate(&problem, f, control)
     })
 }

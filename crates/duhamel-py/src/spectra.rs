@@ -48,14 +48,13 @@ pub(crate) fn elastic_spectra<'py>(
     })
 }
 
-/// RotD peaks: flat `[damping][period][angle]`.
+/// RotD peaks of the two components `pair` (sampled at `dt`): flat
+/// `[damping][period][angle]`.
 #[pyfunction]
-#[pyo3(signature = (first, second, dt, periods, dampings, n_angles, threads=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (pair, dt, periods, dampings, n_angles, threads=None))]
 pub(crate) fn rotd_peaks<'py>(
     py: Python<'py>,
-    first: &Bound<'py, PyAny>,
-    second: &Bound<'py, PyAny>,
+    pair: (Bound<'py, PyAny>, Bound<'py, PyAny>),
     dt: f64,
     periods: &Bound<'py, PyAny>,
     dampings: &Bound<'py, PyAny>,
@@ -63,7 +62,7 @@ pub(crate) fn rotd_peaks<'py>(
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     guarded(|| {
-        let (a, b) = (vec_of(first, "motion_1")?, vec_of(second, "motion_2")?);
+        let (a, b) = (vec_of(&pair.0, "motion_1")?, vec_of(&pair.1, "motion_2")?);
         let periods = vec_of(periods, "periods")?;
         let dampings = vec_of(dampings, "damping")?;
         let out = py
@@ -76,21 +75,21 @@ pub(crate) fn rotd_peaks<'py>(
     })
 }
 
-/// Constant-ductility yield displacements, flat `[ductility][period]`.
+/// Constant-ductility yield displacements of the bilinear oscillator `(zeta, alpha)`
+/// (damping ratio, post-yield stiffness ratio), flat `[ductility][period]`.
 #[pyfunction]
-#[pyo3(signature = (acc, dt, periods, zeta, alpha, ductilities, threads=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (acc, dt, periods, oscillator, ductilities, threads=None))]
 pub(crate) fn ductility_spectrum<'py>(
     py: Python<'py>,
     acc: &Bound<'py, PyAny>,
     dt: f64,
     periods: &Bound<'py, PyAny>,
-    zeta: f64,
-    alpha: f64,
+    oscillator: (f64, f64),
     ductilities: &Bound<'py, PyAny>,
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     guarded(|| {
+        let (zeta, alpha) = oscillator;
         let a = vec_of(acc, "motions")?;
         let periods = vec_of(periods, "periods")?;
         let mus = vec_of(ductilities, "ductility")?;

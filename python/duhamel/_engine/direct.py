@@ -2,22 +2,16 @@
 
 from __future__ import annotations
 
-import time as _time
-from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from duhamel import _core
-from duhamel._engine.plan import mass
-from duhamel._engine.run import callback_error, overflow_error, raise_failure
-from duhamel._engine.specs import LoadSpec, ScaledSpec, speed_law, time_function
-from duhamel._engine.specs import elements as core_elements
+from duhamel._engine.run import callback_error
+from duhamel._engine.specs import speed_law
 from duhamel._engine.validate import issparse
 from duhamel.elements.basic import LinearCoupling
-from duhamel.integrators import CentralDifference, CubicHermite, DirectIntegrator
-from duhamel.loads import Callable
 from duhamel.results.solution import Solution, SolveStats
 from duhamel.system import System
 
@@ -108,22 +102,23 @@ def physical_matrices(system: System) -> dict[str, Any]:
     return {"m": system.M, "k": k, "c": c, "k_fixed": kc, "scaled": scaled, "sparse": sparse}
 
 
-def core_matrices(mats: dict[str, Any]) -> dict[str, Any]:
-    """The matrices of :func:`physical_matrices` as the core takes them."""
+def core_matrices(mats: dict[str, Any]) -> Any:
+    """The matrices of :func:`physical_matrices` as the core takes them
+    (``_core.Matrices``)."""
     sparse = mats["sparse"]
-    core = {
-        key: None if mats[key] is None else _matrix(mats[key], sparse)
+    m, k, c, k_fixed = (
+        None if mats[key] is None else _matrix(mats[key], sparse)
         for key in ("m", "k", "c", "k_fixed")
-    }
-    core["scaled"] = [
-        ScaledSpec(
-            None if k is None else _matrix(k, sparse),
-            None if c is None else _matrix(c, sparse),
+    )
+    scaled = [
+        _core.ScaledCoupling(
+            None if ks is None else _matrix(ks, sparse),
+            None if cs is None else _matrix(cs, sparse),
             speed_law(law._spec()),
         )
-        for k, c, law in mats["scaled"]
+        for ks, cs, law in mats["scaled"]
     ]
-    return core
+    return _core.Matrices(m, k, c, k_fixed, scaled)
 
 
 def _to_scipy(m: Any, n: int) -> Any:
@@ -237,125 +232,3 @@ def _check_central(
             f"2/omega_max = {limit:.6g} (highest natural frequency omega_max = {omega:.6g} "
             "rad/s); reduce `dt` or pass CentralDifference(allow_unstable=True)"
         )
-
-
-def solve_direct(
-    system: System,
-    integrator: DirectIntegrator,
-    *,
-    dt: float,
-    n_steps: int,
-    x0: NDArray,
-    v0: NDArray,
-    save_every: int,
-    out_dofs: NDArray,
-    forcing: Any,
-    started: float,
-    t0: float = 0.0,
-    progress: Any = None,
-    loads: bool = True,
-    a0: NDArray | None = None,
-) -> Solution:
-    """Runs a direct integrator; see :func:`duhamel.solve`. ``loads=False`` ignores the
-    system's loads; `a0` overrides the initial acceleration (see :func:`step_matrix`)."""
-    mats = physical_matrices(system)
-    elements = core_elements(system.elements)
-    if isinstance(integrator, CentralDifference) and not integrator.allow_unstable:
-        _check_central(system, mats, elements, x0, v0, dt, (t0, t0 + n_steps * dt))
-    specs = []
-    for load in system.loads if loads else []:
-        if isinstance(load, Callable):
-            continue
-        for pattern, kind, params in load._specs(system):
-            specs.append(
-                LoadSpec(
-                    np.ascontiguousarray(pattern, dtype=np.float64), time_function(kind, params)
-                )
-            )
-    problem = SimpleNamespace(
-        **core_matrices(mats),
-        elements=elements,
-        loads=specs,
-        mass=mass(system, integrator),
-        x0=np.ascontiguousarray(x0, dtype=np.float64),
-        v0=np.ascontiguousarray(v0, dtype=np.float64),
-        a0=None if a0 is None else np.ascontiguousarray(a0, dtype=np.float64),
-        t0=t0,
-        dt=dt,
-        n_steps=n_steps,
-        save_every=save_every,
-        out_dofs=np.ascontiguousarray(out_dofs, dtype=np.int64),
-        method=integrator._method(),
-        tol=float(integrator.tol),
-        max_iter=int(integrator.max_iter),
-    )
-    loop_start = _time.perf_counter()
-    result = _core.solve_direct(problem, forcing, progress)
-    wall = _time.perf_counter() - loop_start
-    error = result.error
-    # Only finite rows are kept (the saved accelerations of a step element are recomputed
-    # from the equation of motion and can overflow where the state does not).
-    rows = [np.isfinite(arr).all(axis=1) for arr in (result.x, result.v, result.a)]
-    finite = np.logical_and.reduce(rows) if result.t.size else np.ones(0, dtype=bool)
-    kept = int(finite.size if finite.all() else np.argmin(finite))
-    solution = Solution(
-        t=result.t[:kept],
-        x=result.x[:kept],
-        v=result.v[:kept],
-        a=result.a[:kept],
-        dofs=np.asarray(out_dofs, dtype=np.int64),
-        modal=None,
-        stats=SolveStats(
-            steps=n_steps if error is None else max(0, error.step - 1),
-            wall_time=wall,
-            total_time=_time.perf_counter() - started,
-            modes=0,
-            newton_iterations=int(result.newton_iterations),
-            factorizations=int(result.factorizations),
-        ),
-        meta={"dt": dt, "t0": t0, "integrator": integrator, "labels": system.dof_labels},
-    )
-    if error is None and kept < result.t.size:
-        raise overflow_error(result.t, kept, dt, t0, solution)
-    if error is not None:
-        if kept < result.t.size:
-            error = error.kept_until(float(result.t[kept - 1]) if kept else None)
-        raise_failure(error, solution)
-    return solution
-
-
-def step_matrix(system: System, integrator: DirectIntegrator, dt: float) -> NDArray[np.float64]:
-    """The matrix of one step of a direct integrator on a linear system without loads,
-    found by stepping unit states through the engine.
-
-    The generalized-alpha methods carry the acceleration from step to step, so their state is
-    ``(x, v, a)`` and the matrix is ``3 n x 3 n`` (the amplification matrix of Chung and
-    Hulbert); the cubic Hermite element's state is ``(x, v)`` (``2 n x 2 n``).
-    """
-    if system.elements or system.mass_law is not None:
-        raise ValueError("`system` must be linear (no elements, constant mass)")
-    n = system.n_dof
-    alpha = not isinstance(integrator, CubicHermite)
-    size = (3 if alpha else 2) * n
-    out = np.empty((size, size))
-    dofs = np.arange(n)
-    for j in range(size):
-        e = np.zeros(size)
-        e[j] = 1.0
-        sol = solve_direct(
-            system,
-            integrator,
-            dt=dt,
-            n_steps=1,
-            x0=e[:n],
-            v0=e[n : 2 * n],
-            save_every=1,
-            out_dofs=dofs,
-            forcing=None,
-            started=_time.perf_counter(),
-            loads=False,
-            a0=e[2 * n :] if alpha else None,
-        )
-        parts = (sol.x[-1], sol.v[-1], sol.a[-1]) if alpha else (sol.x[-1], sol.v[-1])
-        out[:, j] = np.concatenate(parts)
-    return out

@@ -7,10 +7,10 @@ first access from the modal equations, ``a = Phi_out (p + pseudo - D q' - S q)``
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 from collections.abc import Callable
-from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 from duhamel._engine.plan import Plan
 from duhamel.results.solution import ModalHistory
 
-__all__ = ["ROW_BLOCK", "check_memory", "output_maps", "physical", "rows_product"]
+__all__ = ["ROW_BLOCK", "check_memory", "physical", "rows_product"]
 
 #: Rows per matrix product of :func:`rows_product`.
 ROW_BLOCK = 1024
@@ -43,6 +43,7 @@ def rows_product(a: NDArray, b: NDArray) -> NDArray:
     return out
 
 
+@functools.cache
 def _physical_memory() -> float:
     """The machine's physical memory in bytes (unbounded where it cannot be read)."""
     try:
@@ -67,19 +68,6 @@ def check_memory(n_steps: int, save_every: int, n_out: int, history_width: int) 
             f"than the machine's {have / gib:.1f} GiB of memory; save fewer steps (a larger "
             "`save_every` or a shorter `t_end`), fewer `dofs` or fewer modes"
         )
-
-
-def output_maps(plan: Plan, phi_out: NDArray, n_loads: int) -> Any:
-    """What the engine maps during a first-order run: ``[x | v]`` of the output dofs from
-    ``[Re eta | Im eta]`` (the loads add nothing to them)."""
-    modes = plan.modes
-    assert modes is not None
-    m = plan.basis.n_modes
-    tq, tv = modes.back[:, :m], modes.back[:, m:]
-    out_map = np.ascontiguousarray(np.concatenate([tq @ phi_out.T, tv @ phi_out.T], axis=1))
-    return SimpleNamespace(
-        map=out_map, loads=np.zeros((n_loads, out_map.shape[1])), n_cols=out_map.shape[1]
-    )
 
 
 def _finite_rows(*arrays: NDArray) -> int:

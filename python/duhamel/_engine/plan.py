@@ -20,21 +20,15 @@ from numpy.typing import NDArray
 from duhamel._engine.background import background
 from duhamel._engine.correction import corrected
 from duhamel._engine.coupled import CONDITION_LIMIT, FirstOrderModes, first_order_modes
-from duhamel._engine.specs import (
-    LoadSpec,
-    MassSpec,
-    ScaledSpec,
-    mass_law,
-    speed_law,
-    time_function,
-)
+from duhamel._engine.specs import ScaledSpec, load, speed_law
 from duhamel._engine.specs import elements as core_elements
+from duhamel._engine.specs import mass as core_mass
 from duhamel.elements.basic import LinearCoupling
 from duhamel.integrators import Semianalytic
 from duhamel.loads import Callable
 from duhamel.system import ModalBasis, System
 
-__all__ = ["Couplings", "ModalSpec", "Plan", "mass", "modal_loads", "plan"]
+__all__ = ["Couplings", "Plan", "mass", "modal_loads", "plan"]
 
 
 @dataclass(frozen=True)
@@ -80,34 +74,18 @@ class Plan:
     linear: tuple[Any, ...] = ()
 
 
-@dataclass(frozen=True)
-class ModalSpec:
-    """What the core's modal routes read (``duhamel-py/src/problem.rs``)."""
-
-    k: NDArray[np.float64]
-    c: NDArray[np.float64]
-    q0: NDArray[np.float64]
-    v0: NDArray[np.float64]
-    loads: list[LoadSpec]
-    t0: float
-    dt: float
-    n_steps: int
-    save_every: int
-    threads: int | None
-    phi: NDArray[np.float64]
-
-
-def modal_loads(system: System, phi: NDArray[np.float64]) -> tuple[list[LoadSpec], list[Any]]:
-    """The built-in loads projected on the modes, and the Python load functions."""
+def modal_loads(
+    loads: Any, system: System, phi: NDArray[np.float64]
+) -> tuple[list[Any], list[Any]]:
+    """The built-in `loads` projected on the modes (``_core.Load``s), and the Python load
+    functions."""
     specs, fns = [], []
-    for load in system.loads:
-        if isinstance(load, Callable):
-            fns.append(load.fn)
+    for item in loads:
+        if isinstance(item, Callable):
+            fns.append(item.fn)
             continue
-        for physical, kind, params in load._specs(system):
-            specs.append(
-                LoadSpec(np.ascontiguousarray(phi.T @ physical), time_function(kind, params))
-            )
+        for physical, kind, params in item._specs(system):
+            specs.append(load(phi.T @ physical, kind, params))
     return specs, fns
 
 
@@ -144,15 +122,14 @@ def _couplings(system: System, basis: ModalBasis) -> Couplings:
     return Couplings(as_c(k), as_c(c), scaled)
 
 
-def mass(system: System, integrator: Any) -> MassSpec | None:
-    """The system's mass law as the core takes it (the treatment of a `Semianalytic`)."""
+def mass(system: System, integrator: Any) -> Any:
+    """The system's mass law as the core takes it (``_core.Mass``, with the treatment of a
+    `Semianalytic`), or None."""
     attached = system.mass_law
     if attached is None:
         return None
     treatment = getattr(integrator, "mass_treatment", "eliminate")
-    return MassSpec(
-        mass_law(attached.law._spec()), attached.form, attached.scale_stiffness, treatment
-    )
+    return core_mass(attached.law._spec(), attached.form, attached.scale_stiffness, treatment)
 
 
 def plan(system: System, integrator: Semianalytic) -> Plan:

@@ -17,31 +17,15 @@ from numpy.typing import NDArray
 from duhamel import _core
 
 __all__ = [
-    "LoadSpec",
-    "MassSpec",
     "ScaledSpec",
     "element",
     "elements",
+    "load",
+    "mass",
     "mass_law",
     "speed_law",
     "time_function",
 ]
-
-
-class LoadSpec(NamedTuple):
-    """One load term for the core: ``pattern * time(t)``."""
-
-    pattern: NDArray[np.float64]
-    time: Any  # _core.TimeFunction
-
-
-class MassSpec(NamedTuple):
-    """A mass law as it enters a run."""
-
-    law: Any  # _core.MassLaw
-    form: str
-    scale_stiffness: bool
-    treatment: str
 
 
 class ScaledSpec(NamedTuple):
@@ -81,6 +65,16 @@ def time_function(kind: str, params: tuple) -> Any:
     raise ValueError(f"unknown load kind {kind!r}")
 
 
+def load(pattern: NDArray[np.float64], kind: str, params: tuple) -> Any:
+    """One load term for the core, ``pattern * s(t)``, `s` of a load's ``_time()``."""
+    return _core.Load(np.ascontiguousarray(pattern, dtype=np.float64), time_function(kind, params))
+
+
+def mass(spec: tuple[str, tuple], form: str, scale_stiffness: bool, treatment: str) -> Any:
+    """A mass law as it enters a run (``_core.Mass``)."""
+    return _core.Mass(mass_law(spec), form, bool(scale_stiffness), treatment)
+
+
 def mass_law(spec: tuple[str, tuple]) -> Any:
     """A mass law's ``_spec()`` as a core mass law."""
     kind, params = spec
@@ -94,10 +88,6 @@ def mass_law(spec: tuple[str, tuple]) -> Any:
             np.ascontiguousarray(params[1], dtype=np.float64),
         )
     raise ValueError(f"unknown mass law {kind!r}")
-
-
-#: Element kinds built by the core constructor of the same name, from their spec's values.
-_DEVICES = frozenset({"bilinear", "bouc_wen", "friction_pendulum", "viscous_damper", "gap"})
 
 
 def element(spec: tuple) -> Any:
@@ -116,10 +106,19 @@ def element(spec: tuple) -> Any:
         *table, law = args
         return _core.Element.speed_table(*table, speed_law(law))
     if kind == "journal":
-        *geometry, law = args
-        return _core.Element.journal_bearing(*geometry, speed_law(law))
-    if kind in _DEVICES:
-        return getattr(_core.Element, kind)(*args)
+        dof_x, dof_y, *geometry, law = args
+        return _core.Element.journal_bearing((dof_x, dof_y), *geometry, speed_law(law))
+    if kind == "bilinear":
+        return _core.Element.bilinear(*args)
+    if kind == "bouc_wen":
+        i, j, k, fy, alpha, *shape = args
+        return _core.Element.bouc_wen(i, j, k, fy, alpha, tuple(shape))
+    if kind == "friction_pendulum":
+        return _core.Element.friction_pendulum(*args)
+    if kind == "viscous_damper":
+        return _core.Element.viscous_damper(*args)
+    if kind == "gap":
+        return _core.Element.gap(*args)
     if kind == "shifted":
         inner, k0, c0 = args
         return _core.Element.shifted(

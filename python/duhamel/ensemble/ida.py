@@ -87,7 +87,9 @@ def ida(
     Parameters
     ----------
     system_factory : callable
-        ``GroundMotion -> System`` loaded by that (scaled) motion.
+        ``GroundMotion -> System`` loaded by that (scaled) motion, or ``GroundMotion ->
+        (System, {"loads": [...]})``: one model under each motion's loads, prepared once per
+        process and reused by every run (see :func:`solve_many`).
     motions : sequence of GroundMotion
         The records.
     intensities : sequence of float

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import os
+import threading
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from concurrent.futures import ThreadPoolExecutor
@@ -16,7 +17,7 @@ from typing import Any
 from duhamel.ensemble.zarr import ZarrWriter, stack
 from duhamel.errors import SolverError
 from duhamel.modal import ModalBasis
-from duhamel.prepared import solve
+from duhamel.prepared import Prepared, prepare
 from duhamel.results.solution import Solution
 
 __all__ = ["Ensemble", "solve_many"]
@@ -82,9 +83,9 @@ class _Job:
                         "study's grid)"
                     )
                 options = {**options, **own}
-            if basis is not None:
-                system.use_basis(basis)
-            sol = solve(system, self.integrator, threads=1, **options)
+            sol = _prepared(system, self.integrator, options["dt"], basis).run(
+                **{k: v for k, v in options.items() if k != "dt"}
+            )
             return sol if self.reduce is None else self.reduce(sol)
         except Exception as exc:
             if self.keep_failures and isinstance(exc, SolverError):
@@ -95,6 +96,38 @@ class _Job:
     def chunk(self, cases: Sequence[tuple[int, Any]], basis: ModalBasis | None = None) -> list:
         """A Dask task: several runs, one after the other."""
         return [self(i, p, basis) for i, p in cases]
+
+
+#: Per process, the models prepared by the runs of a study: a run whose `make_system` returns
+#: the same, unchanged System as an earlier run (a study over records, scale factors or
+#: initial states of one model) reuses its Prepared instead of preparing it again.
+_PREPARED: dict[int, Prepared] = {}
+#: How many of them a process keeps.
+_KEPT = 8
+_LOCK = threading.Lock()
+
+
+def _prepared(system: Any, integrator: Any, dt: float, basis: ModalBasis | None) -> Prepared:
+    """The Prepared of `system` (one thread per run), made once per unchanged system."""
+    if isinstance(system, Prepared):
+        if system.dt != dt or system.integrator != integrator:
+            raise ValueError(
+                "make_system returned a duhamel.Prepared whose `dt` or integrator differ from "
+                "the study's: prepare it with the same ones"
+            )
+        return system
+    with _LOCK:
+        known = _PREPARED.get(id(system))
+        if known is not None and known.matches(system, integrator, dt):
+            return known
+        if basis is not None:
+            system.use_basis(basis)
+        prepared = prepare(system, integrator, dt=dt, threads=1)
+        _PREPARED.pop(id(system), None)
+        while len(_PREPARED) >= _KEPT:  # the oldest first (they hold their systems alive)
+            del _PREPARED[next(iter(_PREPARED))]
+        _PREPARED[id(system)] = prepared
+        return prepared
 
 
 def _shared_basis(basis: Any, make_system: Callable, ps: list, integrator: Any) -> Any:
@@ -158,9 +191,14 @@ def solve_many(
     Parameters
     ----------
     make_system : callable
-        ``p -> System``, or ``p -> (System, options)`` with per-run :func:`duhamel.solve`
-        options (an initial state ``x0``/``v0`` drawn per case...) that override
-        `solve_options` (picklable for a Dask cluster: a module-level function).
+        ``p -> System``, or ``p -> (System, options)`` with per-run options of
+        :meth:`duhamel.Prepared.run` (an initial state ``x0``/``v0`` drawn per case, the
+        case's ``loads``...) that override `solve_options` (picklable for a Dask cluster: a
+        module-level function). A run whose system is the same, unchanged object as an
+        earlier run's in the same process (a study of one model under many records: return
+        ``(model, {"loads": [record]})``) reuses that run's :class:`duhamel.Prepared` (the
+        modal analysis, the route and the core's model); `make_system` may also return a
+        Prepared (with the study's `integrator` and `dt`).
     params : iterable
         Any values: a record and a scale factor, a dict of stiffnesses, an initial state...
     integrator : Semianalytic or DirectIntegrator

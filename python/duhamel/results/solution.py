@@ -162,6 +162,10 @@ class SolveStats:
         first-order eigenvector matrix (a few for well-separated modes; the round-off of the
         run grows like ``kappa^2`` times the unit round-off near a defective system, which
         is why ``kappa`` above ``duhamel._engine.coupled.CONDITION_LIMIT`` = 1e4 is refused).
+    loop_time : float
+        Seconds in the core's time loop alone, measured in Rust around it (``wall_time``
+        also counts taking the run's inputs into Rust and its history out); ``total_time``
+        minus ``loop_time`` is what the call cost beyond the loop.
     """
 
     steps: int
@@ -175,6 +179,7 @@ class SolveStats:
     subdivision_depth: int = 0
     coupling: str | None = None
     eigenvector_condition: float | None = None
+    loop_time: float = 0.0
 
     @property
     def mode_steps_per_second(self) -> float:

@@ -268,7 +268,7 @@ def rotd(
         raise ValueError(f"`percentiles` must be in [0, 100], got {percentiles}")
     if int(n_angles) < 1:
         raise ValueError(f"`n_angles` must be >= 1, got {n_angles}")
-    peaks = _core.rotd_peaks(a1, a2, m1.dt, p, z, int(n_angles), threads)
+    peaks = _core.rotd_peaks((a1, a2), m1.dt, p, z, int(n_angles), threads)
     peaks = peaks.reshape(z.size, p.size, int(n_angles))
     sd = np.moveaxis(np.percentile(peaks, q, axis=2), 0, 1)  # (damping, percentile, period)
     return RotDSpectrum(p, z, q, sd, peaks)
@@ -374,7 +374,7 @@ def ductility_spectrum(
     zeta = float(_dampings(damping)[0])
     uy = np.stack(
         [
-            _core.ductility_spectrum(m.a, m.dt, p, zeta, float(alpha), mu, threads).reshape(
+            _core.ductility_spectrum(m.a, m.dt, p, (zeta, float(alpha)), mu, threads).reshape(
                 mu.size, p.size
             )
             for m in ms

@@ -11,26 +11,41 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
-from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel import _core
+from duhamel._engine import dispatch
 from duhamel._engine.background import LinearPart, background
 from duhamel._engine.coupled import FirstOrderModes
-from duhamel._engine.output import output_maps
 from duhamel._engine.plan import Couplings, Plan, plan
-from duhamel._engine.specs import LoadSpec, MassSpec, ScaledSpec, element, mass_law, speed_law
-from duhamel._engine.specs import time_function as core_time
+from duhamel._engine.specs import ScaledSpec, element, speed_law
+from duhamel._engine.specs import load as core_load
+from duhamel._engine.specs import mass as core_mass
 from duhamel._engine.validate import as_float_array
 from duhamel.elements.basic import LinearCoupling
 from duhamel.integrators import Semianalytic
 from duhamel.loads import BaseAcceleration, Callable
 from duhamel.system import System
 
-__all__ = ["Basis", "Model", "capture"]
+__all__ = ["Basis", "Model", "Segment", "capture"]
+
+
+@dataclass(frozen=True)
+class Segment:
+    """A segment of a stored run: `n_steps` from grid point `step0` of `grid` (the store's
+    grid record, with ``threads``), from `state` (``q | v``, or ``Re eta | Im eta``) and the
+    elements' committed variables `element_state`; `outputs` the first-order route's maps,
+    `report` the progress function."""
+
+    grid: dict[str, Any]
+    step0: int
+    n_steps: int
+    state: NDArray[np.float64]
+    element_state: NDArray[np.float64] | None
+    outputs: Any
+    report: Any
 
 
 @dataclass(frozen=True)
@@ -133,84 +148,34 @@ class Model:
             return np.array(result.eta[-1], dtype=np.float64)
         return np.concatenate([result.q[-1], result.v[-1]])
 
-    def run(
-        self,
-        route: Plan,
-        grid: dict[str, Any],
-        step0: int,
-        n_steps: int,
-        state: NDArray[np.float64],
-        element_state: NDArray[np.float64] | None,
-        phi_out: NDArray[np.float64],
-        report: Any,
-    ) -> Any:
-        """Runs `n_steps` from grid point `step0` and `state` in the core (as
-        ``duhamel.solve`` runs a whole route); returns its ``RunResult``."""
-        integrator = self.semianalytic()
-        if element_state is not None:
-            element_state = np.ascontiguousarray(element_state, dtype=np.float64)
-        m = self.basis.n_modes
-        first_order = self.route == "first-order"
-        loads = [LoadSpec(p, core_time(kind, params)) for p, kind, params in self.loads]
-        spec = SimpleNamespace(
-            k=self.basis.omega2,
-            c=self.basis.c,
-            q0=self.q0 if first_order else np.ascontiguousarray(state[:m]),
-            v0=self.v0 if first_order else np.ascontiguousarray(state[m:]),
-            loads=loads,
-            t0=grid["t0"],
-            dt=grid["dt"],
-            n_steps=n_steps,
-            save_every=grid["save_every"],
-            threads=grid.get("threads"),
-            phi=self.basis.phi,
-            step0=step0,
-        )
-        if self.route == "uncoupled":
-            return _core.solve_uncoupled(spec, None, report)
-        if first_order:
-            fo = self.modes
-            assert fo is not None
-            r = fo.lam.size
-            parts = (fo.lam.real, fo.lam.imag, fo.gain.real, fo.gain.imag, state[:r], state[r:])
-            names = ("lambda_re", "lambda_im", "gain_re", "gain_im", "eta0_re", "eta0_im")
-            modes = SimpleNamespace(
-                **{
-                    n: np.ascontiguousarray(p, dtype=np.float64)
-                    for n, p in zip(names, parts, strict=True)
-                }
-            )
-            outputs = output_maps(route, phi_out, len(loads))
-            nonlinear = (
-                SimpleNamespace(
-                    phi=self.basis.phi,
-                    elements=route.elements,
-                    back=fo.back,
-                    tol=float(integrator.tol),
-                    max_iter=int(integrator.max_iter),
-                    element_state=element_state,
-                )
-                if route.elements
-                else None
-            )
-            return _core.solve_first_order(spec, modes, outputs, nonlinear, None, report)
+    def core(self, route: Plan) -> Any:
+        """The core's model of this run (``_core.ModalModel``), as :func:`duhamel.prepare`
+        builds it."""
+        loads = [core_load(p, kind, params) for p, kind, params in self.loads]
         mass = None
         if self.mass is not None:
             law = self.mass
-            mass = MassSpec(
-                mass_law(law["law"]), law["form"], law["scale_stiffness"], law["treatment"]
+            mass = core_mass(law["law"], law["form"], law["scale_stiffness"], law["treatment"])
+        return dispatch.modal_model(route, loads, self.semianalytic(), mass)
+
+    def run(self, core: Any, route: Plan, segment: Segment) -> Any:
+        """Runs `segment` of the grid in the core (as ``duhamel.solve`` runs a whole route);
+        returns its ``RunResult``."""
+        grid = segment.grid
+        m = self.basis.n_modes
+        state = segment.state
+        run_grid = dispatch.grid(
+            grid["t0"], grid["dt"], segment.n_steps, grid["save_every"], segment.step0,
+            grid.get("threads"),
+        )  # fmt: skip
+        if self.route == "first-order":
+            spec = dispatch.run_spec(
+                route, run_grid, (self.q0, self.v0), segment.element_state, eta=state
             )
-        nonlinear = SimpleNamespace(
-            phi=self.basis.phi,
-            elements=route.elements,
-            options=integrator,
-            coupling_k=route.couplings.k,
-            coupling_c=route.couplings.c,
-            scaled=route.couplings.scaled,
-            mass=mass,
-            element_state=element_state,
-        )
-        return _core.solve_pseudo(spec, nonlinear, None, report)
+        else:
+            halves = (np.ascontiguousarray(state[:m]), np.ascontiguousarray(state[m:]))
+            spec = dispatch.run_spec(route, run_grid, halves, segment.element_state)
+        return core.run(spec, None, segment.outputs, None, segment.report)
 
     def element_objects(self) -> list[Any]:
         """The force elements, rebuilt from their fields (classes of

@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._core import __version__
+from duhamel._engine import dispatch
 from duhamel._engine.output import ROW_BLOCK, physical
 from duhamel._engine.run import Progress, overflow_error, raise_failure, watch
 from duhamel._engine.validate import positive_int
@@ -20,7 +21,7 @@ from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import support_terms
 from duhamel.results.solution import Solution
 from duhamel.store._codec import Checkpoint, StoreError, decode, dumps, encode, pack, unpack
-from duhamel.store._model import Model, capture
+from duhamel.store._model import Model, Segment, capture
 from duhamel.store._solution import _shifted, _solution
 from duhamel.system import System
 
@@ -357,6 +358,8 @@ def _proceed(
     dofs = np.asarray(grid["dofs"], dtype=np.int64)
     phi_out = np.ascontiguousarray(model.basis.phi[dofs, :])
     route, patterns = model.plan(), model.patterns()
+    core = model.core(route)
+    maps = dispatch.outputs(route, phi_out, patterns.shape[1])
     data = group.require_group("data")
     run_grid = {**grid, "threads": threads}
     step, rows, state, element_state = at.step, at.rows, at.state, at.element_state
@@ -380,16 +383,16 @@ def _proceed(
                 return report(_at + k, n_steps, t)
 
             loop_start = _time.perf_counter()
-            result = model.run(
-                route,
+            segment = Segment(
                 run_grid,
                 step,
                 n,
                 state,
                 element_state,
-                phi_out,
+                maps,
                 None if report is None else seg_report,
             )
+            result = model.run(core, route, segment)
             wall += _time.perf_counter() - loop_start
             kept, x, v, a, _ = physical(result, route, phi_out, patterns)
             size = result.t.size

@@ -282,7 +282,7 @@ impl Chunk {
 struct Uncoupled {
     chunks: Vec<Chunk>,
     coef: Coefficients,
-    pool: Option<rayon::ThreadPool>,
+    pool: Option<std::sync::Arc<rayon::ThreadPool>>,
 }
 
 impl Route for Uncoupled {

@@ -1,0 +1,177 @@
+"""The direct integrators' runs: a system prepared once (its physical matrices and the
+core's model, ``_core.DirectModel``) and run per case (``_core.DirectRun``)."""
+
+from __future__ import annotations
+
+import time as _time
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from duhamel import _core
+from duhamel._engine import dispatch
+from duhamel._engine.direct import _check_central, core_matrices, physical_matrices
+from duhamel._engine.plan import mass
+from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
+from duhamel._engine.specs import elements as core_elements
+from duhamel._engine.specs import load as core_load
+from duhamel._engine.validate import as_float_array
+from duhamel.integrators import CentralDifference, CubicHermite, DirectIntegrator
+from duhamel.loads import Callable
+from duhamel.results.solution import Solution, SolveStats
+from duhamel.system import System
+
+__all__ = ["DirectSetup", "prepare_direct", "step_matrix"]
+
+
+def _loads(loads: Any, system: System) -> tuple[list[Any], list[Any]]:
+    """Built-in `loads` as the core takes them (physical patterns), and the Python load
+    functions."""
+    specs, fns = [], []
+    for item in loads:
+        if isinstance(item, Callable):
+            fns.append(item.fn)
+            continue
+        for pattern, kind, params in item._specs(system):
+            specs.append(core_load(pattern, kind, params))
+    return specs, fns
+
+
+@dataclass(eq=False)
+class DirectSetup:
+    """A system prepared for a direct integrator: its physical matrices, core elements and
+    the core's model; the system's own loads."""
+
+    system: System
+    integrator: DirectIntegrator
+    mats: dict[str, Any]
+    elements: list[Any]
+    model: Any  # _core.DirectModel
+    loads: list[Any]
+    fns: list[Any]
+
+    def run(
+        self,
+        *,
+        t0: float,
+        dt: float,
+        n_steps: int,
+        save_every: int,
+        dofs: NDArray[np.int64] | None,
+        x0: Any,
+        v0: Any,
+        loads: list[Any] | None,
+        progress: bool | Progress | None,
+        started: float,
+        a0: NDArray | None = None,
+    ) -> Solution:
+        """One run (see :meth:`duhamel.Prepared.run`); `a0` overrides the initial
+        acceleration (see :func:`step_matrix`)."""
+        system, integrator = self.system, self.integrator
+        n = system.n_dof
+        x0 = np.zeros(n) if x0 is None else as_float_array(x0, "x0", ndim=1, shape=(n,))
+        v0 = np.zeros(n) if v0 is None else as_float_array(v0, "v0", ndim=1, shape=(n,))
+        out_dofs = np.arange(n, dtype=np.int64) if dofs is None else dofs
+        specs, fns = (self.loads, self.fns) if loads is None else _loads(loads, system)
+        if isinstance(integrator, CentralDifference) and not integrator.allow_unstable:
+            span = (t0, t0 + n_steps * dt)
+            _check_central(system, self.mats, self.elements, x0, v0, dt, span)
+        run = _core.DirectRun(
+            dispatch.grid(t0, dt, n_steps, save_every),
+            np.ascontiguousarray(x0, dtype=np.float64),
+            np.ascontiguousarray(v0, dtype=np.float64),
+            np.ascontiguousarray(out_dofs, dtype=np.int64),
+            None if a0 is None else np.ascontiguousarray(a0, dtype=np.float64),
+        )
+        forcing = ModalCallable(fns, n) if fns else None
+        with watch(progress, n_steps) as report:
+            loop_start = _time.perf_counter()
+            result = self.model.run(run, specs, forcing, report)
+            wall = _time.perf_counter() - loop_start
+        error = result.error
+        # Only finite rows are kept (the saved accelerations of a step element are recomputed
+        # from the equation of motion and can overflow where the state does not).
+        rows = [np.isfinite(arr).all(axis=1) for arr in (result.x, result.v, result.a)]
+        finite = np.logical_and.reduce(rows) if result.t.size else np.ones(0, dtype=bool)
+        kept = int(finite.size if finite.all() else np.argmin(finite))
+        solution = Solution(
+            t=result.t[:kept],
+            x=result.x[:kept],
+            v=result.v[:kept],
+            a=result.a[:kept],
+            dofs=np.asarray(out_dofs, dtype=np.int64),
+            modal=None,
+            stats=SolveStats(
+                steps=n_steps if error is None else max(0, error.step - 1),
+                wall_time=wall,
+                total_time=_time.perf_counter() - started,
+                modes=0,
+                newton_iterations=int(result.newton_iterations),
+                factorizations=int(result.factorizations),
+                loop_time=float(result.loop_time),
+            ),
+            meta={"dt": dt, "t0": t0, "integrator": integrator, "labels": system.dof_labels},
+        )
+        if error is None and kept < result.t.size:
+            raise overflow_error(result.t, kept, dt, t0, solution)
+        if error is not None:
+            if kept < result.t.size:
+                error = error.kept_until(float(result.t[kept - 1]) if kept else None)
+            raise_failure(error, solution)
+        return solution
+
+
+def prepare_direct(system: System, integrator: DirectIntegrator) -> DirectSetup:
+    """Prepares `system` for `integrator` (refuses path-dependent elements where the
+    integrator does not commit their state)."""
+    hysteretic = [
+        e for e in system.elements if e._path_dependent or getattr(e, "state", None) is not None
+    ]
+    if hysteretic and not getattr(integrator, "_commits_state", False):
+        raise ValueError(
+            f"`integrator`: {type(integrator).__name__} does not yet commit the internal "
+            f"variables of path-dependent elements ({type(hysteretic[0]).__name__}); use "
+            "duhamel.Semianalytic()"
+        )
+    mats = physical_matrices(system)
+    elements = core_elements(system.elements)
+    model = _core.DirectModel(
+        core_matrices(mats),
+        elements,
+        mass(system, integrator),
+        integrator._method(),
+        float(integrator.tol),
+        int(integrator.max_iter),
+    )
+    specs, fns = _loads(system.loads, system)
+    return DirectSetup(system, integrator, mats, elements, model, specs, fns)
+
+
+def step_matrix(system: System, integrator: DirectIntegrator, dt: float) -> NDArray[np.float64]:
+    """The matrix of one step of a direct integrator on a linear system without loads,
+    found by stepping unit states through the engine.
+
+    The generalized-alpha methods carry the acceleration from step to step, so their state is
+    ``(x, v, a)`` and the matrix is ``3 n x 3 n`` (the amplification matrix of Chung and
+    Hulbert); the cubic Hermite element's state is ``(x, v)`` (``2 n x 2 n``).
+    """
+    if system.elements or system.mass_law is not None:
+        raise ValueError("`system` must be linear (no elements, constant mass)")
+    n = system.n_dof
+    alpha = not isinstance(integrator, CubicHermite)
+    size = (3 if alpha else 2) * n
+    out = np.empty((size, size))
+    setup = prepare_direct(system, integrator)
+    for j in range(size):
+        e = np.zeros(size)
+        e[j] = 1.0
+        sol = setup.run(
+            t0=0.0, dt=dt, n_steps=1, save_every=1, dofs=None, x0=e[:n], v0=e[n : 2 * n],
+            loads=[], progress=None, started=_time.perf_counter(),
+            a0=e[2 * n :] if alpha else None,
+        )  # fmt: skip
+        parts = (sol.x[-1], sol.v[-1], sol.a[-1]) if alpha else (sol.x[-1], sol.v[-1])
+        out[:, j] = np.concatenate(parts)
+    return out

@@ -1,0 +1,121 @@
+"""The one path from a model to the core: a planned route becomes a typed
+``_core.ModalModel`` (or ``_core.DirectModel``), a run's options a ``_core.RunSpec`` (or
+``_core.DirectRun``) on a ``_core.Grid``.
+
+:func:`duhamel.prepare`, :func:`duhamel.solve` (through it) and the streaming store
+(``duhamel.store``) build the core's inputs here and nowhere else; every value is checked
+once, by the class that takes it (``duhamel-py``), so a mismatch between the two languages
+is a ``TypeError`` at the call, never an attribute missed at run time.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from duhamel import _core
+from duhamel._engine.plan import Plan
+from duhamel._engine.specs import ScaledSpec
+
+__all__ = ["eta0", "grid", "modal_model", "options", "outputs", "run_spec", "scaled"]
+
+
+def _c(a: Any) -> NDArray[np.float64]:
+    return np.ascontiguousarray(a, dtype=np.float64)
+
+
+def _dense(a: Any) -> Any:
+    """A dense ``_core.Matrix`` of `a`, or None."""
+    return None if a is None else _core.Matrix.dense(_c(a))
+
+
+def options(integrator: Any) -> Any:
+    """The step-equation settings of a :class:`duhamel.Semianalytic`."""
+    return _core.Options(
+        integrator.scheme,
+        integrator.quadrature,
+        float(integrator.tol),
+        int(integrator.max_iter),
+        integrator.solver,
+        int(integrator.subdivisions),
+    )
+
+
+def scaled(specs: list[ScaledSpec]) -> list[Any]:
+    """Couplings scaled by a speed law (modal or physical matrices) as the core takes them."""
+    return [_core.ScaledCoupling(_dense(s.k), _dense(s.c), s.law) for s in specs]
+
+
+def modal_model(route: Plan, loads: list[Any], integrator: Any, mass: Any) -> Any:
+    """The core's model of a planned modal run: its background, its route's corrector, and
+    its default `loads` (``_core.Load``s with modal patterns); `mass` is a ``_core.Mass`` or
+    None."""
+    basis = route.basis
+    core_route: Any = None
+    if route.route == "first-order":
+        fo = route.modes
+        assert fo is not None
+        corrector = None
+        if route.elements:
+            corrector = _core.Corrector(
+                route.elements, _c(fo.back), float(integrator.tol), int(integrator.max_iter)
+            )
+        core_route = _core.FirstOrderRoute(
+            _c(fo.lam.real), _c(fo.lam.imag), _c(fo.gain.real), _c(fo.gain.imag), corrector
+        )
+    elif route.route == "pseudo-force":
+        c = route.couplings
+        core_route = _core.PseudoForceRoute(
+            route.elements, options(integrator), _dense(c.k), _dense(c.c), scaled(c.scaled), mass
+        )
+    return _core.ModalModel(_c(basis.omega2), _c(basis.c), _c(basis.phi), loads, core_route)
+
+
+def grid(
+    t0: float, dt: float, n_steps: int, save_every: int, step0: int = 0, threads: int | None = None
+) -> Any:
+    """The time grid of a run."""
+    return _core.Grid(t0, dt, n_steps, save_every, step0, threads)
+
+
+def eta0(route: Plan, q0: NDArray, v0: NDArray) -> NDArray[np.float64]:
+    """The first-order coordinates ``Re | Im`` of the modal state ``(q0, v0)``."""
+    assert route.modes is not None
+    eta = route.modes.initial(q0, v0)
+    return np.concatenate([eta.real, eta.imag])
+
+
+def run_spec(
+    route: Plan,
+    run_grid: Any,
+    state: tuple[NDArray, NDArray],
+    element_state: NDArray | None = None,
+    eta: NDArray | None = None,
+) -> Any:
+    """One run from the modal `state` ``(q0, v0)``; on the first-order route from `eta`
+    (``Re | Im``, computed from the state when None)."""
+    q0, v0 = state
+    if route.route == "first-order" and eta is None:
+        eta = eta0(route, q0, v0)
+    return _core.RunSpec(
+        run_grid,
+        q0,
+        v0,
+        None if eta is None else _c(eta),
+        None if element_state is None else _c(element_state),
+    )
+
+
+def outputs(route: Plan, phi_out: NDArray, n_loads: int) -> Any:
+    """What the engine maps during a first-order run: ``[x | v]`` of the output dofs from
+    ``[Re eta | Im eta]`` (the loads add nothing to them); None on the other routes."""
+    if route.route != "first-order":
+        return None
+    modes = route.modes
+    assert modes is not None
+    m = route.basis.n_modes
+    tq, tv = modes.back[:, :m], modes.back[:, m:]
+    out_map = np.ascontiguousarray(np.concatenate([tq @ phi_out.T, tv @ phi_out.T], axis=1))
+    return _core.Outputs(out_map, np.zeros((n_loads, out_map.shape[1])), out_map.shape[1])

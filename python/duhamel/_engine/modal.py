@@ -1,0 +1,200 @@
+"""A modal model prepared for runs (what :class:`duhamel.Prepared` holds for the
+semi-analytic integrator), and one run of it up to its :class:`duhamel.Solution`.
+
+The set-up — the route with its basis (and static correction), the first-order modes, the
+core's model with its elements and the projected loads — is made once; a run adds only its
+grid, its initial state and, when given, its own loads.
+"""
+
+from __future__ import annotations
+
+import time as _time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from duhamel._engine import dispatch
+from duhamel._engine.output import check_memory, physical
+from duhamel._engine.plan import Plan, mass, modal_loads, plan
+from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
+from duhamel._engine.validate import as_float_array
+from duhamel.elements.basic import LinearCoupling
+from duhamel.integrators import Semianalytic
+from duhamel.loads import support_terms
+from duhamel.results.solution import Solution, SolveStats
+from duhamel.results.structural import element_histories
+from duhamel.system import System
+
+__all__ = ["ModalSetup", "Outputs", "setup"]
+
+
+@dataclass(frozen=True, eq=False)
+class Outputs:
+    """What a run keeps of the physical response: the dofs, their mode-shape rows, the
+    first-order route's output maps and the support terms of the absolute accelerations."""
+
+    dofs: NDArray[np.int64]
+    phi_out: NDArray[np.float64]
+    maps: Any  # _core.Outputs or None
+    base: list[tuple[NDArray, Any]]
+
+
+@dataclass(eq=False)
+class ModalSetup:
+    """A system prepared for semi-analytic runs (see the module docstring)."""
+
+    system: System
+    integrator: Semianalytic
+    route: Plan
+    model: Any  # _core.ModalModel
+    loads: list[Any]  # the system's loads as _core.Load (modal patterns)
+    fns: list[Any]  # the system's Python load functions
+    patterns: NDArray[np.float64]
+    forces: list[Any]  # the force elements, couplings left out (for their histories)
+    threads: int | None
+    _outputs: dict[Any, Outputs] = field(default_factory=dict)
+    _zeros: NDArray[np.float64] | None = None
+
+    @property
+    def n_modes(self) -> int:
+        return int(self.route.basis.n_modes)
+
+    def initial(self, value: Any, name: str) -> NDArray[np.float64]:
+        """Modal coordinates of an initial state: ``Phi^T M x`` (zeros for None)."""
+        if value is None:
+            if self._zeros is None:
+                self._zeros = np.zeros(self.n_modes)
+            return self._zeros
+        system = self.system
+        x = as_float_array(value, name, ndim=1, shape=(system.n_dof,))
+        phi = self.route.basis.phi
+        return np.ascontiguousarray(phi.T @ np.asarray(system.M @ x, dtype=np.float64))
+
+    def outputs(self, dofs: NDArray[np.int64] | None, n_loads: int) -> Outputs:
+        """The output maps of `dofs` (None: all), made once per choice of dofs."""
+        key = (None if dofs is None else dofs.tobytes(), n_loads)
+        out = self._outputs.get(key)
+        if out is None:
+            n = self.system.n_dof
+            chosen = np.arange(n, dtype=np.int64) if dofs is None else dofs
+            phi_out = self.route.basis.phi[chosen, :]
+            out = Outputs(
+                chosen,
+                phi_out,
+                dispatch.outputs(self.route, phi_out, n_loads),
+                support_terms(self.system.loads, chosen),
+            )
+            self._outputs[key] = out
+        return out
+
+
+def setup(system: System, integrator: Semianalytic, threads: int | None = None) -> ModalSetup:
+    """Plans the route of `system` under `integrator` and builds the core's model."""
+    route = plan(system, integrator)
+    phi = route.basis.phi
+    loads, fns = modal_loads(system.loads, system, phi)
+    model = dispatch.modal_model(route, loads, integrator, mass(system, integrator))
+    patterns = (
+        np.stack([s.pattern for s in loads], axis=1) if loads else np.zeros((phi.shape[1], 0))
+    )
+    forces = [e for e in system.elements if not isinstance(e, LinearCoupling)]
+    return ModalSetup(system, integrator, route, model, loads, fns, patterns, forces, threads)
+
+
+@dataclass(frozen=True)
+class RunOptions:
+    """One run's grid and state (checked by the caller)."""
+
+    t0: float
+    dt: float
+    n_steps: int
+    save_every: int
+    dofs: NDArray[np.int64] | None
+    x0: Any
+    v0: Any
+    loads: list[Any] | None
+    progress: bool | Progress | None
+    started: float
+
+
+def run(prep: ModalSetup, opts: RunOptions) -> Solution:
+    """One run of a prepared modal model, up to its :class:`duhamel.Solution`."""
+    route = prep.route
+    system = prep.system
+    if opts.loads is None:
+        loads, fns, patterns, base = None, prep.fns, prep.patterns, None
+    else:
+        loads, fns = modal_loads(opts.loads, system, route.basis.phi)
+        patterns = (
+            np.stack([s.pattern for s in loads], axis=1) if loads else np.zeros((prep.n_modes, 0))
+        )
+        base = opts.loads
+    n_loads = patterns.shape[1]
+    out = prep.outputs(opts.dofs, n_loads)
+    check_memory(opts.n_steps, opts.save_every, out.dofs.size, 4 * prep.n_modes + n_loads)
+    state = (prep.initial(opts.x0, "x0"), prep.initial(opts.v0, "v0"))
+    grid = dispatch.grid(opts.t0, opts.dt, opts.n_steps, opts.save_every, 0, prep.threads)
+    spec = dispatch.run_spec(route, grid, state)
+    forcing = ModalCallable(fns, system.n_dof) if fns else None
+    with watch(opts.progress, opts.n_steps) as report:
+        loop_start = _time.perf_counter()
+        result = prep.model.run(spec, loads, out.maps, forcing, report)
+        wall = _time.perf_counter() - loop_start
+    return solution(prep, result, out, patterns, opts, wall, base)
+
+
+def solution(
+    prep: ModalSetup,
+    result: Any,
+    out: Outputs,
+    patterns: NDArray[np.float64],
+    opts: RunOptions,
+    wall: float,
+    base: list[Any] | None,
+) -> Solution:
+    """The :class:`duhamel.Solution` of a core run's `result` (raises the run's failure,
+    with the solution up to it as ``partial``)."""
+    route = prep.route
+    kept, x, vel, acc, modal = physical(result, route, out.phi_out, patterns)
+    error = result.error
+    t = result.t if kept == result.t.size else result.t[:kept]
+    solution = Solution(
+        t=t,
+        x=x,
+        v=vel,
+        a=acc,
+        dofs=out.dofs,
+        modal=modal,
+        stats=SolveStats(
+            steps=opts.n_steps if error is None else error.step - 1,
+            wall_time=wall,
+            total_time=_time.perf_counter() - opts.started,
+            modes=prep.n_modes,
+            newton_iterations=int(result.newton_iterations),
+            closed_form_steps=int(result.closed_form_steps),
+            factorizations=int(result.factorizations),
+            subdivided_steps=int(result.subdivided_steps),
+            subdivision_depth=int(result.subdivision_depth),
+            coupling=route.coupling,
+            eigenvector_condition=None if route.modes is None else route.modes.condition,
+            loop_time=float(result.loop_time),
+        ),
+        meta={
+            "dt": opts.dt,
+            "t0": opts.t0,
+            "integrator": prep.integrator,
+            "labels": prep.system.dof_labels,
+        },
+        elements=element_histories(prep.forces, t, result, kept, route.linear),
+        base=out.base if base is None else support_terms(base, out.dofs),
+    )
+    if error is None and kept < result.t.size:
+        raise overflow_error(result.t, kept, opts.dt, opts.t0, solution)
+    if error is not None:
+        if kept < result.t.size:
+            # The outputs of the last states overflowed before the coordinates did.
+            error = error.kept_until(float(result.t[kept - 1]) if kept else None)
+        raise_failure(error, solution)
+    return solution
