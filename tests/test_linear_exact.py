@@ -348,21 +348,29 @@ def test_bad_models_loads_and_integrators_are_rejected():
 
 
 def test_core_rejects_wrong_dtype_and_non_contiguous_input():
-    from types import SimpleNamespace
-
     from duhamel import _core
 
     k = np.ones(4)
-    ok = dict(loads=[], t0=0.0, dt=0.1, n_steps=5, save_every=1, threads=None, phi=np.eye(4))
+    grid = _core.Grid(0.0, 0.1, 5, 1)
+    model = _core.ModalModel(k, k, np.eye(4), [])
 
-    def solve_linear(k, c, q0, v0, **kw):
-        return _core.solve_uncoupled(SimpleNamespace(k=k, c=c, q0=q0, v0=v0, **kw), None, None)
-
+    # Each typed class refuses a malformed value when made, naming it.
     with pytest.raises(ValueError, match="`x0` must be C-contiguous"):
-        solve_linear(k, k, np.ones(8)[::2], k, **ok)
+        _core.RunSpec(grid, np.ones(8)[::2], k)
     with pytest.raises(TypeError, match="`v0`"):
-        solve_linear(k, k, k, np.ones(4, dtype=np.int32), **ok)
-    with pytest.raises(ValueError, match="`c` has length 3"):
-        solve_linear(k, np.ones(3), k, k, **ok)
+        _core.RunSpec(grid, k, np.ones(4, dtype=np.int32))
+    with pytest.raises(ValueError, match="the modal damping has 3 entries for 4 modes"):
+        _core.ModalModel(k, np.ones(3), np.eye(4), [])
+    with pytest.raises(ValueError, match="`load pattern`"):
+        _core.Load(np.ones(4)[::2], _core.TimeFunction.step(0.0))
+    with pytest.raises(ValueError, match="a load's pattern must be finite, got NaN at entry 1"):
+        _core.Load(np.array([0.0, np.nan]), _core.TimeFunction.step(0.0))
+    with pytest.raises(TypeError, match="'loads'"):
+        _core.ModalModel(k, k, np.eye(4), [k])
+    with pytest.raises(TypeError, match="'route'"):
+        _core.ModalModel(k, k, np.eye(4), [], "pseudo-force")
+    with pytest.raises(TypeError, match="'grid'"):
+        _core.RunSpec(None, k, k)
+    # A run checks the values against the model.
     with pytest.raises(ValueError, match="`save_every`"):
-        solve_linear(k, k, k, k, **(ok | {"save_every": 0}))
+        model.run(_core.RunSpec(_core.Grid(0.0, 0.1, 5, 0), k, k))

@@ -17,7 +17,6 @@ import subprocess
 import sys
 import tomllib
 from pathlib import Path
-from types import SimpleNamespace as NS
 
 import numpy as np
 import pytest
@@ -107,59 +106,34 @@ def f64(*values):
     return np.array(values, dtype=np.float64)
 
 
-def modal_spec(n=1, **changes):
-    spec = dict(
-        k=np.ones(n),
-        c=np.zeros(n),
-        q0=np.zeros(n),
-        v0=np.zeros(n),
-        loads=[],
-        t0=0.0,
-        dt=0.1,
-        n_steps=10,
-        save_every=1,
-        threads=None,
-        phi=np.eye(n),
-    )
-    spec.update(changes)
-    return NS(**spec)
+def grid(**changes):
+    return _core.Grid(**({"t0": 0.0, "dt": 0.1, "n_steps": 10, "save_every": 1} | changes))
 
 
-def first_order_modes(r=2, m=1):
-    return NS(
-        lambda_re=-np.ones(r),
-        lambda_im=np.ones(r),
-        gain_re=np.ones((r, m)),
-        gain_im=np.zeros((r, m)),
-        eta0_re=np.zeros(r),
-        eta0_im=np.zeros(r),
+def modal_model(n=1, route=None, phi=None):
+    """Uncoupled unit oscillators (`route` None) with no loads."""
+    phi = np.eye(n) if phi is None else phi
+    return _core.ModalModel(np.ones(n), np.zeros(n), phi, [], route)
+
+
+def modal_run(n=1, eta0=None, **changes):
+    return _core.RunSpec(grid(**changes), np.zeros(n), np.zeros(n), eta0)
+
+
+def first_order_route(r=2, m=1, corrector=None):
+    return _core.FirstOrderRoute(
+        -np.ones(r), np.ones(r), np.ones((r, m)), np.zeros((r, m)), corrector
     )
 
 
-def direct_spec(n=1, **changes):
-    spec = dict(
-        m=_core.Matrix.dense(np.eye(n)),
-        k=_core.Matrix.dense(np.eye(n)),
-        c=None,
-        k_fixed=None,
-        scaled=[],
-        elements=[],
-        loads=[],
-        mass=None,
-        x0=np.zeros(n),
-        v0=np.zeros(n),
-        a0=None,
-        t0=0.0,
-        dt=0.1,
-        n_steps=10,
-        save_every=1,
-        out_dofs=np.arange(n, dtype=np.int64),
-        method=_core.Method.alpha(0.0, 0.0, 0.5, 0.25),
-        tol=1e-9,
-        max_iter=10,
-    )
-    spec.update(changes)
-    return NS(**spec)
+def direct_model(n=1):
+    matrices = _core.Matrices(_core.Matrix.dense(np.eye(n)), _core.Matrix.dense(np.eye(n)))
+    method = _core.Method.alpha(0.0, 0.0, 0.5, 0.25)
+    return _core.DirectModel(matrices, [], None, method, 1e-9, 10)
+
+
+def direct_run(n=1, **changes):
+    return _core.DirectRun(grid(**changes), np.zeros(n), np.zeros(n), np.arange(n, dtype=np.int64))
 
 
 def test_table_values_at_nan_time_is_nan():
@@ -179,9 +153,10 @@ def test_element_stiffness_velocity_of_wrong_length():
 
 def test_output_count_that_overflows():
     # `width * n_cols` used to wrap (a panic with overflow checks): now refused by name.
-    outputs = NS(map=np.zeros(0), loads=np.zeros(0), n_cols=2**64 - 1)
+    outputs = _core.Outputs(np.zeros(0), np.zeros(0), 2**64 - 1)
+    model = modal_model(1, first_order_route())
     with pytest.raises(ValueError, match="`n_cols` is too large"):
-        _core.solve_first_order(modal_spec(1), first_order_modes(), outputs, None, None, None)
+        model.run(modal_run(1, eta0=np.zeros(4)), outputs=outputs)
 
 
 @pytest.mark.parametrize("route", ["uncoupled", "direct"])
@@ -191,32 +166,25 @@ def test_step_count_whose_saved_instants_overflow(route):
     n_steps, dt = 2**64 - 1, 1e-300
     with pytest.raises(ValueError, match="`save_every` is too small"):
         if route == "uncoupled":
-            spec = modal_spec(1, n_steps=n_steps, dt=dt)
-            _core.solve_uncoupled(spec, None, None)
+            modal_model(1).run(modal_run(1, n_steps=n_steps, dt=dt))
         else:
-            _core.solve_direct(direct_spec(1, n_steps=n_steps, dt=dt), None, None)
+            direct_model(1).run(direct_run(1, n_steps=n_steps, dt=dt), [])
 
 
 def test_direct_end_time_that_overflows():
     # Used to run on infinite times (and report a singular matrix): refused like the modal
     # routes refuse it.
-    spec = direct_spec(1, t0=1e308, dt=1e307, n_steps=10)
     with pytest.raises(ValueError, match="`t_end` is too large"):
-        _core.solve_direct(spec, None, None)
+        direct_model(1).run(direct_run(1, t0=1e308, dt=1e307, n_steps=10), [])
 
 
 def test_first_order_elements_with_mode_shapes_of_wrong_length():
     # The coupled route's elements used to read `phi` without checking its length against
-    # `n_dof x n_modes` (rows past its end for a caller of the core).
-    nonlinear = NS(
-        phi=f64(1.0, 0.5, 0.25),
-        back=np.zeros(16),
-        tol=1e-9,
-        max_iter=10,
-        elements=[_core.Element.spring(0, None, 1.0, 1.0)],
-    )
-    with pytest.raises(ValueError, match="`phi` has length 3, expected 2"):
-        _core.solve_first_order(modal_spec(2), first_order_modes(2, 2), None, nonlinear, None, None)
+    # `n_dof x n_modes` (rows past its end for a caller of the core). The model now checks
+    # it when made, on every route.
+    corrector = _core.Corrector([_core.Element.spring(0, None, 1.0, 1.0)], np.zeros(16), 1e-9, 10)
+    with pytest.raises(ValueError, match=r"`phi` must have one column per mode \(2\), got 3"):
+        modal_model(2, first_order_route(2, 2, corrector), phi=f64(1.0, 0.5, 0.25))
 
 
 def test_fortran_ordered_dense_matrix():

@@ -348,53 +348,61 @@ def test_engine_scaled_path_with_a_unit_law_is_the_constant_path():
     # The time-scaled code paths of both engines, driven by a constant unit law, against the
     # constant couplings: the semi-analytic one is the same arithmetic, the direct one adds
     # the matrices in another order.
-    from types import SimpleNamespace
-
-    from duhamel._engine.specs import LoadSpec, ScaledSpec, time_function
+    from duhamel._engine.dispatch import options
+    from duhamel._engine.specs import time_function
 
     system = _coupled(K=KQ, C=GROT)
     basis = system.modal(None)
     phi = np.ascontiguousarray(basis.phi)
     kq, cq = (np.ascontiguousarray(m) for m in system.elements[0].modal(phi))
     specs = [
-        LoadSpec(np.ascontiguousarray(phi.T @ p), time_function(kind, params))
+        _core.Load(np.ascontiguousarray(phi.T @ p), time_function(kind, params))
         for p, kind, params in system.loads[0]._specs(system)
     ]
-    q0 = phi.T @ MROT @ X0R
-    problem = SimpleNamespace(
-        k=basis.omega2, c=basis.c, q0=q0, v0=np.zeros(4), loads=specs, t0=0.0, dt=2e-4,
-        n_steps=1000, save_every=1, threads=None, phi=phi,
-    )  # fmt: skip
+    q0 = np.ascontiguousarray(phi.T @ MROT @ X0R)
+    run = _core.RunSpec(_core.Grid(0.0, 2e-4, 1000, 1), q0, np.zeros(4))
     unit = _core.SpeedLaw.constant(1.0)
 
-    def nonlinear(**couplings):
-        base = dict(coupling_k=None, coupling_c=None, scaled=[])
-        return SimpleNamespace(
-            phi=phi, elements=[], options=duhamel.Semianalytic(), mass=None, **(base | couplings)
+    def pseudo(**couplings):
+        route = _core.PseudoForceRoute([], options(duhamel.Semianalytic()), **couplings)
+        model = _core.ModalModel(
+            np.ascontiguousarray(basis.omega2), np.ascontiguousarray(basis.c), phi, specs, route
         )
+        return model.run(run)
 
-    a = _core.solve_pseudo(problem, nonlinear(coupling_k=kq, coupling_c=cq), None, None)
-    b = _core.solve_pseudo(problem, nonlinear(scaled=[ScaledSpec(kq, cq, unit)]), None, None)
+    dense = _core.Matrix.dense
+    a = pseudo(coupling_k=dense(kq), coupling_c=dense(cq))
+    b = pseudo(scaled=[_core.ScaledCoupling(dense(kq), dense(cq), unit)])
     np.testing.assert_array_equal(a.q, b.q)
 
     from duhamel._engine.direct import _matrix, core_matrices, physical_matrices
 
     mats = core_matrices(physical_matrices(_coupled(K=KQ, C=GROT)))
-    bare = core_matrices(physical_matrices(duhamel.System(MROT, KROT, rayleigh=RAYLEIGH_ROT)))
+    bare = physical_matrices(duhamel.System(MROT, KROT, rayleigh=RAYLEIGH_ROT))
+    assert bare["scaled"] == [] and not bare["sparse"]
+    m, k, c, k_fixed = (
+        None if bare[key] is None else _matrix(bare[key], False)
+        for key in ("m", "k", "c", "k_fixed")
+    )
+    scaled = [_core.ScaledCoupling(_matrix(KQ, False), _matrix(GROT, False), unit)]
+    bare_scaled = _core.Matrices(m, k, c, k_fixed, scaled)
     dspecs = [
-        LoadSpec(np.ascontiguousarray(p), time_function(k, pr))
+        _core.Load(np.ascontiguousarray(p), time_function(k, pr))
         for p, k, pr in system.loads[0]._specs(system)
     ]
-    common = dict(
-        elements=[], loads=dspecs, mass=None, x0=X0R, v0=np.zeros(4), a0=None, t0=0.0,
-        dt=2e-4, n_steps=1000, save_every=1, out_dofs=np.arange(4, dtype=np.int64),
-        method=duhamel.Newmark()._method(), tol=1e-10, max_iter=25,
-    )  # fmt: skip
-    c = _core.solve_direct(SimpleNamespace(**(mats | common)), None, None)
-    scaled = [ScaledSpec(_matrix(KQ, False), _matrix(GROT, False), unit)]
-    d = _core.solve_direct(SimpleNamespace(**(bare | common | {"scaled": scaled})), None, None)
-    c, d = {"x": c.x}, {"x": d.x}
-    diff = np.abs(c["x"] - d["x"]).max() / np.abs(c["x"]).max()
+    direct_run = _core.DirectRun(
+        _core.Grid(0.0, 2e-4, 1000, 1),
+        np.ascontiguousarray(X0R, dtype=np.float64),
+        np.zeros(4),
+        np.arange(4, dtype=np.int64),
+    )
+
+    def direct(matrices):
+        method = duhamel.Newmark()._method()
+        return _core.DirectModel(matrices, [], None, method, 1e-10, 25).run(direct_run, dspecs)
+
+    folded, scaled_path = direct(mats).x, direct(bare_scaled).x
+    diff = np.abs(folded - scaled_path).max() / np.abs(folded).max()
     print(f"\ndirect engine, scaled path with a unit law vs folded matrices: {diff:.1e}")
     assert diff <= 1e-13
 

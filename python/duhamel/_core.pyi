@@ -1,15 +1,20 @@
 """Type stub of the native module ``duhamel._core`` (Rust, PyO3).
 
-The spec classes are made once, in Python, and checked by the core when made; a run reads
-its problem from the attributes of a spec object (``duhamel._engine.plan.ModalSpec``, or the
-namespaces built in ``duhamel.solve`` and ``duhamel._engine.direct``) and returns a
-:class:`RunResult`. The protocols below (stub only, ``type_check_only``) name the attributes
-each run reads. ``tests/test_stub.py`` checks that this stub names every binding with its
-parameters, and nothing else.
-"""
+Every input is a typed class of this module, extracted into Rust values once: time
+functions, speed and mass laws, elements, loads and matrices; a prepared :class:`ModalModel`
+with its route (None: uncoupled oscillators; :class:`FirstOrderRoute` or
+:class:`PseudoForceRoute`) or a :class:`DirectModel` on its :class:`Matrices`. A run takes
+its grid and initial state as a :class:`RunSpec` (modal) or a :class:`DirectRun` (direct),
+each on a :class:`Grid`, and returns a :class:`RunResult`. A class refuses a value of the
+wrong type, dtype or layout when made (and a value it can check alone: an unknown option, a
+non-finite load pattern); sizes, ranges and finiteness against the model are checked when
+the run starts; either way with a ``TypeError`` or ``ValueError`` naming the value (for a
+wrong type, in the exception's note). Nothing is read from the attributes of Python objects
+(``duhamel._engine.dispatch`` builds these inputs). ``tests/test_stub.py`` checks that this
+stub names every binding with its parameters, and nothing else."""
 
 from collections.abc import Callable, Iterable, Sequence
-from typing import Protocol, final, type_check_only
+from typing import Literal, Self, final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -23,205 +28,6 @@ Index = NDArray[np.int64]
 Progress = Callable[[int, int, float], object] | None
 #: A Python load: the physical load vector (``n_dof``) at time ``t``, or None.
 Forcing = Callable[[float], ArrayLike] | None
-
-@type_check_only
-class _LoadTerm(Protocol):
-    """One load term ``pattern * time(t)`` (``duhamel._engine.specs.LoadSpec``)."""
-
-    @property
-    def pattern(self) -> Array: ...
-    @property
-    def time(self) -> TimeFunction: ...
-
-@type_check_only
-class _ModalProblem(Protocol):
-    """The modal problem of every modal route (``duhamel._engine.plan.ModalSpec``); an
-    optional ``step0: int`` is the grid point a continued run starts at."""
-
-    @property
-    def k(self) -> Array: ...
-    @property
-    def c(self) -> Array: ...
-    @property
-    def q0(self) -> Array: ...
-    @property
-    def v0(self) -> Array: ...
-    @property
-    def loads(self) -> Iterable[_LoadTerm]: ...
-    @property
-    def t0(self) -> float: ...
-    @property
-    def dt(self) -> float: ...
-    @property
-    def n_steps(self) -> int: ...
-    @property
-    def save_every(self) -> int: ...
-    @property
-    def threads(self) -> int | None: ...
-    @property
-    def phi(self) -> Array:
-        """``n_dof x m``: projects `forcing` on the modes."""
-
-@type_check_only
-class _FirstOrderModes(Protocol):
-    """First-order modes: eigenvalues, gains (``r x m``) and initial coordinates."""
-
-    @property
-    def lambda_re(self) -> Array: ...
-    @property
-    def lambda_im(self) -> Array: ...
-    @property
-    def gain_re(self) -> Array: ...
-    @property
-    def gain_im(self) -> Array: ...
-    @property
-    def eta0_re(self) -> Array: ...
-    @property
-    def eta0_im(self) -> Array: ...
-
-@type_check_only
-class _Outputs(Protocol):
-    """Outputs mapped during a first-order run: ``map`` (``2 r x n_cols``), ``loads``
-    (``n_loads x n_cols``)."""
-
-    @property
-    def map(self) -> Array: ...
-    @property
-    def loads(self) -> Array: ...
-    @property
-    def n_cols(self) -> int: ...
-
-@type_check_only
-class _FirstOrderNonlinear(Protocol):
-    """Elements on the exact first-order background; an optional ``element_state`` (Array
-    or None) is what a continued run starts from."""
-
-    @property
-    def phi(self) -> Array: ...
-    @property
-    def elements(self) -> Iterable[Element]: ...
-    @property
-    def back(self) -> Array: ...
-    @property
-    def tol(self) -> float: ...
-    @property
-    def max_iter(self) -> int: ...
-
-@type_check_only
-class _Options(Protocol):
-    """A ``duhamel.Semianalytic``'s settings (``scheme`` "a" | "b" | "c", ``quadrature``
-    "trapezoid" | "parabolic" | "exact", ``solver`` "auto" | "newton" | "modal-newton"); an
-    optional ``subdivisions: int`` (default 4)."""
-
-    @property
-    def scheme(self) -> str: ...
-    @property
-    def quadrature(self) -> str: ...
-    @property
-    def tol(self) -> float: ...
-    @property
-    def max_iter(self) -> int: ...
-    @property
-    def solver(self) -> str: ...
-
-@type_check_only
-class _Mass(Protocol):
-    """A mass law as a run takes it (``duhamel._engine.specs.MassSpec``): ``form`` "acceleration"
-    | "momentum", ``treatment`` "eliminate" | "estimate"."""
-
-    @property
-    def law(self) -> MassLaw: ...
-    @property
-    def form(self) -> str: ...
-    @property
-    def scale_stiffness(self) -> bool: ...
-    @property
-    def treatment(self) -> str: ...
-
-@type_check_only
-class _ScaledModal(Protocol):
-    """A modal coupling ``law(t) (k q + c q')`` (``duhamel._engine.specs.ScaledSpec``)."""
-
-    @property
-    def k(self) -> Array | None: ...
-    @property
-    def c(self) -> Array | None: ...
-    @property
-    def law(self) -> SpeedLaw: ...
-
-@type_check_only
-class _PseudoNonlinear(Protocol):
-    """The pseudo-force of the uncoupled route: elements, couplings, mass law; an optional
-    ``element_state`` (Array or None)."""
-
-    @property
-    def phi(self) -> Array: ...
-    @property
-    def elements(self) -> Iterable[Element]: ...
-    @property
-    def options(self) -> _Options: ...
-    @property
-    def coupling_k(self) -> Array | None: ...
-    @property
-    def coupling_c(self) -> Array | None: ...
-    @property
-    def scaled(self) -> Iterable[_ScaledModal]: ...
-    @property
-    def mass(self) -> _Mass | None: ...
-
-@type_check_only
-class _ScaledPhysical(Protocol):
-    """A physical coupling ``law(t) (K x + C x')``."""
-
-    @property
-    def k(self) -> Matrix | None: ...
-    @property
-    def c(self) -> Matrix | None: ...
-    @property
-    def law(self) -> SpeedLaw: ...
-
-@type_check_only
-class _DirectProblem(Protocol):
-    """The physical problem of a direct integrator (``duhamel._engine.direct``)."""
-
-    @property
-    def m(self) -> Matrix: ...
-    @property
-    def k(self) -> Matrix: ...
-    @property
-    def c(self) -> Matrix | None: ...
-    @property
-    def k_fixed(self) -> Matrix | None: ...
-    @property
-    def scaled(self) -> Iterable[_ScaledPhysical]: ...
-    @property
-    def elements(self) -> Iterable[Element]: ...
-    @property
-    def loads(self) -> Iterable[_LoadTerm]: ...
-    @property
-    def mass(self) -> _Mass | None: ...
-    @property
-    def x0(self) -> Array: ...
-    @property
-    def v0(self) -> Array: ...
-    @property
-    def a0(self) -> Array | None: ...
-    @property
-    def t0(self) -> float: ...
-    @property
-    def dt(self) -> float: ...
-    @property
-    def n_steps(self) -> int: ...
-    @property
-    def save_every(self) -> int: ...
-    @property
-    def out_dofs(self) -> Index: ...
-    @property
-    def method(self) -> Method: ...
-    @property
-    def tol(self) -> float: ...
-    @property
-    def max_iter(self) -> int: ...
 
 def transfer(omega: Array, zeta: Array, dt: float, moments: bool = False) -> tuple[Array, Array]:
     """Exact ``A`` (n, 2, 2) and ``B`` (n, 2, 3) — or moments (n, 2, 4) — from natural
@@ -248,7 +54,7 @@ class TimeFunction:
     @staticmethod
     def table(t: Array, values: Array, hold: bool) -> TimeFunction: ...
     @staticmethod
-    def unbalance(law: SpeedLaw, phase: float, axis: str) -> TimeFunction: ...
+    def unbalance(law: SpeedLaw, phase: float, axis: Literal["x", "y"]) -> TimeFunction: ...
     def values(self, t: Array) -> Array:
         """The values at the times `t` (right limits at jumps)."""
 
@@ -261,6 +67,20 @@ class MassLaw:
     @staticmethod
     def table(t: Array, mu: Array) -> MassLaw: ...
 
+@final
+class Mass:
+    """The mass of a run: the law ``mu(t)``, the `form` of the inertia term, whether the
+    stiffness scales with the mass, and the semi-analytic `treatment` (the direct
+    integrators ignore it)."""
+
+    def __new__(
+        cls,
+        law: MassLaw,
+        form: Literal["acceleration", "momentum"],
+        scale_stiffness: bool,
+        treatment: Literal["eliminate", "estimate"],
+    ) -> Self: ...
+
 #: An element function: ``fn(x, v, t) -> r``, or with state ``fn(x, v, t, state) -> (r,
 #: trial_state)``.
 ElementFunction = Callable[..., ArrayLike | tuple[ArrayLike, ArrayLike]]
@@ -272,6 +92,9 @@ class Element:
     """A force element of ``duhamel.elements``, checked when made. Two-node elements act
     on ``x_i - x_j`` (``j`` None: to ground)."""
 
+    @property
+    def dofs(self) -> list[int]:
+        """The global dofs the element acts on, in its local order."""
     @staticmethod
     def polynomial(dof: int, coefficients: Array) -> Element: ...
     @staticmethod
@@ -290,14 +113,14 @@ class Element:
     ) -> Element: ...
     @staticmethod
     def journal_bearing(
-        dof_x: int,
-        dof_y: int,
+        dofs: tuple[int, int],
         radius: float,
         length: float,
         clearance: float,
         viscosity: float,
         law: SpeedLaw,
-    ) -> Element: ...
+    ) -> Element:
+        """On the journal's dofs ``(x, y)``."""
     @staticmethod
     def speed_table(
         dof_x: int,
@@ -320,10 +143,9 @@ class Element:
         k: float,
         fy: float,
         alpha: float,
-        n: float,
-        beta: float,
-        gamma: float,
-    ) -> Element: ...
+        shape: tuple[float, float, float],
+    ) -> Element:
+        """The loop's `shape` is ``(n, beta, gamma)``."""
     @staticmethod
     def friction_pendulum(
         dof_x: int,
@@ -349,6 +171,17 @@ class Element:
     ) -> Element: ...
 
 @final
+class Load:
+    """A built-in load ``pattern * time(t)``: a modal pattern for a :class:`ModalModel`, a
+    physical one for a :class:`DirectModel`; the pattern must be finite."""
+
+    def __new__(cls, pattern: Array, time: TimeFunction) -> Self: ...
+    @property
+    def pattern(self) -> Array: ...
+    @property
+    def time(self) -> TimeFunction: ...
+
+@final
 class Matrix:
     @staticmethod
     def dense(a: NDArray[np.float64]) -> Matrix:
@@ -362,6 +195,183 @@ class Method:
     def alpha(alpha_m: float, alpha_f: float, gamma: float, beta: float) -> Method: ...
     @staticmethod
     def hermite(points: int) -> Method: ...
+
+@final
+class ScaledCoupling:
+    """Matrices scaled by a speed law: the force ``law(t) (K x + C x')`` (physical, in
+    :class:`Matrices`) or the modal pseudo-force ``-law(t) (K q + C q')`` (dense, in
+    :class:`PseudoForceRoute`)."""
+
+    def __new__(cls, k: Matrix | None, c: Matrix | None, law: SpeedLaw) -> Self: ...
+
+@final
+class Grid:
+    """The time grid of a run: ``t0 + (step0 + n) dt``, ``n = 0 .. n_steps``, every
+    `save_every`-th instant kept, on `threads` worker threads (None: all cores)."""
+
+    def __new__(
+        cls,
+        t0: float,
+        dt: float,
+        n_steps: int,
+        save_every: int,
+        step0: int = 0,
+        threads: int | None = None,
+    ) -> Self: ...
+
+@final
+class RunSpec:
+    """One run of a :class:`ModalModel`: its grid and modal state ``q0``, ``v0``; on the
+    first-order route the coordinates `eta0` (``Re | Im``); the elements' committed
+    variables of a continued run, `element_state`."""
+
+    def __new__(
+        cls,
+        grid: Grid,
+        q0: Array,
+        v0: Array,
+        eta0: Array | None = None,
+        element_state: Array | None = None,
+    ) -> Self: ...
+
+@final
+class Options:
+    """A ``duhamel.Semianalytic``'s step-equation settings, checked when made."""
+
+    def __new__(
+        cls,
+        scheme: Literal["a", "b", "c"],
+        quadrature: Literal["trapezoid", "parabolic", "exact"],
+        tol: float,
+        max_iter: int,
+        solver: Literal["auto", "newton", "modal-newton"],
+        subdivisions: int,
+    ) -> Self: ...
+
+@final
+class PseudoForceRoute:
+    """The uncoupled background with the pseudo-force corrector: force `elements`, constant
+    modal couplings (dense, or None), couplings `scaled` by a speed law (none by default)
+    and the `mass` law (None: constant mass)."""
+
+    def __new__(
+        cls,
+        elements: Sequence[Element],
+        options: Options,
+        coupling_k: Matrix | None = None,
+        coupling_c: Matrix | None = None,
+        scaled: Sequence[ScaledCoupling] = ...,
+        mass: Mass | None = None,
+    ) -> Self: ...
+
+@final
+class Corrector:
+    """The elements' corrector on the first-order background: `back` (``2 r x 2 m``) maps
+    ``[Re eta | Im eta]`` to ``[q | q']``; Newton `tol` and `max_iter`."""
+
+    def __new__(
+        cls, elements: Sequence[Element], back: Array, tol: float, max_iter: int
+    ) -> Self: ...
+
+@final
+class FirstOrderRoute:
+    """A coupled linear background in its first-order modes: eigenvalues and gains
+    (``r x m``) as real and imaginary parts, and the elements' `corrector` (None: linear)."""
+
+    def __new__(
+        cls,
+        lambda_re: Array,
+        lambda_im: Array,
+        gain_re: Array,
+        gain_im: Array,
+        corrector: Corrector | None = None,
+    ) -> Self: ...
+
+@final
+class Outputs:
+    """Outputs mapped during a first-order run: `map` (``2 r x n_cols``), `loads`
+    (``n_loads x n_cols``)."""
+
+    def __new__(cls, map: Array, loads: Array, n_cols: int) -> Self: ...
+
+@final
+class ModalModel:
+    """A modal model, checked once: modal stiffness `k` (``omega^2``) and damping `c` per
+    unit modal mass, mass-normalised mode shapes `phi` (``n_dof x n_modes``), its loads
+    (modal patterns) and its `route` (None: uncoupled oscillators, exactly)."""
+
+    def __new__(
+        cls,
+        k: Array,
+        c: Array,
+        phi: NDArray[np.float64],
+        loads: Sequence[Load],
+        route: FirstOrderRoute | PseudoForceRoute | None = None,
+    ) -> Self: ...
+    @property
+    def n_modes(self) -> int: ...
+    @property
+    def n_dof(self) -> int: ...
+    @property
+    def route(self) -> Literal["uncoupled", "first-order", "pseudo-force"]: ...
+    def run(
+        self,
+        run: RunSpec,
+        loads: Sequence[Load] | None = None,
+        outputs: Outputs | None = None,
+        forcing: Forcing = None,
+        progress: Progress = None,
+    ) -> RunResult:
+        """Runs from `run`'s state over its grid; `loads` (not None) replace the model's for
+        this run; `outputs` (first-order route) are mapped during it."""
+
+@final
+class Matrices:
+    """The physical matrices of a direct run: `m`, `k` (scaled with the mass law when it
+    says so), `c`, `k_fixed` (never scaled), and couplings `scaled` by a speed law (none by
+    default)."""
+
+    def __new__(
+        cls,
+        m: Matrix,
+        k: Matrix,
+        c: Matrix | None = None,
+        k_fixed: Matrix | None = None,
+        scaled: Sequence[ScaledCoupling] = ...,
+    ) -> Self: ...
+
+@final
+class DirectRun:
+    """One direct run: its grid, initial `x0`, `v0` and, optionally, `a0`
+    (generalized-alpha; None: from the equation of motion), and the dofs kept."""
+
+    def __new__(
+        cls, grid: Grid, x0: Array, v0: Array, out_dofs: Index, a0: Array | None = None
+    ) -> Self: ...
+
+@final
+class DirectModel:
+    """A model for the direct integrators: `matrices`, force `elements`, `mass` law (None:
+    constant), `method`, and the Newton `tol` and `max_iter` of implicit steps."""
+
+    def __new__(
+        cls,
+        matrices: Matrices,
+        elements: Sequence[Element],
+        mass: Mass | None,
+        method: Method,
+        tol: float,
+        max_iter: int,
+    ) -> Self: ...
+    def run(
+        self,
+        run: DirectRun,
+        loads: Sequence[Load],
+        forcing: Forcing = None,
+        progress: Progress = None,
+    ) -> RunResult:
+        """Integrates the physical equations over `run`'s grid; `loads` have physical
+        patterns."""
 
 @final
 class RunError:
@@ -433,29 +443,10 @@ class RunResult:
     @property
     def subdivision_depth(self) -> int: ...
     @property
+    def loop_time(self) -> float:
+        """Seconds in the engine's loop (GIL released), without extraction and conversion."""
+    @property
     def error(self) -> RunError | None: ...
-
-def solve_uncoupled(problem: _ModalProblem, forcing: Forcing, progress: Progress) -> RunResult:
-    """Uncoupled modal oscillators, exactly."""
-
-def solve_first_order(
-    problem: _ModalProblem,
-    modes: _FirstOrderModes,
-    outputs: _Outputs | None,
-    nonlinear: _FirstOrderNonlinear | None,
-    forcing: Forcing,
-    progress: Progress,
-) -> RunResult:
-    """A coupled linear background exactly in its first-order modes (elements, if any, as
-    pseudo-forces on it)."""
-
-def solve_pseudo(
-    problem: _ModalProblem, nonlinear: _PseudoNonlinear, forcing: Forcing, progress: Progress
-) -> RunResult:
-    """The uncoupled background with the pseudo-force corrector."""
-
-def solve_direct(problem: _DirectProblem, forcing: Forcing, progress: Progress) -> RunResult:
-    """A direct integrator on the physical equations."""
 
 def element_stiffness(
     elements: Iterable[Element], x: Array, v: Array, t: float
@@ -472,26 +463,26 @@ def elastic_spectra(
     """Peaks ``(sd, sv, sa)``, each flat ``[record][damping][period]``."""
 
 def rotd_peaks(
-    first: Array,
-    second: Array,
+    pair: tuple[Array, Array],
     dt: float,
     periods: Array,
     dampings: Array,
     n_angles: int,
     threads: int | None = None,
 ) -> Array:
-    """Peak displacement per direction, flat ``[damping][period][angle]``."""
+    """Peak displacement per direction of the two components `pair` (both sampled at `dt`),
+    flat ``[damping][period][angle]``."""
 
 def ductility_spectrum(
     acc: Array,
     dt: float,
     periods: Array,
-    zeta: float,
-    alpha: float,
+    oscillator: tuple[float, float],
     ductilities: Array,
     threads: int | None = None,
 ) -> Array:
-    """Yield displacements reaching each ductility, flat ``[ductility][period]``."""
+    """Yield displacements of the bilinear `oscillator` ``(zeta, alpha)`` reaching each
+    ductility, flat ``[ductility][period]``."""
 
 def bilinear_peak(
     acc: Array, dt: float, omega: float, zeta: float, alpha: float, uy: float
