@@ -152,11 +152,12 @@ def test_element_stiffness_velocity_of_wrong_length():
 
 
 def test_output_count_that_overflows():
-    # `width * n_cols` used to wrap (a panic with overflow checks): now refused by name.
-    outputs = _core.Outputs(np.zeros(0), np.zeros(0), 2**64 - 1)
-    model = modal_model(1, first_order_route())
-    with pytest.raises(ValueError, match="`n_cols` is too large"):
-        model.run(modal_run(1, eta0=np.zeros(4)), outputs=outputs)
+    # `width * n_cols` used to wrap (a panic with overflow checks). The output maps must now
+    # have `n_cols` columns, so a count no array can have is refused when they are made.
+    with pytest.raises(ValueError, match=r"`map` must have shape \(any, 18446744073709551615\)"):
+        _core.Outputs(np.zeros((0, 2)), np.zeros((0, 2)), 2**64 - 1)
+    with pytest.raises(ValueError, match=r"`loads` must have shape \(any, 2\), got \(0, 3\)"):
+        _core.Outputs(np.zeros((4, 2)), np.zeros((0, 3)), 2)
 
 
 @pytest.mark.parametrize("route", ["uncoupled", "direct"])
@@ -182,9 +183,14 @@ def test_first_order_elements_with_mode_shapes_of_wrong_length():
     # The coupled route's elements used to read `phi` without checking its length against
     # `n_dof x n_modes` (rows past its end for a caller of the core). The model now checks
     # it when made, on every route.
-    corrector = _core.Corrector([_core.Element.spring(0, None, 1.0, 1.0)], np.zeros(16), 1e-9, 10)
-    with pytest.raises(ValueError, match=r"`phi` must have one column per mode \(2\), got 3"):
-        modal_model(2, first_order_route(2, 2, corrector), phi=f64(1.0, 0.5, 0.25))
+    spring = [_core.Element.spring(0, None, 1.0, 1.0)]
+    corrector = _core.Corrector(spring, np.zeros((4, 4)), 1e-9, 10)
+    with pytest.raises(ValueError, match=r"`phi` must have shape \(any, 2\), got \(1, 3\)"):
+        modal_model(2, first_order_route(2, 2, corrector), phi=np.array([[1.0, 0.5, 0.25]]))
+    # A 2-D array of the right size but the wrong shape is refused too (it used to be read
+    # as another shape of the same length).
+    with pytest.raises(ValueError, match=r"`phi` must have shape \(any, 2\), got \(2, 1\)"):
+        modal_model(2, first_order_route(2, 2, corrector), phi=np.array([[1.0], [0.5]]))
 
 
 def test_fortran_ordered_dense_matrix():

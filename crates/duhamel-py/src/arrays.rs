@@ -35,9 +35,33 @@ pub(crate) fn vec_of(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> {
     Ok(f64_array1(obj, name)?.as_slice()?.to_vec())
 }
 
-/// The values of a float64 array of any shape (row-major), copied.
-pub(crate) fn flat_of(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> {
-    vec_of(&obj.call_method0("ravel")?, name)
+/// The values of a float64 matrix of `rows` rows and `cols` columns (row-major, copied); a
+/// ValueError naming `name` for any other shape. `None` for either count accepts any.
+pub(crate) fn matrix_of(
+    obj: &Bound<'_, PyAny>,
+    name: &str,
+    rows: Option<usize>,
+    cols: Option<usize>,
+) -> PyResult<(Vec<f64>, usize, usize)> {
+    let arr = obj.cast::<numpy::PyArray2<f64>>().map_err(|_| {
+        PyTypeError::new_err(format!("`{name}` must be a 2-D numpy array of float64"))
+    })?;
+    let ro = arr.readonly();
+    let (r, c) = (ro.shape()[0], ro.shape()[1]);
+    if rows.is_some_and(|n| n != r) || cols.is_some_and(|n| n != c) {
+        let want = |n: Option<usize>| n.map_or("any".to_string(), |n| n.to_string());
+        return Err(PyValueError::new_err(format!(
+            "`{name}` must have shape ({}, {}), got ({r}, {c})",
+            want(rows),
+            want(cols)
+        )));
+    }
+    if !ro.is_c_contiguous() {
+        return Err(PyValueError::new_err(format!(
+            "`{name}` must be C-contiguous (pass numpy.ascontiguousarray({name}))"
+        )));
+    }
+    Ok((ro.as_slice()?.to_vec(), r, c))
 }
 
 /// Non-negative integers from a 1-D int64 array.

@@ -9,7 +9,7 @@ use duhamel_core::ModalProblem;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::arrays::{flat_of, vec_of};
+use crate::arrays::{matrix_of, vec_of};
 use crate::driver::run;
 use crate::elements::{self, ElementSpec};
 use crate::history::RunResult;
@@ -50,7 +50,7 @@ impl Corrector {
     ) -> PyResult<Self> {
         Ok(Corrector {
             elements,
-            back: flat_of(back, "back")?,
+            back: matrix_of(back, "back", None, None)?.0,
             tol,
             max_iter,
         })
@@ -78,12 +78,26 @@ impl FirstOrderRoute {
         gain_im: &Bound<'_, PyAny>,
         corrector: Option<Py<Corrector>>,
     ) -> PyResult<Self> {
+        let lambda = [
+            vec_of(lambda_re, "lambda_re")?,
+            vec_of(lambda_im, "lambda_im")?,
+        ];
+        let r = lambda[0].len();
+        let (gain_re, _, m) = matrix_of(gain_re, "gain_re", Some(r), None)?;
+        let (gain_im, ..) = matrix_of(gain_im, "gain_im", Some(r), Some(m))?;
+        if let Some(c) = &corrector {
+            if c.get().back.len() != 4 * r * m {
+                return Err(PyValueError::new_err(format!(
+                    "the corrector's `back` must have shape ({}, {}) for {r} first-order \
+                     coordinates and {m} modes",
+                    2 * r,
+                    2 * m
+                )));
+            }
+        }
         Ok(FirstOrderRoute {
-            lambda: [
-                vec_of(lambda_re, "lambda_re")?,
-                vec_of(lambda_im, "lambda_im")?,
-            ],
-            gain: [flat_of(gain_re, "gain_re")?, flat_of(gain_im, "gain_im")?],
+            lambda,
+            gain: [gain_re, gain_im],
             corrector,
         })
     }
@@ -103,8 +117,8 @@ impl Outputs {
     #[new]
     fn new(map: &Bound<'_, PyAny>, loads: &Bound<'_, PyAny>, n_cols: usize) -> PyResult<Self> {
         Ok(Outputs {
-            map: flat_of(map, "map")?,
-            loads: flat_of(loads, "loads")?,
+            map: matrix_of(map, "map", None, Some(n_cols))?.0,
+            loads: matrix_of(loads, "loads", None, Some(n_cols))?.0,
             n_cols,
         })
     }

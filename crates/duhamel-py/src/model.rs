@@ -7,7 +7,7 @@ use duhamel_core::loads::ModalLoad;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::arrays::vec_of;
+use crate::arrays::{matrix_of, vec_of};
 use crate::background::{self, FirstOrderRoute, Outputs};
 use crate::guard::guarded;
 use crate::history::RunResult;
@@ -60,23 +60,16 @@ impl ModalModel {
         loads: Vec<PyRef<'_, Load>>,
         route: Option<RouteArg>,
     ) -> PyResult<Self> {
-        let k = vec_of(k, "omega2")?;
+        let k = vec_of(k, "k")?;
         let c = vec_of(c, "c")?;
-        let phi = crate::arrays::flat_of(phi, "phi")?;
         let m = k.len();
         if c.len() != m {
             return Err(PyValueError::new_err(format!(
-                "the modal damping has {} entries for {m} modes",
+                "`c` has length {}, expected {m} (one modal damping per mode)",
                 c.len()
             )));
         }
-        let n_dof = phi.len().checked_div(m).unwrap_or(0);
-        if n_dof * m != phi.len() {
-            return Err(PyValueError::new_err(format!(
-                "`phi` must have one column per mode ({m}), got {} entries",
-                phi.len()
-            )));
-        }
+        let (phi, n_dof, _) = matrix_of(phi, "phi", None, Some(m))?;
         let route = match route {
             None => Route::Uncoupled,
             Some(RouteArg::FirstOrder(r)) => Route::FirstOrder(r),

@@ -1,7 +1,9 @@
 //! One run of a model: its time grid and initial state, as typed values.
 
 use duhamel_core::loads::ModalLoad;
+use duhamel_core::problem::MAX_THREADS;
 use duhamel_core::ModalProblem;
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use crate::arrays::vec_of;
@@ -30,15 +32,35 @@ impl Grid {
         save_every: usize,
         step0: usize,
         threads: Option<usize>,
-    ) -> Self {
-        Grid {
+    ) -> PyResult<Self> {
+        let bad = |what: String| Err(PyValueError::new_err(what));
+        if !(dt.is_finite() && dt > 0.0) {
+            return bad(format!("`dt` must be a positive finite number, got {dt}"));
+        }
+        if !t0.is_finite() {
+            return bad(format!("`t0` must be finite, got {t0}"));
+        }
+        if n_steps == 0 {
+            return bad("`t_end` must be at least one step `dt` after `t0`".into());
+        }
+        if save_every == 0 {
+            return bad("`save_every` must be a positive integer".into());
+        }
+        if let Some(t) = threads {
+            if t == 0 || t > MAX_THREADS {
+                return bad(format!(
+                    "`threads` must be between 1 and {MAX_THREADS}, got {t}"
+                ));
+            }
+        }
+        Ok(Grid {
             t0,
             step0,
             dt,
             n_steps,
             save_every,
             threads,
-        }
+        })
     }
 
     fn __repr__(&self) -> String {

@@ -138,10 +138,15 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
     grid = dispatch.grid(opts.t0, opts.dt, opts.n_steps, opts.save_every, 0, prep.threads)
     spec = dispatch.run_spec(route, grid, state)
     forcing = ModalCallable(fns, system.n_dof) if fns else None
-    with watch(opts.progress, opts.n_steps) as report:
+    if opts.progress is None or opts.progress is False:
         loop_start = _time.perf_counter()
-        result = prep.model.run(spec, loads, out.maps, forcing, report)
+        result = prep.model.run(spec, loads, out.maps, forcing, None)
         wall = _time.perf_counter() - loop_start
+    else:
+        with watch(opts.progress, opts.n_steps) as report:
+            loop_start = _time.perf_counter()
+            result = prep.model.run(spec, loads, out.maps, forcing, report)
+            wall = _time.perf_counter() - loop_start
     return solution(prep, result, out, patterns, opts, wall, base)
 
 
@@ -187,7 +192,11 @@ def solution(
             "integrator": prep.integrator,
             "labels": prep.system.dof_labels,
         },
-        elements=element_histories(prep.forces, t, result, kept, route.linear),
+        elements=(
+            (lambda: element_histories(prep.forces, t, result, kept, route.linear))
+            if prep.forces
+            else ()
+        ),
         base=out.base if base is None else support_terms(base, out.dofs),
     )
     if error is None and kept < result.t.size:

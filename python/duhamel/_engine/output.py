@@ -88,10 +88,15 @@ def physical(
     all finite, and its accelerations are computed at once to find them.
     """
     n = result.t.size
+    error = result.error
     with np.errstate(over="ignore", invalid="ignore"):
         x, v, acceleration, modal = _assemble(result, plan, phi_out, patterns, n)
-        overflowed = result.error is None and _finite_rows(x, v) < n
-    if result.error is None and not overflowed:
+        # Sums are finite when every entry is (a finite sum that overflows only sends the
+        # check to the exact one, row by row).
+        overflowed = error is None and not (
+            math.isfinite(x.sum() + v.sum()) or _finite_rows(x, v) == n
+        )
+    if error is None and not overflowed:
 
         def checked() -> NDArray:
             with np.errstate(over="ignore", invalid="ignore"):
@@ -128,8 +133,10 @@ def _assemble(
     basis = plan.basis
     n_out = phi_out.shape[0]
 
+    whole = rows == result.t.size
+
     def cut(a: NDArray | None) -> NDArray | None:
-        return None if a is None else a[:rows]
+        return a if a is None or whole else a[:rows]
 
     values, forcing, pseudo = cut(result.load_values), cut(result.forcing), cut(result.pseudo)
     if result.eta is None:

@@ -105,6 +105,8 @@ def as_float_array(
 
 
 def _real_scalar(value: Any, name: str) -> float:
+    if type(value) is float and math.isfinite(value):  # the common case, at once
+        return value
     if isinstance(value, np.ndarray) and value.ndim == 0:
         value = value[()]
     if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
@@ -142,6 +144,8 @@ def nonneg_float(value: Any, name: str) -> float:
 
 
 def _int_scalar(value: Any, name: str) -> int:
+    if type(value) is int:  # the common case, at once
+        return value
     if isinstance(value, np.ndarray) and value.ndim == 0:
         value = value[()]
     if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Integral):

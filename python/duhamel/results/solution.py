@@ -232,10 +232,14 @@ class Solution:
         stats: SolveStats,
         meta: dict[str, Any] | None = None,
         *,
-        elements: tuple[ElementHistory, ...] = (),
+        elements: tuple[ElementHistory, ...] | Callable[[], tuple[ElementHistory, ...]] = (),
         base: Sequence[tuple[NDArray[np.float64], Callable[[Any], Any]]] = (),
     ) -> None:
-        self.elements = elements
+        if callable(elements):
+            self._elements_source: Callable[[], tuple[ElementHistory, ...]] | None = elements
+        else:
+            self._elements_source = None
+            self.__dict__["elements"] = elements
         self._base = list(base)
         self.t = t
         self.x = x
@@ -255,6 +259,21 @@ class Solution:
         """Accelerations of the output degrees of freedom."""
         assert self._a_source is not None
         return self._a_source()
+
+    @cached_property
+    def elements(self) -> tuple[ElementHistory, ...]:
+        """Per force element, its history (see the class docstring); made on first access."""
+        assert self._elements_source is not None
+        return self._elements_source()
+
+    def __getstate__(self) -> dict[str, Any]:
+        # What is made on first access is made now: a pickled Solution holds no function.
+        state = dict(self.__dict__)
+        for name, source in (("a", "_a_source"), ("elements", "_elements_source")):
+            if state.get(source) is not None:
+                state[name] = getattr(self, name)
+                state[source] = None
+        return state
 
     @property
     def a_absolute(self) -> NDArray[np.float64]:
