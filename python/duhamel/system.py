@@ -9,6 +9,8 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from duhamel._engine import shared
+from duhamel._engine.basis import modal_basis
 from duhamel._engine.eigen import Modes
 from duhamel._engine.validate import (
     as_float_array,
@@ -25,7 +27,7 @@ from duhamel._engine.validate import (
 from duhamel.elements.base import Element
 from duhamel.loads import Load
 from duhamel.mass import MassLaw, _Attached
-from duhamel.modal import ModalBasis, backward_errors, damped, orthonormality_error
+from duhamel.modal import ModalBasis, backward_errors, orthonormality_error
 from duhamel.modal import frozen as _frozen
 
 if TYPE_CHECKING:
@@ -101,10 +103,13 @@ class System:
         if n == 0:
             raise ValueError("`M` must have at least one degree of freedom, got shape (0, 0)")
         K = as_square_matrix(K, "K", n=n, ref="M")
-        check_symmetric(M, "M")
-        check_symmetric(K, "K")
-        check_positive_definite(M, "M")
-        check_nonneg_diagonal(K, "K")
+        self._content = shared.content_key(M, K)  # identical matrices: checked once
+        if not shared.checked(self._content):
+            check_symmetric(M, "M")
+            check_symmetric(K, "K")
+            check_positive_definite(M, "M")
+            check_nonneg_diagonal(K, "K")
+            shared.remember_checked(self._content)
         self._M = M if issparse(M) else _frozen(M)
         self._K = K if issparse(K) else _frozen(K)
         self._C: Any = None
@@ -358,7 +363,7 @@ class System:
         n = mode_count(n_modes, "modes", self.n_dof)  # user-facing name (integrators)
         cached = self._modal_cache.get(n)
         if cached is None:
-            cached = self._modal_cache[n] = _checked_modal(self, n)
+            cached = self._modal_cache[n] = modal_basis(self, n)
         return cached
 
     def _with_stiffness(self, K: Any) -> System:
@@ -371,6 +376,7 @@ class System:
         other.loads, other.elements, other.mass_law = [], [], None
         other._modal_cache = {}
         other._modes = Modes(self._M, other._K)
+        other._content = None
         return other
 
     def use_basis(self, basis: ModalBasis, *, extend: bool = False, rtol: float = 1e-6) -> System:
@@ -439,59 +445,7 @@ class System:
                 f"|K phi - omega2 M phi| / ((|K| + omega2 |M|) |phi|) = {residual[worst]:.3g} "
                 f"> `rtol` = {rtol:g}"
             )
+        self._modes = Modes(self._M, self._K)  # a new store: copies of this model keep theirs
         self._modes.supply(basis.omega2, basis.phi, extend=bool(extend))
         self._modal_cache.clear()
         return self
-
-
-def _checked_modal(system: System, n: int) -> ModalBasis:
-    """The damped modal basis of `system`, or a ValueError naming the inputs when their
-    scales are beyond what the eigensolvers can analyse in double precision (a numerical
-    library's error, or non-finite modes or damping)."""
-    import numpy.linalg
-    import scipy.sparse.linalg as spla
-
-    try:
-        lam, phi = system._modes.lowest(n)
-    except (
-        numpy.linalg.LinAlgError,
-        spla.ArpackError,
-        spla.ArpackNoConvergence,
-        ValueError,
-    ) as exc:
-        if isinstance(exc, ValueError) and str(exc).startswith("`"):
-            raise  # our own, naming its parameter
-        raise ValueError(
-            f"the modal analysis of `M` and `K` failed ({type(exc).__name__}: {exc}): their "
-            "scales are beyond what double precision can analyse (check their units and "
-            "values)"
-        ) from None
-    with np.errstate(all="ignore"):
-        finite = bool(np.all(np.isfinite(lam)) and np.all(np.isfinite(phi)))
-    if not finite:
-        raise ValueError(
-            "the modal analysis of `M` and `K` gives non-finite modes: their scales are beyond "
-            "what double precision can analyse (check their units and values)"
-        )
-    with np.errstate(all="ignore"):
-        try:
-            basis = damped(lam, phi, system)
-        except (numpy.linalg.LinAlgError, ValueError) as exc:
-            if isinstance(exc, ValueError) and str(exc).startswith("`"):
-                raise
-            raise ValueError(
-                f"the modal damping of `C` cannot be computed ({type(exc).__name__}: {exc}): "
-                "its scale is beyond what double precision can analyse"
-            ) from None
-        damping_ok = bool(np.all(np.isfinite(basis.c)) and np.all(np.isfinite(basis.zeta)))
-        coupling_ok = basis.c_coupling is None or bool(np.all(np.isfinite(basis.c_coupling)))
-    if not (damping_ok and coupling_ok):
-        name = {"zeta": "zeta", "rayleigh": "rayleigh", "matrix": "C"}.get(
-            system._damping, "damping"
-        )
-        raise ValueError(
-            f"the modal damping from `{name}` overflows the double range for these modes: "
-            f"check `{name}` (a damping ratio is a fraction of critical damping) and the "
-            "model's units"
-        )
-    return basis

@@ -1,0 +1,84 @@
+"""A system's damped modal basis: its modal analysis with the checks that turn a numerical
+library's failure into a message about the inputs, or, for the first analysis of a fresh
+system, the same analysis of an earlier system with the same matrices
+(:mod:`duhamel._engine.shared`)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from duhamel._engine import shared
+from duhamel.modal import ModalBasis, damped
+
+__all__ = ["modal_basis"]
+
+
+def modal_basis(system: Any, n: int) -> ModalBasis:
+    """The damped basis of the lowest `n` modes of `system` (uncached: the system caches)."""
+    modes = system._modes
+    key = system._content if modes.count == 0 and not modes.supplied else None
+    known = shared.basis(key, n, system)
+    if known is not None:
+        lam, phi, basis, semidefinite = known
+        # This system's modes become those of the first analysis, as if computed here.
+        modes.lam, modes.phi, modes._semidefinite = lam, phi, semidefinite
+        return basis
+    basis = _checked_modal(system, n)
+    if key is not None and modes.count == n:
+        shared.remember_basis(key, n, system, (modes.lam, modes.phi, basis, modes._semidefinite))
+    return basis
+
+
+def _checked_modal(system: Any, n: int) -> ModalBasis:
+    """The damped modal basis of `system`, or a ValueError naming the inputs when their
+    scales are beyond what the eigensolvers can analyse in double precision (a numerical
+    library's error, or non-finite modes or damping)."""
+    import numpy.linalg
+    import scipy.sparse.linalg as spla
+
+    try:
+        lam, phi = system._modes.lowest(n)
+    except (
+        numpy.linalg.LinAlgError,
+        spla.ArpackError,
+        spla.ArpackNoConvergence,
+        ValueError,
+    ) as exc:
+        if isinstance(exc, ValueError) and str(exc).startswith("`"):
+            raise  # our own, naming its parameter
+        raise ValueError(
+            f"the modal analysis of `M` and `K` failed ({type(exc).__name__}: {exc}): their "
+            "scales are beyond what double precision can analyse (check their units and "
+            "values)"
+        ) from None
+    with np.errstate(all="ignore"):
+        finite = bool(np.all(np.isfinite(lam)) and np.all(np.isfinite(phi)))
+    if not finite:
+        raise ValueError(
+            "the modal analysis of `M` and `K` gives non-finite modes: their scales are beyond "
+            "what double precision can analyse (check their units and values)"
+        )
+    with np.errstate(all="ignore"):
+        try:
+            basis = damped(lam, phi, system)
+        except (numpy.linalg.LinAlgError, ValueError) as exc:
+            if isinstance(exc, ValueError) and str(exc).startswith("`"):
+                raise
+            raise ValueError(
+                f"the modal damping of `C` cannot be computed ({type(exc).__name__}: {exc}): "
+                "its scale is beyond what double precision can analyse"
+            ) from None
+        damping_ok = bool(np.all(np.isfinite(basis.c)) and np.all(np.isfinite(basis.zeta)))
+        coupling_ok = basis.c_coupling is None or bool(np.all(np.isfinite(basis.c_coupling)))
+    if not (damping_ok and coupling_ok):
+        name = {"zeta": "zeta", "rayleigh": "rayleigh", "matrix": "C"}.get(
+            system._damping, "damping"
+        )
+        raise ValueError(
+            f"the modal damping from `{name}` overflows the double range for these modes: "
+            f"check `{name}` (a damping ratio is a fraction of critical damping) and the "
+            "model's units"
+        )
+    return basis
