@@ -375,7 +375,9 @@ def test_engine_scaled_path_with_a_unit_law_is_the_constant_path():
     b = pseudo(scaled=[_core.ScaledCoupling(dense(kq), dense(cq), unit)])
     np.testing.assert_array_equal(a.q, b.q)
 
-    from duhamel._engine.direct import _matrix, core_matrices, physical_matrices
+    from duhamel._engine.direct import physical_matrices
+    from duhamel._engine.dispatch import matrices as core_matrices
+    from duhamel._engine.dispatch import matrix as _matrix
 
     mats = core_matrices(physical_matrices(_coupled(K=KQ, C=GROT)))
     bare = physical_matrices(duhamel.System(MROT, KROT, rayleigh=RAYLEIGH_ROT))

@@ -68,10 +68,14 @@ def _fingerprint(system: System) -> tuple:
 
 
 def _with_loads(system: System, loads: list[Load]) -> System:
-    """`system` with `loads` instead of its own (sharing its modes and caches)."""
+    """`system` as it is now, with `loads` instead of its own: a copy whose lists of loads
+    and elements, mass law and basis cache are its own (the matrices and the modes computed
+    so far are shared; both are never changed in place)."""
     other = object.__new__(System)
     other.__dict__.update(system.__dict__)
     other.loads = list(loads)
+    other.elements = list(system.elements)
+    other._modal_cache = dict(system._modal_cache)
     return other
 
 
@@ -118,23 +122,25 @@ class Prepared:
     """
 
     def __init__(self, system: System, integrator: Any, dt: float, threads: int | None) -> None:
-        self.system = system
+        self._source = system
+        self._fingerprint = _fingerprint(system)
+        # A snapshot: what is added to the system later does not reach this preparation.
+        self.system = _with_loads(system, system.loads)
         self.integrator = integrator
         self.dt = dt
         self.threads = threads
-        self._fingerprint = _fingerprint(system)
         self._modal: modal.ModalSetup | None = None
         self._direct: DirectSetup | None = None
         if isinstance(integrator, DirectIntegrator):
-            self._direct = prepare_direct(system, integrator)
+            self._direct = prepare_direct(self.system, integrator)
         else:
-            self._modal = modal.setup(system, integrator, threads)
+            self._modal = modal.setup(self.system, integrator, threads)
 
     def matches(self, system: System, integrator: Any, dt: float) -> bool:
         """Whether this is the preparation of `system` as it is now, with `integrator` and
         `dt` (no load, element or mass law added or removed since, no basis supplied)."""
         return (
-            system is self.system
+            system is self._source
             and _fingerprint(system) == self._fingerprint
             and integrator == self.integrator
             and dt == self.dt

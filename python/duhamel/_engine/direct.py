@@ -9,7 +9,6 @@ from numpy.typing import NDArray
 
 from duhamel import _core
 from duhamel._engine.run import callback_error
-from duhamel._engine.specs import speed_law
 from duhamel._engine.validate import issparse
 from duhamel.elements.basic import LinearCoupling
 from duhamel.results.solution import Solution, SolveStats
@@ -45,23 +44,6 @@ def damping_matrix(system: System) -> Any:
     return (mphi * basis.c) @ mphi.T
 
 
-def _matrix(m: Any, sparse: bool) -> Any:
-    """A matrix as the core takes it (a ``_core.Matrix``: CSR when `sparse`, else dense)."""
-    if sparse:
-        import scipy.sparse as sp
-
-        c = sp.csr_array(m, dtype=np.float64)
-        c.sum_duplicates()
-        return _core.Matrix.csr(
-            int(c.shape[0]),
-            np.ascontiguousarray(c.indptr, dtype=np.int64),
-            np.ascontiguousarray(c.indices, dtype=np.int64),
-            np.ascontiguousarray(c.data, dtype=np.float64),
-        )
-    dense = m.toarray() if issparse(m) else np.asarray(m)
-    return _core.Matrix.dense(np.ascontiguousarray(dense, dtype=np.float64))
-
-
 def _add(a: Any, b: Any) -> Any:
     if a is None:
         return b
@@ -81,7 +63,8 @@ def _times(m: Any, factor: float) -> Any:
 def physical_matrices(system: System) -> dict[str, Any]:
     """M, K, C, the stiffness that does not scale with a mass law, and the couplings scaled
     by a time-varying speed law (``(K, C, speed law)``), as numpy or scipy.sparse matrices;
-    ``sparse`` says whether the core gets them sparse (:func:`core_matrices`)."""
+    ``sparse`` says whether the core gets them sparse
+    (:func:`duhamel._engine.dispatch.matrices`)."""
     # Modal damping ratios give a full C: everything is then dense.
     sparse = system.is_sparse and system.damping != "zeta"
     c = damping_matrix(system)
@@ -100,25 +83,6 @@ def physical_matrices(system: System) -> dict[str, Any]:
     if kc is not None and (law is None or not law.scale_stiffness):
         k, kc = _add(k, kc), None
     return {"m": system.M, "k": k, "c": c, "k_fixed": kc, "scaled": scaled, "sparse": sparse}
-
-
-def core_matrices(mats: dict[str, Any]) -> Any:
-    """The matrices of :func:`physical_matrices` as the core takes them
-    (``_core.Matrices``)."""
-    sparse = mats["sparse"]
-    m, k, c, k_fixed = (
-        None if mats[key] is None else _matrix(mats[key], sparse)
-        for key in ("m", "k", "c", "k_fixed")
-    )
-    scaled = [
-        _core.ScaledCoupling(
-            None if ks is None else _matrix(ks, sparse),
-            None if cs is None else _matrix(cs, sparse),
-            speed_law(law._spec()),
-        )
-        for ks, cs, law in mats["scaled"]
-    ]
-    return _core.Matrices(m, k, c, k_fixed, scaled)
 
 
 def _to_scipy(m: Any, n: int) -> Any:

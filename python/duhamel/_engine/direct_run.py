@@ -10,9 +10,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel import _core
 from duhamel._engine import dispatch
-from duhamel._engine.direct import _check_central, core_matrices, physical_matrices
+from duhamel._engine.direct import _check_central, physical_matrices
 from duhamel._engine.plan import mass
 from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
 from duhamel._engine.specs import elements as core_elements
@@ -78,13 +77,7 @@ class DirectSetup:
         if isinstance(integrator, CentralDifference) and not integrator.allow_unstable:
             span = (t0, t0 + n_steps * dt)
             _check_central(system, self.mats, self.elements, x0, v0, dt, span)
-        run = _core.DirectRun(
-            dispatch.grid(t0, dt, n_steps, save_every),
-            np.ascontiguousarray(x0, dtype=np.float64),
-            np.ascontiguousarray(v0, dtype=np.float64),
-            np.ascontiguousarray(out_dofs, dtype=np.int64),
-            None if a0 is None else np.ascontiguousarray(a0, dtype=np.float64),
-        )
+        run = dispatch.direct_run(dispatch.grid(t0, dt, n_steps, save_every), x0, v0, out_dofs, a0)
         forcing = ModalCallable(fns, n) if fns else None
         with watch(progress, n_steps) as report:
             loop_start = _time.perf_counter()
@@ -137,14 +130,7 @@ def prepare_direct(system: System, integrator: DirectIntegrator) -> DirectSetup:
         )
     mats = physical_matrices(system)
     elements = core_elements(system.elements)
-    model = _core.DirectModel(
-        core_matrices(mats),
-        elements,
-        mass(system, integrator),
-        integrator._method(),
-        float(integrator.tol),
-        int(integrator.max_iter),
-    )
+    model = dispatch.direct_model(mats, elements, mass(system, integrator), integrator)
     specs, fns = _loads(system.loads, system)
     return DirectSetup(system, integrator, mats, elements, model, specs, fns)
 

@@ -17,9 +17,22 @@ from numpy.typing import NDArray
 
 from duhamel import _core
 from duhamel._engine.plan import Plan
-from duhamel._engine.specs import ScaledSpec
+from duhamel._engine.specs import ScaledSpec, speed_law
+from duhamel._engine.validate import issparse
 
-__all__ = ["eta0", "grid", "modal_model", "options", "outputs", "run_spec", "scaled"]
+__all__ = [
+    "direct_model",
+    "direct_run",
+    "eta0",
+    "grid",
+    "matrices",
+    "matrix",
+    "modal_model",
+    "options",
+    "outputs",
+    "run_spec",
+    "scaled",
+]
 
 
 def _c(a: Any) -> NDArray[np.float64]:
@@ -119,3 +132,61 @@ def outputs(route: Plan, phi_out: NDArray, n_loads: int) -> Any:
     tq, tv = modes.back[:, :m], modes.back[:, m:]
     out_map = np.ascontiguousarray(np.concatenate([tq @ phi_out.T, tv @ phi_out.T], axis=1))
     return _core.Outputs(out_map, np.zeros((n_loads, out_map.shape[1])), out_map.shape[1])
+
+
+def matrix(m: Any, sparse: bool) -> Any:
+    """A matrix as the core takes it (a ``_core.Matrix``: CSR when `sparse`, else dense)."""
+    if sparse:
+        import scipy.sparse as sp
+
+        c = sp.csr_array(m, dtype=np.float64)
+        c.sum_duplicates()
+        return _core.Matrix.csr(
+            int(c.shape[0]),
+            np.ascontiguousarray(c.indptr, dtype=np.int64),
+            np.ascontiguousarray(c.indices, dtype=np.int64),
+            np.ascontiguousarray(c.data, dtype=np.float64),
+        )
+    dense = m.toarray() if issparse(m) else np.asarray(m)
+    return _core.Matrix.dense(np.ascontiguousarray(dense, dtype=np.float64))
+
+
+def matrices(mats: dict[str, Any]) -> Any:
+    """The physical matrices of :func:`duhamel._engine.direct.physical_matrices` as the core
+    takes them (``_core.Matrices``)."""
+    sparse = mats["sparse"]
+    m, k, c, k_fixed = (
+        None if mats[key] is None else matrix(mats[key], sparse)
+        for key in ("m", "k", "c", "k_fixed")
+    )
+    scaled = [
+        _core.ScaledCoupling(
+            None if ks is None else matrix(ks, sparse),
+            None if cs is None else matrix(cs, sparse),
+            speed_law(law._spec()),
+        )
+        for ks, cs, law in mats["scaled"]
+    ]
+    return _core.Matrices(m, k, c, k_fixed, scaled)
+
+
+def direct_model(mats: dict[str, Any], elements: list[Any], mass: Any, integrator: Any) -> Any:
+    """The core's model of a direct integrator's runs (``_core.DirectModel``)."""
+    return _core.DirectModel(
+        matrices(mats),
+        elements,
+        mass,
+        integrator._method(),
+        float(integrator.tol),
+        int(integrator.max_iter),
+    )
+
+
+def direct_run(
+    run_grid: Any, x0: NDArray, v0: NDArray, dofs: NDArray, a0: NDArray | None = None
+) -> Any:
+    """One direct run from `x0`, `v0` (and `a0`), keeping the dofs `dofs`."""
+    return _core.DirectRun(
+        run_grid, _c(x0), _c(v0), np.ascontiguousarray(dofs, dtype=np.int64),
+        None if a0 is None else _c(a0),
+    )  # fmt: skip
