@@ -62,6 +62,9 @@ class _Remainder(Element):
     def _spec(self) -> tuple:
         return self.spec
 
+    def _directions(self) -> list[tuple[int, int | None]]:
+        return self.element._directions()
+
 
 @dataclass(frozen=True)
 class Background:

@@ -37,19 +37,6 @@ Array = NDArray[np.float64]
 DEPENDENT_RTOL = 1e-8
 
 
-def _element_dofs(element: Any) -> tuple[list[int], bool]:
-    """The element's global dofs and whether it acts on one deformation ``x_i - x_j``."""
-    element = getattr(element, "element", element)  # a remainder: the element it wraps
-    if hasattr(element, "i"):
-        j = getattr(element, "j", None)
-        return ([int(element.i)] if j is None else [int(element.i), int(j)]), j is not None
-    if hasattr(element, "dof"):
-        return [int(element.dof)], False
-    if hasattr(element, "dof_x"):
-        return [int(element.dof_x), int(element.dof_y)], False
-    return [int(d) for d in element.dofs], False
-
-
 def force_directions(system: System) -> Array:
     """Unit force patterns along the elements' deformations and the load patterns of
     `system`, as columns (Python load functions have none)."""
@@ -58,15 +45,11 @@ def force_directions(system: System) -> Array:
     for element in system.elements:
         if isinstance(element, LinearCoupling):
             continue
-        dofs, relative = _element_dofs(element)
-        if relative:
+        for i, j in element._directions():
             f = np.zeros(n)
-            f[dofs[0]], f[dofs[1]] = 1.0, -1.0
-            cols.append(f)
-            continue
-        for d in dofs:
-            f = np.zeros(n)
-            f[d] = 1.0
+            f[i] = 1.0
+            if j is not None:
+                f[j] = -1.0
             cols.append(f)
     for load in system.loads:
         if isinstance(load, Callable):

@@ -9,9 +9,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._engine.protocols import Model
+from duhamel._engine.specs import element as core_element
 from duhamel._engine.validate import dof_index, finite_float
 
-__all__ = ["Element", "nonneg", "pair", "pair_stiffness", "positive"]
+__all__ = ["Deformation", "Element", "nonneg", "pair", "pair_stiffness", "positive"]
 
 
 class Element:
@@ -33,6 +34,12 @@ class Element:
         (``Semianalytic(linear_parts="background")``), or None when it has none."""
         return None
 
+    def _directions(self) -> list[tuple[int, int | None]]:
+        """The directions the element's force acts along, each ``(i, j)``: the deformation
+        ``x_i - x_j`` (``j`` None: ``x_i`` alone). By default each of its dofs alone (the
+        dofs of its core element)."""
+        return [(int(d), None) for d in core_element(self._spec()).dofs]
+
     def _remainder_spec(self) -> tuple:
         """The core spec of the element without its linear part (what stays a
         pseudo-force); by default the element minus ``k0 x``."""
@@ -40,6 +47,17 @@ class Element:
         assert linear is not None
         k0 = linear[1]
         return ("shifted", self._spec(), k0, np.zeros_like(k0))
+
+
+class Deformation:
+    """Mixin of the elements that act on one deformation ``x_i - x_j`` (``j`` None: to the
+    ground): their fields ``i`` and ``j`` say which."""
+
+    i: int
+    j: int | None
+
+    def _directions(self) -> list[tuple[int, int | None]]:
+        return [(int(self.i), None if self.j is None else int(self.j))]
 
 
 def nonneg(value: Any, name: str) -> float:

@@ -19,7 +19,7 @@ from duhamel._engine.validate import (
     finite_float,
     issparse,
 )
-from duhamel.elements.base import Element, nonneg, pair, pair_stiffness
+from duhamel.elements.base import Deformation, Element, nonneg, pair, pair_stiffness
 
 __all__ = [
     "Callable",
@@ -93,7 +93,7 @@ class Cubic(Element):
 
 
 @dataclass(frozen=True)
-class Spring(Element):
+class Spring(Deformation, Element):
     """Spring ``s = k d + k3 d^3`` on ``d = x_i - x_j`` (``j=None``: to ground).
 
     Examples
@@ -127,7 +127,7 @@ class Spring(Element):
 
 
 @dataclass(frozen=True)
-class Damper(Element):
+class Damper(Deformation, Element):
     """Linear viscous damper ``c (v_i - v_j)`` (``j=None``: to ground).
 
     Examples

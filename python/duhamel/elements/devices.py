@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from duhamel._engine.protocols import Model
 from duhamel._engine.validate import dof_index, finite_float
-from duhamel.elements.base import Element, nonneg, pair, pair_stiffness, positive
+from duhamel.elements.base import Deformation, Element, nonneg, pair, pair_stiffness, positive
 
 __all__ = ["Bilinear", "BoucWen", "FrictionPendulum", "Gap", "ViscousDamper"]
 
@@ -37,7 +37,7 @@ def _alpha(value: float) -> float:
 
 
 @dataclass(frozen=True)
-class Bilinear(Element):
+class Bilinear(Deformation, Element):
     """Bilinear elastoplastic spring with kinematic hardening (OpenSees ``Steel01`` without
     isotropic hardening): elastic stiffness `k`, yield force `fy`, post-yield stiffness
     ``alpha k`` (0: elastic-perfectly plastic). The force stays between the lines
@@ -86,7 +86,7 @@ class Bilinear(Element):
 
 
 @dataclass(frozen=True)
-class BoucWen(Element):
+class BoucWen(Deformation, Element):
     """Bouc-Wen smooth hysteretic spring, ``F = alpha k u + (1 - alpha) fy z`` with
     ``dz/du = (k / fy) [1 - |z|^n (beta sgn(du z) + gamma)]`` (OpenSees ``BoucWen`` with
     ``z`` in displacement units ``fy / k``). For ``n = 1`` the update of ``z`` over a step is
@@ -199,7 +199,7 @@ class FrictionPendulum(Element):
 
 
 @dataclass(frozen=True)
-class ViscousDamper(Element):
+class ViscousDamper(Deformation, Element):
     """Fluid viscous damper ``F = c |v|^exponent sgn(v)`` on ``v = v_i - v_j`` (including
     ``exponent < 1``, the usual nonlinear dampers: below the speed `v0` an odd cubic matching
     the power law's force and slope at `v0` keeps the force smooth and its slope finite, so
@@ -237,7 +237,7 @@ class ViscousDamper(Element):
 
 
 @dataclass(frozen=True)
-class Gap(Element):
+class Gap(Deformation, Element):
     """Compression-only contact (pounding, a stop): ``F = k (u + gap)`` once the
     deformation closes the opening, ``u < -gap``, else 0 (node `i` on the positive side of
     `j`, or of a fixed stop at ``-gap`` when ``j=None``).
