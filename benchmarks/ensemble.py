@@ -1,5 +1,6 @@
 """Ensembles: 200 runs of a 10-storey building under scaled records, in-process on one and on
-all cores, and on a Dask LocalCluster of worker processes (issue 14).
+all cores, and on a Dask LocalCluster of worker processes (issues 14, 22), with a model made
+per run and with one model prepared once per process.
 
 The building of tests/test_ensemble.py (10 storeys, 5 % damping, a yielding first storey,
 ``Bilinear``), 4 synthetic records x 50 scale factors, 8 s at dt = 0.01 s, ``Semianalytic()``,
@@ -32,6 +33,23 @@ import duhamel  # noqa: E402
 from duhamel.ensemble import solve_many  # noqa: E402
 
 
+def _best(make, params, integ, repeats, **kw) -> dict:
+    """Best wall time of each configuration over interleaved repeats; results kept."""
+    cores = os.cpu_count() or 1
+    configs = {
+        "one": {"workers": 1}, "many": {"workers": cores},
+        "one_shared": {"workers": 1, "basis": "first"},
+        "many_shared": {"workers": cores, "basis": "first"},
+    }  # fmt: skip
+    best: dict = {}
+    for _ in range(repeats):
+        for key, extra in configs.items():
+            ens = solve_many(make, params, integ, **extra, **kw)
+            if key not in best or ens.stats["wall_time"] < best[key].stats["wall_time"]:
+                best[key] = ens
+    return best
+
+
 def measure(n_scales: int) -> dict:
     import distributed
 
@@ -40,17 +58,10 @@ def measure(n_scales: int) -> dict:
     kw = {"reduce": model.peak_drift, **model.KW}
     integ = duhamel.Semianalytic()
     solve_many(model.building, params[:4], integ, workers=1, **kw)  # warm-up (imports)
+    solve_many(model.study, params[:4], integ, workers=1, **kw)
     cores = os.cpu_count() or 1
-    best = {}
-    for _ in range(3):  # interleaved repeats, best of each
-        for key, workers, basis in (
-            ("one", 1, None), ("many", cores, None), ("one_shared", 1, "first"),
-            ("many_shared", cores, "first"),
-        ):  # fmt: skip
-            ens = solve_many(model.building, params, integ, workers=workers, basis=basis, **kw)
-            if key not in best or ens.stats["wall_time"] < best[key].stats["wall_time"]:
-                best[key] = ens
-    one, many = best["one"], best["many"]
+    fresh = _best(model.building, params, integ, 3, **kw)  # a new System per run
+    study = _best(model.study, params, integ, 3, **kw)  # one model, prepared once
     long_kw = {**kw, "t_end": 40.0}  # 4,000 steps per run: the Rust loop dominates
     long = {}
     for _ in range(3):
@@ -64,58 +75,76 @@ def measure(n_scales: int) -> dict:
         distributed.Client(cluster) as client,
     ):
         solve_many(model.building, params[:4], integ, client=client, **kw)  # warm the workers
-        dask = solve_many(model.building, params, integ, client=client, **kw)
-        dask_shared = solve_many(model.building, params, integ, client=client, basis="first", **kw)
-    assert dask.results == one.results == many.results == dask_shared.results
-    assert best["one_shared"].results == one.results == best["many_shared"].results
-    n_tasks = -(-len(params) // dask.stats["chunk_size"])
+        dask = {"fresh": None, "study": None, "fresh_shared": None}
+        for _ in range(3):
+            runs = {
+                "fresh": solve_many(model.building, params, integ, client=client, **kw),
+                "study": solve_many(model.study, params, integ, client=client, **kw),
+                "fresh_shared": solve_many(
+                    model.building, params, integ, client=client, basis="first", **kw
+                ),
+            }
+            for key, ens in runs.items():
+                if dask[key] is None or ens.stats["wall_time"] < dask[key].stats["wall_time"]:
+                    dask[key] = ens
+    reference = fresh["one"].results
+    for group in (fresh, study, dask):
+        for ens in group.values():
+            assert ens.results == reference  # every configuration, bit for bit
+    n_tasks = -(-len(params) // dask["fresh"].stats["chunk_size"])
+    wall = lambda group: {k: e.stats["wall_time"] for k, e in group.items()}  # noqa: E731
     return {
         "runs": len(params),
-        "one": one.stats["wall_time"],
-        "many": many.stats["wall_time"],
-        "dask": dask.stats["wall_time"],
-        "dask_shared": dask_shared.stats["wall_time"],
-        "one_shared": best["one_shared"].stats["wall_time"],
-        "many_shared": best["many_shared"].stats["wall_time"],
+        "fresh": wall(fresh),
+        "study": wall(study),
+        "dask": wall(dask),
         **long,
         "cores": cores,
-        "chunk": dask.stats["chunk_size"],
+        "chunk": dask["fresh"].stats["chunk_size"],
         "tasks": n_tasks,
         "load": (load0, os.getloadavg()[0]),
     }
 
 
 def markdown(r: dict) -> list[str]:
-    n = r["runs"]
-    overhead = (r["dask"] - r["many"]) / r["tasks"]
+    n, c = r["runs"], r["cores"]
+    fresh, study, dask = r["fresh"], r["study"], r["dask"]
+
+    def row(label: str, wall: float, base: float) -> str:
+        return f"| {label} | {wall:.3f} | {n / wall:.0f} | {base / wall:.2f} |"
+
+    overhead = (dask["fresh"] - fresh["many"]) / r["tasks"]
     return [
-        "## Ensembles (issue 14)",
+        "## Ensembles (issues 14, 22)",
         "",
         f"Generated by `benchmarks/ensemble.py --append BENCHMARKS.md`. {n} runs of the "
         "10-storey building of tests/test_ensemble.py (yielding first storey, 800 steps), "
-        "reduced to two peaks each; all results are equal bit for bit. 1-min load "
-        f"average before {r['load'][0]:.2f}, after {r['load'][1]:.2f}.",
+        "reduced to two peaks each; every configuration gives the same results bit for bit. "
+        "*A model per run*: `make_system` builds a new System for each case "
+        "(`test_ensemble.building`); *one prepared model*: it returns the same System with "
+        "the case's record as `loads` (`test_ensemble.study`), so each process prepares it "
+        f"once. 1-min load average before {r['load'][0]:.2f}, after {r['load'][1]:.2f}; "
+        f"{c} cores.",
         "",
-        "| where | wall time [s] | runs/s | x one core |",
+        "| where | wall time [s] | runs/s | x 1 thread (same form) |",
         "|---|---:|---:|---:|",
-        f"| in-process, 1 thread | {r['one']:.2f} | {n / r['one']:.0f} | 1.0 |",
-        f"| in-process, {r['cores']} threads | {r['many']:.2f} | {n / r['many']:.0f} | "
-        f"{r['one'] / r['many']:.2f} |",
-        f"| Dask LocalCluster, {r['cores']} worker processes, {r['tasks']} tasks of "
-        f"{r['chunk']} runs | {r['dask']:.2f} | {n / r['dask']:.0f} | "
-        f"{r['one'] / r['dask']:.2f} |",
-        f"| in-process, 1 thread, shared basis | {r['one_shared']:.2f} | "
-        f"{n / r['one_shared']:.0f} | {r['one'] / r['one_shared']:.2f} |",
-        f"| in-process, {r['cores']} threads, shared basis | {r['many_shared']:.2f} | "
-        f"{n / r['many_shared']:.0f} | {r['one'] / r['many_shared']:.2f} |",
-        f"| Dask, basis scattered once | {r['dask_shared']:.2f} | "
-        f"{n / r['dask_shared']:.0f} | {r['one'] / r['dask_shared']:.2f} |",
-        f"| 4,000-step runs, in-process, 1 thread | {r['long_one']:.2f} | "
-        f"{n / r['long_one']:.0f} | 1.0 |",
-        f"| 4,000-step runs, in-process, {r['cores']} threads | {r['long_many']:.2f} | "
-        f"{n / r['long_many']:.0f} | {r['long_one'] / r['long_many']:.2f} |",
+        row("a model per run, 1 thread", fresh["one"], fresh["one"]),
+        row(f"a model per run, {c} threads", fresh["many"], fresh["one"]),
+        row(f"a model per run, {c} threads, shared basis", fresh["many_shared"], fresh["one"]),
+        row("one prepared model, 1 thread", study["one"], study["one"]),
+        row(f"one prepared model, {c} threads", study["many"], study["one"]),
+        row(
+            f"Dask LocalCluster ({c} processes, {r['tasks']} tasks of {r['chunk']}), a "
+            "model per run",
+            dask["fresh"],
+            fresh["one"],
+        ),
+        row("Dask, a model per run, basis scattered once", dask["fresh_shared"], fresh["one"]),
+        row("Dask, one prepared model", dask["study"], study["one"]),
+        row("4,000-step runs, a model per run, 1 thread", r["long_one"], r["long_one"]),
+        row(f"4,000-step runs, a model per run, {c} threads", r["long_many"], r["long_one"]),
         "",
-        "In-process rows: best of 3 interleaved repeats.",
+        "Best of 3 interleaved repeats for every row.",
         "",
         f"Dask overhead per task against the in-process run on as many workers: "
         f"{1e3 * overhead:.1f} ms.",

@@ -28,6 +28,16 @@ def building(p: dict) -> duhamel.System:
     return s.add_load(RECORDS[p["record"]].scaled(p["scale"]).as_load(np.ones(N)))
 
 
+#: The same building, made once: a study of it varies only the record (`study`).
+MODEL = building({"record": 0, "scale": 0.0})
+MODEL.loads.clear()
+
+
+def study(p: dict) -> tuple[duhamel.System, dict]:
+    """The case `p` as one model under that case's record: solve_many prepares it once."""
+    return MODEL, {"loads": [RECORDS[p["record"]].scaled(p["scale"]).as_load(np.ones(N))]}
+
+
 PARAMS = [{"record": r, "scale": s} for r in range(4) for s in (0.5, 1.0, 1.5)]
 KW = {"t_end": 8.0, "dt": 0.01}
 
@@ -45,6 +55,29 @@ def test_threads_equal_one_at_a_time() -> None:
     ds = ens.to_xarray()
     assert dict(ds.sizes) == {"case": 12, "time": 801, "dof": N}
     np.testing.assert_array_equal(ds["scale"].values, [p["scale"] for p in PARAMS])
+
+
+def test_one_prepared_model_under_every_record_equals_a_model_per_run() -> None:
+    from duhamel.ensemble import run as ensemble_run
+
+    fresh = solve_many(building, PARAMS, duhamel.Semianalytic(), workers=2, **KW)
+    ensemble_run._PREPARED.clear()
+    shared = solve_many(study, PARAMS, duhamel.Semianalytic(), workers=2, **KW)
+    for a, b in zip(fresh.results, shared.results, strict=True):
+        np.testing.assert_array_equal(a.x, b.x)
+        np.testing.assert_array_equal(a.elements[0].force, b.elements[0].force)
+    # one preparation served every run of the shared model (the cache holds it once)
+    prepared = [
+        p for p in ensemble_run._PREPARED.values() if p.matches(MODEL, duhamel.Semianalytic(), 0.01)
+    ]
+    assert len(prepared) == 1
+    # a model changed between runs is prepared again, not run as it was
+    MODEL.add(duhamel.elements.Spring(N - 1, None, k=1e6))
+    try:
+        changed = solve_many(study, PARAMS[:1], duhamel.Semianalytic(), workers=1, **KW)
+        assert not np.array_equal(changed.results[0].x, shared.results[0].x)
+    finally:
+        MODEL.elements.pop()
 
 
 def test_reduce_and_dask_cluster_bit_for_bit() -> None:
