@@ -69,13 +69,13 @@ def _fingerprint(system: System) -> tuple:
 
 def _with_loads(system: System, loads: list[Load]) -> System:
     """`system` as it is now, with `loads` instead of its own: a copy whose lists of loads
-    and elements, mass law and basis cache are its own (the matrices and the modes computed
-    so far are shared; both are never changed in place)."""
+    and elements are its own; the matrices, the modes and the caches of what is derived from
+    them (bases, static corrections) are shared with `system`."""
     other = object.__new__(System)
     other.__dict__.update(system.__dict__)
     other.loads = list(loads)
     other.elements = list(system.elements)
-    other._modal_cache = dict(system._modal_cache)
+    other.__dict__["_corrected"] = system.__dict__.setdefault("_corrected", {})
     return other
 
 
@@ -135,6 +135,9 @@ class Prepared:
             self._direct = prepare_direct(self.system, integrator)
         else:
             self._modal = modal.setup(self.system, integrator, threads)
+            derived = self.system.__dict__.get("_background")
+            if derived is not None:  # the system's own cache, as solve() always kept it
+                system._background = derived  # type: ignore[attr-defined]
 
     def matches(self, system: System, integrator: Any, dt: float) -> bool:
         """Whether this is the preparation of `system` as it is now, with `integrator` and

@@ -447,5 +447,5 @@ class System:
             )
         self._modes = Modes(self._M, self._K)  # a new store: copies of this model keep theirs
         self._modes.supply(basis.omega2, basis.phi, extend=bool(extend))
-        self._modal_cache.clear()
+        self._modal_cache = {}  # a new cache: copies of this model keep theirs
         return self

@@ -15,7 +15,7 @@ response lies in the basis.
 
 from __future__ import annotations
 
-from types import SimpleNamespace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -124,16 +124,26 @@ def _m_orthonormal(system: System, phi: Array, x: Array) -> Array:
     return np.linalg.solve(c, y.T).T / np.sqrt(scale)  # M-orthonormal
 
 
-def _damping(system: System, n_modes: int, order: NDArray[np.intp]) -> Any:
+@dataclass(frozen=True)
+class _Damping:
+    """The damping of a system as :func:`duhamel.modal.damped` reads it."""
+
+    damping: str
+    zeta: Any
+    rayleigh: tuple[float, float] | None
+    C: Any
+    K: Any
+    M: Any
+
+
+def _damping(system: System, n_modes: int, order: NDArray[np.intp]) -> _Damping:
     """`system`'s damping for :func:`duhamel.modal.damped` on the enriched basis (columns in
     `order`): per-mode ratios extended to the correction vectors with the last mode's."""
     z = system.zeta
     if system.damping == "zeta" and isinstance(z, np.ndarray):
         extra = np.full(order.size - n_modes, z[min(n_modes, z.size) - 1])
         z = np.concatenate([z[:n_modes], extra])[order]
-    return SimpleNamespace(
-        damping=system.damping, zeta=z, rayleigh=system.rayleigh, C=system.C, K=system.K, M=system.M
-    )
+    return _Damping(system.damping, z, system.rayleigh, system.C, system.K, system.M)
 
 
 def corrected(system: System, basis: ModalBasis) -> ModalBasis:

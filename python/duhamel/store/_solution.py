@@ -4,7 +4,7 @@ segment located on the whole run's grid."""
 from __future__ import annotations
 
 import time as _time
-from types import SimpleNamespace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -115,10 +115,20 @@ def _solution(
     )
 
 
-def _shifted(error: Any, step0: int) -> Any:
+@dataclass(frozen=True)
+class ShiftedError:
+    """A segment's run failure (the fields of a ``_core.RunError``) with its step counted
+    from the start of the run."""
+
+    kind: str
+    message: str
+    time: float
+    step: int
+    cause: Any
+
+
+def _shifted(error: Any, step0: int) -> ShiftedError:
     """A segment's ``RunError`` with its step counted from the start of the run."""
     step = int(error.step) + step0
     message = str(error.message).replace(f"step {error.step}", f"step {step}")
-    return SimpleNamespace(
-        kind=error.kind, message=message, time=error.time, step=step, cause=error.cause
-    )
+    return ShiftedError(error.kind, message, error.time, step, error.cause)
