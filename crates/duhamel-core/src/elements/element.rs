@@ -66,7 +66,6 @@ pub trait Element: Send + Sync {
     /// A path-dependent element's force at the trial state `(x, v, t)` reached from the
     /// committed variables, as [`Element::eval`] adds it, writing the trial variables. The
     /// default (path-independent elements) is [`Element::eval`].
-    #[allow(clippy::too_many_arguments)]
     fn eval_path(
         &self,
         x: &[f64],

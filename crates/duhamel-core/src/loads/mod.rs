@@ -4,7 +4,7 @@
 pub mod block;
 mod time;
 
-pub use time::{Axis, TimeFunction};
+pub use time::{Axis, Steps, TimeFunction};
 
 use crate::error::CoreError;
 

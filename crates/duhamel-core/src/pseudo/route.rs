@@ -2,9 +2,9 @@
 //! implicit step equation of the pseudo-force (elements, couplings, mass law) solved every
 //! step ([`super::newton`]).
 
-use super::force::PseudoForce;
+use super::force::{Parts, PseudoForce};
 use super::local::ElementSpace;
-use super::newton::Stepper;
+use super::newton::{Settings, Stepper};
 use super::problem::{validate, NonlinearProblem};
 use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
@@ -208,9 +208,8 @@ impl PseudoRoute<'_, '_> {
                     v1.copy_from_slice(v);
                     let basis = [&pb[0][..], &pb[1][..], &pb[2][..]];
                     let span = (t, problem.dt);
-                    let stateful = self.stateful;
                     let stepper = &mut self.stepper;
-                    match sub.step(stepper, &mut self.pf, span, basis, (q1, v1), stateful) {
+                    match sub.step(stepper, &mut self.pf, span, basis, (q1, v1)) {
                         Ok(iters) => iters,
                         Err(error) => {
                             result = Err(StepFailure {
@@ -315,26 +314,31 @@ pub fn integrate(
         .collect();
     let o = problem.options;
     let rule = Rule::new(o.scheme, o.quadrature, dt, &transfers);
-    let pf = PseudoForce::new(
-        problem.phi,
-        problem.n_dof,
-        problem.elements,
-        problem.coupling_k,
-        problem.coupling_c,
-        problem.scaled,
-        problem.mass,
-        base.k,
-        base.c,
-    )
+    let pf = PseudoForce::new(Parts {
+        phi: problem.phi,
+        n_dof: problem.n_dof,
+        elements: problem.elements,
+        coupling_k: problem.coupling_k,
+        coupling_c: problem.coupling_c,
+        scaled: problem.scaled,
+        mass: problem.mass,
+        k: base.k,
+        c: base.c,
+    })
     .map_err(fail)?;
     let estimate = problem
         .mass
         .is_some_and(|m| m.treatment == MassTreatment::Estimate);
     let space = ElementSpace::new(problem.phi, n, problem.elements);
-    let stepper = Stepper::new(
-        &rule, o.scheme, dt, o.tol, o.max_iter, o.solver, &pf, estimate, space,
-    )
-    .map_err(fail)?;
+    let settings = Settings {
+        rule: &rule,
+        scheme: o.scheme,
+        dt,
+        tol: o.tol,
+        max_iter: o.max_iter,
+        solver: o.solver,
+    };
+    let stepper = Stepper::new(settings, &pf, estimate, space).map_err(fail)?;
     let mut pf = pf;
     let mut stepper = stepper;
     let depth = if pf.linear { 0 } else { o.subdivisions };

@@ -9,7 +9,7 @@
 
 use super::force::PseudoForce;
 use super::local::ElementSpace;
-use super::newton::Stepper;
+use super::newton::{Settings, Stepper};
 use super::problem::{NonlinearProblem, Options};
 use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
@@ -45,6 +45,8 @@ struct Level<'r> {
 pub(super) struct Subdivider<'r> {
     levels: Vec<Level<'r>>,
     n: usize,
+    /// Whether hysteretic elements commit at the end of every accepted substep.
+    stateful: bool,
     /// Steps that needed subdividing, and the deepest level reached.
     pub steps: usize,
     pub deepest: usize,
@@ -71,17 +73,15 @@ impl<'r> Subdivider<'r> {
         for (d, (transfers, rule)) in rules.iter().enumerate() {
             let h = problem.base.dt * 0.5f64.powi(d as i32 + 1);
             let space = ElementSpace::new(problem.phi, n, problem.elements);
-            let stepper = Stepper::new(
+            let settings = Settings {
                 rule,
-                options.scheme,
-                h,
-                options.tol,
-                options.max_iter,
-                options.solver,
-                pf,
-                estimate,
-                space,
-            )?;
+                scheme: options.scheme,
+                dt: h,
+                tol: options.tol,
+                max_iter: options.max_iter,
+                solver: options.solver,
+            };
+            let stepper = Stepper::new(settings, pf, estimate, space)?;
             levels.push(Level {
                 rows: step_rows(transfers),
                 stepper,
@@ -90,6 +90,7 @@ impl<'r> Subdivider<'r> {
         Ok(Subdivider {
             levels,
             n,
+            stateful: pf.stateful(),
             steps: 0,
             deepest: 0,
         })
@@ -119,7 +120,6 @@ impl<'r> Subdivider<'r> {
 
     /// Advances `(q, v)` over the step `[t, t + dt]` whose modal load basis is `pb` in
     /// halves (the step itself failed); returns the Newton iterations.
-    #[allow(clippy::too_many_arguments)]
     pub fn step(
         &mut self,
         main: &mut Stepper,
@@ -127,18 +127,16 @@ impl<'r> Subdivider<'r> {
         (t, dt): (f64, f64),
         pb: [&[f64]; 3],
         (q, v): (&mut [f64], &mut [f64]),
-        stateful: bool,
     ) -> Result<usize, CoreError> {
         self.steps += 1;
         let span = Span { t, dt, pb };
-        let first = self.advance(1, main, pf, &span, 0.0, (q, v), stateful)?;
-        let second = self.advance(1, main, pf, &span, 0.5, (q, v), stateful)?;
+        let first = self.advance(1, main, pf, &span, 0.0, (q, v))?;
+        let second = self.advance(1, main, pf, &span, 0.5, (q, v))?;
         Ok(first + second)
     }
 
     /// Advances over `[a, a + 2^-depth]` of the step (fractions of it) at level `depth`,
     /// in halves below when that fails.
-    #[allow(clippy::too_many_arguments)]
     fn advance(
         &mut self,
         depth: usize,
@@ -147,7 +145,6 @@ impl<'r> Subdivider<'r> {
         span: &Span,
         a: f64,
         (q, v): (&mut [f64], &mut [f64]),
-        stateful: bool,
     ) -> Result<usize, CoreError> {
         let n = self.n;
         let h = 0.5f64.powi(depth as i32);
@@ -172,7 +169,7 @@ impl<'r> Subdivider<'r> {
         match attempt {
             Ok(iterations) => {
                 self.deepest = self.deepest.max(depth);
-                if stateful {
+                if self.stateful {
                     let end = t + h * span.dt;
                     main.commit(pf, (&q1, &v1), end, false)?;
                     self.commit(pf, (&q1, &v1), end, false)?;
@@ -182,9 +179,9 @@ impl<'r> Subdivider<'r> {
                 Ok(iterations)
             }
             Err(error) if retriable(&error) && depth < self.levels.len() => {
-                let first = self.advance(depth + 1, main, pf, span, a, (q, v), stateful)?;
+                let first = self.advance(depth + 1, main, pf, span, a, (q, v))?;
                 let mid = a + 0.5 * h;
-                let second = self.advance(depth + 1, main, pf, span, mid, (q, v), stateful)?;
+                let second = self.advance(depth + 1, main, pf, span, mid, (q, v))?;
                 Ok(first + second)
             }
             Err(error) => Err(error),

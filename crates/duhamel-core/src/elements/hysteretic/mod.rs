@@ -11,7 +11,7 @@ mod gap;
 mod viscous;
 
 pub use bilinear::Bilinear;
-pub use boucwen::BoucWen;
+pub use boucwen::{BoucWen, BoucWenParams};
 pub use friction::{FrictionPendulum, DEFAULT_YIELD_DISPLACEMENT};
 pub use gap::Gap;
 pub use viscous::{ViscousDamper, DEFAULT_V0};

@@ -68,20 +68,62 @@ pub struct PseudoForce<'a> {
     left: bool,
 }
 
+/// What a modal pseudo-force is made of: the elements on the mode shapes, the linear
+/// couplings, the mass law and the background they are measured against.
+#[derive(Clone, Copy)]
+pub struct Parts<'a> {
+    /// The mode shapes, `n_dof x n_modes` (row-major).
+    pub phi: &'a [f64],
+    /// The number of physical degrees of freedom.
+    pub n_dof: usize,
+    /// The force elements.
+    pub elements: &'a [&'a dyn Element],
+    /// The constant modal stiffness coupling `Phi^T K_c Phi` (`n_modes x n_modes`), if any.
+    pub coupling_k: Option<&'a [f64]>,
+    /// The constant modal damping coupling `Phi^T C_c Phi`, if any.
+    pub coupling_c: Option<&'a [f64]>,
+    /// The couplings multiplied by a speed law.
+    pub scaled: &'a [ScaledCoupling<'a>],
+    /// The time-varying mass, if any.
+    pub mass: Option<&'a TimeVaryingMass>,
+    /// The background's modal stiffness per unit modal mass (one per mode).
+    pub k: &'a [f64],
+    /// The background's modal damping per unit modal mass.
+    pub c: &'a [f64],
+}
+
+/// Where a pseudo-force is evaluated: the modal state `(q, v)` at time `t`, with the modal
+/// external load `p` there and, for the estimated-mass treatment, the acceleration
+/// estimate `a`.
+#[derive(Clone, Copy)]
+pub struct At<'s> {
+    /// Modal displacements.
+    pub q: &'s [f64],
+    /// Modal velocities.
+    pub v: &'s [f64],
+    /// Time.
+    pub t: f64,
+    /// Modal external load.
+    pub p: &'s [f64],
+    /// Modal acceleration estimate (estimated mass only).
+    pub a: Option<&'s [f64]>,
+}
+
 impl<'a> PseudoForce<'a> {
-    /// `phi` is the `n_dof x n_modes` mode-shape matrix (row-major).
-    #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        phi: &[f64],
-        n_dof: usize,
-        elements: &'a [&'a dyn Element],
-        coupling_k: Option<&'a [f64]>,
-        coupling_c: Option<&'a [f64]>,
-        scaled: &'a [ScaledCoupling<'a>],
-        mass: Option<&'a TimeVaryingMass>,
-        k: &'a [f64],
-        c: &'a [f64],
-    ) -> Result<Self, CoreError> {
+    /// The pseudo-force of `parts`; errors name an element dof outside the model or a
+    /// coupling of the wrong size.
+    pub fn new(parts: Parts<'a>) -> Result<Self, CoreError> {
+        let Parts {
+            phi,
+            n_dof,
+            elements,
+            coupling_k,
+            coupling_c,
+            scaled,
+            mass,
+            k,
+            c,
+        } = parts;
         let n = k.len();
         let mut slots = Vec::with_capacity(elements.len());
         for &element in elements {
@@ -277,33 +319,21 @@ impl<'a> PseudoForce<'a> {
         self.left = left;
     }
 
-    /// The pseudo-force `Q` at `(q, v)` and time `t`, with the modal external load `p` and,
-    /// for the estimated-mass treatment, the acceleration estimate `a`; with `jac`, its
-    /// tangents.
-    #[allow(clippy::too_many_arguments)]
+    /// The pseudo-force `Q` at `at` into `out`; with `jac`, its tangents.
     pub fn eval(
         &mut self,
-        q: &[f64],
-        v: &[f64],
-        t: f64,
-        p: &[f64],
-        a: Option<&[f64]>,
+        at: At,
         out: &mut [f64],
         jac: Option<&mut Jacobian>,
     ) -> Result<(), CoreError> {
         let treatment = self.mass.map(|m| m.treatment);
-        self.eval_as(treatment, q, v, t, p, a, out, jac)
+        self.eval_as(treatment, at, out, jac)
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn eval_as(
         &mut self,
         treatment: Option<MassTreatment>,
-        q: &[f64],
-        v: &[f64],
-        t: f64,
-        p: &[f64],
-        a: Option<&[f64]>,
+        At { q, v, t, p, a }: At,
         out: &mut [f64],
         jac: Option<&mut Jacobian>,
     ) -> Result<(), CoreError> {
@@ -391,7 +421,14 @@ impl<'a> PseudoForce<'a> {
         out: &mut [f64],
     ) -> Result<(), CoreError> {
         self.left = false;
-        self.eval_as(Some(MassTreatment::Eliminate), q, v, t, p, None, out, None)
+        let at = At {
+            q,
+            v,
+            t,
+            p,
+            a: None,
+        };
+        self.eval_as(Some(MassTreatment::Eliminate), at, out, None)
     }
 }
 

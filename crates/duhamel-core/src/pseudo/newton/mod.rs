@@ -12,7 +12,7 @@ mod local;
 mod modal;
 
 use super::closed::{scalar_step, ScalarPlan};
-use super::force::{Jacobian, PseudoForce};
+use super::force::{At, Jacobian, PseudoForce};
 use super::local::ElementSpace;
 use super::problem::Solver;
 use super::scheme::{Rule, Scheme, StepInput, Unknown};
@@ -62,19 +62,40 @@ pub struct Stepper<'r> {
     local: Option<(ElementSpace<'r>, local::LocalNewton)>,
 }
 
+/// How a step solver steps: the rule and scheme of the step `dt` and Newton's settings.
+#[derive(Clone, Copy)]
+pub struct Settings<'r> {
+    /// The quadrature rule of the step (nodes and weights).
+    pub rule: &'r Rule,
+    /// The state approximation inside the step.
+    pub scheme: Scheme,
+    /// The step.
+    pub dt: f64,
+    /// Relative tolerance of the Newton updates.
+    pub tol: f64,
+    /// Newton iterations before giving up.
+    pub max_iter: usize,
+    /// Closed form where possible, or always Newton (and where).
+    pub solver: Solver,
+}
+
 impl<'r> Stepper<'r> {
-    #[allow(clippy::too_many_arguments)]
+    /// The solver of the step equation of `pf` (with the estimated-mass treatment when
+    /// `estimate`) on the elements' space `space`.
     pub fn new(
-        rule: &'r Rule,
-        scheme: Scheme,
-        dt: f64,
-        tol: f64,
-        max_iter: usize,
-        solver: Solver,
+        settings: Settings<'r>,
         pf: &PseudoForce,
         estimate: bool,
         space: ElementSpace<'r>,
     ) -> Result<Self, CoreError> {
+        let Settings {
+            rule,
+            scheme,
+            dt,
+            tol,
+            max_iter,
+            solver,
+        } = settings;
         let n = rule.wx[0].len();
         let unknown = match (estimate, scheme) {
             (true, _) => Unknown::Both,
@@ -189,15 +210,14 @@ impl<'r> Stepper<'r> {
                 None
             };
             let a = (self.unknown == Unknown::Both).then_some(&self.acc[..]);
-            pf.eval(
-                &self.qn,
-                &self.vn,
-                inp.t + s * dt,
-                &self.pn,
+            let at = At {
+                q: &self.qn,
+                v: &self.vn,
+                t: inp.t + s * dt,
+                p: &self.pn,
                 a,
-                &mut self.values[i],
-                jac,
-            )?;
+            };
+            pf.eval(at, &mut self.values[i], jac)?;
         }
         Ok(())
     }
@@ -255,7 +275,7 @@ impl<'r> Stepper<'r> {
             } else {
                 (q_out, v_out)
             };
-            return newton.step(space, pf, &set, inp, z, w, start);
+            return newton.step(space, pf, &set, inp, local::End { z, w, start });
         }
         // Predictor: the linear step plus the pseudo-force of the start state held constant.
         // A constant first node is the start state itself (s = 0, and the force does not
@@ -269,15 +289,14 @@ impl<'r> Stepper<'r> {
         } else {
             self.acc.fill(0.0);
             pf.set_left_limit(false);
-            pf.eval(
-                inp.q0,
-                inp.v0,
-                inp.t,
-                inp.pb[0],
-                Some(&self.acc),
-                &mut self.start,
-                None,
-            )?;
+            let at = At {
+                q: inp.q0,
+                v: inp.v0,
+                t: inp.t,
+                p: inp.pb[0],
+                a: Some(&self.acc),
+            };
+            pf.eval(at, &mut self.start, None)?;
         }
         for m in 0..n {
             let wx: f64 = self.rule.wx.iter().map(|w| w[m]).sum();

@@ -64,6 +64,17 @@ pub(in super::super) struct Setting<'s> {
     pub linear: bool,
 }
 
+/// What the element-space step writes.
+pub(in super::super) struct End<'o> {
+    /// The unknown half of the end state (`q1`; `v1` for scheme a).
+    pub z: &'o mut [f64],
+    /// The other half.
+    pub w: &'o mut [f64],
+    /// The pseudo-force at the start state, when the first node is that state, evaluated
+    /// once (None otherwise).
+    pub start: Option<&'o mut [f64]>,
+}
+
 /// The element-space step: its per-node maps, matrices and buffers.
 pub(in super::super) struct LocalNewton {
     n: usize,
@@ -209,20 +220,16 @@ impl LocalNewton {
         }
     }
 
-    /// Solves the step: the unknown half `z` and the other half `w` of the end state, and,
-    /// when the first node is the start state evaluated once (`start` is then `Some`), the
-    /// pseudo-force there. Returns the Newton iterations.
-    #[allow(clippy::too_many_arguments)]
+    /// Solves the step into `end`. Returns the Newton iterations.
     pub fn step(
         &mut self,
         space: &mut ElementSpace,
         pf: &PseudoForce,
         set: &Setting,
         inp: &StepInput,
-        z: &mut [f64],
-        w: &mut [f64],
-        start: Option<&mut [f64]>,
+        end: End,
     ) -> Result<usize, CoreError> {
+        let End { z, w, start } = end;
         self.start_ready = false;
         let (z_lin, w_lin) = if set.unknown == Unknown::V1 {
             (inp.v_lin, inp.q_lin)
