@@ -6,7 +6,7 @@ use crate::history::{reserve, size, zeroed};
 use crate::kernel::oscillator::Transfer;
 use crate::problem::{ModalProblem, SaveGrid};
 
-use super::time::Steps;
+use super::steps::Steps;
 use super::ModalForcing;
 
 /// A block whose loads could not all be evaluated: the error, and how many of its steps

@@ -2,9 +2,11 @@
 //! scalar time function evaluated in Rust.
 
 pub mod block;
+mod steps;
 mod time;
 
-pub use time::{Axis, Steps, TimeFunction};
+pub use steps::Steps;
+pub use time::{Axis, TimeFunction};
 
 use crate::error::CoreError;
 

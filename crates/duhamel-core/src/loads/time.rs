@@ -4,6 +4,8 @@
 use crate::error::CoreError;
 use crate::speed::SpeedLaw;
 
+use super::steps::Steps;
+
 /// A direction in the plane of a rotor's cross-section.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Axis {
@@ -42,18 +44,6 @@ pub enum TimeFunction {
         phase: f64,
         axis: Axis,
     },
-}
-
-/// Consecutive steps of a grid: `len` steps `[time(n), time(n) + dt]`, `n = 0 .. len`, with
-/// the grid times `t0 + n dt` computed by `time(n)` (never by accumulation).
-#[derive(Debug, Clone, Copy)]
-pub struct Steps<F: Fn(usize) -> f64> {
-    /// The start of step `n`.
-    pub time: F,
-    /// The step length.
-    pub dt: f64,
-    /// The number of steps.
-    pub len: usize,
 }
 
 impl TimeFunction {
