@@ -4,7 +4,7 @@
 //! the gap; consistent tangents against central differences of `eval_path`; trial/commit.
 
 use duhamel_core::elements::{
-    Bilinear, BoucWen, BoucWenParams, Element, FrictionPendulum, Gap, History, Tangent,
+    Bilinear, BoucWen, BoucWenParams, Element, FrictionPendulum, Gap, PathState, Tangent,
     ViscousDamper,
 };
 use duhamel_core::CoreError;
@@ -53,7 +53,7 @@ fn eval_from(e: &dyn Element, committed: &[f64], x: &[f64], v: &[f64]) -> Out {
         cv: vec![0.0; n * n],
         trial: vec![f64::NAN; committed.len()],
     };
-    let history = History {
+    let history = PathState {
         committed,
         trial: &mut out.trial,
     };
@@ -659,7 +659,7 @@ fn constructors_name_the_bad_parameter_and_non_finite_states_are_errors() {
             let committed = vec![0.0; e.state_len()];
             let mut trial = committed.clone();
             let mut r = [0.0; 2];
-            let history = History {
+            let history = PathState {
                 committed: &committed,
                 trial: &mut trial,
             };

@@ -140,7 +140,7 @@ pub(crate) fn solve_direct(
                 speed_of(&item.getattr("law")?)?,
             ));
         }
-        let scaled: Vec<ScaledCoupling> = owned
+        let scaled: Vec<ScaledCoupling<CoreMatrix>> = owned
             .iter()
             .map(|(k, c, law)| ScaledCoupling {
                 k: k.as_ref(),

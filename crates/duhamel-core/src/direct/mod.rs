@@ -25,11 +25,12 @@ mod model;
 mod problem;
 mod stepper;
 
-pub use problem::{AlphaParams, DirectHistory, DirectProblem, Method, ScaledCoupling, Stats};
+pub use crate::speed::ScaledCoupling;
+pub use problem::{AlphaParams, DirectHistory, DirectProblem, Method};
 
 use crate::driver::{Control, Pacer};
 use crate::error::CoreError;
-use crate::history::{reserve, size, zeroed, Failure};
+use crate::history::{reserve, size, zeroed, Failure, Stats};
 use crate::loads::ModalForcing;
 use crate::problem::SaveGrid;
 use assembly::IterationMatrix;

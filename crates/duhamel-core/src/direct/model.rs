@@ -37,14 +37,11 @@ pub(crate) struct State<'s> {
     pub t: f64,
 }
 
-/// An element with buffers for its local state, force and tangents.
-pub(crate) type Slot<'a> = Evaluation<'a>;
-
 /// Evaluates the terms of the equation of motion.
 pub(crate) struct Model<'a> {
     pub p: &'a DirectProblem<'a>,
     pub n: usize,
-    pub slots: Vec<Slot<'a>>,
+    pub slots: Vec<Evaluation<'a>>,
     /// Whether any element force depends on the velocities.
     pub velocity_elements: bool,
     /// Whether a scaled coupling's speed law varies in time (the iteration matrix then

@@ -17,7 +17,7 @@ pub struct Tangent<'a> {
 /// Newton iterations inside a step, the integrator commits it once per accepted step (after
 /// evaluating the element at the step's end state), and a retried step simply evaluates
 /// from the committed variables again (nothing to revert).
-pub struct History<'a> {
+pub struct PathState<'a> {
     /// The variables at the start of the step.
     pub committed: &'a [f64],
     /// The variables at the evaluated state (overwritten).
@@ -71,7 +71,7 @@ pub trait Element: Send + Sync {
         x: &[f64],
         v: &[f64],
         t: f64,
-        _history: History<'_>,
+        _history: PathState<'_>,
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
@@ -201,7 +201,7 @@ impl<'a> Evaluation<'a> {
             kx: &mut self.kx,
             cv: &mut self.cv,
         });
-        let history = History {
+        let history = PathState {
             committed: &self.committed,
             trial: &mut self.trial,
         };
@@ -249,7 +249,7 @@ pub(crate) fn numeric_tangent(
                     vs[j] = value;
                 }
                 out.fill(0.0);
-                let history = History {
+                let history = PathState {
                     committed,
                     trial: &mut scratch,
                 };

@@ -4,7 +4,7 @@
 
 use super::force::{Parts, PseudoForce};
 use super::local::ElementSpace;
-use super::newton::{Settings, Stepper};
+use super::newton::{Settings, StepSolver};
 use super::problem::{validate, NonlinearProblem};
 use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
@@ -20,7 +20,7 @@ use crate::problem::ModalProblem;
 
 /// The state of a step: start and end state, the linear prediction and the load basis.
 #[derive(Default)]
-struct State {
+struct StepBuffers {
     q: Vec<f64>,
     v: Vec<f64>,
     q1: Vec<f64>,
@@ -31,10 +31,10 @@ struct State {
     pb: [Vec<f64>; 3],
 }
 
-impl State {
+impl StepBuffers {
     fn new(q0: &[f64], v0: &[f64]) -> Self {
         let n = q0.len();
-        State {
+        StepBuffers {
             q: q0.to_vec(),
             v: v0.to_vec(),
             q1: vec![0.0; n],
@@ -108,14 +108,14 @@ struct PseudoRoute<'r, 'a> {
     /// The exact step of each mode.
     rows: StepRows,
     pf: PseudoForce<'a>,
-    stepper: Stepper<'r>,
+    solver: StepSolver<'r>,
     /// The estimated-mass treatment (the saved pseudo-force is then evaluated anew).
     estimate: bool,
     /// Whether hysteretic elements commit their variables after each step.
     stateful: bool,
     /// The levels of automatic subdivision, when the step equation is nonlinear.
     sub: Option<Subdivider<'r>>,
-    state: State,
+    state: StepBuffers,
     hq: Vec<f64>,
     hv: Vec<f64>,
     hp: Vec<f64>,
@@ -145,14 +145,14 @@ impl PseudoRoute<'_, '_> {
             let rows = (&mut he.x[e.clone()], &mut he.v[e.clone()], &mut he.r[e]);
             self.pf.record((q, v), t, rows)?;
         }
-        match self.stepper.start_pseudo().filter(|_| known) {
+        match self.solver.start_pseudo().filter(|_| known) {
             Some(k) => {
                 self.hp[r].copy_from_slice(k);
                 Ok(())
             }
             None => {
                 let out = &mut self.hp[r];
-                if known && self.stepper.local_start(&self.pf, (q, v, p), t, out) {
+                if known && self.solver.local_start(&self.pf, (q, v, p), t, out) {
                     return Ok(());
                 }
                 self.pf.at_state(q, v, t, p, out)
@@ -165,7 +165,7 @@ impl PseudoRoute<'_, '_> {
     /// (measured: 10 % more instructions per Duffing step otherwise).
     fn steps(&mut self, problem: &ModalProblem, loads: &BlockLoads) -> Result<(), StepFailure> {
         let mut st = std::mem::take(&mut self.state);
-        let State {
+        let StepBuffers {
             q,
             v,
             q1,
@@ -188,7 +188,7 @@ impl PseudoRoute<'_, '_> {
                 v_lin: vl,
                 pb: [&pb[0], &pb[1], &pb[2]],
             };
-            let solved = self.stepper.solve(&mut self.pf, &input, q1, v1);
+            let solved = self.solver.solve(&mut self.pf, &input, q1, v1);
             // The start state is saved after its step: the step has usually evaluated the
             // start state's pseudo-force already.
             if let Some(slot) = loads.slot[s] {
@@ -208,8 +208,8 @@ impl PseudoRoute<'_, '_> {
                     v1.copy_from_slice(v);
                     let basis = [&pb[0][..], &pb[1][..], &pb[2][..]];
                     let span = (t, problem.dt);
-                    let stepper = &mut self.stepper;
-                    match sub.step(stepper, &mut self.pf, span, basis, (q1, v1)) {
+                    let solver = &mut self.solver;
+                    match sub.step(solver, &mut self.pf, span, basis, (q1, v1)) {
                         Ok(iters) => iters,
                         Err(error) => {
                             result = Err(StepFailure {
@@ -229,7 +229,7 @@ impl PseudoRoute<'_, '_> {
                 }
             };
             self.stats.newton_iterations += iters;
-            if iters == 0 && self.stepper.analytic() {
+            if iters == 0 && self.solver.analytic() {
                 self.stats.closed_form_steps += 1;
             }
             // x * 0 is NaN exactly for a non-finite x: a branch-free (vectorised) test
@@ -267,7 +267,7 @@ impl PseudoRoute<'_, '_> {
 impl PseudoRoute<'_, '_> {
     /// Commits the hysteretic elements' variables at the accepted end state `(q, v)`.
     fn commit(&mut self, q: &[f64], v: &[f64], t: f64) -> Result<(), CoreError> {
-        self.stepper.commit(&mut self.pf, (q, v), t, false)?;
+        self.solver.commit(&mut self.pf, (q, v), t, false)?;
         if let Some(sub) = &mut self.sub {
             sub.commit(&mut self.pf, (q, v), t, false)?;
         }
@@ -338,9 +338,9 @@ pub fn integrate(
         max_iter: o.max_iter,
         solver: o.solver,
     };
-    let stepper = Stepper::new(settings, &pf, estimate, space).map_err(fail)?;
+    let solver = StepSolver::new(settings, &pf, estimate, space).map_err(fail)?;
     let mut pf = pf;
-    let mut stepper = stepper;
+    let mut solver = solver;
     let depth = if pf.linear { 0 } else { o.subdivisions };
     let rules = level_rules(problem, depth);
     let mut sub = if depth > 0 {
@@ -351,7 +351,7 @@ pub fn integrate(
     let stateful = pf.stateful();
     if stateful {
         let start = (base.q0, base.v0);
-        stepper
+        solver
             .commit(&mut pf, start, base.time(0), true)
             .map_err(fail)?;
         if let Some(sub) = &mut sub {
@@ -360,7 +360,7 @@ pub fn integrate(
         }
         if let Some(state) = problem.element_state {
             pf.set_element_state(state).map_err(fail)?;
-            stepper.set_element_state(state).map_err(fail)?;
+            solver.set_element_state(state).map_err(fail)?;
             if let Some(sub) = &mut sub {
                 sub.set_element_state(state).map_err(fail)?;
             }
@@ -383,11 +383,11 @@ pub fn integrate(
     let mut route = PseudoRoute {
         rows: step_rows(&transfers),
         pf,
-        stepper,
+        solver,
         estimate,
         stateful,
         sub,
-        state: State::new(base.q0, base.v0),
+        state: StepBuffers::new(base.q0, base.v0),
         hq: buffer("the modal history (q)")?,
         hv: buffer("the modal history (v)")?,
         hp: buffer("the pseudo-force")?,

@@ -9,7 +9,7 @@
 
 use super::force::PseudoForce;
 use super::local::ElementSpace;
-use super::newton::{Settings, Stepper};
+use super::newton::{Settings, StepSolver};
 use super::problem::{NonlinearProblem, Options};
 use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
@@ -38,7 +38,7 @@ pub(super) fn level_rules(problem: &NonlinearProblem, depth: usize) -> Vec<(Vec<
 /// One level: steps of `dt / 2^depth`.
 struct Level<'r> {
     rows: StepRows,
-    stepper: Stepper<'r>,
+    solver: StepSolver<'r>,
 }
 
 /// The levels of subdivision below the run's step, and what they did.
@@ -81,10 +81,10 @@ impl<'r> Subdivider<'r> {
                 max_iter: options.max_iter,
                 solver: options.solver,
             };
-            let stepper = Stepper::new(settings, pf, estimate, space)?;
+            let solver = StepSolver::new(settings, pf, estimate, space)?;
             levels.push(Level {
                 rows: step_rows(transfers),
-                stepper,
+                solver,
             });
         }
         Ok(Subdivider {
@@ -105,7 +105,7 @@ impl<'r> Subdivider<'r> {
         initial: bool,
     ) -> Result<(), CoreError> {
         for level in &mut self.levels {
-            level.stepper.commit_space(pf, (q, v), t, initial)?;
+            level.solver.commit_space(pf, (q, v), t, initial)?;
         }
         Ok(())
     }
@@ -113,7 +113,7 @@ impl<'r> Subdivider<'r> {
     /// Sets the committed variables of every level's copy of the elements.
     pub fn set_element_state(&mut self, state: &[f64]) -> Result<(), CoreError> {
         for level in &mut self.levels {
-            level.stepper.set_element_state(state)?;
+            level.solver.set_element_state(state)?;
         }
         Ok(())
     }
@@ -122,7 +122,7 @@ impl<'r> Subdivider<'r> {
     /// halves (the step itself failed); returns the Newton iterations.
     pub fn step(
         &mut self,
-        main: &mut Stepper,
+        main: &mut StepSolver,
         pf: &mut PseudoForce,
         (t, dt): (f64, f64),
         pb: [&[f64]; 3],
@@ -140,7 +140,7 @@ impl<'r> Subdivider<'r> {
     fn advance(
         &mut self,
         depth: usize,
-        main: &mut Stepper,
+        main: &mut StepSolver,
         pf: &mut PseudoForce,
         span: &Span,
         a: f64,
@@ -164,7 +164,7 @@ impl<'r> Subdivider<'r> {
                 v_lin: &vl,
                 pb: basis,
             };
-            level.stepper.solve(pf, &input, &mut q1, &mut v1)
+            level.solver.solve(pf, &input, &mut q1, &mut v1)
         };
         match attempt {
             Ok(iterations) => {

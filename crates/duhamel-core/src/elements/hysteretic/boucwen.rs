@@ -50,7 +50,7 @@
 //! loading curve.
 
 use super::common::{check, check_alpha, finite, local_dofs, relative, scatter};
-use crate::elements::element::{Element, History, Tangent};
+use crate::elements::element::{Element, PathState, Tangent};
 use crate::error::CoreError;
 
 /// RK4 substep bound, `lambda h <= H0`.
@@ -355,7 +355,7 @@ impl Element for BoucWen {
         x: &[f64],
         _v: &[f64],
         t: f64,
-        history: History<'_>,
+        history: PathState<'_>,
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {

@@ -1,6 +1,6 @@
 //! Hysteretic and device elements of earthquake engineering: the path-dependent
 //! [`Bilinear`], [`BoucWen`] and [`FrictionPendulum`] (committed and trial internal
-//! variables, [`crate::elements::History`]) and the stateless [`ViscousDamper`] and [`Gap`].
+//! variables, [`crate::elements::PathState`]) and the stateless [`ViscousDamper`] and [`Gap`].
 //! Each returns its exact (consistent) tangent.
 
 mod bilinear;

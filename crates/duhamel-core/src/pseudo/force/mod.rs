@@ -15,7 +15,7 @@ use crate::elements::{Element, Evaluation};
 use crate::error::CoreError;
 use crate::mass::{MassForm, MassTreatment, TimeVaryingMass};
 
-use super::problem::ScaledCoupling;
+use crate::speed::ScaledCoupling;
 
 pub(crate) mod elements;
 mod single;

@@ -4,11 +4,11 @@
 use super::super::closed::hermite;
 use super::super::force::PseudoForce;
 use super::super::scheme::{StepInput, Unknown};
-use super::{Nodes, Stepper};
+use super::{Nodes, StepSolver};
 use crate::cubic::nearest_root;
 use crate::error::CoreError;
 
-impl Stepper<'_> {
+impl StepSolver<'_> {
     /// `dQ_i/du` at node `i` for one mode (the unknown's direction).
     fn node_slope(&self, i: usize) -> f64 {
         let [dqq, dqv, dvq, dvv] = self.rule.nodes[i].d;

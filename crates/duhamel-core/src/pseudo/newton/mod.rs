@@ -27,8 +27,8 @@ enum Nodes {
     Varying,
 }
 
-/// Reusable buffers and settings of the step solver.
-pub struct Stepper<'r> {
+/// The solver of the step equation: its settings, strategies and reusable buffers.
+pub struct StepSolver<'r> {
     n: usize,
     rule: &'r Rule,
     scheme: Scheme,
@@ -79,7 +79,7 @@ pub struct Settings<'r> {
     pub solver: Solver,
 }
 
-impl<'r> Stepper<'r> {
+impl<'r> StepSolver<'r> {
     /// The solver of the step equation of `pf` (with the estimated-mass treatment when
     /// `estimate`) on the elements' space `space`.
     pub fn new(
@@ -145,7 +145,7 @@ impl<'r> Stepper<'r> {
             mf * mf + (2.0 * nodes as f64 + 2.0) * nf * nf,
             "the Newton iteration on all modal coordinates",
         )?;
-        Ok(Stepper {
+        Ok(StepSolver {
             n,
             rule,
             scheme,

@@ -4,11 +4,11 @@
 use super::super::force::PseudoForce;
 use super::super::scheme::{StepInput, Unknown};
 use super::damping::backtrack;
-use super::{Nodes, Stepper};
+use super::{Nodes, StepSolver};
 use crate::dense::solve_in_place;
 use crate::error::CoreError;
 
-impl Stepper<'_> {
+impl StepSolver<'_> {
     /// Residual of the active unknowns; returns its max norm.
     pub(super) fn residual(&mut self, inp: &StepInput) -> f64 {
         let n = self.n;
