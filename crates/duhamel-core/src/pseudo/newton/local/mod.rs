@@ -36,7 +36,8 @@ mod iterate;
 
 use super::super::force::PseudoForce;
 use super::super::local::ElementSpace;
-use super::super::scheme::{Rule, Scheme, StepInput, Unknown};
+use super::super::scheme::{StepInput, Unknown};
+use super::setting::Setting;
 use crate::dense::DenseLu;
 use crate::error::CoreError;
 
@@ -50,18 +51,6 @@ struct NodeMap {
     alpha: f64,
     beta: f64,
     constant: bool,
-}
-
-/// What the step needs to know about the problem besides the element space.
-pub(in super::super) struct Setting<'s> {
-    pub rule: &'s Rule,
-    pub scheme: Scheme,
-    pub dt: f64,
-    pub unknown: Unknown,
-    pub constant: &'s [bool],
-    pub tol: f64,
-    pub max_iter: usize,
-    pub linear: bool,
 }
 
 /// What the element-space step writes.
