@@ -3,7 +3,6 @@
 //! step ([`super::newton`]).
 
 use super::force::{Parts, PseudoForce};
-use super::local::ElementSpace;
 use super::newton::{Settings, StepSolver};
 use super::problem::{validate, NonlinearProblem};
 use super::rows::{linear_step, step_rows, StepRows};
@@ -208,8 +207,7 @@ impl PseudoRoute<'_, '_> {
                     v1.copy_from_slice(v);
                     let basis = [&pb[0][..], &pb[1][..], &pb[2][..]];
                     let span = (t, problem.dt);
-                    let solver = &mut self.solver;
-                    match sub.step(solver, &mut self.pf, span, basis, (q1, v1)) {
+                    match sub.step(&mut self.pf, span, basis, (q1, v1)) {
                         Ok(iters) => iters,
                         Err(error) => {
                             result = Err(StepFailure {
@@ -248,7 +246,7 @@ impl PseudoRoute<'_, '_> {
             }
             if self.stateful && !subdivided {
                 let end = problem.time(step + 1);
-                if let Err(error) = self.commit(q1, v1, end) {
+                if let Err(error) = self.pf.commit(q1, v1, end, false) {
                     result = Err(StepFailure {
                         error,
                         step: step + 1,
@@ -261,17 +259,6 @@ impl PseudoRoute<'_, '_> {
         }
         self.state = st;
         result
-    }
-}
-
-impl PseudoRoute<'_, '_> {
-    /// Commits the hysteretic elements' variables at the accepted end state `(q, v)`.
-    fn commit(&mut self, q: &[f64], v: &[f64], t: f64) -> Result<(), CoreError> {
-        self.solver.commit(&mut self.pf, (q, v), t, false)?;
-        if let Some(sub) = &mut self.sub {
-            sub.commit(&mut self.pf, (q, v), t, false)?;
-        }
-        Ok(())
     }
 }
 
@@ -329,7 +316,6 @@ pub fn integrate(
     let estimate = problem
         .mass
         .is_some_and(|m| m.treatment == MassTreatment::Estimate);
-    let space = ElementSpace::new(problem.phi, n, problem.elements);
     let settings = Settings {
         rule: &rule,
         scheme: o.scheme,
@@ -338,32 +324,21 @@ pub fn integrate(
         max_iter: o.max_iter,
         solver: o.solver,
     };
-    let solver = StepSolver::new(settings, &pf, estimate, space).map_err(fail)?;
+    let solver = StepSolver::new(settings, &pf, estimate).map_err(fail)?;
     let mut pf = pf;
-    let mut solver = solver;
     let depth = if pf.linear { 0 } else { o.subdivisions };
     let rules = level_rules(problem, depth);
-    let mut sub = if depth > 0 {
+    let sub = if depth > 0 {
         Some(Subdivider::new(problem, &rules, &pf, o, estimate).map_err(fail)?)
     } else {
         None
     };
     let stateful = pf.stateful();
     if stateful {
-        let start = (base.q0, base.v0);
-        solver
-            .commit(&mut pf, start, base.time(0), true)
+        pf.commit(base.q0, base.v0, base.time(0), true)
             .map_err(fail)?;
-        if let Some(sub) = &mut sub {
-            sub.commit(&mut pf, start, base.time(0), true)
-                .map_err(fail)?;
-        }
         if let Some(state) = problem.element_state {
             pf.set_element_state(state).map_err(fail)?;
-            solver.set_element_state(state).map_err(fail)?;
-            if let Some(sub) = &mut sub {
-                sub.set_element_state(state).map_err(fail)?;
-            }
         }
     }
     let loads = BlockLoads::new(base, true, forcing.is_some(), 3 * n).map_err(fail)?;

@@ -8,7 +8,6 @@
 //! is not subdivided. Hysteretic elements commit at the end of every accepted substep.
 
 use super::force::PseudoForce;
-use super::local::ElementSpace;
 use super::newton::{Settings, StepSolver};
 use super::problem::{NonlinearProblem, Options};
 use super::rows::{linear_step, step_rows, StepRows};
@@ -72,7 +71,6 @@ impl<'r> Subdivider<'r> {
         let mut levels = Vec::with_capacity(rules.len());
         for (d, (transfers, rule)) in rules.iter().enumerate() {
             let h = problem.base.dt * 0.5f64.powi(d as i32 + 1);
-            let space = ElementSpace::new(problem.phi, n, problem.elements);
             let settings = Settings {
                 rule,
                 scheme: options.scheme,
@@ -81,7 +79,7 @@ impl<'r> Subdivider<'r> {
                 max_iter: options.max_iter,
                 solver: options.solver,
             };
-            let solver = StepSolver::new(settings, pf, estimate, space)?;
+            let solver = StepSolver::new(settings, pf, estimate)?;
             levels.push(Level {
                 rows: step_rows(transfers),
                 solver,
@@ -96,33 +94,10 @@ impl<'r> Subdivider<'r> {
         })
     }
 
-    /// The hysteretic elements' variables of every level's copy of the elements.
-    pub fn commit(
-        &mut self,
-        pf: &mut PseudoForce,
-        (q, v): (&[f64], &[f64]),
-        t: f64,
-        initial: bool,
-    ) -> Result<(), CoreError> {
-        for level in &mut self.levels {
-            level.solver.commit_space(pf, (q, v), t, initial)?;
-        }
-        Ok(())
-    }
-
-    /// Sets the committed variables of every level's copy of the elements.
-    pub fn set_element_state(&mut self, state: &[f64]) -> Result<(), CoreError> {
-        for level in &mut self.levels {
-            level.solver.set_element_state(state)?;
-        }
-        Ok(())
-    }
-
     /// Advances `(q, v)` over the step `[t, t + dt]` whose modal load basis is `pb` in
     /// halves (the step itself failed); returns the Newton iterations.
     pub fn step(
         &mut self,
-        main: &mut StepSolver,
         pf: &mut PseudoForce,
         (t, dt): (f64, f64),
         pb: [&[f64]; 3],
@@ -130,8 +105,8 @@ impl<'r> Subdivider<'r> {
     ) -> Result<usize, CoreError> {
         self.steps += 1;
         let span = Span { t, dt, pb };
-        let first = self.advance(1, main, pf, &span, 0.0, (q, v))?;
-        let second = self.advance(1, main, pf, &span, 0.5, (q, v))?;
+        let first = self.advance(1, pf, &span, 0.0, (q, v))?;
+        let second = self.advance(1, pf, &span, 0.5, (q, v))?;
         Ok(first + second)
     }
 
@@ -140,7 +115,6 @@ impl<'r> Subdivider<'r> {
     fn advance(
         &mut self,
         depth: usize,
-        main: &mut StepSolver,
         pf: &mut PseudoForce,
         span: &Span,
         a: f64,
@@ -171,17 +145,16 @@ impl<'r> Subdivider<'r> {
                 self.deepest = self.deepest.max(depth);
                 if self.stateful {
                     let end = t + h * span.dt;
-                    main.commit(pf, (&q1, &v1), end, false)?;
-                    self.commit(pf, (&q1, &v1), end, false)?;
+                    pf.commit(&q1, &v1, end, false)?;
                 }
                 q.copy_from_slice(&q1);
                 v.copy_from_slice(&v1);
                 Ok(iterations)
             }
             Err(error) if retriable(&error) && depth < self.levels.len() => {
-                let first = self.advance(depth + 1, main, pf, span, a, (q, v))?;
+                let first = self.advance(depth + 1, pf, span, a, (q, v))?;
                 let mid = a + 0.5 * h;
-                let second = self.advance(depth + 1, main, pf, span, mid, (q, v))?;
+                let second = self.advance(depth + 1, pf, span, mid, (q, v))?;
                 Ok(first + second)
             }
             Err(error) => Err(error),

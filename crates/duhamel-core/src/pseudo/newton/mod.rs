@@ -14,7 +14,6 @@ mod setting;
 
 use super::closed::{scalar_step, ScalarPlan};
 use super::force::PseudoForce;
-use super::local::ElementSpace;
 use super::problem::Solver;
 use super::scheme::{Rule, Scheme, StepInput, Unknown};
 use crate::error::CoreError;
@@ -40,7 +39,7 @@ pub struct Settings<'r> {
 }
 
 /// How the step equation is solved, chosen once per run.
-enum Strategy<'r> {
+enum Strategy {
     /// One mode with polynomial forces of degree <= 3 (the paper's closed form): the cubic
     /// written down from the modal force's coefficients; when it has no real root, the
     /// closed form of [`Strategy::ClosedForm`], then Newton.
@@ -52,25 +51,24 @@ enum Strategy<'r> {
     /// Newton on all the modal coordinates.
     ModalNewton(Modal),
     /// Newton in the elements' space, where the pseudo-force allows it and it is smaller.
-    ElementSpace(ElementSpace<'r>, Box<LocalNewton>),
+    ElementSpace(Box<LocalNewton>),
 }
 
 /// The solver of the step equation: the step's setting, the strategy and the pseudo-force
 /// at the last step's start state.
 pub struct StepSolver<'r> {
     set: Setting<'r>,
-    strategy: Strategy<'r>,
+    strategy: Strategy,
     start: Start,
 }
 
 impl<'r> StepSolver<'r> {
     /// The solver of the step equation of `pf` (with the estimated-mass treatment when
-    /// `estimate`) on the elements' space `space`.
+    /// `estimate`).
     pub fn new(
         settings: Settings<'r>,
         pf: &PseudoForce,
         estimate: bool,
-        space: ElementSpace<'r>,
     ) -> Result<Self, CoreError> {
         let Settings {
             rule,
@@ -114,7 +112,7 @@ impl<'r> StepSolver<'r> {
         let local = solver != Solver::ModalNewton
             && unknown != Unknown::Both
             && pf.local()
-            && space.len() < n;
+            && pf.space().len() < n;
         let scalar = if solver == Solver::Auto && unknown != Unknown::Both {
             pf.scalar_model()
                 .map(|a| ScalarPlan::new(a, rule, scheme, dt, unknown == Unknown::V1))
@@ -144,10 +142,7 @@ impl<'r> StepSolver<'r> {
                 debug_assert!(closed_form && !local);
                 Strategy::Scalar(plan, modal())
             }
-            None if local => {
-                let newton = LocalNewton::new(&space, pf, &set, n);
-                Strategy::ElementSpace(space, Box::new(newton))
-            }
+            None if local => Strategy::ElementSpace(Box::new(LocalNewton::new(pf, &set, n))),
             None if closed_form => Strategy::ClosedForm(modal()),
             None => Strategy::ModalNewton(modal()),
         };
@@ -184,7 +179,7 @@ impl<'r> StepSolver<'r> {
             }
             Strategy::ClosedForm(modal) => (modal, true),
             Strategy::ModalNewton(modal) => (modal, false),
-            Strategy::ElementSpace(space, newton) => {
+            Strategy::ElementSpace(newton) => {
                 // A constant first node is the start state itself (see Modal::solve).
                 start.known = set.constant[0];
                 let start = start.known.then_some(&mut start.values[..]);
@@ -194,7 +189,7 @@ impl<'r> StepSolver<'r> {
                 } else {
                     (q_out, v_out)
                 };
-                return newton.step(space, pf, set, inp, End { z, w, start });
+                return newton.step(pf, set, inp, End { z, w, start });
             }
         };
         let iterations = modal.solve(set, closed, pf, inp, start)?;
@@ -219,51 +214,8 @@ impl<'r> StepSolver<'r> {
         out: &mut [f64],
     ) -> bool {
         match &mut self.strategy {
-            Strategy::ElementSpace(space, newton) => newton.start_value(space, pf, state, t, out),
+            Strategy::ElementSpace(newton) => newton.start_value(pf, state, t, out),
             _ => false,
-        }
-    }
-
-    /// The hysteretic elements' variables at the modal state `(q, v)` (see
-    /// [`PseudoForce::commit`]), in every copy of the elements the step uses.
-    pub fn commit(
-        &mut self,
-        pf: &mut PseudoForce,
-        (q, v): (&[f64], &[f64]),
-        t: f64,
-        initial: bool,
-    ) -> Result<(), CoreError> {
-        if let Strategy::ElementSpace(space, _) = &mut self.strategy {
-            if space.stateful() {
-                space.commit(q, v, t, initial)?;
-            }
-        }
-        if pf.stateful() {
-            pf.commit(q, v, t, initial)?;
-        }
-        Ok(())
-    }
-
-    /// The hysteretic elements' variables in this step solver's own copy of the elements
-    /// (the element space), not in the shared pseudo-force.
-    pub fn commit_space(
-        &mut self,
-        _pf: &PseudoForce,
-        (q, v): (&[f64], &[f64]),
-        t: f64,
-        initial: bool,
-    ) -> Result<(), CoreError> {
-        match &mut self.strategy {
-            Strategy::ElementSpace(space, _) if space.stateful() => space.commit(q, v, t, initial),
-            _ => Ok(()),
-        }
-    }
-
-    /// Sets the committed variables of this step solver's copy of the elements.
-    pub fn set_element_state(&mut self, state: &[f64]) -> Result<(), CoreError> {
-        match &mut self.strategy {
-            Strategy::ElementSpace(space, _) => space.set_element_state(state),
-            _ => Ok(()),
         }
     }
 

@@ -123,7 +123,8 @@ pub(in super::super) struct LocalNewton {
 }
 
 impl LocalNewton {
-    pub fn new(space: &ElementSpace, pf: &PseudoForce, set: &Setting, n: usize) -> Self {
+    pub fn new(pf: &PseudoForce, set: &Setting, n: usize) -> Self {
+        let space = pf.space();
         let nd = space.len();
         let nodes = set.rule.nodes.len();
         let per_node = |len: usize| vec![vec![0.0; len]; nodes];
@@ -212,8 +213,7 @@ impl LocalNewton {
     /// Solves the step into `end`. Returns the Newton iterations.
     pub fn step(
         &mut self,
-        space: &mut ElementSpace,
-        pf: &PseudoForce,
+        pf: &mut PseudoForce,
         set: &Setting,
         inp: &StepInput,
         end: End,
@@ -226,13 +226,13 @@ impl LocalNewton {
             (inp.q_lin, inp.v_lin)
         };
         if self.affine {
-            space.to_local(inp.q0, &mut self.pq);
-            space.to_local(inp.v0, &mut self.pv);
+            pf.space().to_local(inp.q0, &mut self.pq);
+            pf.space().to_local(inp.v0, &mut self.pv);
         } else {
             // Without affine terms P = Phi_D (A = I) and b = z_lin: y0 = Phi_D z_lin in the
             // same pass.
             let out = [&mut self.pq[..], &mut self.pv[..], &mut self.y0[..]];
-            space.to_local3([inp.q0, inp.v0, z_lin], out);
+            pf.space().to_local3([inp.q0, inp.v0, z_lin], out);
         }
         for (i, m) in self.map.iter().enumerate() {
             for (a, (u, ud)) in self.u0[i].iter_mut().zip(&mut self.ud0[i]).enumerate() {
@@ -247,7 +247,7 @@ impl LocalNewton {
         }
         if rebuild {
             self.assemble(pf, set);
-            self.prepare(space)?;
+            self.prepare(pf.space())?;
         }
         // y0 = P b, then the constant nodes' forces, evaluated once.
         if self.affine {
@@ -258,18 +258,19 @@ impl LocalNewton {
         for i in 0..self.map.len() {
             if self.map[i].constant {
                 let t = inp.t + self.map[i].s * set.dt;
+                let space = pf.space_mut();
                 space.eval(&self.u0[i], &self.ud0[i], t, &mut self.r[i], None)?;
                 sub_product(&mut self.y0, &self.g[i], &self.r[i]);
             }
         }
-        self.predict(space, inp)?;
+        self.predict(pf.space_mut(), inp)?;
         let scale0 = self
             .y0
             .iter()
             .chain(self.u0.iter().flatten())
             .fold(0.0_f64, |a, b| a.max(b.abs()));
-        let iterations = self.newton(space, set, inp, scale0)?;
-        self.finish(space, set, z, (w_lin, w), start);
+        let iterations = self.newton(pf.space_mut(), set, inp, scale0)?;
+        self.finish(pf.space(), set, z, (w_lin, w), start);
         Ok(iterations)
     }
 
