@@ -8,7 +8,7 @@ use super::problem::{validate, NonlinearProblem};
 use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
 use super::subdivide::{level_rules, retriable, Subdivider};
-use crate::driver::{conclude, drive, Control, Route, StepFailure};
+use crate::driver::{drive, finish, Control, Route, StepFailure};
 use crate::error::CoreError;
 use crate::history::{size, zeroed, Coordinates, ElementRows, Failure, History, Stats};
 use crate::kernel::oscillator::Transfer;
@@ -370,26 +370,20 @@ pub fn integrate(
         stats: Stats::default(),
     };
     let (loads, ending) = drive(base, &mut route, loads, forcing, control);
-    let (t, load_values, forcing) = loads.into_saved(base).map_err(fail)?;
-    let history = History {
+    let kept = History {
         n_modes: n,
-        n_loads: base.loads.len(),
-        n_outputs: 0,
-        t,
         coordinates: Coordinates::Modal {
             q: route.hq,
             v: route.hv,
         },
-        load_values,
-        forcing,
         pseudo: Some(route.hp),
-        outputs: None,
         elements: (route.he.width > 0).then_some(route.he),
         element_state: stateful.then(|| route.pf.element_state()),
+        ..History::default()
     };
     let mut stats = route.stats;
     if let Some(sub) = &route.sub {
         (stats.subdivided_steps, stats.subdivision_depth) = (sub.steps, sub.deepest);
     }
-    conclude(history, ending).map(|h| (h, stats))
+    finish(base, loads, kept, ending).map(|h| (h, stats))
 }
