@@ -3,7 +3,7 @@
 //! step ([`super::newton`]).
 
 use super::force::{Parts, PseudoForce};
-use super::newton::{Settings, StepSolver};
+use super::newton::StepSolver;
 use super::problem::{validate, NonlinearProblem};
 use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
@@ -316,15 +316,7 @@ pub fn integrate(
     let estimate = problem
         .mass
         .is_some_and(|m| m.treatment == MassTreatment::Estimate);
-    let settings = Settings {
-        rule: &rule,
-        scheme: o.scheme,
-        dt,
-        tol: o.tol,
-        max_iter: o.max_iter,
-        solver: o.solver,
-    };
-    let solver = StepSolver::new(settings, &pf, estimate).map_err(fail)?;
+    let solver = StepSolver::new(&rule, dt, &o, &pf, estimate).map_err(fail)?;
     let mut pf = pf;
     let depth = if pf.linear { 0 } else { o.subdivisions };
     let rules = level_rules(problem, depth);

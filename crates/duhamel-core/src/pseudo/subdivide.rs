@@ -8,7 +8,7 @@
 //! is not subdivided. Hysteretic elements commit at the end of every accepted substep.
 
 use super::force::PseudoForce;
-use super::newton::{Settings, StepSolver};
+use super::newton::StepSolver;
 use super::problem::{NonlinearProblem, Options};
 use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
@@ -71,15 +71,7 @@ impl<'r> Subdivider<'r> {
         let mut levels = Vec::with_capacity(rules.len());
         for (d, (transfers, rule)) in rules.iter().enumerate() {
             let h = problem.base.dt * 0.5f64.powi(d as i32 + 1);
-            let settings = Settings {
-                rule,
-                scheme: options.scheme,
-                dt: h,
-                tol: options.tol,
-                max_iter: options.max_iter,
-                solver: options.solver,
-            };
-            let solver = StepSolver::new(settings, pf, estimate)?;
+            let solver = StepSolver::new(rule, h, &options, pf, estimate)?;
             levels.push(Level {
                 rows: step_rows(transfers),
                 solver,

@@ -14,29 +14,12 @@ mod setting;
 
 use super::closed::{scalar_step, ScalarPlan};
 use super::force::PseudoForce;
-use super::problem::Solver;
+use super::problem::{Options, Solver};
 use super::scheme::{Rule, Scheme, StepInput, Unknown};
 use crate::error::CoreError;
 use local::{End, LocalNewton};
 use modal::{Modal, Start};
 use setting::Setting;
-
-/// How a step solver steps: the rule and scheme of the step `dt` and Newton's settings.
-#[derive(Clone, Copy)]
-pub struct Settings<'r> {
-    /// The quadrature rule of the step (nodes and weights).
-    pub rule: &'r Rule,
-    /// The state approximation inside the step.
-    pub scheme: Scheme,
-    /// The step.
-    pub dt: f64,
-    /// Relative tolerance of the Newton updates.
-    pub tol: f64,
-    /// Newton iterations before giving up.
-    pub max_iter: usize,
-    /// Closed form where possible, or always Newton (and where).
-    pub solver: Solver,
-}
 
 /// How the step equation is solved, chosen once per run.
 enum Strategy {
@@ -63,21 +46,23 @@ pub struct StepSolver<'r> {
 }
 
 impl<'r> StepSolver<'r> {
-    /// The solver of the step equation of `pf` (with the estimated-mass treatment when
-    /// `estimate`).
+    /// The solver of the step equation of `pf` over steps `dt` with the quadrature `rule`
+    /// (with the estimated-mass treatment when `estimate`), set by `options` (scheme,
+    /// Newton's tolerance and iterations, solver).
     pub fn new(
-        settings: Settings<'r>,
+        rule: &'r Rule,
+        dt: f64,
+        options: &Options,
         pf: &PseudoForce,
         estimate: bool,
     ) -> Result<Self, CoreError> {
-        let Settings {
-            rule,
+        let Options {
             scheme,
-            dt,
             tol,
             max_iter,
             solver,
-        } = settings;
+            ..
+        } = *options;
         let n = rule.wx[0].len();
         let unknown = match (estimate, scheme) {
             (true, _) => Unknown::Both,
