@@ -175,8 +175,31 @@ pub fn drive(
     (loads, ending)
 }
 
+/// The one history builder of the modal routes: what the route kept (`kept`: its
+/// coordinates, and the pseudo-force, outputs and element rows it has, the rest left at
+/// their defaults) completed with the saved times, load values and forcing of the block
+/// loads; or the run's failure with what is kept of that history.
+pub fn finish(
+    problem: &ModalProblem,
+    loads: BlockLoads,
+    kept: History,
+    ending: Ending,
+) -> Result<History, Box<Failure>> {
+    let (t, load_values, forcing) = loads
+        .into_saved(problem)
+        .map_err(|e| Box::new(Failure::from(e)))?;
+    let history = History {
+        n_loads: problem.loads.len(),
+        t,
+        load_values,
+        forcing,
+        ..kept
+    };
+    conclude(history, ending)
+}
+
 /// The history of a run, or its failure with what is kept of the history.
-pub fn conclude(mut history: History, ending: Ending) -> Result<History, Box<Failure>> {
+fn conclude(mut history: History, ending: Ending) -> Result<History, Box<Failure>> {
     match ending {
         None => Ok(history),
         Some((error, keep)) => {

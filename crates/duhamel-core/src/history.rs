@@ -278,14 +278,18 @@ fn advise_huge_pages(ptr: *mut f64, len: usize) {
 #[cfg(not(target_os = "linux"))]
 fn advise_huge_pages(_ptr: *mut f64, _len: usize) {}
 
-/// Run statistics of a route with a corrector.
+/// Run statistics of every route, modal (with a corrector) and direct: what a route does
+/// not do stays 0.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Stats {
-    /// Newton iterations over the run.
+    /// Newton iterations over the run (0 when every step equation is linear and solved
+    /// directly).
     pub newton_iterations: usize,
     /// Steps solved by the closed-form cubic.
     pub closed_form_steps: usize,
-    /// Factorisations of a kept (modified-Newton) iteration matrix.
+    /// Factorisations of a kept iteration matrix (modified Newton of the first-order
+    /// corrector; the direct integrators' iteration matrix, the mass matrix factorised once
+    /// for the initial acceleration not counted).
     pub factorizations: usize,
     /// Steps whose equation did not converge and that were retried in halves.
     pub subdivided_steps: usize,

@@ -8,6 +8,28 @@
 use crate::error::CoreError;
 
 /// A spin-speed law (rad/s).
+/// Coupling matrices multiplied by a speed law `s(t)`: the force `s(t) (K x + C x')`
+/// (`LinearCoupling(K, C, scale=...)`, e.g. the gyroscopic `omega(t) G` of a run-up). The
+/// matrices are modal (`Phi^T K Phi`, `n_modes x n_modes` row-major: `M = [f64]`, the modal
+/// routes) or physical (`M = direct::assembly::Matrix`, the direct integrators).
+#[derive(Debug)]
+pub struct ScaledCoupling<'a, M: ?Sized = [f64]> {
+    /// The stiffness part, if any.
+    pub k: Option<&'a M>,
+    /// The damping part, if any.
+    pub c: Option<&'a M>,
+    /// The time scale `s(t)`.
+    pub law: SpeedLaw,
+}
+
+impl<M: ?Sized> Clone for ScaledCoupling<'_, M> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<M: ?Sized> Copy for ScaledCoupling<'_, M> {}
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum SpeedLaw {
     /// `omega(t) = omega`.

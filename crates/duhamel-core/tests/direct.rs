@@ -1,11 +1,11 @@
 //! Direct integrators: known discrete solutions and exactness properties.
 
 use duhamel_core::direct::assembly::Matrix;
-use duhamel_core::direct::{self, AlphaParams, DirectHistory, DirectProblem, Method, Stats};
+use duhamel_core::direct::{self, AlphaParams, DirectHistory, DirectProblem, Method};
 use duhamel_core::elements::{Element, Spring};
 use duhamel_core::loads::ModalForcing;
 use duhamel_core::loads::{ModalLoad, TimeFunction};
-use duhamel_core::{CoreError, Failure, Unattended};
+use duhamel_core::{CoreError, Failure, Stats, Unattended};
 
 /// A direct integration, unwatched.
 fn integrate(

@@ -4,7 +4,8 @@
 //! the gap; consistent tangents against central differences of `eval_path`; trial/commit.
 
 use duhamel_core::elements::{
-    Bilinear, BoucWen, Element, FrictionPendulum, Gap, History, Tangent, ViscousDamper,
+    Bilinear, BoucWen, BoucWenParams, Element, FrictionPendulum, Gap, PathState, Tangent,
+    ViscousDamper,
 };
 use duhamel_core::CoreError;
 use std::f64::consts::PI;
@@ -30,6 +31,19 @@ struct Out {
     trial: Vec<f64>,
 }
 
+/// A Bouc-Wen element of `[k, fy, alpha, n, beta, gamma]`.
+fn boucwen(i: usize, j: Option<usize>, [k, fy, alpha, n, beta, gamma]: [f64; 6]) -> BoucWen {
+    let params = BoucWenParams {
+        k,
+        fy,
+        alpha,
+        n,
+        beta,
+        gamma,
+    };
+    BoucWen::new(i, j, params).unwrap()
+}
+
 /// `eval_path` at `(x, v)` from `committed`.
 fn eval_from(e: &dyn Element, committed: &[f64], x: &[f64], v: &[f64]) -> Out {
     let n = e.dofs().len();
@@ -39,7 +53,7 @@ fn eval_from(e: &dyn Element, committed: &[f64], x: &[f64], v: &[f64]) -> Out {
         cv: vec![0.0; n * n],
         trial: vec![f64::NAN; committed.len()],
     };
-    let history = History {
+    let history = PathState {
         committed,
         trial: &mut out.trial,
     };
@@ -217,7 +231,7 @@ fn bouc_wen_follows_an_independent_fine_integration() {
         (10.0, 0.5, 0.5, 1e-9),
     ];
     for (n, beta, gamma, tol) in cases {
-        let e = BoucWen::new(0, Some(1), k, fy, alpha, n, beta, gamma).unwrap();
+        let e = boucwen(0, Some(1), [k, fy, alpha, n, beta, gamma]);
         // 40 steps a cycle (|du| up to 0.5 uy), 2.5 cycles growing then decaying
         let per_cycle = 40;
         let u: Vec<f64> = (0..=100)
@@ -245,7 +259,7 @@ fn bouc_wen_energy_per_cycle() {
     let (k, fy, alpha) = (10.0, 1.0, 0.05);
     let uy = fy / k;
     for (n, beta, gamma) in [(1.0, 0.5, 0.5), (2.0, 0.3, 0.6)] {
-        let e = BoucWen::new(0, None, k, fy, alpha, n, beta, gamma).unwrap();
+        let e = boucwen(0, None, [k, fy, alpha, n, beta, gamma]);
         let u = triangle(4.0 * uy, 4000, 2);
         let (_, zint_all) = bouc_wen_reference((uy, n, beta, gamma), &u[..=32000], 20);
         let (_, zint_first) = bouc_wen_reference((uy, n, beta, gamma), &u[..=16000], 20);
@@ -483,22 +497,22 @@ fn tangents_match_central_differences() {
             1e-7,
         ),
         (
-            Box::new(BoucWen::new(0, Some(1), 100.0, 1.0, 0.1, 1.0, 0.5, 0.5).unwrap()),
+            Box::new(boucwen(0, Some(1), [100.0, 1.0, 0.1, 1.0, 0.5, 0.5])),
             uy,
             1e-7,
         ),
         (
-            Box::new(BoucWen::new(0, None, 100.0, 1.0, 0.0, 1.0, 0.2, 0.8).unwrap()),
+            Box::new(boucwen(0, None, [100.0, 1.0, 0.0, 1.0, 0.2, 0.8])),
             uy,
             1e-7,
         ),
         (
-            Box::new(BoucWen::new(0, None, 100.0, 1.0, 0.05, 2.0, 0.5, 0.5).unwrap()),
+            Box::new(boucwen(0, None, [100.0, 1.0, 0.05, 2.0, 0.5, 0.5])),
             uy,
             1e-6,
         ),
         (
-            Box::new(BoucWen::new(1, Some(0), 100.0, 1.0, 0.05, 5.0, 0.7, 0.1).unwrap()),
+            Box::new(boucwen(1, Some(0), [100.0, 1.0, 0.05, 5.0, 0.7, 0.1])),
             uy,
             1e-6,
         ),
@@ -545,11 +559,11 @@ fn trial_evaluations_do_not_accumulate_and_commits_continue_the_path() {
             0.01,
         ),
         (
-            Box::new(BoucWen::new(0, None, 100.0, 1.0, 0.1, 1.0, 0.5, 0.5).unwrap()),
+            Box::new(boucwen(0, None, [100.0, 1.0, 0.1, 1.0, 0.5, 0.5])),
             0.01,
         ),
         (
-            Box::new(BoucWen::new(0, None, 100.0, 1.0, 0.1, 3.0, 0.5, 0.5).unwrap()),
+            Box::new(boucwen(0, None, [100.0, 1.0, 0.1, 3.0, 0.5, 0.5])),
             0.01,
         ),
         (
@@ -591,8 +605,8 @@ fn trial_evaluations_do_not_accumulate_and_commits_continue_the_path() {
 fn initial_state_is_virgin_monotonic_loading_and_eval_is_the_backbone() {
     let elements: Vec<Box<dyn Element>> = vec![
         Box::new(Bilinear::new(0, Some(1), 100.0, 1.0, 0.1).unwrap()),
-        Box::new(BoucWen::new(0, Some(1), 100.0, 1.0, 0.1, 1.0, 0.5, 0.5).unwrap()),
-        Box::new(BoucWen::new(0, Some(1), 100.0, 1.0, 0.1, 2.5, 0.5, 0.5).unwrap()),
+        Box::new(boucwen(0, Some(1), [100.0, 1.0, 0.1, 1.0, 0.5, 0.5])),
+        Box::new(boucwen(0, Some(1), [100.0, 1.0, 0.1, 2.5, 0.5, 0.5])),
         Box::new(FrictionPendulum::new(0, 1, 2.0, 0.05, 100.0, 1e-3).unwrap()),
     ];
     for e in &elements {
@@ -634,8 +648,8 @@ fn constructors_name_the_bad_parameter_and_non_finite_states_are_errors() {
 
     let elements: Vec<Box<dyn Element>> = vec![
         Box::new(Bilinear::new(0, Some(1), 100.0, 1.0, 0.1).unwrap()),
-        Box::new(BoucWen::new(0, Some(1), 100.0, 1.0, 0.1, 1.0, 0.5, 0.5).unwrap()),
-        Box::new(BoucWen::new(0, Some(1), 100.0, 1.0, 0.1, 2.5, 0.5, 0.5).unwrap()),
+        Box::new(boucwen(0, Some(1), [100.0, 1.0, 0.1, 1.0, 0.5, 0.5])),
+        Box::new(boucwen(0, Some(1), [100.0, 1.0, 0.1, 2.5, 0.5, 0.5])),
         Box::new(FrictionPendulum::new(0, 1, 2.0, 0.05, 100.0, 1e-3).unwrap()),
         Box::new(ViscousDamper::new(0, Some(1), 3.0, 0.35).unwrap()),
         Box::new(Gap::new(0, Some(1), 0.01, 1e4).unwrap()),
@@ -645,7 +659,7 @@ fn constructors_name_the_bad_parameter_and_non_finite_states_are_errors() {
             let committed = vec![0.0; e.state_len()];
             let mut trial = committed.clone();
             let mut r = [0.0; 2];
-            let history = History {
+            let history = PathState {
                 committed: &committed,
                 trial: &mut trial,
             };

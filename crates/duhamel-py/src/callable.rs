@@ -3,7 +3,7 @@
 
 use std::sync::Mutex;
 
-use duhamel_core::elements::{Element, History, Tangent};
+use duhamel_core::elements::{Element, PathState, Tangent};
 use duhamel_core::CoreError;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -45,7 +45,7 @@ impl PyElement {
         &self,
         py: Python<'_>,
         (x, v, t): (&[f64], &[f64], f64),
-        history: Option<History<'_>>,
+        history: Option<PathState<'_>>,
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> PyResult<()> {
@@ -106,7 +106,7 @@ impl PyElement {
     fn attached(
         &self,
         state: (&[f64], &[f64], f64),
-        history: Option<History<'_>>,
+        history: Option<PathState<'_>>,
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
@@ -222,7 +222,7 @@ impl Element for PyElement {
             None => self.attached((x, v, t), None, r, tangent),
             Some(s0) => {
                 let mut trial = s0.clone();
-                let history = History {
+                let history = PathState {
                     committed: s0,
                     trial: &mut trial,
                 };
@@ -246,7 +246,7 @@ impl Element for PyElement {
         x: &[f64],
         v: &[f64],
         t: f64,
-        history: History<'_>,
+        history: PathState<'_>,
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
@@ -295,7 +295,7 @@ impl Element for ArcElement {
         x: &[f64],
         v: &[f64],
         t: f64,
-        history: History<'_>,
+        history: PathState<'_>,
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {

@@ -223,7 +223,7 @@ impl DirectModel {
     ) -> PyResult<RunResult> {
         guarded(|| {
             let mats = self.matrices.get();
-            let scaled: Vec<CoreScaled> = mats
+            let scaled: Vec<CoreScaled<CoreMatrix>> = mats
                 .scaled
                 .iter()
                 .map(|s| {

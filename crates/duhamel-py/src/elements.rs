@@ -1,7 +1,9 @@
 //! Elements: specifications as typed values (checked once, when made), and the Python
 //! `Callable` element.
 
-use duhamel_core::elements::{Bilinear, BoucWen, FrictionPendulum, Gap, ViscousDamper};
+use duhamel_core::elements::{
+    Bilinear, BoucWen, BoucWenParams, FrictionPendulum, Gap, ViscousDamper,
+};
 use duhamel_core::elements::{Contact, Damper, Element, Polynomial, Shifted, Spring};
 use duhamel_core::elements::{ShortJournalBearing, SpeedTableBearing, Tangent};
 use pyo3::exceptions::PyValueError;
@@ -204,8 +206,22 @@ impl ElementSpec {
         shape: (f64, f64, f64),
     ) -> PyResult<Self> {
         let (n, beta, gamma) = shape;
-        guarded(|| BoucWen::new(i, j, k, fy, alpha, n, beta, gamma).map_err(core_err))
-            .map(|e| ElementSpec(Spec::BoucWen(e)))
+        guarded(|| {
+            BoucWen::new(
+                i,
+                j,
+                BoucWenParams {
+                    k,
+                    fy,
+                    alpha,
+                    n,
+                    beta,
+                    gamma,
+                },
+            )
+            .map_err(core_err)
+        })
+        .map(|e| ElementSpec(Spec::BoucWen(e)))
     }
 
     /// Single friction pendulum bearing on two horizontal dofs.

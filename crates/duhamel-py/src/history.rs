@@ -1,7 +1,7 @@
 //! What a run returns to Python: its history as numpy arrays (moved, not copied), its
 //! statistics and, for a run that stopped early, why.
 
-use duhamel_core::direct::{DirectHistory, Stats as DirectStats};
+use duhamel_core::direct::DirectHistory;
 use duhamel_core::{Coordinates, CoreError, Failure, History, Stats};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
@@ -204,12 +204,6 @@ impl IntoStats for Stats {
 
     fn subdivisions(&self) -> (usize, usize) {
         (self.subdivided_steps, self.subdivision_depth)
-    }
-}
-
-impl IntoStats for DirectStats {
-    fn counts(&self) -> (usize, usize, usize) {
-        (self.newton_iterations, 0, self.factorizations)
     }
 }
 

@@ -21,7 +21,7 @@
 
 use num_complex::Complex64;
 
-use crate::driver::{conclude, drive, Control, Route, StepFailure};
+use crate::driver::{drive, finish, Control, Route, StepFailure};
 use crate::error::CoreError;
 use crate::history::{size, zeroed, Coordinates, Failure, History, Stats};
 use crate::kernel::cphi;
@@ -478,19 +478,15 @@ pub fn integrate(
         (loads, ending, (stats, records.unwrap_or_default()))
     });
     let (stats, (elements, element_state)) = stats;
-    let (t, load_values, forcing) = loads.into_saved(problem).map_err(fail)?;
-    let history = History {
+    let kept = History {
         n_modes: m,
-        n_loads: problem.loads.len(),
         n_outputs: n_cols,
-        t,
         coordinates: Coordinates::FirstOrder { eta, width: 2 * r },
-        load_values,
-        forcing,
         pseudo: has_corrector.then_some(pseudo),
         outputs: outputs.is_some().then_some(out),
         elements,
         element_state,
+        ..History::default()
     };
-    conclude(history, ending).map(|h| (h, stats))
+    finish(problem, loads, kept, ending).map(|h| (h, stats))
 }

@@ -9,7 +9,7 @@
 
 use rayon::prelude::*;
 
-use crate::driver::{conclude, drive, Control, Route, StepFailure};
+use crate::driver::{drive, finish, Control, Route, StepFailure};
 use crate::error::CoreError;
 use crate::history::{size, zeroed, Coordinates, Failure, History};
 use crate::kernel::oscillator::Transfer;
@@ -376,19 +376,10 @@ pub fn integrate(
     let (loads, ending) = drive(problem, &mut route, loads, forcing, control);
     // The chunks' writers point into `hq`, `hv`: drop them before the buffers move.
     drop(route);
-    let (t, load_values, forcing) = loads.into_saved(problem).map_err(fail)?;
-    let history = History {
+    let kept = History {
         n_modes,
-        n_loads: problem.loads.len(),
-        n_outputs: 0,
-        t,
         coordinates: Coordinates::Modal { q: hq, v: hv },
-        load_values,
-        forcing,
-        pseudo: None,
-        outputs: None,
-        elements: None,
-        element_state: None,
+        ..History::default()
     };
-    conclude(history, ending)
+    finish(problem, loads, kept, ending)
 }

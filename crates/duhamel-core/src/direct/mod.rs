@@ -25,15 +25,16 @@ mod model;
 mod problem;
 mod stepper;
 
-pub use problem::{AlphaParams, DirectHistory, DirectProblem, Method, ScaledCoupling, Stats};
+pub use crate::speed::ScaledCoupling;
+pub use problem::{AlphaParams, DirectHistory, DirectProblem, Method};
 
 use crate::driver::{Control, Pacer};
 use crate::error::CoreError;
-use crate::history::{reserve, size, zeroed, Failure};
+use crate::history::{reserve, size, zeroed, Failure, Stats};
 use crate::loads::ModalForcing;
 use crate::problem::SaveGrid;
 use assembly::IterationMatrix;
-use model::Model;
+use model::{Model, State};
 use problem::validate;
 use stepper::Stepper;
 
@@ -120,7 +121,17 @@ pub fn integrate(
         match problem.a0 {
             Some(a0) => a.copy_from_slice(a0),
             None => model
-                .acceleration(&m_lu, &x, &v, t0, k0, &f, &mut a)
+                .acceleration(
+                    &m_lu,
+                    State {
+                        x: &x,
+                        v: &v,
+                        t: t0,
+                    },
+                    k0,
+                    &f,
+                    &mut a,
+                )
                 .map_err(at0)?,
         }
         if !a.iter().all(|u| u.is_finite()) {
@@ -150,7 +161,7 @@ pub fn integrate(
                         .external(&[t], forcing.as_deref_mut(), &mut f)
                         .map_err(|e| (e, step))?;
                     model
-                        .acceleration(&m_lu, &x, &v, t, k, &f, &mut a_out)
+                        .acceleration(&m_lu, State { x: &x, v: &v, t }, k, &f, &mut a_out)
                         .map_err(|e| (e, step))?;
                 } else {
                     a_out.copy_from_slice(&a);

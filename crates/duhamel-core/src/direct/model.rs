@@ -29,14 +29,19 @@ pub(crate) struct Coefs {
     pub s: f64,
 }
 
-/// An element with buffers for its local state, force and tangents.
-pub(crate) type Slot<'a> = Evaluation<'a>;
+/// A physical state at one instant: displacements `x` and velocities `v` at time `t`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct State<'s> {
+    pub x: &'s [f64],
+    pub v: &'s [f64],
+    pub t: f64,
+}
 
 /// Evaluates the terms of the equation of motion.
 pub(crate) struct Model<'a> {
     pub p: &'a DirectProblem<'a>,
     pub n: usize,
-    pub slots: Vec<Slot<'a>>,
+    pub slots: Vec<Evaluation<'a>>,
     /// Whether any element force depends on the velocities.
     pub velocity_elements: bool,
     /// Whether a scaled coupling's speed law varies in time (the iteration matrix then
@@ -292,13 +297,10 @@ impl<'a> Model<'a> {
 
     /// The acceleration from the equation of motion at a state:
     /// `a = M^-1 (f - F(x, v, t)) / mu`, with `m_lu` the factorised constant `M`.
-    #[allow(clippy::too_many_arguments)]
     pub fn acceleration(
         &mut self,
         m_lu: &super::assembly::Factorization,
-        x: &[f64],
-        v: &[f64],
-        t: f64,
+        State { x, v, t }: State,
         k: Coefs,
         f: &[f64],
         out: &mut [f64],

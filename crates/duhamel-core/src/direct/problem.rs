@@ -5,7 +5,7 @@ use crate::elements::Element;
 use crate::error::CoreError;
 use crate::loads::{check_loads, ModalLoad};
 use crate::mass::TimeVaryingMass;
-use crate::speed::SpeedLaw;
+use crate::speed::ScaledCoupling;
 
 /// Most Gauss points per step of the cubic Hermite element.
 pub const MAX_POINTS: usize = 8;
@@ -43,7 +43,7 @@ pub struct DirectProblem<'a> {
     pub k_fixed: Option<&'a Matrix>,
     /// Couplings multiplied by a speed law: the force `s(t) (K x + C x')` (the gyroscopic
     /// `omega(t) G x'` of a run-up). They never scale with the mass law.
-    pub scaled: &'a [ScaledCoupling<'a>],
+    pub scaled: &'a [ScaledCoupling<'a, Matrix>],
     /// Force elements.
     pub elements: &'a [&'a dyn Element],
     /// Built-in loads with physical patterns (`n_dof` entries).
@@ -76,17 +76,6 @@ pub struct DirectProblem<'a> {
     pub max_iter: usize,
 }
 
-/// Physical coupling matrices multiplied by a speed law `s(t)`.
-#[derive(Debug, Clone, Copy)]
-pub struct ScaledCoupling<'a> {
-    /// Stiffness part, if any.
-    pub k: Option<&'a Matrix>,
-    /// Damping part, if any.
-    pub c: Option<&'a Matrix>,
-    /// The time scale.
-    pub law: SpeedLaw,
-}
-
 /// Saved history of a direct integration, time-major `(n_saved, n_out)` arrays.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct DirectHistory {
@@ -98,16 +87,6 @@ pub struct DirectHistory {
     pub x: Vec<f64>,
     pub v: Vec<f64>,
     pub a: Vec<f64>,
-}
-
-/// Run statistics.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Stats {
-    /// Newton corrections over the run (0 when every step equation is linear).
-    pub newton_iterations: usize,
-    /// Factorisations of the iteration matrix (the mass matrix factorised once for the
-    /// initial acceleration is not counted).
-    pub factorizations: usize,
 }
 
 pub(super) fn validate(p: &DirectProblem) -> Result<(), CoreError> {

@@ -17,7 +17,7 @@ pub struct Tangent<'a> {
 /// Newton iterations inside a step, the integrator commits it once per accepted step (after
 /// evaluating the element at the step's end state), and a retried step simply evaluates
 /// from the committed variables again (nothing to revert).
-pub struct History<'a> {
+pub struct PathState<'a> {
     /// The variables at the start of the step.
     pub committed: &'a [f64],
     /// The variables at the evaluated state (overwritten).
@@ -66,13 +66,12 @@ pub trait Element: Send + Sync {
     /// A path-dependent element's force at the trial state `(x, v, t)` reached from the
     /// committed variables, as [`Element::eval`] adds it, writing the trial variables. The
     /// default (path-independent elements) is [`Element::eval`].
-    #[allow(clippy::too_many_arguments)]
     fn eval_path(
         &self,
         x: &[f64],
         v: &[f64],
         t: f64,
-        _history: History<'_>,
+        _history: PathState<'_>,
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
@@ -202,7 +201,7 @@ impl<'a> Evaluation<'a> {
             kx: &mut self.kx,
             cv: &mut self.cv,
         });
-        let history = History {
+        let history = PathState {
             committed: &self.committed,
             trial: &mut self.trial,
         };
@@ -250,7 +249,7 @@ pub(crate) fn numeric_tangent(
                     vs[j] = value;
                 }
                 out.fill(0.0);
-                let history = History {
+                let history = PathState {
                     committed,
                     trial: &mut scratch,
                 };

@@ -6,7 +6,7 @@
 //! of the "Fast Nonlinear Analysis"). [`Shifted`] is that remainder for any element whose
 //! force is not a closed form the caller could rewrite (a spring's `k` is simply set to 0).
 
-use super::element::{Element, History, ModalCubic, Tangent};
+use super::element::{Element, ModalCubic, PathState, Tangent};
 use crate::error::CoreError;
 
 /// `inner`'s force minus `K0 x + C0 x'` at its own dofs (`K0`, `C0` row-major `n x n`).
@@ -116,7 +116,7 @@ impl Element for Shifted {
         x: &[f64],
         v: &[f64],
         t: f64,
-        history: History<'_>,
+        history: PathState<'_>,
         r: &mut [f64],
         mut tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
@@ -178,7 +178,7 @@ mod tests {
         let committed = vec![0.0; shifted.state_len()];
         let mut trial = committed.clone();
         let mut r = [0.0];
-        let history = History {
+        let history = PathState {
             committed: &committed,
             trial: &mut trial,
         };

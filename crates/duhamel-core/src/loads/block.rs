@@ -6,6 +6,7 @@ use crate::history::{reserve, size, zeroed};
 use crate::kernel::oscillator::Transfer;
 use crate::problem::{ModalProblem, SaveGrid};
 
+use super::steps::Steps;
 use super::ModalForcing;
 
 /// A block whose loads could not all be evaluated: the error, and how many of its steps
@@ -167,26 +168,23 @@ impl BlockLoads {
         self.len = len;
         self.basis.clear();
         self.basis.resize((len + 1) * n_loads, [0.0; 3]);
+        let steps = Steps {
+            time,
+            dt,
+            len: len + 1,
+        };
         let mut l = 0;
         while l < n_loads {
             let load = &problem.loads[l].time;
             // The x and y parts of an unbalance share their sines and cosines.
             if let Some(next) = problem.loads.get(l + 1) {
                 let pair = (l, l + 1);
-                if load.pair_bases(
-                    &next.time,
-                    time,
-                    dt,
-                    len + 1,
-                    &mut self.basis,
-                    pair,
-                    n_loads,
-                ) {
+                if load.pair_bases(&next.time, &steps, &mut self.basis, pair, n_loads) {
                     l += 2;
                     continue;
                 }
             }
-            load.bases(time, dt, len + 1, &mut self.basis, l, n_loads);
+            load.bases(&steps, &mut self.basis, l, n_loads);
             l += 1;
         }
         self.jumps.clear();

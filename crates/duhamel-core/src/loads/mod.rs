@@ -2,8 +2,10 @@
 //! scalar time function evaluated in Rust.
 
 pub mod block;
+mod steps;
 mod time;
 
+pub use steps::Steps;
 pub use time::{Axis, TimeFunction};
 
 use crate::error::CoreError;

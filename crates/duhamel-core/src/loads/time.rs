@@ -4,6 +4,8 @@
 use crate::error::CoreError;
 use crate::speed::SpeedLaw;
 
+use super::steps::Steps;
+
 /// A direction in the plane of a rotor's cross-section.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Axis {
@@ -166,19 +168,18 @@ impl TimeFunction {
         }
     }
 
-    /// The bases of `len` consecutive steps `[t0 + n dt, t0 + (n + 1) dt]` (with the grid
-    /// times `t0 + n dt` computed as `time(n)`), appended to `out` with stride `stride`
-    /// starting at `out[offset]`. A harmonic (or a constant-speed unbalance) is evaluated
-    /// twice per step, not three times: the end of one step is the start of the next.
+    /// The bases of the steps `steps`, appended to `out` with stride `stride` starting at
+    /// `out[offset]`. A harmonic (or a constant-speed unbalance) is evaluated twice per
+    /// step, not three times: the end of one step is the start of the next.
     pub fn bases(
         &self,
-        time: impl Fn(usize) -> f64,
-        dt: f64,
-        len: usize,
+        steps: &Steps<impl Fn(usize) -> f64>,
         out: &mut [[f64; 3]],
         offset: usize,
         stride: usize,
     ) {
+        let Steps { time, dt, len } = steps;
+        let (dt, len) = (*dt, *len);
         // Smooth functions: the end of one step is the start of the next, evaluated once.
         let smooth = matches!(
             self,
@@ -212,17 +213,16 @@ impl TimeFunction {
     /// serve both, with values identical to evaluating each. Returns false (writing nothing)
     /// for any other pair. `self` is written at `out[offset.0 + n * stride]`, `other` at
     /// `out[offset.1 + n * stride]`.
-    #[allow(clippy::too_many_arguments)]
     pub fn pair_bases(
         &self,
         other: &TimeFunction,
-        time: impl Fn(usize) -> f64,
-        dt: f64,
-        len: usize,
+        steps: &Steps<impl Fn(usize) -> f64>,
         out: &mut [[f64; 3]],
         offset: (usize, usize),
         stride: usize,
     ) -> bool {
+        let Steps { time, dt, len } = steps;
+        let (dt, len) = (*dt, *len);
         let (
             TimeFunction::Unbalance {
                 law: law @ SpeedLaw::Constant(w),
@@ -397,23 +397,28 @@ mod tests {
         let (x, y) = (make(Axis::X), make(Axis::Y));
         let time = |n: usize| 0.5 + n as f64 * 1e-3;
         let (len, stride) = (40, 3);
+        let steps = Steps {
+            time,
+            dt: 1e-3,
+            len,
+        };
         for (a, b) in [(&x, &y), (&y, &x)] {
             let mut single = vec![[0.0; 3]; len * stride];
-            a.bases(time, 1e-3, len, &mut single, 0, stride);
-            b.bases(time, 1e-3, len, &mut single, 2, stride);
+            a.bases(&steps, &mut single, 0, stride);
+            b.bases(&steps, &mut single, 2, stride);
             let mut pair = vec![[0.0; 3]; len * stride];
-            assert!(a.pair_bases(b, time, 1e-3, len, &mut pair, (0, 2), stride));
+            assert!(a.pair_bases(b, &steps, &mut pair, (0, 2), stride));
             assert_eq!(single, pair);
         }
         // Not a pair: same axis, another phase, a run-up.
         let mut out = vec![[0.0; 3]; len * stride];
-        assert!(!x.pair_bases(&x, time, 1e-3, len, &mut out, (0, 2), stride));
+        assert!(!x.pair_bases(&x, &steps, &mut out, (0, 2), stride));
         let other = TimeFunction::Unbalance {
             law,
             phase: 0.4,
             axis: Axis::Y,
         };
-        assert!(!x.pair_bases(&other, time, 1e-3, len, &mut out, (0, 2), stride));
+        assert!(!x.pair_bases(&other, &steps, &mut out, (0, 2), stride));
         let runup = TimeFunction::Unbalance {
             law: SpeedLaw::LinearRunUp {
                 omega0: 0.0,
@@ -423,7 +428,7 @@ mod tests {
             phase: 0.3,
             axis: Axis::Y,
         };
-        assert!(!x.pair_bases(&runup, time, 1e-3, len, &mut out, (0, 2), stride));
+        assert!(!x.pair_bases(&runup, &steps, &mut out, (0, 2), stride));
     }
 
     #[test]

@@ -19,7 +19,7 @@
 
 use num_complex::Complex64;
 
-use super::force::{Jacobian, PseudoForce};
+use super::force::{At, Jacobian, Parts, PseudoForce};
 use crate::dense::DenseLu;
 use crate::elements::Element;
 use crate::error::CoreError;
@@ -92,7 +92,6 @@ struct Work {
 }
 
 impl<'a> Corrector<'a> {
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
         nl: &Nonlinear<'a>,
         k: &'a [f64],
@@ -125,7 +124,17 @@ impl<'a> Corrector<'a> {
                 expected: dofs_x_modes,
             });
         }
-        let pf = PseudoForce::new(nl.phi, nl.n_dof, nl.elements, None, None, &[], None, k, c)?;
+        let pf = PseudoForce::new(Parts {
+            phi: nl.phi,
+            n_dof: nl.n_dof,
+            elements: nl.elements,
+            coupling_k: None,
+            coupling_c: None,
+            scaled: &[],
+            mass: None,
+            k,
+            c,
+        })?;
         let mut ga = Vec::with_capacity(r * m);
         let mut gb = Vec::with_capacity(r * m);
         for (kk, &lam) in lambda.iter().enumerate() {
@@ -327,14 +336,25 @@ impl<'a> Corrector<'a> {
         } else {
             (None, None)
         };
-        self.pf
-            .eval(&self.q, &w.vb, t, &self.zeros, None, &mut w.f0, j0)?;
+        let start = At {
+            q: &self.q,
+            v: &w.vb,
+            t,
+            p: &self.zeros,
+            a: None,
+        };
+        self.pf.eval(start, &mut w.f0, j0)?;
         // The end of the step: a mass law's derivative from the left (none here, but the
         // pseudo-force keeps the convention).
         self.pf.set_left_limit(true);
-        let end = self
-            .pf
-            .eval(&w.q1, &w.vb, t + dt, &self.zeros, None, &mut w.f1, j1);
+        let end = At {
+            q: &w.q1,
+            v: &w.vb,
+            t: t + dt,
+            p: &self.zeros,
+            a: None,
+        };
+        let end = self.pf.eval(end, &mut w.f1, j1);
         self.pf.set_left_limit(false);
         end
     }

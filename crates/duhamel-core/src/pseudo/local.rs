@@ -4,6 +4,11 @@
 //! element dofs `D`. The elements see the modal state only through `u = Phi_D q` and act on it
 //! only through `Phi_D^T r(u, u')`, so their step equation can be written and solved in the
 //! `n_d = |D|` physical coordinates instead of the `n` modal ones (see [`super::newton`]).
+//!
+//! The space is also the one owner of the elements' evaluations: their buffers and, for a
+//! hysteretic element, its committed and trial internal variables. The pseudo-force holds
+//! the space; the modal Newton, the element-space Newton and every subdivision level
+//! evaluate the same elements, and the route commits them once per accepted (sub)step.
 
 use crate::elements::{Element, Evaluation};
 use crate::error::CoreError;
@@ -74,11 +79,70 @@ impl<'a> ElementSpace<'a> {
         Ok(())
     }
 
-    /// Sets the elements' committed variables (the layout of
-    /// [`super::force::PseudoForce::element_state`]).
+    /// The committed internal variables of every element, concatenated in element order.
+    pub fn element_state(&self) -> Vec<f64> {
+        self.members
+            .iter()
+            .flat_map(|m| m.eval.committed().iter().copied())
+            .collect()
+    }
+
+    /// Sets them (the layout of [`ElementSpace::element_state`]), e.g. from a checkpoint.
     pub fn set_element_state(&mut self, state: &[f64]) -> Result<(), CoreError> {
-        let mut evals: Vec<_> = self.members.iter_mut().map(|m| &mut m.eval).collect();
-        super::force::elements::set_states(&mut evals, state)
+        let expected: usize = self.members.iter().map(|m| m.eval.committed().len()).sum();
+        if state.len() != expected {
+            return Err(CoreError::LengthMismatch {
+                name: "element_state",
+                got: state.len(),
+                expected,
+            });
+        }
+        if let Some(i) = state.iter().position(|x| !x.is_finite()) {
+            return Err(CoreError::InvalidInput {
+                name: "element_state",
+                problem: format!("must be finite (entry {i} is {})", state[i]),
+            });
+        }
+        let mut at = 0;
+        for m in &mut self.members {
+            let len = m.eval.committed().len();
+            m.eval.set_committed(&state[at..at + len]);
+            at += len;
+        }
+        Ok(())
+    }
+
+    /// The elements' numbers of local dofs.
+    pub fn element_widths(&self) -> Vec<usize> {
+        self.members.iter().map(|m| m.at.len()).collect()
+    }
+
+    /// The number of elements.
+    pub fn element_count(&self) -> usize {
+        self.members.len()
+    }
+
+    /// Each element with its local dofs' mode-shape rows, `phi_e[j * n_modes + m]`.
+    pub fn element_rows(&self) -> impl Iterator<Item = (&'a dyn Element, Vec<f64>)> + '_ {
+        let n = self.n_modes;
+        self.members.iter().map(move |m| {
+            let rows =
+                m.at.iter()
+                    .flat_map(|&a| self.phi[a * n..(a + 1) * n].iter().copied())
+                    .collect();
+            (m.eval.element, rows)
+        })
+    }
+
+    /// `Phi_D` and every element's evaluation with the positions of its local dofs in `D`.
+    pub fn members_mut(
+        &mut self,
+    ) -> (
+        &[f64],
+        impl Iterator<Item = (&mut Evaluation<'a>, &[usize])> + '_,
+    ) {
+        let members = self.members.iter_mut().map(|m| (&mut m.eval, &m.at[..]));
+        (&self.phi, members)
     }
 
     /// `n_d`, the number of element dofs.

@@ -20,8 +20,9 @@ mod scalar;
 mod scheme;
 mod subdivide;
 
-pub use problem::{NonlinearProblem, Options, ScaledCoupling, Solver};
+pub use problem::{NonlinearProblem, Options, Solver};
 pub use route::integrate;
 pub use scheme::{Quadrature, Scheme};
 
 pub use crate::history::Stats;
+pub use crate::speed::ScaledCoupling;

@@ -5,7 +5,7 @@ use crate::elements::Element;
 use crate::error::CoreError;
 use crate::mass::TimeVaryingMass;
 use crate::problem::ModalProblem;
-use crate::speed::SpeedLaw;
+use crate::speed::ScaledCoupling;
 
 /// How the step equation is solved.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -62,18 +62,6 @@ pub struct NonlinearProblem<'a> {
     /// checkpoint: [`crate::History::element_state`] of the run before); None: their
     /// initial values.
     pub element_state: Option<&'a [f64]>,
-}
-
-/// A modal coupling whose pseudo-force is `-s(t) (K q + C v)`, `s` a speed law:
-/// `LinearCoupling(K, C, scale=...)`.
-#[derive(Debug, Clone, Copy)]
-pub struct ScaledCoupling<'a> {
-    /// Modal stiffness coupling `Phi^T K Phi` (`n_modes x n_modes`, row-major), if any.
-    pub k: Option<&'a [f64]>,
-    /// Modal damping coupling `Phi^T C Phi`, if any.
-    pub c: Option<&'a [f64]>,
-    /// The time scale.
-    pub law: SpeedLaw,
 }
 
 /// Checks the problem; errors name the Python-side parameter.

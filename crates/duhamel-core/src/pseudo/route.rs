@@ -2,14 +2,13 @@
 //! implicit step equation of the pseudo-force (elements, couplings, mass law) solved every
 //! step ([`super::newton`]).
 
-use super::force::PseudoForce;
-use super::local::ElementSpace;
-use super::newton::Stepper;
+use super::force::{Parts, PseudoForce};
+use super::newton::StepSolver;
 use super::problem::{validate, NonlinearProblem};
 use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
 use super::subdivide::{level_rules, retriable, Subdivider};
-use crate::driver::{conclude, drive, Control, Route, StepFailure};
+use crate::driver::{drive, finish, Control, Route, StepFailure};
 use crate::error::CoreError;
 use crate::history::{size, zeroed, Coordinates, ElementRows, Failure, History, Stats};
 use crate::kernel::oscillator::Transfer;
@@ -20,7 +19,7 @@ use crate::problem::ModalProblem;
 
 /// The state of a step: start and end state, the linear prediction and the load basis.
 #[derive(Default)]
-struct State {
+struct StepBuffers {
     q: Vec<f64>,
     v: Vec<f64>,
     q1: Vec<f64>,
@@ -31,10 +30,10 @@ struct State {
     pb: [Vec<f64>; 3],
 }
 
-impl State {
+impl StepBuffers {
     fn new(q0: &[f64], v0: &[f64]) -> Self {
         let n = q0.len();
-        State {
+        StepBuffers {
             q: q0.to_vec(),
             v: v0.to_vec(),
             q1: vec![0.0; n],
@@ -108,14 +107,14 @@ struct PseudoRoute<'r, 'a> {
     /// The exact step of each mode.
     rows: StepRows,
     pf: PseudoForce<'a>,
-    stepper: Stepper<'r>,
+    solver: StepSolver<'r>,
     /// The estimated-mass treatment (the saved pseudo-force is then evaluated anew).
     estimate: bool,
     /// Whether hysteretic elements commit their variables after each step.
     stateful: bool,
     /// The levels of automatic subdivision, when the step equation is nonlinear.
     sub: Option<Subdivider<'r>>,
-    state: State,
+    state: StepBuffers,
     hq: Vec<f64>,
     hv: Vec<f64>,
     hp: Vec<f64>,
@@ -145,14 +144,14 @@ impl PseudoRoute<'_, '_> {
             let rows = (&mut he.x[e.clone()], &mut he.v[e.clone()], &mut he.r[e]);
             self.pf.record((q, v), t, rows)?;
         }
-        match self.stepper.start_pseudo().filter(|_| known) {
+        match self.solver.start_pseudo().filter(|_| known) {
             Some(k) => {
                 self.hp[r].copy_from_slice(k);
                 Ok(())
             }
             None => {
                 let out = &mut self.hp[r];
-                if known && self.stepper.local_start(&self.pf, (q, v, p), t, out) {
+                if known && self.solver.local_start(&self.pf, (q, v, p), t, out) {
                     return Ok(());
                 }
                 self.pf.at_state(q, v, t, p, out)
@@ -165,7 +164,7 @@ impl PseudoRoute<'_, '_> {
     /// (measured: 10 % more instructions per Duffing step otherwise).
     fn steps(&mut self, problem: &ModalProblem, loads: &BlockLoads) -> Result<(), StepFailure> {
         let mut st = std::mem::take(&mut self.state);
-        let State {
+        let StepBuffers {
             q,
             v,
             q1,
@@ -188,7 +187,7 @@ impl PseudoRoute<'_, '_> {
                 v_lin: vl,
                 pb: [&pb[0], &pb[1], &pb[2]],
             };
-            let solved = self.stepper.solve(&mut self.pf, &input, q1, v1);
+            let solved = self.solver.solve(&mut self.pf, &input, q1, v1);
             // The start state is saved after its step: the step has usually evaluated the
             // start state's pseudo-force already.
             if let Some(slot) = loads.slot[s] {
@@ -208,9 +207,7 @@ impl PseudoRoute<'_, '_> {
                     v1.copy_from_slice(v);
                     let basis = [&pb[0][..], &pb[1][..], &pb[2][..]];
                     let span = (t, problem.dt);
-                    let stateful = self.stateful;
-                    let stepper = &mut self.stepper;
-                    match sub.step(stepper, &mut self.pf, span, basis, (q1, v1), stateful) {
+                    match sub.step(&mut self.pf, span, basis, (q1, v1)) {
                         Ok(iters) => iters,
                         Err(error) => {
                             result = Err(StepFailure {
@@ -230,7 +227,7 @@ impl PseudoRoute<'_, '_> {
                 }
             };
             self.stats.newton_iterations += iters;
-            if iters == 0 && self.stepper.analytic() {
+            if iters == 0 && self.solver.analytic() {
                 self.stats.closed_form_steps += 1;
             }
             // x * 0 is NaN exactly for a non-finite x: a branch-free (vectorised) test
@@ -249,7 +246,7 @@ impl PseudoRoute<'_, '_> {
             }
             if self.stateful && !subdivided {
                 let end = problem.time(step + 1);
-                if let Err(error) = self.commit(q1, v1, end) {
+                if let Err(error) = self.pf.commit(q1, v1, end, false) {
                     result = Err(StepFailure {
                         error,
                         step: step + 1,
@@ -262,17 +259,6 @@ impl PseudoRoute<'_, '_> {
         }
         self.state = st;
         result
-    }
-}
-
-impl PseudoRoute<'_, '_> {
-    /// Commits the hysteretic elements' variables at the accepted end state `(q, v)`.
-    fn commit(&mut self, q: &[f64], v: &[f64], t: f64) -> Result<(), CoreError> {
-        self.stepper.commit(&mut self.pf, (q, v), t, false)?;
-        if let Some(sub) = &mut self.sub {
-            sub.commit(&mut self.pf, (q, v), t, false)?;
-        }
-        Ok(())
     }
 }
 
@@ -315,51 +301,36 @@ pub fn integrate(
         .collect();
     let o = problem.options;
     let rule = Rule::new(o.scheme, o.quadrature, dt, &transfers);
-    let pf = PseudoForce::new(
-        problem.phi,
-        problem.n_dof,
-        problem.elements,
-        problem.coupling_k,
-        problem.coupling_c,
-        problem.scaled,
-        problem.mass,
-        base.k,
-        base.c,
-    )
+    let pf = PseudoForce::new(Parts {
+        phi: problem.phi,
+        n_dof: problem.n_dof,
+        elements: problem.elements,
+        coupling_k: problem.coupling_k,
+        coupling_c: problem.coupling_c,
+        scaled: problem.scaled,
+        mass: problem.mass,
+        k: base.k,
+        c: base.c,
+    })
     .map_err(fail)?;
     let estimate = problem
         .mass
         .is_some_and(|m| m.treatment == MassTreatment::Estimate);
-    let space = ElementSpace::new(problem.phi, n, problem.elements);
-    let stepper = Stepper::new(
-        &rule, o.scheme, dt, o.tol, o.max_iter, o.solver, &pf, estimate, space,
-    )
-    .map_err(fail)?;
+    let solver = StepSolver::new(&rule, dt, &o, &pf, estimate).map_err(fail)?;
     let mut pf = pf;
-    let mut stepper = stepper;
     let depth = if pf.linear { 0 } else { o.subdivisions };
     let rules = level_rules(problem, depth);
-    let mut sub = if depth > 0 {
+    let sub = if depth > 0 {
         Some(Subdivider::new(problem, &rules, &pf, o, estimate).map_err(fail)?)
     } else {
         None
     };
     let stateful = pf.stateful();
     if stateful {
-        let start = (base.q0, base.v0);
-        stepper
-            .commit(&mut pf, start, base.time(0), true)
+        pf.commit(base.q0, base.v0, base.time(0), true)
             .map_err(fail)?;
-        if let Some(sub) = &mut sub {
-            sub.commit(&mut pf, start, base.time(0), true)
-                .map_err(fail)?;
-        }
         if let Some(state) = problem.element_state {
             pf.set_element_state(state).map_err(fail)?;
-            stepper.set_element_state(state).map_err(fail)?;
-            if let Some(sub) = &mut sub {
-                sub.set_element_state(state).map_err(fail)?;
-            }
         }
     }
     let loads = BlockLoads::new(base, true, forcing.is_some(), 3 * n).map_err(fail)?;
@@ -379,11 +350,11 @@ pub fn integrate(
     let mut route = PseudoRoute {
         rows: step_rows(&transfers),
         pf,
-        stepper,
+        solver,
         estimate,
         stateful,
         sub,
-        state: State::new(base.q0, base.v0),
+        state: StepBuffers::new(base.q0, base.v0),
         hq: buffer("the modal history (q)")?,
         hv: buffer("the modal history (v)")?,
         hp: buffer("the pseudo-force")?,
@@ -391,26 +362,20 @@ pub fn integrate(
         stats: Stats::default(),
     };
     let (loads, ending) = drive(base, &mut route, loads, forcing, control);
-    let (t, load_values, forcing) = loads.into_saved(base).map_err(fail)?;
-    let history = History {
+    let kept = History {
         n_modes: n,
-        n_loads: base.loads.len(),
-        n_outputs: 0,
-        t,
         coordinates: Coordinates::Modal {
             q: route.hq,
             v: route.hv,
         },
-        load_values,
-        forcing,
         pseudo: Some(route.hp),
-        outputs: None,
         elements: (route.he.width > 0).then_some(route.he),
         element_state: stateful.then(|| route.pf.element_state()),
+        ..History::default()
     };
     let mut stats = route.stats;
     if let Some(sub) = &route.sub {
         (stats.subdivided_steps, stats.subdivision_depth) = (sub.steps, sub.deepest);
     }
-    conclude(history, ending).map(|h| (h, stats))
+    finish(base, loads, kept, ending).map(|h| (h, stats))
 }

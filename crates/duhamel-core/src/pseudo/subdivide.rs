@@ -8,8 +8,7 @@
 //! is not subdivided. Hysteretic elements commit at the end of every accepted substep.
 
 use super::force::PseudoForce;
-use super::local::ElementSpace;
-use super::newton::Stepper;
+use super::newton::StepSolver;
 use super::problem::{NonlinearProblem, Options};
 use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
@@ -38,13 +37,15 @@ pub(super) fn level_rules(problem: &NonlinearProblem, depth: usize) -> Vec<(Vec<
 /// One level: steps of `dt / 2^depth`.
 struct Level<'r> {
     rows: StepRows,
-    stepper: Stepper<'r>,
+    solver: StepSolver<'r>,
 }
 
 /// The levels of subdivision below the run's step, and what they did.
 pub(super) struct Subdivider<'r> {
     levels: Vec<Level<'r>>,
     n: usize,
+    /// Whether hysteretic elements commit at the end of every accepted substep.
+    stateful: bool,
     /// Steps that needed subdividing, and the deepest level reached.
     pub steps: usize,
     pub deepest: usize,
@@ -70,84 +71,46 @@ impl<'r> Subdivider<'r> {
         let mut levels = Vec::with_capacity(rules.len());
         for (d, (transfers, rule)) in rules.iter().enumerate() {
             let h = problem.base.dt * 0.5f64.powi(d as i32 + 1);
-            let space = ElementSpace::new(problem.phi, n, problem.elements);
-            let stepper = Stepper::new(
-                rule,
-                options.scheme,
-                h,
-                options.tol,
-                options.max_iter,
-                options.solver,
-                pf,
-                estimate,
-                space,
-            )?;
+            let solver = StepSolver::new(rule, h, &options, pf, estimate)?;
             levels.push(Level {
                 rows: step_rows(transfers),
-                stepper,
+                solver,
             });
         }
         Ok(Subdivider {
             levels,
             n,
+            stateful: pf.stateful(),
             steps: 0,
             deepest: 0,
         })
     }
 
-    /// The hysteretic elements' variables of every level's copy of the elements.
-    pub fn commit(
-        &mut self,
-        pf: &mut PseudoForce,
-        (q, v): (&[f64], &[f64]),
-        t: f64,
-        initial: bool,
-    ) -> Result<(), CoreError> {
-        for level in &mut self.levels {
-            level.stepper.commit_space(pf, (q, v), t, initial)?;
-        }
-        Ok(())
-    }
-
-    /// Sets the committed variables of every level's copy of the elements.
-    pub fn set_element_state(&mut self, state: &[f64]) -> Result<(), CoreError> {
-        for level in &mut self.levels {
-            level.stepper.set_element_state(state)?;
-        }
-        Ok(())
-    }
-
     /// Advances `(q, v)` over the step `[t, t + dt]` whose modal load basis is `pb` in
     /// halves (the step itself failed); returns the Newton iterations.
-    #[allow(clippy::too_many_arguments)]
     pub fn step(
         &mut self,
-        main: &mut Stepper,
         pf: &mut PseudoForce,
         (t, dt): (f64, f64),
         pb: [&[f64]; 3],
         (q, v): (&mut [f64], &mut [f64]),
-        stateful: bool,
     ) -> Result<usize, CoreError> {
         self.steps += 1;
         let span = Span { t, dt, pb };
-        let first = self.advance(1, main, pf, &span, 0.0, (q, v), stateful)?;
-        let second = self.advance(1, main, pf, &span, 0.5, (q, v), stateful)?;
+        let first = self.advance(1, pf, &span, 0.0, (q, v))?;
+        let second = self.advance(1, pf, &span, 0.5, (q, v))?;
         Ok(first + second)
     }
 
     /// Advances over `[a, a + 2^-depth]` of the step (fractions of it) at level `depth`,
     /// in halves below when that fails.
-    #[allow(clippy::too_many_arguments)]
     fn advance(
         &mut self,
         depth: usize,
-        main: &mut Stepper,
         pf: &mut PseudoForce,
         span: &Span,
         a: f64,
         (q, v): (&mut [f64], &mut [f64]),
-        stateful: bool,
     ) -> Result<usize, CoreError> {
         let n = self.n;
         let h = 0.5f64.powi(depth as i32);
@@ -167,24 +130,23 @@ impl<'r> Subdivider<'r> {
                 v_lin: &vl,
                 pb: basis,
             };
-            level.stepper.solve(pf, &input, &mut q1, &mut v1)
+            level.solver.solve(pf, &input, &mut q1, &mut v1)
         };
         match attempt {
             Ok(iterations) => {
                 self.deepest = self.deepest.max(depth);
-                if stateful {
+                if self.stateful {
                     let end = t + h * span.dt;
-                    main.commit(pf, (&q1, &v1), end, false)?;
-                    self.commit(pf, (&q1, &v1), end, false)?;
+                    pf.commit(&q1, &v1, end, false)?;
                 }
                 q.copy_from_slice(&q1);
                 v.copy_from_slice(&v1);
                 Ok(iterations)
             }
             Err(error) if retriable(&error) && depth < self.levels.len() => {
-                let first = self.advance(depth + 1, main, pf, span, a, (q, v), stateful)?;
+                let first = self.advance(depth + 1, pf, span, a, (q, v))?;
                 let mid = a + 0.5 * h;
-                let second = self.advance(depth + 1, main, pf, span, mid, (q, v), stateful)?;
+                let second = self.advance(depth + 1, pf, span, mid, (q, v))?;
                 Ok(first + second)
             }
             Err(error) => Err(error),

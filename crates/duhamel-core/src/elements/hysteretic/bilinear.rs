@@ -30,7 +30,7 @@
 //! A symmetric cycle between `+-u_max > uy` dissipates `4 (1 - alpha) fy (u_max - uy)`.
 
 use super::common::{check, check_alpha, finite, local_dofs, relative, scatter};
-use crate::elements::element::{Element, History, Tangent};
+use crate::elements::element::{Element, PathState, Tangent};
 use crate::error::CoreError;
 
 /// Bilinear kinematic-hardening spring between dofs `i` and `j` (or `i` and ground).
@@ -142,7 +142,7 @@ impl Element for Bilinear {
         x: &[f64],
         _v: &[f64],
         t: f64,
-        history: History<'_>,
+        history: PathState<'_>,
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
@@ -206,7 +206,7 @@ mod tests {
         let b = Bilinear::new(0, Some(1), 1.0, 1.0, 0.0).unwrap();
         let mut r = [0.0; 2];
         let mut trial = [0.0; 2];
-        let history = History {
+        let history = PathState {
             committed: &[0.0, 0.0],
             trial: &mut trial,
         };

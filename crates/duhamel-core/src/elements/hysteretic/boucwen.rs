@@ -50,7 +50,7 @@
 //! loading curve.
 
 use super::common::{check, check_alpha, finite, local_dofs, relative, scatter};
-use crate::elements::element::{Element, History, Tangent};
+use crate::elements::element::{Element, PathState, Tangent};
 use crate::error::CoreError;
 
 /// RK4 substep bound, `lambda h <= H0`.
@@ -95,22 +95,35 @@ fn linear_flow(w0: f64, c: f64, xi: f64) -> f64 {
     w0 * (c * xi).exp() + xi * phi1(c * xi)
 }
 
+/// The material of a [`BoucWen`] element (see the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BoucWenParams {
+    /// Elastic stiffness, `> 0`.
+    pub k: f64,
+    /// Yield force, `> 0`.
+    pub fy: f64,
+    /// Post-yield stiffness ratio, `<= 1`.
+    pub alpha: f64,
+    /// Exponent, `>= 1` (usually 1).
+    pub n: f64,
+    /// Shape parameter, `> 0` (usually 0.5).
+    pub beta: f64,
+    /// Shape parameter, `> -beta` (usually 0.5).
+    pub gamma: f64,
+}
+
 impl BoucWen {
-    /// Element from dof `i` to dof `j` (`None`: to ground) with elastic stiffness `k > 0`,
-    /// yield force `fy > 0`, post-yield ratio `alpha <= 1`, exponent `n >= 1` and shape
-    /// parameters `beta > 0`, `gamma > -beta` (so that `z` is bounded and unloading from
-    /// saturation is possible). The usual values are `n = 1`, `beta = gamma = 0.5`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        i: usize,
-        j: Option<usize>,
-        k: f64,
-        fy: f64,
-        alpha: f64,
-        n: f64,
-        beta: f64,
-        gamma: f64,
-    ) -> Result<Self, CoreError> {
+    /// Element from dof `i` to dof `j` (`None`: to ground) of the material `params`: `beta`
+    /// and `gamma` such that `z` is bounded and unloading from saturation is possible.
+    pub fn new(i: usize, j: Option<usize>, params: BoucWenParams) -> Result<Self, CoreError> {
+        let BoucWenParams {
+            k,
+            fy,
+            alpha,
+            n,
+            beta,
+            gamma,
+        } = params;
         check("k", k, true)?;
         check("fy", fy, true)?;
         check_alpha(alpha)?;
@@ -342,7 +355,7 @@ impl Element for BoucWen {
         x: &[f64],
         _v: &[f64],
         t: f64,
-        history: History<'_>,
+        history: PathState<'_>,
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
@@ -360,11 +373,24 @@ impl Element for BoucWen {
 mod tests {
     use super::*;
 
+    /// A grounded element at dof 0 of `[k, fy, alpha, n, beta, gamma]`.
+    fn grounded([k, fy, alpha, n, beta, gamma]: [f64; 6]) -> Result<BoucWen, CoreError> {
+        let params = BoucWenParams {
+            k,
+            fy,
+            alpha,
+            n,
+            beta,
+            gamma,
+        };
+        BoucWen::new(0, None, params)
+    }
+
     #[test]
     fn rk4_matches_the_exact_linear_flow() {
         // n = 1 integrated both ways, across the switch at w = 0 and into saturation
         for (beta, gamma) in [(0.5, 0.5), (0.25, 0.75), (0.8, 0.2), (1.0, -0.5)] {
-            let e = BoucWen::new(0, None, 1.0, 1.0, 0.0, 1.0, beta, gamma).unwrap();
+            let e = grounded([1.0, 1.0, 0.0, 1.0, beta, gamma]).unwrap();
             for w0 in [-0.95 / (beta + gamma), -0.3, 0.0, 0.4] {
                 for xi in [1e-3, 0.05, 0.3, 1.0, 2.5, 40.0] {
                     let exact = e.advance_linear(w0, xi);
@@ -381,7 +407,7 @@ mod tests {
     #[test]
     fn saturates_at_z_max_for_huge_increments() {
         for n in [1.0, 2.0, 2.5, 25.0] {
-            let e = BoucWen::new(0, None, 2.0, 1.0, 0.1, n, 0.3, 0.5).unwrap();
+            let e = grounded([2.0, 1.0, 0.1, n, 0.3, 0.5]).unwrap();
             let (z, _, kt) = e.response(0.0, -0.2, 1e9);
             assert!((z - e.z_max()).abs() < 1e-12, "n {n}: {z}");
             assert!((kt - 0.2).abs() < 1e-10, "n {n}: {kt}");
@@ -394,12 +420,12 @@ mod tests {
             CoreError::InvalidInput { name, .. } => name,
             other => panic!("{other:?}"),
         };
-        let make = |n, beta, gamma| BoucWen::new(0, None, 1.0, 1.0, 0.1, n, beta, gamma);
+        let make = |n, beta, gamma| grounded([1.0, 1.0, 0.1, n, beta, gamma]);
         assert_eq!(name(make(0.5, 0.5, 0.5).unwrap_err()), "n");
         assert_eq!(name(make(f64::INFINITY, 0.5, 0.5).unwrap_err()), "n");
         assert_eq!(name(make(1.0, 0.0, 0.5).unwrap_err()), "beta");
         assert_eq!(name(make(1.0, 0.5, -0.5).unwrap_err()), "gamma");
-        let e = BoucWen::new(0, None, 1.0, 0.0, 0.1, 1.0, 0.5, 0.5);
+        let e = grounded([1.0, 0.0, 0.1, 1.0, 0.5, 0.5]);
         assert_eq!(name(e.unwrap_err()), "fy");
     }
 }

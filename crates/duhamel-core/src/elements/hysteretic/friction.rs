@@ -33,7 +33,7 @@
 
 use super::common::{check, finite};
 use crate::elements::element::distinct;
-use crate::elements::element::{Element, History, Tangent};
+use crate::elements::element::{Element, PathState, Tangent};
 use crate::error::CoreError;
 
 /// The default yield (pre-sliding) displacement `Y`, in metres (0.25 mm).
@@ -183,7 +183,7 @@ impl Element for FrictionPendulum {
         x: &[f64],
         _v: &[f64],
         t: f64,
-        history: History<'_>,
+        history: PathState<'_>,
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {

@@ -1,6 +1,6 @@
 //! Hysteretic and device elements of earthquake engineering: the path-dependent
 //! [`Bilinear`], [`BoucWen`] and [`FrictionPendulum`] (committed and trial internal
-//! variables, [`crate::elements::History`]) and the stateless [`ViscousDamper`] and [`Gap`].
+//! variables, [`crate::elements::PathState`]) and the stateless [`ViscousDamper`] and [`Gap`].
 //! Each returns its exact (consistent) tangent.
 
 mod bilinear;
@@ -11,7 +11,7 @@ mod gap;
 mod viscous;
 
 pub use bilinear::Bilinear;
-pub use boucwen::BoucWen;
+pub use boucwen::{BoucWen, BoucWenParams};
 pub use friction::{FrictionPendulum, DEFAULT_YIELD_DISPLACEMENT};
 pub use gap::Gap;
 pub use viscous::{ViscousDamper, DEFAULT_V0};

@@ -11,21 +11,15 @@
 //! * mass estimated: `Q = -rho - (mu - 1) a - [momentum] mu' v - [scaled] (mu - 1) k q`, with
 //!   `a` an estimate of the acceleration.
 
-use crate::elements::{Element, Evaluation};
+use super::local::ElementSpace;
+use crate::elements::Element;
 use crate::error::CoreError;
 use crate::mass::{MassForm, MassTreatment, TimeVaryingMass};
 
-use super::problem::ScaledCoupling;
+use crate::speed::ScaledCoupling;
 
 pub(crate) mod elements;
 mod single;
-
-/// An element with the mode-shape rows of its degrees of freedom.
-struct Slot<'a> {
-    eval: Evaluation<'a>,
-    /// `phi_e[j * n_modes + m]`: mode `m` at the element's local dof `j`.
-    phi_e: Vec<f64>,
-}
 
 /// Modal tangents of a pseudo-force: `dQ/dq`, `dQ/dv` (row-major `n x n`) and `dQ/da`.
 #[derive(Default)]
@@ -48,7 +42,9 @@ impl Jacobian {
 /// Evaluates the modal pseudo-force and its tangents.
 pub struct PseudoForce<'a> {
     n: usize,
-    slots: Vec<Slot<'a>>,
+    /// The elements on their dofs' mode-shape rows: the one owner of their committed and
+    /// trial internal variables, whichever strategy or subdivision level evaluates them.
+    space: ElementSpace<'a>,
     coupling_k: Option<&'a [f64]>,
     coupling_c: Option<&'a [f64]>,
     scaled: &'a [ScaledCoupling<'a>],
@@ -68,22 +64,63 @@ pub struct PseudoForce<'a> {
     left: bool,
 }
 
+/// What a modal pseudo-force is made of: the elements on the mode shapes, the linear
+/// couplings, the mass law and the background they are measured against.
+#[derive(Clone, Copy)]
+pub struct Parts<'a> {
+    /// The mode shapes, `n_dof x n_modes` (row-major).
+    pub phi: &'a [f64],
+    /// The number of physical degrees of freedom.
+    pub n_dof: usize,
+    /// The force elements.
+    pub elements: &'a [&'a dyn Element],
+    /// The constant modal stiffness coupling `Phi^T K_c Phi` (`n_modes x n_modes`), if any.
+    pub coupling_k: Option<&'a [f64]>,
+    /// The constant modal damping coupling `Phi^T C_c Phi`, if any.
+    pub coupling_c: Option<&'a [f64]>,
+    /// The couplings multiplied by a speed law.
+    pub scaled: &'a [ScaledCoupling<'a>],
+    /// The time-varying mass, if any.
+    pub mass: Option<&'a TimeVaryingMass>,
+    /// The background's modal stiffness per unit modal mass (one per mode).
+    pub k: &'a [f64],
+    /// The background's modal damping per unit modal mass.
+    pub c: &'a [f64],
+}
+
+/// Where a pseudo-force is evaluated: the modal state `(q, v)` at time `t`, with the modal
+/// external load `p` there and, for the estimated-mass treatment, the acceleration
+/// estimate `a`.
+#[derive(Clone, Copy)]
+pub struct At<'s> {
+    /// Modal displacements.
+    pub q: &'s [f64],
+    /// Modal velocities.
+    pub v: &'s [f64],
+    /// Time.
+    pub t: f64,
+    /// Modal external load.
+    pub p: &'s [f64],
+    /// Modal acceleration estimate (estimated mass only).
+    pub a: Option<&'s [f64]>,
+}
+
 impl<'a> PseudoForce<'a> {
-    /// `phi` is the `n_dof x n_modes` mode-shape matrix (row-major).
-    #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        phi: &[f64],
-        n_dof: usize,
-        elements: &'a [&'a dyn Element],
-        coupling_k: Option<&'a [f64]>,
-        coupling_c: Option<&'a [f64]>,
-        scaled: &'a [ScaledCoupling<'a>],
-        mass: Option<&'a TimeVaryingMass>,
-        k: &'a [f64],
-        c: &'a [f64],
-    ) -> Result<Self, CoreError> {
+    /// The pseudo-force of `parts`; errors name an element dof outside the model or a
+    /// coupling of the wrong size.
+    pub fn new(parts: Parts<'a>) -> Result<Self, CoreError> {
+        let Parts {
+            phi,
+            n_dof,
+            elements,
+            coupling_k,
+            coupling_c,
+            scaled,
+            mass,
+            k,
+            c,
+        } = parts;
         let n = k.len();
-        let mut slots = Vec::with_capacity(elements.len());
         for &element in elements {
             let dofs = element.dofs();
             if let Some(&d) = dofs.iter().find(|&&d| d >= n_dof) {
@@ -94,14 +131,6 @@ impl<'a> PseudoForce<'a> {
                     ),
                 });
             }
-            let phi_e = dofs
-                .iter()
-                .flat_map(|&d| phi[d * n..(d + 1) * n].iter().copied())
-                .collect();
-            slots.push(Slot {
-                eval: Evaluation::new(element),
-                phi_e,
-            });
         }
         let pairs = [("coupling K", coupling_k), ("coupling C", coupling_c)]
             .into_iter()
@@ -136,7 +165,7 @@ impl<'a> PseudoForce<'a> {
             .all(|e| e.has_tangent() && e.polynomial_degree().is_some_and(|d| d <= 1));
         Ok(PseudoForce {
             n,
-            slots,
+            space: ElementSpace::new(phi, n, elements),
             coupling_k,
             coupling_c,
             scaled,
@@ -164,19 +193,18 @@ impl<'a> PseudoForce<'a> {
             self.jac_rho.kq.fill(0.0);
             self.jac_rho.cq.fill(0.0);
         }
-        for slot in &mut self.slots {
-            let e = &mut slot.eval;
-            let nl = e.x.len();
-            for j in 0..nl {
-                let row = &slot.phi_e[j * n..(j + 1) * n];
-                e.x[j] = row.iter().zip(q).map(|(p, x)| p * x).sum();
-                e.v[j] = row.iter().zip(v).map(|(p, x)| p * x).sum();
+        let (phi, members) = self.space.members_mut();
+        let row = |a: usize| &phi[a * n..(a + 1) * n];
+        for (e, at) in members {
+            for (j, &a) in at.iter().enumerate() {
+                e.x[j] = row(a).iter().zip(q).map(|(p, x)| p * x).sum();
+                e.v[j] = row(a).iter().zip(v).map(|(p, x)| p * x).sum();
             }
             e.evaluate(t, tangent)?;
-            project(&slot.phi_e, n, nl, &e.r, &mut self.rho);
+            project(row, at, &e.r, &mut self.rho);
             if tangent {
-                congruence(&slot.phi_e, n, nl, &e.kx, &mut self.jac_rho.kq);
-                congruence(&slot.phi_e, n, nl, &e.cv, &mut self.jac_rho.cq);
+                congruence(row, at, n, &e.kx, &mut self.jac_rho.kq);
+                congruence(row, at, n, &e.cv, &mut self.jac_rho.cq);
             }
         }
         let constant = [(1.0, self.coupling_k, self.coupling_c)];
@@ -204,6 +232,16 @@ impl<'a> PseudoForce<'a> {
         Ok(())
     }
 
+    /// The element space: the elements, their dofs' mode-shape rows and their state.
+    pub(in super::super) fn space(&self) -> &ElementSpace<'a> {
+        &self.space
+    }
+
+    /// The element space, to evaluate the elements in it.
+    pub(in super::super) fn space_mut(&mut self) -> &mut ElementSpace<'a> {
+        &mut self.space
+    }
+
     /// Whether a mass law is attached.
     pub fn has_mass(&self) -> bool {
         self.mass.is_some()
@@ -213,7 +251,7 @@ impl<'a> PseudoForce<'a> {
     /// state (couplings, an eliminated mass law): its step equation can then be solved in the
     /// elements' space, the linear terms once per step.
     pub fn local(&self) -> bool {
-        !self.slots.is_empty()
+        self.space.element_count() > 0
             && self
                 .mass
                 .is_none_or(|m| m.treatment == MassTreatment::Eliminate)
@@ -277,33 +315,21 @@ impl<'a> PseudoForce<'a> {
         self.left = left;
     }
 
-    /// The pseudo-force `Q` at `(q, v)` and time `t`, with the modal external load `p` and,
-    /// for the estimated-mass treatment, the acceleration estimate `a`; with `jac`, its
-    /// tangents.
-    #[allow(clippy::too_many_arguments)]
+    /// The pseudo-force `Q` at `at` into `out`; with `jac`, its tangents.
     pub fn eval(
         &mut self,
-        q: &[f64],
-        v: &[f64],
-        t: f64,
-        p: &[f64],
-        a: Option<&[f64]>,
+        at: At,
         out: &mut [f64],
         jac: Option<&mut Jacobian>,
     ) -> Result<(), CoreError> {
         let treatment = self.mass.map(|m| m.treatment);
-        self.eval_as(treatment, q, v, t, p, a, out, jac)
+        self.eval_as(treatment, at, out, jac)
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn eval_as(
         &mut self,
         treatment: Option<MassTreatment>,
-        q: &[f64],
-        v: &[f64],
-        t: f64,
-        p: &[f64],
-        a: Option<&[f64]>,
+        At { q, v, t, p, a }: At,
         out: &mut [f64],
         jac: Option<&mut Jacobian>,
     ) -> Result<(), CoreError> {
@@ -391,7 +417,14 @@ impl<'a> PseudoForce<'a> {
         out: &mut [f64],
     ) -> Result<(), CoreError> {
         self.left = false;
-        self.eval_as(Some(MassTreatment::Eliminate), q, v, t, p, None, out, None)
+        let at = At {
+            q,
+            v,
+            t,
+            p,
+            a: None,
+        };
+        self.eval_as(Some(MassTreatment::Eliminate), at, out, None)
     }
 }
 
@@ -401,25 +434,32 @@ fn scale_into(dst: &mut [f64], src: &[f64], f: f64) {
     }
 }
 
-/// `out += Phi_e^T r` (modal projection of a local force).
-fn project(phi_e: &[f64], n: usize, nl: usize, r: &[f64], out: &mut [f64]) {
-    for j in 0..nl {
-        let row = &phi_e[j * n..(j + 1) * n];
-        for (o, p) in out.iter_mut().zip(row) {
+/// `out += Phi_e^T r` (modal projection of a local force), `row(at[j])` the mode-shape row
+/// of the element's local dof `j`.
+fn project<'p>(row: impl Fn(usize) -> &'p [f64], at: &[usize], r: &[f64], out: &mut [f64]) {
+    for (j, &a) in at.iter().enumerate() {
+        for (o, p) in out.iter_mut().zip(row(a)) {
             *o += p * r[j];
         }
     }
 }
 
-/// `out += Phi_e^T T Phi_e` (modal projection of a local tangent).
-fn congruence(phi_e: &[f64], n: usize, nl: usize, t: &[f64], out: &mut [f64]) {
+/// `out += Phi_e^T T Phi_e` (modal projection of a local tangent), rows as in [`project`].
+fn congruence<'p>(
+    row: impl Fn(usize) -> &'p [f64],
+    at: &[usize],
+    n: usize,
+    t: &[f64],
+    out: &mut [f64],
+) {
+    let nl = at.len();
     for a in 0..nl {
         for b in 0..nl {
             let tab = t[a * nl + b];
             if tab == 0.0 {
                 continue;
             }
-            let (ra, rb) = (&phi_e[a * n..(a + 1) * n], &phi_e[b * n..(b + 1) * n]);
+            let (ra, rb) = (row(at[a]), row(at[b]));
             for (i, &pa) in ra.iter().enumerate() {
                 let f = pa * tab;
                 for (o, &pb) in out[i * n..(i + 1) * n].iter_mut().zip(rb) {

@@ -19,8 +19,8 @@ impl PseudoForce<'_> {
             return None;
         }
         let mut a = [[0.0; 4]; 4];
-        for slot in &self.slots {
-            let e = slot.eval.element.modal_cubic(&slot.phi_e)?;
+        for (element, phi_e) in self.space.element_rows() {
+            let e = element.modal_cubic(&phi_e)?;
             for (ai, ei) in a.iter_mut().zip(&e) {
                 for (x, y) in ai.iter_mut().zip(ei) {
                     *x += y;

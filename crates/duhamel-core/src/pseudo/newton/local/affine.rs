@@ -268,7 +268,6 @@ impl LocalNewton {
     /// time the step did not read them.
     pub(in super::super) fn start_value(
         &mut self,
-        space: &ElementSpace,
         pf: &PseudoForce,
         (q0, v0, p0): (&[f64], &[f64], &[f64]),
         t: f64,
@@ -289,7 +288,7 @@ impl LocalNewton {
         };
         let [mu, g, mom, kappa] = pf.node_mass(t);
         let si = 1.0 / mu;
-        space.project(&self.r_start, out);
+        pf.space().project(&self.r_start, out);
         if coupled {
             let (head, tail) = self.prod.split_at_mut(5);
             let (kq, cv) = (&mut head[4], &mut tail[0]);

@@ -36,7 +36,8 @@ mod iterate;
 
 use super::super::force::PseudoForce;
 use super::super::local::ElementSpace;
-use super::super::scheme::{Rule, Scheme, StepInput, Unknown};
+use super::super::scheme::{StepInput, Unknown};
+use super::setting::Setting;
 use crate::dense::DenseLu;
 use crate::error::CoreError;
 
@@ -52,16 +53,15 @@ struct NodeMap {
     constant: bool,
 }
 
-/// What the step needs to know about the problem besides the element space.
-pub(in super::super) struct Setting<'s> {
-    pub rule: &'s Rule,
-    pub scheme: Scheme,
-    pub dt: f64,
-    pub unknown: Unknown,
-    pub constant: &'s [bool],
-    pub tol: f64,
-    pub max_iter: usize,
-    pub linear: bool,
+/// What the element-space step writes.
+pub(in super::super) struct End<'o> {
+    /// The unknown half of the end state (`q1`; `v1` for scheme a).
+    pub z: &'o mut [f64],
+    /// The other half.
+    pub w: &'o mut [f64],
+    /// The pseudo-force at the start state, when the first node is that state, evaluated
+    /// once (None otherwise).
+    pub start: Option<&'o mut [f64]>,
 }
 
 /// The element-space step: its per-node maps, matrices and buffers.
@@ -123,7 +123,8 @@ pub(in super::super) struct LocalNewton {
 }
 
 impl LocalNewton {
-    pub fn new(space: &ElementSpace, pf: &PseudoForce, set: &Setting, n: usize) -> Self {
+    pub fn new(pf: &PseudoForce, set: &Setting, n: usize) -> Self {
+        let space = pf.space();
         let nd = space.len();
         let nodes = set.rule.nodes.len();
         let per_node = |len: usize| vec![vec![0.0; len]; nodes];
@@ -209,20 +210,15 @@ impl LocalNewton {
         }
     }
 
-    /// Solves the step: the unknown half `z` and the other half `w` of the end state, and,
-    /// when the first node is the start state evaluated once (`start` is then `Some`), the
-    /// pseudo-force there. Returns the Newton iterations.
-    #[allow(clippy::too_many_arguments)]
+    /// Solves the step into `end`. Returns the Newton iterations.
     pub fn step(
         &mut self,
-        space: &mut ElementSpace,
-        pf: &PseudoForce,
+        pf: &mut PseudoForce,
         set: &Setting,
         inp: &StepInput,
-        z: &mut [f64],
-        w: &mut [f64],
-        start: Option<&mut [f64]>,
+        end: End,
     ) -> Result<usize, CoreError> {
+        let End { z, w, start } = end;
         self.start_ready = false;
         let (z_lin, w_lin) = if set.unknown == Unknown::V1 {
             (inp.v_lin, inp.q_lin)
@@ -230,13 +226,13 @@ impl LocalNewton {
             (inp.q_lin, inp.v_lin)
         };
         if self.affine {
-            space.to_local(inp.q0, &mut self.pq);
-            space.to_local(inp.v0, &mut self.pv);
+            pf.space().to_local(inp.q0, &mut self.pq);
+            pf.space().to_local(inp.v0, &mut self.pv);
         } else {
             // Without affine terms P = Phi_D (A = I) and b = z_lin: y0 = Phi_D z_lin in the
             // same pass.
             let out = [&mut self.pq[..], &mut self.pv[..], &mut self.y0[..]];
-            space.to_local3([inp.q0, inp.v0, z_lin], out);
+            pf.space().to_local3([inp.q0, inp.v0, z_lin], out);
         }
         for (i, m) in self.map.iter().enumerate() {
             for (a, (u, ud)) in self.u0[i].iter_mut().zip(&mut self.ud0[i]).enumerate() {
@@ -251,7 +247,7 @@ impl LocalNewton {
         }
         if rebuild {
             self.assemble(pf, set);
-            self.prepare(space)?;
+            self.prepare(pf.space())?;
         }
         // y0 = P b, then the constant nodes' forces, evaluated once.
         if self.affine {
@@ -262,18 +258,19 @@ impl LocalNewton {
         for i in 0..self.map.len() {
             if self.map[i].constant {
                 let t = inp.t + self.map[i].s * set.dt;
+                let space = pf.space_mut();
                 space.eval(&self.u0[i], &self.ud0[i], t, &mut self.r[i], None)?;
                 sub_product(&mut self.y0, &self.g[i], &self.r[i]);
             }
         }
-        self.predict(space, inp)?;
+        self.predict(pf.space_mut(), inp)?;
         let scale0 = self
             .y0
             .iter()
             .chain(self.u0.iter().flatten())
             .fold(0.0_f64, |a, b| a.max(b.abs()));
-        let iterations = self.newton(space, set, inp, scale0)?;
-        self.finish(space, set, z, (w_lin, w), start);
+        let iterations = self.newton(pf.space_mut(), set, inp, scale0)?;
+        self.finish(pf.space(), set, z, (w_lin, w), start);
         Ok(iterations)
     }
 

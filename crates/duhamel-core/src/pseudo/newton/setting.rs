@@ -1,0 +1,25 @@
+//! What every strategy of the step solver knows about the step.
+
+use super::super::scheme::{Rule, Scheme, Unknown};
+
+/// The step's rule and scheme, its unknown half and Newton's settings, fixed for a run.
+pub(super) struct Setting<'r> {
+    /// The number of modes.
+    pub n: usize,
+    /// The quadrature rule (nodes and weights).
+    pub rule: &'r Rule,
+    /// The state approximation inside the step.
+    pub scheme: Scheme,
+    /// The step.
+    pub dt: f64,
+    /// The half of the end state the pseudo-force depends on.
+    pub unknown: Unknown,
+    /// Per node: whether its state does not depend on the unknowns (evaluated once per step).
+    pub constant: Vec<bool>,
+    /// Relative tolerance of the Newton updates.
+    pub tol: f64,
+    /// Newton iterations before giving up.
+    pub max_iter: usize,
+    /// The step equation is linear (affine pseudo-force): one Newton step is exact.
+    pub linear: bool,
+}
