@@ -5,7 +5,9 @@ load at the top, ``dt = 5 ms``), integrated by ``Semianalytic()``:
 
 * ``solve`` on a fresh ``System`` (made before each call: its construction with the load and
   element is timed apart and reported too; ``solve`` then does the modal analysis), 10 steps,
-  linear;
+  linear — with the same matrices every call (a study that rebuilds its model: the checks of
+  ``M``, ``K`` and the first modal analysis are shared by content since issue 22) and with
+  matrices never seen before (``K`` scaled by ``1 + 1e-9 k`` at call ``k``: nothing shared);
 * the same with one ``duhamel.elements.Bilinear`` between dofs 3 and 4, 10 and 800 steps;
 * where the build has ``duhamel.prepare``: ``Prepared.run`` of the same three cases, on one
   ``Prepared`` made once.
@@ -48,8 +50,8 @@ M = np.eye(N)
 INTEGRATOR = duhamel.Semianalytic()
 
 
-def fresh(element):
-    s = duhamel.System(M, K, zeta=0.05)
+def fresh(element, stiffness=K):
+    s = duhamel.System(M, stiffness, zeta=0.05)
     s.add_load(L.Harmonic(N - 1, 10.0, 12.0))
     if element:
         s.add(E.Bilinear(3, 4, k=5e3, fy=0.02, alpha=0.05))
@@ -83,6 +85,21 @@ for name, element, steps in CASES:
             loop.append(loop_time(sol))
     assert sol.t.size == steps + 1
     out["rows"].append({"case": f"solve, fresh System, {name}", "steps": steps,
+                        "total": total, "loop": loop, "construct": construct})
+    # the same with matrices never seen before (nothing shared between systems)
+    construct, total, loop = [], [], []
+    for k in range(warmup + calls):
+        stiffness = K * (1.0 + 1e-9 * (k + 1))
+        t0 = time.perf_counter()
+        s = fresh(element, stiffness)
+        t1 = time.perf_counter()
+        sol = duhamel.solve(s, INTEGRATOR, t_end=t_end, dt=DT)
+        t2 = time.perf_counter()
+        if k >= warmup:
+            construct.append(t1 - t0)
+            total.append(t2 - t1)
+            loop.append(loop_time(sol))
+    out["rows"].append({"case": f"solve, fresh System, new matrices, {name}", "steps": steps,
                         "total": total, "loop": loop, "construct": construct})
     if out["prepare"]:
         t0 = time.perf_counter()
