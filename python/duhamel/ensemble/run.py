@@ -140,7 +140,12 @@ def _shared_basis(basis: Any, make_system: Callable, ps: list, integrator: Any) 
         return None
     modes = getattr(integrator, "modes", None)
     try:
-        return make_system(ps[0]).modal(modes)
+        made = make_system(ps[0])
+        if isinstance(made, tuple) and len(made) == 2 and isinstance(made[1], dict):
+            made = made[0]  # (system, per-run options)
+        if isinstance(made, Prepared):
+            made = made.system
+        return made.modal(modes)
     except Exception as exc:
         exc.add_note("in duhamel.ensemble.solve_many, computing the shared basis of case 0")
         raise
