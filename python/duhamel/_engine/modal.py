@@ -78,7 +78,8 @@ class ModalSetup:
         out = self._outputs.get(key)
         if out is None:
             n = self.system.n_dof
-            chosen = np.arange(n, dtype=np.int64) if dofs is None else dofs
+            chosen = np.arange(n, dtype=np.int64) if dofs is None else dofs.copy()
+            chosen.flags.writeable = False  # shared by the solutions of this choice
             phi_out = self.route.basis.phi[chosen, :]
             out = Outputs(
                 chosen,
@@ -86,6 +87,8 @@ class ModalSetup:
                 dispatch.outputs(self.route, phi_out, n_loads),
                 support_terms(self.system.loads, chosen),
             )
+            if len(self._outputs) >= 16:  # a few choices of dofs are kept, not every one
+                self._outputs.clear()
             self._outputs[key] = out
         return out
 
