@@ -376,7 +376,7 @@ class System:
         other.loads, other.elements, other.mass_law = [], [], None
         other._modal_cache = {}
         other._modes = Modes(self._M, other._K)
-        other._content = None
+        other._content = shared.content_key(self._M, other._K)
         return other
 
     def use_basis(self, basis: ModalBasis, *, extend: bool = False, rtol: float = 1e-6) -> System:

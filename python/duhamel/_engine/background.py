@@ -117,12 +117,17 @@ def _derive(
         rows.append(np.repeat(idx, idx.size))
         cols.append(np.tile(idx, idx.size))
         vals.append(np.asarray(k0, dtype=np.float64).ravel())
-    import scipy.sparse as sp
+    r, c, v = np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
+    if not issparse(system.K) and np.unique(r * n + c).size == r.size:
+        # Dense, no entry from two parts: one addition per entry, as the sparse sum makes it
+        # (`+ 0.0` everywhere first, as adding the sparse matrix's zeros does: -0.0 -> 0.0).
+        K = np.asarray(system.K) + 0.0
+        K[r, c] += v
+    else:
+        import scipy.sparse as sp
 
-    added = sp.coo_array(
-        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)
-    ).tocsr()
-    K = system.K + added if issparse(system.K) else np.asarray(system.K) + added.toarray()
+        added = sp.coo_array((v, (r, c)), shape=(n, n)).tocsr()
+        K = system.K + added if issparse(system.K) else np.asarray(system.K) + added.toarray()
     if issparse(K):
         K = sp.csr_array(K)
     derived = system._with_stiffness(K)

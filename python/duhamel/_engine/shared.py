@@ -75,8 +75,8 @@ def remember_checked(key: bytes | None) -> None:
 
 
 def damping_key(system: Any) -> tuple | None:
-    """What the modal damping of `system` depends on besides its modes (None: a damping
-    matrix, not shared)."""
+    """What the modal damping of `system` depends on besides its modes (None: a sparse
+    damping matrix, not shared)."""
     kind = system.damping
     if kind == "none":
         return ("none",)
@@ -85,7 +85,8 @@ def damping_key(system: Any) -> tuple | None:
     if kind == "zeta":
         z = system.zeta
         return ("zeta", float(z)) if isinstance(z, float) else ("zeta", np.asarray(z).tobytes())
-    return None
+    digest = content_key(system.C)  # a damping matrix: shared when dense
+    return None if digest is None else ("matrix", digest)
 
 
 def basis(key: bytes | None, n: int, system: Any) -> tuple[Any, Any, Any, bool] | None:
