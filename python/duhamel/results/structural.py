@@ -109,7 +109,7 @@ def element_histories(
     """The histories of `elements` (the system's force elements, couplings left out, in
     order) from a run's saved element rows; empty when the route kept none. `linear`: per
     element, the linear part the run's background took over (added back to the force)."""
-    if getattr(result, "element_force", None) is None or not elements:
+    if result.element_force is None or not elements:
         return ()
     xs, vs, fs = (
         np.asarray(a)[:kept] for a in (result.element_x, result.element_v, result.element_force)

@@ -295,10 +295,12 @@ def _checkpoint(group: Any, c: Checkpoint) -> None:
 def _columns(result: Any, x: NDArray, v: NDArray, a: NDArray, modal: bool) -> dict[str, NDArray]:
     """The arrays of a segment kept in the store, by name."""
     out = {"t": result.t, "x": x, "v": v, "a": a}
-    for name in ("element_x", "element_v", "element_force"):
-        value = getattr(result, name)
-        if value is not None:
-            out[name] = value
+    elements = {
+        "element_x": result.element_x,
+        "element_v": result.element_v,
+        "element_force": result.element_force,
+    }
+    out.update({name: value for name, value in elements.items() if value is not None})
     if not modal:
         return out
     out["load_values"] = result.load_values
@@ -306,10 +308,8 @@ def _columns(result: Any, x: NDArray, v: NDArray, a: NDArray, modal: bool) -> di
         out["modal_eta"] = result.eta
     else:
         out["modal_q"], out["modal_v"] = result.q, result.v
-    for name in ("pseudo", "forcing"):
-        value = getattr(result, name)
-        if value is not None:
-            out[name] = value
+    extra = {"pseudo": result.pseudo, "forcing": result.forcing}
+    out.update({name: value for name, value in extra.items() if value is not None})
     return out
 
 
