@@ -12,30 +12,15 @@ from numpy.typing import NDArray
 
 from duhamel._engine import dispatch
 from duhamel._engine.direct import _check_central, physical_matrices
-from duhamel._engine.plan import mass
+from duhamel._engine.plan import mass, modal_loads
 from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
 from duhamel._engine.specs import elements as core_elements
-from duhamel._engine.specs import load as core_load
 from duhamel._engine.validate import as_float_array
 from duhamel.integrators import CentralDifference, CubicHermite, DirectIntegrator
-from duhamel.loads import Callable
 from duhamel.results.solution import Solution, SolveStats
 from duhamel.system import System
 
 __all__ = ["DirectSetup", "prepare_direct", "step_matrix"]
-
-
-def _loads(loads: Any, system: System) -> tuple[list[Any], list[Any]]:
-    """Built-in `loads` as the core takes them (physical patterns), and the Python load
-    functions."""
-    specs, fns = [], []
-    for item in loads:
-        if isinstance(item, Callable):
-            fns.append(item.fn)
-            continue
-        for pattern, kind, params in item._specs(system):
-            specs.append(core_load(pattern, kind, params))
-    return specs, fns
 
 
 @dataclass(eq=False)
@@ -73,7 +58,7 @@ class DirectSetup:
         x0 = np.zeros(n) if x0 is None else as_float_array(x0, "x0", ndim=1, shape=(n,))
         v0 = np.zeros(n) if v0 is None else as_float_array(v0, "v0", ndim=1, shape=(n,))
         out_dofs = np.arange(n, dtype=np.int64) if dofs is None else dofs
-        specs, fns = (self.loads, self.fns) if loads is None else _loads(loads, system)
+        specs, fns = (self.loads, self.fns) if loads is None else modal_loads(loads, system, None)
         if isinstance(integrator, CentralDifference) and not integrator.allow_unstable:
             span = (t0, t0 + n_steps * dt)
             _check_central(system, self.mats, self.elements, x0, v0, dt, span)
@@ -131,7 +116,7 @@ def prepare_direct(system: System, integrator: DirectIntegrator) -> DirectSetup:
     mats = physical_matrices(system)
     elements = core_elements(system.elements)
     model = dispatch.direct_model(mats, elements, mass(system, integrator), integrator)
-    specs, fns = _loads(system.loads, system)
+    specs, fns = modal_loads(system.loads, system, None)
     return DirectSetup(system, integrator, mats, elements, model, specs, fns)
 
 

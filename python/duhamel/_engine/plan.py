@@ -75,17 +75,17 @@ class Plan:
 
 
 def modal_loads(
-    loads: Any, system: System, phi: NDArray[np.float64]
+    loads: Any, system: System, phi: NDArray[np.float64] | None
 ) -> tuple[list[Any], list[Any]]:
-    """The built-in `loads` projected on the modes (``_core.Load``s), and the Python load
-    functions."""
+    """The built-in `loads` projected on the modes `phi` (``_core.Load``s; `phi` None: their
+    physical patterns, for the direct integrators), and the Python load functions."""
     specs, fns = [], []
     for item in loads:
         if isinstance(item, Callable):
             fns.append(item.fn)
             continue
         for physical, kind, params in item._specs(system):
-            specs.append(load(phi.T @ physical, kind, params))
+            specs.append(load(physical if phi is None else phi.T @ physical, kind, params))
     return specs, fns
 
 

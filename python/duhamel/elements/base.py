@@ -56,6 +56,9 @@ class Deformation:
     i: int
     j: int | None
 
+    def _validate(self, system: Model) -> None:
+        pair(self.i, self.j, system)
+
     def _directions(self) -> list[tuple[int, int | None]]:
         return [(int(self.i), None if self.j is None else int(self.j))]
 

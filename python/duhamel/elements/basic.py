@@ -19,7 +19,7 @@ from duhamel._engine.validate import (
     finite_float,
     issparse,
 )
-from duhamel.elements.base import Deformation, Element, nonneg, pair, pair_stiffness
+from duhamel.elements.base import Deformation, Element, nonneg, pair_stiffness
 
 __all__ = [
     "Callable",
@@ -33,7 +33,6 @@ __all__ = [
 
 
 _nonneg = nonneg
-_pair = pair
 
 
 @dataclass(frozen=True)
@@ -111,9 +110,6 @@ class Spring(Deformation, Element):
         finite_float(self.k, "k")
         finite_float(self.k3, "k3")
 
-    def _validate(self, system: Model) -> None:
-        _pair(self.i, self.j, system)
-
     def _spec(self) -> tuple:
         j = None if self.j is None else int(self.j)
         return ("spring", int(self.i), j, float(self.k), float(self.k3))
@@ -142,9 +138,6 @@ class Damper(Deformation, Element):
 
     def __post_init__(self) -> None:
         _nonneg(self.c, "c")
-
-    def _validate(self, system: Model) -> None:
-        _pair(self.i, self.j, system)
 
     def _spec(self) -> tuple:
         j = None if self.j is None else int(self.j)

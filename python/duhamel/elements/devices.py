@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from duhamel._engine.protocols import Model
 from duhamel._engine.validate import dof_index, finite_float
-from duhamel.elements.base import Deformation, Element, nonneg, pair, pair_stiffness, positive
+from duhamel.elements.base import Deformation, Element, nonneg, pair_stiffness, positive
 
 __all__ = ["Bilinear", "BoucWen", "FrictionPendulum", "Gap", "ViscousDamper"]
 
@@ -67,9 +67,6 @@ class Bilinear(Deformation, Element):
         positive(self.k, "k")
         positive(self.fy, "fy")
         _alpha(self.alpha)
-
-    def _validate(self, system: Model) -> None:
-        pair(self.i, self.j, system)
 
     def _spec(self) -> tuple:
         return (
@@ -123,9 +120,6 @@ class BoucWen(Deformation, Element):
             raise ValueError(f"`gamma` must be > -beta = {-beta} (bounded z), got {gamma}")
         for name in ("n", "beta", "gamma"):
             object.__setattr__(self, name, float(getattr(self, name)))
-
-    def _validate(self, system: Model) -> None:
-        pair(self.i, self.j, system)
 
     def _spec(self) -> tuple:
         return (
@@ -222,9 +216,6 @@ class ViscousDamper(Deformation, Element):
         positive(self.exponent, "exponent")
         positive(self.v0, "v0")
 
-    def _validate(self, system: Model) -> None:
-        pair(self.i, self.j, system)
-
     def _spec(self) -> tuple:
         return (
             "viscous_damper",
@@ -256,9 +247,6 @@ class Gap(Deformation, Element):
     def __post_init__(self) -> None:
         nonneg(self.gap, "gap")
         positive(self.k, "k")
-
-    def _validate(self, system: Model) -> None:
-        pair(self.i, self.j, system)
 
     def _spec(self) -> tuple:
         return ("gap", int(self.i), _j(self.j), float(self.gap), float(self.k))
