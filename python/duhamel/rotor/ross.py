@@ -319,11 +319,15 @@ def from_ross(
     Without ROSS, anything with its interface does (here one rigid disk on two springs):
 
     >>> import numpy as np
-    >>> from types import SimpleNamespace
-    >>> disk = SimpleNamespace(dof_global_index={"x_0": 0, "y_0": 1, "z_0": 2})
-    >>> toy = SimpleNamespace(
-    ...     elements=[disk], M=lambda f=None: np.eye(3), K=lambda f: np.diag([1e4, 2e4, 5e3]),
-    ...     C=lambda f: np.zeros((3, 3)), G=lambda: np.zeros((3, 3)))
+    >>> class Disk:
+    ...     dof_global_index = {"x_0": 0, "y_0": 1, "z_0": 2}
+    >>> class Toy:                                      # a ROSS Rotor's interface
+    ...     elements = [Disk()]
+    ...     def M(self, f=None): return np.eye(3)
+    ...     def K(self, f): return np.diag([1e4, 2e4, 5e3])
+    ...     def C(self, f): return np.zeros((3, 3))
+    ...     def G(self): return np.zeros((3, 3))
+    >>> toy = Toy()
     >>> model = from_ross(toy, speed=0.0)
     >>> model.system.n_dof, model.dofs.labels, model.dofs(0, "y")
     (2, ('x_0', 'y_0'), 1)
