@@ -12,7 +12,15 @@ from duhamel._engine.protocols import Model
 from duhamel._engine.specs import element as core_element
 from duhamel._engine.validate import dof_index, finite_float
 
-__all__ = ["Deformation", "Element", "nonneg", "pair", "pair_stiffness", "positive"]
+__all__ = [
+    "Deformation",
+    "Element",
+    "TwoAxis",
+    "nonneg",
+    "pair",
+    "pair_stiffness",
+    "positive",
+]
 
 
 class Element:
@@ -61,6 +69,20 @@ class Deformation:
 
     def _directions(self) -> list[tuple[int, int | None]]:
         return [(int(self.i), None if self.j is None else int(self.j))]
+
+
+class TwoAxis:
+    """Mixin of the elements that act on the two transverse dofs ``dof_x``, ``dof_y`` of one
+    node (contacts, bearings, isolators)."""
+
+    dof_x: int
+    dof_y: int
+
+    def _validate(self, system: Model) -> None:
+        dof_index(self.dof_x, "dof_x", system.n_dof)
+        dof_index(self.dof_y, "dof_y", system.n_dof)
+        if self.dof_x == self.dof_y:
+            raise ValueError(f"`dof_y` must differ from `dof_x` (both {self.dof_x})")
 
 
 def nonneg(value: Any, name: str) -> float:

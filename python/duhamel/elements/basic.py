@@ -19,7 +19,7 @@ from duhamel._engine.validate import (
     finite_float,
     issparse,
 )
-from duhamel.elements.base import Deformation, Element, nonneg, pair_stiffness
+from duhamel.elements.base import Deformation, Element, TwoAxis, nonneg, pair_stiffness
 
 __all__ = [
     "Callable",
@@ -210,7 +210,7 @@ class LinearCoupling(Element):
 
 
 @dataclass(frozen=True)
-class Contact(Element):
+class Contact(TwoAxis, Element):
     """Radial rub/impact of a shaft centre ``(x, y)`` in a stator of radial ``clearance``.
 
     Normal force ``stiffness * (rho - clearance)`` beyond the clearance (``rho`` the radial
@@ -247,12 +247,6 @@ class Contact(Element):
         for name in ("smoothing", "velocity_smoothing"):
             if finite_float(getattr(self, name), name) <= 0:
                 raise ValueError(f"`{name}` must be positive, got {getattr(self, name)}")
-
-    def _validate(self, system: Model) -> None:
-        dof_index(self.dof_x, "dof_x", system.n_dof)
-        dof_index(self.dof_y, "dof_y", system.n_dof)
-        if self.dof_x == self.dof_y:
-            raise ValueError(f"`dof_y` must differ from `dof_x` (both {self.dof_x})")
 
     def _spec(self) -> tuple:
         return (

@@ -18,9 +18,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._engine.protocols import Model
-from duhamel._engine.validate import dof_index, finite_float
-from duhamel.elements.base import Deformation, Element, nonneg, pair_stiffness, positive
+from duhamel._engine.validate import finite_float
+from duhamel.elements.base import Deformation, Element, TwoAxis, nonneg, pair_stiffness, positive
 
 __all__ = ["Bilinear", "BoucWen", "FrictionPendulum", "Gap", "ViscousDamper"]
 
@@ -139,7 +138,7 @@ class BoucWen(Deformation, Element):
 
 
 @dataclass(frozen=True)
-class FrictionPendulum(Element):
+class FrictionPendulum(TwoAxis, Element):
     """Single friction pendulum isolator on two horizontal dofs (bidirectional, coupled):
     restoring force ``(weight / radius) u`` plus Coulomb friction bounded by the circle
     ``|f| <= mu weight``, with a pre-sliding (elastic) stiffness ``mu weight /
@@ -169,12 +168,6 @@ class FrictionPendulum(Element):
         nonneg(self.mu, "mu")
         positive(self.weight, "weight")
         positive(self.yield_displacement, "yield_displacement")
-
-    def _validate(self, system: Model) -> None:
-        dof_index(self.dof_x, "dof_x", system.n_dof)
-        dof_index(self.dof_y, "dof_y", system.n_dof)
-        if self.dof_x == self.dof_y:
-            raise ValueError(f"`dof_y` must differ from `dof_x` (both {self.dof_x})")
 
     def _spec(self) -> tuple:
         return (

@@ -11,8 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from duhamel._engine.validate import dof_index
-from duhamel.elements.base import Element
+from duhamel.elements.base import Element, TwoAxis
 from duhamel.rotor.bearing import Bearing, TableRangeWarning
 
 __all__ = ["SpeedTableElement", "speed_table_elements"]
@@ -21,7 +20,7 @@ _NAMES = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
 
 
 @dataclass(frozen=True)
-class SpeedTableElement(Element):
+class SpeedTableElement(TwoAxis, Element):
     """A :class:`Bearing` with tabulated coefficients on the dofs ``(dof_x, dof_y)`` at the
     speed law `law`, minus ``k0 x + c0 x'`` (its matrices at the initial speed, 2 x 2)."""
 
@@ -31,10 +30,6 @@ class SpeedTableElement(Element):
     law: Any
     k0: tuple[tuple[float, ...], ...]
     c0: tuple[tuple[float, ...], ...]
-
-    def _validate(self, system: Any) -> None:
-        dof_index(self.dof_x, "dof_x", system.n_dof)
-        dof_index(self.dof_y, "dof_y", system.n_dof)
 
     def _spec(self) -> tuple:
         from scipy.interpolate import PchipInterpolator

@@ -17,8 +17,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._engine.validate import dof_index, finite_float
-from duhamel.elements.base import Element, positive
+from duhamel._engine.validate import finite_float
+from duhamel.elements.base import Element, TwoAxis, positive
 from duhamel.rotor.dofs import node_index
 from duhamel.speed import ConstantSpeed, SpeedLaw
 
@@ -32,7 +32,7 @@ def _law(speed: Any) -> SpeedLaw:
 
 
 @dataclass(frozen=True)
-class JournalElement(Element):
+class JournalElement(TwoAxis, Element):
     """Short journal bearing on the dofs ``(dof_x, dof_y)`` of a journal spinning at `speed`
     (rad/s, or a :mod:`duhamel.speed` law for a run-up); `radius`, `length`, radial
     `clearance` (m) and dynamic `viscosity` (Pa s). A journal at or beyond the clearance stops
@@ -71,12 +71,6 @@ class JournalElement(Element):
                 if arr.shape != (2, 2) or not np.all(np.isfinite(arr)):
                     raise ValueError(f"`{name}` must be a finite 2 x 2 matrix, got {value!r}")
                 object.__setattr__(self, name, tuple(map(tuple, arr.tolist())))
-
-    def _validate(self, system: Any) -> None:
-        dof_index(self.dof_x, "dof_x", system.n_dof)
-        dof_index(self.dof_y, "dof_y", system.n_dof)
-        if self.dof_x == self.dof_y:
-            raise ValueError(f"`dof_y` must differ from `dof_x` (both {self.dof_x})")
 
     def _spec(self) -> tuple:
         film = (
