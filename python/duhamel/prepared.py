@@ -285,7 +285,11 @@ def _checked_loads(loads: Any, system: System) -> list[Load]:
                 f"`loads[{i}]` must be a duhamel.loads load (Step, Harmonic, Tabulated, "
                 f"BaseAcceleration, Unbalance, Callable), got {type(load).__name__}"
             )
-        load._validate(system)
+        try:
+            load._validate(system)
+        except (TypeError, ValueError) as exc:
+            exc.add_note(f"in `loads[{i}]` ({type(load).__name__}) of Prepared.run")
+            raise
     return list(loads)
 
 
