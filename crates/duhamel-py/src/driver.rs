@@ -13,17 +13,25 @@ use crate::loads::PyForcing;
 /// a Python progress function `(step, n_steps, t)` if there is one.
 pub(crate) struct PyControl {
     progress: Option<Py<PyAny>>,
+    /// Whether the run is on Python's main thread, the only one that handles signals: a run
+    /// in a worker thread (an ensemble's) has no signal to check, and does not take the GIL
+    /// between blocks for nothing (it would wait for the other threads' Python).
+    main_thread: bool,
     /// The exception that stopped the run: a `KeyboardInterrupt` (or whatever the signal
     /// handler raised), or the progress function's own exception.
     pub(crate) error: Option<PyErr>,
 }
 
 impl PyControl {
-    pub(crate) fn new(progress: &Bound<'_, PyAny>) -> Self {
-        PyControl {
+    pub(crate) fn new(progress: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let threading = progress.py().import("threading")?;
+        let main = threading.call_method0("main_thread")?.getattr("ident")?;
+        let current = threading.call_method0("get_ident")?;
+        Ok(PyControl {
             progress: (!progress.is_none()).then(|| progress.clone().unbind()),
+            main_thread: main.eq(current)?,
             error: None,
-        }
+        })
     }
 }
 
@@ -31,6 +39,9 @@ impl Control for PyControl {
     fn interrupted(&mut self) -> bool {
         if self.error.is_some() {
             return true;
+        }
+        if !self.main_thread {
+            return false; // no signal is ever handled outside the main thread
         }
         Python::attach(|py| match py.check_signals() {
             Ok(()) => false,
@@ -75,7 +86,7 @@ where
     S: IntoStats + Send,
 {
     guarded(|| {
-        let mut control = PyControl::new(progress);
+        let mut control = PyControl::new(progress)?;
         let started = std::time::Instant::now();
         let result = py.detach(|| {
             let f = forcing.as_mut().map(|f| f as &mut dyn ModalForcing);
