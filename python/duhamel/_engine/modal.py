@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._engine import dispatch
+from duhamel._engine.correction import substeps
 from duhamel._engine.output import check_memory, physical
 from duhamel._engine.plan import Plan, mass, modal_loads, plan
 from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
@@ -138,7 +139,12 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
     out = prep.outputs(opts.dofs, n_loads)
     check_memory(opts.n_steps, opts.save_every, out.dofs.size, 4 * prep.n_modes + n_loads)
     state = (prep.initial(opts.x0, "x0"), prep.initial(opts.v0, "v0"))
-    grid = dispatch.grid(opts.t0, opts.dt, opts.n_steps, opts.save_every, 0, prep.threads)
+    # Static-correction coordinates under nonlinear elements are resolved in time: `sub`
+    # internal steps per step, the saved instants unchanged.
+    sub = substeps(route.correction, opts.dt)
+    grid = dispatch.grid(
+        opts.t0, opts.dt / sub, opts.n_steps * sub, opts.save_every * sub, 0, prep.threads
+    )
     spec = dispatch.run_spec(route, grid, state)
     forcing = ModalCallable(fns, system.n_dof) if fns else None
     if opts.progress is None or opts.progress is False:
@@ -146,11 +152,11 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
         result = prep.model.run(spec, loads, out.maps, forcing, None)
         wall = _time.perf_counter() - loop_start
     else:
-        with watch(opts.progress, opts.n_steps) as report:
+        with watch(opts.progress, opts.n_steps * sub) as report:
             loop_start = _time.perf_counter()
             result = prep.model.run(spec, loads, out.maps, forcing, report)
             wall = _time.perf_counter() - loop_start
-    return solution(prep, result, out, patterns, opts, wall, base)
+    return solution(prep, result, out, patterns, opts, wall, base, sub)
 
 
 def solution(
@@ -161,6 +167,7 @@ def solution(
     opts: RunOptions,
     wall: float,
     base: list[Any] | None,
+    sub: int = 1,
 ) -> Solution:
     """The :class:`duhamel.Solution` of a core run's `result` (raises the run's failure,
     with the solution up to it as ``partial``)."""
@@ -176,7 +183,7 @@ def solution(
         dofs=out.dofs,
         modal=modal,
         stats=SolveStats(
-            steps=opts.n_steps if error is None else error.step - 1,
+            steps=opts.n_steps if error is None else (error.step - 1) // sub,
             wall_time=wall,
             total_time=_time.perf_counter() - opts.started,
             modes=prep.n_modes,
@@ -188,6 +195,7 @@ def solution(
             coupling=route.coupling,
             eigenvector_condition=None if route.modes is None else route.modes.condition,
             loop_time=float(result.loop_time),
+            substeps=sub,
         ),
         meta={
             "dt": opts.dt,

@@ -166,6 +166,11 @@ class SolveStats:
         Seconds in the core's time loop alone, measured in Rust around it (``wall_time``
         also counts taking the run's inputs into Rust and its history out); ``total_time``
         minus ``loop_time`` is what the call cost beyond the loop.
+    substeps : int
+        Semi-analytic integrator: internal steps per step of ``dt`` (1 but for a reduced
+        basis with static correction under nonlinear elements, whose correction coordinates
+        are resolved in time, ``omega dt <= 0.5``: see docs/nonlinear.md);
+        ``subdivided_steps`` and ``newton_iterations`` then count internal steps.
     """
 
     steps: int
@@ -180,6 +185,7 @@ class SolveStats:
     coupling: str | None = None
     eigenvector_condition: float | None = None
     loop_time: float = 0.0
+    substeps: int = 1
 
     @property
     def mode_steps_per_second(self) -> float:
