@@ -168,7 +168,7 @@ def substeps(omega: Array, dt: float) -> int:
     ``1 <~ omega dt <~ 4`` once an element's tangent stiffness on it, ``k_t phi_d^2``,
     exceeds about its own ``omega^2`` (measured on one oscillator, zeta = 0.05: spectral
     radius 1.22 at ``omega dt = 2.5`` with the ratio 1, 2.15 at 1.5 with 10; below 1 for
-    ``omega dt <= 0.5`` up to the ratio 10 and for ``omega dt >= 4`` at any ratio). A
+    ``omega dt <= 1`` up to the ratio 10 and for ``omega dt >= 4`` at any ratio). A
     correction coordinate holds the whole residual flexibility ``R_dd`` of the truncated
     modes at an element's dof, so that ratio is ``k_t R_dd``, while the full model spreads
     the same flexibility over many modes, each with a small share, the stiff local ones at

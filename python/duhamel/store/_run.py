@@ -14,7 +14,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from duhamel._core import __version__
 from duhamel._engine import dispatch
+from duhamel._engine.correction import substeps
 from duhamel._engine.output import ROW_BLOCK, physical
+from duhamel._engine.plan import plan
 from duhamel._engine.run import Progress, overflow_error, raise_failure, watch
 from duhamel._engine.validate import positive_int
 from duhamel.integrators import DirectIntegrator, Semianalytic
@@ -141,7 +143,11 @@ def run_stored(
     every = 1 if checkpoint_every is None else positive_int(checkpoint_every, "checkpoint_every")
     zarr = _zarr()
     model = capture(system, integrator, x0, v0)
-    grid = _grid(model, len(out_dofs), t0, dt, n_steps, save_every, options.segment_bytes)
+    # As duhamel.solve: static-correction coordinates under nonlinear elements resolved in
+    # time (the store holds the internal grid, its saved instants unchanged).
+    sub = substeps(plan(system, integrator).correction, dt)
+    n_steps, save_every = n_steps * sub, save_every * sub
+    grid = _grid(model, len(out_dofs), t0, dt / sub, n_steps, save_every, options.segment_bytes)
     grid["dofs"] = [int(d) for d in out_dofs]
     grid["checkpoint_every"] = every
     grid["modal"] = options.modal
