@@ -195,6 +195,11 @@ def test_the_cause_on_the_reduced_basis(monkeypatch) -> None:
     y = err.value.partial.x[:, list(springs(120))]
     early = np.abs(y[err.value.partial.t < 0.44]).max()
     assert np.abs(y).max() > 10 * early  # it diverged before Newton failed
+    # the error says what was tried and which coordinate diverged
+    message = str(err.value)
+    assert "retried in halves down to dt/16" in message
+    assert "a static-correction coordinate, omega dt = 2." in message
+    assert "more `max_iter` does not" in message
 
 
 def test_the_substep_rule() -> None:
