@@ -201,6 +201,10 @@ def test_the_cause_on_the_reduced_basis(monkeypatch) -> None:
     assert "retried in halves down to dt/16" in message
     assert "a static-correction coordinate, omega dt = 2." in message
     assert "more `max_iter` does not" in message
+    # and the partial solution's stats count the retries: step 116 was rescued by halving
+    # (without subdivisions the run stops there), step 117 was not
+    stats = err.value.partial.stats
+    assert (stats.subdivided_steps, stats.subdivision_depth) == (2, 4)
 
 
 def test_the_substep_rule() -> None:

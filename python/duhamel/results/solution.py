@@ -149,7 +149,8 @@ class SolveStats:
         elements on the exact coupled background; 0 on the other routes.
     subdivided_steps : int
         Semi-analytic integrator: steps whose equation did not converge and that were
-        retried in halves (``Semianalytic(subdivisions=...)``).
+        retried in halves (``Semianalytic(subdivisions=...)``); a failed run's ``partial``
+        counts them too (and its Newton iterations), the failing step included.
     subdivision_depth : int
         The deepest of those subdivisions: substeps of ``dt / 2**subdivision_depth``.
     coupling : str or None
