@@ -18,7 +18,7 @@
 use std::time::{Duration, Instant};
 
 use crate::error::CoreError;
-use crate::history::{Failure, History};
+use crate::history::{Failure, History, Stats};
 use crate::loads::block::BlockLoads;
 use crate::loads::ModalForcing;
 use crate::problem::ModalProblem;
@@ -207,6 +207,7 @@ fn conclude(mut history: History, ending: Ending) -> Result<History, Box<Failure
             Err(Box::new(Failure {
                 error,
                 partial: history,
+                stats: Stats::default(),
             }))
         }
     }

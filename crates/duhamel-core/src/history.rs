@@ -132,6 +132,9 @@ pub struct Failure<H = History> {
     pub error: CoreError,
     /// The history up to the last good saved instant.
     pub partial: H,
+    /// The run's statistics up to the failure (Newton iterations, the steps retried in
+    /// halves), when the route counts them.
+    pub stats: Stats,
 }
 
 impl<H: Default> From<CoreError> for Failure<H> {
@@ -139,6 +142,7 @@ impl<H: Default> From<CoreError> for Failure<H> {
         Failure {
             error,
             partial: H::default(),
+            stats: Stats::default(),
         }
     }
 }

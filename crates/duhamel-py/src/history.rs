@@ -236,7 +236,11 @@ pub(crate) fn finish<H: IntoResult, S: IntoStats>(
             Ok(r)
         }
         Err(failure) => {
-            let Failure { error, partial } = *failure;
+            let Failure {
+                error,
+                partial,
+                stats,
+            } = *failure;
             let cause = match &error {
                 CoreError::Callback { .. } => causes.callback,
                 CoreError::Interrupted { .. } => causes.control,
@@ -244,6 +248,8 @@ pub(crate) fn finish<H: IntoResult, S: IntoStats>(
             };
             let error = RunError::new(py, error, cause)?;
             let mut r = partial.into_result(py)?;
+            (r.newton_iterations, r.closed_form_steps, r.factorizations) = stats.counts();
+            (r.subdivided_steps, r.subdivision_depth) = stats.subdivisions();
             r.error = Some(Py::new(py, error)?);
             Ok(r)
         }

@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._engine import dispatch
+from duhamel._engine.correction import substeps
 from duhamel._engine.output import check_memory, physical
 from duhamel._engine.plan import Plan, mass, modal_loads, plan
 from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
@@ -138,7 +139,12 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
     out = prep.outputs(opts.dofs, n_loads)
     check_memory(opts.n_steps, opts.save_every, out.dofs.size, 4 * prep.n_modes + n_loads)
     state = (prep.initial(opts.x0, "x0"), prep.initial(opts.v0, "v0"))
-    grid = dispatch.grid(opts.t0, opts.dt, opts.n_steps, opts.save_every, 0, prep.threads)
+    # Static-correction coordinates under nonlinear elements are resolved in time: `sub`
+    # internal steps per step, the saved instants unchanged.
+    sub = substeps(route.correction, opts.dt)
+    grid = dispatch.grid(
+        opts.t0, opts.dt / sub, opts.n_steps * sub, opts.save_every * sub, 0, prep.threads
+    )
     spec = dispatch.run_spec(route, grid, state)
     forcing = ModalCallable(fns, system.n_dof) if fns else None
     if opts.progress is None or opts.progress is False:
@@ -146,11 +152,11 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
         result = prep.model.run(spec, loads, out.maps, forcing, None)
         wall = _time.perf_counter() - loop_start
     else:
-        with watch(opts.progress, opts.n_steps) as report:
+        with watch(opts.progress, opts.n_steps * sub) as report:
             loop_start = _time.perf_counter()
             result = prep.model.run(spec, loads, out.maps, forcing, report)
             wall = _time.perf_counter() - loop_start
-    return solution(prep, result, out, patterns, opts, wall, base)
+    return solution(prep, result, out, patterns, opts, wall, base, sub)
 
 
 def solution(
@@ -161,6 +167,7 @@ def solution(
     opts: RunOptions,
     wall: float,
     base: list[Any] | None,
+    sub: int = 1,
 ) -> Solution:
     """The :class:`duhamel.Solution` of a core run's `result` (raises the run's failure,
     with the solution up to it as ``partial``)."""
@@ -176,7 +183,7 @@ def solution(
         dofs=out.dofs,
         modal=modal,
         stats=SolveStats(
-            steps=opts.n_steps if error is None else error.step - 1,
+            steps=opts.n_steps if error is None else (error.step - 1) // sub,
             wall_time=wall,
             total_time=_time.perf_counter() - opts.started,
             modes=prep.n_modes,
@@ -188,6 +195,7 @@ def solution(
             coupling=route.coupling,
             eigenvector_condition=None if route.modes is None else route.modes.condition,
             loop_time=float(result.loop_time),
+            substeps=sub,
         ),
         meta={
             "dt": opts.dt,
@@ -208,5 +216,73 @@ def solution(
         if kept < result.t.size:
             # The outputs of the last states overflowed before the coordinates did.
             error = error.kept_until(float(result.t[kept - 1]) if kept else None)
-        raise_failure(error, solution)
+        step = None if sub == 1 else -(-error.step // sub)
+        note = failure_note(
+            error,
+            modal,
+            forces=bool(prep.forces),
+            route=route.route,
+            omega=route.basis.omega,
+            correction=route.correction,
+            subdivisions=getattr(prep.integrator, "subdivisions", 0),
+            dt=opts.dt / sub,
+            sub=sub,
+        )
+        raise_failure(error, solution, note, step)
     return solution
+
+
+def failure_note(
+    error: Any,
+    modal: Any,
+    *,
+    forces: bool,
+    route: str,
+    omega: NDArray[np.float64],
+    correction: NDArray[np.float64],
+    subdivisions: int,
+    dt: float,
+    sub: int,
+) -> str:
+    """What a failed run with elements (`forces`) tried and which modal coordinate (of
+    circular frequencies `omega`; `correction` those of the static-correction ones) diverged,
+    from the `modal` history kept (None: not said); `dt` the internal step, `sub` internal
+    steps per step. Appended to the message of a ``"convergence"`` or ``"nonfinite"``
+    failure (empty otherwise)."""
+    if error.kind not in ("convergence", "nonfinite") or not forces:
+        return ""
+    parts = []
+    if sub > 1:
+        parts.append(
+            f"the run took {sub} internal steps per step (static-correction coordinates "
+            f"resolved in time); the core's step {error.step} is internal"
+        )
+    if error.kind == "convergence" and route == "pseudo-force" and subdivisions > 0:
+        parts.append(
+            f"the step was retried in halves down to dt/{2**subdivisions} "
+            f"(`subdivisions`={subdivisions}) and failed there too"
+        )
+    q = None if modal is None else getattr(modal, "q", None)
+    if q is not None and q.ndim == 2 and q.shape[0] >= 8 and np.all(np.isfinite(q)):
+        # The coordinate that grew most over the last quarter of the history against its
+        # earlier peak: a divergence shows there before Newton gives up.
+        cut = q.shape[0] * 3 // 4
+        early = np.abs(q[:cut]).max(axis=0)
+        late = np.abs(q[cut:]).max(axis=0)
+        scale = max(float(early.max()), np.finfo(float).tiny)
+        growth = late / np.maximum(early, 1e-12 * scale)
+        i = int(np.argmax(growth))
+        if growth[i] > 4.0:
+            w = float(omega[i])
+            kind = (
+                "a static-correction coordinate"
+                if np.any(np.isclose(correction, w, rtol=1e-12, atol=0.0))
+                else "a mode"
+            )
+            parts.append(
+                f"modal coordinate {i} ({kind}, omega dt = {w * dt:.3g}) grew "
+                f"{growth[i]:.3g} times over its earlier peak before the failure: a diverging "
+                "pseudo-force step, which a smaller `dt` (omega dt <= 1 on that coordinate) "
+                "or, for a reduced model, more `modes` avoids; more `max_iter` does not"
+            )
+    return "" if not parts else " [" + "; ".join(parts) + "]"

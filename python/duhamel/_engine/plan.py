@@ -11,14 +11,14 @@ coupled system) with an optional pseudo-force corrector (docs/architecture.md):
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._engine.background import background
-from duhamel._engine.correction import corrected
+from duhamel._engine.correction import enriched
 from duhamel._engine.coupled import CONDITION_LIMIT, FirstOrderModes, first_order_modes
 from duhamel._engine.specs import ScaledSpec, load, speed_law
 from duhamel._engine.specs import elements as core_elements
@@ -63,6 +63,10 @@ class Plan:
     linear : tuple
         Per force element, the linear part its background took over (``LinearPart`` or
         None; see ``duhamel._engine.background``): the element's force is the core's plus it.
+    correction : ndarray
+        The circular frequencies of the static-correction coordinates that carry nonlinear
+        elements as pseudo-forces (empty without them): a run resolves them in time
+        (``duhamel._engine.correction.substeps``).
     """
 
     route: str
@@ -72,6 +76,7 @@ class Plan:
     coupling: str | None
     elements: list[Any]
     linear: tuple[Any, ...] = ()
+    correction: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0), compare=False)
 
 
 def modal_loads(
@@ -143,8 +148,11 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         correct = integrator.modes is not None and any(
             not isinstance(e, LinearCoupling) for e in system.elements
         )
+    correction = np.zeros(0)
     if correct:
-        basis = corrected(system, basis)
+        basis, correction = enriched(system, basis)
+    if not any(not isinstance(e, LinearCoupling) for e in system.elements):
+        correction = np.zeros(0)  # the linear steps are exact at any dt
     elements = core_elements(system.elements)
     has_elements = bool(system.elements)
     coupled = basis.c_coupling is not None or any(
@@ -160,7 +168,7 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         if modes is not None:
             route = "first-order"
     coupling = None if not coupled else ("exact" if modes is not None else "pseudo-force")
-    return Plan(route, basis, couplings, modes, coupling, elements, bg.linear)
+    return Plan(route, basis, couplings, modes, coupling, elements, bg.linear, correction)
 
 
 def _first_order(

@@ -79,7 +79,7 @@ def watch(progress: bool | Progress | None, n_steps: int) -> Iterator[Progress |
     yield progress
 
 
-def raise_failure(error: Any, partial: Any) -> None:
+def raise_failure(error: Any, partial: Any, note: str = "", step: int | None = None) -> None:
     """Raises the exception of a run that stopped early (`error`, a ``_core.RunError``),
     with the history kept, `partial`, attached as its ``partial`` attribute.
 
@@ -87,7 +87,9 @@ def raise_failure(error: Any, partial: Any) -> None:
       ``KeyboardInterrupt`` (or a progress function's own exception);
     * a failing Python load or element function raises :class:`duhamel.SolverError` with
       ``reason="callback"``, chained (``from``) to the function's own exception;
-    * otherwise :class:`duhamel.SolverError` with the core's fields.
+    * otherwise :class:`duhamel.SolverError` with the core's fields, `note` appended to
+      its message and `step` (the user's step, when the run took internal steps) in place
+      of the core's.
     """
     cause = error.cause
     interrupted = error.kind == "interrupted" or (
@@ -102,7 +104,11 @@ def raise_failure(error: Any, partial: Any) -> None:
         what = f"{type(cause).__name__}: {cause}" if cause is not None else error.message
         raise callback_error(what, error.time, error.step, partial) from cause
     raise SolverError(
-        error.message, time=error.time, reason=error.kind, partial=partial, step=error.step
+        error.message + note,
+        time=error.time,
+        reason=error.kind,
+        partial=partial,
+        step=error.step if step is None else step,
     )
 
 

@@ -149,7 +149,8 @@ class SolveStats:
         elements on the exact coupled background; 0 on the other routes.
     subdivided_steps : int
         Semi-analytic integrator: steps whose equation did not converge and that were
-        retried in halves (``Semianalytic(subdivisions=...)``).
+        retried in halves (``Semianalytic(subdivisions=...)``); a failed run's ``partial``
+        counts them too (and its Newton iterations), the failing step included.
     subdivision_depth : int
         The deepest of those subdivisions: substeps of ``dt / 2**subdivision_depth``.
     coupling : str or None
@@ -166,6 +167,11 @@ class SolveStats:
         Seconds in the core's time loop alone, measured in Rust around it (``wall_time``
         also counts taking the run's inputs into Rust and its history out); ``total_time``
         minus ``loop_time`` is what the call cost beyond the loop.
+    substeps : int
+        Semi-analytic integrator: internal steps per step of ``dt`` (1 but for a reduced
+        basis with static correction under nonlinear elements, whose correction coordinates
+        are resolved in time, ``omega dt <= 0.5``: see docs/nonlinear.md);
+        ``subdivided_steps`` and ``newton_iterations`` then count internal steps.
     """
 
     steps: int
@@ -180,6 +186,7 @@ class SolveStats:
     coupling: str | None = None
     eigenvector_condition: float | None = None
     loop_time: float = 0.0
+    substeps: int = 1
 
     @property
     def mode_steps_per_second(self) -> float:

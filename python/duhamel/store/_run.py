@@ -14,7 +14,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from duhamel._core import __version__
 from duhamel._engine import dispatch
+from duhamel._engine.correction import substeps
+from duhamel._engine.modal import failure_note
 from duhamel._engine.output import ROW_BLOCK, physical
+from duhamel._engine.plan import plan
 from duhamel._engine.run import Progress, overflow_error, raise_failure, watch
 from duhamel._engine.validate import positive_int
 from duhamel.integrators import DirectIntegrator, Semianalytic
@@ -141,8 +144,15 @@ def run_stored(
     every = 1 if checkpoint_every is None else positive_int(checkpoint_every, "checkpoint_every")
     zarr = _zarr()
     model = capture(system, integrator, x0, v0)
-    grid = _grid(model, len(out_dofs), t0, dt, n_steps, save_every, options.segment_bytes)
+    # As duhamel.solve: static-correction coordinates under nonlinear elements resolved in
+    # time (the store holds the internal grid, its saved instants unchanged).
+    correction = plan(system, integrator).correction
+    sub = substeps(correction, dt)
+    n_steps, save_every = n_steps * sub, save_every * sub
+    grid = _grid(model, len(out_dofs), t0, dt / sub, n_steps, save_every, options.segment_bytes)
     grid["dofs"] = [int(d) for d in out_dofs]
+    grid["substeps"] = sub
+    grid["correction"] = [float(w) for w in correction]
     grid["checkpoint_every"] = every
     grid["modal"] = options.modal
     try:
@@ -406,7 +416,21 @@ def _proceed(
                 partial = _solution(group, model, grid, rows + keep, wall, counts, depth, started)
                 if result.error is None:
                     raise overflow_error(result.t, kept, grid["dt"], grid["t0"], partial)
-                raise_failure(_shifted(result.error, step), partial)
+                error = _shifted(result.error, step)
+                sub = int(grid.get("substeps", 1))
+                note = failure_note(
+                    error,
+                    partial.modal,
+                    forces=bool(model.devices),
+                    route=model.route,
+                    omega=model.basis.omega,
+                    correction=np.asarray(grid.get("correction", []), dtype=np.float64),
+                    subdivisions=model.semianalytic().subdivisions,
+                    dt=grid["dt"],
+                    sub=sub,
+                )
+                user_step = None if sub == 1 else -(-error.step // sub)
+                raise_failure(error, partial, note, user_step)
             step, rows = step + n, rows + keep
             state, element_state = model.end_state(result), result.element_state
             counts += [

@@ -218,6 +218,7 @@ pub fn integrate(
                 error
             },
             partial: rec.finish(),
+            stats,
         })),
     }
 }

@@ -377,5 +377,11 @@ pub fn integrate(
     if let Some(sub) = &route.sub {
         (stats.subdivided_steps, stats.subdivision_depth) = (sub.steps, sub.deepest);
     }
-    finish(base, loads, kept, ending).map(|h| (h, stats))
+    // A failed run keeps its statistics too: how often it subdivided before it stopped.
+    finish(base, loads, kept, ending)
+        .map(|h| (h, stats))
+        .map_err(|mut failure| {
+            failure.stats = stats;
+            failure
+        })
 }
