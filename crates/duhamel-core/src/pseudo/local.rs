@@ -15,12 +15,12 @@ use crate::error::CoreError;
 
 /// The ratio of an element's tangent stiffness to the modal stiffness of the background it
 /// loads from which the element is said to dominate it and its tangent is watched. Below
-/// it the step's limit (omega_c dt = 3.21 at a ratio of 0.3, 3.30 at 1, 3.38 at 2 with 5 %
-/// damping: a window that closes again at larger steps, and a lightly damped background's
-/// own property; the paper's stability charts run such steps on purpose) is left to the
-/// user; from it up the limit approaches the linear-acceleration method's 2 sqrt(3).
-/// Measured: the paper's rotor (cubic bearings about as stiff as their modes, ratio 1.05)
-/// stays on its plain steps.
+/// it the step's limit (omega_c dt = 3.21 - 3.30 at a ratio of 0.3, 3.30 - 3.32 at 1,
+/// 3.38 - 3.39 at 3, zeta 0 - 0.05: a window that closes again at larger steps when damped,
+/// the lightly damped background's own property; the paper's stability charts run such
+/// steps on purpose) is left to the user; from it up the limit approaches the
+/// linear-acceleration method's 2 sqrt(3). Measured: the paper's rotor (cubic bearings
+/// about as stiff as their modes, ratio 1.05) stays on its plain steps.
 pub const DOMINANT: f64 = 2.0;
 
 /// The symmetric part of a row-major `nl x nl` tangent, entry `(i, j)`.
@@ -134,9 +134,9 @@ impl<'a> ElementSpace<'a> {
     /// (the modal stiffness `k` of the modes weighted by the element's share
     /// `|diag(Phi_e^T K_e Phi_e)|` in each, the largest over the elements); only elements that
     /// dominate that background (at least [`DOMINANT`] times it) count, and 0 when none
-    /// does. With the index of the element adding most. Elements that are not [`Element::native`] are left
-    /// out. Path-dependent elements are evaluated from their committed variables (their
-    /// trial variables are overwritten, as any evaluation does).
+    /// does. With the index of the element adding most. Elements that are not
+    /// [`Element::native`] are left out. Path-dependent elements are evaluated from their
+    /// committed variables (their trial variables are overwritten, as any evaluation does).
     pub fn tangent_stiffness(
         &mut self,
         modal_k: &[f64],

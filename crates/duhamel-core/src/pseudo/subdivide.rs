@@ -19,9 +19,9 @@ use crate::kernel::oscillator::Transfer;
 /// bound of [`super::local::ElementSpace::tangent_stiffness`] (elements that dominate the
 /// modes they load). The pseudo-force step (scheme b, trapezoid) of an element much stiffer
 /// than its background is the linear-acceleration method, stable up to
-/// `omega_c dt = 2 sqrt(3) = 3.46`; with the background the limit is 3.30 for an element as
-/// stiff as it and 3.21 for 0.3 of it (zeta 0 and 0.05 alike; docs/nonlinear.md). Steps
-/// are held below 2 and subdivided when the elements stiffen beyond: a hardening element
+/// `omega_c dt = 2 sqrt(3) = 3.46`; with the background the limit is 3.30 - 3.32 for an
+/// element as stiff as it and 3.21 - 3.30 for 0.3 of it (zeta 0 - 0.05; docs/nonlinear.md).
+/// Steps are held below 2 and subdivided when the elements stiffen beyond: a hardening element
 /// stiffens inside the step, and at 3 a stiff `Cubic` still grew (peak 2.5 times the
 /// converged one at omega_c dt = 10 subdivided to <= 3; at <= 2 it is within 2 %).
 pub(super) const STIFF_LIMIT: f64 = 2.0;
