@@ -156,3 +156,37 @@ def test_family_agrees_or_stops(kind, ratio, h):
     except duhamel.SolverError:
         return  # Newmark itself fails at this step: any finite bounded answer is better
     assert _error(semi, ref) <= _error(newmark, ref)
+
+
+def _chain_with(element):
+    """The 6-dof chain of benchmarks/compare.py's cases (k = 1e4, 3 %) under its decaying
+    base record (its other loads left out), with one element."""
+    n = 6
+    K = 1e4 * (2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1))
+    K[-1, -1] = 1e4
+    s = duhamel.System(np.eye(n), K, zeta=0.03)
+    t = np.arange(0.0, 4.005, 0.01)
+    a = 3.0 * np.sin(7.0 * t) * np.exp(-0.3 * t) + 0.5 * np.sin(23.0 * t)
+    s.add_load(BaseAcceleration(np.ones(n), t, a))
+    return s.add(element)
+
+
+@pytest.mark.parametrize(
+    "element",
+    [
+        E.Contact(4, 5, clearance=1e-3, stiffness=1e6, friction=0.2),
+        E.Gap(5, None, gap=0.0, k=1e11),
+    ],
+    ids=["contact", "gap"],
+)
+def test_compare_cases_that_were_silently_wrong_now_stop(element):
+    """Regression (benchmarks/compare.py --check, `element-contact` and
+    `subdivision-stiff-gap`): at dt = 0.01 the old build returned finite answers 1e102 and
+    9.9 times the peak away from converged Newmark, without an error (on this model too the
+    old build returns without an error). The contact's closed state reaches omega_c dt ~ 100,
+    the gap's far more: beyond 4 halvings, so the run stops."""
+    x0 = [0.001, 0.0, -0.002, 0.0, 0.001, 0.003]
+    with pytest.raises(duhamel.SolverError) as info:
+        duhamel.solve(_chain_with(element), duhamel.Semianalytic(), t_end=2.0, dt=0.01, x0=x0)
+    assert info.value.reason == "stiffness"
+    assert "element 0 (on dofs" in str(info.value)
