@@ -196,7 +196,7 @@ def time_limit() -> Iterator[None]:
 # The contract
 # --------------------------------------------------------------------------------------------
 
-REASONS = {"nonfinite", "convergence", "callback"}
+REASONS = {"nonfinite", "convergence", "callback", "stiffness"}
 
 
 class _NoInternalError(Exception):

@@ -375,8 +375,8 @@ class DirectModel:
 
 @final
 class RunError:
-    """Why a run stopped early: ``kind`` ("nonfinite", "convergence", "callback",
-    "interrupted"), the core's ``message``, ``time``, ``step`` (the step not completed),
+    """Why a run stopped early: ``kind`` ("nonfinite", "convergence", "domain", "stiffness",
+    "callback", "interrupted"), the core's ``message``, ``time``, ``step`` (the step not completed),
     ``last_good_time``, ``residual`` and ``iterations`` (Newton), and the Python exception
     behind a callback failure or an interruption (``cause``)."""
 

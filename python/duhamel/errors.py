@@ -36,7 +36,10 @@ class SolverError(DuhamelError, RuntimeError):
     reason : str
         ``"nonfinite"`` (the state overflowed or became NaN: a diverging response),
         ``"convergence"`` (the implicit step equation did not converge), ``"domain"`` (an
-        element reached a state it is not defined at: a journal at its bearing's wall) or
+        element reached a state it is not defined at: a journal at its bearing's wall),
+        ``"stiffness"`` (an element's tangent stiffness puts the semi-analytic step beyond its
+        stability limit even in ``2**subdivisions`` substeps; the message names the element
+        by its index and dofs, the limit and the step that would do, see docs/nonlinear.md) or
         ``"callback"`` (a Python load or element function failed).
     step : int or None
         The step that could not be completed (steps count from 1: step ``n`` ends at

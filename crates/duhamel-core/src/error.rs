@@ -58,6 +58,17 @@ pub enum CoreError {
         /// The last saved time kept, None when nothing is.
         last_good_time: Option<f64>,
     },
+    /// An element's tangent stiffness puts the pseudo-force step beyond its stability limit
+    /// and subdivision cannot bring the step within it (the message names the element, the
+    /// limit and what to change).
+    #[error("{message} at t = {time} (step {step}); {}", kept(last_good_time))]
+    TooStiff {
+        message: String,
+        time: f64,
+        step: usize,
+        /// The last saved time kept, None when nothing is.
+        last_good_time: Option<f64>,
+    },
     /// The caller asked the run to stop (Ctrl-C): the history up to `time` is kept.
     #[error(
         "interrupted at t = {time} (before step {step}); the history up to t = {time} is kept"
@@ -81,6 +92,7 @@ impl CoreError {
             | CoreError::NoConvergence { step, .. }
             | CoreError::Callback { step, .. }
             | CoreError::OutOfDomain { step, .. }
+            | CoreError::TooStiff { step, .. }
             | CoreError::Interrupted { step, .. } => Some(*step),
             _ => None,
         }
@@ -123,6 +135,12 @@ impl CoreError {
                 message,
             },
             CoreError::OutOfDomain { message, .. } => CoreError::OutOfDomain {
+                message,
+                time: end,
+                step,
+                last_good_time: kept_time,
+            },
+            CoreError::TooStiff { message, .. } => CoreError::TooStiff {
                 message,
                 time: end,
                 step,

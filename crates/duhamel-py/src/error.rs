@@ -21,7 +21,8 @@ pub(crate) fn core_err(e: CoreError) -> PyErr {
 /// `KeyboardInterrupt`.
 #[pyclass(frozen, module = "duhamel._core")]
 pub(crate) struct RunError {
-    /// "nonfinite", "convergence", "domain", "callback" or "interrupted".
+    /// "nonfinite", "convergence", "domain", "stiffness", "callback" or
+    /// "interrupted".
     #[pyo3(get)]
     kind: &'static str,
     /// The core's message.
@@ -83,6 +84,12 @@ impl RunError {
                 last_good_time,
                 ..
             } => ("domain", time, step, last_good_time, None, None),
+            CoreError::TooStiff {
+                time,
+                step,
+                last_good_time,
+                ..
+            } => ("stiffness", time, step, last_good_time, None, None),
             CoreError::Interrupted { time, step } => {
                 ("interrupted", time, step, Some(time), None, None)
             }
@@ -118,6 +125,9 @@ impl RunError {
                 last_good_time: t, ..
             }
             | CoreError::OutOfDomain {
+                last_good_time: t, ..
+            }
+            | CoreError::TooStiff {
                 last_good_time: t, ..
             } => *t = last_good_time,
             _ => {}

@@ -71,7 +71,11 @@ class Semianalytic(Integrator):
         it fails, down to ``dt / 2**subdivisions`` (0: the run stops with a
         :class:`duhamel.SolverError` instead). Every level steps the modal oscillators
         with its own exact matrices; the substeps see the step's load (its quadratic in
-        time); hysteretic elements commit at every accepted substep. How many steps needed
+        time); hysteretic elements commit at every accepted substep. The same levels take
+        a step in which an element at least twice as stiff as the modes it loads puts
+        ``omega_c dt`` of the closed state above 2 (the step is unstable beyond
+        ``2 sqrt(3)``); when they cannot, the run stops with ``reason="stiffness"``
+        naming the element (docs/nonlinear.md, "Stiff elements"). How many steps needed
         it and how deep: ``stats.subdivided_steps``, ``stats.subdivision_depth``.
     coupling : {"auto", "exact", "pseudo-force"}
         Modal couplings — non-classical damping, gyroscopic and cross-coupled

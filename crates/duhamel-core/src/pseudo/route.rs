@@ -7,7 +7,7 @@ use super::newton::StepSolver;
 use super::problem::{validate, NonlinearProblem};
 use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
-use super::subdivide::{level_rules, retriable, Subdivider};
+use super::subdivide::{halvings, level_rules, retriable, too_stiff, Subdivider};
 use crate::driver::{drive, finish, Control, Route, StepFailure};
 use crate::error::CoreError;
 use crate::history::{size, zeroed, Coordinates, ElementRows, Failure, History, Stats};
@@ -112,8 +112,12 @@ struct PseudoRoute<'r, 'a> {
     estimate: bool,
     /// Whether hysteretic elements commit their variables after each step.
     stateful: bool,
-    /// The levels of automatic subdivision, when the step equation is nonlinear.
+    /// The levels of automatic subdivision, when the step equation is nonlinear or the
+    /// elements' stiffness is watched.
     sub: Option<Subdivider<'r>>,
+    /// The elements' modal tangent stiffness at the start of the step, when watched (see
+    /// [`super::subdivide::STIFF_LIMIT`]).
+    stiffness: Option<f64>,
     state: StepBuffers,
     hq: Vec<f64>,
     hv: Vec<f64>,
@@ -196,6 +200,43 @@ impl PseudoRoute<'_, '_> {
                     break;
                 }
             }
+            // The elements' tangent at the end state (and the start's): a step they make
+            // too stiff for the pseudo-force step is taken in enough halves, or stops.
+            let mut min_depth = 0;
+            let solved = match (solved, self.stiffness) {
+                (Ok(iters), Some(start)) => {
+                    let end = problem.time(step + 1);
+                    match self.pf.tangent_stiffness(q1, v1, end) {
+                        Ok((lambda, worst)) => {
+                            let need = halvings(problem.dt * lambda.max(start).sqrt());
+                            let depth = self.sub.as_ref().map_or(0, |s| s.depth());
+                            self.stiffness = Some(lambda);
+                            if need == 0 {
+                                Ok(iters)
+                            } else if need > depth || loads.jumps.iter().any(|j| j.0 == s) {
+                                let at = if lambda >= start {
+                                    (lambda, worst)
+                                } else {
+                                    let (q, v) = (&*q, &*v);
+                                    self.pf.tangent_stiffness(q, v, t).unwrap_or((start, worst))
+                                };
+                                Err(too_stiff(&self.pf, at, problem.dt, 0))
+                            } else {
+                                min_depth = need;
+                                Err(CoreError::NoConvergence {
+                                    time: 0.0,
+                                    step: 0,
+                                    residual: 0.0,
+                                    iterations: 0,
+                                    last_good_time: None,
+                                })
+                            }
+                        }
+                        Err(error) => Err(error),
+                    }
+                }
+                (solved, _) => solved,
+            };
             let mut subdivided = false;
             let iters = match (solved, &mut self.sub) {
                 (Ok(iters), _) => iters,
@@ -207,8 +248,23 @@ impl PseudoRoute<'_, '_> {
                     v1.copy_from_slice(v);
                     let basis = [&pb[0][..], &pb[1][..], &pb[2][..]];
                     let span = (t, problem.dt);
-                    match sub.step(&mut self.pf, span, basis, (q1, v1)) {
-                        Ok(iters) => iters,
+                    match sub.step(&mut self.pf, span, basis, (q1, v1), min_depth) {
+                        Ok(iters) => {
+                            if self.stiffness.is_some() {
+                                let end = problem.time(step + 1);
+                                match self.pf.tangent_stiffness(q1, v1, end) {
+                                    Ok((lambda, _)) => self.stiffness = Some(lambda),
+                                    Err(error) => {
+                                        result = Err(StepFailure {
+                                            error,
+                                            step: step + 1,
+                                        });
+                                        break;
+                                    }
+                                }
+                            }
+                            iters
+                        }
                         Err(error) => {
                             result = Err(StepFailure {
                                 error,
@@ -318,7 +374,12 @@ pub fn integrate(
         .is_some_and(|m| m.treatment == MassTreatment::Estimate);
     let solver = StepSolver::new(&rule, dt, &o, &pf, estimate).map_err(fail)?;
     let mut pf = pf;
-    let depth = if pf.linear { 0 } else { o.subdivisions };
+    let watch = pf.space().watched();
+    let depth = if pf.linear && !watch {
+        0
+    } else {
+        o.subdivisions
+    };
     let rules = level_rules(problem, depth);
     let sub = if depth > 0 {
         Some(Subdivider::new(problem, &rules, &pf, o, estimate).map_err(fail)?)
@@ -333,6 +394,12 @@ pub fn integrate(
             pf.set_element_state(state).map_err(fail)?;
         }
     }
+    let stiffness = if watch {
+        let start = pf.tangent_stiffness(base.q0, base.v0, base.time(0));
+        Some(start.map_err(fail)?.0)
+    } else {
+        None
+    };
     let loads = BlockLoads::new(base, true, forcing.is_some(), 3 * n).map_err(fail)?;
     let cells = size(loads.n_saved(), n, "the modal history").map_err(fail)?;
     let buffer = |what| zeroed(cells, what).map_err(fail);
@@ -354,6 +421,7 @@ pub fn integrate(
         estimate,
         stateful,
         sub,
+        stiffness,
         state: StepBuffers::new(base.q0, base.v0),
         hq: buffer("the modal history (q)")?,
         hv: buffer("the modal history (v)")?,

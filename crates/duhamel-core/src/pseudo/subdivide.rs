@@ -15,6 +15,54 @@ use super::scheme::{Rule, StepInput};
 use crate::error::CoreError;
 use crate::kernel::oscillator::Transfer;
 
+/// The largest `omega_c dt` a (sub)step may take, `omega_c^2` the closed state's frequency
+/// bound of [`super::local::ElementSpace::tangent_stiffness`] (elements that dominate the
+/// modes they load). The pseudo-force step (scheme b, trapezoid) of an element much stiffer
+/// than its background is the linear-acceleration method, stable up to
+/// `omega_c dt = 2 sqrt(3) = 3.46`; with the background the limit is 3.30 - 3.32 for an
+/// element as stiff as it and 3.21 - 3.30 for 0.3 of it (zeta 0 - 0.05; docs/nonlinear.md).
+/// Steps are held below 2 and subdivided when the elements stiffen beyond: a hardening element
+/// stiffens inside the step, and at 3 a stiff `Cubic` still grew (peak 2.5 times the
+/// converged one at omega_c dt = 10 subdivided to <= 3; at <= 2 it is within 2 %).
+pub(super) const STIFF_LIMIT: f64 = 2.0;
+
+/// The number of halvings that bring `omega_c dt` (`h`) within [`STIFF_LIMIT`].
+pub(super) fn halvings(h: f64) -> usize {
+    if h <= STIFF_LIMIT {
+        0
+    } else {
+        (h / STIFF_LIMIT).log2().ceil().min(64.0) as usize
+    }
+}
+
+/// The failure of a step whose elements are too stiff for it even at the deepest level
+/// (`depth` halvings; `lambda` their modal stiffness, `worst` the element adding most).
+pub(super) fn too_stiff(
+    pf: &PseudoForce,
+    (lambda, worst): (f64, usize),
+    dt: f64,
+    depth: usize,
+) -> CoreError {
+    let h = dt * lambda.sqrt();
+    let dofs = pf.space().element_dofs(worst);
+    let step = dt * 2f64.powi(depth as i32);
+    CoreError::TooStiff {
+        message: format!(
+            "element {worst} (on dofs {dofs:?}) is too stiff for the step: with its tangent \
+             the modes it loads (dominating them) vibrate at omega_c^2 = {lambda:.4e} \
+             (rad/s)^2, omega_c dt = {h:.4} in steps of {dt:e} after {depth} halvings of \
+             dt = {step:e} (`subdivisions`), and the pseudo-force step is held below \
+             omega_c dt = {STIFF_LIMIT} (unstable beyond 2 sqrt(3) = 3.46); reduce `dt` below \
+             {:.4e} or raise `subdivisions` to {}",
+            STIFF_LIMIT * 2f64.powi(depth as i32) / lambda.sqrt(),
+            depth + halvings(h)
+        ),
+        time: 0.0,
+        step: 0,
+        last_good_time: None,
+    }
+}
+
 /// The transfer matrices and quadrature rule of each level, `dt / 2`, `dt / 4`, ...
 pub(super) fn level_rules(problem: &NonlinearProblem, depth: usize) -> Vec<(Vec<Transfer>, Rule)> {
     let base = &problem.base;
@@ -46,6 +94,9 @@ pub(super) struct Subdivider<'r> {
     n: usize,
     /// Whether hysteretic elements commit at the end of every accepted substep.
     stateful: bool,
+    /// Whether the elements' tangent stiffness is watched at the end of every substep.
+    watch: bool,
+    dt: f64,
     /// Steps that needed subdividing, and the deepest level reached.
     pub steps: usize,
     pub deepest: usize,
@@ -81,22 +132,36 @@ impl<'r> Subdivider<'r> {
             levels,
             n,
             stateful: pf.stateful(),
+            watch: pf.space().watched(),
+            dt: problem.base.dt,
             steps: 0,
             deepest: 0,
         })
     }
 
+    /// The number of levels below the run's step.
+    pub fn depth(&self) -> usize {
+        self.levels.len()
+    }
+
     /// Advances `(q, v)` over the step `[t, t + dt]` whose modal load basis is `pb` in
-    /// halves (the step itself failed); returns the Newton iterations.
+    /// halves (the step itself failed, or was too stiff: then in at least `2^min_depth`
+    /// substeps); returns the Newton iterations.
     pub fn step(
         &mut self,
         pf: &mut PseudoForce,
         (t, dt): (f64, f64),
         pb: [&[f64]; 3],
         (q, v): (&mut [f64], &mut [f64]),
+        min_depth: usize,
     ) -> Result<usize, CoreError> {
         self.steps += 1;
-        let span = Span { t, dt, pb };
+        let span = Span {
+            t,
+            dt,
+            pb,
+            min_depth,
+        };
         let first = self.advance(1, pf, &span, 0.0, (q, v))?;
         let second = self.advance(1, pf, &span, 0.5, (q, v))?;
         Ok(first + second)
@@ -117,6 +182,12 @@ impl<'r> Subdivider<'r> {
         let t = span.t + a * span.dt;
         let pb = span.restricted(a, h, n);
         let (mut q1, mut v1) = (vec![0.0; n], vec![0.0; n]);
+        let deeper = depth < self.levels.len();
+        if depth < span.min_depth && deeper {
+            let first = self.advance(depth + 1, pf, span, a, (q, v))?;
+            let second = self.advance(depth + 1, pf, span, a + 0.5 * h, (q, v))?;
+            return Ok(first + second);
+        }
         let attempt = {
             let level = &mut self.levels[depth - 1];
             let (mut ql, mut vl) = (vec![0.0; n], vec![0.0; n]);
@@ -132,24 +203,40 @@ impl<'r> Subdivider<'r> {
             };
             level.solver.solve(pf, &input, &mut q1, &mut v1)
         };
+        let end = t + h * span.dt;
+        let attempt = match attempt {
+            Ok(iterations) if self.watch => {
+                let stiffness = pf.tangent_stiffness(&q1, &v1, end)?;
+                let hs = h * self.dt * stiffness.0.sqrt();
+                if hs <= STIFF_LIMIT {
+                    Ok(iterations)
+                } else if deeper {
+                    Err(None)
+                } else {
+                    return Err(too_stiff(pf, stiffness, h * self.dt, depth));
+                }
+            }
+            Ok(iterations) => Ok(iterations),
+            Err(error) if retriable(&error) && deeper => Err(None),
+            Err(error) => Err(Some(error)),
+        };
         match attempt {
             Ok(iterations) => {
                 self.deepest = self.deepest.max(depth);
                 if self.stateful {
-                    let end = t + h * span.dt;
                     pf.commit(&q1, &v1, end, false)?;
                 }
                 q.copy_from_slice(&q1);
                 v.copy_from_slice(&v1);
                 Ok(iterations)
             }
-            Err(error) if retriable(&error) && depth < self.levels.len() => {
+            Err(None) => {
                 let first = self.advance(depth + 1, pf, span, a, (q, v))?;
                 let mid = a + 0.5 * h;
                 let second = self.advance(depth + 1, pf, span, mid, (q, v))?;
                 Ok(first + second)
             }
-            Err(error) => Err(error),
+            Err(Some(error)) => Err(error),
         }
     }
 }
@@ -159,6 +246,8 @@ struct Span<'s> {
     t: f64,
     dt: f64,
     pb: [&'s [f64]; 3],
+    /// The level above which no substep is attempted (the step is known to be too stiff).
+    min_depth: usize,
 }
 
 impl Span<'_> {
@@ -192,6 +281,7 @@ mod tests {
             t: 0.0,
             dt: 0.1,
             pb: [&p0, &dp, &ddp],
+            min_depth: 0,
         };
         let step = |s: f64, m: usize| p0[m] + dp[m] * s + 4.0 * ddp[m] * s * (1.0 - s);
         for (a, h) in [(0.0, 0.5), (0.5, 0.5), (0.25, 0.25), (0.8125, 0.0625)] {

@@ -237,6 +237,17 @@ impl<'a> PseudoForce<'a> {
         &self.space
     }
 
+    /// The modal stiffness the elements' tangents add at `(q, v, t)`, with the element
+    /// adding most ([`ElementSpace::tangent_stiffness`] against this background).
+    pub fn tangent_stiffness(
+        &mut self,
+        q: &[f64],
+        v: &[f64],
+        t: f64,
+    ) -> Result<(f64, usize), CoreError> {
+        self.space.tangent_stiffness(self.k, q, v, t)
+    }
+
     /// The element space, to evaluate the elements in it.
     pub(in super::super) fn space_mut(&mut self) -> &mut ElementSpace<'a> {
         &mut self.space
