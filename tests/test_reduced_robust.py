@@ -161,50 +161,85 @@ def test_shear_frame_with_devices(n, level, modes) -> None:
 def test_the_cause_one_oscillator() -> None:
     """The pseudo-force step on one oscillator (zeta 0.05) with a linear element of `ratio`
     times its stiffness as a pseudo-force: unstable at intermediate omega dt, stable when the
-    oscillator is resolved (omega dt <= 1, ratio 10) or stiff (omega dt >= 4, any ratio)."""
+    oscillator is resolved (omega dt <= 1, ratio 10) or stiff (omega dt >= 4, any ratio).
+    An element at least twice the background's stiffness is watched by the stiffness check
+    (docs/nonlinear.md, "Stiff elements"): its step is subdivided, or the run stops."""
 
-    def radius(h: float, ratio: float) -> float:
+    def radius(h: float, ratio: float, subdivisions: int = 4) -> float:
         s = duhamel.System(np.eye(1), np.eye(1), zeta=0.05).add(E.Spring(0, k=ratio))
-        lam = amplification_eigenvalues(s, duhamel.Semianalytic(linear_parts="pseudo-force"), h)
+        integ = duhamel.Semianalytic(linear_parts="pseudo-force", subdivisions=subdivisions)
+        lam = amplification_eigenvalues(s, integ, h)
         return float(np.abs(lam).max())
 
-    assert radius(2.5, 1.0) > 1.2
-    assert radius(1.5, 10.0) > 2.0
+    assert radius(2.5, 1.0) > 1.2  # below the check's ratio 2: the plain step, unstable
+    with pytest.raises(duhamel.SolverError) as err:  # the plain step would be (2.15)
+        radius(1.5, 10.0, subdivisions=0)
+    assert err.value.reason == "stiffness" and "element 0" in str(err.value)
+    assert radius(1.5, 10.0) < 1.0  # subdivided by the check
     assert radius(1.0, 10.0) < 1.0
-    for h in (4.0, 10.0, 100.0):
-        assert radius(h, 1e4) < 1.0
+    for h in (4.0, 10.0, 100.0):  # stable, or stopped by the check (never silently wrong)
+        try:
+            assert radius(h, 1e4) < 1.0
+        except duhamel.SolverError as exc:
+            assert exc.reason == "stiffness"
 
 
 def test_the_cause_on_the_reduced_basis(monkeypatch) -> None:
     """The issue's 120-dof chain, k3 = 1e14, 10 modes: its four correction coordinates sit
     at omega dt = 1.6-2.8; at the springs' largest tangent before the divergence (1.35e6)
     their stiffness ratios k_t phi_d^2 / omega^2 are 0.27-1.5, where one oscillator's step
-    is unstable. Stepped at dt they diverge (the run stops), resolved in time (3 internal
-    steps, omega dt <= 0.94) they do not."""
+    is unstable. Resolved in time (3 internal steps, omega dt <= 0.94) they are stable.
+    Stepped at dt (the rule switched off), the stiffness check stops the run where the
+    springs dominate the coordinates they load, or subdivides those steps: either way no
+    divergence goes unseen, and the subdivided run agrees with the resolved one."""
     import duhamel._engine.modal as modal
     from duhamel._engine.correction import enriched
 
     s = chain(120, 1e14)
     _, omega = enriched(s, s.modal(10))
     assert np.allclose(omega * DT, [1.64, 2.10, 2.30, 2.81], atol=0.01)
-    sol = duhamel.solve(s, duhamel.Semianalytic(modes=10), t_end=T_END, dt=DT)
-    assert sol.stats.substeps == 3
+    resolved = duhamel.solve(s, duhamel.Semianalytic(modes=10), t_end=T_END, dt=DT)
+    assert resolved.stats.substeps == 3
     monkeypatch.setattr(modal, "substeps", lambda omega, dt: 1)
     with pytest.raises(duhamel.SolverError) as err:
-        duhamel.solve(s, duhamel.Semianalytic(modes=10), t_end=T_END, dt=DT)
-    assert err.value.reason == "convergence" and 0.5 < err.value.time < 0.7
-    y = err.value.partial.x[:, list(springs(120))]
-    early = np.abs(y[err.value.partial.t < 0.44]).max()
-    assert np.abs(y).max() > 10 * early  # it diverged before Newton failed
-    # the error says what was tried and which coordinate diverged
-    message = str(err.value)
-    assert "retried in halves down to dt/16" in message
-    assert "a static-correction coordinate, omega dt = 2." in message
-    assert "more `max_iter` does not" in message
-    # and the partial solution's stats count the retries: step 116 was rescued by halving
-    # (without subdivisions the run stops there), step 117 was not
-    stats = err.value.partial.stats
-    assert (stats.subdivided_steps, stats.subdivision_depth) == (2, 4)
+        duhamel.solve(s, duhamel.Semianalytic(modes=10, subdivisions=0), t_end=T_END, dt=DT)
+    assert err.value.reason == "stiffness" and 0.2 < err.value.time < 0.7
+    assert "too stiff for the step" in str(err.value)
+    halved = duhamel.solve(s, duhamel.Semianalytic(modes=10), t_end=T_END, dt=DT)
+    assert halved.stats.subdivided_steps > 0
+    # both within 3 % of the full model at dt/16 at the springs (measured 2.4 % and 1.3 %)
+    full = duhamel.solve(s, duhamel.Semianalytic(), t_end=T_END, dt=DT / 16, save_every=16)
+    cols = list(springs(120))
+    peak = np.abs(full.x[:, cols]).max()
+    for sol in (resolved, halved):
+        assert np.abs(sol.x[:, cols] - full.x[:, cols]).max() < 0.03 * peak
+
+
+def test_a_failed_run_says_what_it_tried_and_which_coordinate_diverged() -> None:
+    """The note appended to a convergence failure of a run with elements."""
+    from types import SimpleNamespace
+
+    from duhamel._engine.modal import failure_note
+
+    t = np.arange(40)
+    q = np.ones((40, 3))
+    q[30:, 2] = np.exp(0.5 * (t[30:] - 29))  # coordinate 2 diverges at the end
+    error = SimpleNamespace(kind="convergence", step=117)
+    note = failure_note(
+        error, SimpleNamespace(q=q), forces=True, route="pseudo-force",
+        omega=np.array([10.0, 100.0, 420.0]), correction=np.array([420.0]),
+        subdivisions=4, dt=5e-3, sub=3,
+    )  # fmt: skip
+    assert "3 internal steps per step" in note
+    assert "retried in halves down to dt/16" in note
+    assert "modal coordinate 2 (a static-correction coordinate, omega dt = 2.1)" in note
+    assert "more `max_iter` does not" in note
+    # no note without elements, or for another kind of failure
+    assert failure_note(error, None, forces=False, route="pseudo-force", omega=q[0],
+                        correction=q[0], subdivisions=4, dt=1.0, sub=1) == ""  # fmt: skip
+    other = SimpleNamespace(kind="callback", step=3)
+    assert failure_note(other, None, forces=True, route="pseudo-force", omega=q[0],
+                        correction=q[0], subdivisions=4, dt=1.0, sub=1) == ""  # fmt: skip
 
 
 def test_the_substep_rule() -> None:
