@@ -175,6 +175,8 @@ def substeps(omega: Array, dt: float) -> int:
     ``omega dt >> 4``. The reduced model stays cheap, so its correction coordinates are
     resolved in time instead: the smallest count of internal steps that leaves none of them
     in ``(RESOLVED, STIFF)``."""
+    if len(omega) == 0:  # no correction coordinate: the common case, at once
+        return 1
     h = np.asarray(omega, dtype=np.float64) * dt
     n = 1
     while n < MAX_SUBSTEPS:

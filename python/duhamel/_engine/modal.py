@@ -57,10 +57,19 @@ class ModalSetup:
     threads: int | None
     _outputs: dict[Any, Outputs] = field(default_factory=dict)
     _zeros: NDArray[np.float64] | None = None
+    _substeps: dict[float, int] = field(default_factory=dict)
 
     @property
     def n_modes(self) -> int:
         return int(self.route.basis.n_modes)
+
+    def substeps(self, dt: float) -> int:
+        """Internal steps per step `dt` (:func:`duhamel._engine.correction.substeps`), made
+        once per step."""
+        sub = self._substeps.get(dt)
+        if sub is None:
+            sub = self._substeps[dt] = substeps(self.route.correction, dt)
+        return sub
 
     def initial(self, value: Any, name: str) -> NDArray[np.float64]:
         """Modal coordinates of an initial state: ``Phi^T M x`` (zeros for None)."""
@@ -141,7 +150,7 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
     state = (prep.initial(opts.x0, "x0"), prep.initial(opts.v0, "v0"))
     # Static-correction coordinates under nonlinear elements are resolved in time: `sub`
     # internal steps per step, the saved instants unchanged.
-    sub = substeps(route.correction, opts.dt)
+    sub = prep.substeps(opts.dt)
     grid = dispatch.grid(
         opts.t0, opts.dt / sub, opts.n_steps * sub, opts.save_every * sub, 0, prep.threads
     )
