@@ -62,11 +62,34 @@ const SMALL: usize = 32;
 pub fn solve_in_place(n: usize, a: &[f64], b: &mut [f64]) -> bool {
     debug_assert_eq!(a.len(), n * n);
     debug_assert_eq!(b.len(), n);
+    // The stack copy sized to the system: zeroing a 32 x 32 buffer for a one-mode step
+    // was 15 % of a one-dof hysteretic step (perf, issue 23).
+    if n <= 4 {
+        let mut m = [0.0; 16];
+        m[..n * n].copy_from_slice(a);
+        return eliminate(n, &mut m[..n * n], b);
+    }
     if n <= SMALL {
         let mut m = [0.0; SMALL * SMALL];
         m[..n * n].copy_from_slice(a);
         return eliminate(n, &mut m[..n * n], b);
     }
+    lu_solve(n, a, b)
+}
+
+/// [`solve_in_place`] for a caller that rebuilds `a` before its next solve: the small
+/// systems are eliminated in `a` itself (no copy); `a` is left overwritten by the factors.
+pub fn solve_overwriting(n: usize, a: &mut [f64], b: &mut [f64]) -> bool {
+    debug_assert_eq!(a.len(), n * n);
+    debug_assert_eq!(b.len(), n);
+    if n <= SMALL {
+        return eliminate(n, a, b);
+    }
+    lu_solve(n, a, b)
+}
+
+/// faer's LU with partial pivoting, for the systems above [`SMALL`].
+fn lu_solve(n: usize, a: &[f64], b: &mut [f64]) -> bool {
     let m = Mat::from_fn(n, n, |i, j| a[i * n + j]);
     let lu = m.partial_piv_lu();
     let rhs = Mat::from_fn(n, 1, |i, _| b[i]);

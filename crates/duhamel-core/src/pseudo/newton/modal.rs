@@ -6,7 +6,7 @@ use super::super::force::{At, Jacobian, PseudoForce};
 use super::super::scheme::{StepInput, Unknown};
 use super::damping::backtrack;
 use super::setting::Setting;
-use crate::dense::solve_in_place;
+use crate::dense::solve_overwriting;
 use crate::error::CoreError;
 
 /// Which nodes to evaluate.
@@ -331,7 +331,7 @@ impl Modal {
             for (d, r) in delta.iter_mut().zip(&self.res) {
                 *d = -r;
             }
-            if !solve_in_place(m, &self.mat, delta) {
+            if !solve_overwriting(m, &mut self.mat, delta) {
                 break;
             }
             self.get_z(set, z0);
