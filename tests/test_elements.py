@@ -398,9 +398,11 @@ def test_amplification_matrix_b_is_eq22():
     np.testing.assert_allclose(amplification("b", DT4), eq22, rtol=1e-13, atol=1e-14)
 
 
-def _damper_run(scheme, quadrature, n_steps=N4, dt=DT4):
+def _damper_run(scheme, quadrature, n_steps=N4, dt=DT4, growth_limit=None):
+    """The raw scheme: without the growth guard (which stops the unstable runs early, see
+    test_growth_guard_stops_scheme_a), so that the growth rate can be measured."""
     s = duhamel.System(np.eye(1), np.array([[W4**2]])).add(E.Damper(0, c=2 * Z4 * W4))
-    opt = duhamel.Semianalytic(scheme=scheme, quadrature=quadrature)
+    opt = duhamel.Semianalytic(scheme=scheme, quadrature=quadrature, growth_limit=growth_limit)
     return duhamel.solve(s, opt, t_end=n_steps * dt, dt=dt, x0=[1.0])
 
 
@@ -458,6 +460,19 @@ def test_scheme_a_overflows_to_solver_error():
     assert err.reason == "nonfinite"
     assert err.partial.t[-1] < err.time
     assert np.all(np.isfinite(err.partial.x))
+
+
+def test_growth_guard_stops_scheme_a():
+    """With the guard (the default), scheme a's growth at its spectral radius 1.1 per step
+    stops once the energy passes 100 times the initial one (a passive damper supplies
+    nothing): at step ln(100) / (2 ln 1.1) = 24 or soon after, not at the overflow (step
+    ~7,400)."""
+    with pytest.raises(duhamel.SolverError) as info:
+        _damper_run("a", "trapezoid", n_steps=10_000, growth_limit=100.0)
+    err = info.value
+    assert err.reason == "growth"
+    assert 20 <= err.step <= 60, err.step
+    assert np.abs(err.partial.x).max() < 11.0
 
 
 def test_scheme_c_unstable_window():

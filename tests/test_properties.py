@@ -196,7 +196,7 @@ def time_limit() -> Iterator[None]:
 # The contract
 # --------------------------------------------------------------------------------------------
 
-REASONS = {"nonfinite", "convergence", "callback", "stiffness"}
+REASONS = {"nonfinite", "convergence", "callback", "stiffness", "growth"}
 
 
 class _NoInternalError(Exception):

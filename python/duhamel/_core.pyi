@@ -223,7 +223,8 @@ class Grid:
 class RunSpec:
     """One run of a :class:`ModalModel`: its grid and modal state ``q0``, ``v0``; on the
     first-order route the coordinates `eta0` (``Re | Im``); the elements' committed
-    variables of a continued run, `element_state`."""
+    variables of a continued run, `element_state`, and its growth guard's bounds,
+    `guard_state`."""
 
     def __new__(
         cls,
@@ -232,6 +233,7 @@ class RunSpec:
         v0: Array,
         eta0: Array | None = None,
         element_state: Array | None = None,
+        guard_state: Array | None = None,
     ) -> Self: ...
 
 @final
@@ -246,6 +248,7 @@ class Options:
         max_iter: int,
         solver: Literal["auto", "newton", "modal-newton"],
         subdivisions: int,
+        growth_limit: float | None = None,
     ) -> Self: ...
 
 @final
@@ -267,10 +270,16 @@ class PseudoForceRoute:
 @final
 class Corrector:
     """The elements' corrector on the first-order background: `back` (``2 r x 2 m``) maps
-    ``[Re eta | Im eta]`` to ``[q | q']``; Newton `tol` and `max_iter`."""
+    ``[Re eta | Im eta]`` to ``[q | q']``; Newton `tol` and `max_iter`; the growth guard's
+    `growth_limit` (None: off)."""
 
     def __new__(
-        cls, elements: Sequence[Element], back: Array, tol: float, max_iter: int
+        cls,
+        elements: Sequence[Element],
+        back: Array,
+        tol: float,
+        max_iter: int,
+        growth_limit: float | None = None,
     ) -> Self: ...
 
 @final
@@ -432,6 +441,8 @@ class RunResult:
     def element_widths(self) -> list[int] | None: ...
     @property
     def element_state(self) -> list[float] | None: ...
+    @property
+    def guard_state(self) -> list[float] | None: ...
     @property
     def newton_iterations(self) -> int: ...
     @property

@@ -39,8 +39,11 @@ class SolverError(DuhamelError, RuntimeError):
         element reached a state it is not defined at: a journal at its bearing's wall),
         ``"stiffness"`` (an element's tangent stiffness puts the semi-analytic step beyond its
         stability limit even in ``2**subdivisions`` substeps; the message names the element
-        by its index and dofs, the limit and the step that would do, see docs/nonlinear.md) or
-        ``"callback"`` (a Python load or element function failed).
+        by its index and dofs, the limit and the step that would do, see docs/nonlinear.md),
+        ``"growth"`` (the response's energy outgrew by ``growth_limit`` times what the
+        initial state and the loads can give a passive model: an unstable step, or a model
+        that gains energy by itself) or ``"callback"`` (a Python load or element function
+        failed).
     step : int or None
         The step that could not be completed (steps count from 1: step ``n`` ends at
         ``t0 + n dt``), as the engine reports it.

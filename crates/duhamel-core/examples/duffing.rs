@@ -49,8 +49,10 @@ fn main() {
                 max_iter: 25,
                 solver,
                 subdivisions: 4,
+                growth_limit: f64::INFINITY,
             },
             element_state: None,
+            guard_state: None,
         };
         let start = std::time::Instant::now();
         let (history, stats) = integrate(&problem, None, &mut Unattended).expect("runs");

@@ -69,6 +69,16 @@ pub enum CoreError {
         /// The last saved time kept, None when nothing is.
         last_good_time: Option<f64>,
     },
+    /// The response's energy grew far beyond what the initial state and the loads supplied
+    /// while staying finite (an unstable step; see [`crate::pseudo::GrowthGuard`]).
+    #[error("{message} at t = {time} (step {step}); {}", kept(last_good_time))]
+    Growth {
+        message: String,
+        time: f64,
+        step: usize,
+        /// The last saved time kept, None when nothing is.
+        last_good_time: Option<f64>,
+    },
     /// The caller asked the run to stop (Ctrl-C): the history up to `time` is kept.
     #[error(
         "interrupted at t = {time} (before step {step}); the history up to t = {time} is kept"
@@ -93,6 +103,7 @@ impl CoreError {
             | CoreError::Callback { step, .. }
             | CoreError::OutOfDomain { step, .. }
             | CoreError::TooStiff { step, .. }
+            | CoreError::Growth { step, .. }
             | CoreError::Interrupted { step, .. } => Some(*step),
             _ => None,
         }
@@ -141,6 +152,12 @@ impl CoreError {
                 last_good_time: kept_time,
             },
             CoreError::TooStiff { message, .. } => CoreError::TooStiff {
+                message,
+                time: end,
+                step,
+                last_good_time: kept_time,
+            },
+            CoreError::Growth { message, .. } => CoreError::Growth {
                 message,
                 time: end,
                 step,

@@ -56,6 +56,9 @@ pub struct History {
     /// The elements' committed internal variables at the end of the run (hysteretic
     /// elements; what a continued run starts from).
     pub element_state: Option<Vec<f64>>,
+    /// The growth guard's accumulated bounds at the end of the run
+    /// ([`crate::pseudo::GrowthGuard::state`]; what a continued run starts from), if guarded.
+    pub guard_state: Option<Vec<f64>>,
 }
 
 /// The elements' local displacements, velocities and restoring forces at the saved

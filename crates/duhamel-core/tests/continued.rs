@@ -44,8 +44,10 @@ fn run(
             max_iter: 25,
             solver: Solver::Auto,
             subdivisions: 4,
+            growth_limit: f64::INFINITY,
         },
         element_state: None,
+        guard_state: None,
     };
     integrate(&problem, None, &mut Unattended).expect("runs").0
 }

@@ -713,8 +713,10 @@ fn bilinear_sdof(dt: f64) -> f64 {
             max_iter: 50,
             solver: Solver::Auto,
             subdivisions: 4,
+            growth_limit: f64::INFINITY,
         },
         element_state: None,
+        guard_state: None,
     };
     let history = integrate(&problem, None, &mut Unattended).expect("runs").0;
     *history.q().last().unwrap()

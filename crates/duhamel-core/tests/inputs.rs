@@ -115,6 +115,8 @@ fn first_order_elements_check_the_mode_shapes() {
         tol: 1e-9,
         max_iter: 10,
         element_state: None,
+        guard_state: None,
+        growth_limit: f64::INFINITY,
     };
     let err = integrate(
         &problem(&k, &zeros),

@@ -30,29 +30,34 @@ pub(crate) fn uncoupled(
 
 /// The elements' corrector on the first-order background: the elements (`_core.Element`s),
 /// `back` (`[Re eta | Im eta] @ back = [q | q']`, `2 r x 2 m`), and the Newton tolerance and
-/// iteration limit of the step equation (scheme b, trapezoid).
+/// iteration limit of the step equation (scheme b, trapezoid), and the growth guard's
+/// `growth_limit` (None: off).
 #[pyclass(frozen, name = "Corrector", module = "duhamel._core")]
 pub(crate) struct Corrector {
     elements: Vec<Py<ElementSpec>>,
     back: Vec<f64>,
     tol: f64,
     max_iter: usize,
+    growth_limit: f64,
 }
 
 #[pymethods]
 impl Corrector {
     #[new]
+    #[pyo3(signature = (elements, back, tol, max_iter, growth_limit=None))]
     fn new(
         elements: Vec<Py<ElementSpec>>,
         back: &Bound<'_, PyAny>,
         tol: f64,
         max_iter: usize,
+        growth_limit: Option<f64>,
     ) -> PyResult<Self> {
         Ok(Corrector {
             elements,
             back: matrix_of(back, "back", None, None)?.0,
             tol,
             max_iter,
+            growth_limit: crate::pseudo::growth_limit_of(growth_limit)?,
         })
     }
 }
@@ -184,6 +189,8 @@ pub(crate) fn first_order(
         tol: c.tol,
         max_iter: c.max_iter,
         element_state: job.run.element_state.as_deref(),
+        guard_state: job.run.guard_state.as_deref(),
+        growth_limit: c.growth_limit,
     });
     let problem = job.problem;
     run(py, forcing, Some(&built), progress, |f, control| {

@@ -265,10 +265,6 @@ impl Element for PyElement {
     fn has_tangent(&self) -> bool {
         self.jacobian.is_some()
     }
-
-    fn native(&self) -> bool {
-        false
-    }
 }
 
 /// A shared Python element (the run keeps a handle to collect its exception).
@@ -313,9 +309,5 @@ impl Element for ArcElement {
     }
     fn has_tangent(&self) -> bool {
         self.0.has_tangent()
-    }
-
-    fn native(&self) -> bool {
-        self.0.native()
     }
 }

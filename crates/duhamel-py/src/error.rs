@@ -90,6 +90,12 @@ impl RunError {
                 last_good_time,
                 ..
             } => ("stiffness", time, step, last_good_time, None, None),
+            CoreError::Growth {
+                time,
+                step,
+                last_good_time,
+                ..
+            } => ("growth", time, step, last_good_time, None, None),
             CoreError::Interrupted { time, step } => {
                 ("interrupted", time, step, Some(time), None, None)
             }
@@ -128,6 +134,9 @@ impl RunError {
                 last_good_time: t, ..
             }
             | CoreError::TooStiff {
+                last_good_time: t, ..
+            }
+            | CoreError::Growth {
                 last_good_time: t, ..
             } => *t = last_good_time,
             _ => {}

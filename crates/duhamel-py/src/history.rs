@@ -58,6 +58,10 @@ pub(crate) struct RunResult {
     /// starts from).
     #[pyo3(get)]
     element_state: Option<Vec<f64>>,
+    /// The growth guard's accumulated bounds at the end (what a continued run starts from),
+    /// None when the run was not guarded.
+    #[pyo3(get)]
+    guard_state: Option<Vec<f64>>,
     /// Newton iterations, closed-form steps and factorisations over the run.
     #[pyo3(get)]
     newton_iterations: usize,
@@ -111,6 +115,7 @@ impl RunResult {
             element_force: None,
             element_widths: None,
             element_state: None,
+            guard_state: None,
             newton_iterations: 0,
             closed_form_steps: 0,
             factorizations: 0,
@@ -150,6 +155,7 @@ impl RunResult {
             r.element_widths = Some(e.widths);
         }
         r.element_state = h.element_state;
+        r.guard_state = h.guard_state;
         Ok(r)
     }
 

@@ -153,6 +153,7 @@ impl ModalModel {
                         route: route.get(),
                         problem,
                         element_state: run.element_state.as_deref(),
+                        guard_state: run.guard_state.as_deref(),
                     },
                     forcing,
                     progress,

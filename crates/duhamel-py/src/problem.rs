@@ -74,7 +74,8 @@ impl Grid {
 /// One run of a prepared modal model (`duhamel._core.ModalModel.run`): its grid and the
 /// state it starts from — modal coordinates and velocities `q0`, `v0`; on the first-order
 /// route optionally the first-order coordinates `eta0` (`Re | Im`, else computed by the
-/// caller); the elements' committed variables of a continued run, `element_state`.
+/// caller); the elements' committed variables of a continued run, `element_state`, and its
+/// growth guard's bounds, `guard_state` (`RunResult.guard_state` of the run before).
 #[pyclass(frozen, name = "RunSpec", module = "duhamel._core")]
 pub(crate) struct RunSpec {
     pub(crate) grid: Grid,
@@ -82,18 +83,20 @@ pub(crate) struct RunSpec {
     pub(crate) v0: Vec<f64>,
     pub(crate) eta0: Option<Vec<f64>>,
     pub(crate) element_state: Option<Vec<f64>>,
+    pub(crate) guard_state: Option<Vec<f64>>,
 }
 
 #[pymethods]
 impl RunSpec {
     #[new]
-    #[pyo3(signature = (grid, q0, v0, eta0=None, element_state=None))]
+    #[pyo3(signature = (grid, q0, v0, eta0=None, element_state=None, guard_state=None))]
     fn new(
         grid: &Grid,
         q0: &Bound<'_, PyAny>,
         v0: &Bound<'_, PyAny>,
         eta0: Option<&Bound<'_, PyAny>>,
         element_state: Option<&Bound<'_, PyAny>>,
+        guard_state: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         Ok(RunSpec {
             grid: *grid,
@@ -103,6 +106,7 @@ impl RunSpec {
             element_state: element_state
                 .map(|e| vec_of(e, "element_state"))
                 .transpose()?,
+            guard_state: guard_state.map(|e| vec_of(e, "guard_state")).transpose()?,
         })
     }
 }

@@ -17,10 +17,21 @@ use crate::history::RunResult;
 use crate::loads::PyForcing;
 use crate::mass::Mass;
 
+/// The growth guard's limit (None: no guard, infinite in the core), checked: above 1.
+pub(crate) fn growth_limit_of(limit: Option<f64>) -> PyResult<f64> {
+    match limit {
+        None => Ok(f64::INFINITY),
+        Some(x) if x.is_finite() && x > 1.0 => Ok(x),
+        Some(x) => Err(PyValueError::new_err(format!(
+            "`growth_limit` must be a finite number above 1 (or None: no guard), got {x}"
+        ))),
+    }
+}
+
 /// The settings of a `duhamel.Semianalytic` step equation, checked when made: `scheme`
 /// ("a", "b", "c"), `quadrature` ("trapezoid", "parabolic", "exact"), Newton `tol` and
-/// `max_iter`, `solver` ("auto", "newton", "modal-newton") and the levels of automatic step
-/// `subdivisions`.
+/// `max_iter`, `solver` ("auto", "newton", "modal-newton"), the levels of automatic step
+/// `subdivisions` and the growth guard's `growth_limit` (None: off).
 #[pyclass(frozen, name = "Options", module = "duhamel._core")]
 #[derive(Clone, Copy)]
 pub(crate) struct Options(pub(crate) CoreOptions);
@@ -28,6 +39,7 @@ pub(crate) struct Options(pub(crate) CoreOptions);
 #[pymethods]
 impl Options {
     #[new]
+    #[pyo3(signature = (scheme, quadrature, tol, max_iter, solver, subdivisions, growth_limit=None))]
     fn new(
         scheme: &str,
         quadrature: &str,
@@ -35,7 +47,9 @@ impl Options {
         max_iter: usize,
         solver: &str,
         subdivisions: usize,
+        growth_limit: Option<f64>,
     ) -> PyResult<Self> {
+        let growth_limit = growth_limit_of(growth_limit)?;
         let scheme = match scheme {
             "a" => Scheme::A,
             "b" => Scheme::B,
@@ -73,6 +87,7 @@ impl Options {
             max_iter,
             solver,
             subdivisions,
+            growth_limit,
         }))
     }
 
@@ -134,6 +149,7 @@ pub(crate) struct PseudoRun<'a> {
     pub(crate) route: &'a PseudoForceRoute,
     pub(crate) problem: ModalProblem<'a>,
     pub(crate) element_state: Option<&'a [f64]>,
+    pub(crate) guard_state: Option<&'a [f64]>,
 }
 
 /// Integrates a modal problem whose pseudo-force (elements, couplings, mass law) is solved
@@ -173,6 +189,7 @@ pub(crate) fn run(
         mass: route.mass.as_ref().map(|m| &m.get().0),
         options: route.options,
         element_state: job.element_state,
+        guard_state: job.guard_state,
     };
     drive(py, forcing, Some(&built), progress, |f, control| {
         pseudo::integrate(&problem, f, control)

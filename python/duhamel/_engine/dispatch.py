@@ -44,8 +44,16 @@ def _dense(a: Any) -> Any:
     return None if a is None else _core.Matrix.dense(_c(a))
 
 
-def options(integrator: Any) -> Any:
-    """The step-equation settings of a :class:`duhamel.Semianalytic`."""
+def growth_limit(route: Plan | None, integrator: Any) -> float | None:
+    """The growth guard's limit of a run: the integrator's, when the route's pseudo-forces are
+    passive (``Plan.passive``; otherwise, or without a route, the guard's bound does not
+    hold: None)."""
+    return integrator.growth_limit if route is not None and route.passive else None
+
+
+def options(integrator: Any, route: Plan | None = None) -> Any:
+    """The step-equation settings of a :class:`duhamel.Semianalytic` on `route` (None: no
+    growth guard)."""
     return _core.Options(
         integrator.scheme,
         integrator.quadrature,
@@ -53,6 +61,7 @@ def options(integrator: Any) -> Any:
         int(integrator.max_iter),
         integrator.solver,
         int(integrator.subdivisions),
+        growth_limit(route, integrator),
     )
 
 
@@ -73,7 +82,11 @@ def modal_model(route: Plan, loads: list[Any], integrator: Any, mass: Any) -> An
         corrector = None
         if route.elements:
             corrector = _core.Corrector(
-                route.elements, _c(fo.back), float(integrator.tol), int(integrator.max_iter)
+                route.elements,
+                _c(fo.back),
+                float(integrator.tol),
+                int(integrator.max_iter),
+                growth_limit(route, integrator),
             )
         core_route = _core.FirstOrderRoute(
             _c(fo.lam.real), _c(fo.lam.imag), _c(fo.gain.real), _c(fo.gain.imag), corrector
@@ -81,7 +94,12 @@ def modal_model(route: Plan, loads: list[Any], integrator: Any, mass: Any) -> An
     elif route.route == "pseudo-force":
         c = route.couplings
         core_route = _core.PseudoForceRoute(
-            route.elements, options(integrator), _dense(c.k), _dense(c.c), scaled(c.scaled), mass
+            route.elements,
+            options(integrator, route),
+            _dense(c.k),
+            _dense(c.c),
+            scaled(c.scaled),
+            mass,
         )
     return _core.ModalModel(_c(basis.omega2), _c(basis.c), _c(basis.phi), loads, core_route)
 
@@ -106,9 +124,11 @@ def run_spec(
     state: tuple[NDArray, NDArray],
     element_state: NDArray | None = None,
     eta: NDArray | None = None,
+    guard_state: NDArray | None = None,
 ) -> Any:
     """One run from the modal `state` ``(q0, v0)``; on the first-order route from `eta`
-    (``Re | Im``, computed from the state when None)."""
+    (``Re | Im``, computed from the state when None); a continued run's growth guard from
+    `guard_state` (the run before's ``RunResult.guard_state``)."""
     q0, v0 = state
     if route.route == "first-order" and eta is None:
         eta = eta0(route, q0, v0)
@@ -118,6 +138,7 @@ def run_spec(
         v0,
         None if eta is None else _c(eta),
         None if element_state is None else _c(element_state),
+        None if guard_state is None else _c(guard_state),
     )
 
 

@@ -67,6 +67,11 @@ class Plan:
         The circular frequencies of the static-correction coordinates that carry nonlinear
         elements as pseudo-forces (empty without them): a run resolves them in time
         (``duhamel._engine.correction.substeps``).
+    passive : bool
+        Whether everything beyond the background only stores or dissipates energy (passive
+        elements, symmetric positive semi-definite couplings, gyroscopic terms; no mass
+        law): the growth guard of `Semianalytic` then watches the run (see
+        :func:`passive`).
     """
 
     route: str
@@ -77,6 +82,7 @@ class Plan:
     elements: list[Any]
     linear: tuple[Any, ...] = ()
     correction: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0), compare=False)
+    passive: bool = False
 
 
 def modal_loads(
@@ -90,7 +96,14 @@ def modal_loads(
             fns.append(item.fn)
             continue
         for physical, kind, params in item._specs(system):
-            specs.append(load(physical if phi is None else phi.T @ physical, kind, params))
+            pattern = physical if phi is None else phi.T @ physical
+            if phi is not None and not np.all(np.isfinite(pattern)):
+                raise ValueError(
+                    f"the load {type(item).__name__} projects on the modes beyond the double "
+                    "range (a huge amplitude on tiny masses: the mass-normalised modes scale "
+                    "as 1/sqrt(`M`)): check its amplitude, `M` and the model's units"
+                )
+            specs.append(load(pattern, kind, params))
     return specs, fns
 
 
@@ -168,7 +181,47 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         if modes is not None:
             route = "first-order"
     coupling = None if not coupled else ("exact" if modes is not None else "pseudo-force")
-    return Plan(route, basis, couplings, modes, coupling, elements, bg.linear, correction)
+    quiet = passive(system, couplings, basis)
+    return Plan(route, basis, couplings, modes, coupling, elements, bg.linear, correction, quiet)
+
+
+def _semidefinite(m: NDArray | None, *, symmetric: bool) -> bool:
+    """Whether `m` is None, or its symmetric part positive semi-definite (and `m` itself
+    symmetric when `symmetric`), to round-off."""
+    if m is None:
+        return True
+    sym = 0.5 * (m + m.T)
+    scale = float(np.abs(m).max(initial=0.0))
+    if scale == 0.0:
+        return True
+    if symmetric and float(np.abs(m - m.T).max()) > 1e-10 * scale:
+        return False
+    return bool(np.linalg.eigvalsh(sym).min() >= -1e-10 * scale)
+
+
+def passive(system: System, couplings: Couplings, basis: ModalBasis) -> bool:
+    """Whether the pseudo-forces of `system` on the background of `basis` can only store or
+    dissipate energy: a background without negative modal damping, no mass law (its change
+    does work), every element passive (``Element._passive``), constant
+    couplings with a symmetric positive semi-definite stiffness and a positive
+    semi-definite damping (symmetric part), speed-scaled couplings without stiffness and
+    with skew-symmetric (gyroscopic) damping. Then the growth guard's bound holds."""
+    if system.mass_law is not None or bool(np.any(np.asarray(basis.c) < 0.0)):
+        return False
+    if not all(e._passive() for e in system.elements if not isinstance(e, LinearCoupling)):
+        return False
+    if not _semidefinite(couplings.k, symmetric=True):
+        return False
+    if not _semidefinite(couplings.c, symmetric=False):
+        return False
+    for spec in couplings.scaled:
+        if spec.k is not None and np.any(spec.k != 0.0):
+            return False
+        if spec.c is not None and np.abs(spec.c + spec.c.T).max(initial=0.0) > 1e-10 * np.abs(
+            spec.c
+        ).max(initial=0.0):
+            return False
+    return True
 
 
 def _first_order(

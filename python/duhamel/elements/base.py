@@ -36,6 +36,14 @@ class Element:
     def _spec(self) -> tuple:  # pragma: no cover - abstract
         raise NotImplementedError
 
+    def _passive(self) -> bool:
+        """Whether the element only stores or dissipates the work done on it (a spring with
+        a potential bounded below by 0, a hysteretic or viscous device, a stop): the growth
+        guard of `duhamel.Semianalytic` then bounds the response's energy by what the loads
+        supply. False unless an element says so (a Python element, a journal bearing, a
+        rub with friction on a spinning shaft can supply energy)."""
+        return False
+
     def _linear(self) -> tuple[tuple[int, ...], NDArray[np.float64]] | None:
         """The element's linear stiffness part ``(dofs, k0)``: the local matrix ``k0``
         (positive semidefinite, at the global `dofs`) that the linear background takes over

@@ -55,6 +55,11 @@ class Polynomial(Element):
     def _validate(self, system: Model) -> None:
         dof_index(self.dof, "dof", system.n_dof)
 
+    def _passive(self) -> bool:
+        # a potential bounded below: odd powers with non-negative coefficients only
+        c = np.asarray(self.coefficients, dtype=np.float64)
+        return bool(np.all(c[0::2] == 0.0) and np.all(c[1::2] >= 0.0))
+
     def _spec(self) -> tuple:
         return ("polynomial", int(self.dof), np.array(self.coefficients, dtype=np.float64))
 
@@ -87,6 +92,9 @@ class Cubic(Element):
     def _validate(self, system: Model) -> None:
         dof_index(self.dof, "dof", system.n_dof)
 
+    def _passive(self) -> bool:
+        return float(self.k3) >= 0.0
+
     def _spec(self) -> tuple:
         return ("polynomial", int(self.dof), np.array([0.0, 0.0, 0.0, float(self.k3)]))
 
@@ -109,6 +117,9 @@ class Spring(Deformation, Element):
     def __post_init__(self) -> None:
         finite_float(self.k, "k")
         finite_float(self.k3, "k3")
+
+    def _passive(self) -> bool:
+        return float(self.k) >= 0.0 and float(self.k3) >= 0.0
 
     def _spec(self) -> tuple:
         j = None if self.j is None else int(self.j)
@@ -138,6 +149,9 @@ class Damper(Deformation, Element):
 
     def __post_init__(self) -> None:
         _nonneg(self.c, "c")
+
+    def _passive(self) -> bool:
+        return float(self.c) >= 0.0
 
     def _spec(self) -> tuple:
         j = None if self.j is None else int(self.j)
@@ -247,6 +261,10 @@ class Contact(TwoAxis, Element):
         for name in ("smoothing", "velocity_smoothing"):
             if finite_float(getattr(self, name), name) <= 0:
                 raise ValueError(f"`{name}` must be positive, got {getattr(self, name)}")
+
+    def _passive(self) -> bool:
+        # friction at a spinning shaft's surface can drive whirl: passive only without it
+        return float(self.friction) == 0.0
 
     def _spec(self) -> tuple:
         return (

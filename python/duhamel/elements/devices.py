@@ -67,6 +67,9 @@ class Bilinear(Deformation, Element):
         positive(self.fy, "fy")
         _alpha(self.alpha)
 
+    def _passive(self) -> bool:
+        return float(self.alpha) >= 0.0
+
     def _spec(self) -> tuple:
         return (
             "bilinear",
@@ -120,6 +123,10 @@ class BoucWen(Deformation, Element):
         for name in ("n", "beta", "gamma"):
             object.__setattr__(self, name, float(getattr(self, name)))
 
+    def _passive(self) -> bool:
+        # the hysteretic loop dissipates for beta >= |gamma| (Bouc-Wen's passivity condition)
+        return float(self.alpha) >= 0.0 and float(self.beta) >= abs(float(self.gamma))
+
     def _spec(self) -> tuple:
         return (
             "bouc_wen",
@@ -169,6 +176,9 @@ class FrictionPendulum(TwoAxis, Element):
         positive(self.weight, "weight")
         positive(self.yield_displacement, "yield_displacement")
 
+    def _passive(self) -> bool:
+        return True
+
     def _spec(self) -> tuple:
         return (
             "friction_pendulum",
@@ -209,6 +219,9 @@ class ViscousDamper(Deformation, Element):
         positive(self.exponent, "exponent")
         positive(self.v0, "v0")
 
+    def _passive(self) -> bool:
+        return True
+
     def _spec(self) -> tuple:
         return (
             "viscous_damper",
@@ -240,6 +253,9 @@ class Gap(Deformation, Element):
     def __post_init__(self) -> None:
         nonneg(self.gap, "gap")
         positive(self.k, "k")
+
+    def _passive(self) -> bool:
+        return True
 
     def _spec(self) -> tuple:
         return ("gap", int(self.i), _j(self.j), float(self.gap), float(self.k))

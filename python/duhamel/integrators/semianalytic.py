@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from duhamel._engine.validate import _int_scalar, positive_int
+from duhamel._engine.validate import _int_scalar, finite_float, positive_int
 from duhamel.integrators.base import Integrator, newton_options
 
 __all__ = ["Semianalytic"]
@@ -112,6 +112,15 @@ class Semianalytic(Integrator):
         with 5 modes, 2e-5 with 5 modes + 4 vectors); the run then has more coordinates
         than `modes` (``stats.modes``). None (default): on when `modes` is given and the
         system has elements; a linear run keeps its plain modal truncation unless True.
+    growth_limit : float or None
+        The growth guard of nonlinear runs on passive models (passive elements, dissipative
+        or gyroscopic couplings, no mass law): the run stops with ``reason="growth"`` when
+        the modal energy of the response exceeds `growth_limit` times the most the initial
+        state ``E0`` and the loads can give such a model, ``(sqrt(E0) + int |p| dt /
+        sqrt(2))**2``: a finite explosion of an unstable step cannot pass as a result
+        (docs/nonlinear.md, "Stiff elements"). Default 100 (ten times the amplitude). None
+        turns it off. Models that can gain energy by themselves (a Python element, a
+        journal bearing, negative damping, a mass law) are not guarded.
 
     Examples
     --------
@@ -119,7 +128,7 @@ class Semianalytic(Integrator):
     >>> duhamel.Semianalytic()
     Semianalytic(modes=None, scheme='b', quadrature='trapezoid', tol=1e-10, max_iter=25, \
 mass_treatment='eliminate', solver='auto', coupling='auto', subdivisions=4, \
-linear_parts='auto', static_correction=None)
+linear_parts='auto', static_correction=None, growth_limit=100.0)
     >>> duhamel.Semianalytic(modes=5, quadrature="exact").quadrature
     'exact'
     """
@@ -135,8 +144,16 @@ linear_parts='auto', static_correction=None)
     subdivisions: int = 4
     linear_parts: str = "auto"
     static_correction: bool | None = None
+    growth_limit: float | None = 100.0
 
     def __post_init__(self) -> None:
+        if self.growth_limit is not None:
+            limit = finite_float(self.growth_limit, "growth_limit")
+            if not limit > 1.0:
+                raise ValueError(
+                    f"`growth_limit` must be a number above 1 (or None: no guard), got {limit}"
+                )
+            object.__setattr__(self, "growth_limit", limit)
         if self.modes is not None:
             object.__setattr__(self, "modes", positive_int(self.modes, "modes"))
         for name, allowed in _CHOICES.items():

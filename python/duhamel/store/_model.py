@@ -37,7 +37,8 @@ class Segment:
     """A segment of a stored run: `n_steps` from grid point `step0` of `grid` (the store's
     grid record, with ``threads``), from `state` (``q | v``, or ``Re eta | Im eta``) and the
     elements' committed variables `element_state`; `outputs` the first-order route's maps,
-    `report` the progress function."""
+    `report` the progress function; `guard_state` the growth guard's bounds carried from the
+    segment before (None: counted from this segment's start, after a resume)."""
 
     grid: dict[str, Any]
     step0: int
@@ -46,6 +47,7 @@ class Segment:
     element_state: NDArray[np.float64] | None
     outputs: Any
     report: Any
+    guard_state: NDArray[np.float64] | None = None
 
 
 @dataclass(frozen=True)
@@ -89,6 +91,8 @@ class Model:
     linear: list[tuple | None] = field(default_factory=list)
     #: The system's dof names (:meth:`duhamel.System.label_dofs`), or None.
     labels: tuple[str, ...] | None = None
+    #: Whether the route's pseudo-forces are passive (``Plan.passive``: the growth guard runs).
+    passive: bool = False
 
     # --- data form -------------------------------------------------------------------------
     def to_tree(self) -> dict[str, Any]:
@@ -126,6 +130,7 @@ class Model:
             self.coupling,
             [element(spec) for spec in self.elements],
             tuple(None if p is None else LinearPart(tuple(p[0]), p[1], p[2]) for p in self.linear),
+            passive=bool(self.passive),
         )
 
     def patterns(self) -> NDArray[np.float64]:
@@ -170,11 +175,18 @@ class Model:
         )  # fmt: skip
         if self.route == "first-order":
             spec = dispatch.run_spec(
-                route, run_grid, (self.q0, self.v0), segment.element_state, eta=state
+                route,
+                run_grid,
+                (self.q0, self.v0),
+                segment.element_state,
+                eta=state,
+                guard_state=segment.guard_state,
             )
         else:
             halves = (np.ascontiguousarray(state[:m]), np.ascontiguousarray(state[m:]))
-            spec = dispatch.run_spec(route, run_grid, halves, segment.element_state)
+            spec = dispatch.run_spec(
+                route, run_grid, halves, segment.element_state, guard_state=segment.guard_state
+            )
         return core.run(spec, None, segment.outputs, None, segment.report)
 
     def element_objects(self) -> list[Any]:
@@ -289,6 +301,7 @@ def capture(
         ],
         linear=[None if p is None else (p.dofs, p.k0, p.c0) for p in run.linear],
         labels=system.dof_labels,
+        passive=route.passive,
     )
 
 

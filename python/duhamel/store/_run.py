@@ -373,6 +373,9 @@ def _proceed(
     data = group.require_group("data")
     run_grid = {**grid, "threads": threads}
     step, rows, state, element_state = at.step, at.rows, at.state, at.element_state
+    # The growth guard's bounds are carried from segment to segment in memory (a resumed run
+    # counts them from the checkpoint it resumes at).
+    guard_state = None
     counts = np.array(
         [
             at.newton_iterations,
@@ -401,6 +404,7 @@ def _proceed(
                 element_state,
                 maps,
                 None if report is None else seg_report,
+                guard_state,
             )
             result = model.run(core, route, segment)
             wall += _time.perf_counter() - loop_start
@@ -433,6 +437,7 @@ def _proceed(
                 raise_failure(error, partial, note, user_step)
             step, rows = step + n, rows + keep
             state, element_state = model.end_state(result), result.element_state
+            guard_state = None if result.guard_state is None else np.asarray(result.guard_state)
             counts += [
                 result.newton_iterations,
                 result.closed_form_steps,

@@ -31,76 +31,7 @@ use crate::output::{Mapper, Outputs};
 use crate::problem::ModalProblem;
 use crate::pseudo::first_order::{Corrector, Nonlinear};
 
-/// The first-order modes of the coupled system, as complex numbers split into real and
-/// imaginary parts (`r` coordinates, `m = problem.k.len()` real modes).
-#[derive(Debug, Clone)]
-pub struct FirstOrderModes<'a> {
-    /// Eigenvalues `lambda_k`, real parts (length `r`).
-    pub lambda_re: &'a [f64],
-    /// Eigenvalues, imaginary parts.
-    pub lambda_im: &'a [f64],
-    /// `g[k * m + i]`: how much of the modal load `p_i` drives `eta_k` (row `k` of
-    /// `V^-1 B`), real parts (`r x m`, row-major).
-    pub gain_re: &'a [f64],
-    /// The same, imaginary parts.
-    pub gain_im: &'a [f64],
-    /// Initial values `eta_k(0)`, real parts.
-    pub eta0_re: &'a [f64],
-    /// Initial values, imaginary parts.
-    pub eta0_im: &'a [f64],
-}
-
-impl FirstOrderModes<'_> {
-    fn check(&self, n_modes: usize) -> Result<(), CoreError> {
-        let r = self.lambda_re.len();
-        // Saturating: a product that overflows matches no real length.
-        let gains = r.saturating_mul(n_modes);
-        let lens = [
-            ("lambda_im", self.lambda_im.len(), r),
-            ("gain_re", self.gain_re.len(), gains),
-            ("gain_im", self.gain_im.len(), gains),
-            ("eta0_re", self.eta0_re.len(), r),
-            ("eta0_im", self.eta0_im.len(), r),
-        ];
-        for (name, got, expected) in lens {
-            if got != expected {
-                return Err(CoreError::LengthMismatch {
-                    name,
-                    got,
-                    expected,
-                });
-            }
-        }
-        let all = [
-            self.lambda_re,
-            self.lambda_im,
-            self.gain_re,
-            self.gain_im,
-            self.eta0_re,
-            self.eta0_im,
-        ];
-        if all.iter().any(|s| s.iter().any(|x| !x.is_finite())) {
-            return Err(CoreError::InvalidInput {
-                name: "first-order modes",
-                problem: "must be finite".to_string(),
-            });
-        }
-        Ok(())
-    }
-
-    fn lambda(&self, k: usize) -> Complex64 {
-        Complex64::new(self.lambda_re[k], self.lambda_im[k])
-    }
-
-    /// `g_k . p` for a real modal vector `p`.
-    fn project(&self, k: usize, p: &[f64]) -> Complex64 {
-        let m = p.len();
-        let (gr, gi) = (&self.gain_re[k * m..][..m], &self.gain_im[k * m..][..m]);
-        let re = gr.iter().zip(p).map(|(g, x)| g * x).sum();
-        let im = gi.iter().zip(p).map(|(g, x)| g * x).sum();
-        Complex64::new(re, im)
-    }
-}
+pub use super::modes::FirstOrderModes;
 
 /// Per-coordinate constants, split into real and imaginary parts (vectorisable loops).
 struct Constants {
@@ -298,6 +229,9 @@ impl<'s> FirstOrder<'s, '_> {
         } = self;
         // Reused across the steps of the block: no allocation per step.
         let mut terms: Vec<(f64, &[f64], &[f64])> = Vec::new();
+        let guarded = corrector.as_ref().is_some_and(|c| c.guarded());
+        let width = if guarded { m } else { 0 };
+        let ends_buf = &mut [vec![0.0; width], vec![0.0; width], vec![0.0; width]];
         for s in 0..len {
             if let Some(slot) = loads.slot[s] {
                 let row = &mut eta[(slot - row0) * 2 * r..][..2 * r];
@@ -336,7 +270,15 @@ impl<'s> FirstOrder<'s, '_> {
             }
             let step = n0 + s + 1;
             if let (true, Some(c)) = (finite, corrector.as_mut()) {
-                c.correct(problem.time(n0 + s), xr, xi)
+                // The modal load at the step's ends, for the growth guard (loads computed
+                // outside the engine are not known in real modal coordinates here: skipped).
+                let ends = if c.guarded() && loads.forcing.is_empty() {
+                    modal_load_ends(problem, loads, s, ends_buf);
+                    Some((&ends_buf[0][..], &ends_buf[1][..], &ends_buf[2][..]))
+                } else {
+                    None
+                };
+                c.correct(problem.time(n0 + s), (xr, xi), ends)
                     .map_err(StepFailure::at(step))?;
                 finite = xr.iter().chain(xi.iter()).all(|x| x.is_finite());
             }
@@ -373,6 +315,27 @@ impl<'s> Route for FirstOrder<'s, '_> {
         let result = self.save(row, slot, problem.time(loads.n0 + loads.len));
         self.map(loads, row, slot, 1);
         result
+    }
+}
+
+/// The modal load at the start and the end of local step `s` of a block and its bubble
+/// coefficient (built-in loads).
+fn modal_load_ends(
+    problem: &ModalProblem,
+    loads: &BlockLoads,
+    s: usize,
+    [p0, p1, p2]: &mut [Vec<f64>; 3],
+) {
+    for p in [&mut *p0, &mut *p1, &mut *p2] {
+        p.fill(0.0);
+    }
+    let n_loads = problem.loads.len();
+    for (load, b) in problem.loads.iter().zip(&loads.basis[s * n_loads..]) {
+        for (i, &pattern) in load.pattern.iter().enumerate() {
+            p0[i] += pattern * b[0];
+            p1[i] += pattern * (b[0] + b[1]);
+            p2[i] += pattern * b[2];
+        }
     }
 }
 
@@ -477,7 +440,7 @@ pub fn integrate(
         let records = route.corrector.as_mut().map(|c| c.take_records());
         (loads, ending, (stats, records.unwrap_or_default()))
     });
-    let (stats, (elements, element_state)) = stats;
+    let (stats, (elements, element_state, guard_state)) = stats;
     let kept = History {
         n_modes: m,
         n_outputs: n_cols,
@@ -486,6 +449,7 @@ pub fn integrate(
         outputs: outputs.is_some().then_some(out),
         elements,
         element_state,
+        guard_state,
         ..History::default()
     };
     finish(problem, loads, kept, ending).map(|h| (h, stats))

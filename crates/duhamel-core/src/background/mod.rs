@@ -8,4 +8,5 @@
 //!   ([`crate::kernel::cphi`]).
 
 pub mod first_order;
+mod modes;
 pub mod uncoupled;

@@ -53,13 +53,6 @@ pub trait Element: Send + Sync {
         true
     }
 
-    /// Whether the engine may evaluate the element once more per step to watch the step's
-    /// stability against its tangent stiffness (a Rust element: cheap and without side
-    /// effects). Python callables answer false: an evaluation there is a Python call.
-    fn native(&self) -> bool {
-        true
-    }
-
     /// The number of internal variables: 0 for an element whose force is a function of the
     /// current state (path-independent), more for a hysteretic one.
     fn state_len(&self) -> usize {

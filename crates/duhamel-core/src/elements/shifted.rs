@@ -103,10 +103,6 @@ impl Element for Shifted {
         self.inner.has_tangent()
     }
 
-    fn native(&self) -> bool {
-        self.inner.native()
-    }
-
     fn state_len(&self) -> usize {
         self.inner.state_len()
     }

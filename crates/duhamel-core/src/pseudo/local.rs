@@ -134,9 +134,11 @@ impl<'a> ElementSpace<'a> {
     /// (the modal stiffness `k` of the modes weighted by the element's share
     /// `|diag(Phi_e^T K_e Phi_e)|` in each, the largest over the elements); only elements that
     /// dominate that background (at least [`DOMINANT`] times it) count, and 0 when none
-    /// does. With the index of the element adding most. Elements that are not
-    /// [`Element::native`] are left out. Path-dependent elements are evaluated from their
-    /// committed variables (their trial variables are overwritten, as any evaluation does).
+    /// does. With the index of the element adding most. Every element is watched: one
+    /// evaluation with tangents per call (central differences for a Python element without a
+    /// Jacobian: its stiffness escapes the step's stability limit no more than a built-in
+    /// one's). Path-dependent elements are evaluated from their committed variables (their
+    /// trial variables are overwritten, as any evaluation does).
     pub fn tangent_stiffness(
         &mut self,
         modal_k: &[f64],
@@ -149,9 +151,6 @@ impl<'a> ElementSpace<'a> {
         let (mut total, mut worst, mut largest, mut background) = (0.0, 0, 0.0, 0.0f64);
         for (index, m) in self.members.iter_mut().enumerate() {
             let e = &mut m.eval;
-            if !e.element.native() || !e.element.has_tangent() {
-                continue;
-            }
             for (j, &a) in m.at.iter().enumerate() {
                 let row = &phi[a * n..(a + 1) * n];
                 e.x[j] = crate::dense::dot(row, q);
@@ -217,9 +216,7 @@ impl<'a> ElementSpace<'a> {
 
     /// Whether [`ElementSpace::tangent_stiffness`] watches any element.
     pub fn watched(&self) -> bool {
-        self.members
-            .iter()
-            .any(|m| m.eval.element.native() && m.eval.element.has_tangent())
+        self.members.iter().any(|m| !m.at.is_empty())
     }
 
     /// The dofs of element `index`.

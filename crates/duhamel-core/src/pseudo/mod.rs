@@ -11,6 +11,7 @@
 mod closed;
 pub mod first_order;
 pub mod force;
+mod growth;
 mod local;
 mod newton;
 mod problem;
@@ -20,6 +21,7 @@ mod scalar;
 mod scheme;
 mod subdivide;
 
+pub use growth::GrowthGuard;
 pub use problem::{NonlinearProblem, Options, Solver};
 pub use route::integrate;
 pub use scheme::{Quadrature, Scheme};

@@ -36,6 +36,8 @@ pub struct Options {
     /// Levels of automatic step subdivision: a step whose equation does not converge is
     /// retried in halves, down to `dt / 2^subdivisions` (0: the run stops instead).
     pub subdivisions: usize,
+    /// The growth guard's limit ([`super::GrowthGuard`]); infinite: no guard.
+    pub growth_limit: f64,
 }
 
 /// A nonlinear modal problem: the linear background plus the pseudo-forces.
@@ -62,6 +64,9 @@ pub struct NonlinearProblem<'a> {
     /// checkpoint: [`crate::History::element_state`] of the run before); None: their
     /// initial values.
     pub element_state: Option<&'a [f64]>,
+    /// The growth guard's bounds at the start (a continued run: [`crate::History::guard_state`]
+    /// of the run before); None: counted from this run's start.
+    pub guard_state: Option<&'a [f64]>,
 }
 
 /// Checks the problem; errors name the Python-side parameter.

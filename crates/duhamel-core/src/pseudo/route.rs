@@ -3,6 +3,7 @@
 //! step ([`super::newton`]).
 
 use super::force::{Parts, PseudoForce};
+use super::growth::GrowthGuard;
 use super::newton::StepSolver;
 use super::problem::{validate, NonlinearProblem};
 use super::rows::{linear_step, step_rows, StepRows};
@@ -118,6 +119,8 @@ struct PseudoRoute<'r, 'a> {
     /// The elements' modal tangent stiffness at the start of the step, when watched (see
     /// [`super::subdivide::STIFF_LIMIT`]).
     stiffness: Option<f64>,
+    /// The growth guard, with the end-of-step modal load it is given.
+    guard: Option<(GrowthGuard, Vec<f64>)>,
     state: StepBuffers,
     hq: Vec<f64>,
     hv: Vec<f64>,
@@ -310,6 +313,19 @@ impl PseudoRoute<'_, '_> {
                     break;
                 }
             }
+            if let Some((guard, p1)) = self.guard.as_mut() {
+                for ((e, a), b) in p1.iter_mut().zip(&pb[0]).zip(&pb[1]) {
+                    *e = a + b;
+                }
+                let load = (&pb[0][..], &p1[..], &pb[2][..]);
+                if let Err(error) = guard.step(problem.dt, (q1, v1), load) {
+                    result = Err(StepFailure {
+                        error,
+                        step: step + 1,
+                    });
+                    break;
+                }
+            }
             std::mem::swap(q, q1);
             std::mem::swap(v, v1);
         }
@@ -336,6 +352,29 @@ impl Route for PseudoRoute<'_, '_> {
         self.state = st;
         result
     }
+}
+
+/// The run's growth guard (None when `limit` is infinite or nothing bounds the start), from
+/// the pseudo-force at the initial state. A pseudo-force that cannot be evaluated there
+/// leaves the run unguarded: the run's first step reports that failure in its place.
+fn growth_guard(
+    pf: &mut PseudoForce,
+    base: &ModalProblem,
+    limit: f64,
+    continued: Option<&[f64]>,
+) -> Option<(GrowthGuard, Vec<f64>)> {
+    if !limit.is_finite() {
+        return None;
+    }
+    let n = base.n_modes();
+    if let Some(state) = continued {
+        return GrowthGuard::resume(limit, base.k, state).map(|g| (g, vec![0.0; n]));
+    }
+    let mut force0 = vec![0.0; n];
+    pf.at_state(base.q0, base.v0, base.time(0), &vec![0.0; n], &mut force0)
+        .ok()?;
+    let guard = GrowthGuard::new(limit, base.k, (base.q0, base.v0), &force0);
+    guard.map(|g| (g, vec![0.0; n]))
 }
 
 /// Integrates the problem; `forcing` adds modal loads computed outside the engine,
@@ -394,12 +433,15 @@ pub fn integrate(
             pf.set_element_state(state).map_err(fail)?;
         }
     }
+    // An element that cannot be evaluated at the start is left to the first step, which
+    // reports the failure with the initial state kept.
     let stiffness = if watch {
         let start = pf.tangent_stiffness(base.q0, base.v0, base.time(0));
-        Some(start.map_err(fail)?.0)
+        Some(start.map_or(0.0, |(lambda, _)| lambda))
     } else {
         None
     };
+    let guard = growth_guard(&mut pf, base, o.growth_limit, problem.guard_state);
     let loads = BlockLoads::new(base, true, forcing.is_some(), 3 * n).map_err(fail)?;
     let cells = size(loads.n_saved(), n, "the modal history").map_err(fail)?;
     let buffer = |what| zeroed(cells, what).map_err(fail);
@@ -422,6 +464,7 @@ pub fn integrate(
         stateful,
         sub,
         stiffness,
+        guard,
         state: StepBuffers::new(base.q0, base.v0),
         hq: buffer("the modal history (q)")?,
         hv: buffer("the modal history (v)")?,
@@ -439,6 +482,7 @@ pub fn integrate(
         pseudo: Some(route.hp),
         elements: (route.he.width > 0).then_some(route.he),
         element_state: stateful.then(|| route.pf.element_state()),
+        guard_state: route.guard.as_ref().map(|(g, _)| g.state()),
         ..History::default()
     };
     let mut stats = route.stats;

@@ -1,0 +1,197 @@
+//! The growth guard: a run whose response takes far more energy than anything supplied it
+//! stops, instead of returning a finite explosion.
+//!
+//! In modal coordinates (unit modal masses) the background's energy is
+//! `E = 1/2 sum (v_m^2 + k_m q_m^2)` and, exactly, `dE/dt = v . p + v . Q - v . C v` with
+//! `p` the external modal load and `Q` the pseudo-force. For passive elements (springs,
+//! gaps, hysteretic and viscous devices: they store or dissipate what they receive, so the
+//! total energy `E + S` grows by `v . p` at most) and dissipative or gyroscopic couplings,
+//! `d(E + S)/dt <= |v| |p| <= sqrt(2 (E + S)) |p|`, so
+//!
+//! ```text
+//! sqrt(E(t)) <= sqrt(E(0) + S(0)) + int_0^t |p| dt / sqrt(2)
+//! ```
+//!
+//! a bound that does not grow with the response itself (its worst case is a resonance,
+//! growing linearly). Over a step the load is the step's quadratic `p0 + (p1 - p0) s +
+//! 4 s (1 - s) p2` (`s` in [0, 1]), whose integral of `|p|` is at most
+//! `dt (max(|p0|, |p1|) + 2/3 |p2|)`: the bound holds for any step, however long. A
+//! pseudo-force step beyond its stability limit breaks it by orders of magnitude (the
+//! step's quadrature creates energy) while the state stays finite for a long time. The
+//! guard checks, after every step, `E(t) <= limit * B(t)^2` with `B` the right-hand side,
+//! `S(0)` estimated by the static energy `sum Q_m(0)^2 / k_m` of the initial pseudo-force.
+//! The default limit (100: ten times the amplitude) leaves room for what the bound does not
+//! count (the energy of element stiffness moved into the background, a discretisation's own
+//! error). It is the caller's to run the guard only on passive models (`Plan.passive` on the
+//! Python side): a model that gains energy by itself (a softening spring past its peak, a
+//! parametric resonance, cross-coupled stiffness, a self-excited whirl) can exceed it
+//! rightly.
+
+use crate::error::CoreError;
+
+/// The guard of one run (see the module's documentation).
+#[derive(Debug, Clone)]
+pub struct GrowthGuard {
+    limit: f64,
+    /// The background's modal stiffness, negative entries counted as 0.
+    k: Vec<f64>,
+    /// `E(0) + S(0)`.
+    start: f64,
+    /// `int |p| dt / sqrt(2)` so far.
+    amplitude: f64,
+}
+
+impl GrowthGuard {
+    /// The guard of a run from `(q0, v0)` with the background's modal stiffness `k` and the
+    /// pseudo-force `force0` at the start; None when `limit` is not a finite number above 1
+    /// (the guard off) or when the initial pseudo-force loads a mode without stiffness (its
+    /// static energy is unbounded: nothing to compare with).
+    pub fn new(limit: f64, k: &[f64], (q0, v0): (&[f64], &[f64]), force0: &[f64]) -> Option<Self> {
+        if !(limit.is_finite() && limit > 1.0) {
+            return None;
+        }
+        let k: Vec<f64> = k.iter().map(|&x| x.max(0.0)).collect();
+        let mut held = 0.0;
+        for (&km, &f) in k.iter().zip(force0) {
+            if f != 0.0 {
+                if km <= 0.0 {
+                    return None;
+                }
+                held += f * f / km;
+            }
+        }
+        let mut guard = GrowthGuard {
+            limit,
+            k,
+            start: 0.0,
+            amplitude: 0.0,
+        };
+        guard.start = guard.energy(q0, v0) + held;
+        guard.start.is_finite().then_some(guard)
+    }
+
+    /// The guard of a run continued from a run before (its [`GrowthGuard::state`]): the
+    /// bound counts from the first run's start. None when the state is not two finite,
+    /// non-negative numbers or `limit` turns the guard off.
+    pub fn resume(limit: f64, k: &[f64], state: &[f64]) -> Option<Self> {
+        if !(limit.is_finite() && limit > 1.0) {
+            return None;
+        }
+        let &[start, amplitude] = state else {
+            return None;
+        };
+        if !(start.is_finite() && start >= 0.0 && amplitude.is_finite() && amplitude >= 0.0) {
+            return None;
+        }
+        Some(GrowthGuard {
+            limit,
+            k: k.iter().map(|&x| x.max(0.0)).collect(),
+            start,
+            amplitude,
+        })
+    }
+
+    /// What a continued run needs: `[E(0) + S(0), int |p| dt / sqrt(2)]`.
+    pub fn state(&self) -> Vec<f64> {
+        vec![self.start, self.amplitude]
+    }
+
+    /// The background's energy at `(q, v)`.
+    pub fn energy(&self, q: &[f64], v: &[f64]) -> f64 {
+        let mut e = 0.0;
+        for ((&km, &x), &y) in self.k.iter().zip(q).zip(v) {
+            e += y * y + km * x * x;
+        }
+        0.5 * e
+    }
+
+    /// Checks the end `(q1, v1)` of a step of length `dt` whose modal load is `p0` at the
+    /// start, `p1` at the end and `p2` the coefficient of its bubble `4 s (1 - s)`. The
+    /// error's message says how much energy the response holds against the bound and what
+    /// to do.
+    pub fn step(
+        &mut self,
+        dt: f64,
+        (q1, v1): (&[f64], &[f64]),
+        (p0, p1, p2): (&[f64], &[f64], &[f64]),
+    ) -> Result<(), CoreError> {
+        let norm = |p: &[f64]| crate::dense::dot(p, p).sqrt();
+        let load = norm(p0).max(norm(p1)) + 2.0 / 3.0 * norm(p2);
+        self.amplitude += dt * load * std::f64::consts::FRAC_1_SQRT_2;
+        let held = self.energy(q1, v1);
+        let bound = self.start.sqrt() + self.amplitude;
+        let supply = bound * bound;
+        if held <= self.limit * supply || !held.is_finite() {
+            return Ok(());
+        }
+        Err(CoreError::Growth {
+            message: format!(
+                "the response grew without bound: its modal energy {held:.4e} exceeds \
+                 {limit} times the most the initial state and the loads can give this \
+                 passive model ({supply:.4e}): the step is unstable for it (an element or \
+                 coupling far stiffer than the modes it loads: reduce `dt` or raise \
+                 `subdivisions`); pass `growth_limit=None` to see the growth",
+                limit = self.limit,
+            ),
+            time: 0.0,
+            step: 0,
+            last_good_time: None,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn off_for_bad_limits_and_unbounded_static_energy() {
+        let k = [4.0, 0.0];
+        let z = [0.0, 0.0];
+        assert!(GrowthGuard::new(f64::INFINITY, &k, (&z, &z), &z).is_none());
+        assert!(GrowthGuard::new(0.5, &k, (&z, &z), &z).is_none());
+        assert!(GrowthGuard::new(1e6, &k, (&z, &z), &[0.0, 1.0]).is_none());
+        assert!(GrowthGuard::new(1e6, &k, (&z, &z), &[1.0, 0.0]).is_some());
+        assert!(GrowthGuard::resume(1e6, &k, &[1.0]).is_none());
+        assert!(GrowthGuard::resume(1e6, &k, &[1.0, -1.0]).is_none());
+        assert!(GrowthGuard::resume(1e6, &k, &[1.0, 2.0]).is_some());
+    }
+
+    #[test]
+    fn a_resonance_passes_and_an_explosion_stops() {
+        // a unit oscillator driven at resonance by p = cos t from rest: x = t sin(t) / 2
+        // grows linearly; its energy stays below the bound (limit 1: the bound itself)
+        let k = [1.0];
+        let mut g = GrowthGuard::new(1.0 + 1e-9, &k, (&[0.0], &[0.0]), &[0.0]).unwrap();
+        let dt = 1e-3;
+        let (mut q, mut v) = (0.0_f64, 0.0_f64);
+        for n in 1..=20_000 {
+            let (t0, t) = ((n - 1) as f64 * dt, n as f64 * dt);
+            (q, v) = (0.5 * t * t.sin(), 0.5 * (t.sin() + t * t.cos()));
+            g.step(dt, (&[q], &[v]), (&[t0.cos()], &[t.cos()], &[0.0]))
+                .unwrap();
+        }
+        assert!(q.is_finite());
+        // the same state scaled by 10: 100 times the energy, beyond the bound
+        let t: f64 = 20.0;
+        let err = g
+            .step(
+                dt,
+                (&[10.0 * q], &[10.0 * v]),
+                (&[t.cos()], &[t.cos()], &[0.0]),
+            )
+            .unwrap_err();
+        assert!(matches!(err, CoreError::Growth { .. }));
+        assert!(err.to_string().contains("growth_limit"));
+    }
+
+    #[test]
+    fn a_long_step_counts_its_load_inside() {
+        // a load zero at both ends of one long step, all in its bubble: still counted
+        let mut g = GrowthGuard::new(2.0, &[1.0], (&[0.0], &[0.0]), &[0.0]).unwrap();
+        // int |p| = 2/3 * 3 * 10 = 20, bound^2 = 200: energy 288 passes the limit 2
+        assert!(g
+            .step(10.0, (&[0.0], &[24.0]), (&[0.0], &[0.0], &[3.0]))
+            .is_ok());
+    }
+}
