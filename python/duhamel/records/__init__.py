@@ -20,6 +20,7 @@ Examples
 from __future__ import annotations
 
 from duhamel.records.motion import UNITS, G, GroundMotion
+from duhamel.records.pair import GroundMotionPair
 from duhamel.records.readers import read_at2, read_text
 
-__all__ = ["UNITS", "G", "GroundMotion", "read_at2", "read_text"]
+__all__ = ["UNITS", "G", "GroundMotion", "GroundMotionPair", "read_at2", "read_text"]
