@@ -22,5 +22,18 @@ from __future__ import annotations
 from duhamel.records.motion import UNITS, G, GroundMotion
 from duhamel.records.pair import GroundMotionPair
 from duhamel.records.readers import read_at2, read_text
+from duhamel.records.scaling import CriterionTable, ScaledSuite, scale_suite
+from duhamel.records.suite import Suite
 
-__all__ = ["UNITS", "G", "GroundMotion", "GroundMotionPair", "read_at2", "read_text"]
+__all__ = [
+    "UNITS",
+    "CriterionTable",
+    "G",
+    "GroundMotion",
+    "GroundMotionPair",
+    "ScaledSuite",
+    "Suite",
+    "read_at2",
+    "read_text",
+    "scale_suite",
+]
