@@ -19,6 +19,7 @@ Examples
 
 from __future__ import annotations
 
+from duhamel.records.matching import match
 from duhamel.records.motion import UNITS, G, GroundMotion
 from duhamel.records.pair import GroundMotionPair
 from duhamel.records.readers import read_at2, read_text
@@ -33,6 +34,7 @@ __all__ = [
     "GroundMotionPair",
     "ScaledSuite",
     "Suite",
+    "match",
     "read_at2",
     "read_text",
     "scale_suite",
