@@ -103,20 +103,29 @@ class ScaledSuite:
         :func:`duhamel.ensemble.solve_many`."""
         return Suite(self.originals, self.factors, self.names)
 
-    def plot(self, ax: Any = None) -> Any:
-        """The scaled spectra (thin), their mean (thick), the target and ``fraction`` of it
-        over the range; returns the matplotlib Axes."""
+    def plot(self, ax: Any = None, periods: Any = None) -> Any:
+        """The scaled spectra (thin), their mean (thick), the target and ``fraction`` of it,
+        the range shaded; at the criterion's periods, or at `periods` (s, computed here)
+        to see the spectra beyond the range. Returns the matplotlib Axes."""
         import matplotlib.pyplot as plt
 
         if ax is None:
             _, ax = plt.subplots(figsize=(6.5, 4.5))
-        p = self.table.period
-        for f, s in zip(self.factors, self.spectra, strict=True):
-            ax.plot(p, f * s / G, color="0.7", lw=0.7)
-        ax.plot(p, self.table.mean / G, lw=2.0, label="suite mean")
-        ax.plot(p, self.table.target / G, "k", lw=1.5, label="target")
+        if periods is None:
+            p, spectra = self.table.period, self.spectra
+        else:
+            p = np.asarray(periods, dtype=np.float64)
+            p = p[(p >= self.target.periods[0]) & (p <= self.target.periods[-1]) & (p > 0)]
+            spectra = record_spectra(self.originals, p, self.target.damping)
+        scaled = self.factors[:, None] * spectra
+        for s in scaled:
+            ax.plot(p, s / G, color="0.7", lw=0.7)
+        ax.plot(p, scaled.mean(axis=0) / G, lw=2.0, label="suite mean")
+        ax.plot(p, self.target(p) / G, "k", lw=1.5, label="target")
         frac = self.table.fraction
-        ax.plot(p, frac * self.table.target / G, "k--", lw=1.0, label=f"{100 * frac:g} % target")
+        ax.plot(p, frac * self.target(p) / G, "k--", lw=1.0, label=f"{100 * frac:g} % target")
+        lo, hi = self.table.period[0], self.table.period[-1]
+        ax.axvspan(lo, hi, color="C1", alpha=0.12, label="range")
         ax.set_xscale("log")
         ax.set_xlabel("Period [s]")
         ax.set_ylabel("Sa [g]")
