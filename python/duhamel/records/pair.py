@@ -106,7 +106,7 @@ class GroundMotionPair:
 
     def scaled(self, factor: float) -> GroundMotionPair:
         """Both components multiplied by `factor` (one factor per pair, as ASCE 7-22
-        section 16.2.3 scales pairs)."""
+        section 16.2.3.2 scales pairs)."""
         return GroundMotionPair(self.first.scaled(factor), self.second.scaled(factor), self.name)
 
     def map(self, fn: Callable[[GroundMotion], GroundMotion]) -> GroundMotionPair:
@@ -151,7 +151,7 @@ class GroundMotionPair:
         threads: int | None = None,
     ) -> NDArray[np.float64]:
         """The maximum-direction (RotD100) pseudo-acceleration spectrum in m/s^2, shape
-        ``(n_periods,)``: the spectrum ASCE 7-22 section 16.2.3 scales to the target.
+        ``(n_periods,)``: the spectrum ASCE 7-22 section 16.2.3.2 scales to the target.
 
         Examples
         --------

@@ -7,16 +7,17 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._engine.validate import as_float_array
-from duhamel.records.motion import UNITS, _unit
+from duhamel.records.units import UNITS, _unit
 
-if TYPE_CHECKING:
-    from duhamel.records.motion import GroundMotion
+#: A :class:`~duhamel.records.GroundMotion` (not imported here: the record's methods import
+#: this module).
+GroundMotion = Any
 
 __all__ = [
     "FourierSpectrum",
@@ -35,13 +36,11 @@ __all__ = [
 def _new(gm: GroundMotion, a: NDArray[np.float64], dt: float, step: dict[str, Any]) -> Any:
     """A record like `gm` with acceleration `a` (m/s^2) and `step` appended to its
     ``metadata['processing']``."""
-    from duhamel.records.motion import GroundMotion
-
     meta = dict(gm.metadata)
     meta["processing"] = [*meta.get("processing", []), step]
     if not np.all(np.isfinite(a)):
         raise ValueError(f"{step['step']} of record {gm.name!r} gave non-finite values")
-    return GroundMotion(a, dt, "m/s^2", gm.name, meta)
+    return type(gm)(a, dt, "m/s^2", gm.name, meta)
 
 
 def _seconds(value: Any, name: str, *, positive: bool = False) -> float:

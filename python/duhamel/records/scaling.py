@@ -140,7 +140,7 @@ def record_spectra(
 ) -> NDArray[np.float64]:
     """Spectra used for scaling, ``(n_records, n_periods)`` in m/s^2: the 5 %-damped
     pseudo-acceleration of a single record, the maximum-direction (RotD100) spectrum of a
-    pair (ASCE 7-22 section 16.2.3)."""
+    pair (ASCE 7-22 section 16.2.3.2)."""
     from duhamel.spectra.response import response_spectrum
 
     out = np.empty((len(records), periods.size))
@@ -198,7 +198,7 @@ def scale_suite(
 
     Methods:
 
-    * ``'asce7'``: ASCE 7-22 section 16.2.3 (16.2.3.1 for pairs): the mean over the suite of
+    * ``'asce7'``: ASCE 7-22 section 16.2.3.2 (amplitude scaling): the mean over the suite of
       the scaled maximum-direction (RotD100) spectra must not fall below ``fraction`` (90 %)
       of the target at any period of the range. With one common factor (default) the factor
       is the smallest that satisfies it, ``max_T fraction target(T) / mean_i S_i(T)``; with
@@ -223,7 +223,7 @@ def scale_suite(
     minimise_misfit : bool, optional
         For ``'asce7'``: fit each record first (see above).
     fraction : float, optional
-        Of the target the mean must reach (0.9 in ASCE 7-22 16.2.3).
+        Of the target the mean must reach (0.9 in ASCE 7-22 16.2.3.2).
     damping : float, optional
         Damping of the spectra (default 0.05, the target's).
     n_periods : int, optional
