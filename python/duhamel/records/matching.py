@@ -150,10 +150,11 @@ def match(
     GroundMotion or GroundMotionPair
         The matched record: the first iterate inside the band, or the one closest to it
         (``metadata['match']['kept']`` says which; 0 is the prescaled record).
-        ``metadata['match']`` holds ``iterations`` (adjustments made), ``misfit`` (largest
-        ``|S/target - 1|`` over the range, on a grid of 1 % spacing),
-        ``rms_misfit``, ``min_ratio``, ``max_ratio``, ``converged`` (inside the band),
-        ``scale`` (the prescaling factor), the range, the band and the aim.
+        ``metadata['match']`` (of each component, for a pair) holds ``iterations``
+        (adjustments made), ``misfit`` (largest ``|S/target - 1|`` over the range, on a
+        grid of 1 % spacing), ``rms_misfit``, ``min_ratio``, ``max_ratio``, ``converged``
+        (inside the band), ``scale`` (the prescaling factor), the range, the band and the
+        aim.
 
     Examples
     --------
