@@ -18,6 +18,12 @@ class DampingWarning(UserWarning):
     where it is meant with ``warnings.simplefilter("ignore", duhamel.DampingWarning)``."""
 
 
+class MatchWarning(UserWarning):
+    """Spectral matching (:func:`duhamel.records.match`) stopped at its iteration limit
+    before the spectrum was within the tolerance of the target; the record returned is the
+    last iterate, and its ``metadata['match']`` gives the misfit reached."""
+
+
 class InternalError(DuhamelError, RuntimeError):
     """A bug in duhamel: please report it, with the input that raised it.
 

@@ -19,7 +19,23 @@ Examples
 
 from __future__ import annotations
 
+from duhamel.records.matching import match
 from duhamel.records.motion import UNITS, G, GroundMotion
+from duhamel.records.pair import GroundMotionPair
 from duhamel.records.readers import read_at2, read_text
+from duhamel.records.scaling import CriterionTable, ScaledSuite, scale_suite
+from duhamel.records.suite import Suite
 
-__all__ = ["UNITS", "G", "GroundMotion", "read_at2", "read_text"]
+__all__ = [
+    "UNITS",
+    "CriterionTable",
+    "G",
+    "GroundMotion",
+    "GroundMotionPair",
+    "ScaledSuite",
+    "Suite",
+    "match",
+    "read_at2",
+    "read_text",
+    "scale_suite",
+]

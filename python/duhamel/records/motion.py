@@ -11,55 +11,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from duhamel._engine.validate import as_float_array
 from duhamel.loads import BaseAcceleration
+from duhamel.records.units import UNITS, G, _unit
 
 __all__ = ["UNITS", "G", "GroundMotion"]
-
-#: Standard gravity, m/s^2.
-G = 9.80665
-
-#: Acceleration units understood by the readers, with their factor to m/s^2.
-UNITS: dict[str, float] = {
-    "g": G,
-    "m/s^2": 1.0,
-    "cm/s^2": 0.01,
-    "gal": 0.01,
-    "mm/s^2": 0.001,
-    "ft/s^2": 0.3048,
-    "in/s^2": 0.0254,
-}
-
-_ALIASES = {
-    "m/s/s": "m/s^2",
-    "m/s2": "m/s^2",
-    "m/sec/sec": "m/s^2",
-    "m/sec^2": "m/s^2",
-    "cm/s/s": "cm/s^2",
-    "cm/s2": "cm/s^2",
-    "cm/sec/sec": "cm/s^2",
-    "cm/sec^2": "cm/s^2",
-    "cm/sec2": "cm/s^2",
-    "mm/s/s": "mm/s^2",
-    "mm/s2": "mm/s^2",
-    "mm/sec/sec": "mm/s^2",
-    "ft/s/s": "ft/s^2",
-    "ft/s2": "ft/s^2",
-    "ft/sec/sec": "ft/s^2",
-    "in/s/s": "in/s^2",
-    "in/s2": "in/s^2",
-    "in/sec/sec": "in/s^2",
-    "gals": "gal",
-}
-
-
-def _unit(units: str, name: str = "units") -> str:
-    """The canonical name of an acceleration unit, or a ValueError naming `name`."""
-    if not isinstance(units, str):
-        raise TypeError(f"`{name}` must be a string such as 'g' or 'cm/s^2', got {units!r}")
-    key = units.strip().lower().replace(" ", "")
-    key = _ALIASES.get(key, key)
-    if key not in UNITS:
-        raise ValueError(f"`{name}` must be one of {sorted(UNITS)} (or an alias), got {units!r}")
-    return key
 
 
 @dataclass(frozen=True, eq=False)
@@ -224,3 +178,151 @@ class GroundMotion:
         `direction_vector` (the influence vector ``r``: ones on the horizontal dofs of a
         shear building along this component)."""
         return BaseAcceleration(direction_vector, self.t, self.a)
+
+    # --- processing (python/duhamel/records/processing.py) ---------------------------------
+
+    def baseline_corrected(self, order: int = 3, *, zero_end: bool = True) -> GroundMotion:
+        """The record with a polynomial baseline removed.
+
+        The acceleration polynomial ``c_0 + c_1 t + ... + c_{order-2} t^(order-2)`` whose
+        displacement (a polynomial of degree `order` from rest) best fits the record's
+        displacement in least squares is subtracted; with `zero_end` (default) the fit is
+        constrained so that the corrected record ends at rest: zero velocity and
+        displacement, as field processing does. A drift of that form is removed exactly.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.records import GroundMotion
+        >>> gm = GroundMotion(np.sin(np.linspace(0, 30, 3001)) + 0.01, dt=0.01)
+        >>> bc = gm.baseline_corrected()
+        >>> ends = abs(bc.velocity[-1]) / bc.pgv, abs(bc.displacement[-1]) / bc.pgd
+        >>> bool(max(ends) < 1e-12)
+        True
+        """
+        from duhamel.records.processing import baseline_corrected
+
+        return baseline_corrected(self, order, zero_end)  # type: ignore[no-any-return]
+
+    def filtered(
+        self,
+        low: float | None = None,
+        high: float | None = None,
+        order: int = 4,
+        zero_phase: bool = True,
+        *,
+        keep_padding: bool = False,
+    ) -> GroundMotion:
+        """Butterworth filter: high-pass at `low` Hz, low-pass at `high` Hz, or band-pass.
+
+        The record is padded with zeros at both ends (``1.5 order / f`` seconds for the
+        lowest corner f, Converse and Brady 1992) so that the filter's transients stay in
+        the pads, filtered with second-order sections (forward and backward with
+        `zero_phase`: ``scipy.signal.sosfiltfilt``, the order doubled; causal otherwise),
+        and the pads removed unless `keep_padding` (Boore 2005 recommends keeping them:
+        the filtered record's motion extends into them).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.records import GroundMotion
+        >>> t = np.arange(0, 20, 0.01)
+        >>> gm = GroundMotion(np.sin(2 * np.pi * t) + np.sin(2 * np.pi * 30 * t), dt=0.01)
+        >>> lp = gm.filtered(high=10.0)
+        >>> bool(np.abs(lp.a - np.sin(2 * np.pi * t))[500:-500].max() < 1e-2)
+        True
+        """
+        from duhamel.records.processing import filtered
+
+        return filtered(self, low, high, order, zero_phase, keep_padding)  # type: ignore[no-any-return]
+
+    def resampled(self, dt: float, *, antialias: bool = True) -> GroundMotion:
+        """The record at a new sampling interval `dt` (s): the piecewise-linear record read
+        at ``k dt`` (exact for a divisor of the old step); a coarser step is first
+        low-passed at 0.8 of its Nyquist frequency unless ``antialias=False``.
+
+        Examples
+        --------
+        >>> from duhamel.records import GroundMotion
+        >>> GroundMotion([0.0, 1.0, 0.0], dt=0.02).resampled(0.01).a.tolist()
+        [0.0, 0.5, 1.0, 0.5, 0.0]
+        """
+        from duhamel.records.processing import resampled
+
+        return resampled(self, dt, antialias)  # type: ignore[no-any-return]
+
+    def padded(self, before: float = 0.0, after: float = 0.0) -> GroundMotion:
+        """Zeros added `before` and `after` the record (seconds, whole samples).
+
+        Examples
+        --------
+        >>> from duhamel.records import GroundMotion
+        >>> GroundMotion([1.0, 2.0], dt=0.5).padded(0.5, 1.0).a.tolist()
+        [0.0, 1.0, 2.0, 0.0, 0.0]
+        """
+        from duhamel.records.processing import padded
+
+        return padded(self, before, after)  # type: ignore[no-any-return]
+
+    def fourier(self, smoothing: float | None = None, *, n_fft: int | None = None) -> Any:
+        """The Fourier amplitude spectrum ``dt |FFT(a)|`` (m/s) at frequencies
+        ``k / (n_fft dt)``, and its Konno-Ohmachi (1998) smoothing of bandwidth `smoothing`
+        (``b``, typically 20 to 40) in ``.smoothed``.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.records import GroundMotion
+        >>> fas = GroundMotion(np.ones(100), dt=0.01).fourier(smoothing=40)
+        >>> round(float(fas.amplitude[0]), 12)  # integral of a over 100 samples
+        1.0
+        """
+        from duhamel.records.processing import fourier
+
+        return fourier(self, smoothing, n_fft)
+
+    def cav(self) -> float:
+        """Cumulative absolute velocity ``integral |a| dt`` (m/s), exact for the
+        piecewise-linear record.
+
+        Examples
+        --------
+        >>> from duhamel.records import GroundMotion
+        >>> GroundMotion([1.0, -1.0], dt=1.0).cav()  # two triangles of area 1/4
+        0.5
+        """
+        from duhamel.records.processing import cav
+
+        return cav(self)
+
+    def bracketed_duration(self, threshold: float, units: str = "g") -> float:
+        """Time (s) between the first and last instants ``|a|`` reaches `threshold` (in
+        `units`, default g; 0.05 g is usual), located on the piecewise-linear record.
+
+        Examples
+        --------
+        >>> from duhamel.records import GroundMotion
+        >>> GroundMotion([0.0, 1.0, 0.0, 0.0, 1.0, 0.0], dt=1.0).bracketed_duration(0.5, "m/s^2")
+        4.0
+        """
+        from duhamel.records.processing import bracketed_duration
+
+        return bracketed_duration(self, threshold, units)
+
+    def write_at2(self, path: Any, *, units: str = "g") -> None:
+        """Write the record as a PEER NGA-West2 ``.AT2`` file in `units` (default g), with 17
+        significant digits so that :func:`~duhamel.records.read_at2` reads it back to
+        round-off; the processing steps are listed on the third header line.
+
+        Examples
+        --------
+        >>> import tempfile, pathlib
+        >>> from duhamel.records import GroundMotion, read_at2
+        >>> p = pathlib.Path(tempfile.mkdtemp()) / "X.AT2"
+        >>> GroundMotion([0.0, 0.1, -0.2], dt=0.01, units="g").write_at2(p)
+        >>> round(read_at2(p).pga / 9.80665, 15)
+        0.2
+        """
+        from duhamel.records.processing import write_at2
+
+        write_at2(self, path, units)

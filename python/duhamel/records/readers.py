@@ -5,11 +5,14 @@ from __future__ import annotations
 
 import os
 import re
-from typing import Any
+from typing import Any, overload
 
 import numpy as np
 
 from duhamel.records.motion import UNITS, GroundMotion, _unit
+from duhamel.records.pair import GroundMotionPair
+
+PathLike = str | os.PathLike[str]
 
 __all__ = ["read_at2", "read_text"]
 
@@ -40,8 +43,19 @@ _OLD_HEADER = re.compile(r"^\s*(\d+)\s+([-+.\dEe]+)\s+.*NPTS\s*,\s*DT", re.IGNOR
 _UNITS = re.compile(r"UNITS\s+OF\s+(\S+)", re.IGNORECASE)
 
 
-def read_at2(path: str | os.PathLike[str], *, units: str | None = None) -> GroundMotion:
-    """Read a PEER NGA acceleration record (``.AT2``).
+@overload
+def read_at2(path: PathLike, second: None = None, *, units: str | None = None) -> GroundMotion: ...
+
+
+@overload
+def read_at2(path: PathLike, second: PathLike, *, units: str | None = None) -> GroundMotionPair: ...
+
+
+def read_at2(
+    path: PathLike, second: PathLike | None = None, *, units: str | None = None
+) -> GroundMotion | GroundMotionPair:
+    """Read a PEER NGA acceleration record (``.AT2``), or two of them as a
+    :class:`~duhamel.records.GroundMotionPair` (``read_at2(h1_path, h2_path)``).
 
     Both header styles are read: NGA-West2's ``NPTS=  7998, DT=   .0050 SEC`` and the older
     ``7998   .0050   NPTS, DT``, on the fourth line; the units come from the third line
@@ -52,12 +66,14 @@ def read_at2(path: str | os.PathLike[str], *, units: str | None = None) -> Groun
     ----------
     path : str or path-like
         The file.
+    second : str or path-like, optional
+        The other horizontal component's file: the result is then a pair.
     units : str, optional
         Units of the values, for files whose header does not say (``'g'``, ``'cm/s^2'``...).
 
     Returns
     -------
-    GroundMotion
+    GroundMotion or GroundMotionPair
         With ``name`` the file's stem, ``metadata`` the header lines (``'title'``,
         ``'event'``, ``'description'``), ``'npts'`` and ``'path'``.
 
@@ -80,6 +96,13 @@ def read_at2(path: str | os.PathLike[str], *, units: str | None = None) -> Groun
     >>> gm.name, gm.dt, round(gm.pga / 9.80665, 6)
     ('DEMO000', 0.01, 0.02)
     """
+    if second is not None:
+        return GroundMotionPair(_read_one(path, units), _read_one(second, units))
+    return _read_one(path, units)
+
+
+def _read_one(path: PathLike, units: str | None) -> GroundMotion:
+    """One .AT2 file (see :func:`read_at2`)."""
     p = os.fspath(path)
     with open(p, encoding="latin-1") as fh:
         lines = fh.read().splitlines()

@@ -10,7 +10,9 @@ over a record. Peaks are taken at the record's samples.
   ``psv = omega sd`` and ``psa = omega^2 sd``;
 * :func:`rotd`: RotD50/RotD100 (Boore 2010) of two horizontal components;
 * :func:`ductility_spectrum`: constant-ductility inelastic spectra of the bilinear
-  oscillator (the yield strength found per period).
+  oscillator (the yield strength found per period);
+* :class:`TargetSpectrum`, :func:`asce7`, :func:`asce7_multi_period`, :func:`eurocode8`:
+  design (target) spectra.
 
 Examples
 --------
@@ -36,12 +38,17 @@ from duhamel.spectra.response import (
     response_spectrum,
     rotd,
 )
+from duhamel.spectra.target import TargetSpectrum, asce7, asce7_multi_period, eurocode8
 
 __all__ = [
     "DuctilitySpectrum",
     "ResponseSpectrum",
     "RotDSpectrum",
+    "TargetSpectrum",
+    "asce7",
+    "asce7_multi_period",
     "ductility_spectrum",
+    "eurocode8",
     "response_spectrum",
     "rotd",
 ]
