@@ -13,6 +13,7 @@ from numpy.typing import ArrayLike
 
 from duhamel._engine import modal
 from duhamel._engine.direct_run import DirectSetup, prepare_direct
+from duhamel._engine.labels import resolve_fields, resolve_list
 from duhamel._engine.run import Progress
 from duhamel._engine.validate import (
     MAX_COUNT,
@@ -247,6 +248,7 @@ class Prepared:
         # A stride beyond the run keeps its first and last instants, as the run's length does.
         save_every = min(positive_int(save_every, "save_every", maximum=2**64), n_steps)
         system = self.system
+        dofs = resolve_list(system, dofs, "dofs")  # labels as indices
         out_dofs = None if dofs is None else dof_list(dofs, "dofs", system.n_dof)
         if loads is not None:
             loads = _checked_loads(loads, system)
@@ -279,6 +281,7 @@ def _checked_loads(loads: Any, system: System) -> list[Load]:
             f"`loads` must be a list of duhamel.loads loads (or None for the system's own), "
             f"got {type(loads).__name__}"
         )
+    loads = [resolve_fields(system, load) for load in loads]
     for i, load in enumerate(loads):
         if not isinstance(load, Load):
             raise TypeError(

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import numbers
-from collections.abc import Sequence
+from collections.abc import Hashable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
@@ -12,6 +12,7 @@ from numpy.typing import ArrayLike, NDArray
 from duhamel._engine import shared
 from duhamel._engine.basis import modal_basis
 from duhamel._engine.eigen import Modes
+from duhamel._engine.labels import Labels, resolve_fields
 from duhamel._engine.validate import (
     as_float_array,
     as_square_matrix,
@@ -144,6 +145,7 @@ class System:
         self._modal_cache: dict[int, ModalBasis] = {}
         self._modes = Modes(self._M, self._K)
         self._labels: tuple[str, ...] | None = None
+        self._label_map: Labels | None = None
 
     # ---------------------------------------------------------------- properties
     @property
@@ -191,15 +193,23 @@ class System:
         """Names of the degrees of freedom (``None`` if not named), see :meth:`label_dofs`."""
         return self._labels
 
-    def label_dofs(self, labels: Sequence[str]) -> System:
-        """Name every degree of freedom; solutions carry the names into
-        :meth:`~duhamel.Solution.to_xarray` and :meth:`~duhamel.Solution.to_dataframe`.
+    def label_dofs(
+        self, labels: Sequence[Hashable], *, aliases: Mapping[Hashable, int] | None = None
+    ) -> System:
+        """Name every degree of freedom; labels then work wherever a dof index does
+        (:meth:`dof`, the dofs of elements and loads added afterwards, ``solve(...,
+        dofs=)``), and solutions carry them into :meth:`~duhamel.Solution.to_xarray` and
+        :meth:`~duhamel.Solution.to_dataframe`.
 
         Parameters
         ----------
-        labels : sequence of str
-            One distinct name per dof, in dof order (a rotor names its dofs ``x_0``,
-            ``theta_y_3``...).
+        labels : sequence of str or (int, str)
+            One distinct name per dof, in dof order: a string (a rotor names its dofs
+            ``x_0``, ``theta_y_3``...) or a ``(node, component)`` pair such as ``(3, "ux")``
+            (written ``"3:ux"`` where a string is needed).
+        aliases : mapping, optional
+            Further names of some dofs, ``{label: index}`` (e.g. nodes tied by OpenSees'
+            ``equalDOF`` share one dof).
 
         Returns
         -------
@@ -217,14 +227,30 @@ class System:
         >>> s = duhamel.System(np.eye(2), np.eye(2)).label_dofs(["roof", "base"])
         >>> s.dof_labels
         ('roof', 'base')
+        >>> duhamel.System(np.eye(2), np.eye(2)).label_dofs([(3, "ux"), (3, "uy")]).dof(3, "uy")
+        1
         """
-        names = tuple(str(v) for v in labels)
+        names = list(labels)
         if len(names) != self.n_dof:
             raise ValueError(f"`labels` must name all {self.n_dof} dofs, got {len(names)}")
-        if len(set(names)) != len(names):
-            raise ValueError("`labels` must be distinct")
-        self._labels = names
+        self._label_map = Labels(names, aliases)
+        self._labels = self._label_map.texts
         return self
+
+    def dof(self, label: Hashable, component: str | None = None) -> int:
+        """The index of the dof named `label` (see :meth:`label_dofs`); ``dof(3, "ux")``
+        is ``dof((3, "ux"))``.
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> duhamel.System(np.eye(2), np.eye(2)).label_dofs(["roof", "base"]).dof("base")
+        1
+        """
+        key = label if component is None else (label, component)
+        if self._label_map is None:
+            raise ValueError(f"`label` {key!r}: the system's dofs are not labelled")
+        return self._label_map.index(key, "label")
 
     def __repr__(self) -> str:
         return (
@@ -258,6 +284,7 @@ class System:
                 f"`load` must be a duhamel.loads load (Step, Harmonic, Tabulated, "
                 f"BaseAcceleration, Unbalance, Callable), got {type(load).__name__}"
             )
+        load = resolve_fields(self, load)
         load._validate(self)
         self.loads.append(load)
         return self
@@ -284,6 +311,7 @@ class System:
             raise TypeError(
                 f"`element` must be a duhamel.elements element, got {type(element).__name__}"
             )
+        element = resolve_fields(self, element)
         element._validate(self)
         self.elements.append(element)
         return self
