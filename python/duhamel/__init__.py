@@ -37,7 +37,7 @@ from duhamel.store import resume
 from duhamel.system import ModalBasis, System
 
 if TYPE_CHECKING:
-    from duhamel import analysis, ensemble, exact, records, rotor, spectra
+    from duhamel import analysis, ensemble, exact, opensees, records, rotor, spectra
     from duhamel import paper as paper  # lazy too, but not in __all__ (`import *` skips it)
 
 __all__ = [
@@ -65,6 +65,7 @@ __all__ = [
     "exact",
     "loads",
     "mass",
+    "opensees",
     "oscillator",
     "prepare",
     "records",
@@ -77,7 +78,9 @@ __all__ = [
 
 #: Subpackages imported on first access (PEP 562), so that ``import duhamel`` stays light:
 #: they pull in scipy.optimize, scipy.special, scipy.signal ... which most runs never need.
-_LAZY = frozenset({"analysis", "ensemble", "exact", "paper", "records", "rotor", "spectra"})
+_LAZY = frozenset(
+    {"analysis", "ensemble", "exact", "opensees", "paper", "records", "rotor", "spectra"}
+)
 
 
 def __getattr__(name: str) -> Any:
