@@ -70,15 +70,27 @@ def build(*, isolated: bool = True, gravity: bool = True, damping: bool = True) 
     for line in range(lines):
         for storey in range(STOREYS):
             ops.element(
-                "elasticBeamColumn", tag, node_tag(storey, line), node_tag(storey + 1, line),
-                A_COL, E_STEEL, I_COL, 1,
+                "elasticBeamColumn",
+                tag,
+                node_tag(storey, line),
+                node_tag(storey + 1, line),
+                A_COL,
+                E_STEEL,
+                I_COL,
+                1,
             )
             tag += 1
     for storey in range(0 if isolated else 1, STOREYS + 1):
         for line in range(BAYS):
             ops.element(
-                "elasticBeamColumn", tag, node_tag(storey, line), node_tag(storey, line + 1),
-                A_BEAM, E_STEEL, I_BEAM, 1,
+                "elasticBeamColumn",
+                tag,
+                node_tag(storey, line),
+                node_tag(storey, line + 1),
+                A_BEAM,
+                E_STEEL,
+                I_BEAM,
+                1,
             )
             tag += 1
         for line in range(1, lines):  # rigid floors in their plane
@@ -94,14 +106,39 @@ def build(*, isolated: bool = True, gravity: bool = True, damping: bool = True) 
             w = weight * G
             ops.uniaxialMaterial("Steel01", 901 + line, 0.04 * w, 0.04 * w / 0.002, ALPHA_ISO)
             ops.element(
-                "zeroLength", 900 + line, ground_tag(line), node_tag(0, line),
-                "-mat", 901 + line, 900, 900, "-dir", 1, 2, 3,
+                "zeroLength",
+                900 + line,
+                ground_tag(line),
+                node_tag(0, line),
+                "-mat",
+                901 + line,
+                900,
+                900,
+                "-dir",
+                1,
+                2,
+                3,
             )
         ops.frictionModel("Coulomb", 1, MU)
         mid = BAYS // 2
         ops.element(
-            "flatSliderBearing", 950, ground_tag(mid), node_tag(0, mid), 1, K_SLIDER,
-            "-P", 900, "-Mz", 900, "-orient", 0, 1, 0, -1, 0, 0,
+            "flatSliderBearing",
+            950,
+            ground_tag(mid),
+            node_tag(0, mid),
+            1,
+            K_SLIDER,
+            "-P",
+            900,
+            "-Mz",
+            900,
+            "-orient",
+            0,
+            1,
+            0,
+            -1,
+            0,
+            0,
         )
     if gravity:
         ops.timeSeries("Constant", 1)
@@ -163,8 +200,7 @@ def main() -> None:
     start = time.perf_counter()
     frame = duhamel.opensees.from_opensees()
     frame.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
-    sol = duhamel.solve(frame, duhamel.Semianalytic(), t_end=float(t[-1]), dt=0.005,
-                        save_every=2)
+    sol = duhamel.solve(frame, duhamel.Semianalytic(), t_end=float(t[-1]), dt=0.005, save_every=2)
     t_duhamel = time.perf_counter() - start
     n_modes = 3
     lam = np.array(ops.eigen("-fullGenLapack", n_modes))
@@ -177,11 +213,15 @@ def main() -> None:
     ours = sol.x[:, [frame.dof(base, "ux"), frame.dof(roof, "ux")]]
     print("OpenSees periods (tangent, s):", np.round(2 * np.pi / np.sqrt(lam), 4).tolist())
     for name, k in (("isolator", 0), ("roof", 1)):
-        print(f"peak {name} displacement: duhamel {np.abs(ours[:, k]).max():.4f} m, "
-              f"OpenSees {np.abs(ref[:, k]).max():.4f} m")
+        print(
+            f"peak {name} displacement: duhamel {np.abs(ours[:, k]).max():.4f} m, "
+            f"OpenSees {np.abs(ref[:, k]).max():.4f} m"
+        )
     err = np.abs(ours - ref).max() / np.abs(ref).max()
-    print(f"largest difference {err:.2e} of the peak; duhamel {t_duhamel:.2f} s "
-          f"(import included), OpenSees {t_opensees:.2f} s")
+    print(
+        f"largest difference {err:.2e} of the peak; duhamel {t_duhamel:.2f} s "
+        f"(import included), OpenSees {t_opensees:.2f} s"
+    )
 
 
 if __name__ == "__main__":
