@@ -2,8 +2,8 @@
 
 The frame (3 storeys of 3 m, 2 bays of 6 m; elastic beam-columns; floor masses lumped at the
 nodes, tied per floor by ``equalDOF`` in ux) stands on three isolators: ``zeroLength``
-elements with ``Steel01`` under the outer columns (the bilinear isolators, yield 4 % of
-their weight) and a ``flatSliderBearing`` (Coulomb friction 5 %) under the middle column.
+elements with ``Steel01`` (the bilinear isolators, yield 4 % of their weight) and a
+``flatSliderBearing`` (Coulomb friction 5 %) under the middle column.
 Gravity is applied in OpenSees first (a static analysis), so the imported stiffness is the
 tangent at the displaced state and the slider's friction is ``mu N`` with its axial load.
 
@@ -48,15 +48,22 @@ def ground_tag(line: int) -> int:
     return line + 1
 
 
-def build(*, isolated: bool = True, gravity: bool = True, damping: bool = True) -> None:
+def build(
+    *,
+    isolated: bool = True,
+    gravity: bool = True,
+    damping: bool = True,
+    storeys: int = STOREYS,
+    bays: int = BAYS,
+) -> None:
     """Defines the frame in the openseespy session (wiped first)."""
     import openseespy.opensees as ops
 
     ops.wipe()
     ops.model("basic", "-ndm", 2, "-ndf", 3)
-    lines = BAYS + 1
+    lines = bays + 1
     for line in range(lines):
-        for storey in range(STOREYS + 1):
+        for storey in range(storeys + 1):
             ops.node(node_tag(storey, line), line * BAY, storey * H)
             m = M_BASE if storey == 0 else M_NODE
             ops.mass(node_tag(storey, line), m, m, ROT_INERTIA)
@@ -68,7 +75,7 @@ def build(*, isolated: bool = True, gravity: bool = True, damping: bool = True) 
     ops.geomTransf("Linear", 1)
     tag = 1
     for line in range(lines):
-        for storey in range(STOREYS):
+        for storey in range(storeys):
             ops.element(
                 "elasticBeamColumn",
                 tag,
@@ -80,8 +87,8 @@ def build(*, isolated: bool = True, gravity: bool = True, damping: bool = True) 
                 1,
             )
             tag += 1
-    for storey in range(0 if isolated else 1, STOREYS + 1):
-        for line in range(BAYS):
+    for storey in range(0 if isolated else 1, storeys + 1):
+        for line in range(bays):
             ops.element(
                 "elasticBeamColumn",
                 tag,
@@ -101,50 +108,25 @@ def build(*, isolated: bool = True, gravity: bool = True, damping: bool = True) 
         ops.rayleigh(a0, a1, 0.0, 0.0)  # on the frame: the isolators take no Rayleigh part
     if isolated:
         ops.uniaxialMaterial("Elastic", 900, 1.0e11)  # vertical and rotational restraint
-        weight = M_BASE + STOREYS * M_NODE
-        for line in (0, BAYS):
-            w = weight * G
-            ops.uniaxialMaterial("Steel01", 901 + line, 0.04 * w, 0.04 * w / 0.002, ALPHA_ISO)
-            ops.element(
-                "zeroLength",
-                900 + line,
-                ground_tag(line),
-                node_tag(0, line),
-                "-mat",
-                901 + line,
-                900,
-                900,
-                "-dir",
-                1,
-                2,
-                3,
-            )
+        w = (M_BASE + storeys * M_NODE) * G  # the weight on one isolator
+        ops.uniaxialMaterial("Steel01", 901, 0.04 * w, 0.04 * w / 0.002, ALPHA_ISO)
         ops.frictionModel("Coulomb", 1, MU)
-        mid = BAYS // 2
-        ops.element(
-            "flatSliderBearing",
-            950,
-            ground_tag(mid),
-            node_tag(0, mid),
-            1,
-            K_SLIDER,
-            "-P",
-            900,
-            "-Mz",
-            900,
-            "-orient",
-            0,
-            1,
-            0,
-            -1,
-            0,
-            0,
-        )
+        for line in range(lines):
+            if line == bays // 2:  # the slider under the middle column
+                ops.element(
+                    "flatSliderBearing", 950, ground_tag(line), node_tag(0, line), 1, K_SLIDER,
+                    "-P", 900, "-Mz", 900, "-orient", 0, 1, 0, -1, 0, 0,
+                )
+            else:
+                ops.element(
+                    "zeroLength", 900 + line, ground_tag(line), node_tag(0, line),
+                    "-mat", 901, 900, 900, "-dir", 1, 2, 3,
+                )
     if gravity:
         ops.timeSeries("Constant", 1)
         ops.pattern("Plain", 1, 1)
         for line in range(lines):
-            for storey in range(STOREYS + 1):
+            for storey in range(storeys + 1):
                 m = M_BASE if storey == 0 else M_NODE
                 ops.load(node_tag(storey, line), 0.0, -m * G, 0.0)
         ops.constraints("Transformation")
