@@ -6,9 +6,11 @@ elements as OpenSees prints them)."""
 from __future__ import annotations
 
 import contextlib
+import io
 import json
 import os
 import re
+import sys
 import tempfile
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -36,24 +38,31 @@ def components(ndm: int, ndf: int) -> tuple[str, ...]:
 
 @contextlib.contextmanager
 def quiet() -> Iterator[None]:
-    """Silences what OpenSees writes to the process's stdout and stderr (its warnings when a
-    singular mass matrix cannot be factorised, which the extraction does not need)."""
+    """Silences what OpenSees writes (its warnings when a singular mass matrix cannot be
+    factorised, which the extraction does not need): openseespy writes through Python's
+    ``sys.stdout``/``sys.stderr`` (swapped for buffers here, after flushing what the caller
+    wrote), the C++ side to the process's descriptors 1 and 2 (pointed at /dev/null)."""
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):
+            stream.flush()
     saved = []
     try:
         devnull = os.open(os.devnull, os.O_WRONLY)
     except OSError:  # pragma: no cover - no /dev/null
-        yield
-        return
+        devnull = -1
     try:
-        for fd in (1, 2):
-            saved.append((fd, os.dup(fd)))
-            os.dup2(devnull, fd)
-        yield
+        if devnull >= 0:
+            for fd in (1, 2):
+                saved.append((fd, os.dup(fd)))
+                os.dup2(devnull, fd)
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            yield
     finally:
         for fd, copy in saved:
             os.dup2(copy, fd)
             os.close(copy)
-        os.close(devnull)
+        if devnull >= 0:
+            os.close(devnull)
 
 
 def matrices(ops: Any) -> tuple[NDArray, NDArray, NDArray, dict[int, list[int]]]:
@@ -152,15 +161,14 @@ def _entries(block: str) -> list[dict[str, Any]]:
 
 
 def _section(text: str, name: str) -> str:
+    """The body of the JSON list `name` (OpenSees prints each entry on its own lines and
+    closes the list on a line of its own)."""
     start = text.find(f'"{name}": [')
     if start < 0:
         return ""
     start = text.index("[", start) + 1
-    depth, i = 1, start
-    while i < len(text) and depth:
-        depth += {"[": 1, "]": -1}.get(text[i], 0)
-        i += 1
-    return text[start : i - 1]
+    end = re.compile(r"\n[ \t]*\],?[ \t]*(?=\n|$)").search(text, start)
+    return text[start : end.start() if end else len(text)]
 
 
 def _constraints(text: str) -> list[Constraint]:

@@ -37,6 +37,7 @@ FLAT_RADIUS = 1e30
 NO_YIELD = 1e12
 
 _ZL_DIRS = {
+    1: {"P": (0, False)},
     2: {"P": (0, False), "Vy": (1, False), "Mz": (2, True)},
     3: {
         "P": (0, False),
