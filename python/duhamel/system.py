@@ -12,11 +12,12 @@ from numpy.typing import ArrayLike, NDArray
 from duhamel._engine import shared
 from duhamel._engine.basis import modal_basis
 from duhamel._engine.eigen import Modes
+from duhamel._engine.massless import Condensation
 from duhamel._engine.validate import (
     as_float_array,
     as_square_matrix,
+    check_mass,
     check_nonneg_diagonal,
-    check_positive_definite,
     check_symmetric,
     finite_float,
     issparse,
@@ -107,11 +108,13 @@ class System:
         if not shared.checked(self._content):
             check_symmetric(M, "M")
             check_symmetric(K, "K")
-            check_positive_definite(M, "M")
+            check_mass(M, "M")
             check_nonneg_diagonal(K, "K")
             shared.remember_checked(self._content)
         self._M = M if issparse(M) else _frozen(M)
         self._K = K if issparse(K) else _frozen(K)
+        # Massless dofs (zero rows of M): condensed exactly, a mechanism refused here.
+        self._condensation = Condensation(self._M, self._K) if np.any(M.diagonal() == 0) else None
         self._C: Any = None
         self._zeta: float | NDArray[np.float64] | None = None
         self._rayleigh: tuple[float, float] | None = None
@@ -142,7 +145,7 @@ class System:
         #: Time-varying mass law, see :meth:`set_mass_law` (None: constant mass).
         self.mass_law: Any = None
         self._modal_cache: dict[int, ModalBasis] = {}
-        self._modes = Modes(self._M, self._K)
+        self._modes = Modes(self._M, self._K, self._condensation)
         self._labels: tuple[str, ...] | None = None
 
     # ---------------------------------------------------------------- properties
@@ -150,6 +153,31 @@ class System:
     def n_dof(self) -> int:
         """Number of degrees of freedom."""
         return int(self._M.shape[0])
+
+    @property
+    def massless_dofs(self) -> NDArray[np.intp]:
+        """Indices of the massless dofs (zero rows of `M`), empty when every dof has mass.
+
+        They are condensed exactly: the modes are those of the condensed model (one per dof
+        with mass, so at most ``n_dof - len(massless_dofs)`` modes), and the massless dofs
+        follow from the static relation. Their stiffness block must be nonsingular.
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> K = [[2.0, -1.0], [-1.0, 2.0]]
+        >>> beam = duhamel.System(np.diag([1.0, 0.0]), K)
+        >>> beam.massless_dofs.tolist(), beam.modal().n_modes
+        ([1], 1)
+        """
+        c = self._condensation
+        return np.zeros(0, dtype=np.intp) if c is None else c.s
+
+    @property
+    def n_mass(self) -> int:
+        """Number of dofs with mass: the number of modes of the full modal basis."""
+        c = self._condensation
+        return self.n_dof if c is None else int(c.m.size)
 
     @property
     def M(self) -> Any:
@@ -360,7 +388,7 @@ class System:
         >>> basis.omega2.tolist(), basis.c.tolist(), np.round(basis.zeta, 4).tolist()
         ([0.0, 2.0], [0.5, 0.5], [0.0, 0.1768])
         """
-        n = mode_count(n_modes, "modes", self.n_dof)  # user-facing name (integrators)
+        n = mode_count(n_modes, "modes", self.n_mass)  # user-facing name (integrators)
         cached = self._modal_cache.get(n)
         if cached is None:
             cached = self._modal_cache[n] = modal_basis(self, n)
@@ -375,7 +403,9 @@ class System:
         other._K = K if issparse(K) else _frozen(K)
         other.loads, other.elements, other.mass_law = [], [], None
         other._modal_cache = {}
-        other._modes = Modes(self._M, other._K)
+        if self._condensation is not None:
+            other._condensation = Condensation(self._M, other._K)
+        other._modes = Modes(self._M, other._K, other._condensation)
         other._content = shared.content_key(self._M, other._K)
         return other
 
@@ -445,7 +475,9 @@ class System:
                 f"|K phi - omega2 M phi| / ((|K| + omega2 |M|) |phi|) = {residual[worst]:.3g} "
                 f"> `rtol` = {rtol:g}"
             )
-        self._modes = Modes(self._M, self._K)  # a new store: copies of this model keep theirs
+        self._modes = Modes(
+            self._M, self._K, self._condensation
+        )  # a new store: copies of this model keep theirs
         self._modes.supply(basis.omega2, basis.phi, extend=bool(extend))
         self._modal_cache = {}  # a new cache: copies of this model keep theirs
         return self
