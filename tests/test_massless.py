@@ -172,3 +172,38 @@ def test_explicit_integrator_refused():
     system = duhamel.System(M, K)
     with pytest.raises(ValueError, match="massless"):
         duhamel.solve(system, duhamel.CentralDifference(), t_end=0.1, dt=0.001)
+
+
+def _hinged_frame():
+    M, K, sway = moment_frame(3, 2)
+    s = np.flatnonzero(np.diag(M) == 0)
+    t = np.arange(0.0, 4.0, DT)
+    ag = 6.0 * np.sin(2 * np.pi * 1.2 * t) * np.exp(-0.2 * t)
+    r = np.zeros(M.shape[0])
+    r[sway] = 1.0
+    system = duhamel.System(M, K, zeta=ZETA)
+    system.add_load(duhamel.loads.BaseAcceleration(r, t, ag))
+    hinge = duhamel.elements.Bilinear(int(s[0]), k=5e7, fy=2e5, alpha=0.02)
+    return system.add(hinge), hinge, K, s
+
+
+def test_rotational_hinge_at_massless_dof_on_newmark_converges():
+    """A Bilinear hinge at a massless base rotation: Newmark on the singular-mass model
+    converges at second order, and the hinge yields (its moment reaches fy)."""
+    system, hinge, _, _ = _hinged_frame()
+    runs = [0.01 / k for k in (4, 8, 16, 32)]
+    sols = [
+        duhamel.solve(system, duhamel.Newmark(), t_end=3.0, dt=dt, save_every=round(DT / dt))
+        for dt in runs
+    ]
+    ref = sols[-1]
+    errors = [np.abs(s.x - ref.x).max() / np.abs(ref.x).max() for s in sols[:-1]]
+    slopes = np.diff(np.log(errors)) / np.diff(np.log(runs[:-1]))
+    assert np.all(slopes > 1.8), slopes
+    assert np.abs(ref.x[:, hinge.i]).max() * hinge.k > 1.5 * hinge.fy  # beyond yield
+
+
+def test_elements_at_massless_dofs_refused_on_semianalytic():
+    system, _, _, s = _hinged_frame()
+    with pytest.raises(ValueError, match=rf"massless dofs \[{s[0]}\].*Newmark"):
+        duhamel.solve(system, duhamel.Semianalytic(), t_end=0.1, dt=DT)

@@ -137,9 +137,32 @@ def mass(system: System, integrator: Any) -> Any:
     return core_mass(attached.law._spec(), attached.form, attached.scale_stiffness, treatment)
 
 
+def _check_massless_elements(system: System) -> None:
+    """Refuses elements acting on massless dofs on the modal route, which cannot represent
+    them yet (their force's static response at the massless dofs is in no mode)."""
+    if system._condensation is None or not system.elements:
+        return
+    massless = set(system.massless_dofs.tolist())
+    for index, element in enumerate(system.elements):
+        if isinstance(element, LinearCoupling):
+            mats = [m for m in (element.K, element.C) if m is not None]
+            touched = {int(d) for m in mats for d in np.flatnonzero(np.abs(np.asarray(m)).sum(1))}
+        else:
+            touched = {d for pair in element._directions() for d in pair if d is not None}
+        hit = sorted(touched & massless)
+        if hit:
+            raise ValueError(
+                f"`system.elements[{index}]` ({type(element).__name__}) acts on the massless "
+                f"dofs {hit}: duhamel.Semianalytic() does not yet step elements at massless "
+                "dofs; run the model with duhamel.Newmark() (or HHT, GeneralizedAlpha), which "
+                "keeps them as quasi-static unknowns, or give those dofs mass"
+            )
+
+
 def plan(system: System, integrator: Semianalytic) -> Plan:
     """The route of `system` under `integrator`; raises ValueError when
     ``coupling="exact"`` cannot be honoured."""
+    _check_massless_elements(system)
     bg = background(system, integrator.linear_parts)
     system = bg.system
     basis = system.modal(integrator.modes)
