@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numbers
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
@@ -392,6 +393,9 @@ class System:
         cached = self._modal_cache.get(n)
         if cached is None:
             cached = self._modal_cache[n] = modal_basis(self, n)
+        if cached.labels is not self._labels or cached.mass is not self._M:
+            # a basis shared with a system of the same matrices: this one's labels and mass
+            cached = self._modal_cache[n] = replace(cached, labels=self._labels, mass=self._M)
         return cached
 
     def _with_stiffness(self, K: Any) -> System:

@@ -11,6 +11,7 @@ coupled system) with an optional pseudo-force corrector (docs/architecture.md):
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -159,6 +160,26 @@ def _check_massless_elements(system: System) -> None:
             )
 
 
+def _warn_missing_mass(system: System, basis: ModalBasis) -> None:
+    """Warns when a reduced basis carries less than 90 % of the mass in the direction of a
+    support acceleration (:data:`duhamel.participation.MASS_TARGET`)."""
+    from duhamel.loads import BaseAcceleration
+    from duhamel.participation import MASS_TARGET, participation
+
+    for item in system.loads:
+        if isinstance(item, BaseAcceleration):
+            p = participation(np.asarray(basis.phi), system.M, item.direction_vector, None)
+            kept = float(p.cumulative[-1]) if p.total_mass > 0 else 1.0
+            if kept < MASS_TARGET:
+                warnings.warn(
+                    f"the reduced basis ({basis.n_modes} coordinates) carries "
+                    f"{100 * kept:.1f} % of the mass in the direction of a BaseAcceleration "
+                    f"(less than {100 * MASS_TARGET:.0f} %): the response misses the rest; "
+                    "keep more `modes` (see ModalBasis.participation)",
+                    stacklevel=5,
+                )
+
+
 def plan(system: System, integrator: Semianalytic) -> Plan:
     """The route of `system` under `integrator`; raises ValueError when
     ``coupling="exact"`` cannot be honoured."""
@@ -176,6 +197,8 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         basis, correction = enriched(system, basis)
     if not any(not isinstance(e, LinearCoupling) for e in system.elements):
         correction = np.zeros(0)  # the linear steps are exact at any dt
+    if integrator.modes is not None:
+        _warn_missing_mass(system, basis)
     elements = core_elements(system.elements)
     has_elements = bool(system.elements)
     coupled = basis.c_coupling is not None or any(
