@@ -11,8 +11,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._engine import shared
-from duhamel._engine.basis import modal_basis
+from duhamel._engine.basis import check_supplied, modal_basis
 from duhamel._engine.eigen import Modes
+from duhamel._engine.geometric import softened
 from duhamel._engine.massless import Condensation
 from duhamel._engine.validate import (
     as_float_array,
@@ -27,9 +28,10 @@ from duhamel._engine.validate import (
     warn_heavy_damping,
 )
 from duhamel.elements.base import Element
+from duhamel.elements.geometric import PDelta
 from duhamel.loads import Load
 from duhamel.mass import MassLaw, _Attached
-from duhamel.modal import ModalBasis, backward_errors, orthonormality_error
+from duhamel.modal import ModalBasis
 from duhamel.modal import frozen as _frozen
 
 if TYPE_CHECKING:
@@ -148,6 +150,8 @@ class System:
         self._modal_cache: dict[int, ModalBasis] = {}
         self._modes = Modes(self._M, self._K, self._condensation)
         self._labels: tuple[str, ...] | None = None
+        #: P-Delta storeys taken into the stiffness (:class:`duhamel.elements.PDelta`).
+        self.geometric: list[PDelta] = []
 
     # ---------------------------------------------------------------- properties
     @property
@@ -157,11 +161,8 @@ class System:
 
     @property
     def massless_dofs(self) -> NDArray[np.intp]:
-        """Indices of the massless dofs (zero rows of `M`), empty when every dof has mass.
-
-        They are condensed exactly: the modes are those of the condensed model (one per dof
-        with mass, so at most ``n_dof - len(massless_dofs)`` modes), and the massless dofs
-        follow from the static relation. Their stiffness block must be nonsingular.
+        """Indices of the massless dofs (zero rows of `M`), condensed exactly: there is one
+        mode per dof with mass (:attr:`n_mass`), and they follow the static relation.
 
         Examples
         --------
@@ -291,7 +292,7 @@ class System:
         self.loads.append(load)
         return self
 
-    def add(self, element: Element) -> System:
+    def add(self, element: Element | PDelta) -> System:
         """Append a force element (see :mod:`duhamel.elements`), validated against this system.
 
         Elements add a restoring force ``r(x, x', t)`` to the left-hand side,
@@ -309,12 +310,42 @@ class System:
         >>> len(duffing.elements)
         1
         """
+        if isinstance(element, PDelta):  # linear: part of the stiffness, exactly
+            self.add_geometric_stiffness(element.matrix(self.n_dof))
+            self.geometric.append(element)
+            return self
         if not isinstance(element, Element):
             raise TypeError(
                 f"`element` must be a duhamel.elements element, got {type(element).__name__}"
             )
         element._validate(self)
         self.elements.append(element)
+        return self
+
+    def add_geometric_stiffness(self, Kg: Any) -> System:
+        """Take a geometric stiffness into the linear stiffness: `K` becomes ``K - Kg``.
+
+        ``Kg``: the geometric stiffness of compressive gravity loads (``P / h`` per storey,
+        :class:`duhamel.elements.PDelta`). Linear, so exact on every route (the modes see
+        it). Refused (ValueError naming `Kg`) when not symmetric or when ``K - Kg`` is
+        indefinite (the loads beyond the buckling load). The modes known so far are dropped.
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> s = duhamel.System(np.eye(2), [[2.0, -1.0], [-1.0, 1.0]])
+        >>> s.add_geometric_stiffness(0.1 * np.eye(2)).K.tolist()
+        [[1.9, -1.0], [-1.0, 0.9]]
+        """
+        K = softened(self._K, Kg, self.n_dof)
+        self._K = K if issparse(K) else _frozen(K)
+        if self._condensation is not None:
+            self._condensation = Condensation(self._M, self._K)
+        self._modes = Modes(self._M, self._K, self._condensation)
+        self._modal_cache = {}
+        self._content = shared.content_key(self._M, self._K)
+        for cache in ("_background", "_corrected"):
+            self.__dict__.pop(cache, None)
         return self
 
     def set_mass_law(
@@ -459,29 +490,9 @@ class System:
         if not isinstance(extend, bool | np.bool_):
             raise TypeError(f"`extend` must be a bool, got {extend!r}")
         rtol = positive_float(rtol, "rtol")
-        if basis.n_dof != self.n_dof:
-            raise ValueError(
-                f"`basis` holds modes of {basis.n_dof} degrees of freedom, the system has "
-                f"{self.n_dof}"
-            )
-        error, (i, j) = orthonormality_error(basis.phi, self._M)
-        if error > rtol:
-            raise ValueError(
-                f"`basis` is not mass-orthonormal with this system's `M`: entry ({i}, {j}) of "
-                f"phi.T M phi - I is {error:.3g} > `rtol` = {rtol:g} (modes of another model?)"
-            )
-        residual = backward_errors(basis.phi, basis.omega2, self._M, self._K)
-        worst = int(np.argmax(residual))
-        if residual[worst] > rtol:
-            raise ValueError(
-                f"`basis` does not hold modes of this system's `K` and `M`: mode {worst} "
-                f"(omega = {basis.omega[worst]:.6g} rad/s) has the relative residual "
-                f"|K phi - omega2 M phi| / ((|K| + omega2 |M|) |phi|) = {residual[worst]:.3g} "
-                f"> `rtol` = {rtol:g}"
-            )
-        self._modes = Modes(
-            self._M, self._K, self._condensation
-        )  # a new store: copies of this model keep theirs
+        check_supplied(self, basis, rtol)
+        # a new store and cache: copies of this model keep theirs
+        self._modes = Modes(self._M, self._K, self._condensation)
         self._modes.supply(basis.omega2, basis.phi, extend=bool(extend))
-        self._modal_cache = {}  # a new cache: copies of this model keep theirs
+        self._modal_cache = {}
         return self
