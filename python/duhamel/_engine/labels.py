@@ -55,7 +55,10 @@ class Labels:
         labels: Sequence[Hashable],
         aliases: Mapping[Hashable, int] | None = None,
         absent: Mapping[Hashable, str] | None = None,
+        n_dof: int | None = None,
     ) -> None:
+        if n_dof is not None and len(labels) != n_dof:
+            raise ValueError(f"`labels` must name all {n_dof} dofs, got {len(labels)}")
         keys = [(int(v[0]), str(v[1])) if _is_pair(v) else str(v) for v in labels]
         self.keys: tuple[Hashable, ...] = tuple(keys)
         self.texts: tuple[str, ...] = tuple(text(k) for k in keys)

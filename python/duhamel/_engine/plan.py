@@ -11,6 +11,7 @@ coupled system) with an optional pseudo-force corrector (docs/architecture.md):
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -137,9 +138,52 @@ def mass(system: System, integrator: Any) -> Any:
     return core_mass(attached.law._spec(), attached.form, attached.scale_stiffness, treatment)
 
 
+def _check_massless_elements(system: System) -> None:
+    """Refuses elements acting on massless dofs on the modal route, which cannot represent
+    them yet (their force's static response at the massless dofs is in no mode)."""
+    if system._condensation is None or not system.elements:
+        return
+    massless = set(system.massless_dofs.tolist())
+    for index, element in enumerate(system.elements):
+        if isinstance(element, LinearCoupling):
+            mats = [m for m in (element.K, element.C) if m is not None]
+            touched = {int(d) for m in mats for d in np.flatnonzero(np.abs(np.asarray(m)).sum(1))}
+        else:
+            touched = {d for pair in element._directions() for d in pair if d is not None}
+        hit = sorted(touched & massless)
+        if hit:
+            raise ValueError(
+                f"`system.elements[{index}]` ({type(element).__name__}) acts on the massless "
+                f"dofs {hit}: duhamel.Semianalytic() does not yet step elements at massless "
+                "dofs; run the model with duhamel.Newmark() (or HHT, GeneralizedAlpha), which "
+                "keeps them as quasi-static unknowns, or give those dofs mass"
+            )
+
+
+def _warn_missing_mass(system: System, basis: ModalBasis) -> None:
+    """Warns when a reduced basis carries less than 90 % of the mass in the direction of a
+    support acceleration (:data:`duhamel.participation.MASS_TARGET`)."""
+    from duhamel.loads import BaseAcceleration
+    from duhamel.participation import MASS_TARGET, participation
+
+    for item in system.loads:
+        if isinstance(item, BaseAcceleration):
+            p = participation(np.asarray(basis.phi), system.M, item.direction_vector, None)
+            kept = float(p.cumulative[-1]) if p.total_mass > 0 else 1.0
+            if kept < MASS_TARGET:
+                warnings.warn(
+                    f"the reduced basis ({basis.n_modes} coordinates) carries "
+                    f"{100 * kept:.1f} % of the mass in the direction of a BaseAcceleration "
+                    f"(less than {100 * MASS_TARGET:.0f} %): the response misses the rest; "
+                    "keep more `modes` (see ModalBasis.participation)",
+                    stacklevel=5,
+                )
+
+
 def plan(system: System, integrator: Semianalytic) -> Plan:
     """The route of `system` under `integrator`; raises ValueError when
     ``coupling="exact"`` cannot be honoured."""
+    _check_massless_elements(system)
     bg = background(system, integrator.linear_parts)
     system = bg.system
     basis = system.modal(integrator.modes)
@@ -153,6 +197,8 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         basis, correction = enriched(system, basis)
     if not any(not isinstance(e, LinearCoupling) for e in system.elements):
         correction = np.zeros(0)  # the linear steps are exact at any dt
+    if integrator.modes is not None:
+        _warn_missing_mass(system, basis)
     elements = core_elements(system.elements)
     has_elements = bool(system.elements)
     coupled = basis.c_coupling is not None or any(
