@@ -33,7 +33,7 @@ G = 9.81
 H, BAY, STOREYS, BAYS = 3.0, 6.0, 3, 2
 M_NODE, M_BASE = 2.0e4, 1.0e4  # kg at each floor node, at each base node
 #: Rotational inertia of every node (kg m^2); 0 makes the rotations massless.
-ROT_INERTIA = 1.0
+ROT_INERTIA = 0.0
 E_STEEL, A_COL, I_COL, A_BEAM, I_BEAM = 2.0e11, 1.2e-2, 3.0e-4, 1.0e-2, 4.0e-4
 MU, K_SLIDER, ALPHA_ISO = 0.05, 5.0e7, 0.08
 ZETA, T_DAMP = 0.03, (0.5, 0.1)  # frame Rayleigh damping: 3 % at these two periods
@@ -114,13 +114,38 @@ def build(
         for line in range(lines):
             if line == bays // 2:  # the slider under the middle column
                 ops.element(
-                    "flatSliderBearing", 950, ground_tag(line), node_tag(0, line), 1, K_SLIDER,
-                    "-P", 900, "-Mz", 900, "-orient", 0, 1, 0, -1, 0, 0,
+                    "flatSliderBearing",
+                    950,
+                    ground_tag(line),
+                    node_tag(0, line),
+                    1,
+                    K_SLIDER,
+                    "-P",
+                    900,
+                    "-Mz",
+                    900,
+                    "-orient",
+                    0,
+                    1,
+                    0,
+                    -1,
+                    0,
+                    0,
                 )
             else:
                 ops.element(
-                    "zeroLength", 900 + line, ground_tag(line), node_tag(0, line),
-                    "-mat", 901, 900, 900, "-dir", 1, 2, 3,
+                    "zeroLength",
+                    900 + line,
+                    ground_tag(line),
+                    node_tag(0, line),
+                    "-mat",
+                    901,
+                    900,
+                    900,
+                    "-dir",
+                    1,
+                    2,
+                    3,
                 )
     if gravity:
         ops.timeSeries("Constant", 1)
