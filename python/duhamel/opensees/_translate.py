@@ -30,7 +30,7 @@ LINEAR = {
 #: Coordinate transformations that make a linear element nonlinear (large displacements).
 NONLINEAR_GEOMETRY = ("Corot",)
 #: The flat and single friction pendulum bearings.
-SLIDERS = {"FlatSliderSimple2d", "FlatSliderSimple3d"}
+SLIDERS = {"FlatSliderSimple2d", "FlatSliderSimple3d", "SingleFPSimple2d", "SingleFPSimple3d"}
 #: A friction pendulum of this radius is flat (its gravity stiffness W/R vanishes).
 FLAT_RADIUS = 1e30
 #: ElasticPPGap with a yield force at least this many times E |gap| never yields.
@@ -214,13 +214,19 @@ def _slider(ops: Any, tag: int, ele: dict, dmap: DofMap, idx: dict) -> Made:
         raise Untranslatable("bearing whose axis is not a global axis, or sheared at import")
     shear = [c for c in ("ux", "uy", "uz")[:ndm] if c != ("ux", "uy", "uz")[axis]]
     pairs = [(_eq(dmap, ni, c, idx), _eq(dmap, nj, c, idx)) for c in shear]
+    # a single friction pendulum: the elastic part N / R in kInit (OpenSees' k2 and k0)
+    radius = float(ele.get("Reff", math.inf))
+    k2 = weight / radius
+    if not k2 < k0:
+        raise Untranslatable(f"pendulum whose gravity stiffness N / R = {k2:g} >= kInit")
     made: list[Element]
     if len(shear) == 1:
         i, j = pairs[0]
         if i is None and j is None:
             return [], [], []
         a, b = (j, i) if j is not None else (i, j)
-        made = [Bilinear(a, b, k=k0, fy=mu * weight, alpha=0.0)]
+        alpha = k2 / k0  # post-sliding over initial stiffness: (1 - alpha) fy = mu N
+        made = [Bilinear(a, b, k=k0, fy=mu * weight / (1.0 - alpha), alpha=alpha)]
     else:
         if any(i is not None for i, _ in pairs) and any(j is not None for _, j in pairs):
             raise Untranslatable("3-D bearing between two free nodes (duhamel's is to ground)")
@@ -231,10 +237,10 @@ def _slider(ops: Any, tag: int, ele: dict, dmap: DofMap, idx: dict) -> Made:
             FrictionPendulum(
                 dofs[0],
                 dofs[1],
-                radius=FLAT_RADIUS,
+                radius=min(radius, FLAT_RADIUS),
                 mu=mu,
                 weight=weight,
-                yield_displacement=mu * weight / k0,
+                yield_displacement=mu * weight / (k0 - k2),
             )
         ]
     removed = [_pair(i, j, k0) for i, j in pairs if (i, j) != (None, None)]
