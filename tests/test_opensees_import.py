@@ -469,3 +469,62 @@ def test_friction_bearings_against_opensees(ndm: int, bearing: str) -> None:
     assert np.abs(ours[:, 0]).max() > 0.02  # slides well beyond mu W / kInit = 0.06 mm
     for k in range(len(comps)):
         assert rel_err(ours[:, k], runs[1][:, k]) < 5e-3
+
+
+def _sdof(mat: list, *, mass: float = 1e3) -> None:
+    """A mass on a zeroLength element of material `mat` (1-D model), nothing else."""
+    ops.wipe()
+    ops.model("basic", "-ndm", 1, "-ndf", 1)
+    ops.node(1, 0.0)
+    ops.node(2, 0.0)
+    ops.fix(1, 1)
+    ops.mass(2, mass)
+    ops.uniaxialMaterial(*mat)
+    ops.element("zeroLength", 1, 1, 2, "-mat", mat[1], "-dir", 1)
+
+
+def test_bouc_wen_against_opensees() -> None:
+    """OpenSees' BoucWen (z in displacement units) as duhamel's (z in units of fy / k): the
+    response of a mass on it within 0.5 % of OpenSees (whose z update converges at first
+    order: its runs at 16 and 32 steps per interval agree to 1e-3)."""
+    t, a = frame2d.record(duration=4.0, pga=3.0)
+    mat = ["BoucWen", 1, 0.1, 4e5, 1.0, 0.4, 0.6, 1.0, 0.0, 0.0, 0.0]  # alpha ko n gamma beta
+    _sdof(mat)
+    s = duhamel.opensees.from_opensees()
+    (bw,) = s.opensees.elements[1]
+    assert (bw.k, bw.alpha, bw.n) == (4e5, 0.1, 1.0)
+    assert (bw.beta, bw.gamma) == pytest.approx((0.6, 0.4)) and bw.fy == pytest.approx(4e5)
+    assert s.K[0, 0] == pytest.approx(0.0, abs=1e-6)  # its tangent taken out of K
+    s.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
+    ours = duhamel.solve(s, duhamel.Semianalytic(), t_end=float(t[-1]), dt=0.0025, save_every=4)
+    runs = []
+    for n in (16, 32):
+        _sdof(mat)
+        runs.append(frame2d.run_opensees(t, a, n, [(2, 1)]))
+    assert rel_err(runs[0], runs[1]) < 1e-3
+    assert np.abs(ours.x).max() > 5.0 / 4e5 * 10  # well into the hysteretic range
+    assert rel_err(ours.x, runs[1]) < 5e-3
+
+
+def test_gap_damper_and_elastic_materials_translated() -> None:
+    _sdof(["ENT", 1, 2e6])
+    (gap,) = duhamel.opensees.from_opensees().opensees.elements[1]
+    # contact when OpenSees' strain x2 - x1 < 0, i.e. duhamel's x_i - x_j < -gap
+    assert (gap.i, gap.j, gap.gap, gap.k) == (0, None, 0.0, 2e6)
+    _sdof(["ElasticPPGap", 1, 3e6, -1e30, -0.02])
+    (gap,) = duhamel.opensees.from_opensees().opensees.elements[1]
+    assert (gap.i, gap.j, gap.gap, gap.k) == (0, None, 0.02, 3e6)
+    _sdof(["ElasticPPGap", 1, 3e6, -1e4, -0.02])  # it yields: no counterpart
+    with pytest.raises(ValueError, match="yields"):
+        duhamel.opensees.from_opensees()
+    _sdof(["Elastic", 1, 5e5, 300.0])  # linear: in K, its eta in C
+    s = duhamel.opensees.from_opensees()
+    assert s.elements == [] and (s.K[0, 0], s.C[0, 0]) == (5e5, 300.0)
+    _sdof(["ViscousDamper", 1, 1e9, 2e4, 0.35])
+    with pytest.warns(UserWarning, match="series stiffness"):
+        s = duhamel.opensees.from_opensees()
+    (damper,) = s.opensees.elements[1]
+    assert (damper.c, damper.exponent) == (2e4, 0.35) and s.K[0, 0] == pytest.approx(0.0)
+    _sdof(["Steel01", 1, 1e4, 1e6, 0.05, 0.01, 1.0, 0.0, 1.0])  # isotropic hardening
+    with pytest.raises(ValueError, match="isotropic hardening"):
+        duhamel.opensees.from_opensees()
