@@ -55,8 +55,10 @@ def build(
     damping: bool = True,
     storeys: int = STOREYS,
     bays: int = BAYS,
+    transformation: str = "Linear",
 ) -> None:
-    """Defines the frame in the openseespy session (wiped first)."""
+    """Defines the frame in the openseespy session (wiped first); ``transformation="PDelta"``
+    gives the columns their geometric stiffness under the gravity load."""
     import openseespy.opensees as ops
 
     ops.wipe()
@@ -72,7 +74,7 @@ def build(
             ops.fix(ground_tag(line), 1, 1, 1)
         else:
             ops.fix(node_tag(0, line), 1, 1, 1)
-    ops.geomTransf("Linear", 1)
+    ops.geomTransf(transformation, 1)
     tag = 1
     for line in range(lines):
         for storey in range(storeys):
