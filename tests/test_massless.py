@@ -251,7 +251,7 @@ def test_streamed_run_with_a_massless_load_refused(tmp_path):
     M, K, _ = moment_frame(2, 1)
     s = np.flatnonzero(np.diag(M) == 0)
     system = duhamel.System(M, K).add_load(duhamel.loads.Step(int(s[0]), 1e3))
-    with pytest.raises(ValueError, match="`store`.*massless"):
+    with pytest.raises(ValueError, match=r"`store`.*massless"):
         duhamel.solve(
             system, duhamel.Semianalytic(), t_end=0.1, dt=0.01, store=str(tmp_path / "r.zarr")
         )
