@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 from duhamel import elements, loads, mass, oscillator, speed
 from duhamel._core import __version__
+from duhamel.damping import Rayleigh
 from duhamel.errors import DampingWarning, DuhamelError, InternalError, SolverError
 from duhamel.integrators import (
     HHT,
@@ -53,6 +54,7 @@ __all__ = [
     "ModalHistory",
     "Newmark",
     "Prepared",
+    "Rayleigh",
     "Semianalytic",
     "Solution",
     "SolveStats",

@@ -96,9 +96,8 @@ class ModalBasis:
         Returns
         -------
         duhamel.participation.Participation
-            ``factors``, ``effective_mass``, ``ratio`` and ``cumulative`` (one value per
-            mode) and ``total_mass``. With every mode the effective masses sum to
-            ``r^T M r``; a corrected (Ritz) basis is M-orthonormal and reads the same way.
+            ``factors``, ``effective_mass``, ``ratio``, ``cumulative`` (one value per mode)
+            and ``total_mass`` ``r^T M r``, which the effective masses of every mode sum to.
 
         Examples
         --------
@@ -127,10 +126,10 @@ class ModalBasis:
         >>> print(basis.summary(np.ones(2)).splitlines()[1].split()[-2:])
         ['94.72', '94.72']
         """
-        from duhamel.participation import summary_table
+        from duhamel.participation import labelled, summary_table
 
         if directions is None:  # the labelled directions that move mass
-            directions = [d for d in ("ux", "uy", "uz") if self._labelled(d)]
+            directions = [d for d in ("ux", "uy", "uz") if labelled(self.labels, d)]
             directions = [d for d in directions if self.participation(d).total_mass > 0]
         elif isinstance(directions, str | np.ndarray):
             directions = [directions]
@@ -139,11 +138,6 @@ class ModalBasis:
             for k, d in enumerate(directions)
         }
         return summary_table(np.asarray(self.omega), np.asarray(self.zeta), parts)
-
-    def _labelled(self, name: str) -> bool:
-        from duhamel.participation import _matches
-
-        return self.labels is not None and any(_matches(lab, name) for lab in self.labels)
 
     @property
     def n_modes(self) -> int:
@@ -432,6 +426,8 @@ def damped(lam: NDArray[np.float64], phi: NDArray[np.float64], system: Damping) 
         c = alpha + beta * lam
     elif kind == "zeta":
         z = system.zeta
+        if callable(z):  # a function of the circular frequency
+            z = _zeta_of(z, np.sqrt(np.maximum(lam, 0.0)))
         if isinstance(z, np.ndarray) and z.size != n:
             raise ValueError(
                 f"`zeta` has {z.size} entries but the modal basis has {n} modes; "
@@ -462,6 +458,18 @@ def damped(lam: NDArray[np.float64], phi: NDArray[np.float64], system: Damping) 
         mass=getattr(system, "M", None),
         labels=getattr(system, "dof_labels", None),
     )
+
+
+def _zeta_of(zeta: Any, omega: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Per-mode ratios from `zeta` given as a function of the circular frequency."""
+    z = np.asarray(zeta(omega), dtype=np.float64)
+    z = np.broadcast_to(z, omega.shape) if z.ndim == 0 else z
+    if z.shape != omega.shape or not np.all(np.isfinite(z)):
+        raise ValueError(
+            f"`zeta` (a function of omega) must return one finite ratio per mode "
+            f"({omega.size}), got shape {z.shape}"
+        )
+    return z
 
 
 def _diagonalise_clusters(

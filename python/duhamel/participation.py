@@ -59,6 +59,11 @@ def _matches(label: Any, name: str) -> bool:
     return str(label).endswith(name)
 
 
+def labelled(labels: Sequence[Any] | None, name: str) -> bool:
+    """Whether some dof label names the direction `name`."""
+    return labels is not None and any(_matches(lab, name) for lab in labels)
+
+
 def direction_vector(
     direction: ArrayLike | str, n_dof: int, labels: Sequence[Any] | None
 ) -> NDArray[np.float64]:

@@ -2,8 +2,7 @@
 
 from __future__ import annotations
 
-import numbers
-from collections.abc import Hashable, Mapping, Sequence
+from collections.abc import Callable, Hashable, Mapping, Sequence
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -17,17 +16,15 @@ from duhamel._engine.geometric import softened
 from duhamel._engine.labels import Labels, resolve_fields
 from duhamel._engine.massless import Condensation
 from duhamel._engine.validate import (
-    as_float_array,
     as_square_matrix,
     check_mass,
     check_nonneg_diagonal,
     check_symmetric,
-    finite_float,
     issparse,
     mode_count,
     positive_float,
-    warn_heavy_damping,
 )
+from duhamel.damping import DampingSummary, Rayleigh, damping_spec, damping_summary
 from duhamel.elements.base import Element
 from duhamel.elements.geometric import PDelta
 from duhamel.loads import Load
@@ -59,11 +56,15 @@ class System:
         the undamped modes) is integrated exactly; for non-classical damping the diagonal of
         its modal projection stays in the exact background and the rest enters as a modal
         pseudo-force (see :class:`ModalBasis`).
-    zeta : float or array_like, optional
-        Modal damping ratio(s): one value for every mode, or one per mode of the modal
-        basis (the length must then equal the number of modes used). May be negative.
-    rayleigh : (float, float), optional
-        Rayleigh coefficients ``(alpha, beta)`` for ``C = alpha M + beta K``.
+    zeta : float, array_like or callable, optional
+        Modal damping ratio(s): one value for every mode, one per mode of the modal
+        basis (the length must then equal the number of modes used), or a function of the
+        circular frequency ``zeta(omega)`` (vectorised). May be negative. The modes are those
+        of the background a run integrates (see :meth:`damping_summary`).
+    rayleigh : (float, float) or duhamel.Rayleigh, optional
+        Rayleigh coefficients ``(alpha, beta)`` for ``C = alpha M + beta K``, or a
+        :class:`duhamel.Rayleigh` (``Rayleigh.from_periods(T1, T2, zeta)``; restricted to a
+        part of the model it becomes the damping matrix ``C``).
 
     At most one of `C`, `zeta` and `rayleigh` may be given; with none the system is undamped.
     Dense matrices are stored as read-only float64 arrays, sparse ones as float64 CSR
@@ -92,17 +93,9 @@ class System:
         K: ArrayLike | sp.sparray | sp.spmatrix,
         C: ArrayLike | sp.sparray | sp.spmatrix | None = None,
         *,
-        zeta: float | ArrayLike | None = None,
-        rayleigh: tuple[float, float] | None = None,
+        zeta: float | ArrayLike | Callable[[Any], Any] | None = None,
+        rayleigh: tuple[float, float] | Rayleigh | None = None,
     ) -> None:
-        given = [
-            f"`{k}`" for k, v in (("C", C), ("zeta", zeta), ("rayleigh", rayleigh)) if v is not None
-        ]
-        if len(given) > 1:
-            raise ValueError(
-                f"pass at most one damping specification (`C`, `zeta` or `rayleigh`), "
-                f"got {' and '.join(given)}"
-            )
         M = as_square_matrix(M, "M")
         n = int(M.shape[0])
         if n == 0:
@@ -119,30 +112,10 @@ class System:
         self._K = K if issparse(K) else _frozen(K)
         # Massless dofs (zero rows of M): condensed exactly, a mechanism refused here.
         self._condensation = Condensation(self._M, self._K) if np.any(M.diagonal() == 0) else None
-        self._C: Any = None
-        self._zeta: float | NDArray[np.float64] | None = None
-        self._rayleigh: tuple[float, float] | None = None
-        self._damping: DampingKind = "none"
-        if C is not None:
-            C = as_square_matrix(C, "C", n=n, ref="M")
-            check_symmetric(C, "C")
-            self._C, self._damping = (C if issparse(C) else _frozen(C)), "matrix"
-        elif zeta is not None:
-            if isinstance(zeta, numbers.Real | np.ndarray) and np.ndim(zeta) == 0:
-                self._zeta = finite_float(zeta, "zeta")
-            else:
-                z = as_float_array(zeta, "zeta", ndim=1)
-                if not 1 <= z.size <= n:
-                    raise ValueError(
-                        f"`zeta` must have one entry per mode (between 1 and n_dof={n}), "
-                        f"got {z.size}"
-                    )
-                self._zeta = _frozen(z)
-            warn_heavy_damping(self._zeta)
-            self._damping = "zeta"
-        elif rayleigh is not None:
-            alpha, beta = as_float_array(rayleigh, "rayleigh", shape=(2,)).tolist()
-            self._rayleigh, self._damping = (alpha, beta), "rayleigh"
+        self._C, self._zeta, self._rayleigh, self._damping = damping_spec(
+            C, zeta, rayleigh, self._M, self._K
+        )
+        self._damping_given = rayleigh if isinstance(rayleigh, Rayleigh) else None
         self.loads: list[Load] = []
         #: Force elements (nonlinear springs, dampers, couplings, contacts), see :meth:`add`.
         self.elements: list[Element] = []
@@ -386,6 +359,21 @@ class System:
             raise TypeError(f"`scale_stiffness` must be a bool, got {scale_stiffness!r}")
         self.mass_law = _Attached(law, form, bool(scale_stiffness))
         return self
+
+    def damping_summary(self, linear_parts: str = "auto") -> DampingSummary:
+        """Each mode's damping ratio as ``Semianalytic(linear_parts=...)`` integrates this
+        system: the modes of ``K`` (or of ``K`` plus the elements' linear parts under FNA's
+        ``"background"``) and their ratios, from the first-order modes when the damping is
+        non-classical (docs/structural.md, "Damping conventions").
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> s = duhamel.System(np.eye(2), [[2.0, -1.0], [-1.0, 2.0]], rayleigh=(0.1, 0.0))
+        >>> np.round(s.damping_summary().zeta, 4).tolist()
+        [0.05, 0.0289]
+        """
+        return damping_summary(self, linear_parts)
 
     # ---------------------------------------------------------------- modal analysis
     def modal(self, n_modes: int | None = None) -> ModalBasis:

@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 
 from duhamel._engine.validate import SINGULAR_PIVOT_RTOL, issparse
 
-__all__ = ["Condensation", "massless_dofs"]
+__all__ = ["QUASI_STATIC_RATIO", "Condensation", "load_terms", "massless_dofs", "quasi_static"]
 
 Array = NDArray[np.float64]
 
@@ -156,12 +156,19 @@ class Condensation:
 
 
 def load_terms(
-    system: Any, loads: Any, t: Array, dofs: NDArray[np.int64], dt: float
+    system: Any,
+    loads: Any,
+    t: Array,
+    dofs: NDArray[np.int64],
+    dt: float,
+    carried: Array | None = None,
 ) -> tuple[Array, Array, Array] | None:
     """The static response of the massless dofs to the loads acting on them, ``K_ss^-1
     f_s(t)`` (no mode carries it), at the saved instants `t` and output `dofs`: ``(x, v, a)``
     terms to add, or None when no load acts on a massless dof. The velocity and acceleration
-    terms are central differences of the loads over ``h = 1e-3 dt``."""
+    terms are central differences of the loads over ``h = 1e-3 dt``. `carried`: the
+    K-orthonormal static vectors the run's quasi-static coordinates already carry
+    (:func:`quasi_static`), whose part is left out."""
     c = system._condensation
     if c is None or not loads:
         return None
@@ -191,8 +198,81 @@ def load_terms(
     ):
         return None
     h = 1e-3 * dt
+
+    def static(f: Array) -> Array:  # the part the quasi-static coordinates do not carry
+        out = c.static(f)
+        if carried is not None and carried.shape[1]:
+            out -= (f @ carried) @ carried.T
+        return out[:, dofs]
+
     f0, fp, fm = forces(t), forces(t + h), forces(t - h)
-    x = c.static(f0)[:, dofs]
-    v = c.static((fp - fm) / (2 * h))[:, dofs]
-    a = c.static((fp - 2 * f0 + fm) / (h * h))[:, dofs]
+    x = static(f0)
+    v = static((fp - fm) / (2 * h))
+    a = static((fp - 2 * f0 + fm) / (h * h))
     return x, v, a
+
+
+#: A quasi-static coordinate's circular frequency, relative to the highest mode's: its
+#: static response is reached to about ``(omega_max / omega_f)`` (critically damped).
+QUASI_STATIC_RATIO = 1e6
+
+
+def quasi_static(system: Any, basis: Any) -> tuple[Any, Array, Array]:
+    """`basis` with quasi-static coordinates for the elements acting on massless dofs.
+
+    For each element direction ``d`` (a unit force along its deformation) the response of
+    the massless dofs with the dofs with mass held, ``psi = (0, K_ss^-1 d_s)``, is in no mode:
+    it is the part of an element force's static response no mode carries. These vectors are
+    K-orthonormalised (``psi^T K psi = I``; they are K-orthogonal to every mode and carry no
+    mass) and appended as coordinates ``psi omega_f`` with a fictitious unit modal mass at
+    ``omega_f = QUASI_STATIC_RATIO * omega_max``, critically damped and undamped otherwise
+    (the massless dofs stay quasi-static: the damping acts on the condensed model). Each
+    then follows its static response ``psi^T (f - r) / omega_f`` within about
+    ``omega / omega_f`` of it, so ``psi omega_f y = psi psi^T (f - r)``: the elements' step
+    equation includes the static relation. Returns ``(basis, omega_f values, psi_hat)``;
+    `psi_hat` (``psi``, K-orthonormal) also tells :func:`load_terms` what part of a load's
+    static response the coordinates already carry."""
+    from duhamel.elements.basic import LinearCoupling
+    from duhamel.modal import ModalBasis, frozen
+
+    c = system._condensation
+    n = system.n_dof
+    cols = []
+    for element in system.elements:
+        if isinstance(element, LinearCoupling):
+            continue
+        for i, j in element._directions():
+            d = np.zeros(n)
+            d[i] = 1.0
+            if j is not None:
+                d[j] = -1.0
+            if np.any(d[c.s]):
+                cols.append(d[c.s])
+    if not cols:
+        return basis, np.zeros(0), np.zeros((n, 0))
+    ys = c.solve_ss(np.stack(cols, axis=1))
+    K_ss = c._K_ss.toarray() if c.sparse else c._K_ss
+    g = ys.T @ K_ss @ ys
+    w, u = np.linalg.eigh((g + g.T) / 2)
+    keep = w > 1e-10 * w.max()
+    psi_s = ys @ (u[:, keep] / np.sqrt(w[keep]))
+    psi = np.zeros((n, psi_s.shape[1]))
+    psi[c.s] = psi_s
+    wmax = float(np.max(basis.omega)) if basis.n_modes else 1.0
+    wf = QUASI_STATIC_RATIO * max(wmax, 1e-300)
+    k = psi.shape[1]
+    omega = np.concatenate([np.asarray(basis.omega), np.full(k, wf)])
+    coupling = basis.c_coupling
+    if coupling is not None:
+        coupling = frozen(np.pad(np.asarray(coupling), ((0, k), (0, k))))
+    extended = ModalBasis(
+        phi=frozen(np.ascontiguousarray(np.hstack([np.asarray(basis.phi), psi * wf]))),
+        omega2=frozen(omega * omega),
+        omega=frozen(omega),
+        c=frozen(np.concatenate([np.asarray(basis.c), np.full(k, 2.0 * wf)])),
+        zeta=frozen(np.concatenate([np.asarray(basis.zeta), np.ones(k)])),
+        c_coupling=coupling,
+        mass=basis.mass,
+        labels=basis.labels,
+    )
+    return extended, np.full(k, wf), psi

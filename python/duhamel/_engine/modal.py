@@ -186,7 +186,12 @@ def solution(
     error = result.error
     t = result.t if kept == result.t.size else result.t[:kept]
     terms = load_terms(
-        prep.system, prep.system.loads if base is None else base, t, out.dofs, opts.dt
+        prep.system,
+        prep.system.loads if base is None else base,
+        t,
+        out.dofs,
+        opts.dt,
+        route.carried,
     )
     if terms is not None:  # loads at massless dofs: their static part, which no mode carries
         x, vel = x + terms[0], vel + terms[1]

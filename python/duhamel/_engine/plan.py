@@ -21,6 +21,7 @@ from numpy.typing import NDArray
 from duhamel._engine.background import background
 from duhamel._engine.correction import enriched
 from duhamel._engine.coupled import CONDITION_LIMIT, FirstOrderModes, first_order_modes
+from duhamel._engine.massless import quasi_static
 from duhamel._engine.specs import ScaledSpec, load, speed_law
 from duhamel._engine.specs import elements as core_elements
 from duhamel._engine.specs import mass as core_mass
@@ -67,7 +68,11 @@ class Plan:
     correction : ndarray
         The circular frequencies of the static-correction coordinates that carry nonlinear
         elements as pseudo-forces (empty without them): a run resolves them in time
-        (``duhamel._engine.correction.substeps``).
+        (``duhamel._engine.correction.substeps``), and of the quasi-static coordinates of
+        elements at massless dofs.
+    carried : ndarray or None
+        The K-orthonormal static vectors of those quasi-static coordinates
+        (``duhamel._engine.massless.quasi_static``).
     """
 
     route: str
@@ -78,6 +83,7 @@ class Plan:
     elements: list[Any]
     linear: tuple[Any, ...] = ()
     correction: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0), compare=False)
+    carried: NDArray[np.float64] | None = field(default=None, compare=False)
 
 
 def modal_loads(
@@ -139,24 +145,23 @@ def mass(system: System, integrator: Any) -> Any:
 
 
 def _check_massless_elements(system: System) -> None:
-    """Refuses elements acting on massless dofs on the modal route, which cannot represent
-    them yet (their force's static response at the massless dofs is in no mode)."""
+    """Refuses linear couplings acting on massless dofs on the modal route (their
+    stiffness would not be condensed); force elements there get quasi-static coordinates
+    (:func:`duhamel._engine.massless.quasi_static`)."""
     if system._condensation is None or not system.elements:
         return
     massless = set(system.massless_dofs.tolist())
     for index, element in enumerate(system.elements):
-        if isinstance(element, LinearCoupling):
-            mats = [m for m in (element.K, element.C) if m is not None]
-            touched = {int(d) for m in mats for d in np.flatnonzero(np.abs(np.asarray(m)).sum(1))}
-        else:
-            touched = {d for pair in element._directions() for d in pair if d is not None}
+        if not isinstance(element, LinearCoupling):
+            continue
+        mats = [m for m in (element.K, element.C) if m is not None]
+        touched = {int(d) for m in mats for d in np.flatnonzero(np.abs(np.asarray(m)).sum(1))}
         hit = sorted(touched & massless)
         if hit:
             raise ValueError(
-                f"`system.elements[{index}]` ({type(element).__name__}) acts on the massless "
-                f"dofs {hit}: duhamel.Semianalytic() does not yet step elements at massless "
-                "dofs; run the model with duhamel.Newmark() (or HHT, GeneralizedAlpha), which "
-                "keeps them as quasi-static unknowns, or give those dofs mass"
+                f"`system.elements[{index}]` (LinearCoupling) acts on the massless dofs {hit}: "
+                "the modal route does not condense a coupling; add its matrices to `K`/`C`, "
+                "or run the model with duhamel.Newmark()"
             )
 
 
@@ -197,6 +202,10 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         basis, correction = enriched(system, basis)
     if not any(not isinstance(e, LinearCoupling) for e in system.elements):
         correction = np.zeros(0)  # the linear steps are exact at any dt
+    carried = np.zeros((system.n_dof, 0))
+    if system._condensation is not None and system.elements:
+        basis, quasi, carried = quasi_static(system, basis)
+        correction = np.concatenate([correction, quasi])
     if integrator.modes is not None:
         _warn_missing_mass(system, basis)
     elements = core_elements(system.elements)
@@ -214,7 +223,7 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         if modes is not None:
             route = "first-order"
     coupling = None if not coupled else ("exact" if modes is not None else "pseudo-force")
-    return Plan(route, basis, couplings, modes, coupling, elements, bg.linear, correction)
+    return Plan(route, basis, couplings, modes, coupling, elements, bg.linear, correction, carried)
 
 
 def _first_order(
