@@ -92,10 +92,13 @@ def from_opensees(*, nonlinear: Literal["translate", "linearize"] = "translate")
     Nonlinear elements are translated to duhamel's: ``zeroLength`` with ``Steel01``
     (:class:`~duhamel.elements.Bilinear`), ``BoucWen``, ``ViscousDamper`` (a dashpot),
     ``ElasticPPGap`` without yield and ``ENT`` (:class:`~duhamel.elements.Gap`) materials
-    (``Elastic`` stays in ``K``), and ``flatSliderBearing`` (a bilinear friction slider in
-    2-D, a flat :class:`~duhamel.elements.FrictionPendulum` in 3-D, with the friction
+    (``Elastic`` stays in ``K``), ``flatSliderBearing`` and ``singleFPBearing`` (in 2-D a
+    :class:`~duhamel.elements.Bilinear` on the shear dof, in 3-D a
+    :class:`~duhamel.elements.FrictionPendulum`, flat or of radius ``Reff``, with the friction
     coefficient and the axial load at import); their stiffness at import is taken out of
-    ``K``. The response is measured from the state at import (``system.opensees.x0``).
+    ``K``. The response is measured from the state at import: totals are
+    ``system.opensees.x0 + sol.x`` (the model carries no gravity load, so do not pass
+    ``x0`` to :func:`duhamel.solve`).
 
     Parameters
     ----------
