@@ -16,7 +16,7 @@ $(VPY):
 	$(PY) -m venv $(VENV)
 	$(VPY) -m pip install --quiet --upgrade pip
 
-# Python dependencies (runtime + test + plot + store + xarray + dask + ross extras; ross as pyproject.toml pins
+# Python dependencies (runtime + test + plot + store + xarray + dask + ross + opensees extras; ross as pyproject.toml pins
 # it per Python: about 210 MB and 40 s on first install); redone when pyproject.toml changes.
 $(VENV)/.deps: pyproject.toml | $(VPY)
 	$(VPY) -m pip install --quiet "maturin>=1.7,<2" "numpy>=2" "scipy>=1.11" "matplotlib>=3.8" \
@@ -24,7 +24,7 @@ $(VENV)/.deps: pyproject.toml | $(VPY)
 		"ross-rotordynamics==2.3.0; python_version < '3.12'" "plotly>=4.7,<7; python_version < '3.12'" \
 		"ross-rotordynamics==3.0.0; python_version == '3.12'" \
 		"ross-rotordynamics==3.1.0; python_version >= '3.13'" "zarr>=3,<4" "xarray>=2024.1" \
-		"dask[distributed]>=2024.1"
+		"dask[distributed]>=2024.1" "openseespy>=3.5"
 	touch $@
 
 # Release build of the Rust core, installed into the venv (cargo makes it incremental).

@@ -298,7 +298,12 @@ K3 = chain_k([100.0, 200.0, 300.0])
         ({"C": np.triu(np.ones((3, 3)))}, ValueError, "`C` must be symmetric"),
         ({"C": np.eye(2)}, ValueError, r"`C` must have shape \(3, 3\)"),
         ({"M": np.diag([1.0, -2.0, 3.0])}, ValueError, "`M` must be positive definite"),
-        ({"M": np.diag([1.0, 0.0, 3.0])}, ValueError, "`M` must be positive definite"),
+        # a zero diagonal entry is a massless dof (issue 25), but not with a nonzero row
+        (
+            {"M": np.array([[1, 0.5, 0], [0.5, 0, 0], [0, 0, 3.0]])},
+            ValueError,
+            "`M` must be positive",
+        ),
         ({"M": np.array([[1, 2, 0], [2, 1, 0], [0, 0, 1.0]])}, ValueError, "`M` must be positive"),
         ({"M": np.array([[1, 1, 0], [1, 1, 0], [0, 0, 1.0]])}, ValueError, "`M` must be positive"),
         ({"K": -K3}, ValueError, "`K` must be positive semidefinite"),

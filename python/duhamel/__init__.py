@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 from duhamel import elements, loads, mass, oscillator, speed
 from duhamel._core import __version__
+from duhamel.damping import Rayleigh
 from duhamel.errors import DampingWarning, DuhamelError, InternalError, SolverError
 from duhamel.integrators import (
     HHT,
@@ -37,7 +38,7 @@ from duhamel.store import resume
 from duhamel.system import ModalBasis, System
 
 if TYPE_CHECKING:
-    from duhamel import analysis, ensemble, exact, records, rotor, spectra
+    from duhamel import analysis, ensemble, exact, opensees, records, rotor, spectra
     from duhamel import paper as paper  # lazy too, but not in __all__ (`import *` skips it)
 
 __all__ = [
@@ -53,6 +54,7 @@ __all__ = [
     "ModalHistory",
     "Newmark",
     "Prepared",
+    "Rayleigh",
     "Semianalytic",
     "Solution",
     "SolveStats",
@@ -65,6 +67,7 @@ __all__ = [
     "exact",
     "loads",
     "mass",
+    "opensees",
     "oscillator",
     "prepare",
     "records",
@@ -77,7 +80,9 @@ __all__ = [
 
 #: Subpackages imported on first access (PEP 562), so that ``import duhamel`` stays light:
 #: they pull in scipy.optimize, scipy.special, scipy.signal ... which most runs never need.
-_LAZY = frozenset({"analysis", "ensemble", "exact", "paper", "records", "rotor", "spectra"})
+_LAZY = frozenset(
+    {"analysis", "ensemble", "exact", "opensees", "paper", "records", "rotor", "spectra"}
+)
 
 
 def __getattr__(name: str) -> Any:

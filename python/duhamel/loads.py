@@ -234,7 +234,9 @@ class BaseAcceleration(Load):
 
     ``direction_vector`` is the influence vector ``r`` (the displacement of each degree of
     freedom for a unit rigid support displacement, e.g. ones on the horizontal dofs of a
-    shear building). The response is relative to the support. ``a_g`` is linear between
+    shear building), or the name of a component of a labelled system (``"ux"``: ones on
+    the dofs labelled ``(node, "ux")``, set by :meth:`duhamel.System.add_load`). The
+    response is relative to the support. ``a_g`` is linear between
     the samples ``(t, values)`` and zero outside them (the record has ended).
 
     Examples
@@ -249,7 +251,12 @@ class BaseAcceleration(Load):
     values: NDArray[np.float64]
 
     def __post_init__(self) -> None:
-        r = as_float_array(self.direction_vector, "direction_vector", ndim=1)
+        # a component name ("ux") of a labelled system: ones on its dofs, set when added
+        r = (
+            self.direction_vector
+            if isinstance(self.direction_vector, str)
+            else as_float_array(self.direction_vector, "direction_vector", ndim=1)
+        )
         ts, vs = _table(self.t, self.values)
         object.__setattr__(self, "direction_vector", r)
         object.__setattr__(self, "t", ts)
@@ -257,6 +264,11 @@ class BaseAcceleration(Load):
 
     def _pattern(self, system: Model) -> NDArray[np.float64]:
         r = self.direction_vector
+        if isinstance(r, str):
+            raise ValueError(
+                f"`direction_vector` {r!r} is a component name: add the load to a labelled "
+                "system (System.add_load) to make it a vector"
+            )
         if r.shape != (system.n_dof,):
             raise ValueError(
                 f"`direction_vector` must have length n_dof = {system.n_dof}, got {r.shape[0]}"

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import os
 import zipfile
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 import numpy as np
@@ -76,6 +76,68 @@ class ModalBasis:
     c: NDArray[np.float64]
     zeta: NDArray[np.float64]
     c_coupling: NDArray[np.float64] | None = None
+    #: The mass matrix the modes are normalised with, and the dof labels, when known (for
+    #: :meth:`participation`); not saved by :meth:`save`.
+    mass: Any = field(default=None, repr=False)
+    labels: Any = field(default=None, repr=False)
+
+    def participation(self, direction: ArrayLike | str, *, M: Any = None) -> Any:
+        """Participation factors, effective modal masses and mass ratios in a direction.
+
+        Parameters
+        ----------
+        direction : array_like or str
+            The influence vector ``r`` over the dofs (ones on the dofs that move with a unit
+            support displacement), or a direction label such as ``"ux"``: ones on the dofs
+            labelled ``(node, "ux")`` or whose name ends in ``"ux"``.
+        M : array_like or sparse, optional
+            The mass matrix, for a basis that does not know it (read by :meth:`load`).
+
+        Returns
+        -------
+        duhamel.participation.Participation
+            ``factors``, ``effective_mass``, ``ratio``, ``cumulative`` (one value per mode)
+            and ``total_mass`` ``r^T M r``, which the effective masses of every mode sum to.
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> K = [[2.0, -1.0], [-1.0, 1.0]]
+        >>> p = duhamel.System(np.eye(2), K).modal().participation(np.ones(2))
+        >>> round(float(p.effective_mass.sum()), 12), round(float(p.cumulative[0]), 4)
+        (2.0, 0.9472)
+        """
+        from duhamel.participation import participation
+
+        mass = self.mass if M is None else M
+        if mass is None:
+            raise ValueError("`M` must be given: this basis does not hold its mass matrix")
+        return participation(np.asarray(self.phi), mass, direction, self.labels)
+
+    def summary(self, directions: str | NDArray[np.float64] | list[Any] | None = None) -> str:
+        """A table of the modes: ``omega``, period, damping ratio and, per direction
+        (a label or a vector; default: ``"ux"``, ``"uy"``, ``"uz"`` where the labels have
+        them), the effective mass ratio and its cumulative value, in %.
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> basis = duhamel.System(np.eye(2), [[2.0, -1.0], [-1.0, 1.0]]).modal()
+        >>> print(basis.summary(np.ones(2)).splitlines()[1].split()[-2:])
+        ['94.72', '94.72']
+        """
+        from duhamel.participation import labelled, summary_table
+
+        if directions is None:  # the labelled directions that move mass
+            directions = [d for d in ("ux", "uy", "uz") if labelled(self.labels, d)]
+            directions = [d for d in directions if self.participation(d).total_mass > 0]
+        elif isinstance(directions, str | np.ndarray):
+            directions = [directions]
+        parts = {
+            (d if isinstance(d, str) else f"r{k}"): self.participation(d)
+            for k, d in enumerate(directions)
+        }
+        return summary_table(np.asarray(self.omega), np.asarray(self.zeta), parts)
 
     @property
     def n_modes(self) -> int:
@@ -169,6 +231,7 @@ class ModalBasis:
             omega=frozen(omega),
             c=frozen(zeros),
             zeta=frozen(zeros),
+            mass=M,
         )
 
     def save(self, path: str | os.PathLike[str]) -> None:
@@ -363,6 +426,8 @@ def damped(lam: NDArray[np.float64], phi: NDArray[np.float64], system: Damping) 
         c = alpha + beta * lam
     elif kind == "zeta":
         z = system.zeta
+        if callable(z):  # a function of the circular frequency
+            z = _zeta_of(z, np.sqrt(np.maximum(lam, 0.0)))
         if isinstance(z, np.ndarray) and z.size != n:
             raise ValueError(
                 f"`zeta` has {z.size} entries but the modal basis has {n} modes; "
@@ -390,7 +455,21 @@ def damped(lam: NDArray[np.float64], phi: NDArray[np.float64], system: Damping) 
         c=frozen(np.broadcast_to(c, (n,))),
         zeta=frozen(zeta),
         c_coupling=coupling,
+        mass=getattr(system, "M", None),
+        labels=getattr(system, "dof_labels", None),
     )
+
+
+def _zeta_of(zeta: Any, omega: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Per-mode ratios from `zeta` given as a function of the circular frequency."""
+    z = np.asarray(zeta(omega), dtype=np.float64)
+    z = np.broadcast_to(z, omega.shape) if z.ndim == 0 else z
+    if z.shape != omega.shape or not np.all(np.isfinite(z)):
+        raise ValueError(
+            f"`zeta` (a function of omega) must return one finite ratio per mode "
+            f"({omega.size}), got shape {z.shape}"
+        )
+    return z
 
 
 def _diagonalise_clusters(
@@ -398,7 +477,8 @@ def _diagonalise_clusters(
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Rotate the modes within clusters of (numerically) equal frequency, which may be mixed
     freely, so that the projection of C is diagonal there."""
-    ratio = np.abs(system.K.diagonal()) / system.M.diagonal()
+    mass = np.asarray(system.M.diagonal())
+    ratio = np.abs(np.asarray(system.K.diagonal()))[mass > 0] / mass[mass > 0]
     scale = max(float(np.max(np.abs(lam))), float(np.max(ratio)))
     cm = phi.T @ np.asarray(system.C @ phi)
     cm = (cm + cm.T) / 2

@@ -13,6 +13,7 @@ from numpy.typing import ArrayLike
 
 from duhamel._engine import modal
 from duhamel._engine.direct_run import DirectSetup, prepare_direct
+from duhamel._engine.labels import resolve_fields, resolve_list
 from duhamel._engine.run import Progress
 from duhamel._engine.validate import (
     MAX_COUNT,
@@ -247,6 +248,7 @@ class Prepared:
         # A stride beyond the run keeps its first and last instants, as the run's length does.
         save_every = min(positive_int(save_every, "save_every", maximum=2**64), n_steps)
         system = self.system
+        dofs = resolve_list(system, dofs, "dofs")  # labels as indices
         out_dofs = None if dofs is None else dof_list(dofs, "dofs", system.n_dof)
         if loads is not None:
             loads = _checked_loads(loads, system)
@@ -254,6 +256,7 @@ class Prepared:
             from duhamel.store._run import run_stored
 
             target = system if loads is None else _with_loads(system, loads)
+            _massless_store_check(target)
             chosen = np.arange(system.n_dof) if out_dofs is None else out_dofs
             return run_stored(
                 target, self.integrator, store=store, checkpoint_every=checkpoint_every,
@@ -272,6 +275,25 @@ class Prepared:
         return modal.run(self._modal, opts)
 
 
+def _massless_store_check(system: System) -> None:
+    """Refuses a streamed run of a model whose massless dofs carry loads or elements: the
+    store does not yet add their static part (in-memory runs do)."""
+    c = system._condensation
+    if c is None:
+        return
+    from duhamel.loads import Callable
+
+    touched = bool(system.elements) or any(
+        isinstance(load, Callable) or any(np.any(p[c.s]) for p, _, _ in load._specs(system))
+        for load in system.loads
+    )
+    if touched:
+        raise ValueError(
+            "`store`: a streamed run does not yet support loads or elements at massless dofs "
+            f"(dofs {c.s.tolist()[:8]}...); run without `store`"
+        )
+
+
 def _checked_loads(loads: Any, system: System) -> list[Load]:
     """A run's `loads`, each checked against `system`."""
     if isinstance(loads, Load) or not isinstance(loads, list | tuple):
@@ -279,6 +301,7 @@ def _checked_loads(loads: Any, system: System) -> list[Load]:
             f"`loads` must be a list of duhamel.loads loads (or None for the system's own), "
             f"got {type(loads).__name__}"
         )
+    loads = [resolve_fields(system, load) for load in loads]
     for i, load in enumerate(loads):
         if not isinstance(load, Load):
             raise TypeError(

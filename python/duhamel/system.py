@@ -2,32 +2,34 @@
 
 from __future__ import annotations
 
-import numbers
-from collections.abc import Sequence
+from collections.abc import Callable, Hashable, Mapping, Sequence
+from dataclasses import replace
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._engine import shared
-from duhamel._engine.basis import modal_basis
+from duhamel._engine.basis import check_supplied, modal_basis
 from duhamel._engine.eigen import Modes
+from duhamel._engine.geometric import softened
+from duhamel._engine.labels import Labels, resolve_fields
+from duhamel._engine.massless import Condensation
 from duhamel._engine.validate import (
-    as_float_array,
     as_square_matrix,
+    check_mass,
     check_nonneg_diagonal,
-    check_positive_definite,
     check_symmetric,
-    finite_float,
     issparse,
     mode_count,
     positive_float,
-    warn_heavy_damping,
 )
+from duhamel.damping import DampingSummary, Rayleigh, damping_spec, damping_summary
 from duhamel.elements.base import Element
+from duhamel.elements.geometric import PDelta
 from duhamel.loads import Load
 from duhamel.mass import MassLaw, _Attached
-from duhamel.modal import ModalBasis, backward_errors, orthonormality_error
+from duhamel.modal import ModalBasis
 from duhamel.modal import frozen as _frozen
 
 if TYPE_CHECKING:
@@ -54,11 +56,15 @@ class System:
         the undamped modes) is integrated exactly; for non-classical damping the diagonal of
         its modal projection stays in the exact background and the rest enters as a modal
         pseudo-force (see :class:`ModalBasis`).
-    zeta : float or array_like, optional
-        Modal damping ratio(s): one value for every mode, or one per mode of the modal
-        basis (the length must then equal the number of modes used). May be negative.
-    rayleigh : (float, float), optional
-        Rayleigh coefficients ``(alpha, beta)`` for ``C = alpha M + beta K``.
+    zeta : float, array_like or callable, optional
+        Modal damping ratio(s): one value for every mode, one per mode of the modal
+        basis (the length must then equal the number of modes used), or a function of the
+        circular frequency ``zeta(omega)`` (vectorised). May be negative. The modes are those
+        of the background a run integrates (see :meth:`damping_summary`).
+    rayleigh : (float, float) or duhamel.Rayleigh, optional
+        Rayleigh coefficients ``(alpha, beta)`` for ``C = alpha M + beta K``, or a
+        :class:`duhamel.Rayleigh` (``Rayleigh.from_periods(T1, T2, zeta)``; restricted to a
+        part of the model it becomes the damping matrix ``C``).
 
     At most one of `C`, `zeta` and `rayleigh` may be given; with none the system is undamped.
     Dense matrices are stored as read-only float64 arrays, sparse ones as float64 CSR
@@ -87,17 +93,9 @@ class System:
         K: ArrayLike | sp.sparray | sp.spmatrix,
         C: ArrayLike | sp.sparray | sp.spmatrix | None = None,
         *,
-        zeta: float | ArrayLike | None = None,
-        rayleigh: tuple[float, float] | None = None,
+        zeta: float | ArrayLike | Callable[[Any], Any] | None = None,
+        rayleigh: tuple[float, float] | Rayleigh | None = None,
     ) -> None:
-        given = [
-            f"`{k}`" for k, v in (("C", C), ("zeta", zeta), ("rayleigh", rayleigh)) if v is not None
-        ]
-        if len(given) > 1:
-            raise ValueError(
-                f"pass at most one damping specification (`C`, `zeta` or `rayleigh`), "
-                f"got {' and '.join(given)}"
-            )
         M = as_square_matrix(M, "M")
         n = int(M.shape[0])
         if n == 0:
@@ -107,49 +105,56 @@ class System:
         if not shared.checked(self._content):
             check_symmetric(M, "M")
             check_symmetric(K, "K")
-            check_positive_definite(M, "M")
+            check_mass(M, "M")
             check_nonneg_diagonal(K, "K")
             shared.remember_checked(self._content)
         self._M = M if issparse(M) else _frozen(M)
         self._K = K if issparse(K) else _frozen(K)
-        self._C: Any = None
-        self._zeta: float | NDArray[np.float64] | None = None
-        self._rayleigh: tuple[float, float] | None = None
-        self._damping: DampingKind = "none"
-        if C is not None:
-            C = as_square_matrix(C, "C", n=n, ref="M")
-            check_symmetric(C, "C")
-            self._C, self._damping = (C if issparse(C) else _frozen(C)), "matrix"
-        elif zeta is not None:
-            if isinstance(zeta, numbers.Real | np.ndarray) and np.ndim(zeta) == 0:
-                self._zeta = finite_float(zeta, "zeta")
-            else:
-                z = as_float_array(zeta, "zeta", ndim=1)
-                if not 1 <= z.size <= n:
-                    raise ValueError(
-                        f"`zeta` must have one entry per mode (between 1 and n_dof={n}), "
-                        f"got {z.size}"
-                    )
-                self._zeta = _frozen(z)
-            warn_heavy_damping(self._zeta)
-            self._damping = "zeta"
-        elif rayleigh is not None:
-            alpha, beta = as_float_array(rayleigh, "rayleigh", shape=(2,)).tolist()
-            self._rayleigh, self._damping = (alpha, beta), "rayleigh"
+        # Massless dofs (zero rows of M): condensed exactly, a mechanism refused here.
+        self._condensation = Condensation(self._M, self._K) if np.any(M.diagonal() == 0) else None
+        self._C, self._zeta, self._rayleigh, self._damping = damping_spec(
+            C, zeta, rayleigh, self._M, self._K
+        )
+        self._damping_given = rayleigh if isinstance(rayleigh, Rayleigh) else None
         self.loads: list[Load] = []
         #: Force elements (nonlinear springs, dampers, couplings, contacts), see :meth:`add`.
         self.elements: list[Element] = []
         #: Time-varying mass law, see :meth:`set_mass_law` (None: constant mass).
         self.mass_law: Any = None
         self._modal_cache: dict[int, ModalBasis] = {}
-        self._modes = Modes(self._M, self._K)
+        self._modes = Modes(self._M, self._K, self._condensation)
         self._labels: tuple[str, ...] | None = None
+        self._label_map: Labels | None = None
+        #: P-Delta storeys taken into the stiffness (:class:`duhamel.elements.PDelta`).
+        self.geometric: list[PDelta] = []
 
     # ---------------------------------------------------------------- properties
     @property
     def n_dof(self) -> int:
         """Number of degrees of freedom."""
         return int(self._M.shape[0])
+
+    @property
+    def massless_dofs(self) -> NDArray[np.intp]:
+        """Indices of the massless dofs (zero rows of `M`), condensed exactly: there is one
+        mode per dof with mass (:attr:`n_mass`), and they follow the static relation.
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> K = [[2.0, -1.0], [-1.0, 2.0]]
+        >>> beam = duhamel.System(np.diag([1.0, 0.0]), K)
+        >>> beam.massless_dofs.tolist(), beam.modal().n_modes
+        ([1], 1)
+        """
+        c = self._condensation
+        return np.zeros(0, dtype=np.intp) if c is None else c.s
+
+    @property
+    def n_mass(self) -> int:
+        """Number of dofs with mass: the number of modes of the full modal basis."""
+        c = self._condensation
+        return self.n_dof if c is None else int(c.m.size)
 
     @property
     def M(self) -> Any:
@@ -191,40 +196,38 @@ class System:
         """Names of the degrees of freedom (``None`` if not named), see :meth:`label_dofs`."""
         return self._labels
 
-    def label_dofs(self, labels: Sequence[str]) -> System:
-        """Name every degree of freedom; solutions carry the names into
-        :meth:`~duhamel.Solution.to_xarray` and :meth:`~duhamel.Solution.to_dataframe`.
-
-        Parameters
-        ----------
-        labels : sequence of str
-            One distinct name per dof, in dof order (a rotor names its dofs ``x_0``,
-            ``theta_y_3``...).
-
-        Returns
-        -------
-        System
-            ``self``, so calls can be chained.
-
-        Raises
-        ------
-        ValueError
-            If there is not one name per dof or two dofs share a name.
+    def label_dofs(
+        self, labels: Sequence[Hashable], *, aliases: Mapping[Hashable, int] | None = None
+    ) -> System:
+        """Name every dof (one distinct string or ``(node, component)`` pair each, in dof
+        order; `aliases`, ``{label: index}``, names some twice). Labels then work wherever a
+        dof index does (:meth:`dof`, elements and loads added afterwards, ``solve(...,
+        dofs=)``) and in :meth:`~duhamel.Solution.to_xarray` (``(3, "ux")`` as ``"3:ux"``).
+        Returns ``self``; ValueError if not one name per dof.
 
         Examples
         --------
         >>> import numpy as np, duhamel
-        >>> s = duhamel.System(np.eye(2), np.eye(2)).label_dofs(["roof", "base"])
-        >>> s.dof_labels
+        >>> duhamel.System(np.eye(2), np.eye(2)).label_dofs(["roof", "base"]).dof_labels
         ('roof', 'base')
         """
-        names = tuple(str(v) for v in labels)
-        if len(names) != self.n_dof:
-            raise ValueError(f"`labels` must name all {self.n_dof} dofs, got {len(names)}")
-        if len(set(names)) != len(names):
-            raise ValueError("`labels` must be distinct")
-        self._labels = names
+        self._label_map = Labels(list(labels), aliases, n_dof=self.n_dof)
+        self._labels = self._label_map.texts
         return self
+
+    def dof(self, label: Hashable, component: str | None = None) -> int:
+        """The index of the dof named `label`; ``dof(3, "ux")`` is ``dof((3, "ux"))``.
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> duhamel.System(np.eye(2), np.eye(2)).label_dofs([(3, "ux"), (3, "uy")]).dof(3, "uy")
+        1
+        """
+        key = label if component is None else (label, component)
+        if self._label_map is None:
+            raise ValueError(f"`label` {key!r}: the system's dofs are not labelled")
+        return self._label_map.index(key, "label")
 
     def __repr__(self) -> str:
         return (
@@ -258,11 +261,12 @@ class System:
                 f"`load` must be a duhamel.loads load (Step, Harmonic, Tabulated, "
                 f"BaseAcceleration, Unbalance, Callable), got {type(load).__name__}"
             )
+        load = resolve_fields(self, load)
         load._validate(self)
         self.loads.append(load)
         return self
 
-    def add(self, element: Element) -> System:
+    def add(self, element: Element | PDelta) -> System:
         """Append a force element (see :mod:`duhamel.elements`), validated against this system.
 
         Elements add a restoring force ``r(x, x', t)`` to the left-hand side,
@@ -280,12 +284,43 @@ class System:
         >>> len(duffing.elements)
         1
         """
+        element = resolve_fields(self, element)  # labels as dof indices
+        if isinstance(element, PDelta):  # linear: part of the stiffness, exactly
+            self.add_geometric_stiffness(element.matrix(self.n_dof))
+            self.geometric.append(element)
+            return self
         if not isinstance(element, Element):
             raise TypeError(
                 f"`element` must be a duhamel.elements element, got {type(element).__name__}"
             )
         element._validate(self)
         self.elements.append(element)
+        return self
+
+    def add_geometric_stiffness(self, Kg: Any) -> System:
+        """Take a geometric stiffness into the linear stiffness: `K` becomes ``K - Kg``.
+
+        ``Kg``: the geometric stiffness of compressive gravity loads (``P / h`` per storey,
+        :class:`duhamel.elements.PDelta`). Linear, so exact on every route (the modes see
+        it). Refused (ValueError naming `Kg`) when not symmetric or when ``K - Kg`` is
+        indefinite (the loads beyond the buckling load). The modes known so far are dropped.
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> s = duhamel.System(np.eye(2), [[2.0, -1.0], [-1.0, 1.0]])
+        >>> s.add_geometric_stiffness(0.1 * np.eye(2)).K.tolist()
+        [[1.9, -1.0], [-1.0, 0.9]]
+        """
+        K = softened(self._K, Kg, self.n_dof)
+        self._K = K if issparse(K) else _frozen(K)
+        if self._condensation is not None:
+            self._condensation = Condensation(self._M, self._K)
+        self._modes = Modes(self._M, self._K, self._condensation)
+        self._modal_cache = {}
+        self._content = shared.content_key(self._M, self._K)
+        for cache in ("_background", "_corrected"):
+            self.__dict__.pop(cache, None)
         return self
 
     def set_mass_law(
@@ -325,6 +360,21 @@ class System:
         self.mass_law = _Attached(law, form, bool(scale_stiffness))
         return self
 
+    def damping_summary(self, linear_parts: str = "auto") -> DampingSummary:
+        """Each mode's damping ratio as ``Semianalytic(linear_parts=...)`` integrates this
+        system: the modes of ``K`` (or of ``K`` plus the elements' linear parts under FNA's
+        ``"background"``) and their ratios, from the first-order modes when the damping is
+        non-classical (docs/structural.md, "Damping conventions").
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> s = duhamel.System(np.eye(2), [[2.0, -1.0], [-1.0, 2.0]], rayleigh=(0.1, 0.0))
+        >>> np.round(s.damping_summary().zeta, 4).tolist()
+        [0.05, 0.0289]
+        """
+        return damping_summary(self, linear_parts)
+
     # ---------------------------------------------------------------- modal analysis
     def modal(self, n_modes: int | None = None) -> ModalBasis:
         """Undamped modal analysis ``K phi = omega^2 M phi`` (cached per `n_modes`).
@@ -360,10 +410,13 @@ class System:
         >>> basis.omega2.tolist(), basis.c.tolist(), np.round(basis.zeta, 4).tolist()
         ([0.0, 2.0], [0.5, 0.5], [0.0, 0.1768])
         """
-        n = mode_count(n_modes, "modes", self.n_dof)  # user-facing name (integrators)
+        n = mode_count(n_modes, "modes", self.n_mass)  # user-facing name (integrators)
         cached = self._modal_cache.get(n)
         if cached is None:
             cached = self._modal_cache[n] = modal_basis(self, n)
+        if cached.labels is not self._labels or cached.mass is not self._M:
+            # a basis shared with a system of the same matrices: this one's labels and mass
+            cached = self._modal_cache[n] = replace(cached, labels=self._labels, mass=self._M)
         return cached
 
     def _with_stiffness(self, K: Any) -> System:
@@ -375,7 +428,9 @@ class System:
         other._K = K if issparse(K) else _frozen(K)
         other.loads, other.elements, other.mass_law = [], [], None
         other._modal_cache = {}
-        other._modes = Modes(self._M, other._K)
+        if self._condensation is not None:
+            other._condensation = Condensation(self._M, other._K)
+        other._modes = Modes(self._M, other._K, other._condensation)
         other._content = shared.content_key(self._M, other._K)
         return other
 
@@ -425,27 +480,9 @@ class System:
         if not isinstance(extend, bool | np.bool_):
             raise TypeError(f"`extend` must be a bool, got {extend!r}")
         rtol = positive_float(rtol, "rtol")
-        if basis.n_dof != self.n_dof:
-            raise ValueError(
-                f"`basis` holds modes of {basis.n_dof} degrees of freedom, the system has "
-                f"{self.n_dof}"
-            )
-        error, (i, j) = orthonormality_error(basis.phi, self._M)
-        if error > rtol:
-            raise ValueError(
-                f"`basis` is not mass-orthonormal with this system's `M`: entry ({i}, {j}) of "
-                f"phi.T M phi - I is {error:.3g} > `rtol` = {rtol:g} (modes of another model?)"
-            )
-        residual = backward_errors(basis.phi, basis.omega2, self._M, self._K)
-        worst = int(np.argmax(residual))
-        if residual[worst] > rtol:
-            raise ValueError(
-                f"`basis` does not hold modes of this system's `K` and `M`: mode {worst} "
-                f"(omega = {basis.omega[worst]:.6g} rad/s) has the relative residual "
-                f"|K phi - omega2 M phi| / ((|K| + omega2 |M|) |phi|) = {residual[worst]:.3g} "
-                f"> `rtol` = {rtol:g}"
-            )
-        self._modes = Modes(self._M, self._K)  # a new store: copies of this model keep theirs
+        check_supplied(self, basis, rtol)
+        # a new store and cache: copies of this model keep theirs
+        self._modes = Modes(self._M, self._K, self._condensation)
         self._modes.supply(basis.omega2, basis.phi, extend=bool(extend))
-        self._modal_cache = {}  # a new cache: copies of this model keep theirs
+        self._modal_cache = {}
         return self

@@ -12,7 +12,7 @@ import numpy as np
 from duhamel._engine import shared
 from duhamel.modal import ModalBasis, damped
 
-__all__ = ["modal_basis"]
+__all__ = ["check_supplied", "modal_basis"]
 
 
 def modal_basis(system: Any, n: int) -> ModalBasis:
@@ -82,3 +82,30 @@ def _checked_modal(system: Any, n: int) -> ModalBasis:
             "model's units"
         )
     return basis
+
+
+def check_supplied(system: Any, basis: ModalBasis, rtol: float) -> None:
+    """Refuses a basis given to :meth:`duhamel.System.use_basis` that does not hold modes of
+    `system` (size, mass-orthonormality, residuals to `rtol`)."""
+    from duhamel.modal import backward_errors, orthonormality_error
+
+    if basis.n_dof != system.n_dof:
+        raise ValueError(
+            f"`basis` holds modes of {basis.n_dof} degrees of freedom, the system has "
+            f"{system.n_dof}"
+        )
+    error, (i, j) = orthonormality_error(basis.phi, system.M)
+    if error > rtol:
+        raise ValueError(
+            f"`basis` is not mass-orthonormal with this system's `M`: entry ({i}, {j}) of "
+            f"phi.T M phi - I is {error:.3g} > `rtol` = {rtol:g} (modes of another model?)"
+        )
+    residual = backward_errors(basis.phi, basis.omega2, system.M, system.K)
+    worst = int(np.argmax(residual))
+    if residual[worst] > rtol:
+        raise ValueError(
+            f"`basis` does not hold modes of this system's `K` and `M`: mode {worst} "
+            f"(omega = {basis.omega[worst]:.6g} rad/s) has the relative residual "
+            f"|K phi - omega2 M phi| / ((|K| + omega2 |M|) |phi|) = {residual[worst]:.3g} "
+            f"> `rtol` = {rtol:g}"
+        )

@@ -90,7 +90,8 @@ def _static(system: System, basis: ModalBasis, f: Array) -> Array:
         import scipy.linalg
 
         K, Md = np.asarray(system.K), np.asarray(M)
-        ratio = float(np.max(np.abs(np.diag(K)) / np.diag(Md)))
+        mass = np.diag(Md)  # massless dofs (zero diagonal) left out of the scale
+        ratio = float(np.max(np.abs(np.diag(K))[mass > 0] / mass[mass > 0]))
         sigma = -SHIFT_RTOL * (ratio if ratio > 0.0 else 1.0)
         factor = scipy.linalg.lu_factor(K - sigma * Md, check_finite=False)
         solve = lambda b: scipy.linalg.lu_solve(factor, b, check_finite=False)  # noqa: E731

@@ -17,7 +17,10 @@ for a pair and 1 for a real eigenvalue.
 
 from __future__ import annotations
 
+import hashlib
+import threading
 import warnings
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -68,7 +71,49 @@ class FirstOrderModes:
         return self.inverse @ np.concatenate([self.sigma * q0, v0])
 
 
+#: First-order modes kept per process, by a digest of their inputs (at most this many): a
+#: model rebuilt for every run (a study, ``solve_many``) decomposes its coupled modal system
+#: once. The same inputs give the same modes, bit for bit.
+KEPT = 16
+_KNOWN: OrderedDict[bytes, FirstOrderModes] = OrderedDict()
+_LOCK = threading.Lock()
+
+
+def _digest(*arrays: NDArray[np.float64] | None) -> bytes:
+    h = hashlib.blake2b(digest_size=20)
+    for a in arrays:
+        if a is None:
+            h.update(b"none")
+        else:
+            a = np.ascontiguousarray(a, dtype=np.float64)
+            h.update(repr(a.shape).encode())
+            h.update(a.data)
+    return h.digest()
+
+
 def first_order_modes(
+    omega2: NDArray[np.float64],
+    c: NDArray[np.float64],
+    coupling_k: NDArray[np.float64] | None,
+    coupling_c: NDArray[np.float64] | None,
+) -> FirstOrderModes:
+    """Eigen-decomposition of the coupled modal system (see the module docstring), taken
+    from an earlier identical system's when there is one (:data:`KEPT`)."""
+    key = _digest(omega2, c, coupling_k, coupling_c)
+    with _LOCK:
+        known = _KNOWN.get(key)
+        if known is not None:
+            _KNOWN.move_to_end(key)
+            return known
+    modes = _decompose(omega2, c, coupling_k, coupling_c)
+    with _LOCK:
+        _KNOWN[key] = modes
+        while len(_KNOWN) > KEPT:
+            _KNOWN.popitem(last=False)
+    return modes
+
+
+def _decompose(
     omega2: NDArray[np.float64],
     c: NDArray[np.float64],
     coupling_k: NDArray[np.float64] | None,

@@ -62,6 +62,8 @@ class DirectSetup:
         if isinstance(integrator, CentralDifference) and not integrator.allow_unstable:
             span = (t0, t0 + n_steps * dt)
             _check_central(system, self.mats, self.elements, x0, v0, dt, span)
+        if a0 is None and system._condensation is not None:
+            a0 = _massless_a0(self, x0, v0, t0, loads)
         run = dispatch.direct_run(dispatch.grid(t0, dt, n_steps, save_every), x0, v0, out_dofs, a0)
         forcing = ModalCallable(fns, n) if fns else None
         with watch(progress, n_steps) as report:
@@ -101,9 +103,49 @@ class DirectSetup:
         return solution
 
 
+def _massless_a0(
+    setup: DirectSetup, x0: NDArray, v0: NDArray, t0: float, loads: list[Any] | None
+) -> NDArray[np.float64]:
+    """The initial acceleration of a model with massless dofs, which the equation of motion
+    does not give (``M`` is singular): ``M_mm a_m = (f - C v0 - K x0)_m`` on the dofs with
+    mass and the static relation differentiated twice, ``a_s = -K_ss^-1 K_sm a_m``, on the
+    massless ones. Elements' forces at the initial state are taken as zero, so a start from
+    a displaced state with elements is refused."""
+    system = setup.system
+    c = system._condensation
+    if system.elements and (np.any(x0) or np.any(v0)):
+        raise ValueError(
+            "`x0`/`v0`: a model with massless dofs and elements starts a direct integrator "
+            "from rest only (its initial acceleration is taken from the linear part)"
+        )
+    f = np.zeros(system.n_dof)
+    for load in system.loads if loads is None else loads:
+        f += np.asarray(load.evaluate(system, np.array([t0]))).reshape(-1)
+    r = f - np.asarray(system.K @ x0)
+    C = setup.mats["c"]
+    if C is not None:
+        r -= np.asarray(C @ v0)
+    M = system.M
+    m = c.m
+    M_mm = M[m][:, m].toarray() if hasattr(M, "toarray") else np.asarray(M)[np.ix_(m, m)]
+    a = np.zeros(system.n_dof)
+    a[m] = np.linalg.solve(M_mm, r[m])
+    return c.expand(a[m])
+
+
 def prepare_direct(system: System, integrator: DirectIntegrator) -> DirectSetup:
     """Prepares `system` for `integrator` (refuses path-dependent elements where the
-    integrator does not commit their state)."""
+    integrator does not commit their state, and explicit or Hermite steps of a model with
+    massless dofs, whose mass matrix they invert)."""
+    if system._condensation is not None and isinstance(
+        integrator, CentralDifference | CubicHermite
+    ):
+        raise ValueError(
+            f"`integrator`: {type(integrator).__name__} inverts the mass matrix, and `M` has "
+            f"{system.massless_dofs.size} massless dofs (e.g. dof "
+            f"{int(system.massless_dofs[0])}); use Newmark(), HHT() or GeneralizedAlpha(), or "
+            "duhamel.Semianalytic(), which condense them exactly"
+        )
     hysteretic = [
         e for e in system.elements if e._path_dependent or getattr(e, "state", None) is not None
     ]

@@ -63,8 +63,10 @@ class Modes:
     ([1.0, 2.0], [1.0, 2.0, 3.0])
     """
 
-    def __init__(self, M: Any, K: Any) -> None:
+    def __init__(self, M: Any, K: Any, condensation: Any = None) -> None:
         self._M, self._K = M, K
+        #: The static condensation of massless dofs (:mod:`duhamel._engine.massless`) or None.
+        self._condensation = condensation
         self._sparse = issparse(M) or issparse(K)
         n = int(M.shape[0])
         self.lam: Array = np.zeros(0)
@@ -75,8 +77,11 @@ class Modes:
         #: ``(lu, sigma, M, K)`` of the sparse shift-invert, made once (CSC matrices).
         self._factor: tuple[Any, float, Any, Any] | None = None
         self._semidefinite = False
-        ratio = np.abs(np.asarray(K.diagonal())) / np.asarray(M.diagonal())
+        mass = np.asarray(M.diagonal())
+        ratio = np.abs(np.asarray(K.diagonal()))[mass > 0] / mass[mass > 0]
         self._ratio = float(np.max(ratio))
+        #: Number of finite modes: one per dof with mass.
+        self.n_finite = int(np.count_nonzero(mass > 0))
 
     @property
     def count(self) -> int:
@@ -112,8 +117,7 @@ class Modes:
 
     # ------------------------------------------------------------------ computing
     def _more(self, k: int) -> tuple[Array, Array]:
-        n_dof = self.phi.shape[0]
-        if self._sparse and self.count + k < n_dof - 1:
+        if self._sparse and self.count + k < self.n_finite - 1:
             return self._sparse_more(k)
         return self._dense_more(k)
 
@@ -164,6 +168,19 @@ class Modes:
             return a.toarray() if issparse(a) else np.asarray(a)
 
         K, M, m = dense(self._K), dense(self._M), self.count
+        c = self._condensation
+        if c is not None:  # the condensed model's modes, expanded: every finite one
+            idx = np.ix_(c.m, c.m)
+            lam, y = la.eigh(c.condensed_stiffness(K), M[idx], check_finite=False)
+            if m:  # continue the known ones: the complement's modes in the known span's order
+                x = c.expand(y)
+                x = x - self.phi @ (self.phi.T @ (M @ x))
+                g = x.T @ M @ x
+                s, u = la.eigh(_sym(g))
+                x = x @ (u[:, s > 1e-10 * s.max()] / np.sqrt(s[s > 1e-10 * s.max()]))
+                lam, y2 = la.eigh(_sym(x.T @ K @ x), _sym(x.T @ M @ x), check_finite=False)
+                return lam[:k], (x @ y2)[:, :k]
+            return lam[:k], c.expand(y[:, :k])
         if m == 0:
             return la.eigh(K, M, subset_by_index=[0, k - 1], check_finite=False)
         # With M = L L^T and y = L^T x the problem is standard, A = L^-1 K L^-T, and the known

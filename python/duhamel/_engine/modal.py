@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 
 from duhamel._engine import dispatch
 from duhamel._engine.correction import substeps
+from duhamel._engine.massless import load_terms
 from duhamel._engine.output import check_memory, physical
 from duhamel._engine.plan import Plan, mass, modal_loads, plan
 from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
@@ -184,6 +185,17 @@ def solution(
     kept, x, vel, acc, modal = physical(result, route, out.phi_out, patterns)
     error = result.error
     t = result.t if kept == result.t.size else result.t[:kept]
+    terms = load_terms(
+        prep.system,
+        prep.system.loads if base is None else base,
+        t,
+        out.dofs,
+        opts.dt,
+        route.carried,
+    )
+    if terms is not None:  # loads at massless dofs: their static part, which no mode carries
+        x, vel = x + terms[0], vel + terms[1]
+        acc = _plus(acc, terms[2])
     solution = Solution(
         t=t,
         x=x,
@@ -239,6 +251,13 @@ def solution(
         )
         raise_failure(error, solution, note, step)
     return solution
+
+
+def _plus(acc: Any, extra: NDArray[np.float64]) -> Any:
+    """The accelerations `acc` (an array, or a function giving them) plus `extra`."""
+    if callable(acc):
+        return lambda: acc() + extra
+    return acc + extra
 
 
 def failure_note(

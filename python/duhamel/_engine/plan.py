@@ -11,6 +11,7 @@ coupled system) with an optional pseudo-force corrector (docs/architecture.md):
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -20,6 +21,7 @@ from numpy.typing import NDArray
 from duhamel._engine.background import background
 from duhamel._engine.correction import enriched
 from duhamel._engine.coupled import CONDITION_LIMIT, FirstOrderModes, first_order_modes
+from duhamel._engine.massless import quasi_static
 from duhamel._engine.specs import ScaledSpec, load, speed_law
 from duhamel._engine.specs import elements as core_elements
 from duhamel._engine.specs import mass as core_mass
@@ -66,7 +68,11 @@ class Plan:
     correction : ndarray
         The circular frequencies of the static-correction coordinates that carry nonlinear
         elements as pseudo-forces (empty without them): a run resolves them in time
-        (``duhamel._engine.correction.substeps``).
+        (``duhamel._engine.correction.substeps``), and of the quasi-static coordinates of
+        elements at massless dofs.
+    carried : ndarray or None
+        The K-orthonormal static vectors of those quasi-static coordinates
+        (``duhamel._engine.massless.quasi_static``).
     passive : bool
         Whether everything beyond the background only stores or dissipates energy (passive
         elements, symmetric positive semi-definite couplings, gyroscopic terms; no mass
@@ -82,6 +88,7 @@ class Plan:
     elements: list[Any]
     linear: tuple[Any, ...] = ()
     correction: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0), compare=False)
+    carried: NDArray[np.float64] | None = field(default=None, compare=False)
     passive: bool = False
 
 
@@ -150,9 +157,51 @@ def mass(system: System, integrator: Any) -> Any:
     return core_mass(attached.law._spec(), attached.form, attached.scale_stiffness, treatment)
 
 
+def _check_massless_elements(system: System) -> None:
+    """Refuses linear couplings acting on massless dofs on the modal route (their
+    stiffness would not be condensed); force elements there get quasi-static coordinates
+    (:func:`duhamel._engine.massless.quasi_static`)."""
+    if system._condensation is None or not system.elements:
+        return
+    massless = set(system.massless_dofs.tolist())
+    for index, element in enumerate(system.elements):
+        if not isinstance(element, LinearCoupling):
+            continue
+        mats = [m for m in (element.K, element.C) if m is not None]
+        touched = {int(d) for m in mats for d in np.flatnonzero(np.abs(np.asarray(m)).sum(1))}
+        hit = sorted(touched & massless)
+        if hit:
+            raise ValueError(
+                f"`system.elements[{index}]` (LinearCoupling) acts on the massless dofs {hit}: "
+                "the modal route does not condense a coupling; add its matrices to `K`/`C`, "
+                "or run the model with duhamel.Newmark()"
+            )
+
+
+def _warn_missing_mass(system: System, basis: ModalBasis) -> None:
+    """Warns when a reduced basis carries less than 90 % of the mass in the direction of a
+    support acceleration (:data:`duhamel.participation.MASS_TARGET`)."""
+    from duhamel.loads import BaseAcceleration
+    from duhamel.participation import MASS_TARGET, participation
+
+    for item in system.loads:
+        if isinstance(item, BaseAcceleration):
+            p = participation(np.asarray(basis.phi), system.M, item.direction_vector, None)
+            kept = float(p.cumulative[-1]) if p.total_mass > 0 else 1.0
+            if kept < MASS_TARGET:
+                warnings.warn(
+                    f"the reduced basis ({basis.n_modes} coordinates) carries "
+                    f"{100 * kept:.1f} % of the mass in the direction of a BaseAcceleration "
+                    f"(less than {100 * MASS_TARGET:.0f} %): the response misses the rest; "
+                    "keep more `modes` (see ModalBasis.participation)",
+                    stacklevel=5,
+                )
+
+
 def plan(system: System, integrator: Semianalytic) -> Plan:
     """The route of `system` under `integrator`; raises ValueError when
     ``coupling="exact"`` cannot be honoured."""
+    _check_massless_elements(system)
     bg = background(system, integrator.linear_parts)
     system = bg.system
     basis = system.modal(integrator.modes)
@@ -166,6 +215,12 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         basis, correction = enriched(system, basis)
     if not any(not isinstance(e, LinearCoupling) for e in system.elements):
         correction = np.zeros(0)  # the linear steps are exact at any dt
+    carried = np.zeros((system.n_dof, 0))
+    if system._condensation is not None and system.elements:
+        basis, quasi, carried = quasi_static(system, basis)
+        correction = np.concatenate([correction, quasi])
+    if integrator.modes is not None:
+        _warn_missing_mass(system, basis)
     elements = core_elements(system.elements)
     has_elements = bool(system.elements)
     coupled = basis.c_coupling is not None or any(
@@ -182,7 +237,9 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
             route = "first-order"
     coupling = None if not coupled else ("exact" if modes is not None else "pseudo-force")
     quiet = passive(system, couplings, basis)
-    return Plan(route, basis, couplings, modes, coupling, elements, bg.linear, correction, quiet)
+    return Plan(
+        route, basis, couplings, modes, coupling, elements, bg.linear, correction, carried, quiet
+    )
 
 
 def _semidefinite(m: NDArray | None, *, symmetric: bool) -> bool:

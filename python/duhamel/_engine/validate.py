@@ -20,6 +20,7 @@ from numpy.typing import NDArray
 __all__ = [
     "as_float_array",
     "as_square_matrix",
+    "check_mass",
     "check_nonneg_diagonal",
     "check_positive_definite",
     "check_semidefinite",
@@ -374,6 +375,45 @@ def check_positive_definite(mat: Any, name: str) -> None:
             f"`{name}` must be positive definite, but it is singular to working precision "
             f"(relative pivot {ratio.min():.3g})"
         )
+
+
+def check_mass(mat: Any, name: str = "M") -> None:
+    """Raise ValueError unless the symmetric `mat` is positive semidefinite with its null
+    space on whole dofs: a zero diagonal entry (a massless dof) with a zero row, and the block
+    of the other dofs positive definite (:func:`check_positive_definite`). A negative
+    diagonal entry, a nonzero entry in a massless row, or a singular block with mass is
+    refused."""
+    diag = _diagonal(mat)
+    bad = np.flatnonzero(diag < 0.0)
+    if bad.size:
+        i = int(bad[0])
+        raise ValueError(
+            f"`{name}` must be positive definite on the dofs with mass (and zero on massless "
+            f"ones), but {name}[{i}, {i}] = {diag[i]:.6g} is negative"
+        )
+    zero = np.flatnonzero(diag == 0.0)
+    if zero.size == 0:
+        check_positive_definite(mat, name)
+        return
+    rows = abs(mat[zero]) if issparse(mat) else np.abs(np.asarray(mat)[zero])
+    norms = np.asarray(rows.sum(axis=1)).ravel()
+    if np.any(norms > 0.0):
+        i = int(zero[np.argmax(norms > 0.0)])
+        raise ValueError(
+            f"`{name}` must be positive semidefinite, but its massless dof {i} ({name}[{i}, {i}]"
+            f" = 0) has a nonzero entry in its row: `{name}` is indefinite"
+        )
+    if zero.size == diag.size:
+        raise ValueError(f"`{name}` must have mass at some dof, but it is zero")
+    keep = np.flatnonzero(diag > 0.0)
+    sub = mat[keep][:, keep] if issparse(mat) else np.asarray(mat)[np.ix_(keep, keep)]
+    try:
+        check_positive_definite(sub, name)
+    except ValueError:
+        raise ValueError(
+            f"`{name}` must be positive definite on its dofs with mass (a massless dof has a "
+            "zero row and column), but that block is not"
+        ) from None
 
 
 def warn_heavy_damping(zeta: Any) -> None:

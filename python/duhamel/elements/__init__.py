@@ -6,7 +6,8 @@ integrator treats the element forces as modal pseudo-forces; :class:`LinearCoupl
 projected on the modes once. The hysteretic and device elements of earthquake engineering
 (:class:`Bilinear`, :class:`BoucWen`, :class:`FrictionPendulum`, :class:`ViscousDamper`,
 :class:`Gap`) are defined in :mod:`.devices`, the others in :mod:`.basic`, their base class in
-:mod:`.base`; all are exported here.
+:mod:`.base`; all are exported here. :class:`PDelta` (in :mod:`.geometric`) is no force
+element: it is linear, and :meth:`duhamel.System.add` takes it into the stiffness.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from duhamel.elements.basic import (
     Spring,
 )
 from duhamel.elements.devices import Bilinear, BoucWen, FrictionPendulum, Gap, ViscousDamper
+from duhamel.elements.geometric import PDelta
 
 __all__ = [
     "Bilinear",
@@ -34,6 +36,7 @@ __all__ = [
     "FrictionPendulum",
     "Gap",
     "LinearCoupling",
+    "PDelta",
     "Polynomial",
     "Spring",
     "ViscousDamper",

@@ -106,11 +106,15 @@ pub fn integrate(
     let outcome = (|| -> Result<(), (CoreError, usize)> {
         let at0 = |e| (e, 0);
         let t0 = time(0);
-        // The mass matrix, factorised once: the initial acceleration (and the saved ones of
-        // the Hermite element) from the equation of motion.
-        let mut mm = IterationMatrix::new(n, 1, &[problem.m], &[]).map_err(at0)?;
-        mm.add_matrix(0, (0, 0), 1.0);
-        let m_lu = mm.factorize().map_err(at0)?;
+        // The mass matrix, factorised once when it is needed: the initial acceleration
+        // (unless given: a singular mass with massless dofs has none from the equation of
+        // motion) and the saved ones of the Hermite element.
+        let factor_mass = || -> Result<_, CoreError> {
+            let mut mm = IterationMatrix::new(n, 1, &[problem.m], &[])?;
+            mm.add_matrix(0, (0, 0), 1.0);
+            mm.factorize()
+        };
+        let mut m_lu = None;
         let (mut x, mut v, mut a) = (problem.x0.to_vec(), problem.v0.to_vec(), vec![0.0; n]);
         let mut f = vec![0.0; n];
         model
@@ -122,7 +126,7 @@ pub fn integrate(
             Some(a0) => a.copy_from_slice(a0),
             None => model
                 .acceleration(
-                    &m_lu,
+                    m_lu.insert(factor_mass().map_err(at0)?),
                     State {
                         x: &x,
                         v: &v,
@@ -161,7 +165,16 @@ pub fn integrate(
                         .external(&[t], forcing.as_deref_mut(), &mut f)
                         .map_err(|e| (e, step))?;
                     model
-                        .acceleration(&m_lu, State { x: &x, v: &v, t }, k, &f, &mut a_out)
+                        .acceleration(
+                            match &mut m_lu {
+                                Some(lu) => lu,
+                                slot => slot.insert(factor_mass().map_err(|e| (e, step))?),
+                            },
+                            State { x: &x, v: &v, t },
+                            k,
+                            &f,
+                            &mut a_out,
+                        )
                         .map_err(|e| (e, step))?;
                 } else {
                     a_out.copy_from_slice(&a);

@@ -1,0 +1,175 @@
+"""Models from OpenSees: :func:`from_opensees` reads the model defined in the running
+openseespy session (``pip install 'duhamel[opensees]'``) and returns a labelled
+:class:`duhamel.System` (docs/models.md)."""
+
+from __future__ import annotations
+
+from collections.abc import Hashable
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from duhamel._engine.labels import Labels
+from duhamel.elements import Element
+from duhamel.system import System
+
+__all__ = ["OpenSeesModel", "from_opensees"]
+
+
+@dataclass
+class OpenSeesModel:
+    """What :func:`from_opensees` read besides the matrices (``system.opensees``).
+
+    Attributes
+    ----------
+    labels : list of (int, str)
+        The ``(node, component)`` label of each dof of the system, in dof order.
+    x0 : ndarray
+        The displacements of the dofs at import (after a gravity analysis: the displaced
+        state). duhamel's response is measured from this state: add `x0` for totals.
+    elements : dict
+        The duhamel elements made from each translated OpenSees element, by element tag.
+    linearized : dict
+        The elements kept linear (``nonlinear="linearize"``), ``{tag: type}``.
+    recovery : dict
+        Every non-fixed node dof as a row of coefficients on the system's dofs (the nodes
+        tied by a rigid diaphragm or link are no dofs of the system; :meth:`node_response`
+        gives their motion).
+    notes : list of str
+        What the translation assumed (e.g. the friction coefficient taken at import).
+    """
+
+    labels: list[tuple[int, str]]
+    x0: NDArray[np.float64]
+    elements: dict[int, list[Element]] = field(default_factory=dict)
+    linearized: dict[int, str] = field(default_factory=dict)
+    recovery: dict[tuple[int, str], NDArray[np.float64]] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+
+    def node_response(self, x: ArrayLike, node: int, component: str) -> NDArray[np.float64]:
+        """The motion of a node dof from a response `x` on every dof (``sol.x``, shape
+        ``(n_times, n_dof)``), also for the dofs OpenSees ties by constraints.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.opensees import OpenSeesModel
+        >>> m = OpenSeesModel([(1, "ux")], np.zeros(1), recovery={(2, "ux"): np.array([1.0])})
+        >>> m.node_response(np.ones((3, 1)), 2, "ux").tolist()
+        [1.0, 1.0, 1.0]
+        """
+        row = self.recovery.get((int(node), str(component)))
+        if row is None:
+            raise ValueError(f"`node` {node} {component!r} is fixed or not in the model")
+        return np.asarray(x, dtype=np.float64) @ row
+
+
+def _openseespy() -> Any:
+    try:
+        import openseespy.opensees as ops
+    except ImportError as exc:  # also a wheel whose BLAS/LAPACK is missing
+        raise ImportError(
+            "duhamel.opensees needs openseespy: pip install 'duhamel[opensees]' (its wheel "
+            f"needs the system BLAS and LAPACK, e.g. apt install libblas3 liblapack3): {exc}"
+        ) from exc
+    return ops
+
+
+def from_opensees(*, nonlinear: Literal["translate", "linearize"] = "translate") -> System:
+    """The model defined in the running openseespy session as a labelled :class:`System`.
+
+    ``M``, ``K`` and, when ``rayleigh`` or element damping is defined, ``C`` are formed by
+    OpenSees (``integrator('GimmeMCK', ...)``, ``system('FullGeneral')``, ``printA``) at
+    the current state: after a gravity analysis, ``K`` is the tangent with its geometric
+    stiffness. Fixities and multi-point constraints (``equalDOF``, ``rigidDiaphragm``,
+    ``rigidLink``) are applied by transformation: every equation is one dof of the system,
+    labelled ``(node, component)`` with components ``"ux"``, ``"uy"``, ``"uz"``, ``"rx"``,
+    ``"ry"``, ``"rz"``; dofs tied one to one (``equalDOF``) are aliases of it. The session's
+    analysis objects are replaced (define them again before running OpenSees).
+
+    Nonlinear elements are translated to duhamel's: ``zeroLength`` with ``Steel01``
+    (:class:`~duhamel.elements.Bilinear`), ``BoucWen``, ``ViscousDamper`` (a dashpot),
+    ``ElasticPPGap`` without yield and ``ENT`` (:class:`~duhamel.elements.Gap`) materials
+    (``Elastic`` stays in ``K``), ``flatSliderBearing`` and ``singleFPBearing`` (in 2-D a
+    :class:`~duhamel.elements.Bilinear` on the shear dof, in 3-D a
+    :class:`~duhamel.elements.FrictionPendulum`, flat or of radius ``Reff``, with the friction
+    coefficient and the axial load at import); their stiffness at import is taken out of
+    ``K``. The response is measured from the state at import: totals are
+    ``system.opensees.x0 + sol.x`` (the model carries no gravity load, so do not pass
+    ``x0`` to :func:`duhamel.solve`).
+
+    Parameters
+    ----------
+    nonlinear : {"translate", "linearize"}
+        What to do with an element without a duhamel counterpart: refuse the model naming
+        its tag and type (``"translate"``), or keep it at its tangent stiffness at import
+        with a warning (``"linearize"``).
+
+    Returns
+    -------
+    System
+        With ``system.opensees``, an :class:`OpenSeesModel` (labels, ``x0``, the elements
+        made from each OpenSees element, the recovery of constrained nodes).
+
+    Raises
+    ------
+    ImportError
+        If openseespy cannot be loaded.
+    ValueError
+        If the session holds no model, or an element cannot be translated.
+
+    Examples
+    --------
+    >>> import openseespy.opensees as ops  # doctest: +SKIP
+    >>> ops.wipe(); ops.model("basic", "-ndm", 1, "-ndf", 1)  # doctest: +SKIP
+    >>> ops.node(1, 0.0); ops.node(2, 0.0); ops.fix(1, 1); ops.mass(2, 1.0)  # doctest: +SKIP
+    >>> ops.uniaxialMaterial("Elastic", 1, 4.0)  # doctest: +SKIP
+    >>> ops.element("zeroLength", 1, 1, 2, "-mat", 1, "-dir", 1)  # doctest: +SKIP
+    >>> import duhamel.opensees  # doctest: +SKIP
+    >>> system = duhamel.opensees.from_opensees()  # doctest: +SKIP
+    >>> system.dof_labels, system.dof(2, "ux")  # doctest: +SKIP
+    (('2:ux',), 0)
+    """
+    from duhamel.opensees._read import dof_map, matrices, printout
+    from duhamel.opensees._translate import translate
+
+    if nonlinear not in ("translate", "linearize"):
+        raise ValueError(f"`nonlinear` must be 'translate' or 'linearize', got {nonlinear!r}")
+    ops = _openseespy()
+    if not list(ops.getNodeTags()):
+        raise ValueError("the openseespy session holds no model (no nodes)")
+    pr = printout(ops)
+    M, C, K, equations = matrices(ops)
+    dmap = dof_map(ops, M.shape[0], equations, pr.constraints)
+    tr = translate(ops, pr, dmap, nonlinear)
+    K = K.copy()
+    for dofs, k in tr.removed:
+        K[np.ix_(dofs, dofs)] -= k
+    system = System(M, K, C=C) if np.any(C) else System(M, K)
+    system.label_dofs(dmap.labels)
+    absent: dict[Hashable, str] = dict(dmap.absent)
+    system._label_map = Labels(dmap.labels, dmap.aliases, absent)
+    for made in tr.elements.values():
+        for element in made:
+            system.add(element)
+    ndm = int(np.atleast_1d(ops.getNDM())[0])
+    from duhamel.opensees._read import components
+
+    x0 = np.array(
+        [
+            ops.nodeDisp(node)[components(ndm, len(equations[node])).index(comp)]
+            for node, comp in dmap.labels
+        ],
+        dtype=np.float64,
+    )
+    system.opensees = OpenSeesModel(  # type: ignore[attr-defined]
+        labels=list(dmap.labels),
+        x0=x0,
+        elements=tr.elements,
+        linearized=tr.linearized,
+        recovery=dmap.recovery,
+        notes=tr.notes,
+    )
+    return system

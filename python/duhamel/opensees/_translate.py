@@ -1,0 +1,291 @@
+"""OpenSees elements as duhamel elements: the linear ones stay in the stiffness matrix, the
+nonlinear ones that have a duhamel counterpart become that element (with their stiffness
+taken out of the matrix, so it is not counted twice), the others are refused (or kept at
+their stiffness at import under ``nonlinear="linearize"``)."""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from duhamel.elements import Bilinear, BoucWen, Element, FrictionPendulum, Gap, ViscousDamper
+from duhamel.opensees._read import DofMap, Printout, components
+
+__all__ = ["Translation", "translate"]
+
+#: Element classes that are linear at fixed geometry (their tangent at import is exact).
+LINEAR = {
+    "ElasticBeam2d",
+    "ElasticBeam3d",
+    "ElasticTimoshenkoBeam2d",
+    "ElasticTimoshenkoBeam3d",
+    "ModElasticBeam2d",
+    "ElasticBeamWarping3d",
+}
+#: Coordinate transformations that make a linear element nonlinear (large displacements).
+NONLINEAR_GEOMETRY = ("Corot",)
+#: The flat and single friction pendulum bearings.
+SLIDERS = {"FlatSliderSimple2d", "FlatSliderSimple3d", "SingleFPSimple2d", "SingleFPSimple3d"}
+#: A friction pendulum of this radius is flat (its gravity stiffness W/R vanishes).
+FLAT_RADIUS = 1e30
+#: ElasticPPGap with a yield force at least this many times E |gap| never yields.
+NO_YIELD = 1e12
+
+_ZL_DIRS = {
+    1: {"P": (0, False)},
+    2: {"P": (0, False), "Vy": (1, False), "Mz": (2, True)},
+    3: {
+        "P": (0, False),
+        "Vy": (1, False),
+        "Vz": (2, False),
+        "T": (0, True),
+        "My": (1, True),
+        "Mz": (2, True),
+    },
+}
+
+
+class Untranslatable(Exception):
+    """An element (or one of its materials) without a duhamel counterpart."""
+
+
+@dataclass
+class Translation:
+    """The translated elements, by OpenSees tag; the stiffness to take out of K (each
+    ``(dofs, k)``); the elements kept linear; notes for the user."""
+
+    elements: dict[int, list[Element]] = field(default_factory=dict)
+    removed: list[tuple[tuple[int, ...], NDArray[np.float64]]] = field(default_factory=list)
+    linearized: dict[int, str] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+
+
+def _eq(dmap: DofMap, node: int, comp: str, index: dict) -> int | None:
+    """The equation of a node dof, None when it is fixed; Untranslatable when it is tied to
+    others by a constraint that is not one to one."""
+    key = (node, comp)
+    if key in index:
+        return index[key]
+    why = dmap.absent.get(key, f"node {node} has no dof {comp}")
+    if "fixed" in why:
+        return None
+    raise Untranslatable(why)
+
+
+def _pair(i: int | None, j: int | None, k: float) -> tuple[tuple[int, ...], NDArray]:
+    dofs = tuple(d for d in (i, j) if d is not None)
+    if len(dofs) == 1:
+        return dofs, np.array([[k]])
+    return dofs, np.array([[k, -k], [-k, k]])
+
+
+def _resp(ops: Any, tag: int, *args: str) -> list[float]:
+    return [float(v) for v in np.atleast_1d(ops.eleResponse(tag, *args))]
+
+
+def _material(mat: dict[str, Any], i: int | None, j: int | None, sign: float) -> Element | None:
+    """The duhamel element of a zeroLength material between the dofs `i`, `j` (deformation
+    ``sign (x_j - x_i)`` in OpenSees), or None when the material is linear (it stays in K)."""
+    kind = str(mat.get("type"))
+    # duhamel's deformation is x_a - x_b: OpenSees' strain when (a, b) = (j, i) for sign +1
+    a, b = (j, i) if sign > 0 else (i, j)
+    sym = (a, b) if a is not None else (b, a)  # a symmetric law may change the sign
+    if kind == "ElasticMaterial":
+        if float(mat["Epos"]) != float(mat["Eneg"]):
+            raise Untranslatable(f"Elastic material {mat['name']} with Epos != Eneg")
+        return None
+    if kind == "Steel01":
+        if float(mat.get("a1", 0.0)) != 0.0 or float(mat.get("a3", 0.0)) != 0.0:
+            raise Untranslatable(f"Steel01 material {mat['name']} with isotropic hardening")
+        return Bilinear(
+            sym[0], sym[1], k=float(mat["E"]), fy=float(mat["fy"]), alpha=float(mat["b"])
+        )
+    if kind == "BoucWenMaterial":
+        for key in ("deltaA", "deltaNu", "deltaEta"):
+            if float(mat.get(key, 0.0)) != 0.0:
+                raise Untranslatable(f"BoucWen material {mat['name']} with degradation ({key})")
+        if float(mat.get("Ao", 1.0)) != 1.0:
+            raise Untranslatable(f"BoucWen material {mat['name']} with A0 != 1")
+        n, beta, gamma = float(mat["n"]), float(mat["beta"]), float(mat["gamma"])
+        ko, alpha = float(mat["ko"]), float(mat["alpha"])
+        if beta + gamma <= 0:
+            raise Untranslatable(f"BoucWen material {mat['name']}: beta + gamma <= 0 (unbounded)")
+        z_max = (1.0 / (beta + gamma)) ** (1.0 / n)  # OpenSees' z is a displacement
+        return BoucWen(
+            sym[0],
+            sym[1],
+            k=ko,
+            fy=ko * z_max,
+            alpha=alpha,
+            n=n,
+            beta=beta / (beta + gamma),
+            gamma=gamma / (beta + gamma),
+        )
+    if kind == "EPPGap":
+        e, fy, gap = float(mat["E"]), float(mat["fy"]), float(mat["gap"])
+        if float(mat.get("eta", 0.0)) != 0.0 or abs(fy) < NO_YIELD * e * max(abs(gap), 1e-300):
+            raise Untranslatable(f"ElasticPPGap material {mat['name']} that yields (fy = {fy})")
+        # gap < 0: contact in compression, strain < gap; gap > 0: in tension, strain > gap
+        pos, neg = (a, b) if gap <= 0 else (b, a)
+        if pos is None:
+            raise Untranslatable("a gap whose moving side is the fixed node")
+        return Gap(pos, neg, gap=abs(gap), k=e)
+    if kind == "ENTMaterial":
+        if float(mat.get("a", 0.0)) != 0.0:
+            raise Untranslatable(f"ENT material {mat['name']} with tension stiffness (a != 0)")
+        if a is None:
+            raise Untranslatable("a gap whose moving side is the fixed node")
+        return Gap(a, b, gap=0.0, k=float(mat["E"]))
+    if kind == "ViscousDamper":
+        warnings.warn(
+            f"ViscousDamper material {mat['name']} translated as a dashpot: its series "
+            f"stiffness K = {mat.get('K')} is taken as rigid",
+            UserWarning,
+            stacklevel=4,
+        )
+        return ViscousDamper(sym[0], sym[1], c=float(mat["C"]), exponent=float(mat["Alpha"]))
+    raise Untranslatable(f"material {mat.get('name')} of type {kind}")
+
+
+Made = tuple[list[Element], list[tuple[tuple[int, ...], NDArray[np.float64]]], list[str]]
+
+
+def _zero_length(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx: dict) -> Made:
+    ndm = int(np.atleast_1d(ops.getNDM())[0])
+    ni, nj = (int(v) for v in ele["nodes"])
+    trans = np.array(ele["transMatrix"], dtype=np.float64)
+    comps = components(ndm, len(ops.nodeDisp(nj)))
+    made: list[Element] = []
+    removed = []
+    for k, (mtag, dname) in enumerate(zip(ele["materials"], ele["dof"], strict=True)):
+        mat = pr.materials.get(int(mtag))
+        if mat is None:
+            raise Untranslatable(f"material {mtag} (not printed by OpenSees)")
+        axis, rot = _ZL_DIRS[ndm][dname] if dname in _ZL_DIRS.get(ndm, {}) else (None, False)
+        if axis is None:
+            raise Untranslatable(f"direction {dname}")
+        row = trans[axis]
+        a = int(np.argmax(np.abs(row)))
+        if abs(abs(row[a]) - 1.0) > 1e-12 or np.sum(np.abs(row)) - abs(row[a]) > 1e-12:
+            raise Untranslatable(f"direction {dname} not along a global axis")
+        comp = ("rx", "ry", "rz")[a] if rot else ("ux", "uy", "uz")[a]
+        if comp not in comps:
+            raise Untranslatable(f"direction {dname} ({comp}) absent from the nodes")
+        i, j = _eq(dmap, ni, comp, idx), _eq(dmap, nj, comp, idx)
+        if i is None and j is None:
+            continue
+        element = _material(mat, i, j, float(np.sign(row[a])))
+        if element is None:
+            continue
+        stress = _resp(ops, tag, "material", str(k + 1), "stress")[0]
+        strain = _resp(ops, tag, "material", str(k + 1), "strain")[0]
+        if stress != 0.0 or (strain != 0.0 and not isinstance(element, Gap)):
+            raise Untranslatable(
+                f"material {mtag} is loaded at import (strain {strain:.3g}, stress "
+                f"{stress:.3g}); translated elements start undeformed"
+            )
+        tangent = _resp(ops, tag, "material", str(k + 1), "tangent")[0]
+        if tangent != 0.0:
+            removed.append(_pair(i, j, tangent))
+        made.append(element)
+    return made, removed, []
+
+
+def _slider(ops: Any, tag: int, ele: dict, dmap: DofMap, idx: dict) -> Made:
+    ndm = int(np.atleast_1d(ops.getNDM())[0])
+    ni, nj = (int(v) for v in ops.eleNodes(tag))
+    k0 = float(ele.get("kInit", math.nan))
+    if not k0 > 0:
+        raise Untranslatable("bearing without a printed kInit")
+    mu = _resp(ops, tag, "frictionModel", "frictionCoeff")[0]
+    weight = _resp(ops, tag, "frictionModel", "normalForce")[0]
+    if not weight > 0:
+        raise Untranslatable(
+            "bearing without axial load at import (run the gravity analysis before importing)"
+        )
+    force = np.array(_resp(ops, tag, "globalForce")[:ndm])  # the axial force at node i
+    axis = int(np.argmax(np.abs(force)))
+    if np.sum(np.abs(force)) - abs(force[axis]) > 1e-6 * abs(force[axis]):
+        raise Untranslatable("bearing whose axis is not a global axis, or sheared at import")
+    shear = [c for c in ("ux", "uy", "uz")[:ndm] if c != ("ux", "uy", "uz")[axis]]
+    pairs = [(_eq(dmap, ni, c, idx), _eq(dmap, nj, c, idx)) for c in shear]
+    # a single friction pendulum: the elastic part N / R in kInit (OpenSees' k2 and k0)
+    radius = float(ele.get("Reff", math.inf))
+    k2 = weight / radius
+    if not k2 < k0:
+        raise Untranslatable(f"pendulum whose gravity stiffness N / R = {k2:g} >= kInit")
+    made: list[Element]
+    if len(shear) == 1:
+        i, j = pairs[0]
+        if i is None and j is None:
+            return [], [], []
+        a, b = (j, i) if j is not None else (i, j)
+        alpha = k2 / k0  # post-sliding over initial stiffness: (1 - alpha) fy = mu N
+        made = [Bilinear(a, b, k=k0, fy=mu * weight / (1.0 - alpha), alpha=alpha)]
+    else:
+        if any(i is not None for i, _ in pairs) and any(j is not None for _, j in pairs):
+            raise Untranslatable("3-D bearing between two free nodes (duhamel's is to ground)")
+        dofs = [j if i is None else i for i, j in pairs]
+        if any(d is None for d in dofs):
+            return [], [], []
+        made = [
+            FrictionPendulum(
+                dofs[0],
+                dofs[1],
+                radius=min(radius, FLAT_RADIUS),
+                mu=mu,
+                weight=weight,
+                yield_displacement=mu * weight / (k0 - k2),
+            )
+        ]
+    removed = [_pair(i, j, k0) for i, j in pairs if (i, j) != (None, None)]
+    note = (
+        f"element {tag}: friction taken as Coulomb with mu = {mu:g} (its value at import) "
+        f"under the axial load at import {weight:g}"
+    )
+    return made, removed, [note]
+
+
+def translate(ops: Any, pr: Printout, dmap: DofMap, nonlinear: str) -> Translation:
+    """Every element of the session: kept (linear), translated, or refused by tag and type
+    (kept at its stiffness at import, with a warning, under ``nonlinear="linearize"``)."""
+    out = Translation()
+    idx: dict = {lab: e for e, lab in enumerate(dmap.labels)}
+    idx.update(dmap.aliases)
+    for tag in (int(v) for v in ops.getEleTags()):
+        kind = str(ops.eleType(tag))
+        ele = pr.elements.get(tag, {})
+        try:
+            if kind in LINEAR:
+                name = pr.transforms.get(str(ele.get("crdTransformation", "")), "")
+                if any(word in name for word in NONLINEAR_GEOMETRY):
+                    raise Untranslatable(f"geometric transformation {name} (large displacements)")
+            elif kind == "ZeroLength":
+                made, removed, notes = _zero_length(ops, tag, ele, pr, dmap, idx)
+            elif kind in SLIDERS:
+                made, removed, notes = _slider(ops, tag, ele, dmap, idx)
+            else:
+                raise Untranslatable("no duhamel counterpart")
+            if kind not in LINEAR and made:
+                out.elements[tag] = made
+                out.removed.extend(removed)
+                out.notes.extend(notes)
+        except (Untranslatable, KeyError, ValueError) as exc:
+            what = f"element {tag} ({kind}): {exc}"
+            if nonlinear != "linearize":
+                raise ValueError(
+                    f"cannot translate OpenSees {what}; pass nonlinear='linearize' to keep it "
+                    "at its stiffness at import"
+                ) from None
+            out.linearized[tag] = kind
+            warnings.warn(
+                f"OpenSees {what}: kept linear at its tangent stiffness at import",
+                UserWarning,
+                stacklevel=3,
+            )
+    return out
