@@ -335,3 +335,68 @@ def test_unbalance_response_matches_ross_run_unbalance_response(ross):
     assert peaks and all(np.isfinite(p.amplification_factor) for p in peaks)
     same = model.unbalance_response(speeds, [(2, 1e-3, 0.4)]).response
     np.testing.assert_array_equal(same, res.response)
+
+
+# ------------------------------------------------------------------------------ first-class
+def ross_lateral_eigenvalues(ross_rotor, modal, dofs, count):
+    """The eigenvalues (Im > 0, ascending) of the lateral modes among a ROSS run_modal's."""
+    lam = np.asarray(modal.evalues)[: modal.wd.size]
+    shapes = modal.evectors[: ross_rotor.ndof, : modal.wd.size]
+    lateral = np.linalg.norm(shapes[dofs.ross_index], axis=0) / np.linalg.norm(shapes, axis=0)
+    lam = lam[lateral > 0.5]  # run_campbell reorders them by its tracking: sort again
+    return lam[np.argsort(lam.imag)][:count]
+
+
+@pytest.mark.filterwarnings("ignore:File was created with ROSS")
+@pytest.mark.parametrize("variant", ["example", "compressor"])
+def test_modes_and_campbell_equal_ross(ross, variant):
+    """A from_ross model's modes() and campbell() (the native Rotor's, on ROSS's K and C at
+    each speed) against ROSS's run_modal / run_campbell eigenvalues: the compressor's seals
+    and bearings are frequency-dependent, so each speed needs its own coefficients."""
+    rr = ross.rotor_example() if variant == "example" else ross.compressor_example()
+    model = from_ross(rr, 0.0)
+    count = 6
+    worst = 0.0
+    speeds = np.array([0.0, 400.0, 800.0, 1200.0]) if variant == "example" else (
+        np.array([420.0, 700.0, 1050.0]))  # fmt: skip
+    diagram = model.campbell(speeds, n_modes=count, track=False)
+    if variant == "compressor":
+        campbell = quiet(rr.run_campbell, speeds, frequencies=count + 6)
+        modal = [campbell.modal_results[w] for w in speeds]
+    else:  # ROSS's sparse eigensolver takes 5 s per speed on it: its dense one
+        modal = [quiet(rr.run_modal, w, num_modes=2 * count + 16, sparse=False) for w in speeds]
+    for k, w in enumerate(speeds):
+        ours = model.modes(w, n=count)
+        theirs = ross_lateral_eigenvalues(rr, modal[k], model.dofs, count)
+        assert theirs.size == count
+        worst = max(worst, float(np.max(np.abs(ours.eigenvalues - theirs) / np.abs(theirs))))
+        np.testing.assert_array_equal(diagram.frequencies[k], ours.frequencies)
+        if variant == "compressor":  # ROSS's Campbell rows hold the same lateral frequencies
+            row = np.sort(np.asarray(campbell.wd)[k])
+            near = np.min(np.abs(row[:, None] - ours.frequencies[None, :4]), axis=0)
+            worst = max(worst, float(np.max(near / ours.frequencies[:4])))
+    print(f"\n{variant}: modes and Campbell vs ROSS, largest relative difference {worst:.1e}")
+    assert worst < 1e-8
+    if variant == "compressor":
+        return  # 1 s per eigenproblem of its 448 states: the critical speeds on the example
+    crit = model.critical_speeds(np.linspace(50.0, 1500.0, 30))
+    assert crit.size
+    for c in crit:  # a forward mode's frequency equals the speed there
+        m = model.modes(c)
+        fwd = [f for f, s in zip(m.frequencies, m.whirl, strict=True) if s == "forward"]
+        assert np.min(np.abs(np.asarray(fwd) - c)) < 1e-9 * c
+
+
+def test_frequency_response_equals_ross_run_freq_response(ross):
+    """Receptances of a from_ross model (synchronous: ROSS's convention, the coefficients at
+    each frequency) against ROSS's run_freq_response on every lateral dof pair."""
+    rr = damped_cross_coupled(ross)
+    model = from_ross(rr, 0.0)
+    freqs = np.linspace(10.0, 1500.0, 120)
+    ref = quiet(rr.run_freq_response, speed_range=freqs).freq_resp
+    every = list(range(model.dofs.n_dof))
+    frf = model.frequency_response("synchronous", freqs, every, every)
+    theirs = np.moveaxis(ref[np.ix_(model.dofs.ross_index, model.dofs.ross_index)], -1, 0)
+    err = float(np.abs(frf.response - theirs).max() / np.abs(theirs).max())
+    print(f"\nfrequency response vs ROSS run_freq_response: {err:.1e}")
+    assert err < 1e-8

@@ -31,6 +31,7 @@ from duhamel.rotor.bearing import Bearing
 from duhamel.rotor.campbell import Campbell
 from duhamel.rotor.disk import Disk
 from duhamel.rotor.dofs import DIRECTIONS
+from duhamel.rotor.frequency import FrequencyResponse, FrequencyResponseMap
 from duhamel.rotor.journal import ShortJournalBearing
 from duhamel.rotor.loads import Gravity, RotorLoad, SuddenForce, Unbalance, VectorStep
 from duhamel.rotor.material import STEEL, Material
@@ -38,6 +39,7 @@ from duhamel.rotor.model import Rotor
 from duhamel.rotor.modes import Modes
 from duhamel.rotor.plot import plot_campbell, plot_orbit
 from duhamel.rotor.ross import RossDofs, RossModel, from_ross
+from duhamel.rotor.ross_rotor import RossRotor
 from duhamel.rotor.shaft import Shaft, cowper_shear_coefficient
 from duhamel.rotor.unbalance import Peak, UnbalanceResponse, unbalance_response
 
@@ -47,12 +49,15 @@ __all__ = [
     "Bearing",
     "Campbell",
     "Disk",
+    "FrequencyResponse",
+    "FrequencyResponseMap",
     "Gravity",
     "Material",
     "Modes",
     "Peak",
     "RossDofs",
     "RossModel",
+    "RossRotor",
     "Rotor",
     "RotorLoad",
     "RotorMatrices",

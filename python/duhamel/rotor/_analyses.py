@@ -12,6 +12,14 @@ from numpy.typing import ArrayLike, NDArray
 from duhamel.rotor._plot_response import plot_mode_shape
 from duhamel.rotor._speed import constant_speed
 from duhamel.rotor.campbell import Campbell, campbell
+from duhamel.rotor.frequency import (
+    DofSpec,
+    FrequencyResponse,
+    FrequencyResponseMap,
+    frequency_response,
+    frequency_response_map,
+    resolve_dofs,
+)
 from duhamel.rotor.modes import Modes, complex_modes
 from duhamel.rotor.unbalance import UnbalanceResponse, unbalance_response
 
@@ -27,6 +35,102 @@ class RotorAnalyses:
     nodes_z: Any
     has_speed_dependent_bearings: bool
     journals: tuple[Any, ...]
+    dof_labels: tuple[str, ...]
+    n_dof: int
+
+    def _matrices_source(self) -> Any:
+        """The matrices, or ``speed -> matrices`` when they depend on the speed."""
+        if self.has_speed_dependent_bearings or self.journals:
+            return self.matrices  # the coefficients (linearisations) of each speed
+        return self.matrices(0.0)
+
+    def _dofs(self, items: Sequence[DofSpec] | DofSpec, name: str) -> tuple[int, ...]:
+        return resolve_dofs(items, name, n_dof=self.n_dof, labels=self.dof_labels, dof=self.dof)
+
+    def frequency_response(
+        self,
+        speed: float | str,
+        frequencies: ArrayLike,
+        inputs: Sequence[DofSpec] | DofSpec,
+        outputs: Sequence[DofSpec] | DofSpec,
+    ) -> FrequencyResponse:
+        """Receptances between force/moment `inputs` and displacement `outputs` at a constant
+        spin `speed`, exact in the frequency domain.
+
+        ``(K - w^2 M + i w (C + speed G)) H(w) = B`` per frequency ``w`` (``B``: unit
+        forces on the inputs), with the bearing coefficients (and journal linearisations) at
+        `speed`; a force ``Re(F e^{i w t})`` on input ``i`` gives
+        ``x_o(t) = Re(H[o, i] F e^{i w t})``, the convention of :meth:`unbalance_response`.
+        Large banded models use its banded LU (``gbsv``), the others a batched dense LU.
+
+        Parameters
+        ----------
+        speed : float or "synchronous"
+            Spin speed (rad/s); ``"synchronous"``: the spin speed equals each frequency (the
+            coefficients follow it), as ROSS's ``run_freq_response``.
+        frequencies : array_like
+            Excitation frequencies (rad/s).
+        inputs, outputs : dof or sequence of dofs
+            Each a global dof index, a label of :attr:`dof_labels` (``"x_2"``) or
+            ``(node, direction)``.
+
+        Returns
+        -------
+        FrequencyResponse
+            ``response`` of shape ``(n_frequencies, n_outputs, n_inputs)``; Bode and
+            Nyquist plots.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft
+        >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
+        ...               [Bearing(0, 1e7, 1e7, cxx=500.0, cyy=500.0),
+        ...                Bearing(4, 1e7, 1e7, cxx=500.0, cyy=500.0)])
+        >>> frf = rotor.frequency_response(300.0, np.linspace(10.0, 600.0, 60),
+        ...                                inputs=[(2, "x"), (2, "y")], outputs=["x_2"])
+        >>> frf.response.shape
+        (60, 1, 2)
+        """
+        return frequency_response(
+            self._matrices_source(),
+            speed,
+            frequencies,
+            self._dofs(inputs, "inputs"),
+            self._dofs(outputs, "outputs"),
+            labels=self.dof_labels,
+        )
+
+    def frequency_response_map(
+        self,
+        speeds: ArrayLike,
+        frequencies: ArrayLike,
+        inputs: Sequence[DofSpec] | DofSpec,
+        outputs: Sequence[DofSpec] | DofSpec,
+    ) -> FrequencyResponseMap:
+        """:meth:`frequency_response` at each of `speeds` (rad/s): ``response`` of shape
+        ``(n_speeds, n_frequencies, n_outputs, n_inputs)`` and a magnitude map over speed
+        and frequency (:meth:`FrequencyResponseMap.plot_map`).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor import STEEL, Bearing, Rotor, Shaft
+        >>> rotor = Rotor([Shaft(0.5, 0.05, material=STEEL)] * 2,
+        ...               bearings=[Bearing(0, 1e7, 1e7, cxx=1e3, cyy=1e3), Bearing(2, 1e7, 1e7)])
+        >>> fmap = rotor.frequency_response_map([0.0, 500.0], np.linspace(10, 900, 30),
+        ...                                     "x_1", "x_1")
+        >>> fmap.response.shape
+        (2, 30, 1, 1)
+        """
+        return frequency_response_map(
+            self._matrices_source(),
+            speeds,
+            frequencies,
+            self._dofs(inputs, "inputs"),
+            self._dofs(outputs, "outputs"),
+            labels=self.dof_labels,
+        )
 
     def unbalance_response(
         self, speeds: ArrayLike, unbalances: Sequence[tuple[int, float, float]]
@@ -65,11 +169,7 @@ class RotorAnalyses:
         >>> round(peak.speed, 1), round(peak.amplification_factor, 1), round(peak.margin, 3)
         (265.2, 23.7, 0.131)
         """
-        if self.has_speed_dependent_bearings or self.journals:
-            mats: Any = self.matrices  # the coefficients (linearisations) of each speed
-        else:
-            mats = self.matrices(0.0)
-        return unbalance_response(mats, speeds, unbalances, dof=self.dof)
+        return unbalance_response(self._matrices_source(), speeds, unbalances, dof=self.dof)
 
     def static_equilibrium(self, speed: float, g: float = 9.81) -> NDArray[np.float64]:
         """The static state under the rotor's own weight (along ``-y``) at spin `speed`:
