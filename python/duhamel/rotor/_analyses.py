@@ -21,6 +21,7 @@ from duhamel.rotor.frequency import (
     resolve_dofs,
 )
 from duhamel.rotor.modes import Modes, complex_modes
+from duhamel.rotor.stability import Level1Stability, level1_stability
 from duhamel.rotor.unbalance import UnbalanceResponse, unbalance_response
 
 __all__ = ["RotorAnalyses"]
@@ -170,6 +171,79 @@ class RotorAnalyses:
         (265.2, 23.7, 0.131)
         """
         return unbalance_response(self._matrices_source(), speeds, unbalances, dof=self.dof)
+
+    def level1_stability(
+        self,
+        speed: float,
+        *,
+        location: int | Sequence[int],
+        q_range: ArrayLike | None = None,
+        q_a: float | None = None,
+    ) -> Level1Stability:
+        """API 684 / API 617 Level I stability screening at `speed` (rad/s).
+
+        A cross-coupled stiffness ``k_xy = q``, ``k_yx = -q`` (split equally among the
+        nodes of `location`) is added to ``K``; at each ``q`` of `q_range` the complex modes
+        (:meth:`modes`) give the log decrement of the first forward mode (the lowest one not
+        in backward whirl). The threshold ``Q_0`` where it reaches zero is refined on the
+        eigenproblem by Brent's method.
+
+        Parameters
+        ----------
+        speed : float
+            Spin speed (rad/s): the maximum continuous speed in API 617.
+        location : int or sequence of int
+            Keyword only. Node(s): mid-span for a between-bearing rotor, the impellers
+            (their centre) for an overhung one.
+        q_range : array_like, optional
+            Keyword only. Increasing applied cross-couplings (N/m), from 0 or more; default
+            31 values from 0 to the largest direct bearing stiffness ``K[x, x]`` at the
+            location's node.
+        q_a : float, optional
+            Keyword only. The anticipated cross-coupling ``Q_A`` (N/m), e.g. from
+            :func:`duhamel.rotor.stability.anticipated_cross_coupling`.
+
+        Returns
+        -------
+        Level1Stability
+            ``q``, ``log_dec``, ``threshold``, ``q_a``, ``ratio``, ``requires_level2``,
+            :meth:`~Level1Stability.plot`.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft
+        >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
+        ...               [Bearing(0, 1e7, 1e7, cxx=1e4, cyy=1e4),
+        ...                Bearing(4, 1e7, 1e7, cxx=1e4, cyy=1e4)])
+        >>> res = rotor.level1_stability(600.0, location=2, q_range=np.linspace(0, 4e5, 9),
+        ...                              q_a=5e4)
+        >>> bool(res.log_dec[0] > 0 > res.log_dec[-1]), round(res.threshold)
+        (True, 102033)
+        >>> round(res.ratio, 2), round(res.log_dec_at_q_a, 3), res.requires_level2
+        (2.04, 0.061, True)
+        """
+        w = constant_speed(speed)
+        nodes = (location,) if isinstance(location, int | np.integer) else tuple(location)
+        if not nodes:
+            raise ValueError("`location` is empty")
+        xs = [self.dof(int(n), "x") for n in nodes]
+        ys = [self.dof(int(n), "y") for n in nodes]
+        M, K, C, G = self.matrices(w)
+        if q_range is None:
+            q_range = np.linspace(0.0, float(np.max(np.diag(K)[xs])), 31)
+        lengths = [s.L for s in self.shafts]
+        ell = float(np.mean(lengths)) if lengths else 1.0
+        D = C + w * G
+
+        def modes_with(q: float) -> Modes:
+            Kq = np.array(K, dtype=float)
+            Kq[xs, ys] += q / len(nodes)
+            Kq[ys, xs] -= q / len(nodes)
+            return complex_modes(M, D, Kq, speed=w, length_scale=ell)
+
+        location_nodes = tuple(int(n) for n in nodes)
+        return level1_stability(modes_with, w, location_nodes, q_range, q_a)  # type: ignore[arg-type]
 
     def static_equilibrium(self, speed: float, g: float = 9.81) -> NDArray[np.float64]:
         """The static state under the rotor's own weight (along ``-y``) at spin `speed`:

@@ -6,6 +6,7 @@ at each speed (``K(frequency=speed)``, ``C(frequency=speed)``, as ROSS's ``run_m
 
 from __future__ import annotations
 
+import inspect
 from functools import lru_cache
 from typing import Any
 
@@ -13,12 +14,19 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel.rotor._analyses import RotorAnalyses
-from duhamel.rotor._ross_matrices import RossDofs, lateral_matrices
+from duhamel.rotor._ross_matrices import COUPLING_RTOL, RossDofs
 from duhamel.rotor._speed import constant_speed
 from duhamel.rotor.assembly import RotorMatrices
 from duhamel.rotor.modes import Modes
 
 __all__ = ["RossRotor"]
+
+
+def _parameters(method: Any) -> tuple[str, ...]:
+    try:
+        return tuple(inspect.signature(method).parameters)
+    except (TypeError, ValueError):  # no method, or a builtin without a signature
+        return ()
 
 
 class RossRotor(RotorAnalyses):
@@ -64,6 +72,12 @@ class RossRotor(RotorAnalyses):
         self._fixed = matrices
         self.shafts = tuple(getattr(source, "shaft_elements", ()) or ())
         self._at = lru_cache(maxsize=64)(self._read)
+        keep = dofs.ross_index
+        dropped = np.setdiff1d(np.arange(dofs.n_ross), keep)
+        self._blocks = (np.ix_(keep, keep), np.ix_(keep, dropped), np.ix_(dropped, keep))
+        self._speed_kw = {
+            name: "speed" in _parameters(getattr(source, name, None)) for name in ("M", "K", "C")
+        }
 
     @property
     def n_dof(self) -> int:  # type: ignore[override]
@@ -85,7 +99,24 @@ class RossRotor(RotorAnalyses):
         return self.dofs.index(node, direction)
 
     def _read(self, w: float) -> RotorMatrices:
-        return lateral_matrices(self.source, w, w)[0]
+        """ROSS's ``M``, ``K``, ``C`` at ``frequency = speed = w`` (``G`` from from_ross),
+        the lateral block, with from_ross's check that nothing couples it to the rest."""
+        keep, cross, back = self._blocks
+        out = []
+        for name in ("M", "K", "C"):
+            method = getattr(self.source, name)
+            a = np.asarray(method(w, speed=w) if self._speed_kw[name] else method(w), dtype=float)
+            if a.shape != (self.dofs.n_ross, self.dofs.n_ross):
+                raise ValueError(f"ROSS's `{name}` at {w:g} rad/s has shape {a.shape}")
+            c = max(np.abs(a[cross]).max(initial=0.0), np.abs(a[back]).max(initial=0.0))
+            if c > COUPLING_RTOL * float(np.max(np.abs(a))):
+                raise ValueError(
+                    f"ROSS's `{name}` at {w:g} rad/s couples the lateral dofs to axial or "
+                    "torsional ones; from_ross keeps only the lateral dofs"
+                )
+            out.append(a[keep])
+        M, K, C = out
+        return RotorMatrices((M + M.T) / 2.0, K, C, self._fixed.G)
 
     def matrices(self, speed: float = 0.0) -> RotorMatrices:  # type: ignore[override]
         """ROSS's lateral ``(M, K, C, G)`` with ``K`` and ``C`` at ``frequency = speed``."""
