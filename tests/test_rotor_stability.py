@@ -39,7 +39,12 @@ def dense_first_forward(model: Rotor, speed: float, node: int, q: float) -> floa
     K[x, y] += q
     K[y, x] -= q
     n = M.shape[0]
-    A = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C + speed * G)]])  # fmt: skip
+    A = np.block(
+        [
+            [np.zeros((n, n)), np.eye(n)],
+            [-np.linalg.solve(M, K), -np.linalg.solve(M, C + speed * G)],
+        ]
+    )
     lam, vec = scipy.linalg.eig(A)
     order = [k for k in np.argsort(lam.imag) if lam[k].imag > 1e-6 * np.abs(lam).max()]
     for k in order:
@@ -79,11 +84,12 @@ def test_split_location_and_defaults():
     K[9, 8] -= 2e5
     K[12, 13] += 2e5
     K[13, 12] -= 2e5
-    lam = scipy.linalg.eigvals(
-        np.block([[np.zeros((24, 24)), np.eye(24)],
-                  [-np.linalg.solve(M, K), -np.linalg.solve(M, C + SPEED * G)]])  # fmt: skip
-    )
-    assert np.min(np.abs(lam - complex(-res.log_dec[1] * res.frequency[1] / (2 * np.pi), res.frequency[1]))) < 1e-6  # fmt: skip
+    top = np.hstack([np.zeros((24, 24)), np.eye(24)])
+    bottom = np.hstack([-np.linalg.solve(M, K), -np.linalg.solve(M, C + SPEED * G)])
+    lam = scipy.linalg.eigvals(np.vstack([top, bottom]))
+    wd = res.frequency[1]
+    ours = complex(-res.log_dec[1] * wd / (2 * np.pi), wd)  # the mode at q = 4e5
+    assert np.min(np.abs(lam - ours)) < 1e-8 * abs(ours)
     default = model.level1_stability(SPEED, location=2)
     assert default.q.size == 31 and default.q[-1] == model.matrices(SPEED).K[8, 8]
     assert np.isnan(default.q_a) and np.isnan(default.ratio) and not default.requires_level2
@@ -118,3 +124,69 @@ def test_refuses_bad_input():
         model.level1_stability(SPEED, location=[])
     with pytest.raises(ValueError):
         model.level1_stability(SPEED, location=99)
+
+
+# ------------------------------------------------------------------------------ critical map
+def map_rotor() -> Rotor:
+    b = [Bearing(n, [5e6, 2e7], [4e6, 1.6e7], kxy=[1e5, 2e5], cxx=300.0, speeds=[0, 3000])
+         for n in (0, 5)]  # fmt: skip
+    return Rotor(
+        [Shaft(0.25, 0.05, material=STEEL)] * 5,
+        [Disk(2, 30.0, 0.6, 0.3), Disk(4, 8.0, 0.3, 0.15)],
+        b,
+        zeta=0.02,
+    )
+
+
+@pytest.mark.parametrize("gyroscopic", [True, False])
+def test_critical_speed_map_equals_undamped_eigenproblem(gyroscopic):
+    """At each stiffness: the undamped synchronous eigenproblem (K - w^2 (M - i G)) X = 0 by
+    the general (non-Hermitian) eigensolver, the supports written out by hand."""
+    model = map_rotor()
+    ks = np.logspace(5, 9, 17)
+    ucs = model.critical_speed_map(ks, n_modes=4, gyroscopic=gyroscopic)
+    M, _, _, G = model.matrices(0.0)
+    K_shaft = Rotor(model.shafts, model.disks).matrices().K  # no bearings
+    ell = 0.25
+    worst = 0.0
+    for i, k in enumerate(ks):
+        K = K_shaft.copy()
+        for node in (0, 5):
+            K[4 * node, 4 * node] += k
+            K[4 * node + 1, 4 * node + 1] += k
+        if gyroscopic:  # forward synchronous whirl: x = Re(X e^{iwt}), spin w
+            lam, vec = scipy.linalg.eig(K, M - 1j * G)
+            X, Y, Tx, Ty = (vec[d::4] for d in range(4))
+            area = np.sum(-np.imag(np.conj(X) * Y) + ell**2 * np.imag(np.conj(Ty) * Tx), axis=0)
+            ok = np.isfinite(lam) & (area > 0)
+        else:  # at rest: the x-z plane
+            plane = np.sort(np.r_[0:24:4, 3:24:4])
+            lam = scipy.linalg.eigvals(K[np.ix_(plane, plane)], M[np.ix_(plane, plane)])
+            ok = np.isfinite(lam)
+        lam = lam[ok]
+        w2 = np.sort(lam.real[(lam.real > 0) & (np.abs(lam.imag) < 1e-8 * np.abs(lam))])
+        ref = np.sqrt(w2[:4])
+        worst = max(worst, float(np.max(np.abs(ucs.critical_speeds[i] - ref) / ref)))
+    print(f"\ncritical speed map (gyroscopic={gyroscopic}) vs eigenproblem: {worst:.1e}")
+    assert worst < 1e-10
+
+
+def test_intersections_are_critical_speeds_of_the_rotor():
+    """At an intersection the bearings' own stiffness (isotropic here: kxx = kyy) gives a
+    forward mode at exactly the spin speed: the critical speed of the undamped rotor with
+    those bearings, by the modes at that speed."""
+    b = [Bearing(n, [5e6, 2e7], [5e6, 2e7], speeds=[0, 3000]) for n in (0, 5)]
+    model = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 5, [Disk(2, 30.0, 0.6, 0.3)], b)
+    ucs = model.critical_speed_map(np.logspace(5, 9, 21), n_modes=3)
+    assert ucs.intersections
+    for p in ucs.intersections:
+        modes = model.modes(p.speed)
+        fwd = modes.frequencies[np.array(modes.whirl) == "forward"]
+        assert np.min(np.abs(fwd - p.speed)) < 1e-9 * p.speed
+        assert p.stiffness == pytest.approx(b[0].stiffness_at(p.speed)[0, 0], rel=1e-15)
+    ax = ucs.plot()
+    np.testing.assert_array_equal(ax.lines[0].get_ydata(), ucs.critical_speeds[:, 0])
+    with pytest.raises(ValueError, match="stiffnesses"):
+        model.critical_speed_map([1e6, 1e5])
+    with pytest.raises(ValueError, match="no bearings"):
+        Rotor([Shaft(0.25, 0.05, material=STEEL)]).critical_speed_map([1e6])
