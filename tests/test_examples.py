@@ -116,3 +116,18 @@ def test_journal_whirl_example() -> None:
     assert 0.95 * w_th < onset["speed"] < 1.15 * w_th
     assert 0.4 < onset["ratio"] < 0.55
     assert 0.0 < out["eccentricity"] < 1.0
+
+
+def test_rotor_analyses_example(tmp_path) -> None:
+    """The frequency response, Level I and critical speed map example runs and writes its
+    four figures."""
+    out = subprocess.run(
+        [sys.executable, str(ROOT / "examples" / "rotor_analyses.py"), "--save", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=300,
+    ).stdout
+    assert "Level I at 1100 rad/s" in out and "meets critical speed 0" in out
+    names = sorted(p.name for p in tmp_path.iterdir())
+    assert names == ["rotor_frf.png", "rotor_frf_map.png", "rotor_level1.png", "rotor_ucs_map.png"]

@@ -190,3 +190,36 @@ def test_intersections_are_critical_speeds_of_the_rotor():
         model.critical_speed_map([1e6, 1e5])
     with pytest.raises(ValueError, match="no bearings"):
         Rotor([Shaft(0.25, 0.05, material=STEEL)]).critical_speed_map([1e6])
+
+
+def test_the_first_forward_mode_is_followed_by_its_shape():
+    """The example's compressor rotor: beyond q = 1.9e6 N/m a heavily damped, nearly real
+    pair becomes oscillatory below the first forward mode and is labelled forward; the
+    curve stays on the original branch (its frequency moves by less than 2 % per step, the
+    log decrement keeps falling), and its values are eigenvalues of the dense problem."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "examples" / "rotor_analyses.py"
+    spec = importlib.util.spec_from_file_location("rotor_analyses", path)
+    assert spec is not None and spec.loader is not None
+    ex = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ex)
+    model, mcs = ex.rotor(), ex.MCS
+    qs = np.linspace(0.0, 4e6, 21)
+    res = model.level1_stability(mcs, location=6, q_range=qs)
+    assert np.all(np.diff(res.log_dec) < 0.0)
+    assert np.all(np.abs(np.diff(res.frequency)) < 0.02 * res.frequency[1:])
+    late = model.level1_stability(mcs, location=6, q_range=[2e6, 2.1e6])  # no history
+    assert late.frequency[0] < 0.1 * res.frequency[10]  # the lowest forward one: another
+    M, K, C, G = model.matrices(mcs)
+    K[24, 25] += 2e6
+    K[25, 24] -= 2e6
+    n = M.shape[0]
+    top = np.hstack([np.zeros((n, n)), np.eye(n)])
+    lam = scipy.linalg.eigvals(
+        np.vstack([top, np.hstack([-np.linalg.solve(M, K), -np.linalg.solve(M, C + mcs * G)])])
+    )
+    wd = res.frequency[10]
+    ours = complex(-res.log_dec[10] * wd / (2 * np.pi), wd)
+    assert np.min(np.abs(lam - ours)) < 1e-8 * abs(ours)

@@ -102,7 +102,8 @@ class Level1Stability:
     q : ndarray
         Applied cross-coupled stiffnesses (N/m): ``k_xy = q``, ``k_yx = -q``.
     log_dec : ndarray
-        Log decrement of the first forward mode at each ``q``.
+        Log decrement of the first forward mode at each ``q`` (followed by its shape from
+        the first ``q``).
     frequency : ndarray
         Its damped natural frequency (rad/s).
     threshold : float
@@ -158,13 +159,21 @@ class Level1Stability:
         return ax
 
 
-def _first_forward(modes: Any) -> tuple[float, float]:
-    """Log decrement and frequency of the lowest mode that is not backward whirl (forward,
-    or mixed/planar once the cross-coupling makes the orbits elliptical)."""
+def _first_forward(modes: Any) -> int:
+    """Index of the lowest mode that is not backward whirl (forward, or mixed/planar once the
+    cross-coupling makes the orbits elliptical)."""
     for j in range(modes.n_modes):
         if modes.whirl[j] != "backward":
-            return float(modes.log_dec[j]), float(modes.frequencies[j])
+            return j
     raise ValueError(f"no forward mode at {modes.speed:g} rad/s")
+
+
+def _follow(modes: Any, shape: NDArray[np.complex128]) -> int:
+    """Index of the mode of `modes` whose shape is closest (MAC) to `shape`."""
+    from duhamel.rotor.modes import Modes
+
+    ref = Modes(modes.speed, np.zeros(1, complex), shape[:, None], ("",), modes.length_scale)
+    return int(np.argmax(modes.mac(ref)[:, 0]))
 
 
 def level1_stability(
@@ -172,18 +181,29 @@ def level1_stability(
     speed: float,
     location: tuple[int, ...],
     q_range: ArrayLike,
-    q_a: float,
+    q_a: float | None,
 ) -> Level1Stability:
-    """The Level I curve from `modes_with(q)` (the modes with cross-coupling ``q``)."""
+    """The Level I curve from `modes_with(q)` (the modes with cross-coupling ``q``).
+
+    The first forward mode at the first ``q`` is followed along `q_range` by its shape (the
+    largest MAC with the previous ``q``'s), so that a mode that becomes oscillatory as ``q``
+    grows (or a whirl label that changes) does not replace it.
+    """
     qs = as_float_array(q_range, "q_range", ndim=1)
     if qs.size < 2 or np.any(np.diff(qs) <= 0.0) or qs[0] < 0.0:
         raise ValueError("`q_range` must be at least two increasing stiffnesses >= 0 (N/m)")
-    pairs = [_first_forward(modes_with(float(q))) for q in qs]
-    dec = np.array([p[0] for p in pairs])
-    freq = np.array([p[1] for p in pairs])
+    shapes = []
+    dec = np.empty(qs.size)
+    freq = np.empty(qs.size)
+    for i, q in enumerate(qs):
+        m = modes_with(float(q))
+        j = _first_forward(m) if i == 0 else _follow(m, shapes[-1])
+        shapes.append(m.shapes[:, j])
+        dec[i], freq[i] = float(m.log_dec[j]), float(m.frequencies[j])
 
-    def g(q: float) -> float:
-        return _first_forward(modes_with(q))[0]
+    def along(q: float, shape: NDArray[np.complex128]) -> float:
+        m = modes_with(q)
+        return float(m.log_dec[_follow(m, shape)])
 
     threshold = np.nan
     crossing = np.flatnonzero((dec[:-1] > 0.0) & (dec[1:] <= 0.0))
@@ -192,9 +212,14 @@ def level1_stability(
     elif crossing.size:
         from scipy.optimize import brentq
 
-        a, b = float(qs[crossing[0]]), float(qs[crossing[0] + 1])
-        threshold = float(brentq(g, a, b, xtol=1e-12 * max(b, 1.0), rtol=1e-14))
+        c = int(crossing[0])
+        a, b = float(qs[c]), float(qs[c + 1])
+        threshold = float(
+            brentq(along, a, b, args=(shapes[c],), xtol=1e-12 * max(b, 1.0), rtol=1e-14)
+        )
     qa = np.nan if q_a is None else finite_float(q_a, "q_a")
-    at_qa = g(qa) if np.isfinite(qa) else np.nan
+    at_qa = np.nan
+    if np.isfinite(qa):  # followed from the nearest q of the range
+        at_qa = along(qa, shapes[int(np.argmin(np.abs(qs - qa)))])
     w = finite_float(speed, "speed")
     return Level1Stability(w, location, qs, dec, freq, threshold, qa, at_qa)
