@@ -35,6 +35,7 @@ from duhamel.rotor.dofs import DIRECTIONS
 from duhamel.rotor.frequency import FrequencyResponse, FrequencyResponseMap
 from duhamel.rotor.journal import ShortJournalBearing
 from duhamel.rotor.loads import Gravity, RotorLoad, SuddenForce, Unbalance, VectorStep
+from duhamel.rotor.magnetic import PID, ClosedLoop, MagneticBearing
 from duhamel.rotor.material import STEEL, Material
 from duhamel.rotor.model import Rotor
 from duhamel.rotor.modes import Modes
@@ -47,9 +48,11 @@ from duhamel.rotor.unbalance import Peak, UnbalanceResponse, unbalance_response
 
 __all__ = [
     "DIRECTIONS",
+    "PID",
     "STEEL",
     "Bearing",
     "Campbell",
+    "ClosedLoop",
     "CriticalSpeedMap",
     "Disk",
     "FrequencyResponse",
@@ -57,6 +60,7 @@ __all__ = [
     "Gravity",
     "Intersection",
     "Level1Stability",
+    "MagneticBearing",
     "Material",
     "Modes",
     "Peak",

@@ -245,6 +245,29 @@ class RotorAnalyses:
         location_nodes = tuple(int(n) for n in nodes)
         return level1_stability(modes_with, w, location_nodes, q_range, q_a)  # type: ignore[arg-type]
 
+    def closed_loop(self, speed: float, magnetic_bearings: Sequence[Any]) -> Any:
+        """The rotor at constant `speed` with active magnetic bearings (on top of its
+        bearings) and their controllers as one linear first-order system
+        (:class:`duhamel.rotor.magnetic.ClosedLoop`): closed-loop eigenvalues and stability,
+        receptances, the sensitivity function and its peak, exact transients.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor import STEEL, Disk, Rotor, Shaft
+        >>> from duhamel.rotor.magnetic import PID, MagneticBearing
+        >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 20.0, 0.3, 0.15)])
+        >>> amb = [MagneticBearing(n, k_i=100.0, k_s=1e6, controller=PID(3e4, 1e5, 30.0, 1e-4))
+        ...        for n in (0, 4)]
+        >>> loop = rotor.closed_loop(300.0, amb)
+        >>> loop.stable, loop.A.shape
+        (True, (48, 48))
+        """
+        from duhamel.rotor.magnetic import closed_loop
+
+        w = constant_speed(speed)
+        return closed_loop(self.matrices(w), magnetic_bearings, w, dof=self.dof)
+
     def static_equilibrium(self, speed: float, g: float = 9.81) -> NDArray[np.float64]:
         """The static state under the rotor's own weight (along ``-y``) at spin `speed`:
         the linear structure and bearings and the journal bearings' film forces (at rest)
