@@ -296,8 +296,10 @@ def test_refuses_what_it_cannot_map():
         from_ross(fake_rotor(np.eye(5), np.eye(5)), 0.0)
     with pytest.raises(TypeError, match="ROSS Rotor"):
         from_ross(object(), 0.0)
-    with pytest.raises(ValueError, match="constant speed"):
-        from_ross(fake_rotor(M, K), duhamel.speed.LinearRunUp(0.0, 100.0, 1.0))
+    run_up = duhamel.speed.LinearRunUp(0.0, 100.0, 1.0)  # accepted since issue 29
+    assert from_ross(fake_rotor(M, K), run_up).system.n_dof == 4
+    with pytest.raises(ValueError, match="`frequency` is for a constant speed"):
+        from_ross(fake_rotor(M, K), run_up, frequency=50.0)
 
 
 def test_frequency_and_speed_reach_ross():
@@ -400,3 +402,121 @@ def test_frequency_response_equals_ross_run_freq_response(ross):
     err = float(np.abs(frf.response - theirs).max() / np.abs(theirs).max())
     print(f"\nfrequency response vs ROSS run_freq_response: {err:.1e}")
     assert err < 1e-8
+
+
+# ------------------------------------------------------------------------------ run-up
+def frequency_dependent(ross):
+    """Three of ROSS's example shaft elements, a disk, and two bearings whose coefficients
+    ROSS tabulates against frequency (ROSS interpolates them with a smoothing spline)."""
+    base = ross.rotor_example()
+    freq = [0.0, 200.0, 400.0, 600.0, 800.0, 1000.0]
+    ramp = np.linspace(0.0, 1.0, 6)
+    bearings = [
+        ross.BearingElement(
+            n, kxx=list(1e6 * (1 + 2 * ramp)), kyy=list(0.8e6 * (1 + 2.5 * ramp**2)),
+            kxy=list(3e5 * ramp), kyx=list(-3e5 * ramp), cxx=list(500 + 300 * ramp),
+            cyy=list(400 + 300 * ramp), frequency=freq,
+        )
+        for n in (0, 3)
+    ]  # fmt: skip
+    return ross.Rotor(base.shaft_elements[:3], base.disk_elements[:1], bearings)
+
+
+def test_run_up_follows_ross_frequency_dependent_coefficients(ross):
+    """A run-up 100 -> 900 rad/s in 12 ms of a from_ross model: the bearings follow ROSS's own
+    coefficient curves (sampled, PCHIP between) against solve_ivp DOP853 on
+    M x'' + (C(w) + w G) x' + K(w) x = f with ROSS's interpolants evaluated at w(t); the
+    coefficients frozen at the initial speed (docs/speed.md's route) are far off."""
+    rr = frequency_dependent(ross)
+    law = duhamel.speed.LinearRunUp(100.0, 900.0, 0.012)
+    model = from_ross(rr, law)
+    dofs = model.dofs
+    system = model.system
+    node_y = dofs(2, "y")
+    system.add_load(duhamel.loads.Tabulated(node_y, [0.0, 1.0], [-200.0, -200.0]))
+    x0 = np.zeros(system.n_dof)
+    x0[dofs(2, "x")] = 1e-5
+    dt, t_end = 4e-6, 0.012
+    sol = duhamel.solve(system, duhamel.Semianalytic(), t_end=t_end, dt=dt, x0=x0)
+
+    M, K0, C0, G = from_ross(rr, 100.0).matrices
+    nodes = [(b, dofs(b.n, "x"), dofs(b.n, "y")) for b in rr.bearing_elements]
+
+    def coeffs(b, w, kind):
+        names = [f"{kind}{a}" for a in ("xx", "xy", "yx", "yy")]
+        return np.array([float(getattr(b, f"{n}_interpolated")(w)) for n in names]).reshape(2, 2)
+
+    def KC(w):
+        K, C = K0.copy(), C0.copy()
+        for b, ix, iy in nodes:
+            idx = np.ix_([ix, iy], [ix, iy])
+            K[idx] += coeffs(b, w, "k") - coeffs(b, 100.0, "k")
+            C[idx] += coeffs(b, w, "c") - coeffs(b, 100.0, "c")
+        return K, C
+
+    n = M.shape[0]
+    M_inv = np.linalg.inv(M)
+    f = np.zeros(n)
+    f[node_y] = -200.0
+
+    def rhs(t, s):
+        w = float(law.omega(np.array([t]))[0])
+        K, C = KC(w)
+        x, v = s[:n], s[n:]
+        return np.concatenate([v, M_inv @ (f - K @ x - (C + w * G) @ v)])
+
+    t_eval = sol.t[::100]
+    s0 = np.concatenate([x0, np.zeros(n)])
+    ivp = scipy.integrate.solve_ivp(
+        rhs, (0.0, t_end), s0, "DOP853", t_eval=t_eval, rtol=1e-10, atol=1e-16
+    )
+    ref = ivp.y[:n].T
+    trans = translations(dofs)
+    scale = np.abs(ref[:, trans]).max()
+    err = float(np.abs(sol.x[::100][:, trans] - ref[:, trans]).max() / scale)
+    frozen = from_ross(rr, 100.0).system  # coefficients of the initial speed, G at 100 rad/s
+    frozen.add_load(duhamel.loads.Tabulated(node_y, [0.0, 1.0], [-200.0, -200.0]))
+    stale = duhamel.solve(frozen, duhamel.Semianalytic(), t_end=t_end, dt=dt, x0=x0).x[::100]
+    off = float(np.abs(stale[:, trans] - ref[:, trans]).max() / scale)
+    print(
+        f"\nROSS run-up, coefficients following the speed: {err:.1e} of DOP853 (frozen {off:.2f})"
+    )
+    assert err < 1e-6 and off > 0.05
+
+
+def test_journal_swapped_in_at_a_ross_bearing_node(ross):
+    """ROSS's example rotor with its two bearings swapped for short journal bearings
+    (`swap_bearing`: the film force minus ROSS's bearing, which the background keeps) runs,
+    and equals duhamel.rotor's own model of the same rotor on the same journals (whose
+    background carries the films' linearisation instead) within the stepping error."""
+    from duhamel.rotor import Gravity, ShortJournalBearing
+
+    rr = ross.rotor_example()
+    journals = [ShortJournalBearing(n, 0.05, 0.03, 1e-4, 0.03) for n in (0, 6)]
+    model = from_ross(rr, SPEED)
+    for j in journals:
+        element = model.swap_bearing(j)
+        assert element.k0 == ((1e6, 0.0), (0.0, 0.8e6))
+    sh = rr.shaft_elements[0]
+    mat = Material(E=sh.material.E, rho=sh.material.rho, G=sh.material.G_s)
+    native = Rotor([Shaft(s.L, s.odl, s.idl, material=mat) for s in rr.shaft_elements],
+                   [Disk(d.n, d.m, d.Ip, d.Id) for d in rr.disk_elements], journals)  # fmt: skip
+    x_eq = native.static_equilibrium(SPEED)
+    weight = Gravity().vector(native)
+    for i in np.flatnonzero(weight):
+        model.system.add_load(duhamel.loads.Tabulated(int(i), [0.0, 1.0], [weight[i]] * 2))
+    x0 = x_eq.copy()
+    x0[native.dof(2, "x")] += 5e-6  # a nudge at the disk
+    errs = []
+    for dt in (2e-5, 1e-5):
+        kw = dict(t_end=0.02, dt=dt, x0=x0)
+        ours = duhamel.solve(model.system, duhamel.Semianalytic(), **kw).x
+        ref = duhamel.solve(native.system(SPEED, [Gravity()]), duhamel.Semianalytic(), **kw).x
+        errs.append(float(np.abs(ours - ref).max() / np.abs(ref - x_eq).max()))
+    ecc = np.hypot(ours[:, 0], ours[:, 1]).max() / 1e-4
+    print(f"\njournals swapped into ROSS's rotor vs duhamel.rotor's: {errs} (dt 2e-5, 1e-5); "
+          f"eccentricity {ecc:.2f}")  # fmt: skip
+    assert errs[1] < 1e-2 and errs[0] / errs[1] > 3.0  # the two splits converge together
+    assert 0.0 < ecc < 1.0
+    with pytest.raises(ValueError, match="no bearing at node 3"):
+        model.swap_bearing(ShortJournalBearing(3, 0.05, 0.03, 1e-4, 0.03))

@@ -15,11 +15,14 @@ from __future__ import annotations
 
 from typing import Any, NamedTuple
 
+import numpy as np
+
 from duhamel._engine.validate import finite_float
 from duhamel.rotor._ross_matrices import RossDofs, lateral_matrices
-from duhamel.rotor._speed import constant_speed
+from duhamel.rotor._speed import speed_or_law
 from duhamel.rotor.assembly import RotorMatrices
 from duhamel.rotor.transient import add_couplings, nonzero, storage
+from duhamel.speed import SpeedLaw
 from duhamel.system import System
 
 __all__ = ["RossDofs", "RossModel", "from_ross", "lateral_matrices"]
@@ -47,6 +50,65 @@ class RossModel(_RossModelFields):
     """
 
     _source: Any = None  # the ROSS rotor (set by from_ross)
+    _speed: Any = 0.0  # the speed (or law) and the coefficients' frequency of from_ross
+    _frequency: float = 0.0
+
+    def swap_bearing(self, journal: Any) -> Any:
+        """Replace ROSS's bearing(s) at ``journal.node`` by the nonlinear
+        :class:`~duhamel.rotor.ShortJournalBearing` `journal` in :attr:`system` (added to it,
+        and returned): the element's force is the film force minus ROSS's linear bearing
+        force at that node (its ``K`` and ``C`` at the model's frequency), which the System
+        already carries, so that the model sees exactly the film force there while the
+        background keeps ROSS's bearing as its linear part (good modes for the stepping).
+
+        A rub or a cubic spring supplements a bearing instead: add
+        ``duhamel.elements.Contact(dofs(n, "x"), dofs(n, "y"), ...)`` (or ``Cubic``) to
+        :attr:`system` directly.
+
+        Raises
+        ------
+        ValueError
+            Without a ROSS bearing at the node, or along a run-up when its coefficients
+            depend on the frequency (they follow the speed there, not a fixed ``K``).
+
+        Examples
+        --------
+        >>> import ross, duhamel                                   # doctest: +SKIP
+        >>> from duhamel.rotor import ShortJournalBearing, from_ross
+        >>> model = from_ross(ross.rotor_example(), 500.0)         # doctest: +SKIP
+        >>> _ = model.swap_bearing(ShortJournalBearing(0, 0.05, 0.02, 1e-4, 0.02))  # doctest: +SKIP
+        """
+        from duhamel.rotor.journal import ShortJournalBearing
+
+        if not isinstance(journal, ShortJournalBearing):
+            raise TypeError(
+                f"`journal` must be a ShortJournalBearing, got {type(journal).__name__}"
+            )
+        found = [
+            b for b in getattr(self._source, "bearing_elements", ()) if int(b.n) == journal.node
+        ]
+        if not found:
+            raise ValueError(f"the ROSS model has no bearing at node {journal.node} to replace")
+        k0, c0 = np.zeros((2, 2)), np.zeros((2, 2))
+        for b in found:
+            varies = np.ndim(getattr(b, "frequency", None)) == 1 and len(b.frequency) > 1
+            if varies and isinstance(self._speed, SpeedLaw):
+                raise ValueError(
+                    f"the ROSS bearing at node {journal.node} has frequency-dependent "
+                    "coefficients, which follow the run-up: build the ROSS rotor without it "
+                    "and add the journal element alone"
+                )
+            for m, kind in ((k0, "k"), (c0, "c")):
+                for (i, j), a in zip(
+                    ((0, 0), (0, 1), (1, 0), (1, 1)), ("xx", "xy", "yx", "yy"), strict=True
+                ):
+                    m[i, j] += float(getattr(b, f"{kind}{a}_interpolated")(self._frequency))
+        element = journal.element(
+            self.dofs(journal.node, "x"), self.dofs(journal.node, "y"), self._speed,
+            k0=k0, c0=c0,
+        )  # fmt: skip
+        self.system.add(element)
+        return element
 
     @property
     def rotor(self) -> Any:
@@ -137,9 +199,13 @@ def from_ross(
     ----------
     rotor : ross.Rotor
         The ROSS model.
-    speed : float
-        Spin speed (rad/s), constant (a constant ``duhamel.speed`` law is accepted). ROSS's
-        angular-acceleration stiffness ``Ksdt`` of a run-up is not mapped.
+    speed : float or speed law
+        Spin speed (rad/s), or a :mod:`duhamel.speed` law (``LinearRunUp``): then the
+        background takes ROSS's matrices at the initial speed, the gyroscopic coupling is
+        scaled by ``omega(t)``, and every frequency-dependent bearing and seal follows the
+        speed (ROSS's coefficient curves sampled over the range of the law, PCHIP between
+        the samples: :mod:`duhamel.rotor._ross_runup`). ROSS's angular-acceleration
+        stiffness ``Ksdt`` of a run-up is not mapped.
     frequency : float, optional
         Keyword only. Excitation frequency at which frequency-dependent bearing and seal
         coefficients are evaluated; default `speed`, as ROSS's ``run_time_response``.
@@ -196,9 +262,16 @@ def from_ross(
     >>> model.system.n_dof, model.dofs.labels, model.dofs(0, "y")
     (2, ('x_0', 'y_0'), 1)
     """
-    w = constant_speed(speed)
-    freq = w if frequency is None else finite_float(frequency, "frequency")
-    matrices, dofs = lateral_matrices(rotor, w, freq)
+    w = speed_or_law(speed)  # a float, or a varying law (a run-up)
+    law = w if isinstance(w, SpeedLaw) else None
+    w0 = float(np.asarray(law.omega(np.array([0.0])))[0]) if law is not None else float(w)
+    if law is not None and frequency is not None:
+        raise ValueError(
+            "`frequency` is for a constant speed: along a run-up the bearing and seal "
+            "coefficients follow the speed"
+        )
+    freq = w0 if frequency is None else finite_float(frequency, "frequency")
+    matrices, dofs = lateral_matrices(rotor, w0, freq)
     M, K, C, G = matrices
     names = dofs.labels
 
@@ -210,8 +283,14 @@ def from_ross(
     else:
         system = System(conv(M), conv(k_sym))
     add_couplings(system, G, w, k_skew, c_skew, conv)
+    if law is not None:
+        from duhamel.rotor._ross_runup import ross_speed_tables
+
+        for element in ross_speed_tables(rotor, dofs, law, w0):
+            system.add(element)
     if len(set(names)) == len(names):
         system.label_dofs(names)
     model = RossModel(system=system, dofs=dofs, matrices=matrices)
     model._source = rotor
+    model._speed, model._frequency = w, freq
     return model
