@@ -11,18 +11,36 @@ element."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from duhamel.rotor._ross_matrices import RossDofs
-from duhamel.rotor.bearing import Bearing
+from duhamel.rotor.bearing import Bearing, _speed_table
+from duhamel.rotor.dofs import node_index
 
 __all__ = ["TABLE_POINTS", "ross_speed_tables"]
 
 #: Samples of ROSS's coefficient curves over the range of a run-up.
 TABLE_POINTS = 201
 _NAMES = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
+
+
+@dataclass(frozen=True)
+class RossTable(Bearing):
+    """ROSS's sampled coefficient curves as a :class:`Bearing` table, checked finite only: a
+    seal's direct stiffness may be negative (ROSS's compressor), which a duhamel bearing
+    refuses."""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "node", node_index(self.node))
+        object.__setattr__(self, "speeds", _speed_table(self.speeds))
+        for name in _NAMES:
+            arr = np.asarray(getattr(self, name), dtype=float)
+            if not np.all(np.isfinite(arr)):
+                raise ValueError(f"ROSS's `{name}` at node {self.node} is not finite")
+            object.__setattr__(self, name, tuple(float(v) for v in arr))
 
 
 def _varies(element: Any) -> bool:
@@ -59,7 +77,7 @@ def ross_speed_tables(rotor: Any, dofs: RossDofs, law: Any, w0: float) -> list[A
                     f"the ROSS bearing at node {element.n} has mass coefficients, which a "
                     "run-up cannot follow"
                 )
-        bearing = Bearing(int(element.n), speeds=speeds.tolist(), **table)
+        bearing = RossTable(int(element.n), speeds=speeds.tolist(), **table)
         k0, c0 = bearing.stiffness_at(w0), bearing.damping_at(w0)
         out.append(
             SpeedTableElement(
