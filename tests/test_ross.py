@@ -520,3 +520,22 @@ def test_journal_swapped_in_at_a_ross_bearing_node(ross):
     assert 0.0 < ecc < 1.0
     with pytest.raises(ValueError, match="no bearing at node 3"):
         model.swap_bearing(ShortJournalBearing(3, 0.05, 0.03, 1e-4, 0.03))
+
+
+@pytest.mark.filterwarnings("ignore:File was created with ROSS")
+def test_compressor_run_up_tables_take_rosss_seals(ross):
+    """The compressor's seals (negative direct stiffness at low speed) become speed tables
+    whose samples are ROSS's interpolants, and whose initial coefficients the background
+    carries (ROSS's K at the initial speed)."""
+    rr = ross.compressor_example()
+    law = duhamel.speed.LinearRunUp(100.0, 1050.0, 1.0)
+    model = from_ross(rr, law)
+    tables = [e for e in model.system.elements if type(e).__name__ == "SpeedTableElement"]
+    varying = [b for b in rr.bearing_elements if np.ndim(b.frequency) == 1 and len(b.frequency) > 1]
+    assert len(tables) == len(varying) > 0
+    assert any(min(t.bearing.kxx) < 0.0 for t in tables)
+    for t, b in zip(tables, varying, strict=True):
+        w = np.asarray(t.bearing.speeds)
+        np.testing.assert_array_equal(t.bearing.kxy, b.kxy_interpolated(w))
+        assert t.k0[0][0] == pytest.approx(float(b.kxx_interpolated(100.0)), rel=1e-12)
+    np.testing.assert_array_equal(model.matrices.K, from_ross(rr, 100.0).matrices.K)
