@@ -296,8 +296,10 @@ def test_refuses_what_it_cannot_map():
         from_ross(fake_rotor(np.eye(5), np.eye(5)), 0.0)
     with pytest.raises(TypeError, match="ROSS Rotor"):
         from_ross(object(), 0.0)
-    with pytest.raises(ValueError, match="constant speed"):
-        from_ross(fake_rotor(M, K), duhamel.speed.LinearRunUp(0.0, 100.0, 1.0))
+    run_up = duhamel.speed.LinearRunUp(0.0, 100.0, 1.0)  # accepted since issue 29
+    assert from_ross(fake_rotor(M, K), run_up).system.n_dof == 4
+    with pytest.raises(ValueError, match="`frequency` is for a constant speed"):
+        from_ross(fake_rotor(M, K), run_up, frequency=50.0)
 
 
 def test_frequency_and_speed_reach_ross():
@@ -335,3 +337,205 @@ def test_unbalance_response_matches_ross_run_unbalance_response(ross):
     assert peaks and all(np.isfinite(p.amplification_factor) for p in peaks)
     same = model.unbalance_response(speeds, [(2, 1e-3, 0.4)]).response
     np.testing.assert_array_equal(same, res.response)
+
+
+# ------------------------------------------------------------------------------ first-class
+def ross_lateral_eigenvalues(ross_rotor, modal, dofs, count):
+    """The eigenvalues (Im > 0, ascending) of the lateral modes among a ROSS run_modal's."""
+    lam = np.asarray(modal.evalues)[: modal.wd.size]
+    shapes = modal.evectors[: ross_rotor.ndof, : modal.wd.size]
+    lateral = np.linalg.norm(shapes[dofs.ross_index], axis=0) / np.linalg.norm(shapes, axis=0)
+    lam = lam[lateral > 0.5]  # run_campbell reorders them by its tracking: sort again
+    return lam[np.argsort(lam.imag)][:count]
+
+
+@pytest.mark.filterwarnings("ignore:File was created with ROSS")
+@pytest.mark.parametrize("variant", ["example", "compressor"])
+def test_modes_and_campbell_equal_ross(ross, variant):
+    """A from_ross model's modes() and campbell() (the native Rotor's, on ROSS's K and C at
+    each speed) against ROSS's run_modal / run_campbell eigenvalues: the compressor's seals
+    and bearings are frequency-dependent, so each speed needs its own coefficients."""
+    rr = ross.rotor_example() if variant == "example" else ross.compressor_example()
+    model = from_ross(rr, 0.0)
+    count = 6
+    worst = 0.0
+    speeds = np.array([0.0, 400.0, 800.0, 1200.0]) if variant == "example" else (
+        np.array([420.0, 700.0, 1050.0]))  # fmt: skip
+    diagram = model.campbell(speeds, n_modes=count, track=False)
+    if variant == "compressor":
+        campbell = quiet(rr.run_campbell, speeds, frequencies=count + 6)
+        modal = [campbell.modal_results[w] for w in speeds]
+    else:  # ROSS's sparse eigensolver takes 5 s per speed on it: its dense one
+        modal = [quiet(rr.run_modal, w, num_modes=2 * count + 16, sparse=False) for w in speeds]
+    for k, w in enumerate(speeds):
+        ours = model.modes(w, n=count)
+        theirs = ross_lateral_eigenvalues(rr, modal[k], model.dofs, count)
+        assert theirs.size == count
+        worst = max(worst, float(np.max(np.abs(ours.eigenvalues - theirs) / np.abs(theirs))))
+        np.testing.assert_array_equal(diagram.frequencies[k], ours.frequencies)
+        if variant == "compressor":  # ROSS's Campbell rows hold the same lateral frequencies
+            row = np.sort(np.asarray(campbell.wd)[k])
+            near = np.min(np.abs(row[:, None] - ours.frequencies[None, :4]), axis=0)
+            worst = max(worst, float(np.max(near / ours.frequencies[:4])))
+    print(f"\n{variant}: modes and Campbell vs ROSS, largest relative difference {worst:.1e}")
+    assert worst < 1e-8
+    if variant == "compressor":
+        return  # 1 s per eigenproblem of its 448 states: the critical speeds on the example
+    crit = model.critical_speeds(np.linspace(50.0, 1500.0, 30))
+    assert crit.size
+    for c in crit:  # a forward mode's frequency equals the speed there
+        m = model.modes(c)
+        fwd = [f for f, s in zip(m.frequencies, m.whirl, strict=True) if s == "forward"]
+        assert np.min(np.abs(np.asarray(fwd) - c)) < 1e-9 * c
+
+
+def test_frequency_response_equals_ross_run_freq_response(ross):
+    """Receptances of a from_ross model (synchronous: ROSS's convention, the coefficients at
+    each frequency) against ROSS's run_freq_response on every lateral dof pair."""
+    rr = damped_cross_coupled(ross)
+    model = from_ross(rr, 0.0)
+    freqs = np.linspace(10.0, 1500.0, 120)
+    ref = quiet(rr.run_freq_response, speed_range=freqs).freq_resp
+    every = list(range(model.dofs.n_dof))
+    frf = model.frequency_response("synchronous", freqs, every, every)
+    theirs = np.moveaxis(ref[np.ix_(model.dofs.ross_index, model.dofs.ross_index)], -1, 0)
+    err = float(np.abs(frf.response - theirs).max() / np.abs(theirs).max())
+    print(f"\nfrequency response vs ROSS run_freq_response: {err:.1e}")
+    assert err < 1e-8
+
+
+# ------------------------------------------------------------------------------ run-up
+def frequency_dependent(ross):
+    """Three of ROSS's example shaft elements, a disk, and two bearings whose coefficients
+    ROSS tabulates against frequency (ROSS interpolates them with a smoothing spline)."""
+    base = ross.rotor_example()
+    freq = [0.0, 200.0, 400.0, 600.0, 800.0, 1000.0]
+    ramp = np.linspace(0.0, 1.0, 6)
+    bearings = [
+        ross.BearingElement(
+            n, kxx=list(1e6 * (1 + 2 * ramp)), kyy=list(0.8e6 * (1 + 2.5 * ramp**2)),
+            kxy=list(3e5 * ramp), kyx=list(-3e5 * ramp), cxx=list(500 + 300 * ramp),
+            cyy=list(400 + 300 * ramp), frequency=freq,
+        )
+        for n in (0, 3)
+    ]  # fmt: skip
+    return ross.Rotor(base.shaft_elements[:3], base.disk_elements[:1], bearings)
+
+
+def test_run_up_follows_ross_frequency_dependent_coefficients(ross):
+    """A run-up 100 -> 900 rad/s in 12 ms of a from_ross model: the bearings follow ROSS's own
+    coefficient curves (sampled, PCHIP between) against solve_ivp DOP853 on
+    M x'' + (C(w) + w G) x' + K(w) x = f with ROSS's interpolants evaluated at w(t); the
+    coefficients frozen at the initial speed (docs/speed.md's route) are far off."""
+    rr = frequency_dependent(ross)
+    law = duhamel.speed.LinearRunUp(100.0, 900.0, 0.012)
+    model = from_ross(rr, law)
+    dofs = model.dofs
+    system = model.system
+    node_y = dofs(2, "y")
+    system.add_load(duhamel.loads.Tabulated(node_y, [0.0, 1.0], [-200.0, -200.0]))
+    x0 = np.zeros(system.n_dof)
+    x0[dofs(2, "x")] = 1e-5
+    dt, t_end = 4e-6, 0.012
+    sol = duhamel.solve(system, duhamel.Semianalytic(), t_end=t_end, dt=dt, x0=x0)
+
+    M, K0, C0, G = from_ross(rr, 100.0).matrices
+    nodes = [(b, dofs(b.n, "x"), dofs(b.n, "y")) for b in rr.bearing_elements]
+
+    def coeffs(b, w, kind):
+        names = [f"{kind}{a}" for a in ("xx", "xy", "yx", "yy")]
+        return np.array([float(getattr(b, f"{n}_interpolated")(w)) for n in names]).reshape(2, 2)
+
+    def KC(w):
+        K, C = K0.copy(), C0.copy()
+        for b, ix, iy in nodes:
+            idx = np.ix_([ix, iy], [ix, iy])
+            K[idx] += coeffs(b, w, "k") - coeffs(b, 100.0, "k")
+            C[idx] += coeffs(b, w, "c") - coeffs(b, 100.0, "c")
+        return K, C
+
+    n = M.shape[0]
+    M_inv = np.linalg.inv(M)
+    f = np.zeros(n)
+    f[node_y] = -200.0
+
+    def rhs(t, s):
+        w = float(law.omega(np.array([t]))[0])
+        K, C = KC(w)
+        x, v = s[:n], s[n:]
+        return np.concatenate([v, M_inv @ (f - K @ x - (C + w * G) @ v)])
+
+    t_eval = sol.t[::100]
+    s0 = np.concatenate([x0, np.zeros(n)])
+    ivp = scipy.integrate.solve_ivp(
+        rhs, (0.0, t_end), s0, "DOP853", t_eval=t_eval, rtol=1e-10, atol=1e-16
+    )
+    ref = ivp.y[:n].T
+    trans = translations(dofs)
+    scale = np.abs(ref[:, trans]).max()
+    err = float(np.abs(sol.x[::100][:, trans] - ref[:, trans]).max() / scale)
+    frozen = from_ross(rr, 100.0).system  # coefficients of the initial speed, G at 100 rad/s
+    frozen.add_load(duhamel.loads.Tabulated(node_y, [0.0, 1.0], [-200.0, -200.0]))
+    stale = duhamel.solve(frozen, duhamel.Semianalytic(), t_end=t_end, dt=dt, x0=x0).x[::100]
+    off = float(np.abs(stale[:, trans] - ref[:, trans]).max() / scale)
+    print(
+        f"\nROSS run-up, coefficients following the speed: {err:.1e} of DOP853 (frozen {off:.2f})"
+    )
+    assert err < 1e-6 and off > 0.05
+
+
+def test_journal_swapped_in_at_a_ross_bearing_node(ross):
+    """ROSS's example rotor with its two bearings swapped for short journal bearings
+    (`swap_bearing`: the film force minus ROSS's bearing, which the background keeps) runs,
+    and equals duhamel.rotor's own model of the same rotor on the same journals (whose
+    background carries the films' linearisation instead) within the stepping error."""
+    from duhamel.rotor import Gravity, ShortJournalBearing
+
+    rr = ross.rotor_example()
+    journals = [ShortJournalBearing(n, 0.05, 0.03, 1e-4, 0.03) for n in (0, 6)]
+    model = from_ross(rr, SPEED)
+    for j in journals:
+        element = model.swap_bearing(j)
+        assert element.k0 == ((1e6, 0.0), (0.0, 0.8e6))
+    sh = rr.shaft_elements[0]
+    mat = Material(E=sh.material.E, rho=sh.material.rho, G=sh.material.G_s)
+    native = Rotor([Shaft(s.L, s.odl, s.idl, material=mat) for s in rr.shaft_elements],
+                   [Disk(d.n, d.m, d.Ip, d.Id) for d in rr.disk_elements], journals)  # fmt: skip
+    x_eq = native.static_equilibrium(SPEED)
+    weight = Gravity().vector(native)
+    for i in np.flatnonzero(weight):
+        model.system.add_load(duhamel.loads.Tabulated(int(i), [0.0, 1.0], [weight[i]] * 2))
+    x0 = x_eq.copy()
+    x0[native.dof(2, "x")] += 5e-6  # a nudge at the disk
+    errs = []
+    for dt in (2e-5, 1e-5):
+        kw = dict(t_end=0.02, dt=dt, x0=x0)
+        ours = duhamel.solve(model.system, duhamel.Semianalytic(), **kw).x
+        ref = duhamel.solve(native.system(SPEED, [Gravity()]), duhamel.Semianalytic(), **kw).x
+        errs.append(float(np.abs(ours - ref).max() / np.abs(ref - x_eq).max()))
+    ecc = np.hypot(ours[:, 0], ours[:, 1]).max() / 1e-4
+    print(f"\njournals swapped into ROSS's rotor vs duhamel.rotor's: {errs} (dt 2e-5, 1e-5); "
+          f"eccentricity {ecc:.2f}")  # fmt: skip
+    assert errs[1] < 1e-2 and errs[0] / errs[1] > 3.0  # the two splits converge together
+    assert 0.0 < ecc < 1.0
+    with pytest.raises(ValueError, match="no bearing at node 3"):
+        model.swap_bearing(ShortJournalBearing(3, 0.05, 0.03, 1e-4, 0.03))
+
+
+@pytest.mark.filterwarnings("ignore:File was created with ROSS")
+def test_compressor_run_up_tables_take_rosss_seals(ross):
+    """The compressor's seals (negative direct stiffness at low speed) become speed tables
+    whose samples are ROSS's interpolants, and whose initial coefficients the background
+    carries (ROSS's K at the initial speed)."""
+    rr = ross.compressor_example()
+    law = duhamel.speed.LinearRunUp(100.0, 1050.0, 1.0)
+    model = from_ross(rr, law)
+    tables = [e for e in model.system.elements if type(e).__name__ == "SpeedTableElement"]
+    varying = [b for b in rr.bearing_elements if np.ndim(b.frequency) == 1 and len(b.frequency) > 1]
+    assert len(tables) == len(varying) > 0
+    assert any(min(t.bearing.kxx) < 0.0 for t in tables)
+    for t, b in zip(tables, varying, strict=True):
+        w = np.asarray(t.bearing.speeds)
+        np.testing.assert_array_equal(t.bearing.kxy, b.kxy_interpolated(w))
+        assert t.k0[0][0] == pytest.approx(float(b.kxx_interpolated(100.0)), rel=1e-12)
+    np.testing.assert_array_equal(model.matrices.K, from_ross(rr, 100.0).matrices.K)

@@ -29,39 +29,55 @@ from duhamel.rotor._speed import constant_speed, rpm
 from duhamel.rotor.assembly import RotorMatrices
 from duhamel.rotor.bearing import Bearing
 from duhamel.rotor.campbell import Campbell
+from duhamel.rotor.critical_map import CriticalSpeedMap, Intersection
 from duhamel.rotor.disk import Disk
 from duhamel.rotor.dofs import DIRECTIONS
+from duhamel.rotor.frequency import FrequencyResponse, FrequencyResponseMap
 from duhamel.rotor.journal import ShortJournalBearing
 from duhamel.rotor.loads import Gravity, RotorLoad, SuddenForce, Unbalance, VectorStep
+from duhamel.rotor.magnetic import PID, ClosedLoop, MagneticBearing
 from duhamel.rotor.material import STEEL, Material
 from duhamel.rotor.model import Rotor
 from duhamel.rotor.modes import Modes
 from duhamel.rotor.plot import plot_campbell, plot_orbit
 from duhamel.rotor.ross import RossDofs, RossModel, from_ross
+from duhamel.rotor.ross_rotor import RossRotor
 from duhamel.rotor.shaft import Shaft, cowper_shear_coefficient
+from duhamel.rotor.stability import Level1Stability, Stage, anticipated_cross_coupling
 from duhamel.rotor.unbalance import Peak, UnbalanceResponse, unbalance_response
 
 __all__ = [
     "DIRECTIONS",
+    "PID",
     "STEEL",
     "Bearing",
     "Campbell",
+    "ClosedLoop",
+    "CriticalSpeedMap",
     "Disk",
+    "FrequencyResponse",
+    "FrequencyResponseMap",
     "Gravity",
+    "Intersection",
+    "Level1Stability",
+    "MagneticBearing",
     "Material",
     "Modes",
     "Peak",
     "RossDofs",
     "RossModel",
+    "RossRotor",
     "Rotor",
     "RotorLoad",
     "RotorMatrices",
     "Shaft",
     "ShortJournalBearing",
+    "Stage",
     "SuddenForce",
     "Unbalance",
     "UnbalanceResponse",
     "VectorStep",
+    "anticipated_cross_coupling",
     "constant_speed",
     "cowper_shear_coefficient",
     "from_ross",

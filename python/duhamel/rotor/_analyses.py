@@ -12,7 +12,16 @@ from numpy.typing import ArrayLike, NDArray
 from duhamel.rotor._plot_response import plot_mode_shape
 from duhamel.rotor._speed import constant_speed
 from duhamel.rotor.campbell import Campbell, campbell
+from duhamel.rotor.frequency import (
+    DofSpec,
+    FrequencyResponse,
+    FrequencyResponseMap,
+    frequency_response,
+    frequency_response_map,
+    resolve_dofs,
+)
 from duhamel.rotor.modes import Modes, complex_modes
+from duhamel.rotor.stability import Level1Stability, level1_stability
 from duhamel.rotor.unbalance import UnbalanceResponse, unbalance_response
 
 __all__ = ["RotorAnalyses"]
@@ -27,6 +36,102 @@ class RotorAnalyses:
     nodes_z: Any
     has_speed_dependent_bearings: bool
     journals: tuple[Any, ...]
+    dof_labels: tuple[str, ...]
+    n_dof: int
+
+    def _matrices_source(self) -> Any:
+        """The matrices, or ``speed -> matrices`` when they depend on the speed."""
+        if self.has_speed_dependent_bearings or self.journals:
+            return self.matrices  # the coefficients (linearisations) of each speed
+        return self.matrices(0.0)
+
+    def _dofs(self, items: Sequence[DofSpec] | DofSpec, name: str) -> tuple[int, ...]:
+        return resolve_dofs(items, name, n_dof=self.n_dof, labels=self.dof_labels, dof=self.dof)
+
+    def frequency_response(
+        self,
+        speed: float | str,
+        frequencies: ArrayLike,
+        inputs: Sequence[DofSpec] | DofSpec,
+        outputs: Sequence[DofSpec] | DofSpec,
+    ) -> FrequencyResponse:
+        """Receptances between force/moment `inputs` and displacement `outputs` at a constant
+        spin `speed`, exact in the frequency domain.
+
+        ``(K - w^2 M + i w (C + speed G)) H(w) = B`` per frequency ``w`` (``B``: unit
+        forces on the inputs), with the bearing coefficients (and journal linearisations) at
+        `speed`; a force ``Re(F e^{i w t})`` on input ``i`` gives
+        ``x_o(t) = Re(H[o, i] F e^{i w t})``, the convention of :meth:`unbalance_response`.
+        Large banded models use its banded LU (``gbsv``), the others a batched dense LU.
+
+        Parameters
+        ----------
+        speed : float or "synchronous"
+            Spin speed (rad/s); ``"synchronous"``: the spin speed equals each frequency (the
+            coefficients follow it), as ROSS's ``run_freq_response``.
+        frequencies : array_like
+            Excitation frequencies (rad/s).
+        inputs, outputs : dof or sequence of dofs
+            Each a global dof index, a label of :attr:`dof_labels` (``"x_2"``) or
+            ``(node, direction)``.
+
+        Returns
+        -------
+        FrequencyResponse
+            ``response`` of shape ``(n_frequencies, n_outputs, n_inputs)``; Bode and
+            Nyquist plots.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft
+        >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
+        ...               [Bearing(0, 1e7, 1e7, cxx=500.0, cyy=500.0),
+        ...                Bearing(4, 1e7, 1e7, cxx=500.0, cyy=500.0)])
+        >>> frf = rotor.frequency_response(300.0, np.linspace(10.0, 600.0, 60),
+        ...                                inputs=[(2, "x"), (2, "y")], outputs=["x_2"])
+        >>> frf.response.shape
+        (60, 1, 2)
+        """
+        return frequency_response(
+            self._matrices_source(),
+            speed,
+            frequencies,
+            self._dofs(inputs, "inputs"),
+            self._dofs(outputs, "outputs"),
+            labels=self.dof_labels,
+        )
+
+    def frequency_response_map(
+        self,
+        speeds: ArrayLike,
+        frequencies: ArrayLike,
+        inputs: Sequence[DofSpec] | DofSpec,
+        outputs: Sequence[DofSpec] | DofSpec,
+    ) -> FrequencyResponseMap:
+        """:meth:`frequency_response` at each of `speeds` (rad/s): ``response`` of shape
+        ``(n_speeds, n_frequencies, n_outputs, n_inputs)`` and a magnitude map over speed
+        and frequency (:meth:`FrequencyResponseMap.plot_map`).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor import STEEL, Bearing, Rotor, Shaft
+        >>> rotor = Rotor([Shaft(0.5, 0.05, material=STEEL)] * 2,
+        ...               bearings=[Bearing(0, 1e7, 1e7, cxx=1e3, cyy=1e3), Bearing(2, 1e7, 1e7)])
+        >>> fmap = rotor.frequency_response_map([0.0, 500.0], np.linspace(10, 900, 30),
+        ...                                     "x_1", "x_1")
+        >>> fmap.response.shape
+        (2, 30, 1, 1)
+        """
+        return frequency_response_map(
+            self._matrices_source(),
+            speeds,
+            frequencies,
+            self._dofs(inputs, "inputs"),
+            self._dofs(outputs, "outputs"),
+            labels=self.dof_labels,
+        )
 
     def unbalance_response(
         self, speeds: ArrayLike, unbalances: Sequence[tuple[int, float, float]]
@@ -65,11 +170,103 @@ class RotorAnalyses:
         >>> round(peak.speed, 1), round(peak.amplification_factor, 1), round(peak.margin, 3)
         (265.2, 23.7, 0.131)
         """
-        if self.has_speed_dependent_bearings or self.journals:
-            mats: Any = self.matrices  # the coefficients (linearisations) of each speed
-        else:
-            mats = self.matrices(0.0)
-        return unbalance_response(mats, speeds, unbalances, dof=self.dof)
+        return unbalance_response(self._matrices_source(), speeds, unbalances, dof=self.dof)
+
+    def level1_stability(
+        self,
+        speed: float,
+        *,
+        location: int | Sequence[int],
+        q_range: ArrayLike | None = None,
+        q_a: float | None = None,
+    ) -> Level1Stability:
+        """API 684 / API 617 Level I stability screening at `speed` (rad/s).
+
+        A cross-coupled stiffness ``k_xy = q``, ``k_yx = -q`` (split equally among the
+        nodes of `location`) is added to ``K``; at each ``q`` of `q_range` the complex modes
+        (:meth:`modes`) give the log decrement of the first forward mode (the lowest one not
+        in backward whirl). The threshold ``Q_0`` where it reaches zero is refined on the
+        eigenproblem by Brent's method.
+
+        Parameters
+        ----------
+        speed : float
+            Spin speed (rad/s): the maximum continuous speed in API 617.
+        location : int or sequence of int
+            Keyword only. Node(s): mid-span for a between-bearing rotor, the impellers
+            (their centre) for an overhung one.
+        q_range : array_like, optional
+            Keyword only. Increasing applied cross-couplings (N/m), from 0 or more; default
+            31 values from 0 to the largest direct bearing stiffness ``K[x, x]`` at the
+            location's node.
+        q_a : float, optional
+            Keyword only. The anticipated cross-coupling ``Q_A`` (N/m), e.g. from
+            :func:`duhamel.rotor.stability.anticipated_cross_coupling`.
+
+        Returns
+        -------
+        Level1Stability
+            ``q``, ``log_dec``, ``threshold``, ``q_a``, ``ratio``, ``requires_level2``,
+            :meth:`~Level1Stability.plot`.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft
+        >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
+        ...               [Bearing(0, 1e7, 1e7, cxx=1e4, cyy=1e4),
+        ...                Bearing(4, 1e7, 1e7, cxx=1e4, cyy=1e4)])
+        >>> res = rotor.level1_stability(600.0, location=2, q_range=np.linspace(0, 4e5, 9),
+        ...                              q_a=5e4)
+        >>> bool(res.log_dec[0] > 0 > res.log_dec[-1]), round(res.threshold)
+        (True, 102033)
+        >>> round(res.ratio, 2), round(res.log_dec_at_q_a, 3), res.requires_level2
+        (2.04, 0.061, True)
+        """
+        w = constant_speed(speed)
+        nodes = (location,) if isinstance(location, int | np.integer) else tuple(location)
+        if not nodes:
+            raise ValueError("`location` is empty")
+        xs = [self.dof(int(n), "x") for n in nodes]
+        ys = [self.dof(int(n), "y") for n in nodes]
+        M, K, C, G = self.matrices(w)
+        if q_range is None:
+            q_range = np.linspace(0.0, float(np.max(np.diag(K)[xs])), 31)
+        lengths = [s.L for s in self.shafts]
+        ell = float(np.mean(lengths)) if lengths else 1.0
+        D = C + w * G
+
+        def modes_with(q: float) -> Modes:
+            Kq = np.array(K, dtype=float)
+            Kq[xs, ys] += q / len(nodes)
+            Kq[ys, xs] -= q / len(nodes)
+            return complex_modes(M, D, Kq, speed=w, length_scale=ell)
+
+        location_nodes = tuple(int(n) for n in nodes)
+        return level1_stability(modes_with, w, location_nodes, q_range, q_a)  # type: ignore[arg-type]
+
+    def closed_loop(self, speed: float, magnetic_bearings: Sequence[Any]) -> Any:
+        """The rotor at constant `speed` with active magnetic bearings (on top of its
+        bearings) and their controllers as one linear first-order system
+        (:class:`duhamel.rotor.magnetic.ClosedLoop`): closed-loop eigenvalues and stability,
+        receptances, the sensitivity function and its peak, exact transients.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor import STEEL, Disk, Rotor, Shaft
+        >>> from duhamel.rotor.magnetic import PID, MagneticBearing
+        >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 20.0, 0.3, 0.15)])
+        >>> amb = [MagneticBearing(n, k_i=100.0, k_s=1e6, controller=PID(3e4, 1e5, 30.0, 1e-4))
+        ...        for n in (0, 4)]
+        >>> loop = rotor.closed_loop(300.0, amb)
+        >>> loop.stable, loop.A.shape
+        (True, (48, 48))
+        """
+        from duhamel.rotor.magnetic import closed_loop
+
+        w = constant_speed(speed)
+        return closed_loop(self.matrices(w), magnetic_bearings, w, dof=self.dof)
 
     def static_equilibrium(self, speed: float, g: float = 9.81) -> NDArray[np.float64]:
         """The static state under the rotor's own weight (along ``-y``) at spin `speed`:

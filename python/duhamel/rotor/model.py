@@ -37,6 +37,7 @@ from duhamel.rotor.assembly import Assembly, RotorMatrices
 from duhamel.rotor.bearing import Bearing
 from duhamel.rotor.campbell import Campbell
 from duhamel.rotor.components import checked_components, placements
+from duhamel.rotor.critical_map import CriticalSpeedMap
 from duhamel.rotor.damping import damping_spec, structural_damping
 from duhamel.rotor.disk import Disk
 from duhamel.rotor.dofs import DIRECTIONS, dof_index
@@ -301,6 +302,63 @@ class Rotor(RotorAnalyses):
             raise ValueError(
                 "the rotor's stiffness matrix is singular: is it supported by `bearings`?"
             ) from exc
+
+    def critical_speed_map(
+        self,
+        stiffnesses: ArrayLike,
+        *,
+        n_modes: int = 4,
+        gyroscopic: bool = True,
+        speeds: ArrayLike | None = None,
+    ) -> CriticalSpeedMap:
+        """Undamped critical speed map: the critical speeds with every bearing (and journal)
+        replaced by an isotropic spring of each of `stiffnesses` on its node's x and y (no
+        damping, no cross-coupling), the bearings' ``kxx`` and ``kyy`` against speed over
+        them, and their intersections.
+
+        Parameters
+        ----------
+        stiffnesses : array_like
+            Increasing support stiffnesses (N/m).
+        n_modes : int
+            Keyword only. Critical speeds per stiffness.
+        gyroscopic : bool
+            Keyword only. Synchronous forward whirl (the spin equal to the whirl frequency,
+            :func:`~duhamel.rotor.critical_map.undamped_critical_speeds`), or the rotor at rest.
+        speeds : array_like, optional
+            Keyword only. Speeds (rad/s) of the bearings' curves (default 241 from 0 to 1.2
+            times the highest critical speed shown); the intersections are bracketed on them
+            and refined by Brent's method on the eigenproblem. Beyond a bearing's table its
+            end values are held, as everywhere, here without a ``TableRangeWarning``.
+
+        Returns
+        -------
+        CriticalSpeedMap
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft
+        >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
+        ...               [Bearing(n, [5e6, 2e7], [4e6, 1.6e7], speeds=[0, 3000]) for n in (0, 4)])
+        >>> ucs = rotor.critical_speed_map(np.logspace(5, 9, 41), n_modes=2)
+        >>> ucs.critical_speeds.shape
+        (41, 2)
+        >>> [(p.node, p.direction, p.mode, round(p.speed, 1)) for p in ucs.intersections][:2]
+        [(0, 'kyy', 0, 246.9), (4, 'kyy', 0, 246.9)]
+        """
+        from duhamel.rotor.critical_map import critical_speed_map
+
+        nodes = sorted({b.node for b in self.bearings} | {j.node for j in self.journals})
+        if not nodes:
+            raise ValueError("the rotor has no bearings: a critical speed map needs supports")
+        a = self._assembly
+        supports = [(self.dof(n, "x"), self.dof(n, "y")) for n in nodes]
+        return critical_speed_map(
+            a.M, a.K_structure, a.G, supports, self.bearings, stiffnesses,
+            n_modes=n_modes, gyroscopic=gyroscopic, speeds=speeds,
+            length_scale=float(np.mean([s.L for s in self.shafts])) if self.shafts else 1.0,
+        )  # fmt: skip
 
     # ------------------------------------------------------------------ time integration
     def system(

@@ -13,180 +13,30 @@ ROSS is imported only by the caller (it is never imported here); any object with
 
 from __future__ import annotations
 
-import inspect
-import re
-from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
 
-from duhamel._engine.validate import as_float_array, finite_float
-from duhamel.loads import Load, Tabulated
-from duhamel.loads import Unbalance as UnbalanceLoad
-from duhamel.rotor._speed import constant_speed
+from duhamel._engine.validate import finite_float
+from duhamel.rotor._ross_matrices import RossDofs, lateral_matrices
+from duhamel.rotor._speed import speed_or_law
 from duhamel.rotor.assembly import RotorMatrices
 from duhamel.rotor.transient import add_couplings, nonzero, storage
+from duhamel.speed import SpeedLaw
 from duhamel.system import System
 
-__all__ = ["RossDofs", "RossModel", "from_ross"]
-
-#: ROSS's local dof names, in its per-node order.
-ROSS_DIRECTIONS = ("x", "y", "z", "alpha", "beta", "theta")
-#: The lateral dofs duhamel keeps, and their duhamel names (no sign change).
-LATERAL = ("x", "y", "alpha", "beta")
-DUHAMEL_NAMES = {"x": "x", "y": "y", "theta_x": "alpha", "theta_y": "beta"}
-#: Couplings between the kept lateral dofs and the dropped axial/torsional ones larger than
-#: this, relative to the largest entry of the matrix, refuse the reduction.
-COUPLING_RTOL = 1e-12
-_LABEL = re.compile(r"^([a-z]+)_(\d+)$")
+__all__ = ["RossDofs", "RossModel", "from_ross", "lateral_matrices"]
 
 
-@dataclass(frozen=True, eq=False)
-class RossDofs:
-    """Map between a ROSS rotor's global dofs and the degrees of freedom of a duhamel System.
-
-    System dof ``i`` is ROSS's global dof ``ross_index[i]``, named ``labels[i]`` in ROSS's
-    element ``dof_global_index`` (``"x_3"``: x of node 3). The System keeps ROSS's order, so for
-    shaft node ``n`` of a ROSS 6-dof model the System's dofs ``4n .. 4n + 3`` are
-    ``(x, y, alpha, beta)`` = duhamel's ``(x, y, theta_x, theta_y)`` (also for point-mass and
-    support nodes, which only have ``x`` and ``y`` after the ROSS shaft nodes).
-
-    Attributes
-    ----------
-    ross_index : ndarray of int, shape (n_dof,)
-        ROSS global index of each System dof (ascending).
-    labels : tuple of str
-        ROSS name of each System dof.
-    n_ross : int
-        Number of dofs of the ROSS model (``rotor.ndof``), the dropped ones included.
-    """
-
-    ross_index: NDArray[np.intp]
-    labels: tuple[str, ...]
-    n_ross: int
-
-    def __post_init__(self) -> None:
-        lookup = {label: i for i, label in enumerate(self.labels)}
-        object.__setattr__(self, "_lookup", lookup)
-        inverse = np.full(self.n_ross, -1, dtype=np.intp)
-        inverse[self.ross_index] = np.arange(self.ross_index.size)
-        inverse.setflags(write=False)
-        object.__setattr__(self, "_inverse", inverse)
-
-    @property
-    def n_dof(self) -> int:
-        """Number of System dofs."""
-        return int(self.ross_index.size)
-
-    def index(self, node: int, direction: str) -> int:
-        """System dof of ROSS node `node`, `direction` ``"x"``, ``"y"``, ``"alpha"`` (=
-        ``"theta_x"``) or ``"beta"`` (= ``"theta_y"``).
-
-        Examples
-        --------
-        >>> import numpy as np
-        >>> from duhamel.rotor.ross import RossDofs
-        >>> dofs = RossDofs(np.array([0, 1, 3, 4]), ("x_0", "y_0", "alpha_0", "beta_0"), 6)
-        >>> dofs.index(0, "y"), dofs(0, "theta_y"), dofs.system_index(3)
-        (1, 3, 2)
-        """
-        if isinstance(node, bool) or not isinstance(node, int | np.integer):
-            raise TypeError(f"`node` must be an integer, got {type(node).__name__}")
-        name = DUHAMEL_NAMES.get(direction, direction)
-        if name in ("z", "theta"):
-            raise ValueError(
-                f"`direction` {direction!r} is an axial/torsional dof, which from_ross drops "
-                "(it keeps the lateral dofs x, y, alpha, beta)"
-            )
-        if name not in LATERAL:
-            raise ValueError(
-                f"`direction` must be one of 'x', 'y', 'alpha' ('theta_x'), 'beta' "
-                f"('theta_y'), got {direction!r}"
-            )
-        label = f"{name}_{int(node)}"
-        found = self._lookup.get(label)  # type: ignore[attr-defined]
-        if found is None:
-            raise ValueError(f"the ROSS model has no dof {label!r} (node {node}, {direction!r})")
-        return int(found)
-
-    __call__ = index
-
-    def system_index(self, ross_dof: int) -> int:
-        """System dof of ROSS global dof `ross_dof` (ValueError for a dropped dof)."""
-        if isinstance(ross_dof, bool) or not isinstance(ross_dof, int | np.integer):
-            raise TypeError(f"`ross_dof` must be an integer, got {type(ross_dof).__name__}")
-        if not 0 <= ross_dof < self.n_ross:
-            raise ValueError(f"`ross_dof` must be in [0, {self.n_ross - 1}], got {ross_dof}")
-        out = int(self._inverse[ross_dof])  # type: ignore[attr-defined]
-        if out < 0:
-            raise ValueError(f"ROSS dof {ross_dof} is axial or torsional: from_ross drops it")
-        return out
-
-    def from_ross(self, values: ArrayLike) -> NDArray[np.float64]:
-        """Select the System's dofs from an array over ROSS's dofs (last axis ``n_ross``),
-        e.g. ROSS's force array ``F`` or a response ``yout``."""
-        a = np.asarray(values, dtype=np.float64)
-        if a.ndim == 0 or a.shape[-1] != self.n_ross:
-            raise ValueError(
-                f"`values` must have ROSS's {self.n_ross} dofs on its last axis, got shape "
-                f"{a.shape}"
-            )
-        return a[..., self.ross_index]
-
-    def to_ross(self, values: ArrayLike) -> NDArray[np.float64]:
-        """Spread an array over the System's dofs (last axis ``n_dof``) onto ROSS's dofs,
-        zero on the dropped axial and torsional dofs (e.g. ``sol.x`` beside ROSS's ``yout``)."""
-        a = np.asarray(values, dtype=np.float64)
-        if a.ndim == 0 or a.shape[-1] != self.n_dof:
-            raise ValueError(
-                f"`values` must have the System's {self.n_dof} dofs on its last axis, got "
-                f"shape {a.shape}"
-            )
-        out = np.zeros((*a.shape[:-1], self.n_ross))
-        out[..., self.ross_index] = a
-        return out
-
-    def loads(self, F: ArrayLike, t: ArrayLike) -> list[Load]:
-        """ROSS's force array as duhamel loads: one :class:`duhamel.loads.Tabulated` (linear
-        between the samples, as ROSS's ``lsim`` path) per System dof with a nonzero force.
-
-        Parameters
-        ----------
-        F : array_like, shape (len(t), n_ross)
-            Force on every ROSS dof at the times `t` (ROSS's ``run_time_response`` input).
-        t : array_like, shape (n_t,)
-            Increasing sample times.
-
-        Raises
-        ------
-        ValueError
-            For a nonzero force on a dropped (axial or torsional) dof.
-        """
-        ts = as_float_array(t, "t", ndim=1)
-        f = as_float_array(F, "F", ndim=2)
-        if f.shape != (ts.size, self.n_ross):
-            raise ValueError(
-                f"`F` must have shape (len(t), n_ross) = ({ts.size}, {self.n_ross}), got {f.shape}"
-            )
-        dropped = np.ones(self.n_ross, dtype=bool)
-        dropped[self.ross_index] = False
-        bad = np.flatnonzero(dropped & np.any(f != 0.0, axis=0))
-        if bad.size:
-            raise ValueError(
-                f"`F` loads ROSS dof {int(bad[0])}, an axial or torsional dof that from_ross drops"
-            )
-        return [Tabulated(i, ts, f[:, j]) for i, j in enumerate(self.ross_index) if np.any(f[:, j])]
-
-    def unbalance(self, node: int, m_e: float, speed: Any, phase: float = 0.0) -> Load:
-        """The unbalance ``m_e`` (kg m) at ROSS node `node` as a
-        :class:`duhamel.loads.Unbalance`: ``m_e speed^2 (cos(speed t + phase), sin(speed t +
-        phase))`` on the node's ``(x, y)``, the force of ROSS's unbalance response."""
-        return UnbalanceLoad(self.index(node, "x"), self.index(node, "y"), m_e, speed, phase)
+class _RossModelFields(NamedTuple):
+    system: System
+    dofs: RossDofs
+    matrices: RotorMatrices
 
 
-class RossModel(NamedTuple):
-    """What :func:`from_ross` returns.
+class RossModel(_RossModelFields):
+    """What :func:`from_ross` returns: ``(system, dofs, matrices)``, and the analyses of a
+    native :class:`~duhamel.rotor.Rotor` on the ROSS model (:attr:`rotor`).
 
     Attributes
     ----------
@@ -199,41 +49,117 @@ class RossModel(NamedTuple):
         in System order (``K`` and ``C`` at `frequency`; ``G`` per unit speed).
     """
 
-    system: System
-    dofs: RossDofs
-    matrices: RotorMatrices
+    _source: Any = None  # the ROSS rotor (set by from_ross)
+    _speed: Any = 0.0  # the speed (or law) and the coefficients' frequency of from_ross
+    _frequency: float = 0.0
+
+    def swap_bearing(self, journal: Any) -> Any:
+        """Replace ROSS's bearing(s) at ``journal.node`` by the nonlinear
+        :class:`~duhamel.rotor.ShortJournalBearing` `journal` in :attr:`system` (added to it,
+        and returned): the element's force is the film force minus ROSS's linear bearing
+        force at that node (its ``K`` and ``C`` at the model's frequency), which the System
+        already carries, so that the model sees exactly the film force there while the
+        background keeps ROSS's bearing as its linear part (good modes for the stepping).
+
+        A rub or a cubic spring supplements a bearing instead: add
+        ``duhamel.elements.Contact(dofs(n, "x"), dofs(n, "y"), ...)`` (or ``Cubic``) to
+        :attr:`system` directly.
+
+        Raises
+        ------
+        ValueError
+            Without a ROSS bearing at the node, or along a run-up when its coefficients
+            depend on the frequency (they follow the speed there, not a fixed ``K``).
+
+        Examples
+        --------
+        >>> import ross, duhamel                                   # doctest: +SKIP
+        >>> from duhamel.rotor import ShortJournalBearing, from_ross
+        >>> model = from_ross(ross.rotor_example(), 500.0)         # doctest: +SKIP
+        >>> _ = model.swap_bearing(ShortJournalBearing(0, 0.05, 0.02, 1e-4, 0.02))  # doctest: +SKIP
+        """
+        from duhamel.rotor.journal import ShortJournalBearing
+
+        if not isinstance(journal, ShortJournalBearing):
+            raise TypeError(
+                f"`journal` must be a ShortJournalBearing, got {type(journal).__name__}"
+            )
+        found = [
+            b for b in getattr(self._source, "bearing_elements", ()) if int(b.n) == journal.node
+        ]
+        if not found:
+            raise ValueError(f"the ROSS model has no bearing at node {journal.node} to replace")
+        k0, c0 = np.zeros((2, 2)), np.zeros((2, 2))
+        for b in found:
+            varies = np.ndim(getattr(b, "frequency", None)) == 1 and len(b.frequency) > 1
+            if varies and isinstance(self._speed, SpeedLaw):
+                raise ValueError(
+                    f"the ROSS bearing at node {journal.node} has frequency-dependent "
+                    "coefficients, which follow the run-up: build the ROSS rotor without it "
+                    "and add the journal element alone"
+                )
+            for m, kind in ((k0, "k"), (c0, "c")):
+                for (i, j), a in zip(
+                    ((0, 0), (0, 1), (1, 0), (1, 1)), ("xx", "xy", "yx", "yy"), strict=True
+                ):
+                    m[i, j] += float(getattr(b, f"{kind}{a}_interpolated")(self._frequency))
+        element = journal.element(
+            self.dofs(journal.node, "x"), self.dofs(journal.node, "y"), self._speed,
+            k0=k0, c0=c0,
+        )  # fmt: skip
+        self.system.add(element)
+        return element
+
+    @property
+    def rotor(self) -> Any:
+        """The ROSS model as a :class:`~duhamel.rotor.ross_rotor.RossRotor`: what a native
+        :class:`~duhamel.rotor.Rotor` offers at constant speed (``modes``, ``campbell``,
+        ``critical_speeds``, ``frequency_response``, ``unbalance_response``,
+        ``level1_stability``, ``critical_speed_map``...), with ROSS's ``K`` and ``C``
+        re-evaluated at each speed (``frequency = speed``, as ROSS's own analyses)."""
+        from duhamel.rotor.ross_rotor import RossRotor
+
+        return RossRotor(self._source, self.dofs, self.matrices)
+
+    def modes(self, speed: float = 0.0, n: int | None = None) -> Any:
+        """:meth:`Rotor.modes <duhamel.rotor.Rotor.modes>` of the ROSS model (:attr:`rotor`)."""
+        return self.rotor.modes(speed, n)
+
+    def natural_frequencies(self, speed: float = 0.0, n: int | None = None) -> Any:
+        """:meth:`Rotor.natural_frequencies <duhamel.rotor.Rotor.natural_frequencies>`."""
+        return self.rotor.natural_frequencies(speed, n)
+
+    def campbell(self, speeds: Any, n_modes: int | None = None, *, track: bool = True) -> Any:
+        """:meth:`Rotor.campbell <duhamel.rotor.Rotor.campbell>` of the ROSS model."""
+        return self.rotor.campbell(speeds, n_modes, track=track)
+
+    def plot_campbell(self, speeds: Any, n_modes: int | None = None, **kwargs: Any) -> Any:
+        """:meth:`Rotor.plot_campbell <duhamel.rotor.Rotor.plot_campbell>`."""
+        return self.rotor.plot_campbell(speeds, n_modes, **kwargs)
+
+    def critical_speeds(self, speeds: Any, **kwargs: Any) -> Any:
+        """:meth:`Rotor.critical_speeds <duhamel.rotor.Rotor.critical_speeds>`."""
+        return self.rotor.critical_speeds(speeds, **kwargs)
+
+    def frequency_response(self, speed: Any, frequencies: Any, inputs: Any, outputs: Any) -> Any:
+        """:meth:`Rotor.frequency_response <duhamel.rotor.Rotor.frequency_response>`, dofs
+        as :class:`RossDofs` labels (``"x_2"``, ``"beta_3"``), indices or ``(node, dir)``."""
+        return self.rotor.frequency_response(speed, frequencies, inputs, outputs)
+
+    def frequency_response_map(
+        self, speeds: Any, frequencies: Any, inputs: Any, outputs: Any
+    ) -> Any:
+        """:meth:`Rotor.frequency_response_map <duhamel.rotor.Rotor.frequency_response_map>`."""
+        return self.rotor.frequency_response_map(speeds, frequencies, inputs, outputs)
 
     def unbalance_response(self, speeds: Any, unbalances: Any) -> Any:
         """Steady-state unbalance response (:func:`duhamel.rotor.unbalance_response`) with
         these matrices (ROSS's ``K`` and ``C`` at the model's `frequency`; for
-        frequency-dependent bearings pass ``lambda w: from_ross(rotor, w).matrices`` to
-        :func:`~duhamel.rotor.unbalance_response` instead), unbalances at ROSS nodes."""
+        frequency-dependent bearings use ``model.rotor.unbalance_response``, which
+        re-evaluates them at each speed), unbalances at ROSS nodes."""
         from duhamel.rotor.unbalance import unbalance_response
 
         return unbalance_response(self.matrices, speeds, unbalances, dof=self.dofs)
-
-
-def _labels(rotor: Any) -> dict[int, str]:
-    """ROSS global dof index -> name (``"x_3"``), from every element's ``dof_global_index``."""
-    out: dict[int, str] = {}
-    for element in rotor.elements:
-        for name, index in element.dof_global_index.items():
-            if not _LABEL.match(name) or name.split("_")[0] not in ROSS_DIRECTIONS:
-                raise ValueError(f"unexpected ROSS dof name {name!r} in {type(element).__name__}")
-            previous = out.setdefault(int(index), name)
-            if previous != name:
-                raise ValueError(f"ROSS dof {index} is named both {previous!r} and {name!r}")
-    return out
-
-
-def _evaluate(method: Any, frequency: float, speed: float) -> NDArray[np.float64]:
-    """``method(frequency)``, with ``speed=`` where ROSS accepts it (ROSS >= 3)."""
-    try:
-        takes_speed = "speed" in inspect.signature(method).parameters
-    except (TypeError, ValueError):  # pragma: no cover - builtins without a signature
-        takes_speed = False
-    out = method(frequency, speed=speed) if takes_speed else method(frequency)
-    return np.asarray(out, dtype=np.float64)
 
 
 def from_ross(
@@ -273,9 +199,13 @@ def from_ross(
     ----------
     rotor : ross.Rotor
         The ROSS model.
-    speed : float
-        Spin speed (rad/s), constant (a constant ``duhamel.speed`` law is accepted). ROSS's
-        angular-acceleration stiffness ``Ksdt`` of a run-up is not mapped.
+    speed : float or speed law
+        Spin speed (rad/s), or a :mod:`duhamel.speed` law (``LinearRunUp``): then the
+        background takes ROSS's matrices at the initial speed, the gyroscopic coupling is
+        scaled by ``omega(t)``, and every frequency-dependent bearing and seal follows the
+        speed (ROSS's coefficient curves sampled over the range of the law, PCHIP between
+        the samples: :mod:`duhamel.rotor._ross_runup`). ROSS's angular-acceleration
+        stiffness ``Ksdt`` of a run-up is not mapped.
     frequency : float, optional
         Keyword only. Excitation frequency at which frequency-dependent bearing and seal
         coefficients are evaluated; default `speed`, as ROSS's ``run_time_response``.
@@ -332,54 +262,18 @@ def from_ross(
     >>> model.system.n_dof, model.dofs.labels, model.dofs(0, "y")
     (2, ('x_0', 'y_0'), 1)
     """
-    w = constant_speed(speed)
-    freq = w if frequency is None else finite_float(frequency, "frequency")
-    for name in ("M", "K", "C", "G", "elements"):
-        if not hasattr(rotor, name):
-            raise TypeError(
-                f"`rotor` must be a ROSS Rotor (it has no `{name}`), got {type(rotor).__name__}"
-            )
-    M = _evaluate(rotor.M, freq, w)
-    K = _evaluate(rotor.K, freq, w)
-    C = _evaluate(rotor.C, freq, w)
-    G = np.asarray(rotor.G(), dtype=np.float64)
-    n = M.shape[0]
-    for name, a in (("M", M), ("K", K), ("C", C), ("G", G)):
-        if a.shape != (n, n):
-            raise ValueError(f"ROSS's `{name}` has shape {a.shape}, `M` has {M.shape}")
-
-    labels = _labels(rotor)
-    lateral = sorted(i for i, s in labels.items() if s.split("_")[0] in LATERAL)
-    if len(labels) == n and sorted(labels) == list(range(n)):
-        keep = np.asarray(lateral, dtype=np.intp)
-        dropped = np.setdiff1d(np.arange(n), keep)
-        for name, a in (("M", M), ("K", K), ("C", C), ("G", G)):
-            scale = float(np.max(np.abs(a))) if a.size else 0.0
-            c = np.abs(a[np.ix_(keep, dropped)]).max(initial=0.0)
-            c = max(c, np.abs(a[np.ix_(dropped, keep)]).max(initial=0.0))
-            if c > COUPLING_RTOL * scale:
-                raise ValueError(
-                    f"ROSS's `{name}` couples the lateral dofs to axial/torsional ones "
-                    f"(|coupling| = {c:.3g}, {c / scale:.2e} of its largest entry); from_ross "
-                    "keeps only the lateral dofs"
-                )
-        M, K, C, G = (a[np.ix_(keep, keep)] for a in (M, K, C, G))
-        ross_index, n_ross = keep, n
-    elif len(lateral) == n:  # convert_6dof_to_4dof: the matrices are the lateral block already
-        ross_index, n_ross = np.arange(n, dtype=np.intp), n
-    else:
+    w = speed_or_law(speed)  # a float, or a varying law (a run-up)
+    law = w if isinstance(w, SpeedLaw) else None
+    w0 = float(np.asarray(law.omega(np.array([0.0])))[0]) if law is not None else float(w)
+    if law is not None and frequency is not None:
         raise ValueError(
-            f"ROSS's matrices have {n} dofs, but its elements name {len(labels)} dofs "
-            f"({len(lateral)} lateral); cannot map them"
+            "`frequency` is for a constant speed: along a run-up the bearing and seal "
+            "coefficients follow the speed"
         )
-    names = tuple(labels[i] for i in lateral)
-    dofs = RossDofs(ross_index=ross_index, labels=names, n_ross=n_ross)
-    if not np.allclose(M, M.T, rtol=0.0, atol=1e-12 * float(np.max(np.abs(M)))):
-        raise ValueError("ROSS's mass matrix is not symmetric; a duhamel System needs it to be")
-    M = (M + M.T) / 2.0
-    for a in (M, K, C, G):
-        a.setflags(write=False)
-    matrices = RotorMatrices(M=M, K=K, C=C, G=G)
+    freq = w0 if frequency is None else finite_float(frequency, "frequency")
+    matrices, dofs = lateral_matrices(rotor, w0, freq)
+    M, K, C, G = matrices
+    names = dofs.labels
 
     conv = storage(sparse)
     k_sym, k_skew = (K + K.T) / 2.0, (K - K.T) / 2.0
@@ -389,6 +283,14 @@ def from_ross(
     else:
         system = System(conv(M), conv(k_sym))
     add_couplings(system, G, w, k_skew, c_skew, conv)
+    if law is not None:
+        from duhamel.rotor._ross_runup import ross_speed_tables
+
+        for element in ross_speed_tables(rotor, dofs, law, w0):
+            system.add(element)
     if len(set(names)) == len(names):
         system.label_dofs(names)
-    return RossModel(system=system, dofs=dofs, matrices=matrices)
+    model = RossModel(system=system, dofs=dofs, matrices=matrices)
+    model._source = rotor
+    model._speed, model._frequency = w, freq
+    return model

@@ -1,0 +1,253 @@
+"""Active magnetic bearings: the rotor and its bearing controllers as one linear first-order
+system (closed-loop modes, frequency responses, the sensitivity function, transients).
+
+In each direction (x, y) of its node a :class:`MagneticBearing` pushes the rotor with
+``f = k_s x + k_i i`` (``k_s > 0`` the open-loop negative stiffness, as ROSS writes it) and
+its current is ``i = -C(s) e``, ``e`` the measured displacement (``x``, plus a sensor
+disturbance ``d`` for the sensitivity function), with the :class:`PID` controller
+``C(s) = kp + ki / s + kd s / (1 + tau s)``. Its states are the integral of ``e`` (when
+``ki != 0``) and the first-order filter ``z' = (e - z) / tau`` of the derivative (when
+``kd != 0``: ``kd s / (1 + tau s) e = (kd / tau)(e - z)``). With the rotor's
+``M x'' + (C + speed G) x' + K x = f`` the closed loop is
+
+    s' = A s + B f_ext,    s = (x, x', controller states),
+
+assembled here; everything below is exact for it: eigenvalues (``scipy.linalg.eig``),
+receptances (one complex solve per frequency), the sensitivity ``S = e / d`` of each bearing
+axis, and transients by the first-order hold discretisation ``expm`` of the augmented matrix
+(Van Loan), exact for forces linear between the samples.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from duhamel._engine.validate import as_float_array, finite_float, nonneg_float, positive_float
+
+__all__ = ["PID", "ClosedLoop", "MagneticBearing", "closed_loop"]
+
+
+@dataclass(frozen=True)
+class PID:
+    """``C(s) = kp + ki / s + kd s / (1 + tau s)`` (A/m, A/(m s), A s/m, s)."""
+
+    kp: float
+    ki: float = 0.0
+    kd: float = 0.0
+    tau: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("kp", "ki", "kd"):
+            object.__setattr__(self, name, finite_float(getattr(self, name), name))
+        object.__setattr__(self, "tau", nonneg_float(self.tau, "tau"))
+        if self.kd != 0.0 and self.tau <= 0.0:
+            raise ValueError("`tau` must be > 0 with a derivative gain `kd` (a proper C(s))")
+
+    def __call__(self, s: complex | NDArray) -> Any:
+        """``C(s)``."""
+        out = self.kp + (self.ki / s if self.ki else 0.0)
+        return out + (self.kd * s / (1.0 + self.tau * s) if self.kd else 0.0)
+
+    def state_space(self) -> tuple[NDArray, NDArray, NDArray, float]:
+        """``(A_c, B_c, C_c, D_c)`` of ``z' = A_c z + B_c e``, ``C(s) e = C_c z + D_c e``."""
+        a, b, c = [], [], []
+        if self.ki:
+            a.append(0.0)
+            b.append(1.0)
+            c.append(self.ki)
+        d = self.kp
+        if self.kd:
+            a.append(-1.0 / self.tau)
+            b.append(1.0 / self.tau)
+            c.append(-self.kd / self.tau)
+            d += self.kd / self.tau
+        return np.diag(a), np.array(b), np.array(c), d
+
+
+@dataclass(frozen=True)
+class MagneticBearing:
+    """An active magnetic bearing at a node, the same in x and y.
+
+    Parameters
+    ----------
+    node : int
+    k_i : float
+        Current stiffness (N/A), > 0.
+    k_s : float
+        Open-loop negative stiffness (N/m), >= 0: the force is ``+k_s x``.
+    controller : PID
+    """
+
+    node: int
+    k_i: float
+    k_s: float
+    controller: PID
+
+    def __post_init__(self) -> None:
+        if isinstance(self.node, bool) or not isinstance(self.node, int | np.integer):
+            raise TypeError(f"`node` must be an integer, got {self.node!r}")
+        object.__setattr__(self, "k_i", positive_float(self.k_i, "k_i"))
+        object.__setattr__(self, "k_s", nonneg_float(self.k_s, "k_s"))
+        if not isinstance(self.controller, PID):
+            raise TypeError(f"`controller` must be a PID, got {type(self.controller).__name__}")
+
+
+@dataclass(frozen=True, eq=False)
+class ClosedLoop:
+    """The rotor with its magnetic bearings' controllers: ``s' = A s + B f``.
+
+    Attributes
+    ----------
+    A : ndarray, shape (n_states, n_states)
+    n_dof : int
+        Rotor dofs: ``s[:n_dof]`` displacements, ``s[n_dof:2 n_dof]`` velocities, then the
+        controller states.
+    axes : tuple of (int, MagneticBearing)
+        Each bearing axis: its dof and its bearing.
+    """
+
+    A: NDArray[np.float64]
+    n_dof: int
+    axes: tuple[tuple[int, MagneticBearing], ...]
+    M_inv: NDArray[np.float64]
+    _E: NDArray[np.float64]  # disturbance input of each axis (the measured-signal channel)
+
+    @property
+    def eigenvalues(self) -> NDArray[np.complex128]:
+        """Closed-loop eigenvalues, sorted by imaginary then real part."""
+        import scipy.linalg
+
+        lam = scipy.linalg.eigvals(self.A)
+        return lam[np.lexsort((lam.real, lam.imag))]
+
+    @property
+    def stable(self) -> bool:
+        """Whether every eigenvalue has a negative real part (beyond 1e-9 of the largest
+        ``|lambda|``: a rigid-body mode the bearings do not hold is not stable)."""
+        lam = self.eigenvalues
+        return bool(np.all(lam.real < -1e-9 * np.abs(lam).max()))
+
+    def force_input(self, dofs: Sequence[int]) -> NDArray[np.float64]:
+        """``B`` for unit forces on `dofs`: ``M^-1`` columns in the velocity rows."""
+        B = np.zeros((self.A.shape[0], len(dofs)))
+        B[self.n_dof : 2 * self.n_dof] = self.M_inv[:, list(dofs)]
+        return B
+
+    def frequency_response(
+        self, frequencies: ArrayLike, inputs: Sequence[int], outputs: Sequence[int]
+    ) -> NDArray[np.complex128]:
+        """Closed-loop receptances ``(n_frequencies, n_outputs, n_inputs)``: ``x_o =
+        Re(H F e^{i w t})`` for forces ``Re(F e^{i w t})`` on the `inputs` dofs."""
+        return self._response(frequencies, self.force_input(inputs), list(outputs))
+
+    def _response(self, frequencies: ArrayLike, B: NDArray, rows: list[int]) -> NDArray:
+        ws = as_float_array(frequencies, "frequencies", ndim=1)
+        n = self.A.shape[0]
+        out = np.empty((ws.size, len(rows), B.shape[1]), dtype=complex)
+        for k, w in enumerate(ws):
+            out[k] = np.linalg.solve(1j * w * np.eye(n) - self.A, B)[rows]
+        return out
+
+    def sensitivity(self, frequencies: ArrayLike) -> NDArray[np.complex128]:
+        """Sensitivity ``S = e / d`` of each bearing axis, ``(n_frequencies, n_axes)``: a
+        disturbance ``d`` added to the axis's measured displacement, the loop closed (the
+        other axes closed too); for one axis ``S = 1 / (1 + L)``."""
+        rows = [dof for dof, _ in self.axes]
+        x = self._response(frequencies, self._E, rows)
+        return 1.0 + np.einsum("kaa->ka", x)
+
+    def peak_sensitivity(self, frequencies: ArrayLike) -> tuple[float, float, int]:
+        """The largest ``|S|`` over the axes and `frequencies`: ``(peak, frequency, axis)``
+        (ISO 14839-3 zones: A below 3, B below 4, C below 5)."""
+        ws = as_float_array(frequencies, "frequencies", ndim=1)
+        mag = np.abs(self.sensitivity(ws))
+        k, a = np.unravel_index(int(np.argmax(mag)), mag.shape)
+        return float(mag[k, a]), float(ws[k]), int(a)
+
+    def transient(
+        self,
+        t: ArrayLike,
+        forces: NDArray[np.float64] | None = None,
+        dofs: Sequence[int] = (),
+        *,
+        x0: ArrayLike | None = None,
+        v0: ArrayLike | None = None,
+    ) -> NDArray[np.float64]:
+        """States at the equally spaced times `t`, forces ``(len(t), len(dofs))`` linear
+        between the samples: ``s[n+1] = Ad s[n] + B0 f[n] + B1 f[n+1]`` from ``expm`` of
+        Van Loan's augmented matrix, exact for such forces. Returns ``(len(t), n_states)``."""
+        import scipy.linalg
+
+        ts = as_float_array(t, "t", ndim=1)
+        h = float(ts[1] - ts[0]) if ts.size > 1 else 0.0
+        if ts.size < 2 or h <= 0 or not np.allclose(np.diff(ts), h, rtol=1e-12, atol=0.0):
+            raise ValueError("`t` must be at least two equally spaced increasing times")
+        n = self.A.shape[0]
+        B = self.force_input(dofs)
+        m = B.shape[1]
+        f = np.zeros((ts.size, m)) if forces is None else np.asarray(forces, dtype=float)
+        if f.shape != (ts.size, m):
+            raise ValueError(f"`forces` must have shape (len(t), len(dofs)) = {(ts.size, m)}")
+        big = np.zeros((n + 2 * m, n + 2 * m))
+        big[:n, :n] = self.A * h
+        big[:n, n : n + m] = B * h
+        big[n : n + m, n + m :] = np.eye(m)
+        E = scipy.linalg.expm(big)
+        Ad, G1, G2 = E[:n, :n], E[:n, n : n + m], E[:n, n + m :]
+        B0, B1 = G1 - G2, G2
+        s = np.zeros((ts.size, n))
+        s[0, : self.n_dof] = 0.0 if x0 is None else as_float_array(x0, "x0", ndim=1)
+        s[0, self.n_dof : 2 * self.n_dof] = 0.0 if v0 is None else as_float_array(v0, "v0", ndim=1)
+        for k in range(ts.size - 1):
+            s[k + 1] = Ad @ s[k] + B0 @ f[k] + B1 @ f[k + 1]
+        if not np.all(np.isfinite(s)):
+            raise ValueError("the closed-loop transient is not finite (an unstable tuning?)")
+        return s
+
+
+def closed_loop(
+    matrices: tuple, bearings: Sequence[MagneticBearing], speed: float, *, dof: Callable
+) -> ClosedLoop:
+    """The closed loop of the rotor ``(M, K, C, G)`` at `speed` with `bearings`."""
+    import scipy.linalg
+
+    M, K, C, G = (np.asarray(a, dtype=float) for a in matrices)
+    n = M.shape[0]
+    w = finite_float(speed, "speed")
+    try:
+        M_inv = scipy.linalg.inv(M)
+    except (np.linalg.LinAlgError, ValueError):
+        raise ValueError("the mass matrix is singular (massless dofs): no closed loop") from None
+    axes = []
+    for b in bearings:
+        if not isinstance(b, MagneticBearing):
+            raise TypeError(f"`bearings` must hold MagneticBearing, got {type(b).__name__}")
+        axes += [(int(dof(b.node, "x")), b), (int(dof(b.node, "y")), b)]
+    sizes = [b.controller.state_space()[0].shape[0] for _, b in axes]
+    nc = int(sum(sizes))
+    N = 2 * n + nc
+    A = np.zeros((N, N))
+    A[:n, n : 2 * n] = np.eye(n)
+    A[n : 2 * n, :n] = -M_inv @ K
+    A[n : 2 * n, n : 2 * n] = -M_inv @ (C + w * G)
+    E = np.zeros((N, len(axes)))  # the disturbance d of each axis, added to its measurement
+    row = 2 * n
+    for a, ((j, b), size) in enumerate(zip(axes, sizes, strict=True)):
+        Ac, Bc, Cc, Dc = b.controller.state_space()
+        ctrl = slice(row, row + size)
+        # force on dof j: k_s x_j + k_i i,  i = -(Cc z + Dc e),  e = x_j + d
+        coupling = np.zeros(N)
+        coupling[j] += b.k_s - b.k_i * Dc
+        coupling[ctrl] += -b.k_i * Cc
+        A[n : 2 * n] += np.outer(M_inv[:, j], coupling)
+        E[n : 2 * n, a] += M_inv[:, j] * (-b.k_i * Dc)
+        A[ctrl, ctrl] = Ac
+        A[ctrl, j] += Bc
+        E[ctrl, a] += Bc
+        row += size
+    return ClosedLoop(A, n, tuple(axes), M_inv, E)
