@@ -149,12 +149,14 @@ class Element:
     @staticmethod
     def friction_pendulum(
         dof_x: int,
-        dof_y: int,
+        dof_y: int | None,
         radius: float,
         mu: float,
         weight: float,
         yield_displacement: float,
-    ) -> Element: ...
+        velocity: tuple[float, float] | None = None,
+    ) -> Element:
+        """Uniaxial when `dof_y` is None; `velocity` = ``(mu_slow, rate)``."""
     @staticmethod
     def viscous_damper(i: int, j: int | None, c: float, exponent: float, v0: float) -> Element: ...
     @staticmethod

@@ -224,19 +224,31 @@ impl ElementSpec {
         .map(|e| ElementSpec(Spec::BoucWen(e)))
     }
 
-    /// Single friction pendulum bearing on two horizontal dofs.
+    /// Single friction pendulum bearing on two horizontal dofs, or on `dof_x` alone
+    /// (`dof_y` None); `velocity = (mu_slow, rate)` for velocity-dependent friction.
     #[staticmethod]
+    #[pyo3(signature = (dof_x, dof_y, radius, mu, weight, yield_displacement, velocity=None))]
     fn friction_pendulum(
         dof_x: usize,
-        dof_y: usize,
+        dof_y: Option<usize>,
         radius: f64,
         mu: f64,
         weight: f64,
         yield_displacement: f64,
+        velocity: Option<(f64, f64)>,
     ) -> PyResult<Self> {
         let made = || {
-            FrictionPendulum::new(dof_x, dof_y, radius, mu, weight, yield_displacement)
-                .map_err(core_err)
+            let e = match dof_y {
+                Some(dof_y) => {
+                    FrictionPendulum::new(dof_x, dof_y, radius, mu, weight, yield_displacement)
+                }
+                None => FrictionPendulum::uniaxial(dof_x, radius, mu, weight, yield_displacement),
+            };
+            e.and_then(|e| match velocity {
+                Some((slow, rate)) => e.with_velocity(slow, rate),
+                None => Ok(e),
+            })
+            .map_err(core_err)
         };
         guarded(made).map(|e| ElementSpec(Spec::FrictionPendulum(e)))
     }

@@ -18,7 +18,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._engine.validate import finite_float
+from duhamel._engine.protocols import Model
+from duhamel._engine.validate import dof_index, finite_float
 from duhamel.elements.base import Deformation, Element, TwoAxis, nonneg, pair_stiffness, positive
 
 __all__ = ["Bilinear", "BoucWen", "FrictionPendulum", "Gap", "ViscousDamper"]
@@ -139,13 +140,17 @@ class BoucWen(Deformation, Element):
 
 @dataclass(frozen=True)
 class FrictionPendulum(TwoAxis, Element):
-    """Single friction pendulum isolator on two horizontal dofs (bidirectional, coupled):
-    restoring force ``(weight / radius) u`` plus Coulomb friction bounded by the circle
-    ``|f| <= mu weight``, with a pre-sliding (elastic) stiffness ``mu weight /
-    yield_displacement`` and a radial return mapping. The isolated period is
-    ``2 pi sqrt(radius / g)``. Constant `weight` and `mu` (no vertical coupling, no velocity
-    dependence of the friction coefficient). Units: `yield_displacement` defaults to
-    2.5e-4 (m).
+    """Single friction pendulum isolator, bidirectional (coupled) on two horizontal dofs or
+    uniaxial on `dof_x` alone (``dof_y=None``: a plane model): restoring force
+    ``(weight / radius) u`` plus friction bounded by ``|f| <= mu weight`` (a circle in two
+    directions), with a pre-sliding (elastic) stiffness ``mu weight / yield_displacement``
+    and a radial return mapping. The isolated period is ``2 pi sqrt(radius / g)``.
+
+    Velocity-dependent friction (OpenSees' ``VelDependent`` model): with `mu_slow` and
+    ``rate > 0``, ``mu(s) = mu - (mu - mu_slow) exp(-rate s)`` at the sliding speed ``s``
+    (`mu` is then the high-speed coefficient ``mu_fast``; the pre-sliding stiffness stays
+    ``mu weight / yield_displacement``). Constant `weight` (no vertical coupling, no
+    pressure dependence, no uplift). Units: `yield_displacement` defaults to 2.5e-4 (m).
 
     Examples
     --------
@@ -153,36 +158,62 @@ class FrictionPendulum(TwoAxis, Element):
     >>> fps = duhamel.elements.FrictionPendulum(0, 1, radius=2.0, mu=0.05, weight=5e6)
     >>> fps.yield_displacement
     0.00025
+    >>> plane = duhamel.elements.FrictionPendulum(0, radius=2.0, mu=0.06, mu_slow=0.03,
+    ...                                           rate=20.0, weight=5e6)
+    >>> plane.dof_y is None
+    True
     """
 
     dof_x: int
-    dof_y: int
+    dof_y: int | None = None
     radius: float = 1.0
     mu: float = 0.05
     weight: float = 1.0
     yield_displacement: float = 2.5e-4
+    mu_slow: float | None = None
+    rate: float = 0.0
     _path_dependent = True
 
     def __post_init__(self) -> None:
         positive(self.radius, "radius")
-        nonneg(self.mu, "mu")
+        mu = nonneg(self.mu, "mu")
         positive(self.weight, "weight")
         positive(self.yield_displacement, "yield_displacement")
+        nonneg(self.rate, "rate")
+        if self.mu_slow is not None:
+            slow = nonneg(self.mu_slow, "mu_slow")
+            if slow > mu:
+                raise ValueError(
+                    f"`mu_slow` must be <= mu (the fast coefficient) = {mu}, got {slow}"
+                )
+
+    def _validate(self, system: Model) -> None:
+        if self.dof_y is None:
+            dof_index(self.dof_x, "dof_x", system.n_dof)
+        else:
+            TwoAxis._validate(self, system)
+
+    def _dofs(self) -> tuple[int, ...]:
+        return (int(self.dof_x),) if self.dof_y is None else (int(self.dof_x), int(self.dof_y))
 
     def _spec(self) -> tuple:
+        slow = None if self.mu_slow is None else float(self.mu_slow)
         return (
             "friction_pendulum",
             int(self.dof_x),
-            int(self.dof_y),
+            None if self.dof_y is None else int(self.dof_y),
             float(self.radius),
             float(self.mu),
             float(self.weight),
             float(self.yield_displacement),
+            slow,
+            float(self.rate),
         )
 
     def _linear(self) -> tuple[tuple[int, ...], NDArray[np.float64]]:
-        # The pendulum's gravity stiffness W / R, on both directions (friction stays).
-        return (int(self.dof_x), int(self.dof_y)), (self.weight / self.radius) * np.eye(2)
+        # The pendulum's gravity stiffness W / R, in each direction (friction stays).
+        dofs = self._dofs()
+        return dofs, (self.weight / self.radius) * np.eye(len(dofs))
 
 
 @dataclass(frozen=True)
