@@ -238,3 +238,38 @@ def test_ensemble_statistics_over_records() -> None:
     assert "drift_mean" in reduced.to_xarray(statistics=True)
     with pytest.raises(ValueError, match="`quantities`"):
         reduced.statistics(["nope"])
+
+
+def test_property_bounds_scale_the_devices_and_run_both() -> None:
+    from duhamel.ensemble import property_bounds, solve_bounds
+
+    s = duhamel.System(np.diag([3e5, 2e5]), 3e8 * np.array([[1.0, -1.0], [-1.0, 1.0]]), zeta=0.02)
+    s.add(E.FrictionPendulum(0, radius=2.0, mu=0.05, weight=5e5 * 9.81))
+    s.add(E.ViscousDamper(1, 0, c=1e6, exponent=0.5))
+    s.add_load(L.BaseAcceleration(np.ones(2), T_REC, 2.0 * A_REC))
+    lambdas = {"FrictionPendulum.mu": (0.8, 1.3), "c": (0.85, 1.15)}
+    models = property_bounds(s, lambdas)
+    assert models["lower"].elements[0].mu == 0.8 * 0.05
+    assert models["upper"].elements[0].mu == 1.3 * 0.05
+    assert models["upper"].elements[1].c == 1.15 * 1e6
+    assert models["upper"].elements[0].radius == 2.0  # not named: unchanged
+    assert s.elements[0].mu == 0.05  # the nominal model is left as it was
+    ens = solve_bounds(s, duhamel.Semianalytic(), lambdas, t_end=6.0, dt=0.01, workers=1)
+    assert ens.params == ["lower", "upper"]
+    for name, sol in zip(ens.params, ens.results, strict=True):
+        direct = duhamel.solve(models[name], duhamel.Semianalytic(), t_end=6.0, dt=0.01)
+        np.testing.assert_array_equal(sol.x, direct.x)
+    # the friction each model's isolator develops is bounded by its own mu W
+    w = 5e5 * 9.81
+    friction = [
+        np.abs(r.elements[0].force[:, 0] - (w / 2.0) * r.elements[0].x[:, 0]).max()
+        for r in ens.results
+    ]
+    assert friction[0] <= 0.04 * w * (1 + 1e-12) and friction[0] > 0.039 * w
+    assert friction[1] <= 0.065 * w * (1 + 1e-12) and friction[1] > 0.06 * w
+    with pytest.raises(ValueError, match="name no property"):
+        property_bounds(s, {"mew": (0.8, 1.2)})
+    with pytest.raises(ValueError, match="lower <= upper"):
+        property_bounds(s, {"mu": (1.2, 0.8)})
+    with pytest.raises(ValueError, match="places the element"):
+        property_bounds(s, {"dof_x": (1.0, 1.0)})
