@@ -158,6 +158,14 @@ class Element:
     ) -> Element:
         """Uniaxial when `dof_y` is None; `velocity` = ``(mu_slow, rate)``."""
     @staticmethod
+    def lead_rubber(
+        dof_x: int,
+        dof_y: int | None,
+        strength: tuple[float, float, float],
+        shape: tuple[float, float, float],
+    ) -> Element:
+        """``strength = (k, fy, alpha)``, ``shape = (eta, beta, gamma)``."""
+    @staticmethod
     def viscous_damper(i: int, j: int | None, c: float, exponent: float, v0: float) -> Element: ...
     @staticmethod
     def shifted(inner: Element, k0: Array, c0: Array) -> Element:

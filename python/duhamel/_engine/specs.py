@@ -119,6 +119,12 @@ def element(spec: tuple) -> Any:
         velocity = None if slow is None or not rate else (float(slow), float(rate))
         y = None if dof_y is None else int(dof_y)
         return _core.Element.friction_pendulum(int(dof_x), y, radius, mu, weight, yd, velocity)
+    if kind == "lead_rubber":
+        dof_x, dof_y, strength, shape = args
+        y = None if dof_y is None else int(dof_y)
+        return _core.Element.lead_rubber(
+            int(dof_x), y, tuple(map(float, strength)), tuple(map(float, shape))
+        )
     if kind == "viscous_damper":
         return _core.Element.viscous_damper(*args)
     if kind == "gap":

@@ -4,9 +4,10 @@
 Every element except :class:`Callable` is evaluated in Rust with analytic tangents. The
 integrator treats the element forces as modal pseudo-forces; :class:`LinearCoupling` is
 projected on the modes once. The hysteretic and device elements of earthquake engineering
-(:class:`Bilinear`, :class:`BoucWen`, :class:`FrictionPendulum`, :class:`ViscousDamper`,
-:class:`Gap`) are defined in :mod:`.devices`, the others in :mod:`.basic`, their base class in
-:mod:`.base`; all are exported here.
+(:class:`Bilinear`, :class:`BoucWen`, :class:`FrictionPendulum`,
+:class:`LeadRubberBearing`, :class:`ViscousDamper`, :class:`Gap`) are defined in
+:mod:`.devices`, the others in :mod:`.basic`, their base class in :mod:`.base`; all are
+exported here.
 """
 
 from __future__ import annotations
@@ -21,7 +22,14 @@ from duhamel.elements.basic import (
     Polynomial,
     Spring,
 )
-from duhamel.elements.devices import Bilinear, BoucWen, FrictionPendulum, Gap, ViscousDamper
+from duhamel.elements.devices import (
+    Bilinear,
+    BoucWen,
+    FrictionPendulum,
+    Gap,
+    LeadRubberBearing,
+    ViscousDamper,
+)
 
 __all__ = [
     "Bilinear",
@@ -33,6 +41,7 @@ __all__ = [
     "Element",
     "FrictionPendulum",
     "Gap",
+    "LeadRubberBearing",
     "LinearCoupling",
     "Polynomial",
     "Spring",

@@ -22,7 +22,7 @@ from duhamel._engine.protocols import Model
 from duhamel._engine.validate import dof_index, finite_float
 from duhamel.elements.base import Deformation, Element, TwoAxis, nonneg, pair_stiffness, positive
 
-__all__ = ["Bilinear", "BoucWen", "FrictionPendulum", "Gap", "ViscousDamper"]
+__all__ = ["Bilinear", "BoucWen", "FrictionPendulum", "Gap", "LeadRubberBearing", "ViscousDamper"]
 
 
 def _j(j: int | None) -> int | None:
@@ -214,6 +214,73 @@ class FrictionPendulum(TwoAxis, Element):
         # The pendulum's gravity stiffness W / R, in each direction (friction stays).
         dofs = self._dofs()
         return dofs, (self.weight / self.radius) * np.eye(len(dofs))
+
+
+@dataclass(frozen=True)
+class LeadRubberBearing(TwoAxis, Element):
+    """Lead-rubber (elastomeric) bearing with coupled bidirectional Bouc-Wen hysteresis
+    (OpenSees ``ElastomericBearingBoucWen`` without nonlinear hardening), on two horizontal
+    dofs or uniaxial on `dof_x` (``dof_y=None``): ``r = alpha k u + (1 - alpha) fy z`` with
+    ``(fy / k) dz = [I - |z|^(eta - 2) (gamma + beta sgn(z . du)) z z^T] du``. The
+    parameters are those of :class:`Bilinear`: initial stiffness `k`, yield force `fy`
+    (characteristic strength ``Qd = (1 - alpha) fy``), post-yield stiffness ratio `alpha`;
+    `eta` sharpens the yielding (1: smooth). The increment of a step is integrated by the
+    trapezoidal rule (second order) in substeps of at most a quarter of the yield
+    displacement, with the exact tangent of that update (docs/structural.md).
+
+    Examples
+    --------
+    >>> import duhamel
+    >>> lrb = duhamel.elements.LeadRubberBearing(0, 1, k=2e7, fy=2e5, alpha=0.1)
+    >>> lrb.eta, lrb.beta, lrb.gamma
+    (1.0, 0.5, 0.5)
+    """
+
+    dof_x: int
+    dof_y: int | None = None
+    k: float = 1.0
+    fy: float = 1.0
+    alpha: float = 0.0
+    eta: float = 1.0
+    beta: float = 0.5
+    gamma: float = 0.5
+    _path_dependent = True
+
+    def __post_init__(self) -> None:
+        positive(self.k, "k")
+        positive(self.fy, "fy")
+        _alpha(self.alpha)
+        eta = finite_float(self.eta, "eta")
+        if eta < 1:
+            raise ValueError(f"`eta` must be >= 1, got {eta}")
+        beta = positive(self.beta, "beta")
+        gamma = finite_float(self.gamma, "gamma")
+        if gamma <= -beta:
+            raise ValueError(f"`gamma` must be > -beta = {-beta} (bounded z), got {gamma}")
+        for name in ("eta", "beta", "gamma"):
+            object.__setattr__(self, name, float(getattr(self, name)))
+
+    def _validate(self, system: Model) -> None:
+        if self.dof_y is None:
+            dof_index(self.dof_x, "dof_x", system.n_dof)
+        else:
+            TwoAxis._validate(self, system)
+
+    def _dofs(self) -> tuple[int, ...]:
+        return (int(self.dof_x),) if self.dof_y is None else (int(self.dof_x), int(self.dof_y))
+
+    def _spec(self) -> tuple:
+        return (
+            "lead_rubber",
+            int(self.dof_x),
+            None if self.dof_y is None else int(self.dof_y),
+            (float(self.k), float(self.fy), float(self.alpha)),
+            (self.eta, self.beta, self.gamma),
+        )
+
+    def _linear(self) -> tuple[tuple[int, ...], NDArray[np.float64]]:
+        dofs = self._dofs()  # the initial stiffness, in each direction
+        return dofs, float(self.k) * np.eye(len(dofs))
 
 
 @dataclass(frozen=True)

@@ -120,6 +120,11 @@ def stored_energy(element: Any, u: NDArray[np.float64], f: NDArray[np.float64]) 
     kind = type(element).__name__
     if kind == "Bilinear":
         return f[:, 0] ** 2 / (2.0 * element.k)
+    if kind == "LeadRubberBearing":
+        hyst = f - element.alpha * element.k * u
+        soft = (1.0 - element.alpha) * element.k
+        elastic = 0.5 * element.alpha * element.k * (u**2).sum(axis=1)
+        return elastic + ((hyst**2).sum(axis=1) / (2 * soft) if soft > 0 else 0.0)
     if kind == "BoucWen":
         ue = u[:, 0] - (u[:, 1] if u.shape[1] == 2 else 0.0)
         hyst = f[:, 0] - element.alpha * element.k * ue
