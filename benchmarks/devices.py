@@ -1,4 +1,5 @@
-"""Hysteretic and device elements: duhamel against OpenSees on the same SDOF models (issue 13).
+"""Hysteretic and device elements: duhamel against OpenSees on the same SDOF models (issues 13,
+27).
 
 A one-storey frame (m = 1e5 kg, frame stiffness for T = 1 s, 2 % mass-proportional damping)
 with one device in parallel, under the same 20-s synthetic record (filtered noise, PGA 0.4 g,
@@ -16,7 +17,15 @@ with one device in parallel, under the same 20-s synthetic record (filtered nois
   ``singleFPBearing`` in 2-D (``Coulomb`` friction, the same radius and initial stiffness
   ``mu W / u_y``, stiff axial material, the weight applied by a static step first; its internal
   iteration set to 100 iterations at 1e-8, the default fails after 1.2 s). No frame, no
-  viscous damping.
+  viscous damping;
+* the same mass on a uniaxial ``FrictionPendulum(0, dof_y=None, ...)`` (issue 27) against the
+  same planar ``singleFPBearing``, with ``Coulomb`` friction and with velocity-dependent
+  friction (``mu_slow = 0.025``, ``rate = 20`` s/m against OpenSees ``VelDependent`` with
+  ``muSlow = 0.025``, ``muFast = 0.05``, ``transRate = 20``);
+* the same mass on a ``LeadRubberBearing(k, fy = 0.1 m g, alpha = 0.1)`` (initial period
+  0.5 s), uniaxial against OpenSees ``elastomericBearingBoucWen`` in 2-D and bidirectional
+  (the y record: 0.7 x the x record shifted by 1.5 s) against it in 3-D (``qd = (1 - alpha)
+  fy``, ``eta = 1``, ``beta = gamma = 0.5``, stiff axial and rotational materials).
 
 OpenSees: ``zeroLength`` elements, ``UniformExcitation`` with a ``Path`` series, Newmark
 average acceleration, Newton with ``NormDispIncr`` 1e-12, the displacement recorded every step
@@ -115,14 +124,121 @@ def cases() -> list[Case]:
             ),
             lambda tag: None,
         ),
+        Case(
+            FPS_1,
+            E.FrictionPendulum(
+                0, radius=RADIUS, mu=MU_FPS, weight=M * G, yield_displacement=UY_FPS
+            ),
+            lambda tag: ops.frictionModel("Coulomb", tag, MU_FPS),
+        ),
+        Case(
+            FPS_V,
+            E.FrictionPendulum(
+                0,
+                radius=RADIUS,
+                mu=MU_FPS,
+                mu_slow=MU_SLOW,
+                rate=RATE,
+                weight=M * G,
+                yield_displacement=UY_FPS,
+            ),
+            lambda tag: ops.frictionModel("VelDependent", tag, MU_SLOW, MU_FPS, RATE),
+        ),
+        Case(
+            LRB_1,
+            E.LeadRubberBearing(0, k=K_LRB, fy=FY, alpha=0.1),
+            lambda tag: None,
+        ),
+        Case(
+            LRB_2,
+            E.LeadRubberBearing(0, 1, k=K_LRB, fy=FY, alpha=0.1),
+            lambda tag: None,
+        ),
     ]
+
+
+K_LRB = M * (2 * np.pi / 0.5) ** 2  # initial period 0.5 s on the mass alone
+LRB_1 = "LeadRubberBearing(dof_y=None) / elastomericBearingBoucWen 2-D"
+LRB_2 = "LeadRubberBearing (x, y) / elastomericBearingBoucWen 3-D"
+
+
+def y_record(gm: GroundMotion) -> GroundMotion:
+    """The second component of the bidirectional runs: 0.7 x the record shifted by 1.5 s."""
+    return GroundMotion(0.7 * np.roll(gm.a, 300), DT_REC, units="m/s^2", name="y")
+
+
+def run_duhamel_lrb(case: Case, gm: GroundMotion, k: int) -> np.ndarray:
+    n = 2 if case.name == LRB_2 else 1
+    s = duhamel.System(M * np.eye(n), np.zeros((n, n)))
+    s.add(case.device).add_load(gm.as_load(np.eye(n)[0]))
+    if n == 2:
+        s.add_load(y_record(gm).as_load(np.array([0.0, 1.0])))
+    sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=gm.duration, dt=DT_REC / k, save_every=k)
+    return sol.x[:, 0]
+
+
+def run_opensees_lrb(case: Case, gm: GroundMotion, k: int, path: str) -> None:
+    """OpenSees elastomericBearingBoucWen (kInit, qd = (1 - alpha) fy, alpha1, no alpha2,
+    eta = 1, beta = gamma = 0.5), stiff axial and rotational materials, the mass alone."""
+    import openseespy.opensees as ops
+
+    qd, shape = 0.9 * FY, (0.1, 0.0, 2.0, 1.0, 0.5, 0.5)
+    ops.wipe()
+    if case.name == LRB_1:
+        ops.model("basic", "-ndm", 2, "-ndf", 3)
+        ops.node(1, 0.0, 0.0)
+        ops.node(2, 0.0, 0.0)
+        ops.fix(1, 1, 1, 1)
+        ops.fix(2, 0, 1, 1)
+        ops.mass(2, M, M, 0.0)
+        for tag in (1, 2):
+            ops.uniaxialMaterial("Elastic", tag, 1e12)
+        ops.element(
+            "elastomericBearingBoucWen", 1, 1, 2, K_LRB, qd, *shape, "-P", 1, "-Mz", 2,
+            "-orient", 0, 1, 0, -1, 0, 0,
+        )  # fmt: skip
+        records = [gm]
+    else:
+        ops.model("basic", "-ndm", 3, "-ndf", 6)
+        ops.node(1, 0.0, 0.0, 0.0)
+        ops.node(2, 0.0, 0.0, 0.0)
+        ops.fix(1, *[1] * 6)
+        ops.fix(2, 0, 0, 1, 1, 1, 1)
+        ops.mass(2, M, M, M, 0.0, 0.0, 0.0)
+        for tag in (1, 2, 3, 4):
+            ops.uniaxialMaterial("Elastic", tag, 1e12)
+        ops.element(
+            "elastomericBearingBoucWen", 1, 1, 2, K_LRB, qd, *shape, "-P", 1, "-T", 2,
+            "-My", 3, "-Mz", 4, "-orient", 0, 0, 1, 1, 0, 0,
+        )  # fmt: skip
+        records = [gm, y_record(gm)]
+    for d, rec in enumerate(records):
+        ops.timeSeries("Path", d + 1, "-dt", DT_REC, "-values", *rec.a.tolist())
+        ops.pattern("UniformExcitation", d + 1, d + 1, "-accel", d + 1)
+    _transient(ops, path)
+    if ops.analyze((gm.a.size - 1) * k, DT_REC / k) != 0:
+        raise RuntimeError(f"OpenSees failed on {case.name} at dt = {DT_REC / k}")
+    ops.wipe()
 
 
 RADIUS, MU_FPS, UY_FPS = 2.0, 0.05, 2.5e-4
 FPS = "FrictionPendulum / singleFPBearing"
+MU_SLOW, RATE = 0.025, 20.0
+FPS_1 = "FrictionPendulum(dof_y=None) / singleFPBearing"
+FPS_V = "FrictionPendulum(mu_slow, rate) / singleFPBearing VelDependent"
+PLANE = (FPS_1, FPS_V)  # uniaxial bearings (issue 27): a rigid mass on one dof
 
 
 def run_duhamel(case: Case, gm: GroundMotion, k: int) -> np.ndarray:
+    if case.name in (LRB_1, LRB_2):
+        return run_duhamel_lrb(case, gm, k)
+    if case.name in PLANE:
+        s = duhamel.System(M * np.eye(1), np.zeros((1, 1)))
+        s.add(case.device).add_load(gm.as_load(np.ones(1)))
+        sol = duhamel.solve(
+            s, duhamel.Semianalytic(), t_end=gm.duration, dt=DT_REC / k, save_every=k
+        )
+        return sol.x[:, 0]
     if case.name == FPS:
         s = duhamel.System(M * np.eye(2), np.zeros((2, 2)))
         s.add(case.device).add_load(gm.as_load(np.array([1.0, 0.0])))
@@ -148,7 +264,7 @@ def _transient(ops, path: str) -> None:
     ops.recorder("Node", "-file", path, "-node", 2, "-dof", 1, "disp")
 
 
-def run_opensees_fps(gm: GroundMotion, k: int, path: str) -> None:
+def run_opensees_fps(gm: GroundMotion, k: int, path: str, case: Case | None = None) -> None:
     import openseespy.opensees as ops
 
     w = M * G
@@ -159,7 +275,10 @@ def run_opensees_fps(gm: GroundMotion, k: int, path: str) -> None:
     ops.fix(1, 1, 1, 1)
     ops.fix(2, 0, 0, 1)
     ops.mass(2, M, M, 0.0)
-    ops.frictionModel("Coulomb", 1, MU_FPS)
+    if case is None:
+        ops.frictionModel("Coulomb", 1, MU_FPS)
+    else:
+        case.opensees(1)
     ops.uniaxialMaterial("Elastic", 1, 1e12)
     ops.uniaxialMaterial("Elastic", 2, 1e12)
     ops.element(
@@ -192,6 +311,12 @@ def run_opensees(case: Case, gm: GroundMotion, k: int, path: str) -> None:
 
     if case.name == FPS:
         run_opensees_fps(gm, k, path)
+        return
+    if case.name in PLANE:
+        run_opensees_fps(gm, k, path, case)
+        return
+    if case.name in (LRB_1, LRB_2):
+        run_opensees_lrb(case, gm, k, path)
         return
     ops.wipe()
     ops.model("basic", "-ndm", 1, "-ndf", 1)
@@ -267,11 +392,14 @@ def to_accuracy(row: dict, level: float, who: str) -> tuple[int, float] | None:
 
 def markdown(r: dict) -> list[str]:
     out = [
-        "## Devices against OpenSees (issue 13)",
+        "## Devices against OpenSees (issues 13 and 27)",
         "",
         "Generated by `benchmarks/devices.py --append BENCHMARKS.md`. One-storey frame (T = 1 s, "
-        "2 % mass-proportional damping) with one device (the friction pendulum: a rigid mass on "
-        "it, no frame), synthetic record of "
+        "2 % mass-proportional damping) with one device (the friction pendulums: a rigid mass on "
+        "it, no frame; bidirectional on (x, y) excited along x, uniaxial on x with constant or "
+        "velocity-dependent friction, mu_slow = 0.025, rate = 20 s/m, against the same planar "
+        "singleFPBearing; lead-rubber bearings, uniaxial against the 2-D and bidirectional "
+        "against the 3-D elastomericBearingBoucWen), synthetic record of "
         f"{r['seconds']:.0f} s at 200 Hz (PGA 0.4 g). Error: largest difference at the "
         "record's samples against the same code at dt = 0.005/256, over the peak displacement; "
         "time: the whole call (set-up included), best of repeats, codes interleaved. "

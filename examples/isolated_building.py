@@ -12,10 +12,22 @@ Outputs (docs/structural.md): roof displacement relative to the ground, inter-st
 ratios, absolute roof accelerations, and the isolator's hysteresis loop, in
 ``docs/figures/isolated_building.png``.
 
+The plane variant (``--plane``): one frame line along x (the mat, dof 0, and the 10
+floors) on uniaxial ``FrictionPendulum(0, dof_y=None, ...)`` with velocity-dependent friction
+(``mu`` 6 % sliding fast, 3 % at rest, rate 20 s/m) under the record's x component, run for
+the nominal isolator and for its lower- and upper-bound properties
+(``duhamel.ensemble.solve_bounds`` with lambda factors 0.8 and 1.3 on the friction). Per
+model: the isolator displacement, the base shear (``sol.base_shear()``), the peak drift
+ratio, the energy balance (``sol.energy``) and the roof's floor spectrum
+(``sol.floor_spectra``); figure ``docs/figures/isolated_plane.png`` (the nominal run's
+energy, the three floor spectra, the isolator loops). The pendulums' axial force is constant
+(their weight): duhamel does not couple the friction pendulum with a vertical dof yet.
+
 Usage::
 
     python examples/isolated_building.py            # prints the peaks, writes the figure
     python examples/isolated_building.py --no-plot
+    python examples/isolated_building.py --plane    # the 2-D variant
 """
 
 from __future__ import annotations
@@ -28,6 +40,7 @@ import numpy as np
 import duhamel
 from duhamel import elements as E
 from duhamel import loads as L
+from duhamel.ensemble import solve_bounds
 
 G = 9.81
 FLOORS, M_FLOOR, K_STOREY, M_MAT, H_STOREY = 10, 4e5, 6e8, 6e5, 3.5
@@ -81,11 +94,100 @@ def building(isolated: bool, motions) -> duhamel.System:
     return system
 
 
+# The plane (2-D) variant: one frame line along x on uniaxial pendulums.
+MU_FAST, MU_SLOW, RATE = 0.06, 0.03, 20.0
+LAMBDAS = {"mu": (0.8, 1.3), "mu_slow": (0.8, 1.3)}
+PERIODS = np.linspace(0.05, 4.0, 80)
+
+
+def plane() -> duhamel.System:
+    """The frame line along x on uniaxial pendulums, under the record's x component."""
+    n = FLOORS + 1
+    masses = np.array([M_MAT] + [M_FLOOR] * FLOORS)
+    m, k = shear_frame(n, masses, fixed=False)
+    system = duhamel.System(m, k, zeta=0.05)
+    weight = masses.sum() * G
+    system.add(
+        E.FrictionPendulum(
+            0,
+            radius=RADIUS,
+            mu=MU_FAST,
+            mu_slow=MU_SLOW,
+            rate=RATE,
+            weight=weight,
+        )
+    )
+    t, a = record(1, 0.4 * G, duration=32.0)  # outlasts the 30-s run
+    system.add_load(L.BaseAcceleration(np.ones(n), t, a))
+    return system
+
+
+def summary(sol: duhamel.Solution) -> dict:
+    weight = (M_MAT + FLOORS * M_FLOOR) * G
+    drift = sol.drifts(list(range(FLOORS + 1)), heights=[1.0] + [H_STOREY] * FLOORS)[:, 1:]
+    energy = sol.energy
+    return {
+        "isolator": float(np.abs(sol.x[:, 0]).max()),
+        "base_shear": float(np.abs(sol.base_shear()).max() / weight),
+        "drift": float(np.abs(drift).max()),
+        "dissipated": float(energy.hysteretic[-1] / energy.input[-1]),
+        "damping": float(energy.damping[-1] / energy.input[-1]),
+        "balance": float(abs(energy.error[-1]) / energy.input[-1]),
+        "roof_sa": sol.floor_spectra([FLOORS], PERIODS).sa[0, 0],
+        "solution": sol,
+    }
+
+
+def main_plane(no_plot: bool, path: str) -> dict:
+    """The plane variant: nominal, lower- and upper-bound runs, printed and plotted."""
+    system = plane()
+    run = {"t_end": 30.0, "dt": 0.005}
+    out = {"nominal": summary(duhamel.solve(system, duhamel.Semianalytic(), **run))}
+    bounds = solve_bounds(system, duhamel.Semianalytic(), LAMBDAS, **run)
+    for name, sol in zip(bounds.params, bounds.results, strict=True):
+        out[name] = summary(sol)
+    for name in ("lower", "nominal", "upper"):
+        r = out[name]
+        print(
+            f"{name:8s} isolator {r['isolator']:.3f} m, base shear {r['base_shear']:.3f} W, "
+            f"drift ratio {100 * r['drift']:.2f} %, isolator dissipates "
+            f"{100 * r['dissipated']:.0f} % of the input, damping {100 * r['damping']:.0f} %, "
+            f"balance error {r['balance']:.1e}"
+        )
+    if not no_plot:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, axes = plt.subplots(1, 3, figsize=(14, 4))
+        out["nominal"]["solution"].plot_energy(ax=axes[0])
+        axes[0].set_title("energy (nominal)")
+        for name, style in (("lower", "C0"), ("nominal", "k"), ("upper", "C3")):
+            axes[1].plot(PERIODS, out[name]["roof_sa"] / G, style, label=name)
+            iso = out[name]["solution"].elements[0]
+            axes[2].plot(iso.x[:, 0], iso.force[:, 0] / 1e6, style, lw=0.6, label=name)
+        axes[1].set(xlabel="period [s]", ylabel="roof spectral acceleration [g] (5 %)")
+        axes[2].set(xlabel="isolator displacement [m]", ylabel="isolator force [MN]")
+        for ax in axes[1:]:
+            ax.grid(alpha=0.3)
+            ax.legend()
+        fig.suptitle("plane frame on uniaxial friction pendulums: bounds, energy, floor spectra")
+        fig.tight_layout()
+        fig.savefig(path, dpi=90)
+        print(f"figure: {path}")
+    return out
+
+
 def main(argv: list[str] | None = None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--no-plot", action="store_true")
-    parser.add_argument("--out", default="docs/figures/isolated_building.png")
+    parser.add_argument("--plane", action="store_true", help="the 2-D variant")
+    parser.add_argument("--out", default=None)
     args = parser.parse_args(argv)
+    if args.plane:
+        return main_plane(args.no_plot, args.out or "docs/figures/isolated_plane.png")
+    args.out = args.out or "docs/figures/isolated_building.png"
     motions = [record(1, 0.4 * G), record(2, 0.3 * G)]
     n = FLOORS + 1
     floors = list(range(1, n))

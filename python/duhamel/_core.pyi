@@ -149,12 +149,22 @@ class Element:
     @staticmethod
     def friction_pendulum(
         dof_x: int,
-        dof_y: int,
+        dof_y: int | None,
         radius: float,
         mu: float,
         weight: float,
         yield_displacement: float,
-    ) -> Element: ...
+        velocity: tuple[float, float] | None = None,
+    ) -> Element:
+        """Uniaxial when `dof_y` is None; `velocity` = ``(mu_slow, rate)``."""
+    @staticmethod
+    def lead_rubber(
+        dof_x: int,
+        dof_y: int | None,
+        strength: tuple[float, float, float],
+        shape: tuple[float, float, float],
+    ) -> Element:
+        """``strength = (k, fy, alpha)``, ``shape = (eta, beta, gamma)``."""
     @staticmethod
     def viscous_damper(i: int, j: int | None, c: float, exponent: float, v0: float) -> Element: ...
     @staticmethod

@@ -2,7 +2,7 @@
 //! `Callable` element.
 
 use duhamel_core::elements::{
-    Bilinear, BoucWen, BoucWenParams, FrictionPendulum, Gap, ViscousDamper,
+    Bilinear, BoucWen, BoucWenParams, FrictionPendulum, Gap, LeadRubberBearing, ViscousDamper,
 };
 use duhamel_core::elements::{Contact, Damper, Element, Polynomial, Shifted, Spring};
 use duhamel_core::elements::{ShortJournalBearing, SpeedTableBearing, Tangent};
@@ -23,6 +23,7 @@ enum Spec {
     Bilinear(Bilinear),
     BoucWen(BoucWen),
     FrictionPendulum(FrictionPendulum),
+    LeadRubber(LeadRubberBearing),
     ViscousDamper(ViscousDamper),
     Gap(Gap),
     Journal(ShortJournalBearing),
@@ -224,21 +225,47 @@ impl ElementSpec {
         .map(|e| ElementSpec(Spec::BoucWen(e)))
     }
 
-    /// Single friction pendulum bearing on two horizontal dofs.
+    /// Single friction pendulum bearing on two horizontal dofs, or on `dof_x` alone
+    /// (`dof_y` None); `velocity = (mu_slow, rate)` for velocity-dependent friction.
     #[staticmethod]
+    #[pyo3(signature = (dof_x, dof_y, radius, mu, weight, yield_displacement, velocity=None))]
     fn friction_pendulum(
         dof_x: usize,
-        dof_y: usize,
+        dof_y: Option<usize>,
         radius: f64,
         mu: f64,
         weight: f64,
         yield_displacement: f64,
+        velocity: Option<(f64, f64)>,
     ) -> PyResult<Self> {
         let made = || {
-            FrictionPendulum::new(dof_x, dof_y, radius, mu, weight, yield_displacement)
-                .map_err(core_err)
+            let e = match dof_y {
+                Some(dof_y) => {
+                    FrictionPendulum::new(dof_x, dof_y, radius, mu, weight, yield_displacement)
+                }
+                None => FrictionPendulum::uniaxial(dof_x, radius, mu, weight, yield_displacement),
+            };
+            e.and_then(|e| match velocity {
+                Some((slow, rate)) => e.with_velocity(slow, rate),
+                None => Ok(e),
+            })
+            .map_err(core_err)
         };
         guarded(made).map(|e| ElementSpec(Spec::FrictionPendulum(e)))
+    }
+
+    /// Lead-rubber bearing: coupled bidirectional Bouc-Wen on `(dof_x, dof_y)`, uniaxial on
+    /// `dof_x` when `dof_y` is None; `strength = (k, fy, alpha)`, `shape = (eta, beta, gamma)`.
+    #[staticmethod]
+    #[pyo3(signature = (dof_x, dof_y, strength, shape))]
+    fn lead_rubber(
+        dof_x: usize,
+        dof_y: Option<usize>,
+        strength: (f64, f64, f64),
+        shape: (f64, f64, f64),
+    ) -> PyResult<Self> {
+        guarded(|| LeadRubberBearing::new(dof_x, dof_y, strength, shape).map_err(core_err))
+            .map(|e| ElementSpec(Spec::LeadRubber(e)))
     }
 
     /// Power-law viscous damper `c |v|^a sgn(v)`.
@@ -382,6 +409,7 @@ fn make(py: Python<'_>, spec: &ElementSpec, built: &mut Built) -> PyResult<Box<d
         Spec::Bilinear(e) => Box::new(e.clone()),
         Spec::BoucWen(e) => Box::new(e.clone()),
         Spec::FrictionPendulum(e) => Box::new(e.clone()),
+        Spec::LeadRubber(e) => Box::new(e.clone()),
         Spec::ViscousDamper(e) => Box::new(e.clone()),
         Spec::Gap(e) => Box::new(e.clone()),
         Spec::Journal(e) => Box::new(e.clone()),
@@ -419,6 +447,7 @@ impl ElementSpec {
             Spec::Bilinear(e) => e.dofs().to_vec(),
             Spec::BoucWen(e) => e.dofs().to_vec(),
             Spec::FrictionPendulum(e) => e.dofs().to_vec(),
+            Spec::LeadRubber(e) => e.dofs().to_vec(),
             Spec::ViscousDamper(e) => e.dofs().to_vec(),
             Spec::Gap(e) => e.dofs().to_vec(),
             Spec::Journal(e) => e.dofs().to_vec(),

@@ -3,6 +3,7 @@ core's model, ``_core.DirectModel``) and run per case (``_core.DirectRun``)."""
 
 from __future__ import annotations
 
+import functools
 import time as _time
 from dataclasses import dataclass
 from typing import Any
@@ -15,6 +16,7 @@ from duhamel._engine.direct import _check_central, physical_matrices
 from duhamel._engine.plan import mass, modal_loads
 from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
 from duhamel._engine.specs import elements as core_elements
+from duhamel._engine.structure import structure_model
 from duhamel._engine.validate import as_float_array
 from duhamel.integrators import CentralDifference, CubicHermite, DirectIntegrator
 from duhamel.results.solution import Solution, SolveStats
@@ -92,7 +94,20 @@ class DirectSetup:
                 factorizations=int(result.factorizations),
                 loop_time=float(result.loop_time),
             ),
-            meta={"dt": dt, "t0": t0, "integrator": integrator, "labels": system.dof_labels},
+            meta={
+                "dt": dt,
+                "t0": t0,
+                "integrator": integrator,
+                "labels": system.dof_labels,
+                "save_every": save_every,
+            },
+            structure=functools.partial(
+                structure_model,
+                system,
+                None,
+                tuple(system.elements),
+                tuple(system.loads if loads is None else loads),
+            ),
         )
         if error is None and kept < result.t.size:
             raise overflow_error(result.t, kept, dt, t0, solution)

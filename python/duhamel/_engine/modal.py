@@ -8,6 +8,7 @@ grid, its initial state and, when given, its own loads.
 
 from __future__ import annotations
 
+import functools
 import time as _time
 from dataclasses import dataclass, field
 from typing import Any
@@ -21,6 +22,7 @@ from duhamel._engine.massless import load_terms
 from duhamel._engine.output import check_memory, physical
 from duhamel._engine.plan import Plan, mass, modal_loads, plan
 from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
+from duhamel._engine.structure import structure_model
 from duhamel._engine.validate import as_float_array
 from duhamel.elements.basic import LinearCoupling
 from duhamel.integrators import Semianalytic
@@ -223,6 +225,7 @@ def solution(
             "t0": opts.t0,
             "integrator": prep.integrator,
             "labels": prep.system.dof_labels,
+            "save_every": opts.save_every,
         },
         elements=(
             (lambda: element_histories(prep.forces, t, result, kept, route.linear))
@@ -230,6 +233,13 @@ def solution(
             else ()
         ),
         base=out.base if base is None else support_terms(base, out.dofs),
+        structure=functools.partial(
+            structure_model,
+            prep.system,
+            route.basis,
+            tuple(prep.system.elements),
+            tuple(prep.system.loads if opts.loads is None else opts.loads),
+        ),
     )
     if error is None and kept < result.t.size:
         raise overflow_error(result.t, kept, opts.dt, opts.t0, solution)

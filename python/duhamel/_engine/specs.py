@@ -114,7 +114,17 @@ def element(spec: tuple) -> Any:
         i, j, k, fy, alpha, *shape = args
         return _core.Element.bouc_wen(i, j, k, fy, alpha, tuple(shape))
     if kind == "friction_pendulum":
-        return _core.Element.friction_pendulum(*args)
+        dof_x, dof_y, radius, mu, weight, yd, *rest = args
+        slow, rate = (rest[0], rest[1]) if len(rest) == 2 else (None, 0.0)
+        velocity = None if slow is None or not rate else (float(slow), float(rate))
+        y = None if dof_y is None else int(dof_y)
+        return _core.Element.friction_pendulum(int(dof_x), y, radius, mu, weight, yd, velocity)
+    if kind == "lead_rubber":
+        dof_x, dof_y, strength, shape = args
+        y = None if dof_y is None else int(dof_y)
+        return _core.Element.lead_rubber(
+            int(dof_x), y, tuple(map(float, strength)), tuple(map(float, shape))
+        )
     if kind == "viscous_damper":
         return _core.Element.viscous_damper(*args)
     if kind == "gap":

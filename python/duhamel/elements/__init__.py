@@ -4,10 +4,11 @@
 Every element except :class:`Callable` is evaluated in Rust with analytic tangents. The
 integrator treats the element forces as modal pseudo-forces; :class:`LinearCoupling` is
 projected on the modes once. The hysteretic and device elements of earthquake engineering
-(:class:`Bilinear`, :class:`BoucWen`, :class:`FrictionPendulum`, :class:`ViscousDamper`,
-:class:`Gap`) are defined in :mod:`.devices`, the others in :mod:`.basic`, their base class in
-:mod:`.base`; all are exported here. :class:`PDelta` (in :mod:`.geometric`) is no force
-element: it is linear, and :meth:`duhamel.System.add` takes it into the stiffness.
+(:class:`Bilinear`, :class:`BoucWen`, :class:`FrictionPendulum`,
+:class:`LeadRubberBearing`, :class:`ViscousDamper`, :class:`Gap`) are defined in
+:mod:`.devices`, the others in :mod:`.basic`, their base class in :mod:`.base`; all are
+exported here. :class:`PDelta` (in :mod:`.geometric`) is no force element: it is linear,
+and :meth:`duhamel.System.add` takes it into the stiffness.
 """
 
 from __future__ import annotations
@@ -22,7 +23,14 @@ from duhamel.elements.basic import (
     Polynomial,
     Spring,
 )
-from duhamel.elements.devices import Bilinear, BoucWen, FrictionPendulum, Gap, ViscousDamper
+from duhamel.elements.devices import (
+    Bilinear,
+    BoucWen,
+    FrictionPendulum,
+    Gap,
+    LeadRubberBearing,
+    ViscousDamper,
+)
 from duhamel.elements.geometric import PDelta
 
 __all__ = [
@@ -35,6 +43,7 @@ __all__ = [
     "Element",
     "FrictionPendulum",
     "Gap",
+    "LeadRubberBearing",
     "LinearCoupling",
     "PDelta",
     "Polynomial",

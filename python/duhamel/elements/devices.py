@@ -18,10 +18,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._engine.validate import finite_float
+from duhamel._engine.protocols import Model
+from duhamel._engine.validate import dof_index, finite_float
 from duhamel.elements.base import Deformation, Element, TwoAxis, nonneg, pair_stiffness, positive
 
-__all__ = ["Bilinear", "BoucWen", "FrictionPendulum", "Gap", "ViscousDamper"]
+__all__ = ["Bilinear", "BoucWen", "FrictionPendulum", "Gap", "LeadRubberBearing", "ViscousDamper"]
 
 
 def _j(j: int | None) -> int | None:
@@ -146,13 +147,17 @@ class BoucWen(Deformation, Element):
 
 @dataclass(frozen=True)
 class FrictionPendulum(TwoAxis, Element):
-    """Single friction pendulum isolator on two horizontal dofs (bidirectional, coupled):
-    restoring force ``(weight / radius) u`` plus Coulomb friction bounded by the circle
-    ``|f| <= mu weight``, with a pre-sliding (elastic) stiffness ``mu weight /
-    yield_displacement`` and a radial return mapping. The isolated period is
-    ``2 pi sqrt(radius / g)``. Constant `weight` and `mu` (no vertical coupling, no velocity
-    dependence of the friction coefficient). Units: `yield_displacement` defaults to
-    2.5e-4 (m).
+    """Single friction pendulum isolator, bidirectional (coupled) on two horizontal dofs or
+    uniaxial on `dof_x` alone (``dof_y=None``: a plane model): restoring force
+    ``(weight / radius) u`` plus friction bounded by ``|f| <= mu weight`` (a circle in two
+    directions), with a pre-sliding (elastic) stiffness ``mu weight / yield_displacement``
+    and a radial return mapping. The isolated period is ``2 pi sqrt(radius / g)``.
+
+    Velocity-dependent friction (OpenSees' ``VelDependent`` model): with `mu_slow` and
+    ``rate > 0``, ``mu(s) = mu - (mu - mu_slow) exp(-rate s)`` at the sliding speed ``s``
+    (`mu` is then the high-speed coefficient ``mu_fast``; the pre-sliding stiffness stays
+    ``mu weight / yield_displacement``). Constant `weight` (no vertical coupling, no
+    pressure dependence, no uplift). Units: `yield_displacement` defaults to 2.5e-4 (m).
 
     Examples
     --------
@@ -160,39 +165,132 @@ class FrictionPendulum(TwoAxis, Element):
     >>> fps = duhamel.elements.FrictionPendulum(0, 1, radius=2.0, mu=0.05, weight=5e6)
     >>> fps.yield_displacement
     0.00025
+    >>> plane = duhamel.elements.FrictionPendulum(0, radius=2.0, mu=0.06, mu_slow=0.03,
+    ...                                           rate=20.0, weight=5e6)
+    >>> plane.dof_y is None
+    True
     """
 
     dof_x: int
-    dof_y: int
+    dof_y: int | None = None
     radius: float = 1.0
     mu: float = 0.05
     weight: float = 1.0
     yield_displacement: float = 2.5e-4
+    mu_slow: float | None = None
+    rate: float = 0.0
     _path_dependent = True
 
     def __post_init__(self) -> None:
         positive(self.radius, "radius")
-        nonneg(self.mu, "mu")
+        mu = nonneg(self.mu, "mu")
         positive(self.weight, "weight")
         positive(self.yield_displacement, "yield_displacement")
+        nonneg(self.rate, "rate")
+        if self.mu_slow is not None:
+            slow = nonneg(self.mu_slow, "mu_slow")
+            if slow > mu:
+                raise ValueError(
+                    f"`mu_slow` must be <= mu (the fast coefficient) = {mu}, got {slow}"
+                )
+
+    def _validate(self, system: Model) -> None:
+        if self.dof_y is None:
+            dof_index(self.dof_x, "dof_x", system.n_dof)
+        else:
+            TwoAxis._validate(self, system)
+
+    def _dofs(self) -> tuple[int, ...]:
+        return (int(self.dof_x),) if self.dof_y is None else (int(self.dof_x), int(self.dof_y))
 
     def _passive(self) -> bool:
         return True
 
     def _spec(self) -> tuple:
+        slow = None if self.mu_slow is None else float(self.mu_slow)
         return (
             "friction_pendulum",
             int(self.dof_x),
-            int(self.dof_y),
+            None if self.dof_y is None else int(self.dof_y),
             float(self.radius),
             float(self.mu),
             float(self.weight),
             float(self.yield_displacement),
+            slow,
+            float(self.rate),
         )
 
     def _linear(self) -> tuple[tuple[int, ...], NDArray[np.float64]]:
-        # The pendulum's gravity stiffness W / R, on both directions (friction stays).
-        return (int(self.dof_x), int(self.dof_y)), (self.weight / self.radius) * np.eye(2)
+        # The pendulum's gravity stiffness W / R, in each direction (friction stays).
+        dofs = self._dofs()
+        return dofs, (self.weight / self.radius) * np.eye(len(dofs))
+
+
+@dataclass(frozen=True)
+class LeadRubberBearing(TwoAxis, Element):
+    """Lead-rubber (elastomeric) bearing with coupled bidirectional Bouc-Wen hysteresis
+    (OpenSees ``ElastomericBearingBoucWen`` without nonlinear hardening), on two horizontal
+    dofs or uniaxial on `dof_x` (``dof_y=None``): ``r = alpha k u + (1 - alpha) fy z`` with
+    ``(fy / k) dz = [I - |z|^(eta - 2) (gamma + beta sgn(z . du)) z z^T] du``. The
+    parameters are those of :class:`Bilinear`: initial stiffness `k`, yield force `fy`
+    (characteristic strength ``Qd = (1 - alpha) fy``), post-yield stiffness ratio `alpha`;
+    `eta` sharpens the yielding (1: smooth). The increment of a step is integrated by the
+    trapezoidal rule (second order) in substeps of at most a quarter of the yield
+    displacement, with the exact tangent of that update (docs/structural.md).
+
+    Examples
+    --------
+    >>> import duhamel
+    >>> lrb = duhamel.elements.LeadRubberBearing(0, 1, k=2e7, fy=2e5, alpha=0.1)
+    >>> lrb.eta, lrb.beta, lrb.gamma
+    (1.0, 0.5, 0.5)
+    """
+
+    dof_x: int
+    dof_y: int | None = None
+    k: float = 1.0
+    fy: float = 1.0
+    alpha: float = 0.0
+    eta: float = 1.0
+    beta: float = 0.5
+    gamma: float = 0.5
+    _path_dependent = True
+
+    def __post_init__(self) -> None:
+        positive(self.k, "k")
+        positive(self.fy, "fy")
+        _alpha(self.alpha)
+        eta = finite_float(self.eta, "eta")
+        if eta < 1:
+            raise ValueError(f"`eta` must be >= 1, got {eta}")
+        beta = positive(self.beta, "beta")
+        gamma = finite_float(self.gamma, "gamma")
+        if gamma <= -beta:
+            raise ValueError(f"`gamma` must be > -beta = {-beta} (bounded z), got {gamma}")
+        for name in ("eta", "beta", "gamma"):
+            object.__setattr__(self, name, float(getattr(self, name)))
+
+    def _validate(self, system: Model) -> None:
+        if self.dof_y is None:
+            dof_index(self.dof_x, "dof_x", system.n_dof)
+        else:
+            TwoAxis._validate(self, system)
+
+    def _dofs(self) -> tuple[int, ...]:
+        return (int(self.dof_x),) if self.dof_y is None else (int(self.dof_x), int(self.dof_y))
+
+    def _spec(self) -> tuple:
+        return (
+            "lead_rubber",
+            int(self.dof_x),
+            None if self.dof_y is None else int(self.dof_y),
+            (float(self.k), float(self.fy), float(self.alpha)),
+            (self.eta, self.beta, self.gamma),
+        )
+
+    def _linear(self) -> tuple[tuple[int, ...], NDArray[np.float64]]:
+        dofs = self._dofs()  # the initial stiffness, in each direction
+        return dofs, float(self.k) * np.eye(len(dofs))
 
 
 @dataclass(frozen=True)

@@ -11,6 +11,9 @@ results that stay numeric are never pickled. With ``client=`` a
 task, so the per-task overhead is small against the work) and gathered in order.
 ``basis=`` shares one modal basis between all runs (scattered once to a cluster's workers);
 ``to_zarr=`` appends the results to a zarr store in case order as the runs finish.
+:func:`property_bounds` and :func:`solve_bounds` make and run the lower- and upper-bound
+models of a system's devices from property modification factors; :meth:`Ensemble.statistics`
+gives the mean, mean + sigma and maximum over records.
 
 Examples
 --------
@@ -26,7 +29,8 @@ Examples
 
 from __future__ import annotations
 
+from duhamel.ensemble.bounds import property_bounds, solve_bounds
 from duhamel.ensemble.ida import IDA, ida
 from duhamel.ensemble.run import Ensemble, solve_many
 
-__all__ = ["IDA", "Ensemble", "ida", "solve_many"]
+__all__ = ["IDA", "Ensemble", "ida", "property_bounds", "solve_bounds", "solve_many"]

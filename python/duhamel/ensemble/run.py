@@ -14,6 +14,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+from numpy.typing import NDArray
+
+from duhamel.ensemble.statistics import statistics
 from duhamel.ensemble.zarr import ZarrWriter, stack
 from duhamel.errors import SolverError
 from duhamel.modal import ModalBasis
@@ -49,17 +53,55 @@ class Ensemble:
     def __len__(self) -> int:
         return len(self.params)
 
-    def to_xarray(self) -> Any:
+    def to_xarray(self, statistics: bool = False) -> Any:
         """The results stacked along a ``case`` dimension: Solutions as their
         :meth:`~duhamel.Solution.to_xarray` datasets (same times and dofs), dicts of numbers
         or arrays as one variable per key, numbers or arrays as ``result``. Parameters that
         are dicts of scalars become coordinates along ``case``. Results written to a zarr
-        store are opened from it (lazily)."""
+        store are opened from it (lazily). ``statistics=True`` adds the variables of
+        :meth:`statistics` (``<quantity>_mean``, ``<quantity>_mean_plus_sigma``,
+        ``<quantity>_max``, without the ``case`` dimension; in-memory results only)."""
         if self.store is not None:
+            if statistics:
+                raise ValueError("`statistics`: results written to a store are not in memory")
             import xarray as xr
 
             return xr.open_zarr(self.store, consolidated=False)
-        return stack(self.params, self.results)
+        ds = stack(self.params, self.results)
+        if statistics:
+            for name, stats in self.statistics().items():
+                for kind, values in stats.items():
+                    dims = ("dof",) if values.ndim == 1 and "dof" in ds.dims else None
+                    if dims is None:
+                        dims = tuple(f"{name}_dim_{i}" for i in range(values.ndim))
+                    ds[f"{name}_{kind}"] = (dims, values)
+        return ds
+
+    def statistics(
+        self, quantities: Sequence[str] | None = None
+    ) -> dict[str, dict[str, NDArray[np.float64]]]:
+        """The statistics of a set of records that design codes ask for: per quantity, the
+        mean, the mean plus one (sample) standard deviation and the maximum over the runs.
+
+        A quantity is, for Solution results, the peak magnitude of each saved dof of
+        ``"x"``, ``"v"``, ``"a"`` or ``"a_absolute"`` (default all four); for dicts returned by
+        `reduce`, a key (default all); for other results, ``"result"``.
+
+        Returns
+        -------
+        dict
+            ``{quantity: {"mean": ..., "mean_plus_sigma": ..., "max": ...}}``, arrays of the
+            shape of one run's value.
+
+        Examples
+        --------
+        >>> from duhamel.ensemble import Ensemble
+        >>> ens = Ensemble([1, 2, 3], [{"drift": 1.0}, {"drift": 2.0}, {"drift": 3.0}])
+        >>> s = ens.statistics()["drift"]
+        >>> float(s["mean"]), float(s["mean_plus_sigma"]), float(s["max"])
+        (2.0, 3.0, 3.0)
+        """
+        return statistics(self.results, quantities)
 
 
 @dataclass(frozen=True)

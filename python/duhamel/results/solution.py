@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel.results.outputs import StructuralOutputs
 from duhamel.results.structural import ElementHistory, drifts
 
 __all__ = ["ModalHistory", "Solution", "SolveStats"]
@@ -194,7 +195,7 @@ class SolveStats:
         return self.steps * self.modes / self.wall_time if self.wall_time > 0 else float("inf")
 
 
-class Solution:
+class Solution(StructuralOutputs):
     """Response history of a structural model.
 
     Attributes
@@ -241,6 +242,7 @@ class Solution:
         *,
         elements: tuple[ElementHistory, ...] | Callable[[], tuple[ElementHistory, ...]] = (),
         base: Sequence[tuple[NDArray[np.float64], Callable[[Any], Any]]] = (),
+        structure: Any = None,
     ) -> None:
         if callable(elements):
             self._elements_source: Callable[[], tuple[ElementHistory, ...]] | None = elements
@@ -248,6 +250,8 @@ class Solution:
             self._elements_source = None
             self.__dict__["elements"] = elements
         self._base = list(base)
+        # The physical model (base shear, energy): a StructureModel or a function making it.
+        self._structure_source = structure
         self.t = t
         self.x = x
         self.v = v
@@ -280,6 +284,11 @@ class Solution:
             if state.get(source) is not None:
                 state[name] = getattr(self, name)
                 state[source] = None
+        if callable(state.get("_structure_source")):
+            try:
+                state["_structure_source"] = self._structure()
+            except ValueError:  # a model without one (time-varying mass): none kept
+                state["_structure_source"] = None
         return state
 
     @property
@@ -306,16 +315,17 @@ class Solution:
         return out
 
     def drifts(
-        self, floors: Sequence[int], heights: Sequence[float] | float | None = None
+        self, floors: Sequence[Any], heights: Sequence[float] | float | None = None
     ) -> NDArray[np.float64]:
         """Inter-storey drifts: ``x[floors[k]] - x[floors[k-1]]``, the first storey's
         against the support (relative displacements are relative to it).
 
         Parameters
         ----------
-        floors : sequence of int
+        floors : sequence of int or of sequences of int
             The floors' (horizontal) dofs, bottom to top; they must be among the saved
-            `dofs`.
+            `dofs`. A floor given as several dofs (one per column line, the same number on
+            every floor) gives the drift of largest magnitude over its column lines.
         heights : float or sequence of float, optional
             Storey heights: drift ratios instead of drifts.
 

@@ -132,29 +132,32 @@ def element_histories(
 def drifts(
     x: NDArray[np.float64],
     dofs: NDArray[np.int64],
-    floors: Sequence[int],
+    floors: Sequence[Any],
     heights: Sequence[float] | float | None = None,
 ) -> NDArray[np.float64]:
     """Inter-storey drifts ``x[floor k] - x[floor k-1]`` (the first storey's against the
-    ground), as ratios when `heights` are given; `x` holds the dofs `dofs`."""
-    position = {int(d): k for k, d in enumerate(dofs)}
-    cols = []
-    for f in floors:
-        if isinstance(f, bool) or not isinstance(f, int | np.integer):
-            raise TypeError(f"`floors` must contain dof indices (integers), got {f!r}")
-        if int(f) not in position:
-            raise ValueError(
-                f"`floors`: dof {f} is not among the saved dofs {list(map(int, dofs))}; "
-                "solve with `dofs=` including every floor"
-            )
-        cols.append(position[int(f)])
-    if not cols:
-        raise ValueError("`floors` must list at least one floor dof")
-    u = x[:, cols]
-    out = np.diff(np.concatenate([np.zeros((u.shape[0], 1)), u], axis=1), axis=1)
+    ground), as ratios when `heights` are given; `x` holds the dofs `dofs`. A floor given as
+    a sequence of dofs (one per column line; every floor the same number, or one) gives, per
+    storey and instant, the drift of largest magnitude over the column lines (signed)."""
+    from duhamel.results.forces import columns, floor_groups
+
+    groups = floor_groups(floors)
+    lines = max(len(g) for g in groups)
+    if any(len(g) not in (1, lines) for g in groups):
+        raise ValueError(
+            "`floors`: every floor must list the same number of column lines (or one dof), "
+            f"got {[len(g) for g in groups]}"
+        )
+    u = np.stack(
+        [x[:, columns(dofs, g, "floors")] * np.ones(lines) for g in groups], axis=1
+    )  # (n_t, n_floors, lines)
+    below = np.concatenate([np.zeros((u.shape[0], 1, lines)), u[:, :-1]], axis=1)
+    d = u - below
+    pick = np.argmax(np.abs(d), axis=2)
+    out = np.take_along_axis(d, pick[:, :, None], axis=2)[:, :, 0]
     if heights is None:
         return out
-    h = np.broadcast_to(np.asarray(heights, dtype=np.float64), (len(cols),))
+    h = np.broadcast_to(np.asarray(heights, dtype=np.float64), (len(groups),))
     if not np.all(np.isfinite(h)) or np.any(h <= 0):
         raise ValueError(f"`heights` must be positive storey heights, got {heights!r}")
     return out / h

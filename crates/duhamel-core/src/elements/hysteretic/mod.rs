@@ -1,5 +1,5 @@
 //! Hysteretic and device elements of earthquake engineering: the path-dependent
-//! [`Bilinear`], [`BoucWen`] and [`FrictionPendulum`] (committed and trial internal
+//! [`Bilinear`], [`BoucWen`], [`FrictionPendulum`] and [`LeadRubberBearing`] (committed and trial internal
 //! variables, [`crate::elements::PathState`]) and the stateless [`ViscousDamper`] and [`Gap`].
 //! Each returns its exact (consistent) tangent.
 
@@ -8,10 +8,12 @@ mod boucwen;
 mod common;
 mod friction;
 mod gap;
+mod rubber;
 mod viscous;
 
 pub use bilinear::Bilinear;
 pub use boucwen::{BoucWen, BoucWenParams};
 pub use friction::{FrictionPendulum, DEFAULT_YIELD_DISPLACEMENT};
 pub use gap::Gap;
+pub use rubber::LeadRubberBearing;
 pub use viscous::{ViscousDamper, DEFAULT_V0};

@@ -1,0 +1,141 @@
+"""Property modification factors (ASCE 7-22 section 17.2.8.4): the lower- and upper-bound
+models of a system's isolators and dampers from lambda factors on their nominal properties,
+and both runs through :func:`~duhamel.ensemble.solve_many`."""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from typing import Any
+
+from duhamel.ensemble.run import Ensemble, solve_many
+
+__all__ = ["BOUNDS", "property_bounds", "solve_bounds"]
+
+#: The cases of :func:`solve_bounds`, in order.
+BOUNDS = ("lower", "upper")
+
+#: Fields that say where an element acts, never scaled.
+_PLACEMENT = {"i", "j", "dof", "dof_x", "dof_y", "dofs"}
+
+
+def _factors(lambdas: Mapping[str, Any]) -> dict[str, tuple[float, float]]:
+    out = {}
+    if not isinstance(lambdas, Mapping) or not lambdas:
+        raise TypeError(
+            "`lambdas` must be a non-empty mapping from a property ('mu', or "
+            "'FrictionPendulum.mu') to its (lower, upper) factors"
+        )
+    for key, pair in lambdas.items():
+        try:
+            low, high = (float(v) for v in pair)
+        except (TypeError, ValueError) as exc:
+            raise TypeError(f"`lambdas[{key!r}]` must be a (lower, upper) pair of factors") from exc
+        if not (0 < low <= high) or high == float("inf"):
+            raise ValueError(
+                f"`lambdas[{key!r}]` must be finite factors with 0 < lower <= upper, got "
+                f"({low}, {high})"
+            )
+        if key.rpartition(".")[2] in _PLACEMENT:
+            raise ValueError(f"`lambdas[{key!r}]`: {key!r} places the element, it is no property")
+        out[str(key)] = (low, high)
+    return out
+
+
+def _modified(element: Any, factors: dict[str, tuple[float, float]], which: int) -> Any:
+    """`element` with its properties scaled (`which`: 0 lower, 1 upper)."""
+    if not dataclasses.is_dataclass(element):
+        return element
+    name = type(element).__name__
+    changes = {}
+    for field in dataclasses.fields(element):
+        key = f"{name}.{field.name}"
+        pair = factors.get(key, factors.get(field.name))
+        value = getattr(element, field.name)
+        if pair is None or field.name in _PLACEMENT or value is None:
+            continue
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            continue
+        changes[field.name] = pair[which] * float(value)
+    return dataclasses.replace(element, **changes) if changes else element
+
+
+def property_bounds(system: Any, lambdas: Mapping[str, Any]) -> dict[str, Any]:
+    """The lower- and upper-bound models of `system`: its elements with every property named
+    in `lambdas` multiplied by the lower and by the upper factor.
+
+    Parameters
+    ----------
+    system : System
+        The nominal model (left unchanged).
+    lambdas : mapping
+        Property name -> ``(lambda_min, lambda_max)``. A bare name (``"mu"``, ``"fy"``,
+        ``"k"``, ``"c"``) applies to every element with that field; ``"Class.field"``
+        (``"FrictionPendulum.mu"``) to that class only and wins over the bare name. Each
+        factor is the product of the code's ones (testing, aging, environment). Keys that
+        match no element's numeric field are refused (a misspelt property would leave the
+        bounds equal to the nominal model).
+
+    Returns
+    -------
+    dict
+        ``{"lower": System, "upper": System}``: copies with the same matrices, damping and
+        loads.
+
+    Examples
+    --------
+    >>> import numpy as np, duhamel
+    >>> from duhamel.ensemble import property_bounds
+    >>> s = duhamel.System(np.eye(1), np.zeros((1, 1)))
+    >>> s = s.add(duhamel.elements.FrictionPendulum(0, radius=2.0, mu=0.05, weight=9.81))
+    >>> models = property_bounds(s, {"mu": (0.8, 1.3)})
+    >>> round(models["lower"].elements[0].mu, 4), round(models["upper"].elements[0].mu, 4)
+    (0.04, 0.065)
+    """
+    factors = _factors(lambdas)
+    known = set()
+    for element in system.elements:
+        if dataclasses.is_dataclass(element):
+            for field in dataclasses.fields(element):
+                known |= {field.name, f"{type(element).__name__}.{field.name}"}
+    unknown = sorted(set(factors) - known)
+    if unknown:
+        raise ValueError(f"`lambdas`: {unknown} name no property of the system's elements")
+    out = {}
+    for which, name in enumerate(BOUNDS):
+        other = system._with_stiffness(system.K)
+        for load in system.loads:
+            other.add_load(load)
+        for element in system.elements:
+            other.add(_modified(element, factors, which))
+        out[name] = other
+    return out
+
+
+def solve_bounds(
+    system: Any,
+    integrator: Any,
+    lambdas: Mapping[str, Any],
+    *,
+    t_end: float,
+    dt: float,
+    **options: Any,
+) -> Ensemble:
+    """Runs the lower- and upper-bound models of `system` (:func:`property_bounds`) through
+    :func:`~duhamel.ensemble.solve_many`; ``params`` of the result are ``["lower",
+    "upper"]``. `options` go to :func:`solve_many` (``reduce``, ``workers``, ``save_every``,
+    ``dofs``...).
+
+    Examples
+    --------
+    >>> import numpy as np, duhamel
+    >>> from duhamel.ensemble import solve_bounds
+    >>> s = duhamel.System(np.eye(1), np.zeros((1, 1)))
+    >>> s = s.add(duhamel.elements.FrictionPendulum(0, radius=2.0, mu=0.05, weight=9.81))
+    >>> ens = solve_bounds(s, duhamel.Semianalytic(), {"mu": (0.8, 1.3)}, t_end=2.0,
+    ...                    dt=0.01, v0=[0.5], reduce=lambda sol: float(np.abs(sol.x).max()))
+    >>> ens.params, ens.results[0] > ens.results[1]
+    (['lower', 'upper'], True)
+    """
+    models = property_bounds(system, lambdas)
+    return solve_many(models.__getitem__, list(BOUNDS), integrator, t_end=t_end, dt=dt, **options)
