@@ -19,8 +19,9 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
-from duhamel import elements, loads, mass, oscillator, speed
+from duhamel import elements, events, loads, mass, oscillator, speed
 from duhamel._core import __version__
+from duhamel.events import Event
 from duhamel.errors import DampingWarning, DuhamelError, InternalError, SolverError
 from duhamel.integrators import (
     HHT,
@@ -47,6 +48,7 @@ __all__ = [
     "DampingWarning",
     "DirectIntegrator",
     "DuhamelError",
+    "Event",
     "GeneralizedAlpha",
     "InternalError",
     "ModalBasis",
@@ -62,6 +64,7 @@ __all__ = [
     "analysis",
     "elements",
     "ensemble",
+    "events",
     "exact",
     "loads",
     "mass",

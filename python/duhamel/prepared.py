@@ -6,12 +6,14 @@ from __future__ import annotations
 import math
 import os
 import time as _time
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from duhamel._engine import modal
+from duhamel._engine.locate import checked_events, checked_times, dense_run
 from duhamel._engine.direct_run import DirectSetup, prepare_direct
 from duhamel._engine.run import Progress
 from duhamel._engine.validate import (
@@ -21,6 +23,7 @@ from duhamel._engine.validate import (
     positive_float,
     positive_int,
 )
+from duhamel.events import Event
 from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import Load
 from duhamel.results.solution import Solution
@@ -176,6 +179,9 @@ class Prepared:
         store: str | os.PathLike[str] | Any = None,
         checkpoint_every: int | None = None,
         progress: bool | Progress | None = False,
+        events: Sequence[Event] | None = None,
+        t_eval: ArrayLike | None = None,
+        dense: bool = False,
     ) -> Solution:
         """Runs the prepared model from `t0` to `t_end`.
 
@@ -200,6 +206,8 @@ class Prepared:
             With `store`: a checkpoint every this many segments (default 1).
         progress : bool or callable, optional
             A progress bar (``True``) or a function ``(step, n_steps, t)``.
+        events, t_eval, dense
+            Events, instants and dense output (see :func:`duhamel.solve`).
 
         Returns
         -------
@@ -223,7 +231,7 @@ class Prepared:
         return self._run(
             t_end=t_end, t0=t0, x0=x0, v0=v0, loads=loads, save_every=save_every, dofs=dofs,
             store=store, checkpoint_every=checkpoint_every, progress=progress,
-            started=_time.perf_counter(),
+            started=_time.perf_counter(), events=events, t_eval=t_eval, dense=dense,
         )  # fmt: skip
 
     def _run(
@@ -240,6 +248,10 @@ class Prepared:
         checkpoint_every: int | None,
         progress: bool | Progress | None,
         started: float,
+        events: Sequence[Event] | None = None,
+        t_eval: ArrayLike | None = None,
+        dense: bool = False,
+        _dense: bool = False,
     ) -> Solution:
         dt = self.dt
         t0 = finite_float(t0, "t0")
@@ -250,6 +262,18 @@ class Prepared:
         out_dofs = None if dofs is None else dof_list(dofs, "dofs", system.n_dof)
         if loads is not None:
             loads = _checked_loads(loads, system)
+        if events is not None or t_eval is not None or dense:
+            evs = [] if events is None else checked_events(events)
+            times = None if t_eval is None else checked_times(t_eval, t0, t0 + n_steps * dt)
+            if store is not None or save_every != 1:
+                raise ValueError(
+                    "`events`, `t_eval` and `dense` need every step kept in memory: "
+                    "`save_every` must be 1 and `store` None"
+                )
+            args = dict(t_end=t_end, t0=t0, x0=x0, v0=v0, loads=loads, save_every=1,
+                        dofs=dofs, store=None, checkpoint_every=None, progress=progress,
+                        started=started, _dense=True)  # fmt: skip
+            return dense_run(lambda: self._run(**args), evs, times, bool(dense))
         if store is not None:
             from duhamel.store._run import run_stored
 
@@ -267,7 +291,7 @@ class Prepared:
             )  # fmt: skip
         assert self._modal is not None
         opts = modal.RunOptions(
-            t0, dt, n_steps, save_every, out_dofs, x0, v0, loads, progress, started
+            t0, dt, n_steps, save_every, out_dofs, x0, v0, loads, progress, started, _dense
         )
         return modal.run(self._modal, opts)
 
@@ -369,6 +393,9 @@ def solve(
     progress: bool | Progress | None = None,
     store: str | os.PathLike[str] | Any = None,
     checkpoint_every: int | None = None,
+    events: Sequence[Event] | None = None,
+    t_eval: ArrayLike | None = None,
+    dense: bool = False,
 ) -> Solution:
     """Transient response of `system` from `t0` to `t_end` with a fixed step `dt`.
 
@@ -413,6 +440,15 @@ def solve(
         arrays from the store. Semi-analytic integrator only; needs ``duhamel[store]``.
     checkpoint_every : int, optional
         With `store`: write a checkpoint every this many segments (default 1).
+    events : list of duhamel.Event, optional
+        Zero crossings located inside their step (``sol.events``); a terminal one ends the
+        run at its instant (docs/events.md).
+    t_eval : array_like, optional
+        Return the response at these instants (increasing, within the run) instead of the
+        steps: exact on the linear routes, of the scheme's order otherwise.
+    dense : bool
+        Keep what ``sol.at(t)`` needs to evaluate the response between the steps.
+        `events`, `t_eval` and `dense` need ``save_every=1`` and no `store`.
 
     Returns
     -------
@@ -456,4 +492,5 @@ def solve(
     return prepared._run(
         t_end=t_end, t0=t0, x0=x0, v0=v0, loads=None, save_every=save_every, dofs=dofs,
         store=store, checkpoint_every=checkpoint_every, progress=progress, started=started,
+        events=events, t_eval=t_eval, dense=dense,
     )  # fmt: skip
