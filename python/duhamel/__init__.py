@@ -21,8 +21,8 @@ from typing import TYPE_CHECKING, Any
 
 from duhamel import elements, events, loads, mass, oscillator, speed
 from duhamel._core import __version__
-from duhamel.events import Event
 from duhamel.errors import DampingWarning, DuhamelError, InternalError, SolverError
+from duhamel.events import Event
 from duhamel.integrators import (
     HHT,
     CentralDifference,

@@ -14,7 +14,7 @@ function is called once per saved step (slower), or once for all of them with
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -316,3 +316,4 @@ class Occurrence:
     x: NDArray[np.float64]
     v: NDArray[np.float64]
     terminal: bool = False
+    _step: tuple[int, float] = field(default=(0, 0.0), repr=False, compare=False)

@@ -13,8 +13,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from duhamel._engine import modal
-from duhamel._engine.locate import checked_events, checked_times, dense_run
 from duhamel._engine.direct_run import DirectSetup, prepare_direct
+from duhamel._engine.locate import checked_events, checked_times, dense_run
 from duhamel._engine.run import Progress
 from duhamel._engine.validate import (
     MAX_COUNT,

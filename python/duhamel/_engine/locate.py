@@ -86,7 +86,7 @@ def locate(events: Sequence[Event], sol: Solution, dense: Dense) -> list[Occurre
                 tau = brentq(f, 0.0, h, xtol=XTOL * h, rtol=1e-15, maxiter=200)
             (x, v, _), _ = dense.in_step(n, tau)
             when = float(t[n]) + tau
-            occ = Occurrence(name, k, when, np.array(x), np.array(v), ev.terminal)
+            occ = Occurrence(name, k, when, np.array(x), np.array(v), ev.terminal, (n, tau))
             found.append((when, k, occ))
     found.sort(key=lambda item: (item[0], item[1]))
     return [occ for _, _, occ in found]
@@ -168,9 +168,9 @@ def _with_rows(sol: Solution, t: NDArray, x: NDArray, v: NDArray, a: NDArray,
     return out
 
 
-def _stop(sol: Solution, dense: Dense, when: float) -> Solution:
-    """`sol` ended at `when`: its rows before it and the state there as the last row."""
-    n, tau = dense.locate(when)
+def _stop(sol: Solution, dense: Dense, when: float, n: int, tau: float) -> Solution:
+    """`sol` ended at `when` (`tau` into step `n`): its rows before it and the state there
+    as the last row."""
     h = float(dense.t[n + 1] - dense.t[n])
     if tau >= h:  # on a grid point
         n, tau = n + 1, 0.0
@@ -212,7 +212,7 @@ def finish(
         if stops:
             end = stops[0].time
             found = [o for o in found if o.time <= end]
-            sol = _stop(sol, dense, end)
+            sol = _stop(sol, dense, end, *stops[0]._step)
             dense.end = end
         sol.events = found
     if t_eval is not None:
