@@ -1,0 +1,496 @@
+//! Exact peaks of elastic response spectra: the largest `|x|`, `|x'|` and `|2 zeta omega x' +
+//! omega^2 x|` of each oscillator over the whole piecewise-linear record, between the samples
+//! too, not only at them.
+//!
+//! Inside a step under the linear load `p0 + r s`, every one of the three quantities `f` has
+//! a derivative of the form `g(s) = exp(-sigma s) (P cos(wd s) + Q sin(wd s)) + K` (`wd` the
+//! damped frequency): `x' `, `x''` and `omega^2 x' + 2 zeta omega x''`. An interior extremum
+//! of `f` is a root of `g`; the zeros of `g'` (closed form) split the step into pieces on which
+//! `g` is monotone, each with at most one root, found by a safeguarded Newton iteration; `f`
+//! there is then evaluated with the oscillator's exact step matrices over the fraction of the
+//! step. Steps are searched only when a bound says an interior value may exceed the running
+//! peak: `|f| <= max(|f0|, |f1|) + h^2/8 max|f''|`, and `|f''|` is bounded by the amplitude of
+//! `x''` (a damped sinusoid under a linear load) times 1, `omega` or `omega^2 + 2 zeta omega^2`.
+//! Underdamped oscillators (`zeta < 1`) only.
+
+use super::common::{check, map_tasks, Record, Step};
+use super::elastic::{Peaks, LANES};
+use crate::error::CoreError;
+use crate::kernel::oscillator::Transfer;
+
+/// One oscillator's constants.
+#[derive(Debug, Clone, Copy, Default)]
+struct Osc {
+    omega: f64,
+    zeta: f64,
+    /// `omega^2`, `2 zeta omega`, `zeta omega`, the damped frequency.
+    k: f64,
+    c: f64,
+    sigma: f64,
+    wd: f64,
+}
+
+impl Osc {
+    fn new(omega: f64, zeta: f64) -> Self {
+        Osc {
+            omega,
+            zeta,
+            k: omega * omega,
+            c: 2.0 * zeta * omega,
+            sigma: zeta * omega,
+            wd: omega * (1.0 - zeta * zeta).sqrt(),
+        }
+    }
+}
+
+/// `exp(-sigma s) (p cos(wd s) + q sin(wd s)) + k0` and its derivative.
+#[derive(Debug, Clone, Copy)]
+struct Wave {
+    p: f64,
+    q: f64,
+    k0: f64,
+    sigma: f64,
+    wd: f64,
+}
+
+impl Wave {
+    fn eval(&self, s: f64) -> (f64, f64) {
+        let e = (-self.sigma * s).exp();
+        let (sn, cs) = (self.wd * s).sin_cos();
+        let g = e * (self.p * cs + self.q * sn) + self.k0;
+        let d1 = -self.sigma * self.p + self.wd * self.q;
+        let d2 = -self.sigma * self.q - self.wd * self.p;
+        (g, e * (d1 * cs + d2 * sn))
+    }
+
+    /// The roots in `(0, h)`, each in one piece where `g` is monotone; `g0`, `gh` the
+    /// values at the ends (known from the states there).
+    fn roots(&self, h: f64, (g0, gh): (f64, f64), out: &mut Vec<f64>) {
+        out.clear();
+        let d1 = -self.sigma * self.p + self.wd * self.q;
+        let d2 = -self.sigma * self.q - self.wd * self.p;
+        // Zeros of g': d1 cos + d2 sin = 0 at wd s = phi + m pi, phi in (0, pi].
+        let mut phi = (-d1).atan2(d2);
+        let pi = std::f64::consts::PI;
+        while phi <= 0.0 {
+            phi += pi;
+        }
+        while phi > pi {
+            phi -= pi;
+        }
+        let mut a = 0.0;
+        let mut ga = g0;
+        let mut m = 0.0;
+        loop {
+            let b = ((phi + m * pi) / self.wd).min(h);
+            let gb = if b >= h { gh } else { self.eval(b).0 };
+            if b > a && ga * gb < 0.0 {
+                out.push(self.root(a, b, ga, gb));
+            }
+            if b >= h {
+                break;
+            }
+            a = b;
+            ga = gb;
+            m += 1.0;
+        }
+    }
+
+    /// The root of the monotone `g` on `[a, b]` (signs differ at the ends; `ga = g(a)`):
+    /// Newton steps kept inside the bracket, bisection where they leave it.
+    fn root(&self, mut a: f64, mut b: f64, ga: f64, gb: f64) -> f64 {
+        let rising = ga < 0.0;
+        // The secant point first (the wave is nearly linear on a short piece).
+        let mut s = a + (b - a) * ga / (ga - gb);
+        if !(s > a && s < b) {
+            s = 0.5 * (a + b);
+        }
+        for _ in 0..100 {
+            let (g, d) = self.eval(s);
+            if g == 0.0 {
+                return s;
+            }
+            if (g < 0.0) == rising {
+                a = s;
+            } else {
+                b = s;
+            }
+            let newton = s - g / d;
+            let next = if newton > a && newton < b && d != 0.0 {
+                newton
+            } else {
+                0.5 * (a + b)
+            };
+            if (next - s).abs() <= 1e-15 * b.abs().max(1e-300) || b - a <= 1e-15 * b {
+                return next;
+            }
+            s = next;
+        }
+        s
+    }
+}
+
+/// Per lane, what a step needs for its exact search.
+struct Search {
+    roots: Vec<f64>,
+}
+
+impl Search {
+    /// Updates `peak` (`[sd, sv, sa]`) with the interior extrema of the step of length `h`
+    /// from `(x0, v0)` under `p0 -> p1` whose bounds (`flags`) say they may exceed it.
+    #[allow(clippy::too_many_arguments)]
+    fn step(
+        &mut self,
+        o: &Osc,
+        h: f64,
+        (x0, v0): (f64, f64),
+        (xn, vn): (f64, f64),
+        (p0, p1): (f64, f64),
+        flags: [bool; 3],
+        peak: &mut [f64; 3],
+    ) {
+        let r = (p1 - p0) / h;
+        let a0 = p0 - o.c * v0 - o.k * x0;
+        let a1 = p1 - o.c * vn - o.k * xn;
+        let j0 = r - o.c * a0 - o.k * v0;
+        // x = xp + free part (Cx, Dx); x' = Wv, x'' = Wa (no constant: the load's second
+        // derivative vanishes).
+        let vp = r / o.k;
+        let xp0 = (p0 - o.c * vp) / o.k;
+        let pv = v0 - vp;
+        let cx = x0 - xp0;
+        let dx = (pv + o.sigma * cx) / o.wd;
+        let wave = |p: f64, q: f64, k0: f64| Wave {
+            p,
+            q,
+            k0,
+            sigma: o.sigma,
+            wd: o.wd,
+        };
+        let wv = wave(pv, (a0 + o.sigma * pv) / o.wd, vp);
+        let wa = wave(a0, (j0 + o.sigma * a0) / o.wd, 0.0);
+        // d/ds (k x + c x') = k x' + c x''.
+        let ws = wave(o.k * wv.p + o.c * wa.p, o.k * wv.q + o.c * wa.q, r);
+        let ends = [
+            (v0, vn),
+            (a0, a1),
+            (o.k.mul_add(v0, o.c * a0), o.k.mul_add(vn, o.c * a1)),
+        ];
+        // Short periods against the step: the value from the decomposition (the particular
+        // part is not larger than the response there); long ones: the exact step matrices.
+        let decomposed = o.omega * h >= 0.5;
+        for (which, w) in [wv, wa, ws].iter().enumerate() {
+            if !flags[which] {
+                continue;
+            }
+            w.roots(h, ends[which], &mut self.roots);
+            for &s in &self.roots {
+                let (x, v) = if decomposed {
+                    let e = (-o.sigma * s).exp();
+                    let (sn, cs) = (o.wd * s).sin_cos();
+                    (
+                        xp0 + vp * s + e * (cx * cs + dx * sn),
+                        vp + e * (wv.p * cs + wv.q * sn),
+                    )
+                } else {
+                    let st = Step::from_transfer(&Transfer::from_omega_zeta(o.omega, o.zeta, s));
+                    st.apply(x0, v0, p0, p0 + r * s)
+                };
+                let f = match which {
+                    0 => x,
+                    1 => v,
+                    _ => o.k.mul_add(x, o.c * v),
+                };
+                peak[which] = peak[which].max(f.abs());
+            }
+        }
+    }
+}
+
+/// The lanes' transition matrices, entry by entry.
+fn transpose_a(steps: &[Step; LANES]) -> [[[f64; LANES]; 2]; 2] {
+    let mut a = [[[0.0; LANES]; 2]; 2];
+    for (l, s) in steps.iter().enumerate() {
+        for r in 0..2 {
+            for q in 0..2 {
+                a[r][q][l] = s.a[r][q];
+            }
+        }
+    }
+    a
+}
+
+/// The lanes' load vectors: `(b0 x, b0 v, b1 x, b1 v)`.
+#[allow(clippy::type_complexity)]
+fn transpose_b(steps: &[Step; LANES]) -> ([f64; LANES], [f64; LANES], [f64; LANES], [f64; LANES]) {
+    let mut b = ([0.0; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
+    for (l, s) in steps.iter().enumerate() {
+        b.0[l] = s.b0[0];
+        b.1[l] = s.b0[1];
+        b.2[l] = s.b1[0];
+        b.3[l] = s.b1[1];
+    }
+    b
+}
+
+/// Per lane, the constants of the bounds.
+#[derive(Clone, Copy, Default)]
+struct Bound {
+    k: f64,
+    c: f64,
+    sigma: f64,
+    inv_wd: f64,
+    inv_k: f64,
+    /// `|f''|` against the amplitude of `x''`: `omega` for `x'`, `omega^2 + c omega` for
+    /// `k x + c x'`.
+    f1: f64,
+    f2: f64,
+}
+
+impl Bound {
+    fn new(o: &Osc) -> Self {
+        let inv = |y: f64| if y > 0.0 { 1.0 / y } else { 0.0 };
+        Bound {
+            k: o.k,
+            c: o.c,
+            sigma: o.sigma,
+            inv_wd: inv(o.wd),
+            inv_k: inv(o.k),
+            f1: o.omega,
+            f2: o.k + o.c * o.omega,
+        }
+    }
+
+    /// Whether `x`, `x'`, `k x + c x'` may exceed their peaks `pk` inside the step from
+    /// `(x0, v0)` to `(xn, vn)` under `p0 + r s`: two bounds of each, the smaller counts —
+    /// the ends' values plus `h^2/8` (`h2`: its square, with a margin) times the bound of the
+    /// second derivative (tight for long periods), and the particular part's (linear) ends
+    /// plus the amplitude of the free, damped sinusoidal part (tight for short periods).
+    /// Branch-free (`&`, `|`), so the lanes' loop vectorises.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn flags(
+        &self,
+        h: f64,
+        h2: f64,
+        x0: f64,
+        v0: f64,
+        xn: f64,
+        vn: f64,
+        p0: f64,
+        r: f64,
+        pk: [f64; 3],
+    ) -> [bool; 3] {
+        let (k, c, sigma, iw, ik) = (self.k, self.c, self.sigma, self.inv_wd, self.inv_k);
+        let s0 = k.mul_add(x0, c * v0);
+        let s1 = k.mul_add(xn, c * vn);
+        let a0 = p0 - c * v0 - k * x0;
+        let q = (r - c * a0 - k * v0 + sigma * a0) * iw;
+        let amp2 = a0.mul_add(a0, q * q) * h2;
+        let vp = r * ik;
+        let xp0 = (p0 - c * vp) * ik;
+        let xp1 = xp0 + vp * h;
+        let cx = x0 - xp0;
+        let dx = (v0 - vp + sigma * cx) * iw;
+        let pv = v0 - vp;
+        let qv = (a0 + sigma * pv) * iw;
+        let (ps, qs) = (k.mul_add(cx, c * pv), k.mul_add(dx, c * qv));
+        let sp = c * vp;
+        let over = |top: f64, peak: f64, f: f64| {
+            let gap = peak - top;
+            (gap <= 0.0) | (amp2 * f * f > gap * gap)
+        };
+        // The margin covers the rounding of the decomposition.
+        let free = |top: f64, peak: f64, r2: f64| {
+            let gap = peak * (1.0 - 1e-9) - top;
+            (gap <= 0.0) | (r2 > gap * gap)
+        };
+        let big = |a: f64, b: f64| larger(a.abs(), b.abs());
+        [
+            over(big(x0, xn), pk[0], 1.0) & free(big(xp0, xp1), pk[0], cx.mul_add(cx, dx * dx)),
+            over(big(v0, vn), pk[1], self.f1) & free(vp.abs(), pk[1], pv.mul_add(pv, qv * qv)),
+            over(big(s0, s1), pk[2], self.f2)
+                & free(
+                    big(k * xp0 + sp, k * xp1 + sp),
+                    pk[2],
+                    ps.mul_add(ps, qs * qs),
+                ),
+        ]
+    }
+}
+
+/// `max(m, y)` without `f64::max`'s NaN rule (a NaN is caught by the final check).
+#[inline(always)]
+fn larger(m: f64, y: f64) -> f64 {
+    if y > m {
+        y
+    } else {
+        m
+    }
+}
+
+/// Exact peaks `[sd, sv, sa]` of the lanes `o` (`None`: a padding lane, at rest) over
+/// `acc`, and whether the final states are finite.
+///
+/// The step and the bounds run over all lanes branch-free (they vectorise, as the sampled
+/// spectra's loop); the search runs for the lanes whose bound may exceed their peak.
+fn run(
+    acc: &[f64],
+    h: f64,
+    o: &[Option<Osc>; LANES],
+    steps: &[Step; LANES],
+) -> ([[f64; 3]; LANES], bool) {
+    let [[a00, a01], [a10, a11]] = transpose_a(steps);
+    let (b0x, b0v, b1x, b1v) = transpose_b(steps);
+    let mut bound = [Bound::default(); LANES];
+    for l in 0..LANES {
+        if let Some(ol) = &o[l] {
+            bound[l] = Bound::new(ol);
+        }
+    }
+    let h2 = (h * h / 8.0 * (1.0 + 1e-9)).powi(2);
+    let (mut x, mut v) = ([0.0; LANES], [0.0; LANES]);
+    let mut peak = [[0.0f64; 3]; LANES];
+    let mut search = Search { roots: Vec::new() };
+    let mut p0 = -acc[0];
+    for &next in &acc[1..] {
+        let p1 = -next;
+        let r = (p1 - p0) / h;
+        let (xs, vs) = (x, v);
+        let mut cand = [false; LANES];
+        for l in 0..LANES {
+            let (x0, v0) = (xs[l], vs[l]);
+            let xn = a00[l].mul_add(x0, a01[l].mul_add(v0, b0x[l].mul_add(p0, b1x[l] * p1)));
+            let vn = a10[l].mul_add(x0, a11[l].mul_add(v0, b0v[l].mul_add(p0, b1v[l] * p1)));
+            let b = &bound[l];
+            let pk = &mut peak[l];
+            pk[0] = larger(pk[0], xn.abs());
+            pk[1] = larger(pk[1], vn.abs());
+            pk[2] = larger(pk[2], b.k.mul_add(xn, b.c * vn).abs());
+            let f = b.flags(h, h2, x0, v0, xn, vn, p0, r, *pk);
+            cand[l] = f[0] | f[1] | f[2];
+            x[l] = xn;
+            v[l] = vn;
+        }
+        if cand.iter().fold(false, |a, b| a | b) {
+            for l in 0..LANES {
+                if let (Some(ol), true) = (&o[l], cand[l]) {
+                    let f = bound[l].flags(h, h2, xs[l], vs[l], x[l], v[l], p0, r, peak[l]);
+                    search.step(
+                        ol,
+                        h,
+                        (xs[l], vs[l]),
+                        (x[l], v[l]),
+                        (p0, p1),
+                        f,
+                        &mut peak[l],
+                    );
+                }
+            }
+        }
+        p0 = p1;
+    }
+    let finite = x
+        .iter()
+        .chain(&v)
+        .chain(peak.iter().flatten())
+        .all(|y| y.is_finite());
+    (peak, finite)
+}
+
+/// Elastic spectra with exact peaks (see the module docstring); the arguments, layout and
+/// errors of [`super::elastic::elastic`], and an error for a damping ratio `>= 1`.
+pub fn elastic_exact(
+    records: &[Record],
+    periods: &[f64],
+    dampings: &[f64],
+    threads: Option<usize>,
+) -> Result<Peaks, CoreError> {
+    check(records, periods, dampings)?;
+    if let Some(&z) = dampings.iter().find(|z| **z >= 1.0) {
+        return Err(CoreError::InvalidInput {
+            name: "damping",
+            problem: format!("must be < 1 for exact peaks (underdamped oscillators), got {z}"),
+        });
+    }
+    let (nr, nd, np) = (records.len(), dampings.len(), periods.len());
+    let chunks = np.div_ceil(LANES);
+    let tasks: Vec<(usize, usize, usize)> = (0..nr)
+        .flat_map(|r| (0..nd).flat_map(move |d| (0..chunks).map(move |c| (r, d, c))))
+        .collect();
+    let task = |&(r, d, c): &(usize, usize, usize)| -> Result<Vec<[f64; 3]>, CoreError> {
+        let rec = records[r];
+        let zeta = dampings[d];
+        let span = &periods[c * LANES..np.min((c + 1) * LANES)];
+        let mut osc = [None; LANES];
+        let mut steps = [Step::default(); LANES];
+        for (l, &t) in span.iter().enumerate() {
+            if t > 0.0 {
+                let omega = 2.0 * std::f64::consts::PI / t;
+                steps[l] = Step::new(omega, zeta, rec.dt)?;
+                osc[l] = Some(Osc::new(omega, zeta));
+            }
+        }
+        let (peak, finite) = run(rec.acc, rec.dt, &osc, &steps);
+        if !finite {
+            return Err(CoreError::InvalidInput {
+                name: "motions",
+                problem: format!(
+                    "record {r}: the oscillator response overflows (damping {zeta}, periods \
+                     {span:?}); check the record's units and values"
+                ),
+            });
+        }
+        let pga = rec.acc.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+        Ok(span
+            .iter()
+            .enumerate()
+            .map(|(l, &t)| if t > 0.0 { peak[l] } else { [0.0, 0.0, pga] })
+            .collect())
+    };
+    let results = map_tasks(threads, &tasks, task)?;
+    let mut out = Peaks {
+        sd: Vec::with_capacity(nr * nd * np),
+        sv: Vec::with_capacity(nr * nd * np),
+        sa: Vec::with_capacity(nr * nd * np),
+    };
+    for chunk in results.iter().flatten() {
+        out.sd.push(chunk[0]);
+        out.sv.push(chunk[1]);
+        out.sa.push(chunk[2]);
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Undamped oscillator under a constant acceleration `-g0` from rest: `x = -(g0 /
+    /// omega^2)(1 - cos omega t)`, whose peak `2 g0 / omega^2` falls between samples.
+    #[test]
+    fn constant_record_peak_between_samples() {
+        let acc = vec![1.5; 301];
+        let rec = [Record {
+            acc: &acc,
+            dt: 0.01,
+        }];
+        let periods = [0.0, 0.0137, 0.05, 0.33, 1.1];
+        let p = elastic_exact(&rec, &periods, &[0.0], Some(1)).unwrap();
+        for (i, &t) in periods.iter().enumerate().skip(1) {
+            let w = 2.0 * std::f64::consts::PI / t;
+            let sd = 2.0 * 1.5 / (w * w);
+            assert!(
+                (p.sd[i] - sd).abs() <= 1e-12 * sd,
+                "T = {t}: {} vs {sd}",
+                p.sd[i]
+            );
+            // |x'| peaks at 1.5 / omega, |omega^2 x| at 2 * 1.5.
+            assert!((p.sv[i] - 1.5 / w).abs() <= 1e-12 * 1.5 / w, "T = {t}");
+            assert!((p.sa[i] - 3.0).abs() <= 1e-12 * 3.0, "T = {t}");
+        }
+        assert_eq!((p.sd[0], p.sv[0], p.sa[0]), (0.0, 0.0, 1.5));
+        let e = elastic_exact(&rec, &periods, &[1.0], Some(1)).unwrap_err();
+        assert!(e.to_string().contains("damping"), "{e}");
+    }
+}
