@@ -210,10 +210,10 @@ impl Search {
 /// The lanes' transition matrices, entry by entry.
 fn transpose_a(steps: &[Step; LANES]) -> [[[f64; LANES]; 2]; 2] {
     let mut a = [[[0.0; LANES]; 2]; 2];
-    for (l, s) in steps.iter().enumerate() {
-        for r in 0..2 {
-            for q in 0..2 {
-                a[r][q][l] = s.a[r][q];
+    for (r, row) in a.iter_mut().enumerate() {
+        for (q, cell) in row.iter_mut().enumerate() {
+            for (l, s) in steps.iter().enumerate() {
+                cell[l] = s.a[r][q];
             }
         }
     }
