@@ -329,6 +329,16 @@ fn larger(m: f64, y: f64) -> f64 {
     }
 }
 
+/// `min(m, y)` as a select (see [`larger`]).
+#[inline(always)]
+fn smaller(m: f64, y: f64) -> f64 {
+    if y < m {
+        y
+    } else {
+        m
+    }
+}
+
 /// Exact peaks `[sd, sv, sa]` of the lanes `o` (`None`: a padding lane, at rest) over
 /// `acc`, and whether the final states are finite.
 ///
@@ -343,52 +353,96 @@ fn run(
     let [[a00, a01], [a10, a11]] = transpose_a(steps);
     let (b0x, b0v, b1x, b1v) = transpose_b(steps);
     let mut bound = [Bound::default(); LANES];
-    for l in 0..LANES {
-        if let Some(ol) = &o[l] {
-            bound[l] = Bound::new(ol);
+    for (b, ol) in bound.iter_mut().zip(o) {
+        if let Some(ol) = ol {
+            *b = Bound::new(ol);
         }
     }
+    // The bounds' constants lane by lane (structure of arrays: the loop vectorises).
+    let lane = |f: fn(&Bound) -> f64| -> [f64; LANES] {
+        let mut out = [0.0; LANES];
+        for (y, b) in out.iter_mut().zip(&bound) {
+            *y = f(b);
+        }
+        out
+    };
+    let (k, c, sigma) = (lane(|b| b.k), lane(|b| b.c), lane(|b| b.sigma));
+    let (iw, ik) = (lane(|b| b.inv_wd), lane(|b| b.inv_k));
+    let (f1, f2) = (lane(|b| b.f1), lane(|b| b.f2));
     let h2 = (h * h / 8.0 * (1.0 + 1e-9)).powi(2);
     let (mut x, mut v) = ([0.0; LANES], [0.0; LANES]);
-    let mut peak = [[0.0f64; 3]; LANES];
+    let (mut px, mut pv, mut pa) = ([0.0f64; LANES], [0.0f64; LANES], [0.0f64; LANES]);
     let mut search = Search { roots: Vec::new() };
     let mut p0 = -acc[0];
     for &next in &acc[1..] {
         let p1 = -next;
         let r = (p1 - p0) / h;
         let (xs, vs) = (x, v);
-        let mut cand = [false; LANES];
+        let mut score = [0.0f64; LANES];
         for l in 0..LANES {
             let (x0, v0) = (xs[l], vs[l]);
             let xn = a00[l].mul_add(x0, a01[l].mul_add(v0, b0x[l].mul_add(p0, b1x[l] * p1)));
             let vn = a10[l].mul_add(x0, a11[l].mul_add(v0, b0v[l].mul_add(p0, b1v[l] * p1)));
-            let b = &bound[l];
-            let pk = &mut peak[l];
-            pk[0] = larger(pk[0], xn.abs());
-            pk[1] = larger(pk[1], vn.abs());
-            pk[2] = larger(pk[2], b.k.mul_add(xn, b.c * vn).abs());
-            let f = b.flags(h, h2, x0, v0, xn, vn, p0, r, *pk);
-            cand[l] = f[0] | f[1] | f[2];
+            px[l] = larger(px[l], xn.abs());
+            pv[l] = larger(pv[l], vn.abs());
+            pa[l] = larger(pa[l], k[l].mul_add(xn, c[l] * vn).abs());
+            // Bound::flags as one number per lane, >= 0 where a quantity may exceed its
+            // peak (min of its two bounds' excesses, max over the quantities): selects
+            // and arithmetic only, so the lanes' loop vectorises as the sampled one.
+            let (kl, cl, sl, iwl, ikl) = (k[l], c[l], sigma[l], iw[l], ik[l]);
+            let s0 = kl.mul_add(x0, cl * v0);
+            let s1 = kl.mul_add(xn, cl * vn);
+            let a0 = p0 - cl * v0 - kl * x0;
+            let q = (r - cl * a0 - kl * v0 + sl * a0) * iwl;
+            let amp2 = a0.mul_add(a0, q * q) * h2;
+            let vp = r * ikl;
+            let xp0 = (p0 - cl * vp) * ikl;
+            let xp1 = xp0 + vp * h;
+            let cx = x0 - xp0;
+            let dx = (v0 - vp + sl * cx) * iwl;
+            let pvl = v0 - vp;
+            let qv = (a0 + sl * pvl) * iwl;
+            let (ps, qs) = (kl.mul_add(cx, cl * pvl), kl.mul_add(dx, cl * qv));
+            let sp = cl * vp;
+            let excess = |gap: f64, r2: f64| r2 - gap * gap.abs();
+            let big = |a: f64, b: f64| larger(a.abs(), b.abs());
+            let ex = smaller(
+                excess(px[l] - big(x0, xn), amp2),
+                excess(
+                    px[l] * (1.0 - 1e-9) - big(xp0, xp1),
+                    cx.mul_add(cx, dx * dx),
+                ),
+            );
+            let ev = smaller(
+                excess(pv[l] - big(v0, vn), amp2 * f1[l] * f1[l]),
+                excess(pv[l] * (1.0 - 1e-9) - vp.abs(), pvl.mul_add(pvl, qv * qv)),
+            );
+            let es = smaller(
+                excess(pa[l] - big(s0, s1), amp2 * f2[l] * f2[l]),
+                excess(
+                    pa[l] * (1.0 - 1e-9) - big(kl * xp0 + sp, kl * xp1 + sp),
+                    ps.mul_add(ps, qs * qs),
+                ),
+            );
+            score[l] = larger(ex, larger(ev, es));
             x[l] = xn;
             v[l] = vn;
         }
-        if cand.iter().fold(false, |a, b| a | b) {
+        if score.iter().fold(f64::NEG_INFINITY, |m, y| larger(m, *y)) >= 0.0 {
             for l in 0..LANES {
-                if let (Some(ol), true) = (&o[l], cand[l]) {
-                    let f = bound[l].flags(h, h2, xs[l], vs[l], x[l], v[l], p0, r, peak[l]);
-                    search.step(
-                        ol,
-                        h,
-                        (xs[l], vs[l]),
-                        (x[l], v[l]),
-                        (p0, p1),
-                        f,
-                        &mut peak[l],
-                    );
+                if let (Some(ol), true) = (&o[l], score[l] >= 0.0) {
+                    let mut pk = [px[l], pv[l], pa[l]];
+                    let f = bound[l].flags(h, h2, xs[l], vs[l], x[l], v[l], p0, r, pk);
+                    search.step(ol, h, (xs[l], vs[l]), (x[l], v[l]), (p0, p1), f, &mut pk);
+                    [px[l], pv[l], pa[l]] = pk;
                 }
             }
         }
         p0 = p1;
+    }
+    let mut peak = [[0.0; 3]; LANES];
+    for (l, pk) in peak.iter_mut().enumerate() {
+        *pk = [px[l], pv[l], pa[l]];
     }
     let finite = x
         .iter()
