@@ -20,6 +20,7 @@ mod common;
 pub mod elastic;
 pub mod exact;
 pub mod inelastic;
+mod inside;
 pub mod rotd;
 
 pub use common::Record;
