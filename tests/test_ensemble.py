@@ -229,3 +229,43 @@ def test_per_run_initial_states() -> None:
 
     with pytest.raises(ValueError, match="`dt`"):
         solve_many(bad, [1], duhamel.Semianalytic(), t_end=0.1, dt=0.01)
+
+
+def test_ida_collapse_event_against_a_brute_force_scan() -> None:
+    """IDA with a terminal drift event as collapse criterion: the runs that collapse, and
+    when, agree with a scan of the full histories at a 10 times smaller step."""
+    from duhamel import events
+    from duhamel.ensemble import ida
+
+    t = np.arange(0, 6.0, 0.01)
+    motions = [
+        GroundMotion(np.sin((3 + k) * t) * np.exp(-0.4 * t) * (1 + 0.2 * k), 0.01, units="g")
+        for k in range(2)
+    ]
+    height, limit = 3.0, 0.02
+
+    def model(motion):
+        s = duhamel.System(1e5 * np.eye(2), 4e7 * np.array([[1.0, -1.0], [-1.0, 1.0]]),
+                           zeta=0.05)  # fmt: skip
+        s.add(duhamel.elements.Bilinear(0, None, k=4e7, fy=1.2e6, alpha=0.05))
+        return s.add_load(motion.as_load(np.ones(2)))
+
+    drift = lambda sol: float(np.abs(sol.x[:, 0]).max() / height)  # noqa: E731
+    stop = events.drift(0, None, limit, height, terminal=True)
+    res = ida(model, motions, [2.0, 5.0, 7.0, 8.0, 11.0], drift, period=0.5, collapse=stop)
+    for i, m in enumerate(motions):
+        for j, f in enumerate(res.factors[i]):
+            sol = duhamel.solve(model(m.scaled(f)), duhamel.Semianalytic(), t_end=m.duration,
+                                dt=0.001)  # fmt: skip
+            d = np.abs(sol.x[:, 0]) / height
+            assert abs(d.max() / limit - 1.0) > 0.05  # no case on the edge
+            if d.max() < limit:
+                assert np.isnan(res.collapse_times[i, j])
+                assert res.measures[i, j] == pytest.approx(d.max(), rel=1e-2)
+            else:
+                assert res.measures[i, j] == np.inf
+                first = sol.t[np.argmax(d >= limit)]
+                assert first - 0.001 - 1e-3 <= res.collapse_times[i, j] <= first + 1e-3
+    assert np.isinf(res.measures).sum() == 4  # both motions collapse at 8 and 11
+    with pytest.raises(ValueError, match="collapse"):
+        ida(model, motions[:1], [1.0], drift, period=0.5, collapse=events.drift(0, None, 0.1))

@@ -19,10 +19,11 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
-from duhamel import elements, loads, mass, oscillator, speed
+from duhamel import elements, events, loads, mass, oscillator, speed
 from duhamel._core import __version__
 from duhamel.damping import Rayleigh
 from duhamel.errors import DampingWarning, DuhamelError, InternalError, SolverError
+from duhamel.events import Event
 from duhamel.integrators import (
     HHT,
     CentralDifference,
@@ -48,6 +49,7 @@ __all__ = [
     "DampingWarning",
     "DirectIntegrator",
     "DuhamelError",
+    "Event",
     "GeneralizedAlpha",
     "InternalError",
     "ModalBasis",
@@ -64,6 +66,7 @@ __all__ = [
     "analysis",
     "elements",
     "ensemble",
+    "events",
     "exact",
     "loads",
     "mass",

@@ -480,8 +480,10 @@ def elastic_spectra(
     periods: Array,
     dampings: Array,
     threads: int | None = None,
+    exact: bool = False,
 ) -> tuple[Array, Array, Array]:
-    """Peaks ``(sd, sv, sa)``, each flat ``[record][damping][period]``."""
+    """Peaks ``(sd, sv, sa)``, each flat ``[record][damping][period]``; with `exact` the
+    peaks between the samples too."""
 
 def rotd_peaks(
     pair: tuple[Array, Array],

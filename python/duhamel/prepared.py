@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 import os
 import time as _time
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -13,8 +14,10 @@ from numpy.typing import ArrayLike
 
 from duhamel._engine import modal
 from duhamel._engine.direct_run import DirectSetup, prepare_direct
-from duhamel._engine.labels import resolve_fields, resolve_list
+from duhamel._engine.labels import resolve_list
+from duhamel._engine.locate import checked_events, checked_times, dense_run
 from duhamel._engine.run import Progress
+from duhamel._engine.run_inputs import checked_loads, checked_models, massless_store_check
 from duhamel._engine.validate import (
     MAX_COUNT,
     dof_list,
@@ -22,6 +25,7 @@ from duhamel._engine.validate import (
     positive_float,
     positive_int,
 )
+from duhamel.events import Event
 from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import Load
 from duhamel.results.solution import Solution
@@ -177,6 +181,9 @@ class Prepared:
         store: str | os.PathLike[str] | Any = None,
         checkpoint_every: int | None = None,
         progress: bool | Progress | None = False,
+        events: Sequence[Event] | None = None,
+        t_eval: ArrayLike | None = None,
+        dense: bool = False,
     ) -> Solution:
         """Runs the prepared model from `t0` to `t_end`.
 
@@ -201,6 +208,8 @@ class Prepared:
             With `store`: a checkpoint every this many segments (default 1).
         progress : bool or callable, optional
             A progress bar (``True``) or a function ``(step, n_steps, t)``.
+        events, t_eval, dense
+            Events, instants and dense output (see :func:`duhamel.solve`).
 
         Returns
         -------
@@ -224,7 +233,7 @@ class Prepared:
         return self._run(
             t_end=t_end, t0=t0, x0=x0, v0=v0, loads=loads, save_every=save_every, dofs=dofs,
             store=store, checkpoint_every=checkpoint_every, progress=progress,
-            started=_time.perf_counter(),
+            started=_time.perf_counter(), events=events, t_eval=t_eval, dense=dense,
         )  # fmt: skip
 
     def _run(
@@ -241,6 +250,10 @@ class Prepared:
         checkpoint_every: int | None,
         progress: bool | Progress | None,
         started: float,
+        events: Sequence[Event] | None = None,
+        t_eval: ArrayLike | None = None,
+        dense: bool = False,
+        _dense: bool = False,
     ) -> Solution:
         dt = self.dt
         t0 = finite_float(t0, "t0")
@@ -251,12 +264,24 @@ class Prepared:
         dofs = resolve_list(system, dofs, "dofs")  # labels as indices
         out_dofs = None if dofs is None else dof_list(dofs, "dofs", system.n_dof)
         if loads is not None:
-            loads = _checked_loads(loads, system)
+            loads = checked_loads(loads, system)
+        if events is not None or t_eval is not None or dense:
+            evs = [] if events is None else checked_events(events)
+            times = None if t_eval is None else checked_times(t_eval, t0, t0 + n_steps * dt)
+            if store is not None or save_every != 1:
+                raise ValueError(
+                    "`events`, `t_eval` and `dense` need every step kept in memory: "
+                    "`save_every` must be 1 and `store` None"
+                )
+            args = dict(t_end=t_end, t0=t0, x0=x0, v0=v0, loads=loads, save_every=1,
+                        dofs=dofs, store=None, checkpoint_every=None, progress=progress,
+                        started=started, _dense=True)  # fmt: skip
+            return dense_run(lambda: self._run(**args), evs, times, bool(dense))
         if store is not None:
             from duhamel.store._run import run_stored
 
             target = system if loads is None else _with_loads(system, loads)
-            _massless_store_check(target)
+            massless_store_check(target)
             chosen = np.arange(system.n_dof) if out_dofs is None else out_dofs
             return run_stored(
                 target, self.integrator, store=store, checkpoint_every=checkpoint_every,
@@ -270,60 +295,9 @@ class Prepared:
             )  # fmt: skip
         assert self._modal is not None
         opts = modal.RunOptions(
-            t0, dt, n_steps, save_every, out_dofs, x0, v0, loads, progress, started
+            t0, dt, n_steps, save_every, out_dofs, x0, v0, loads, progress, started, _dense
         )
         return modal.run(self._modal, opts)
-
-
-def _massless_store_check(system: System) -> None:
-    """Refuses a streamed run of a model whose massless dofs carry loads or elements: the
-    store does not yet add their static part (in-memory runs do)."""
-    c = system._condensation
-    if c is None:
-        return
-    from duhamel.loads import Callable
-
-    touched = bool(system.elements) or any(
-        isinstance(load, Callable) or any(np.any(p[c.s]) for p, _, _ in load._specs(system))
-        for load in system.loads
-    )
-    if touched:
-        raise ValueError(
-            "`store`: a streamed run does not yet support loads or elements at massless dofs "
-            f"(dofs {c.s.tolist()[:8]}...); run without `store`"
-        )
-
-
-def _checked_loads(loads: Any, system: System) -> list[Load]:
-    """A run's `loads`, each checked against `system`."""
-    if isinstance(loads, Load) or not isinstance(loads, list | tuple):
-        raise TypeError(
-            f"`loads` must be a list of duhamel.loads loads (or None for the system's own), "
-            f"got {type(loads).__name__}"
-        )
-    loads = [resolve_fields(system, load) for load in loads]
-    for i, load in enumerate(loads):
-        if not isinstance(load, Load):
-            raise TypeError(
-                f"`loads[{i}]` must be a duhamel.loads load (Step, Harmonic, Tabulated, "
-                f"BaseAcceleration, Unbalance, Callable), got {type(load).__name__}"
-            )
-        try:
-            load._validate(system)
-        except (TypeError, ValueError) as exc:
-            exc.add_note(f"in `loads[{i}]` ({type(load).__name__}) of Prepared.run")
-            raise
-    return list(loads)
-
-
-def _checked(system: Any, integrator: Any) -> None:
-    if not isinstance(system, System):
-        raise TypeError(f"`system` must be a duhamel.System, got {type(system).__name__}")
-    if not isinstance(integrator, Semianalytic | DirectIntegrator):
-        raise TypeError(
-            f"`integrator` must be a duhamel integrator such as duhamel.Semianalytic() or "
-            f"duhamel.Newmark(), got {type(integrator).__name__}"
-        )
 
 
 def prepare(
@@ -370,7 +344,7 @@ def prepare(
     >>> bool(np.array_equal(a.x, b.x))
     True
     """
-    _checked(system, integrator)
+    checked_models(system, integrator)
     dt = positive_float(dt, "dt")
     if threads is not None:
         threads = positive_int(threads, "threads")
@@ -392,6 +366,9 @@ def solve(
     progress: bool | Progress | None = None,
     store: str | os.PathLike[str] | Any = None,
     checkpoint_every: int | None = None,
+    events: Sequence[Event] | None = None,
+    t_eval: ArrayLike | None = None,
+    dense: bool = False,
 ) -> Solution:
     """Transient response of `system` from `t0` to `t_end` with a fixed step `dt`.
 
@@ -436,6 +413,15 @@ def solve(
         arrays from the store. Semi-analytic integrator only; needs ``duhamel[store]``.
     checkpoint_every : int, optional
         With `store`: write a checkpoint every this many segments (default 1).
+    events : list of duhamel.Event, optional
+        Zero crossings located inside their step (``sol.events``); a terminal one ends the
+        run at its instant (docs/events.md).
+    t_eval : array_like, optional
+        Return the response at these instants (increasing, within the run) instead of the
+        steps: exact on the linear routes, of the scheme's order otherwise.
+    dense : bool
+        Keep what ``sol.at(t)`` needs to evaluate the response between the steps.
+        `events`, `t_eval` and `dense` need ``save_every=1`` and no `store`.
 
     Returns
     -------
@@ -479,4 +465,5 @@ def solve(
     return prepared._run(
         t_end=t_end, t0=t0, x0=x0, v0=v0, loads=None, save_every=save_every, dofs=dofs,
         store=store, checkpoint_every=checkpoint_every, progress=progress, started=started,
+        events=events, t_eval=t_eval, dense=dense,
     )  # fmt: skip

@@ -9,9 +9,10 @@ use crate::arrays::vec_of;
 use crate::error::core_err;
 use crate::guard::guarded;
 
-/// Elastic spectra: `(sd, sv, sa)`, each flat `[record][damping][period]`.
+/// Elastic spectra: `(sd, sv, sa)`, each flat `[record][damping][period]`; with `exact`,
+/// the peaks between the samples too.
 #[pyfunction]
-#[pyo3(signature = (records, dts, periods, dampings, threads=None))]
+#[pyo3(signature = (records, dts, periods, dampings, threads=None, exact=false))]
 #[allow(clippy::type_complexity)]
 pub(crate) fn elastic_spectra<'py>(
     py: Python<'py>,
@@ -20,6 +21,7 @@ pub(crate) fn elastic_spectra<'py>(
     periods: &Bound<'py, PyAny>,
     dampings: &Bound<'py, PyAny>,
     threads: Option<usize>,
+    exact: bool,
 ) -> PyResult<(
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyArray1<f64>>,
@@ -38,7 +40,13 @@ pub(crate) fn elastic_spectra<'py>(
             .map(|(a, &dt)| Record { acc: a, dt })
             .collect();
         let peaks = py
-            .detach(|| spectra::elastic(&recs, &periods, &dampings, threads))
+            .detach(|| {
+                if exact {
+                    spectra::elastic_exact(&recs, &periods, &dampings, threads)
+                } else {
+                    spectra::elastic(&recs, &periods, &dampings, threads)
+                }
+            })
             .map_err(core_err)?;
         Ok((
             PyArray1::from_vec(py, peaks.sd),

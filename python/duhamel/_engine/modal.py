@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 
 from duhamel._engine import dispatch
 from duhamel._engine.correction import substeps
+from duhamel._engine.dense import ExactSteps, State
 from duhamel._engine.massless import load_terms
 from duhamel._engine.output import check_memory, physical
 from duhamel._engine.plan import Plan, mass, modal_loads, plan
@@ -133,6 +134,7 @@ class RunOptions:
     loads: list[Any] | None
     progress: bool | Progress | None
     started: float
+    dense: bool = False  # keep what the exact interpolant of a linear route needs
 
 
 def run(prep: ModalSetup, opts: RunOptions) -> Solution:
@@ -168,7 +170,54 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
             loop_start = _time.perf_counter()
             result = prep.model.run(spec, loads, out.maps, forcing, report)
             wall = _time.perf_counter() - loop_start
-    return solution(prep, result, out, patterns, opts, wall, base, sub)
+    sol = solution(prep, result, out, patterns, opts, wall, base, sub)
+    if opts.dense:
+        sol._exact = exact_steps(prep, loads, out, patterns, forcing, result)
+    return sol
+
+
+def exact_steps(
+    prep: ModalSetup,
+    loads: list[Any] | None,
+    out: Outputs,
+    patterns: NDArray[np.float64],
+    forcing: Any,
+    result: Any,
+) -> ExactSteps | None:
+    """The exact interpolant of a linear route's run (None on the other routes): one core
+    step of a fraction of ``dt`` from a saved state, with the run's loads."""
+    route = prep.route
+    if route.route not in ("uncoupled", "first-order") or route.elements:
+        return None
+    q, v, eta = result.q, result.v, result.eta
+    zeros = np.zeros(prep.n_modes)
+
+    def one_step(t_n: float, tau: float, n: int) -> Any:
+        grid = dispatch.grid(t_n, tau, 1, 1, 0, 1)
+        if eta is None:
+            state = (np.ascontiguousarray(q[n]), np.ascontiguousarray(v[n]))
+            spec = dispatch.run_spec(route, grid, state)
+        else:
+            spec = dispatch.run_spec(route, grid, (zeros, zeros), eta=eta[n])
+        return prep.model.run(spec, loads, out.maps, forcing, None)
+
+    def last_row(res: Any) -> tuple[State, dict[str, NDArray]]:
+        kept, x, vel, acc, hist = physical(res, route, out.phi_out, patterns)
+        if res.error is not None or kept < 2 or not callable(acc):
+            raise FloatingPointError(
+                "the response inside a step could not be computed (the one-step run from "
+                f"the saved state stopped: {res.error})"
+            )
+        row = {"load_values": hist.load_values[-1]}
+        if hist.forcing is not None:
+            row["forcing"] = hist.forcing[-1]
+        if eta is None:
+            row["q"], row["v"] = hist.q[-1], hist.v[-1]
+        else:
+            row["eta"] = hist._first_order[0][-1]
+        return (x[-1], vel[-1], acc()[-1]), row
+
+    return ExactSteps(one_step, last_row)
 
 
 def solution(

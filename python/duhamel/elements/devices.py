@@ -279,6 +279,10 @@ class LeadRubberBearing(TwoAxis, Element):
     def _dofs(self) -> tuple[int, ...]:
         return (int(self.dof_x),) if self.dof_y is None else (int(self.dof_x), int(self.dof_y))
 
+    def _passive(self) -> bool:
+        # the coupled Bouc-Wen loop dissipates for beta >= |gamma|, as the uniaxial one
+        return float(self.alpha) >= 0.0 and float(self.beta) >= abs(float(self.gamma))
+
     def _spec(self) -> tuple:
         return (
             "lead_rubber",

@@ -11,6 +11,7 @@ import numpy as np
 
 from duhamel.ensemble.run import solve_many
 from duhamel.errors import SolverError
+from duhamel.events import Event
 from duhamel.results.solution import Solution
 
 __all__ = ["IDA", "ida"]
@@ -20,13 +21,15 @@ __all__ = ["IDA", "ida"]
 class IDA:
     """Incremental dynamic analysis curves: ``measures[i, j]`` is the response measure of
     motion ``i`` scaled to intensity ``intensities[j]``; ``inf`` where the run collapsed (it
-    stopped with :class:`duhamel.SolverError`)."""
+    stopped with :class:`duhamel.SolverError`, or met the `collapse` event)."""
 
     intensities: np.ndarray
     measures: np.ndarray
     names: list[str]
     intensity: str
     factors: np.ndarray
+    #: With ``collapse=``: the instant each run met the collapse event (NaN: it did not).
+    collapse_times: np.ndarray | None = None
 
     def fractiles(self, q: Sequence[float] = (16, 50, 84)) -> np.ndarray:
         """Percentiles `q` of the measure over the motions at each intensity (collapses
@@ -62,6 +65,20 @@ def _scale_factor(motion: Any, intensity: str, period: float | None, damping: fl
     return float(response_spectrum(motion, [period], damping, threads=1).psa[0, 0, 0])
 
 
+@dataclass(frozen=True)
+class _Collapsed:
+    """The reduction of a run with a collapse event: ``(measure or inf, collapse time or
+    NaN)`` (picklable for a Dask cluster)."""
+
+    measure: Callable[[Solution], float]
+
+    def __call__(self, sol: Solution) -> tuple[float, float]:
+        stops = [o for o in sol.events if o.terminal]
+        if stops:
+            return np.inf, stops[0].time
+        return float(self.measure(sol)), np.nan
+
+
 def _ida_case(case: tuple[Any, Any, float]) -> Any:
     factory, motion, factor = case
     return factory(motion.scaled(factor))
@@ -80,6 +97,7 @@ def ida(
     dt: float | None = None,
     client: Any = None,
     workers: int | None = None,
+    collapse: Event | None = None,
 ) -> IDA:
     """Incremental dynamic analysis (Vamvatsikos and Cornell 2002): every motion scaled to
     every intensity, one run each, its response measure kept.
@@ -107,6 +125,11 @@ def ida(
         Step (default: each motion's sampling interval).
     client, workers
         As in :func:`solve_many` (a Dask cluster, or in-process threads).
+    collapse : duhamel.Event, optional
+        A terminal event that counts as collapse, e.g. ``duhamel.events.drift(i, j, 0.1,
+        height, terminal=True)``: a run that meets it ends there (located inside its step)
+        and its measure is ``inf``; ``collapse_times`` keeps when (docs/events.md). Runs
+        that fail with :class:`duhamel.SolverError` before it still count as collapsed.
 
     Returns
     -------
@@ -130,13 +153,30 @@ def ida(
     if np.any(unit <= 0):
         raise ValueError("a motion has zero intensity: it cannot be scaled")
     factors = ims[None, :] / unit[:, None]
-    rows = []
+    extra: dict[str, Any] = {}
+    if collapse is not None:
+        if not isinstance(collapse, Event) or not collapse.terminal:
+            raise ValueError(
+                "`collapse` must be a terminal duhamel.Event (e.g. duhamel.events.drift(i, j, "
+                f"limit, height, terminal=True)), got {collapse!r}"
+            )
+        extra = {"events": [collapse]}
+    reduce = measure if collapse is None else _Collapsed(measure)
+    rows, times = [], []
     for i, m in enumerate(motions):
         cases = [(system_factory, m, float(f)) for f in factors[i]]
         ens = solve_many(
-            _ida_case, cases, integ, t_end=m.duration, dt=dt or m.dt, reduce=measure,
-            client=client, workers=workers, on_error="keep",
+            _ida_case, cases, integ, t_end=m.duration, dt=dt or m.dt, reduce=reduce,
+            client=client, workers=workers, on_error="keep", **extra,
         )  # fmt: skip
-        rows.append([np.inf if isinstance(r, SolverError) else float(r) for r in ens.results])
+        if collapse is None:
+            rows.append([np.inf if isinstance(r, SolverError) else float(r) for r in ens.results])
+        else:
+            out = [(np.inf, np.nan) if isinstance(r, SolverError) else r for r in ens.results]
+            rows.append([float(r[0]) for r in out])
+            times.append([float(r[1]) for r in out])
     label = "PGA [m/s^2]" if intensity == "pga" else f"Sa(T = {period:g} s) [m/s^2]"
-    return IDA(ims, np.array(rows), [m.name for m in motions], label, factors)
+    return IDA(
+        ims, np.array(rows), [m.name for m in motions], label, factors,
+        None if collapse is None else np.array(times),
+    )  # fmt: skip

@@ -264,6 +264,10 @@ class Solution(StructuralOutputs):
         self.modal = modal
         self.stats = stats
         self.meta = {} if meta is None else meta
+        #: The located events (``solve(..., events=)``), in time order.
+        self.events: list[Any] = []
+        self._dense: Any = None  # the interpolant kept by a run with dense=True
+        self._exact: Any = None  # a linear route's fractional steps (dense runs)
 
     @cached_property
     def a(self) -> NDArray[np.float64]:
@@ -289,7 +293,49 @@ class Solution(StructuralOutputs):
                 state["_structure_source"] = self._structure()
             except ValueError:  # a model without one (time-varying mass): none kept
                 state["_structure_source"] = None
+        state["_dense"] = state["_exact"] = None  # they hold the core's model
         return state
+
+    def at(self, t: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Displacements and velocities of the output dofs at any instants of the run.
+
+        Exact on the linear routes (one fractional step of the core from the saved state),
+        a cubic Hermite interpolant of the scheme's order otherwise (docs/events.md). Needs
+        a run with ``dense=True``.
+
+        Parameters
+        ----------
+        t : float or array_like
+            Instants within the run.
+
+        Returns
+        -------
+        x, v : ndarray, shape (n_out,) or (len(t), n_out)
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> s = duhamel.System(np.eye(1), 4.0 * np.eye(1))
+        >>> sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=1.0, dt=0.1, x0=[1.0],
+        ...                     dense=True)
+        >>> x, v = sol.at(0.123)
+        >>> bool(abs(x[0] - np.cos(0.246)) < 1e-14)
+        True
+        """
+        if self._dense is None:
+            raise ValueError(
+                "`Solution.at` needs what the run kept for it: run with dense=True (and "
+                "save_every=1)"
+            )
+        times = np.asarray(t, dtype=np.float64)
+        flat = np.atleast_1d(times).ravel()
+        lo, hi = float(self._dense.t[0]), self._dense.end
+        if flat.size and not (np.all(np.isfinite(flat)) and flat.min() >= lo and flat.max() <= hi):
+            raise ValueError(f"`t` must lie within the run, [{lo:g}, {hi:g}]")
+        x, v, _ = self._dense.at(flat)
+        if times.ndim == 0:
+            return x[0], v[0]
+        return x, v
 
     @property
     def a_absolute(self) -> NDArray[np.float64]:

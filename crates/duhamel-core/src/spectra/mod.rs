@@ -9,6 +9,8 @@
 //!   for records x dampings x periods, in parallel, several oscillators per pass over a record
 //!   ([`elastic::LANES`]: independent recurrences interleaved, so the loop is bound by
 //!   throughput, not by the latency of one recurrence);
+//! * [`exact`]: the same spectra with the true peaks between the samples (where the
+//!   derivative of each quantity vanishes inside a step);
 //! * [`rotd`]: the peak displacement of two horizontal components rotated through a set of
 //!   angles (RotD50/RotD100 in Boore 2010's definition are its percentiles);
 //! * [`inelastic`]: the bilinear oscillator's peak displacement for a yield strength, and the
@@ -16,10 +18,13 @@
 
 mod common;
 pub mod elastic;
+pub mod exact;
 pub mod inelastic;
+mod inside;
 pub mod rotd;
 
 pub use common::Record;
 pub use elastic::{elastic, Peaks};
+pub use exact::elastic_exact;
 pub use inelastic::{ductility_spectrum, Bilinear};
 pub use rotd::rotd;

@@ -1,0 +1,361 @@
+//! Exact peaks of elastic response spectra: the largest `|x|`, `|x'|` and `|2 zeta omega x' +
+//! omega^2 x|` of each oscillator over the whole piecewise-linear record, between the samples
+//! too, not only at them.
+//!
+//! Inside a step under the linear load `p0 + r s`, every one of the three quantities `f` has
+//! a derivative of the form `g(s) = exp(-sigma s) (P cos(wd s) + Q sin(wd s)) + K` (`wd` the
+//! damped frequency): `x' `, `x''` and `omega^2 x' + 2 zeta omega x''`. An interior extremum
+//! of `f` is a root of `g`; the zeros of `g'` (closed form) split the step into pieces on which
+//! `g` is monotone, each with at most one root, found by a safeguarded Newton iteration; `f`
+//! there is then evaluated with the oscillator's exact step matrices over the fraction of the
+//! step. Steps are searched only when a bound says an interior value may exceed the running
+//! peak: `|f| <= max(|f0|, |f1|) + h^2/8 max|f''|`, and `|f''|` is bounded by the amplitude of
+//! `x''` (a damped sinusoid under a linear load) times 1, `omega` or `omega^2 + 2 zeta omega^2`.
+//! Underdamped oscillators (`zeta < 1`) only.
+
+use super::common::{check, map_tasks, Record, Step};
+use super::elastic::{Peaks, LANES};
+use super::inside::{Osc, Search};
+use crate::error::CoreError;
+
+/// The lanes' transition matrices, entry by entry.
+fn transpose_a(steps: &[Step; LANES]) -> [[[f64; LANES]; 2]; 2] {
+    let mut a = [[[0.0; LANES]; 2]; 2];
+    for (r, row) in a.iter_mut().enumerate() {
+        for (q, cell) in row.iter_mut().enumerate() {
+            for (l, s) in steps.iter().enumerate() {
+                cell[l] = s.a[r][q];
+            }
+        }
+    }
+    a
+}
+
+/// The lanes' load vectors: `(b0 x, b0 v, b1 x, b1 v)`.
+#[allow(clippy::type_complexity)]
+fn transpose_b(steps: &[Step; LANES]) -> ([f64; LANES], [f64; LANES], [f64; LANES], [f64; LANES]) {
+    let mut b = ([0.0; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
+    for (l, s) in steps.iter().enumerate() {
+        b.0[l] = s.b0[0];
+        b.1[l] = s.b0[1];
+        b.2[l] = s.b1[0];
+        b.3[l] = s.b1[1];
+    }
+    b
+}
+
+/// Per lane, the constants of the bounds.
+#[derive(Clone, Copy, Default)]
+struct Bound {
+    k: f64,
+    c: f64,
+    sigma: f64,
+    inv_wd: f64,
+    inv_k: f64,
+    /// `|f''|` against the amplitude of `x''`: `omega` for `x'`, `omega^2 + c omega` for
+    /// `k x + c x'`.
+    f1: f64,
+    f2: f64,
+}
+
+impl Bound {
+    fn new(o: &Osc) -> Self {
+        let inv = |y: f64| if y > 0.0 { 1.0 / y } else { 0.0 };
+        Bound {
+            k: o.k,
+            c: o.c,
+            sigma: o.sigma,
+            inv_wd: inv(o.wd),
+            inv_k: inv(o.k),
+            f1: o.omega,
+            f2: o.k + o.c * o.omega,
+        }
+    }
+
+    /// Whether `x`, `x'`, `k x + c x'` may exceed their peaks `pk` inside the step from
+    /// `(x0, v0)` to `(xn, vn)` under `p0 + r s`: two bounds of each, the smaller counts —
+    /// the ends' values plus `h^2/8` (`h2`: its square, with a margin) times the bound of the
+    /// second derivative (tight for long periods), and the particular part's (linear) ends
+    /// plus the amplitude of the free, damped sinusoidal part (tight for short periods).
+    /// Branch-free (`&`, `|`), so the lanes' loop vectorises.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn flags(
+        &self,
+        h: f64,
+        h2: f64,
+        x0: f64,
+        v0: f64,
+        xn: f64,
+        vn: f64,
+        p0: f64,
+        r: f64,
+        pk: [f64; 3],
+    ) -> [bool; 3] {
+        let (k, c, sigma, iw, ik) = (self.k, self.c, self.sigma, self.inv_wd, self.inv_k);
+        let s0 = k.mul_add(x0, c * v0);
+        let s1 = k.mul_add(xn, c * vn);
+        let a0 = p0 - c * v0 - k * x0;
+        let q = (r - c * a0 - k * v0 + sigma * a0) * iw;
+        let amp2 = a0.mul_add(a0, q * q) * h2;
+        let vp = r * ik;
+        let xp0 = (p0 - c * vp) * ik;
+        let xp1 = xp0 + vp * h;
+        let cx = x0 - xp0;
+        let dx = (v0 - vp + sigma * cx) * iw;
+        let pv = v0 - vp;
+        let qv = (a0 + sigma * pv) * iw;
+        let (ps, qs) = (k.mul_add(cx, c * pv), k.mul_add(dx, c * qv));
+        let sp = c * vp;
+        let over = |top: f64, peak: f64, f: f64| {
+            let gap = peak - top;
+            (gap <= 0.0) | (amp2 * f * f > gap * gap)
+        };
+        // The margin covers the rounding of the decomposition.
+        let free = |top: f64, peak: f64, r2: f64| {
+            let gap = peak * (1.0 - 1e-9) - top;
+            (gap <= 0.0) | (r2 > gap * gap)
+        };
+        let big = |a: f64, b: f64| larger(a.abs(), b.abs());
+        [
+            over(big(x0, xn), pk[0], 1.0) & free(big(xp0, xp1), pk[0], cx.mul_add(cx, dx * dx)),
+            over(big(v0, vn), pk[1], self.f1) & free(vp.abs(), pk[1], pv.mul_add(pv, qv * qv)),
+            over(big(s0, s1), pk[2], self.f2)
+                & free(
+                    big(k * xp0 + sp, k * xp1 + sp),
+                    pk[2],
+                    ps.mul_add(ps, qs * qs),
+                ),
+        ]
+    }
+}
+
+/// `max(m, y)` without `f64::max`'s NaN rule (a NaN is caught by the final check).
+#[inline(always)]
+fn larger(m: f64, y: f64) -> f64 {
+    if y > m {
+        y
+    } else {
+        m
+    }
+}
+
+/// `min(m, y)` as a select (see [`larger`]).
+#[inline(always)]
+fn smaller(m: f64, y: f64) -> f64 {
+    if y < m {
+        y
+    } else {
+        m
+    }
+}
+
+/// Exact peaks `[sd, sv, sa]` of the lanes `o` (`None`: a padding lane, at rest) over
+/// `acc`, and whether the final states are finite.
+///
+/// The step and the bounds run over all lanes branch-free (they vectorise, as the sampled
+/// spectra's loop); the search runs for the lanes whose bound may exceed their peak.
+fn run(
+    acc: &[f64],
+    h: f64,
+    o: &[Option<Osc>; LANES],
+    steps: &[Step; LANES],
+) -> ([[f64; 3]; LANES], bool) {
+    let [[a00, a01], [a10, a11]] = transpose_a(steps);
+    let (b0x, b0v, b1x, b1v) = transpose_b(steps);
+    let mut bound = [Bound::default(); LANES];
+    for (b, ol) in bound.iter_mut().zip(o) {
+        if let Some(ol) = ol {
+            *b = Bound::new(ol);
+        }
+    }
+    // The bounds' constants lane by lane (structure of arrays: the loop vectorises).
+    let lane = |f: fn(&Bound) -> f64| -> [f64; LANES] {
+        let mut out = [0.0; LANES];
+        for (y, b) in out.iter_mut().zip(&bound) {
+            *y = f(b);
+        }
+        out
+    };
+    let (k, c, sigma) = (lane(|b| b.k), lane(|b| b.c), lane(|b| b.sigma));
+    let (iw, ik) = (lane(|b| b.inv_wd), lane(|b| b.inv_k));
+    let (f1, f2) = (lane(|b| b.f1), lane(|b| b.f2));
+    let h2 = (h * h / 8.0 * (1.0 + 1e-9)).powi(2);
+    let (mut x, mut v) = ([0.0; LANES], [0.0; LANES]);
+    let (mut px, mut pv, mut pa) = ([0.0f64; LANES], [0.0f64; LANES], [0.0f64; LANES]);
+    let mut search = Search::new();
+    let mut p0 = -acc[0];
+    for &next in &acc[1..] {
+        let p1 = -next;
+        let r = (p1 - p0) / h;
+        let (xs, vs) = (x, v);
+        let mut score = [0.0f64; LANES];
+        for l in 0..LANES {
+            let (x0, v0) = (xs[l], vs[l]);
+            let xn = a00[l].mul_add(x0, a01[l].mul_add(v0, b0x[l].mul_add(p0, b1x[l] * p1)));
+            let vn = a10[l].mul_add(x0, a11[l].mul_add(v0, b0v[l].mul_add(p0, b1v[l] * p1)));
+            px[l] = larger(px[l], xn.abs());
+            pv[l] = larger(pv[l], vn.abs());
+            pa[l] = larger(pa[l], k[l].mul_add(xn, c[l] * vn).abs());
+            // Bound::flags as one number per lane, >= 0 where a quantity may exceed its
+            // peak (min of its two bounds' excesses, max over the quantities): selects
+            // and arithmetic only, so the lanes' loop vectorises as the sampled one.
+            let (kl, cl, sl, iwl, ikl) = (k[l], c[l], sigma[l], iw[l], ik[l]);
+            let s0 = kl.mul_add(x0, cl * v0);
+            let s1 = kl.mul_add(xn, cl * vn);
+            let a0 = p0 - cl * v0 - kl * x0;
+            let q = (r - cl * a0 - kl * v0 + sl * a0) * iwl;
+            let amp2 = a0.mul_add(a0, q * q) * h2;
+            let vp = r * ikl;
+            let xp0 = (p0 - cl * vp) * ikl;
+            let xp1 = xp0 + vp * h;
+            let cx = x0 - xp0;
+            let dx = (v0 - vp + sl * cx) * iwl;
+            let pvl = v0 - vp;
+            let qv = (a0 + sl * pvl) * iwl;
+            let (ps, qs) = (kl.mul_add(cx, cl * pvl), kl.mul_add(dx, cl * qv));
+            let sp = cl * vp;
+            let excess = |gap: f64, r2: f64| r2 - gap * gap.abs();
+            let big = |a: f64, b: f64| larger(a.abs(), b.abs());
+            let ex = smaller(
+                excess(px[l] - big(x0, xn), amp2),
+                excess(
+                    px[l] * (1.0 - 1e-9) - big(xp0, xp1),
+                    cx.mul_add(cx, dx * dx),
+                ),
+            );
+            let ev = smaller(
+                excess(pv[l] - big(v0, vn), amp2 * f1[l] * f1[l]),
+                excess(pv[l] * (1.0 - 1e-9) - vp.abs(), pvl.mul_add(pvl, qv * qv)),
+            );
+            let es = smaller(
+                excess(pa[l] - big(s0, s1), amp2 * f2[l] * f2[l]),
+                excess(
+                    pa[l] * (1.0 - 1e-9) - big(kl * xp0 + sp, kl * xp1 + sp),
+                    ps.mul_add(ps, qs * qs),
+                ),
+            );
+            score[l] = larger(ex, larger(ev, es));
+            x[l] = xn;
+            v[l] = vn;
+        }
+        if score.iter().fold(f64::NEG_INFINITY, |m, y| larger(m, *y)) >= 0.0 {
+            for l in 0..LANES {
+                if let (Some(ol), true) = (&o[l], score[l] >= 0.0) {
+                    let mut pk = [px[l], pv[l], pa[l]];
+                    let f = bound[l].flags(h, h2, xs[l], vs[l], x[l], v[l], p0, r, pk);
+                    search.step(ol, h, (xs[l], vs[l]), (x[l], v[l]), (p0, p1), f, &mut pk);
+                    [px[l], pv[l], pa[l]] = pk;
+                }
+            }
+        }
+        p0 = p1;
+    }
+    let mut peak = [[0.0; 3]; LANES];
+    for (l, pk) in peak.iter_mut().enumerate() {
+        *pk = [px[l], pv[l], pa[l]];
+    }
+    let finite = x
+        .iter()
+        .chain(&v)
+        .chain(peak.iter().flatten())
+        .all(|y| y.is_finite());
+    (peak, finite)
+}
+
+/// Elastic spectra with exact peaks (see the module docstring); the arguments, layout and
+/// errors of [`super::elastic::elastic`], and an error for a damping ratio `>= 1`.
+pub fn elastic_exact(
+    records: &[Record],
+    periods: &[f64],
+    dampings: &[f64],
+    threads: Option<usize>,
+) -> Result<Peaks, CoreError> {
+    check(records, periods, dampings)?;
+    if let Some(&z) = dampings.iter().find(|z| **z >= 1.0) {
+        return Err(CoreError::InvalidInput {
+            name: "damping",
+            problem: format!("must be < 1 for exact peaks (underdamped oscillators), got {z}"),
+        });
+    }
+    let (nr, nd, np) = (records.len(), dampings.len(), periods.len());
+    let chunks = np.div_ceil(LANES);
+    let tasks: Vec<(usize, usize, usize)> = (0..nr)
+        .flat_map(|r| (0..nd).flat_map(move |d| (0..chunks).map(move |c| (r, d, c))))
+        .collect();
+    let task = |&(r, d, c): &(usize, usize, usize)| -> Result<Vec<[f64; 3]>, CoreError> {
+        let rec = records[r];
+        let zeta = dampings[d];
+        let span = &periods[c * LANES..np.min((c + 1) * LANES)];
+        let mut osc = [None; LANES];
+        let mut steps = [Step::default(); LANES];
+        for (l, &t) in span.iter().enumerate() {
+            if t > 0.0 {
+                let omega = 2.0 * std::f64::consts::PI / t;
+                steps[l] = Step::new(omega, zeta, rec.dt)?;
+                osc[l] = Some(Osc::new(omega, zeta));
+            }
+        }
+        let (peak, finite) = run(rec.acc, rec.dt, &osc, &steps);
+        if !finite {
+            return Err(CoreError::InvalidInput {
+                name: "motions",
+                problem: format!(
+                    "record {r}: the oscillator response overflows (damping {zeta}, periods \
+                     {span:?}); check the record's units and values"
+                ),
+            });
+        }
+        let pga = rec.acc.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+        Ok(span
+            .iter()
+            .enumerate()
+            .map(|(l, &t)| if t > 0.0 { peak[l] } else { [0.0, 0.0, pga] })
+            .collect())
+    };
+    let results = map_tasks(threads, &tasks, task)?;
+    let mut out = Peaks {
+        sd: Vec::with_capacity(nr * nd * np),
+        sv: Vec::with_capacity(nr * nd * np),
+        sa: Vec::with_capacity(nr * nd * np),
+    };
+    for chunk in results.iter().flatten() {
+        out.sd.push(chunk[0]);
+        out.sv.push(chunk[1]);
+        out.sa.push(chunk[2]);
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Undamped oscillator under a constant acceleration `-g0` from rest: `x = -(g0 /
+    /// omega^2)(1 - cos omega t)`, whose peak `2 g0 / omega^2` falls between samples.
+    #[test]
+    fn constant_record_peak_between_samples() {
+        let acc = vec![1.5; 301];
+        let rec = [Record {
+            acc: &acc,
+            dt: 0.01,
+        }];
+        let periods = [0.0, 0.0137, 0.05, 0.33, 1.1];
+        let p = elastic_exact(&rec, &periods, &[0.0], Some(1)).unwrap();
+        for (i, &t) in periods.iter().enumerate().skip(1) {
+            let w = 2.0 * std::f64::consts::PI / t;
+            let sd = 2.0 * 1.5 / (w * w);
+            assert!(
+                (p.sd[i] - sd).abs() <= 1e-12 * sd,
+                "T = {t}: {} vs {sd}",
+                p.sd[i]
+            );
+            // |x'| peaks at 1.5 / omega, |omega^2 x| at 2 * 1.5.
+            assert!((p.sv[i] - 1.5 / w).abs() <= 1e-12 * 1.5 / w, "T = {t}");
+            assert!((p.sa[i] - 3.0).abs() <= 1e-12 * 3.0, "T = {t}");
+        }
+        assert_eq!((p.sd[0], p.sv[0], p.sa[0]), (0.0, 0.0, 1.5));
+        let e = elastic_exact(&rec, &periods, &[1.0], Some(1)).unwrap_err();
+        assert!(e.to_string().contains("damping"), "{e}");
+    }
+}

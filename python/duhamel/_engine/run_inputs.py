@@ -1,0 +1,67 @@
+"""The inputs of a prepared run (:mod:`duhamel.prepared`), checked: the model and the
+integrator, a run's own loads, what a streamed run supports."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from duhamel._engine.labels import resolve_fields
+from duhamel.integrators import DirectIntegrator, Semianalytic
+from duhamel.loads import Load
+from duhamel.system import System
+
+__all__ = ["checked_loads", "checked_models", "massless_store_check"]
+
+
+def massless_store_check(system: System) -> None:
+    """Refuses a streamed run of a model whose massless dofs carry loads or elements: the
+    store does not yet add their static part (in-memory runs do)."""
+    c = system._condensation
+    if c is None:
+        return
+    from duhamel.loads import Callable
+
+    touched = bool(system.elements) or any(
+        isinstance(load, Callable) or any(np.any(p[c.s]) for p, _, _ in load._specs(system))
+        for load in system.loads
+    )
+    if touched:
+        raise ValueError(
+            "`store`: a streamed run does not yet support loads or elements at massless dofs "
+            f"(dofs {c.s.tolist()[:8]}...); run without `store`"
+        )
+
+
+def checked_loads(loads: Any, system: System) -> list[Load]:
+    """A run's `loads`, each checked against `system`."""
+    if isinstance(loads, Load) or not isinstance(loads, list | tuple):
+        raise TypeError(
+            f"`loads` must be a list of duhamel.loads loads (or None for the system's own), "
+            f"got {type(loads).__name__}"
+        )
+    loads = [resolve_fields(system, load) for load in loads]
+    for i, load in enumerate(loads):
+        if not isinstance(load, Load):
+            raise TypeError(
+                f"`loads[{i}]` must be a duhamel.loads load (Step, Harmonic, Tabulated, "
+                f"BaseAcceleration, Unbalance, Callable), got {type(load).__name__}"
+            )
+        try:
+            load._validate(system)
+        except (TypeError, ValueError) as exc:
+            exc.add_note(f"in `loads[{i}]` ({type(load).__name__}) of Prepared.run")
+            raise
+    return list(loads)
+
+
+def checked_models(system: Any, integrator: Any) -> None:
+    """Refuses a `system` that is not a System and an `integrator` that is not one of duhamel's."""
+    if not isinstance(system, System):
+        raise TypeError(f"`system` must be a duhamel.System, got {type(system).__name__}")
+    if not isinstance(integrator, Semianalytic | DirectIntegrator):
+        raise TypeError(
+            f"`integrator` must be a duhamel integrator such as duhamel.Semianalytic() or "
+            f"duhamel.Newmark(), got {type(integrator).__name__}"
+        )
