@@ -26,7 +26,7 @@ Examples
 
 from __future__ import annotations
 
-from duhamel.ensemble.ida import IDA, ida
+from duhamel.ensemble.ida import IDA, fractiles, ida
 from duhamel.ensemble.run import Ensemble, solve_many
 
-__all__ = ["IDA", "Ensemble", "ida", "solve_many"]
+__all__ = ["IDA", "Ensemble", "fractiles", "ida", "solve_many"]
