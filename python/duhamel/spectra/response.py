@@ -12,7 +12,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel import _core
-from duhamel._engine.validate import as_float_array
+from duhamel._engine.output import _physical_memory
+from duhamel._engine.validate import as_float_array, finite_float, positive_int
 from duhamel.records.motion import G, GroundMotion
 
 __all__ = [
@@ -70,6 +71,23 @@ def _motions(motions: Motions) -> list[GroundMotion]:
     return [_motion(motions)]
 
 
+#: The shortest positive period (s) of a spectrum: below it ``omega^2`` approaches the
+#: double range (``psa = omega^2 sd`` would be ``inf * 0``); period 0 is the rigid oscillator.
+MIN_PERIOD = 1e-100
+#: The shortest period of a ductility spectrum, relative to the record's step: below it
+#: ``omega dt`` exceeds 6e12 and locating the yield events within a step costs without end.
+RIGID_RATIO = 1e-12
+#: Most directions of a RotD spectrum (a 0.0018-degree step).
+MAX_ANGLES = 100_000
+#: Most worker threads (as `threads` of duhamel.solve).
+MAX_THREADS = 1024
+
+
+def _threads(threads: Any) -> int | None:
+    """`threads` checked as :func:`duhamel.solve` checks it: None or an int in [1, 1024]."""
+    return None if threads is None else positive_int(threads, "threads", MAX_THREADS)
+
+
 def _periods(periods: ArrayLike, positive: bool = False) -> NDArray[np.float64]:
     p = as_float_array(periods, "periods")
     p = np.atleast_1d(p)
@@ -78,6 +96,13 @@ def _periods(periods: ArrayLike, positive: bool = False) -> NDArray[np.float64]:
     if np.any(p < 0.0) or (positive and np.any(p == 0.0)):
         bound = "> 0" if positive else ">= 0"
         raise ValueError(f"`periods` must be {bound} (s), got {p.min()}")
+    tiny = p[(p > 0.0) & (p < MIN_PERIOD)]
+    if tiny.size:
+        rigid = "" if positive else "; use 0 for the rigid oscillator"
+        raise ValueError(
+            f"`periods` must be 0 or at least {MIN_PERIOD:g} s (omega^2 would leave the double "
+            f"range), got {tiny[0]!r}{rigid}"
+        )
     return p
 
 
@@ -164,11 +189,19 @@ def response_spectrum(
     damping : float or array_like, optional
         Damping ratio(s), >= 0 (default 0.05).
     threads : int, optional
-        Worker threads (default: all cores).
+        Worker threads, 1 to 1024 (default: all cores), checked as by :func:`duhamel.solve`.
 
     Returns
     -------
     ResponseSpectrum
+
+    Raises
+    ------
+    TypeError
+        A parameter of the wrong kind (`threads` not an int, a complex record...).
+    ValueError
+        Negative periods or periods in ``(0, 1e-100)`` s, negative damping, non-uniform
+        times, a response beyond the double range (the message names the period).
         Arrays of shape ``(n_motions, n_dampings, n_periods)`` whatever was passed.
 
     Examples
@@ -182,6 +215,7 @@ def response_spectrum(
     """
     ms = _motions(motions)
     p, z = _periods(periods), _dampings(damping)
+    threads = _threads(threads)
     sd, sv, sa = _core.elastic_spectra([m.a for m in ms], [m.dt for m in ms], p, z, threads)
     shape = (len(ms), z.size, p.size)
     return ResponseSpectrum(
@@ -240,7 +274,8 @@ def rotd(
     damping : float or array_like, optional
         Damping ratio(s) (default 0.05).
     n_angles : int, optional
-        Directions over 180 degrees (default 180: 1-degree steps).
+        Directions over 180 degrees, 1 to 100,000 (default 180: 1-degree steps); refused
+        when their peaks would not fit in memory.
     threads : int, optional
         Worker threads (default: all cores).
 
@@ -266,10 +301,17 @@ def rotd(
     q = np.atleast_1d(as_float_array(percentiles, "percentiles"))
     if q.ndim != 1 or np.any((q < 0) | (q > 100)):
         raise ValueError(f"`percentiles` must be in [0, 100], got {percentiles}")
-    if int(n_angles) < 1:
-        raise ValueError(f"`n_angles` must be >= 1, got {n_angles}")
-    peaks = _core.rotd_peaks((a1, a2), m1.dt, p, z, int(n_angles), threads)
-    peaks = peaks.reshape(z.size, p.size, int(n_angles))
+    n_angles = positive_int(n_angles, "n_angles", MAX_ANGLES)
+    threads = _threads(threads)
+    # the peaks, their sorted copy for the percentiles and the angles' cosines and sines
+    need = 8.0 * (2 * z.size * p.size + 2) * n_angles
+    if need > _physical_memory():
+        raise ValueError(
+            f"`n_angles` = {n_angles:,} directions of {z.size * p.size:,} oscillators need "
+            f"{need / 2**30:.3g} GiB, more than the machine's memory: take fewer directions"
+        )
+    peaks = _core.rotd_peaks((a1, a2), m1.dt, p, z, n_angles, threads)
+    peaks = peaks.reshape(z.size, p.size, n_angles)
     sd = np.moveaxis(np.percentile(peaks, q, axis=2), 0, 1)  # (damping, percentile, period)
     return RotDSpectrum(p, z, q, sd, peaks)
 
@@ -341,7 +383,7 @@ def ductility_spectrum(
     ----------
     motions : GroundMotion, (t, a) pair, or list of them
     periods : array_like
-        Periods in s, > 0.
+        Periods in s, at least ``1e-12`` times each record's `dt`.
     ductility : array_like
         Target ductility factors, >= 1 (1 is the elastic spectrum).
     damping : float, optional
@@ -372,6 +414,22 @@ def ductility_spectrum(
     if np.ndim(damping) != 0:
         raise ValueError("`damping` must be one ratio for a ductility spectrum")
     zeta = float(_dampings(damping)[0])
+    alpha = finite_float(alpha, "alpha")
+    if not 0.0 <= alpha < 1.0:
+        raise ValueError(f"`alpha` must be in [0, 1), got {alpha!r}")
+    threads = _threads(threads)
+    for i, m in enumerate(ms):
+        if p.min() < RIGID_RATIO * m.dt:
+            raise ValueError(
+                f"`periods` must be at least {RIGID_RATIO:g} dt = {RIGID_RATIO * m.dt:g} s for "
+                f"record {i} (shorter, the oscillator is rigid to double precision), got "
+                f"{p.min()!r}"
+            )
+        if not np.any(m.a):
+            raise ValueError(
+                f"`motions`: record {i} ({m.name!r}) is zero: no yield strength reaches a "
+                "ductility under it"
+            )
     uy = np.stack(
         [
             _core.ductility_spectrum(m.a, m.dt, p, (zeta, float(alpha)), mu, threads).reshape(
@@ -381,4 +439,11 @@ def ductility_spectrum(
         ]
     )
     el = response_spectrum(ms, p, zeta, threads=threads).sd[:, 0, :]
+    if not (np.all(np.isfinite(uy)) and np.all(uy > 0.0)):
+        bad = np.argwhere(~(np.isfinite(uy) & (uy > 0.0)))[0]
+        raise ValueError(
+            f"`motions`: no positive yield displacement found for record {bad[0]} at "
+            f"ductility {mu[bad[1]]:g} and period {p[bad[2]]:g} s (a response below the "
+            "double precision of the record's scale)"
+        )
     return DuctilitySpectrum(p, mu, zeta, float(alpha), uy, el, [m.name for m in ms])
