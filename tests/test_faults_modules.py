@@ -318,3 +318,75 @@ def test_old_store_format_is_refused_clearly(tmp_path: pathlib.Path) -> None:
     group.attrs["duhamel"] = {**record, "format": 1}
     with pytest.raises(StoreError, match=r"format 1.*reads format 2.*checksums"):
         resume(path)
+
+
+# -- exact references, analysis, rotors ------------------------------------------------------
+
+
+def test_exact_duffing_and_transition_matrix_at_extreme_parameters() -> None:
+    from duhamel import exact
+    from duhamel.analysis import exact_transition_matrix
+
+    with pytest.raises(ValueError, match=r"`b`.*`x0`.*double range"):
+        exact.duffing([0.0, 1.0], 1.0, 1e300, 1e300)
+    with pytest.raises(ValueError, match=r"`t`.*periods"):
+        exact.duffing([0.0, 1.0], 1.0, 1e300, 1e5)  # a phase no double resolves
+    # beyond b x0^2 = 1e308 with a resolvable phase: finite, and the scaled closed form
+    x, v = exact.duffing([0.0, 1e-150], 0.0, 1e300, 1e5)
+    assert np.all(np.isfinite(x)) and np.all(np.isfinite(v)) and x[0] == 1e5
+    # the scaled computation agrees with the plain one where both work
+    t = np.linspace(0.0, 3.0, 7)
+    xs, _ = exact.duffing(t, 2.0, 3.0, 0.7)
+    from scipy.integrate import solve_ivp
+
+    ref = solve_ivp(lambda _t, y: [y[1], -4.0 * y[0] - 3.0 * y[0] ** 3], (0, 3), [0.7, 0.0],
+                    t_eval=t, rtol=1e-12, atol=1e-14)  # fmt: skip
+    np.testing.assert_allclose(xs, ref.y[0], atol=1e-9)
+    s = duhamel.System([[1.0]], [[1.0]], zeta=-1000.0)
+    with pytest.raises(ValueError, match=r"`dt`.*overflows"):
+        exact_transition_matrix(s, dt=10.0)
+    assert np.all(np.isfinite(exact_transition_matrix(s, dt=0.1)))
+
+
+def test_journal_geometry_and_the_wall() -> None:
+    from duhamel.rotor import ShortJournalBearing
+    from duhamel.rotor.journal import JournalElement
+
+    extreme = ShortJournalBearing(0, 0.05, 1e100, 1e-100, 0.02)
+    with pytest.raises(ValueError, match=r"overflow.*`clearance`"):
+        extreme.coefficients([0.0, 0.0], speed=300.0)
+    b = ShortJournalBearing(0, 0.05, 0.02, 5e-5, 0.02)
+    for at in ([5e-5, 0.0], [0.0, -6e-5]):
+        with pytest.raises(ValueError, match=r"`position`.*wall"):
+            b.coefficients(at, speed=300.0)
+    # a run started at the wall stops with SolverError(reason="domain"), nothing kept
+    s = duhamel.System(np.eye(2), 1e3 * np.eye(2))
+    s.add(JournalElement(0, 1, 0.025, 0.02, 5e-5, 0.02, 300.0))
+    with pytest.raises(duhamel.SolverError) as err:
+        duhamel.solve(s, duhamel.Semianalytic(), t_end=0.1, dt=1e-3, x0=[5e-5, 0.0])
+    assert err.value.reason == "domain" and err.value.partial.x.shape == (0, 2)
+
+
+def _rotor() -> object:
+    from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft
+
+    return Rotor(
+        [Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
+        [Bearing(0, 1e7, 1e7, cxx=500.0, cyy=500.0), Bearing(4, 1e7, 1e7, cxx=500.0, cyy=500.0)],
+    )  # fmt: skip
+
+
+def test_critical_speeds_on_coarse_and_huge_grids() -> None:
+    rotor = _rotor()
+    fine = rotor.critical_speeds(np.linspace(0.0, 1000.0, 41))
+    assert fine.size == 1
+    wide = rotor.critical_speeds([0.0, 1e20])
+    assert np.min(np.abs(wide - fine[0])) <= 1e-9 * fine[0]  # not 0.0
+    back_fine = rotor.critical_speeds(np.linspace(0.0, 1000.0, 41), whirl="backward")
+    back = rotor.critical_speeds([0.0, 1000.0], whirl="backward")  # scipy's sign error before
+    np.testing.assert_allclose(back, back_fine, rtol=1e-9)
+    # the refined crossing is a crossing: a frequency there equals the speed
+    for w in back:
+        assert np.min(np.abs(rotor.modes(w).frequencies - w)) <= 1e-8 * w
+    with pytest.raises(TypeError, match="`harmonic`"):
+        rotor.critical_speeds([0.0, 1000.0], harmonic="1")
