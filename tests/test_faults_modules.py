@@ -390,3 +390,59 @@ def test_critical_speeds_on_coarse_and_huge_grids() -> None:
         assert np.min(np.abs(rotor.modes(w).frequencies - w)) <= 1e-8 * w
     with pytest.raises(TypeError, match="`harmonic`"):
         rotor.critical_speeds([0.0, 1000.0], harmonic="1")
+
+
+# -- Ctrl-C in the Rust loops of spectra and devices (a real SIGINT, in a subprocess) --------
+
+SIGINT_SPECTRA = """
+import json, os, signal, sys, threading, time
+import numpy as np
+import duhamel
+from duhamel.spectra import ductility_spectrum, response_spectrum, rotd
+
+what = sys.argv[1]
+rng = np.random.default_rng(0)
+t = np.arange(0.0, 4000.0, 0.005)  # 800,000 samples
+a = rng.standard_normal(t.size)
+periods = np.logspace(-2, 1, 4000)
+sent = {}
+
+def interrupt():
+    sent["t"] = time.perf_counter()
+    os.kill(os.getpid(), signal.SIGINT)
+
+threading.Timer(1.0, interrupt).start()
+start = time.perf_counter()
+try:
+    if what == "elastic":
+        response_spectrum((t, a), periods, [0.02, 0.05, 0.1])
+    elif what == "rotd":
+        rotd((t, a), (t, a[::-1].copy()), periods, n_angles=180)
+    elif what == "ductility":
+        ductility_spectrum((t[:20000], a[:20000]), periods, [2.0, 4.0])
+    else:
+        s = duhamel.System(np.eye(1), np.eye(1), zeta=0.05)
+        s.add(duhamel.elements.BoucWen(0, k=1.0, fy=0.1, n=1e6))
+        s.add_load(duhamel.loads.Harmonic(0, 5.0, omega=1.0))
+        duhamel.solve(s, duhamel.Semianalytic(), t_end=2e5, dt=0.01, save_every=1000)
+    out = {"raised": None, "total": time.perf_counter() - start}
+except KeyboardInterrupt:
+    now = time.perf_counter()
+    out = {"raised": "KeyboardInterrupt", "after_signal": now - sent["t"], "total": now - start}
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.parametrize("what", ["elastic", "rotd", "ductility", "boucwen"])
+def test_ctrl_c_stops_spectra_and_extreme_devices(what: str) -> None:
+    import subprocess
+    import sys
+
+    proc = subprocess.run(
+        [sys.executable, "-c", SIGINT_SPECTRA, what], capture_output=True, text=True, timeout=300
+    )
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout.strip().splitlines()[-1])
+    print(f"\n{what}: {out}")
+    assert out["raised"] == "KeyboardInterrupt", out
+    assert out["after_signal"] < 0.5

@@ -11,10 +11,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel import _core
 from duhamel._engine.output import _physical_memory
 from duhamel._engine.validate import as_float_array, finite_float, positive_int
 from duhamel.records.motion import G, GroundMotion
+from duhamel.spectra import _batches
 
 __all__ = [
     "DuctilitySpectrum",
@@ -216,11 +216,8 @@ def response_spectrum(
     ms = _motions(motions)
     p, z = _periods(periods), _dampings(damping)
     threads = _threads(threads)
-    sd, sv, sa = _core.elastic_spectra([m.a for m in ms], [m.dt for m in ms], p, z, threads)
-    shape = (len(ms), z.size, p.size)
-    return ResponseSpectrum(
-        p, z, sd.reshape(shape), sv.reshape(shape), sa.reshape(shape), [m.name for m in ms]
-    )
+    sd, sv, sa = _batches.elastic([m.a for m in ms], [m.dt for m in ms], p, z, threads)
+    return ResponseSpectrum(p, z, sd, sv, sa, [m.name for m in ms])
 
 
 @dataclass(frozen=True, eq=False)
@@ -310,8 +307,7 @@ def rotd(
             f"`n_angles` = {n_angles:,} directions of {z.size * p.size:,} oscillators need "
             f"{need / 2**30:.3g} GiB, more than the machine's memory: take fewer directions"
         )
-    peaks = _core.rotd_peaks((a1, a2), m1.dt, p, z, n_angles, threads)
-    peaks = peaks.reshape(z.size, p.size, n_angles)
+    peaks = _batches.rotd_peaks((a1, a2), m1.dt, p, z, n_angles, threads)
     sd = np.moveaxis(np.percentile(peaks, q, axis=2), 0, 1)  # (damping, percentile, period)
     return RotDSpectrum(p, z, q, sd, peaks)
 
@@ -430,14 +426,7 @@ def ductility_spectrum(
                 f"`motions`: record {i} ({m.name!r}) is zero: no yield strength reaches a "
                 "ductility under it"
             )
-    uy = np.stack(
-        [
-            _core.ductility_spectrum(m.a, m.dt, p, (zeta, float(alpha)), mu, threads).reshape(
-                mu.size, p.size
-            )
-            for m in ms
-        ]
-    )
+    uy = np.stack([_batches.ductility(m.a, m.dt, p, (zeta, alpha), mu, threads) for m in ms])
     el = response_spectrum(ms, p, zeta, threads=threads).sd[:, 0, :]
     if not (np.all(np.isfinite(uy)) and np.all(uy > 0.0)):
         bad = np.argwhere(~(np.isfinite(uy) & (uy > 0.0)))[0]
