@@ -259,8 +259,14 @@ class RotorAnalyses:
             raise ValueError(f"`whirl` must be 'forward', 'backward' or None, got {whirl!r}")
         h = positive_float(harmonic, "harmonic")
         grid = np.unique(as_float_array(speeds, "speeds"))
-        first = self.campbell(grid[:1], n_modes).frequencies[0]
-        diagram = self.campbell(_refined(grid, first, h), n_modes)
+        try:
+            first = self.campbell(grid[:1], n_modes).frequencies[0]
+            diagram = self.campbell(_refined(grid, first, h), n_modes)
+        except np.linalg.LinAlgError as exc:
+            raise ValueError(
+                f"`speeds`: the rotor's eigenproblem fails on this grid (up to {grid[-1]:g} "
+                f"rad/s, gyroscopic terms beyond the double range?): {exc}"
+            ) from None
         ws, freq = diagram.speeds, diagram.frequencies
         found = []
         for j in range(freq.shape[1]):
@@ -338,4 +344,11 @@ def _crossing(brentq: Any, branch: Any, a: float, b: float) -> float:
             )
         if branch(a) == 0.0:
             return a
-    return float(brentq(branch, a, b, xtol=1e-300, rtol=1e-14, maxiter=500))
+    root = float(brentq(branch, a, b, xtol=1e-300, rtol=1e-14, maxiter=500))
+    if abs(branch(root)) > 1e-8 * max(abs(root), 1.0):
+        raise ValueError(
+            f"`speeds`: between {a:g} and {b:g} rad/s the branch followed by its mode shape "
+            f"jumps from one mode to another (at {root:g} rad/s) instead of crossing the "
+            "excitation line; pass a finer grid of `speeds` there"
+        )
+    return root

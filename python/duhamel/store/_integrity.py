@@ -118,17 +118,28 @@ def fits(c: Checkpoint, grid: dict, width: int) -> bool:
 
 
 def checked_chunks(path: str, root: Any, grid: dict, rows: int) -> None:
+    """As :func:`_check_chunks`; any other failure to read the data arrays' metadata (a
+    damaged ``zarr.json``) is a damaged store too."""
+    try:
+        _check_chunks(path, root, grid, rows)
+    except StoreError:
+        raise
+    except Exception as exc:
+        raise damaged(path, f"its data arrays cannot be read ({type(exc).__name__}: {exc})") from None
+
+
+def _check_chunks(path: str, root: Any, grid: dict, rows: int) -> None:
     """Checks that every chunk of every data array holding one of the first `rows` rows is
     present and reads back with its CRC-32C intact; a StoreError naming the store, the array
     and the rows otherwise. Reads the committed data once, a chunk at a time."""
-    if rows == 0:
-        return
     chunk = grid["chunk_rows"]
     if "data" not in root:
+        if rows == 0:
+            return  # killed before its first segment: nothing committed
         raise damaged(path, "its 'data' group is missing")
     group = root["data"]
     for required in ("t", "x", "v", "a"):
-        if required not in group:
+        if rows and required not in group:
             raise damaged(path, f"the data array {required!r} is missing")
     for name in sorted(group.array_keys()):
         arr = group[name]

@@ -305,15 +305,14 @@ def _latest(group: Any, model: Model, grid: dict, path: str) -> Checkpoint:
     """The newest intact checkpoint that fits the grid (the start of the run when there is
     none); a StoreError naming the store when the data it commits is damaged."""
     found = []
-    if "checkpoints" in group:
-        slots = group["checkpoints"]
-        for name in ("0", "1"):
-            try:  # a slot that cannot be read is a damaged slot: the other one is used
-                c = unpack(slots[name][...]) if name in slots else None
-            except Exception:
-                c = None
-            if c is not None and fits(c, grid, model.initial_state().size):
-                found.append(c)
+    for name in ("0", "1"):
+        try:  # a slot that cannot be read is a damaged slot: the other one is used
+            slots = group["checkpoints"]
+            c = unpack(slots[name][...]) if name in slots else None
+        except Exception:
+            c = None
+        if c is not None and fits(c, grid, model.initial_state().size):
+            found.append(c)
     c = max(found, key=lambda k: k.seq) if found else _start(model)
     checked_chunks(path, group, grid, c.rows)
     return c
@@ -322,9 +321,16 @@ def _latest(group: Any, model: Model, grid: dict, path: str) -> Checkpoint:
 def _checkpoint(group: Any, c: Checkpoint) -> None:
     """Writes `c` into slot ``seq % 2`` (the other slot keeps the previous one)."""
     blob = pack(c)
-    slots = group.require_group("checkpoints")
+    try:
+        slots = group.require_group("checkpoints")
+    except Exception:  # its metadata damaged (no slot was readable): made anew
+        slots = group.create_group("checkpoints", overwrite=True)
     name = str(c.seq % 2)
-    if name not in slots or slots[name].shape != blob.shape:
+    try:
+        fresh = name not in slots or slots[name].shape != blob.shape
+    except Exception:  # a damaged slot (its metadata unreadable): written anew
+        fresh = True
+    if fresh:
         slots.create_array(
             name,
             shape=blob.shape,
