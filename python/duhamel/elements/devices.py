@@ -18,14 +18,14 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._engine.validate import finite_float
+from duhamel._engine.validate import _int_scalar, finite_float
 from duhamel.elements.base import Deformation, Element, TwoAxis, nonneg, pair_stiffness, positive
 
 __all__ = ["Bilinear", "BoucWen", "FrictionPendulum", "Gap", "ViscousDamper"]
 
 
 def _j(j: int | None) -> int | None:
-    return None if j is None else int(j)
+    return None if j is None else _int_scalar(j, "j")
 
 
 def _alpha(value: float) -> float:

@@ -125,7 +125,9 @@ def checked_chunks(path: str, root: Any, grid: dict, rows: int) -> None:
     except StoreError:
         raise
     except Exception as exc:
-        raise damaged(path, f"its data arrays cannot be read ({type(exc).__name__}: {exc})") from None
+        raise damaged(
+            path, f"its data arrays cannot be read ({type(exc).__name__}: {exc})"
+        ) from None
 
 
 def _check_chunks(path: str, root: Any, grid: dict, rows: int) -> None:
