@@ -2332,7 +2332,7 @@ def test_ida_fractiles_with_collapses(measures, q):
     for j in range(measures.shape[1]):
         if 0 < k[j] < n:
             for qi, value in zip(q, f[:, j], strict=True):
-                h = (n - 1) * qi / 100.0  # the position among the order statistics
+                h = (n - 1) * (qi / 100.0)  # the position among the order statistics
                 assert np.isinf(value) == (h > n - k[j] - 1), (qi, value, h)
 
 

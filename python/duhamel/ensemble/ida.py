@@ -83,13 +83,15 @@ def fractiles(values: np.ndarray, q: Sequence[float]) -> np.ndarray:
     if np.isnan(x).any() or np.isneginf(x).any():
         raise ValueError("the measures contain NaN or -inf: only collapses (+inf) are allowed")
     n = x.shape[0]
-    h = (n - 1) * qs / 100.0
+    h = (n - 1) * (qs / 100.0)  # numpy's virtual index, rounded as numpy rounds it
     lo = np.floor(h).astype(np.intp)
     hi = np.minimum(lo + 1, n - 1)
     frac = (h - lo)[:, None]
     x_lo, x_hi = x[lo], x[hi]
     with np.errstate(invalid="ignore"):
-        between = x_lo + frac * (x_hi - x_lo)
+        # numpy's lerp: from the nearer end (bit for bit np.percentile's 'linear')
+        diff = x_hi - x_lo
+        between = np.where(frac >= 0.5, x_hi - diff * (1.0 - frac), x_lo + diff * frac)
     return np.where(frac == 0.0, x_lo, np.where(np.isinf(x_hi), np.inf, between))
 
 
