@@ -54,10 +54,10 @@ Profiles
 --------
 ``DUHAMEL_HYPOTHESIS_PROFILE`` selects the hypothesis profile of this file:
 
-* ``ci`` (default): about 3,000 examples in all, ``derandomize=True`` and no example
+* ``ci`` (default): about 3,750 examples in all, ``derandomize=True`` and no example
   database, so every run (CI included) tries the same examples; under a minute on two
   cores.
-* ``long``: about 50,000 examples, random (a failure prints the ``@reproduce_failure``
+* ``long``: about 61,000 examples, random (a failure prints the ``@reproduce_failure``
   blob to replay it): ``DUHAMEL_HYPOTHESIS_PROFILE=long pytest tests/test_properties.py``.
 
 Every example runs under a time guard: a soft limit (``SIGALRM``, an error naming the
@@ -98,7 +98,8 @@ from duhamel.oscillator import transfer_matrices, transfer_moments
 # Profiles and time guard
 # --------------------------------------------------------------------------------------------
 
-#: Examples per unit of test weight; the weights below add up to 33.5.
+#: Examples per unit of test weight; the weights below add up to 41.7 (8.2 of them for the
+#: modules of issue 24: records, spectra, devices, ensembles, stores, rotors).
 _UNIT = {"ci": 90, "long": 1470}
 _PROFILE = os.environ.get("DUHAMEL_HYPOTHESIS_PROFILE", "ci")
 if _PROFILE not in _UNIT:
@@ -153,6 +154,11 @@ DEFECTS = {
     "D12": "CentralDifference with a mass law that decays to 0 over the run leaks "
     "ZeroDivisionError (stability limit: K / mu_min) instead of the other integrators' "
     "ValueError('`mass law` reaches 0')",
+    "D13": "a store whose checkpoint slot's zarr.json is damaged leaks JSONDecodeError or "
+    "UnicodeDecodeError from resume (the slot is now treated as damaged and written anew)",
+    "D14": "Rotor.critical_speeds on a grid reaching 1e300 rad/s leaks LinAlgError",
+    "D15": "Rotor.critical_speeds(harmonic=2) on [0, 1e6] returns a speed where the followed "
+    "branch jumps between modes as a crossing (|f - 2 w| = 585 rad/s there)",
 }
 
 
@@ -2040,3 +2046,455 @@ def test_former_defect(case):
 
 if __name__ == "__main__":  # pragma: no cover
     sys.exit(pytest.main([__file__, "-q"]))
+
+
+# --------------------------------------------------------------------------------------------
+# The modules beyond solve (issue 24): records, spectra, devices, ensembles, stores, rotors
+# --------------------------------------------------------------------------------------------
+
+import pathlib  # noqa: E402
+import shutil  # noqa: E402
+import tempfile  # noqa: E402
+
+from duhamel.records import GroundMotion, read_at2, read_text  # noqa: E402
+from duhamel.spectra import ductility_spectrum, response_spectrum, rotd  # noqa: E402
+
+#: Files and stores the properties below write (one directory per process).
+_SCRATCH = pathlib.Path(tempfile.mkdtemp(prefix="duhamel-properties-"))
+
+#: Header DT fields: good (Fortran D and E exponents), and damaged.
+_DT_TOKENS = ["0.005", ".0050", "5.0D-03", "5.0d-3", "5E-3", "0", "-0.01", "1D999", "nan", "",
+              "x", "0.0.1", "+.5", "1e-320", "1e308"]  # fmt: skip
+#: Data tokens: numbers of every form, and damaged ones.
+_VALUE_TOKENS = ["0.1", "-.2E-02", ".3D+01", "1e308", "1e999", "-1e-320", "5", "nan", "inf",
+                 "1,2", "--1", "1e", "abc", "\t", "1.0E+00-2.0E+00"]  # fmt: skip
+
+
+def _file(name: str, text: str) -> pathlib.Path:
+    p = _SCRATCH / name
+    p.write_text(text, encoding="latin-1")
+    return p
+
+
+def check_motion(gm: Any) -> None:
+    assert isinstance(gm, GroundMotion)
+    assert gm.dt > 0 and math.isfinite(gm.dt) and np.all(np.isfinite(gm.a)), gm
+    assert np.all(np.isfinite(gm.t)), gm
+    for name in ("pga", "pgv", "pgd", "arias_intensity"):
+        value = contract(lambda n=name: getattr(gm, n), (name, "overflows"))
+        if value is not None:
+            assert math.isfinite(value), (name, value)
+    if np.any(gm.a):
+        d = contract(gm.significant_duration, ("start", "end"))
+        assert d is not None and math.isfinite(d) and d >= 0.0, d
+
+
+@budget(1.0)
+@given(
+    dt=st.sampled_from(_DT_TOKENS),
+    npts=st.integers(-1, 12),
+    values=st.lists(st.sampled_from(_VALUE_TOKENS), max_size=12),
+    style=st.sampled_from(["new", "old", "broken"]),
+    units=st.sampled_from([None, "g", "G.", "furlongs", 3]),
+    lines=st.integers(0, 6),
+)
+def test_at2_files_read_or_refused_by_line(dt, npts, values, style, units, lines):
+    header = {
+        "new": f"NPTS= {npts}, DT= {dt} SEC",
+        "old": f"{npts} {dt} NPTS, DT",
+        "broken": f"NPTS {npts} DT {dt}",
+    }[style]
+    kind = f"ACCELERATION TIME SERIES IN UNITS OF {units or 'G'}"
+    text = "\n".join(["TITLE", "EVENT", kind, header, " ".join(values)][: max(lines, 0) or 5])
+    p = _file("prop.AT2", text)
+    gm = contract(lambda: read_at2(p, units=units if units != "G." else None), (str(p), "units"))
+    if gm is not None:
+        check_motion(gm)
+        assert gm.a.size == npts, (gm.a.size, npts)
+
+
+@budget(1.0)
+@given(
+    rows=st.lists(st.lists(st.sampled_from(_VALUE_TOKENS[:7]), min_size=1, max_size=3),
+                  max_size=6),
+    dt=st.one_of(st.none(), scalar(EXTREME.positives)),
+    time_column=st.one_of(st.none(), st.sampled_from([0, 1, -1, 1.5, True, 10**400])),
+    column=st.one_of(st.none(), st.sampled_from([0, 1, 2, -2, 0.5, "1"])),
+    skip_rows=st.sampled_from([0, 1, -3, 2.0, None, 10**30]),
+    flatten=st.sampled_from([False, True, "no", 0, None]),
+)  # fmt: skip
+def test_text_records_read_or_refused(rows, dt, time_column, column, skip_rows, flatten):
+    p = _file("prop.txt", "\n".join(" ".join(r) for r in rows))
+    gm = contract(
+        lambda: read_text(p, units="m/s^2", dt=dt, time_column=time_column, column=column,
+                          skip_rows=skip_rows, flatten=flatten),
+        (str(p),),
+    )  # fmt: skip
+    if gm is not None:
+        check_motion(gm)
+
+
+def _records(dom: Domain) -> st.SearchStrategy:
+    return st.builds(
+        lambda scale, a, dt: (dt * np.arange(a.size), scale * a),
+        dom.scales,
+        hnp.arrays(np.float64, st.integers(2, 40), elements=floats(-10.0, 10.0)),
+        st.sampled_from([1e-3, 0.005, 0.02, 0.1, 1.0]),
+    )
+
+
+def _spectrum_periods(dom: Domain) -> st.SearchStrategy:
+    return st.one_of(
+        st.lists(st.one_of(st.just(0.0), dom.positives, st.sampled_from([1e-300, 1e-100, 1e300])),
+                 min_size=1, max_size=3),
+        nasty_scalars,
+    )  # fmt: skip
+
+
+_THREADS = st.sampled_from([None, 1, 2, 0, -1, True, 1.5, 10**6, 2**64, "2"])
+
+
+@budget(1.0)
+@given(
+    rec=_records(EXTREME),
+    periods=_spectrum_periods(EXTREME),
+    damping=st.one_of(st.sampled_from([0.0, 0.05, 2.0, -0.1, [0.02, 0.1]]), nasty_scalars),
+    threads=_THREADS,
+)
+def test_response_spectra_finite_or_refused(rec, periods, damping, threads):
+    rs = contract(lambda: response_spectrum(rec, periods, damping, threads=threads),
+                  ("motions", "periods", "damping", "threads"))  # fmt: skip
+    if rs is not None:
+        for name in ("sd", "sv", "sa", "psv", "psa"):
+            value = getattr(rs, name)
+            assert np.all(np.isfinite(value)), (name, value)
+
+
+@budget(0.7)
+@given(
+    rec=_records(EXTREME),
+    periods=_spectrum_periods(ORDINARY),
+    n_angles=st.sampled_from([1, 2, 180, 0, -1, 1.5, 10**9, 10**5, True]),
+    percentiles=st.sampled_from([(50, 100), (0,), (101,), (-1, 50), "50"]),
+    threads=_THREADS,
+)
+def test_rotd_finite_or_refused(rec, periods, n_angles, percentiles, threads):
+    other = (rec[0], rec[1][::-1].copy())
+    names = ("motion_1", "motion_2", "periods", "percentiles", "n_angles", "threads")
+    r = contract(
+        lambda: rotd(rec, other, periods, percentiles, n_angles=n_angles, threads=threads), names
+    )
+    if r is not None:
+        assert np.all(np.isfinite(r.sd)) and np.all(np.isfinite(r.psa)), r.sd
+
+
+@budget(0.7)
+@given(
+    rec=_records(EXTREME),
+    periods=st.lists(st.one_of(ORDINARY.positives, st.sampled_from([1e-20, 1e-14, 1e3])),
+                     min_size=1, max_size=2),
+    ductility=st.sampled_from([[1.0], [2.0], [1.0, 4.0], [0.5], [1e6]]),
+    alpha=st.sampled_from([0.0, 0.1, 0.99, 1.0, -0.1, "0"]),
+    zero=st.booleans(),
+)  # fmt: skip
+def test_ductility_spectra_finite_or_refused(rec, periods, ductility, alpha, zero):
+    t, a = rec
+    ds = contract(
+        lambda: ductility_spectrum((t, 0.0 * a if zero else a), periods, ductility, alpha=alpha),
+        ("motions", "periods", "ductility", "alpha"),
+    )
+    if ds is not None:
+        for name in ("uy", "fy", "sd", "r"):
+            value = getattr(ds, name)
+            assert np.all(np.isfinite(value)) and np.all(value > 0), (name, value)
+
+
+@st.composite
+def devices(draw: Any, dom: Domain) -> Any:
+    """A device at extreme parameters (made under the contract: None if refused)."""
+    kind = draw(st.sampled_from(["boucwen", "friction", "viscous", "gap", "bilinear"]))
+    mag, pos = scalar(dom.magnitudes), scalar(dom.positives)
+    if kind == "boucwen":
+        n = draw(st.one_of(st.sampled_from([1.0, 1.5, 2.0, 17.0, 1e3, 1e6, 1e12, 0.5]), mag))
+        return construct(Call(("k", "fy", "alpha", "n", "beta", "gamma"), E.BoucWen, 0,
+                              k=draw(pos), fy=draw(pos), alpha=draw(st.sampled_from([0.0, 0.1])),
+                              n=n, beta=draw(st.sampled_from([0.5, 0.25, 0.9])),
+                              gamma=draw(st.sampled_from([0.5, 0.75, -0.2]))))  # fmt: skip
+    if kind == "friction":
+        return construct(Call(("radius", "mu", "weight", "yield_displacement"),
+                              E.FrictionPendulum, 0, 1, radius=draw(pos), mu=draw(mag),
+                              weight=draw(pos), yield_displacement=draw(pos)))  # fmt: skip
+    if kind == "viscous":
+        return construct(Call(("c", "exponent", "v0"), E.ViscousDamper, 0, c=draw(mag),
+                              exponent=draw(pos), v0=draw(pos)))  # fmt: skip
+    if kind == "gap":
+        return construct(Call(("gap", "k"), E.Gap, 0, gap=draw(mag), k=draw(pos)))
+    return construct(Call(("k", "fy", "alpha"), E.Bilinear, 0, k=draw(pos), fy=draw(pos),
+                          alpha=draw(st.sampled_from([0.0, 0.05]))))  # fmt: skip
+
+
+@budget(1.0)
+@given(device=devices(EXTREME), amplitude=EXTREME.magnitudes, dt=st.sampled_from([1e-3, 0.05]))
+def test_devices_at_extreme_parameters_run_or_refuse(device, amplitude, dt):
+    assume(device is not None)
+    s = duhamel.System(np.eye(2), np.diag([1.0, 2.0]), zeta=0.05)
+    s.add(device)
+    s.add_load(L.Harmonic(0, amplitude, omega=1.0))
+    run(s, duhamel.Semianalytic(), t_end=40 * dt, dt=dt)
+
+
+# -- ensembles with failing and odd make_system / reduce --------------------------------------
+
+
+def _odd_system(kind: str) -> Callable[[Any], Any]:
+    def make(p: Any) -> Any:
+        s = duhamel.System(np.eye(1), np.eye(1), zeta=0.05)
+        s.add_load(L.Harmonic(0, 1.0, omega=1.0))
+        if kind == "raises":
+            raise UserError("make_system failed")
+        if kind == "none":
+            return None
+        if kind == "options" and p > 1:
+            return s, {"x0": [float(p)]}
+        if kind == "bad-options":
+            return s, {"t_end": 3.0}
+        if kind == "diverges" and p > 1:
+            s.add(E.Cubic(0, -1e6))
+            return s, {"x0": [10.0]}
+        return s
+
+    return make
+
+
+def _odd_reduce(kind: str) -> Any:
+    return {
+        "none": None,
+        "peak": lambda sol: float(np.abs(sol.x).max()),
+        "keys": lambda sol: {"a": 1.0} if sol.x[0, 0] > 1 else {"a": 1.0, "b": 2.0},
+        "nan": lambda sol: float("nan"),
+        "raises": lambda sol: (_ for _ in ()).throw(UserError("reduce failed")),
+        "junk": 3,
+    }[kind]
+
+
+@budget(0.6)
+@given(
+    system=st.sampled_from(["plain", "raises", "none", "options", "bad-options", "diverges"]),
+    reduce=st.sampled_from(["none", "peak", "keys", "nan", "raises", "junk"]),
+    params=st.sampled_from([[], [1.0], [1.0, 2.0], [0.5, 2.0, 3.0]]),
+    workers=st.sampled_from([None, 1, 2, 0, 1.5, True]),
+    on_error=st.sampled_from(["raise", "keep", "ignore"]),
+    basis=st.sampled_from([None, "first", "all"]),
+)
+def test_solve_many_with_odd_callables(system, reduce, params, workers, on_error, basis):
+    from duhamel.ensemble import solve_many
+
+    def call() -> Any:
+        try:
+            return solve_many(_odd_system(system), params, duhamel.Semianalytic(), t_end=1.0,
+                              dt=0.1, reduce=_odd_reduce(reduce), workers=workers,
+                              on_error=on_error, basis=basis)  # fmt: skip
+        except UserError as exc:  # documented: the failing run's own exception, with a note
+            assert system == "raises" or reduce == "raises", exc
+            return None
+        except AttributeError as exc:  # make_system returned None: not a System
+            assert system == "none", exc
+            return None
+
+    ens = contract(call, ("make_system", "reduce", "workers", "on_error", "basis", "threads"))
+    if ens is None:
+        return
+    assert len(ens.results) == len(params)
+    pytest.importorskip("xarray")
+    ds = contract(ens.to_xarray, ("reduce", "results", "cases"))
+    if ds is not None:
+        assert ds.sizes.get("case", 0) == len(params)
+
+
+@budget(0.4)
+@given(
+    measures=hnp.arrays(np.float64, st.tuples(st.integers(1, 6), st.integers(1, 3)),
+                        elements=st.one_of(floats(0.0, 10.0), st.just(np.inf))),
+    q=st.lists(floats(0.0, 100.0), min_size=1, max_size=4),
+)  # fmt: skip
+def test_ida_fractiles_with_collapses(measures, q):
+    from duhamel.ensemble import fractiles
+
+    f = fractiles(measures, q)
+    assert not np.isnan(f).any(), f
+    finite = np.all(np.isfinite(measures), axis=0)
+    np.testing.assert_array_equal(f[:, finite], np.percentile(measures[:, finite], q, axis=0))
+    # monotone in q, and inf exactly above the last finite order statistic
+    order = np.argsort(q)
+    assert np.all(f[order][1:] >= f[order][:-1])
+    n = measures.shape[0]
+    k = np.sum(np.isinf(measures), axis=0)
+    for j in range(measures.shape[1]):
+        if 0 < k[j] < n:
+            for qi, value in zip(q, f[:, j], strict=True):
+                h = (n - 1) * (qi / 100.0)  # the position among the order statistics
+                assert np.isinf(value) == (h > n - k[j] - 1), (qi, value, h)
+
+
+# -- the streaming store under damage ----------------------------------------------------------
+
+_STORE: dict[str, Any] = {}
+
+
+def _pristine() -> tuple[pathlib.Path, np.ndarray]:
+    """One small complete store (3 segments of 1024 rows), made once per process."""
+    if not _STORE:
+        pytest.importorskip("zarr")
+        from duhamel.store import Store
+
+        path = _SCRATCH / "pristine.zarr"
+        s = duhamel.System(np.eye(2), [[2.0, -1.0], [-1.0, 1.0]], zeta=0.02)
+        s.add(E.Bilinear(0, k=0.5, fy=0.05))
+        s.add_load(L.Harmonic(1, 0.3, omega=0.9))
+        sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=30.0, dt=0.01,
+                            store=Store(path, segment_bytes=1))  # fmt: skip
+        _STORE.update(path=path, x=np.asarray(sol.x), files=sorted(
+            str(f.relative_to(path)) for f in path.rglob("*") if f.is_file()))  # fmt: skip
+    return _STORE["path"], _STORE["x"]
+
+
+@budget(0.8)
+@given(data=st.data(), damage=st.sampled_from(["delete", "truncate", "flip", "garbage", "grid"]))
+def test_store_damage_is_detected_or_harmless(data, damage):
+    from duhamel.store import StoreError, resume
+
+    pristine, x = _pristine()
+    path = _SCRATCH / "damaged.zarr"
+    shutil.rmtree(path, ignore_errors=True)
+    shutil.copytree(pristine, path)
+    name = data.draw(st.sampled_from(_STORE["files"]), label="file")
+    target = path / name
+    raw = target.read_bytes()
+    if damage == "delete":
+        target.unlink()
+    elif damage == "truncate":
+        target.write_bytes(raw[: data.draw(st.integers(0, max(0, len(raw) - 1)))])
+    elif damage == "flip" and raw:
+        i = data.draw(st.integers(0, len(raw) - 1), label="byte")
+        bit = data.draw(st.integers(0, 7), label="bit")
+        target.write_bytes(raw[:i] + bytes([raw[i] ^ (1 << bit)]) + raw[i + 1 :])
+    elif damage == "garbage":
+        target.write_bytes(data.draw(st.binary(max_size=64), label="garbage"))
+    else:
+        import json
+
+        import zarr
+
+        group = zarr.open_group(path)
+        record = dict(group.attrs["duhamel"])
+        key = data.draw(st.sampled_from(["n_steps", "rows", "save_every", "dt", "dofs"]))
+        value = data.draw(st.sampled_from([10**18, -1, 0, 1.5, "7", None, [99], 2**64]))
+        record["grid"] = {**record["grid"], key: value}
+        if data.draw(st.booleans(), label="checksum forged"):
+            from duhamel.store._integrity import digest
+
+            record["checksum"] = digest(record["grid"], record["model"], group["model"])
+        group.attrs["duhamel"] = json.loads(json.dumps(record))
+
+    def call() -> Any:
+        try:
+            return resume(path)
+        except FileNotFoundError as exc:  # the store's root deleted: documented
+            check_named(exc, ("path",))
+            return None
+        except StoreError as exc:
+            assert "damaged" in str(exc) or "not a" in str(exc) or "format" in str(exc), exc
+            assert str(path) in str(exc) or "`path`" in str(exc), exc
+            return None
+
+    sol = contract(call, ("path",))
+    if sol is not None:  # a harmless damage (a slot, rows beyond the checkpoint): same data
+        np.testing.assert_array_equal(np.asarray(sol.x), x)
+
+
+# -- rotor grids and journal geometries ---------------------------------------------------------
+
+_ROTOR: dict[str, Any] = {}
+
+
+def _small_rotor() -> Any:
+    if not _ROTOR:
+        from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft
+
+        _ROTOR["rotor"] = Rotor(
+            [Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
+            [Bearing(0, 1e7, 1e7, cxx=500.0, cyy=500.0),
+             Bearing(4, 1e7, 1e7, cxx=500.0, cyy=500.0)],
+        )  # fmt: skip
+        _ROTOR["fine"] = _ROTOR["rotor"].critical_speeds(np.linspace(0.0, 3000.0, 121))
+    return _ROTOR["rotor"]
+
+
+@budget(0.4)
+@given(
+    grid=st.lists(st.one_of(floats(0.0, 3000.0), st.sampled_from([0.0, 1e6, 1e20, 1e300])),
+                  min_size=1, max_size=5),
+    whirl=st.sampled_from(["forward", "backward", None, "both"]),
+    harmonic=st.sampled_from([1.0, 2.0, 0.5, 0.0, -1.0, "1"]),
+)  # fmt: skip
+def test_critical_speeds_on_any_grid(grid, whirl, harmonic):
+    rotor = _small_rotor()
+    found = contract(lambda: rotor.critical_speeds(grid, whirl=whirl, harmonic=harmonic),
+                     ("speeds", "whirl", "harmonic"))  # fmt: skip
+    if found is not None:
+        assert np.all(np.isfinite(found)) and np.all(found >= 0), found
+        h = float(harmonic)
+        for w in found[(found > 0) & (found < 1e6)]:
+            gap = np.min(np.abs(rotor.modes(float(w)).frequencies - h * w))
+            assert gap <= 1e-6 * h * w, (w, gap)
+
+
+@budget(0.6)
+@given(
+    geometry=st.tuples(*(scalar(EXTREME.positives) for _ in range(4))),
+    position=st.tuples(floats(-1.5, 1.5), floats(-1.5, 1.5)),
+    speed=scalar(EXTREME.magnitudes),
+)
+def test_journal_coefficients_finite_or_refused(geometry, position, speed):
+    from duhamel.rotor import ShortJournalBearing
+
+    b = construct(Call(("diameter", "length", "clearance", "viscosity"), ShortJournalBearing,
+                       0, *geometry))  # fmt: skip
+    if b is None:
+        return
+    at = [position[0] * b.clearance, position[1] * b.clearance]
+    out = contract(lambda: b.coefficients(at, speed), ("position", "speed", "clearance"))
+    if out is not None:
+        assert all(np.all(np.isfinite(m)) for m in out), out
+
+
+def _damaged_slot_metadata() -> None:
+    from duhamel.store import resume
+
+    pristine, x = _pristine()
+    path = _SCRATCH / "d13.zarr"
+    shutil.rmtree(path, ignore_errors=True)
+    shutil.copytree(pristine, path)
+    (path / "checkpoints" / "1" / "zarr.json").write_bytes(b"\x80")
+    np.testing.assert_array_equal(np.asarray(resume(path).x), x)
+
+
+def _critical_case(grid: list[float], harmonic: float) -> None:
+    rotor = _small_rotor()
+    found = contract(lambda: rotor.critical_speeds(grid, harmonic=harmonic), ("speeds",))
+    for w in [] if found is None else found:
+        assert np.min(np.abs(rotor.modes(float(w)).frequencies - harmonic * w)) <= 1e-6 * w
+
+
+ROUND2_CASES = {
+    "D13-checkpoint-slot-metadata": ("D13", _damaged_slot_metadata),
+    "D14-critical-speeds-1e300": ("D14", lambda: _critical_case([0.0, 1e300], 1.0)),
+    "D15-critical-speeds-jump": ("D15", lambda: _critical_case([0.0, 1e6], 2.0)),
+}
+
+
+@pytest.mark.parametrize("case", list(ROUND2_CASES))
+def test_former_defect_of_the_modules(case):
+    """The minimal cases of the defects the module properties found, fixed."""
+    assert ROUND2_CASES[case][0] in DEFECTS
+    ROUND2_CASES[case][1]()

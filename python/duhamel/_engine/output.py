@@ -35,6 +35,8 @@ def rows_product(a: NDArray, b: NDArray) -> NDArray:
     as those of the whole history.
     """
     n = a.shape[0]
+    if n == 0:  # no row kept (a run failing on its initial state): whatever `a`'s width
+        return np.empty((0, b.shape[1]), dtype=np.result_type(a, b))
     if n <= ROW_BLOCK:
         return a @ b
     out = np.empty((n, b.shape[1]), dtype=np.result_type(a, b))
@@ -135,21 +137,26 @@ def _assemble(
 
     whole = rows == result.t.size
 
-    def cut(a: NDArray | None) -> NDArray | None:
+    m = basis.n_modes
+
+    def cut(a: NDArray | None, width: int = m) -> NDArray | None:
+        if a is not None and rows == 0:  # nothing kept: no row, the right columns
+            return np.empty((0, a.shape[1] if a.ndim == 2 and a.shape[1] else width))
         return a if a is None or whole else a[:rows]
 
-    values, forcing, pseudo = cut(result.load_values), cut(result.forcing), cut(result.pseudo)
+    values = cut(result.load_values, patterns.shape[1])
+    forcing, pseudo = cut(result.forcing), cut(result.pseudo)
     if result.eta is None:
         q, vel = cut(result.q), cut(result.v)
         x, v = rows_product(q, phi_out.T), rows_product(vel, phi_out.T)
         coupling = None
         first_order = None
     else:
-        out = cut(result.outputs)
+        out = cut(result.outputs, 3 * n_out)
         x, v = out[:, :n_out], out[:, n_out : 2 * n_out]
         coupling = (plan.couplings.k, plan.couplings.c)
         assert plan.modes is not None
-        first_order = (cut(result.eta), plan.modes.back)
+        first_order = (cut(result.eta, plan.modes.back.shape[0]), plan.modes.back)
         q = vel = None
     modal = ModalHistory(
         q=q,

@@ -402,6 +402,12 @@ def exact_transition_matrix(system: System, dt: float, *, modes: int | None = No
     -------
     ndarray, shape (2 n, 2 n)
 
+    Raises
+    ------
+    ValueError
+        `dt` not positive, or a matrix beyond the double range (a mode that grows
+        by more than 1e308 over `dt`).
+
     Examples
     --------
     >>> import numpy as np, duhamel
@@ -413,7 +419,15 @@ def exact_transition_matrix(system: System, dt: float, *, modes: int | None = No
     system = check_system(system)
     dt = positive_float(dt, "dt")
     model = modal_model(system, modes)
-    return model.to_physical(model.transition(dt))
+    with np.errstate(all="ignore"):
+        out = model.to_physical(model.transition(dt))
+    if not np.all(np.isfinite(out)):
+        raise ValueError(
+            f"`dt` = {dt!r}: the exact transition matrix overflows the double range (a mode "
+            "growing by more than 1e308 over the step: negative damping or a negative "
+            "stiffness over a long span); take a shorter `dt`"
+        )
+    return out
 
 
 def spectral_radius(system: System, integrator: Any, dt: float) -> float:

@@ -19,14 +19,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._engine.protocols import Model
-from duhamel._engine.validate import dof_index, finite_float
+from duhamel._engine.validate import _int_scalar, dof_index, finite_float
 from duhamel.elements.base import Deformation, Element, TwoAxis, nonneg, pair_stiffness, positive
 
 __all__ = ["Bilinear", "BoucWen", "FrictionPendulum", "Gap", "LeadRubberBearing", "ViscousDamper"]
 
 
 def _j(j: int | None) -> int | None:
-    return None if j is None else int(j)
+    return None if j is None else _int_scalar(j, "j")
 
 
 def _alpha(value: float) -> float:

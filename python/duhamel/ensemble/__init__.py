@@ -30,7 +30,15 @@ Examples
 from __future__ import annotations
 
 from duhamel.ensemble.bounds import property_bounds, solve_bounds
-from duhamel.ensemble.ida import IDA, ida
+from duhamel.ensemble.ida import IDA, fractiles, ida
 from duhamel.ensemble.run import Ensemble, solve_many
 
-__all__ = ["IDA", "Ensemble", "ida", "property_bounds", "solve_bounds", "solve_many"]
+__all__ = [
+    "IDA",
+    "Ensemble",
+    "fractiles",
+    "ida",
+    "property_bounds",
+    "solve_bounds",
+    "solve_many",
+]

@@ -9,12 +9,13 @@ from typing import Any
 
 import numpy as np
 
+from duhamel._engine.validate import as_float_array, positive_float
 from duhamel.ensemble.run import solve_many
 from duhamel.errors import SolverError
 from duhamel.events import Event
 from duhamel.results.solution import Solution
 
-__all__ = ["IDA", "ida"]
+__all__ = ["IDA", "fractiles", "ida"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -32,9 +33,28 @@ class IDA:
     collapse_times: np.ndarray | None = None
 
     def fractiles(self, q: Sequence[float] = (16, 50, 84)) -> np.ndarray:
-        """Percentiles `q` of the measure over the motions at each intensity (collapses
-        count as infinitely large), shape ``(len(q), n_intensities)``."""
-        return np.percentile(self.measures, np.asarray(q, dtype=float), axis=0)
+        """Percentiles `q` of the measure over the motions at each intensity, shape
+        ``(len(q), n_intensities)``; collapses count as infinitely large.
+
+        The percentile is numpy's default (``np.percentile``'s ``'linear'``: the sorted
+        values ``x_0 <= ... <= x_(n-1)`` at ``h = (n - 1) q / 100``, linear between
+        ``x_floor(h)`` and ``x_ceil(h)``), except that an interpolation toward a collapse is a
+        collapse and a percentile landing exactly on a finite value is that value: it never
+        multiplies ``inf`` by 0 (``np.percentile`` gives NaN there). With ``k`` collapses
+        among ``n`` motions, the percentiles up to ``100 (n - k - 1) / (n - 1)`` are finite
+        and those above are ``inf``; the median of ``[1, 2, inf]`` is 2, as ``np.median``
+        gives.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.ensemble import IDA
+        >>> res = IDA(np.array([1.0]), np.array([[1.0], [2.0], [np.inf]]), ["a", "b", "c"],
+        ...           "PGA", np.ones((3, 1)))
+        >>> res.fractiles((0, 50, 60, 100))[:, 0].tolist()
+        [1.0, 2.0, inf, inf]
+        """
+        return fractiles(self.measures, q)
 
     def plot(self, ax: Any = None, q: Sequence[float] = (16, 50, 84)) -> Any:
         """The IDA curves (measure on x, intensity on y), one thin line per motion, and the
@@ -54,6 +74,28 @@ class IDA:
         ax.legend(title="fractiles", fontsize="small")
         ax.grid(True, alpha=0.3)
         return ax
+
+
+def fractiles(values: np.ndarray, q: Sequence[float]) -> np.ndarray:
+    """Percentiles `q` (in [0, 100]) of `values` along axis 0, with ``+inf`` (collapses)
+    as infinitely large values: see :meth:`IDA.fractiles`."""
+    qs = np.atleast_1d(as_float_array(q, "q"))
+    if qs.ndim != 1 or qs.size == 0 or np.any((qs < 0.0) | (qs > 100.0)):
+        raise ValueError(f"`q` must be percentiles in [0, 100], got {q!r}")
+    x = np.sort(np.asarray(values, dtype=np.float64), axis=0)
+    if np.isnan(x).any() or np.isneginf(x).any():
+        raise ValueError("the measures contain NaN or -inf: only collapses (+inf) are allowed")
+    n = x.shape[0]
+    h = (n - 1) * (qs / 100.0)  # numpy's virtual index, rounded as numpy rounds it
+    lo = np.floor(h).astype(np.intp)
+    hi = np.minimum(lo + 1, n - 1)
+    frac = (h - lo)[:, None]
+    x_lo, x_hi = x[lo], x[hi]
+    with np.errstate(invalid="ignore"):
+        # numpy's lerp: from the nearer end (bit for bit np.percentile's 'linear')
+        diff = x_hi - x_lo
+        between = np.where(frac >= 0.5, x_hi - diff * (1.0 - frac), x_lo + diff * frac)
+    return np.where(frac == 0.0, x_lo, np.where(np.isinf(x_hi), np.inf, between))
 
 
 def _scale_factor(motion: Any, intensity: str, period: float | None, damping: float) -> float:
@@ -82,6 +124,25 @@ class _Collapsed:
 def _ida_case(case: tuple[Any, Any, float]) -> Any:
     factory, motion, factor = case
     return factory(motion.scaled(factor))
+
+
+def _measure(result: Any, i: int, j: int) -> float:
+    """A run's measure: ``inf`` for a collapse, else the finite number `measure` gave."""
+    if isinstance(result, SolverError):
+        return np.inf
+    try:
+        value = float(result)
+    except (TypeError, ValueError):
+        raise TypeError(
+            f"`measure` must return a number, got {type(result).__name__} (motion {i}, "
+            f"intensity {j})"
+        ) from None
+    if not np.isfinite(value):
+        raise ValueError(
+            f"`measure` returned {value!r} for motion {i} at intensity {j}: a measure must be "
+            "finite (collapses are the runs that stop with SolverError)"
+        )
+    return value
 
 
 def ida(
@@ -140,10 +201,12 @@ def ida(
 
     if intensity not in ("sa", "pga"):
         raise ValueError(f"`intensity` must be 'sa' or 'pga', got {intensity!r}")
-    if intensity == "sa" and not (period is not None and period > 0):
-        raise ValueError(f"`period` must be a positive period (s) for intensity='sa', got {period}")
-    ims = np.asarray(intensities, dtype=float)
-    if ims.ndim != 1 or ims.size == 0 or np.any(~np.isfinite(ims)) or np.any(ims <= 0):
+    if intensity == "sa":
+        if period is None:
+            raise ValueError("`period` must be a positive period (s) for intensity='sa', got None")
+        period = positive_float(period, "period")
+    ims = np.atleast_1d(as_float_array(intensities, "intensities"))
+    if ims.ndim != 1 or ims.size == 0 or np.any(ims <= 0):
         raise ValueError("`intensities` must be a non-empty 1-D array of positive numbers")
     motions = list(motions)
     if not motions:
@@ -170,7 +233,7 @@ def ida(
             client=client, workers=workers, on_error="keep", **extra,
         )  # fmt: skip
         if collapse is None:
-            rows.append([np.inf if isinstance(r, SolverError) else float(r) for r in ens.results])
+            rows.append([_measure(r, i, j) for j, r in enumerate(ens.results)])
         else:
             out = [(np.inf, np.nan) if isinstance(r, SolverError) else r for r in ens.results]
             rows.append([float(r[0]) for r in out])

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel._engine.validate import positive_int
 from duhamel.ensemble.statistics import statistics
 from duhamel.ensemble.zarr import ZarrWriter, stack
 from duhamel.errors import SolverError
@@ -25,6 +26,9 @@ from duhamel.prepared import Prepared, prepare
 from duhamel.results.solution import Solution
 
 __all__ = ["Ensemble", "solve_many"]
+
+#: The most in-process worker threads a study takes (as `threads` of duhamel.solve).
+MAX_WORKERS = 1024
 
 
 @dataclass(frozen=True, eq=False)
@@ -258,7 +262,7 @@ def solve_many(
     client : dask.distributed.Client, optional
         Run on this cluster instead of in-process threads.
     workers : int, optional
-        In-process threads (default: the machine's cores).
+        In-process threads, 1 to 1024 (default: the machine's cores).
     chunk_size : int, optional
         Runs per Dask task (default: about four tasks per worker thread), and cases per
         block of a zarr store (default 64 in-process).
@@ -314,17 +318,17 @@ def solve_many(
         raise ValueError(f"`on_error` must be 'raise' or 'keep', got {on_error!r}")
     if to_zarr is not None and on_error == "keep":
         raise ValueError("`to_zarr` stores complete studies: use on_error='raise' with it")
-    if chunk_size is not None and int(chunk_size) < 1:
-        raise ValueError(f"`chunk_size` must be >= 1, got {chunk_size}")
+    if chunk_size is not None:
+        chunk_size = positive_int(chunk_size, "chunk_size")
+    if workers is not None:
+        workers = positive_int(workers, "workers", MAX_WORKERS)
     ps = list(params)
     options = {"t_end": t_end, "dt": dt, **solve_options}
     job = _Job(make_system, integrator, reduce, options, on_error == "keep")
     started = time.perf_counter()
     shared = _shared_basis(basis, make_system, ps, integrator)
     if client is None:
-        n = (os.cpu_count() or 1) if workers is None else int(workers)
-        if n < 1:
-            raise ValueError(f"`workers` must be >= 1, got {workers}")
+        n = (os.cpu_count() or 1) if workers is None else workers
         size = int(chunk_size) if chunk_size else 64
         stream = _threads(job, ps, n, shared)
         stats = {"where": "threads", "workers": n, "chunk_size": 1}
@@ -345,8 +349,8 @@ def solve_many(
             if len(block) == size:
                 writer.write(ps[writer.written : writer.written + size], block)
                 block = []
-        if block:
-            writer.write(ps[writer.written :], block)
+        if block or not ps:
+            writer.write(ps[writer.written :], block)  # an empty study: an empty dataset
         store = writer.path
     stats.update(
         runs=len(ps),

@@ -37,6 +37,13 @@ def stack(params: Sequence[Any], results: Sequence[Any], first: int = 0) -> Any:
         ds = xr.concat([r.to_xarray() for r in results], dim="case")
     else:
         rows = [r if isinstance(r, dict) else {"result": r} for r in results]
+        for i, row in enumerate(rows[1:], start=1):
+            if set(row) != set(rows[0]):
+                raise ValueError(
+                    f"`reduce` returned dicts with different keys: case {first} has "
+                    f"{sorted(rows[0])}, case {first + i} has {sorted(row)}; return the same "
+                    "keys for every case"
+                )
         data = {}
         for key in rows[0] if rows else []:
             values = np.stack([np.asarray(row[key]) for row in rows])

@@ -18,29 +18,54 @@ __all__ = ["duffing", "duffing_period"]
 
 
 def _duffing_params(omega: Any, b: Any, x0: Any) -> tuple[float, float, str]:
-    """Return ``(rate, m, kind)`` with x = x0 * f(rate t | m) (see :func:`duffing`)."""
+    """Return ``(rate, m, kind)`` with x = x0 * f(rate t | m) (see :func:`duffing`).
+
+    Computed on the scale ``s = max(omega, sqrt|b| |x0|)`` so that ``b x0^2`` may lie
+    beyond the double range; a ValueError names the parameters when the rate or the
+    velocity amplitude ``x0 rate`` does."""
     omega = nonneg_float(omega, "omega")
     b = finite_float(b, "b")
     x0 = finite_float(x0, "x0")
-    bx2 = b * x0 * x0
-    omega2 = omega * omega
-    big2 = omega2 + bx2  # Omega^2
-    if x0 == 0.0 or big2 == 0.0:
-        # At rest at an equilibrium: the origin, or the top of the potential barrier.
+    if x0 == 0.0 or (b == 0.0 and omega == 0.0):
+        return 0.0, 0.0, "rest"  # at rest at the origin
+    cubic = math.sqrt(abs(b)) * abs(x0)  # sqrt|b x0^2|
+    if not math.isfinite(cubic):
+        if b < 0.0:
+            raise ValueError(
+                "the motion is unbounded: a softening spring (`b` < 0) released beyond the "
+                "separatrix (`x0`^2 must be below omega^2 / |b|)"
+            )
+        raise ValueError(_too_fast(omega, b, x0))
+    scale = max(omega, cubic)
+    w, c2 = omega / scale, math.copysign((cubic / scale) ** 2, b)  # omega/s, b x0^2/s^2
+    big2 = w * w + c2  # Omega^2 / s^2
+    if big2 == 0.0:
+        # At the top of the potential barrier: b x0^2 = -omega^2.
         return 0.0, 0.0, "rest"
     if big2 < 0.0:
         raise ValueError(
             "the motion is unbounded: a softening spring (`b` < 0) released beyond the "
-            f"separatrix, omega^2 + b x0^2 = {big2:.6g} < 0 (`x0`^2 must be below "
-            "omega^2 / |b|)"
+            f"separatrix, omega^2 + b x0^2 = {big2 * scale * scale:.6g} < 0 (`x0`^2 must be "
+            "below omega^2 / |b|)"
         )
-    if bx2 >= 0.0:
+    if c2 >= 0.0:
         # x = x0 cn(Omega t | m), Omega^2 = omega^2 + b x0^2, m = b x0^2 / (2 Omega^2) in [0, 1/2]
-        return math.sqrt(big2), bx2 / (2.0 * big2), "cn"
-    # Softening, bounded: m < 0. cn(u | -mu) = cd(u sqrt(1 + mu) | mu / (1 + mu)), so
-    # x = x0 cd(lam t | k2), lam^2 = omega^2 + b x0^2 / 2, k2 = -b x0^2 / (2 lam^2) in (0, 1).
-    lam2 = omega2 + 0.5 * bx2
-    return math.sqrt(lam2), -bx2 / (2.0 * lam2), "cd"
+        rate, m, kind = scale * math.sqrt(big2), c2 / (2.0 * big2), "cn"
+    else:
+        # Softening, bounded: m < 0. cn(u | -mu) = cd(u sqrt(1 + mu) | mu / (1 + mu)), so
+        # x = x0 cd(lam t | k2), lam^2 = omega^2 + b x0^2 / 2, k2 = -b x0^2 / (2 lam^2) in (0, 1).
+        lam2 = w * w + 0.5 * c2
+        rate, m, kind = scale * math.sqrt(lam2), -c2 / (2.0 * lam2), "cd"
+    if not (math.isfinite(rate) and math.isfinite(abs(x0) * rate)):
+        raise ValueError(_too_fast(omega, b, x0))
+    return rate, m, kind
+
+
+def _too_fast(omega: float, b: float, x0: float) -> str:
+    return (
+        f"`b` = {b:g} and `x0` = {x0:g} (with `omega` = {omega:g}): the motion's frequency "
+        "sqrt(omega^2 + b x0^2) or its velocity amplitude beyond the double range"
+    )
 
 
 def _reduce(u: Array, quarter: float) -> Array:
@@ -111,6 +136,12 @@ def duffing(t: ArrayLike, omega: float, b: float, x0: float) -> tuple[Array, Arr
     if kind == "rest":
         return np.full_like(t, x0), np.zeros_like(t)
     quarter = float(sc.ellipk(m))
+    cycles = rate * float(np.max(t, initial=0.0)) / (4.0 * quarter)
+    if not cycles < 2.0**52:
+        raise ValueError(
+            f"`t`: {cycles:.3g} periods of the motion (`b` = {b:g}, `x0` = {x0:g}) elapse by "
+            "the last time, beyond what a double resolves: the phase would be meaningless"
+        )
     u = _reduce(rate * t, quarter)
     sn, cn, dn, _ = sc.ellipj(u, m)
     if kind == "cn":

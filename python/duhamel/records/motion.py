@@ -9,11 +9,22 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._engine.validate import as_float_array
+from duhamel._engine.validate import as_float_array, finite_float, positive_float
 from duhamel.loads import BaseAcceleration
 from duhamel.records.units import UNITS, G, _unit
 
 __all__ = ["UNITS", "G", "GroundMotion"]
+
+
+def _finite(values: NDArray[np.float64], what: str) -> NDArray[np.float64]:
+    """`values` if finite, else a ValueError: the record's `what` is beyond the double
+    range (amplitudes or a duration of no physical record)."""
+    if not np.all(np.isfinite(values)):
+        raise ValueError(
+            f"the record's {what} overflows the double range: rescale its amplitudes (`a`) "
+            "or its step (`dt`)"
+        )
+    return values
 
 
 @dataclass(frozen=True, eq=False)
@@ -62,9 +73,11 @@ class GroundMotion:
         a = as_float_array(self.a, "a", ndim=1)
         if a.size < 2:
             raise ValueError(f"`a` must have at least 2 samples, got {a.size}")
-        dt = float(self.dt)
-        if not (np.isfinite(dt) and dt > 0.0):
-            raise ValueError(f"`dt` must be a positive finite number of seconds, got {self.dt!r}")
+        dt = positive_float(self.dt, "dt")
+        if not np.isfinite((a.size - 1) * dt):
+            raise ValueError(
+                f"`dt` = {dt!r} s: the record's {a.size} samples last beyond the double range"
+            )
         a = a * UNITS[units]
         if not np.all(np.isfinite(a)):
             raise ValueError(f"`a` in {units} overflows when converted to m/s^2")
@@ -102,8 +115,9 @@ class GroundMotion:
         acceleration from rest (no baseline correction)."""
         v = np.empty_like(self.a)
         v[0] = 0.0
-        np.cumsum(0.5 * self.dt * (self.a[1:] + self.a[:-1]), out=v[1:])
-        return v
+        with np.errstate(over="ignore", invalid="ignore"):
+            np.cumsum(0.5 * self.dt * self.a[1:] + 0.5 * self.dt * self.a[:-1], out=v[1:])
+        return _finite(v, "velocity")
 
     @property
     def displacement(self) -> NDArray[np.float64]:
@@ -112,8 +126,9 @@ class GroundMotion:
         v, a, h = self.velocity, self.a, self.dt
         d = np.empty_like(a)
         d[0] = 0.0
-        np.cumsum(v[:-1] * h + h * h * (2.0 * a[:-1] + a[1:]) / 6.0, out=d[1:])
-        return d
+        with np.errstate(over="ignore", invalid="ignore"):
+            np.cumsum(v[:-1] * h + h * (h * (2.0 * a[:-1] + a[1:]) / 6.0), out=d[1:])
+        return _finite(d, "displacement")
 
     @property
     def pgv(self) -> float:
@@ -128,17 +143,32 @@ class GroundMotion:
     def husid(self) -> NDArray[np.float64]:
         """Cumulative Arias intensity at the samples, in m/s (the Husid plot is this divided
         by :attr:`arias_intensity`); the integral of ``a^2`` is exact per segment."""
-        a0, a1 = self.a[:-1], self.a[1:]
-        seg = self.dt * (a0 * a0 + a0 * a1 + a1 * a1) / 3.0
-        out = np.empty_like(self.a)
-        out[0] = 0.0
-        np.cumsum(np.pi / (2.0 * G) * seg, out=out[1:])
-        return out
+        scale, unit = self._husid_scaled()
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = unit * scale
+        return _finite(out, "cumulative Arias intensity")
+
+    def _husid_scaled(self) -> tuple[float, NDArray[np.float64]]:
+        """``(s, h)`` with the cumulative Arias intensity ``s * h``: ``h`` computed from the
+        record divided by its peak, so that no square overflows (records beyond 1e154)."""
+        peak = float(np.max(np.abs(self.a)))
+        if peak == 0.0:
+            return 0.0, np.zeros_like(self.a)
+        b = self.a / peak
+        b0, b1 = b[:-1], b[1:]
+        h = np.empty_like(b)
+        h[0] = 0.0
+        np.cumsum((b0 * b0 + b0 * b1 + b1 * b1) / 3.0, out=h[1:])
+        return np.pi / (2.0 * G) * self.dt * peak * peak, h
 
     @property
     def arias_intensity(self) -> float:
-        """Arias intensity ``pi / (2 g) * integral a^2 dt`` in m/s."""
-        return float(self.husid()[-1])
+        """Arias intensity ``pi / (2 g) * integral a^2 dt`` in m/s (a ValueError when it is
+        beyond the double range)."""
+        scale, h = self._husid_scaled()
+        with np.errstate(over="ignore"):
+            out = float(h[-1] * scale) if scale else 0.0
+        return float(_finite(np.array([out]), "Arias intensity")[0])
 
     def significant_duration(self, start: float = 0.05, end: float = 0.95) -> float:
         """Time in s between the instants the Husid curve reaches `start` and `end` of the
@@ -152,11 +182,12 @@ class GroundMotion:
         >>> round(gm.significant_duration(), 9)
         9.0
         """
+        start, end = finite_float(start, "start"), finite_float(end, "end")
         if not (0.0 <= start < end <= 1.0):
             raise ValueError(
                 f"`start` and `end` must satisfy 0 <= start < end <= 1, got {start}, {end}"
             )
-        h = self.husid()
+        _, h = self._husid_scaled()
         if h[-1] <= 0.0:
             raise ValueError(f"record {self.name!r} is zero: it has no significant duration")
         h = h / h[-1]
@@ -166,12 +197,14 @@ class GroundMotion:
     def scaled(self, factor: float) -> GroundMotion:
         """The record multiplied by `factor` (name and metadata kept, the factor recorded
         in ``metadata['scale']``)."""
-        f = float(factor)
-        if not np.isfinite(f):
-            raise ValueError(f"`factor` must be finite, got {factor!r}")
+        f = finite_float(factor, "factor")
         meta = dict(self.metadata)
         meta["scale"] = meta.get("scale", 1.0) * f
-        return GroundMotion(self.a * f, self.dt, "m/s^2", self.name, meta)
+        with np.errstate(over="ignore"):
+            a = self.a * f
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"`factor` = {f!r} scales the record beyond the double range")
+        return GroundMotion(a, self.dt, "m/s^2", self.name, meta)
 
     def as_load(self, direction_vector: ArrayLike) -> BaseAcceleration:
         """The :class:`~duhamel.loads.BaseAcceleration` of this record on the dofs moved by

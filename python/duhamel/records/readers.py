@@ -9,6 +9,7 @@ from typing import Any, overload
 
 import numpy as np
 
+from duhamel._engine.validate import _int_scalar, positive_float
 from duhamel.records.motion import UNITS, GroundMotion, _unit
 from duhamel.records.pair import GroundMotionPair
 
@@ -33,14 +34,42 @@ def _numbers(line: str, lineno: int, path: str) -> list[float]:
                 f"{path}, line {lineno}, column {pos + 1}: expected a number, got "
                 f"{line[pos:].split()[0]!r}"
             )
-        out.append(float(m.group().replace("D", "E").replace("d", "e")))
+        value = float(m.group().replace("D", "E").replace("d", "e"))
+        if not np.isfinite(value):
+            raise ValueError(
+                f"{path}, line {lineno}, column {pos + 1}: {m.group()!r} overflows the double range"
+            )
+        out.append(value)
         pos = _BLANK.match(line, m.end()).end()  # type: ignore[union-attr]
     return out
 
 
-_NEW_HEADER = re.compile(r"NPTS\s*=\s*(\d+)\s*,?\s*DT\s*=\s*([-+.\dEe]+)", re.IGNORECASE)
-_OLD_HEADER = re.compile(r"^\s*(\d+)\s+([-+.\dEe]+)\s+.*NPTS\s*,\s*DT", re.IGNORECASE)
+#: The header's numbers: NPTS an integer, DT a Fortran real (``5.0D-03`` as well as ``.0050``).
+_NEW_HEADER = re.compile(r"NPTS\s*=\s*(\d+)\s*,?\s*DT\s*=\s*([-+.\dEeDd]+)", re.IGNORECASE)
+_OLD_HEADER = re.compile(r"^\s*(\d+)\s+([-+.\dEeDd]+)\s+.*NPTS\s*,\s*DT", re.IGNORECASE)
 _UNITS = re.compile(r"UNITS\s+OF\s+(\S+)", re.IGNORECASE)
+
+
+def _header_dt(token: str, path: str) -> float:
+    """The DT of an AT2 header (a Fortran real, ``D`` exponents included), or a ValueError
+    naming the file, line and field."""
+    full = _NUMBER.fullmatch(token)
+    value = float(token.replace("D", "E").replace("d", "e")) if full else float("nan")
+    if not (np.isfinite(value) and value > 0.0):
+        raise ValueError(f"{path}, line 4: DT must be a positive number of seconds, got {token!r}")
+    return value
+
+
+def _count(value: Any, name: str) -> int:
+    """A non-negative integer argument (a bool, float or negative number refused)."""
+    out = _int_scalar(value, name)
+    if out < 0:
+        raise ValueError(f"`{name}` must be a non-negative integer, got {out}")
+    return out
+
+
+def _column(value: Any, name: str) -> int | None:
+    return None if value is None else _count(value, name)
 
 
 @overload
@@ -117,7 +146,7 @@ def _read_one(path: PathLike, units: str | None) -> GroundMotion:
             f"{p}, line 4: expected 'NPTS= <n>, DT= <dt> SEC' or '<n> <dt> NPTS, DT', got "
             f"{lines[3].strip()!r}"
         )
-    npts, dt = int(m.group(1)), float(m.group(2))
+    npts, dt = int(m.group(1)), _header_dt(m.group(2), p)
     if units is None:
         found = _UNITS.search(lines[2])
         if found is None:
@@ -182,7 +211,7 @@ def read_text(
         0-based columns of the time and of the acceleration (`column` defaults to the only
         column, or to the column after `time_column` in a two-column file).
     skip_rows : int, optional
-        Header lines to skip before the data.
+        Header lines to skip before the data (>= 0).
     flatten : bool, optional
         Read the values row by row as one series.
     name : str, optional
@@ -191,6 +220,15 @@ def read_text(
     Returns
     -------
     GroundMotion
+
+    Raises
+    ------
+    TypeError
+        `dt`, `skip_rows`, `column` or `time_column` of the wrong kind (a string, a bool, a
+        float for a column), `flatten` not a bool.
+    ValueError
+        A negative `skip_rows` or column, `column` equal to `time_column`, a column the
+        file does not have, a malformed file (its line and column are named).
 
     Examples
     --------
@@ -204,6 +242,14 @@ def read_text(
     """
     p = os.fspath(path)
     units = _unit(units)
+    skip_rows = _count(skip_rows, "skip_rows")
+    column, time_column = _column(column, "column"), _column(time_column, "time_column")
+    if not isinstance(flatten, bool | np.bool_):
+        raise TypeError(f"`flatten` must be True or False, got {flatten!r}")
+    if column is not None and column == time_column:
+        raise ValueError(f"`column` and `time_column` are both {column}: pass different columns")
+    if dt is not None:
+        dt = positive_float(dt, "dt")
     if (dt is None) == (time_column is None):
         raise ValueError("pass exactly one of `dt` and `time_column`")
     if flatten and time_column is not None:
@@ -222,7 +268,7 @@ def read_text(
     meta: dict[str, Any] = {"path": p}
     if flatten:
         values = np.array([v for _, r in rows for v in r])
-        return GroundMotion(values, float(dt), units, stem, meta)  # type: ignore[arg-type]
+        return GroundMotion(values, dt, units, stem, meta)  # type: ignore[arg-type]
     width = len(rows[0][1])
     for lineno, r in rows:
         if len(r) != width:
@@ -254,4 +300,4 @@ def read_text(
         dt = float((t[-1] - t[0]) / (t.size - 1))
         if t[0] != 0.0:
             meta["t0"] = float(t[0])
-    return GroundMotion(table[:, column], float(dt), units, stem, meta)  # type: ignore[arg-type]
+    return GroundMotion(table[:, column], dt, units, stem, meta)  # type: ignore[arg-type]

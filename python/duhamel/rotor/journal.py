@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._engine.validate import finite_float
+from duhamel._engine.validate import as_float_array, finite_float
 from duhamel.elements.base import Element, TwoAxis, positive
 from duhamel.rotor.dofs import node_index
 from duhamel.speed import ConstantSpeed, SpeedLaw
@@ -98,10 +98,27 @@ class JournalElement(TwoAxis, Element):
         bearing's stiffness and damping coefficients at that state."""
         from duhamel._engine.specs import element
 
-        r, kx, cv = element(self._film()._spec()).evaluate(
-            np.asarray(position, float), np.asarray(velocity, float), float(t)
-        )
-        return np.asarray(r), np.asarray(kx).reshape(2, 2), np.asarray(cv).reshape(2, 2)
+        x = as_float_array(position, "position", shape=(2,))
+        v = as_float_array(velocity, "velocity", shape=(2,))
+        t = finite_float(t, "t")
+        ratio = float(np.hypot(x[0], x[1])) / self.clearance
+        if not ratio < 1.0:
+            raise ValueError(
+                f"`position` {x.tolist()} is at or beyond the wall (eccentricity ratio "
+                f"{ratio:.6g} of the clearance {self.clearance:g} m): the film force is "
+                "singular there"
+            )
+        with np.errstate(all="ignore"):
+            r, kx, cv = element(self._film()._spec()).evaluate(x, v, t)
+        out = np.asarray(r), np.asarray(kx).reshape(2, 2), np.asarray(cv).reshape(2, 2)
+        if not all(np.all(np.isfinite(a)) for a in out):
+            raise ValueError(
+                f"the film force or its tangents overflow the double range for this geometry "
+                f"(`radius` {self.radius:g}, `length` {self.length:g}, `clearance` "
+                f"{self.clearance:g} m, `viscosity` {self.viscosity:g} Pa s): their scale "
+                "radius viscosity length^3 / clearance^3 is beyond any physical bearing"
+            )
+        return out
 
 
 def ocvirk_coefficients(

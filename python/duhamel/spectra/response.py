@@ -11,9 +11,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel import _core
-from duhamel._engine.validate import as_float_array
+from duhamel._engine.output import _physical_memory
+from duhamel._engine.validate import as_float_array, finite_float, positive_int
 from duhamel.records.motion import G, GroundMotion
+from duhamel.spectra import _batches
 from duhamel.spectra.elastic import ResponseSpectrum, _omega
 
 __all__ = [
@@ -71,6 +72,23 @@ def _motions(motions: Motions) -> list[GroundMotion]:
     return [_motion(motions)]
 
 
+#: The shortest positive period (s) of a spectrum: below it ``omega^2`` approaches the
+#: double range (``psa = omega^2 sd`` would be ``inf * 0``); period 0 is the rigid oscillator.
+MIN_PERIOD = 1e-100
+#: The shortest period of a ductility spectrum, relative to the record's step: below it
+#: ``omega dt`` exceeds 6e12 and locating the yield events within a step costs without end.
+RIGID_RATIO = 1e-12
+#: Most directions of a RotD spectrum (a 0.0018-degree step).
+MAX_ANGLES = 100_000
+#: Most worker threads (as `threads` of duhamel.solve).
+MAX_THREADS = 1024
+
+
+def _threads(threads: Any) -> int | None:
+    """`threads` checked as :func:`duhamel.solve` checks it: None or an int in [1, 1024]."""
+    return None if threads is None else positive_int(threads, "threads", MAX_THREADS)
+
+
 def _periods(periods: ArrayLike, positive: bool = False) -> NDArray[np.float64]:
     p = as_float_array(periods, "periods")
     p = np.atleast_1d(p)
@@ -79,6 +97,13 @@ def _periods(periods: ArrayLike, positive: bool = False) -> NDArray[np.float64]:
     if np.any(p < 0.0) or (positive and np.any(p == 0.0)):
         bound = "> 0" if positive else ">= 0"
         raise ValueError(f"`periods` must be {bound} (s), got {p.min()}")
+    tiny = p[(p > 0.0) & (p < MIN_PERIOD)]
+    if tiny.size:
+        rigid = "" if positive else "; use 0 for the rigid oscillator"
+        raise ValueError(
+            f"`periods` must be 0 or at least {MIN_PERIOD:g} s (omega^2 would leave the double "
+            f"range), got {tiny[0]!r}{rigid}"
+        )
     return p
 
 
@@ -108,7 +133,7 @@ def response_spectrum(
     damping : float or array_like, optional
         Damping ratio(s), >= 0 (default 0.05).
     threads : int, optional
-        Worker threads (default: all cores).
+        Worker threads, 1 to 1024 (default: all cores), checked as by :func:`duhamel.solve`.
     peaks : {"sampled", "exact"}
         ``"sampled"`` (default, as every reference implementation): the peaks at the
         record's samples. ``"exact"``: the true peaks of the response to the
@@ -119,6 +144,14 @@ def response_spectrum(
     Returns
     -------
     ResponseSpectrum
+
+    Raises
+    ------
+    TypeError
+        A parameter of the wrong kind (`threads` not an int, a complex record...).
+    ValueError
+        Negative periods or periods in ``(0, 1e-100)`` s, negative damping, non-uniform
+        times, a response beyond the double range (the message names the period).
         Arrays of shape ``(n_motions, n_dampings, n_periods)`` whatever was passed.
 
     Examples
@@ -139,13 +172,11 @@ def response_spectrum(
     p, z = _periods(periods), _dampings(damping)
     if peaks == "exact" and np.any(z >= 1.0):
         raise ValueError(f"`damping` must be < 1 with peaks='exact', got {z.max():g}")
-    sd, sv, sa = _core.elastic_spectra(
-        [m.a for m in ms], [m.dt for m in ms], p, z, threads, peaks == "exact"
+    threads = _threads(threads)
+    sd, sv, sa = _batches.elastic(
+        [m.a for m in ms], [m.dt for m in ms], p, z, threads, exact=peaks == "exact"
     )
-    shape = (len(ms), z.size, p.size)
-    return ResponseSpectrum(
-        p, z, sd.reshape(shape), sv.reshape(shape), sa.reshape(shape), [m.name for m in ms]
-    )
+    return ResponseSpectrum(p, z, sd, sv, sa, [m.name for m in ms])
 
 
 @dataclass(frozen=True, eq=False)
@@ -199,7 +230,8 @@ def rotd(
     damping : float or array_like, optional
         Damping ratio(s) (default 0.05).
     n_angles : int, optional
-        Directions over 180 degrees (default 180: 1-degree steps).
+        Directions over 180 degrees, 1 to 100,000 (default 180: 1-degree steps); refused
+        when their peaks would not fit in memory.
     threads : int, optional
         Worker threads (default: all cores).
 
@@ -225,10 +257,16 @@ def rotd(
     q = np.atleast_1d(as_float_array(percentiles, "percentiles"))
     if q.ndim != 1 or np.any((q < 0) | (q > 100)):
         raise ValueError(f"`percentiles` must be in [0, 100], got {percentiles}")
-    if int(n_angles) < 1:
-        raise ValueError(f"`n_angles` must be >= 1, got {n_angles}")
-    peaks = _core.rotd_peaks((a1, a2), m1.dt, p, z, int(n_angles), threads)
-    peaks = peaks.reshape(z.size, p.size, int(n_angles))
+    n_angles = positive_int(n_angles, "n_angles", MAX_ANGLES)
+    threads = _threads(threads)
+    # the peaks, their sorted copy for the percentiles and the angles' cosines and sines
+    need = 8.0 * (2 * z.size * p.size + 2) * n_angles
+    if need > _physical_memory():
+        raise ValueError(
+            f"`n_angles` = {n_angles:,} directions of {z.size * p.size:,} oscillators need "
+            f"{need / 2**30:.3g} GiB, more than the machine's memory: take fewer directions"
+        )
+    peaks = _batches.rotd_peaks((a1, a2), m1.dt, p, z, n_angles, threads)
     sd = np.moveaxis(np.percentile(peaks, q, axis=2), 0, 1)  # (damping, percentile, period)
     return RotDSpectrum(p, z, q, sd, peaks)
 
@@ -300,7 +338,7 @@ def ductility_spectrum(
     ----------
     motions : GroundMotion, (t, a) pair, or list of them
     periods : array_like
-        Periods in s, > 0.
+        Periods in s, at least ``1e-12`` times each record's `dt`.
     ductility : array_like
         Target ductility factors, >= 1 (1 is the elastic spectrum).
     damping : float, optional
@@ -331,13 +369,29 @@ def ductility_spectrum(
     if np.ndim(damping) != 0:
         raise ValueError("`damping` must be one ratio for a ductility spectrum")
     zeta = float(_dampings(damping)[0])
-    uy = np.stack(
-        [
-            _core.ductility_spectrum(m.a, m.dt, p, (zeta, float(alpha)), mu, threads).reshape(
-                mu.size, p.size
+    alpha = finite_float(alpha, "alpha")
+    if not 0.0 <= alpha < 1.0:
+        raise ValueError(f"`alpha` must be in [0, 1), got {alpha!r}")
+    threads = _threads(threads)
+    for i, m in enumerate(ms):
+        if p.min() < RIGID_RATIO * m.dt:
+            raise ValueError(
+                f"`periods` must be at least {RIGID_RATIO:g} dt = {RIGID_RATIO * m.dt:g} s for "
+                f"record {i} (shorter, the oscillator is rigid to double precision), got "
+                f"{p.min()!r}"
             )
-            for m in ms
-        ]
-    )
+        if not np.any(m.a):
+            raise ValueError(
+                f"`motions`: record {i} ({m.name!r}) is zero: no yield strength reaches a "
+                "ductility under it"
+            )
+    uy = np.stack([_batches.ductility(m.a, m.dt, p, (zeta, alpha), mu, threads) for m in ms])
     el = response_spectrum(ms, p, zeta, threads=threads).sd[:, 0, :]
+    if not (np.all(np.isfinite(uy)) and np.all(uy > 0.0)):
+        bad = np.argwhere(~(np.isfinite(uy) & (uy > 0.0)))[0]
+        raise ValueError(
+            f"`motions`: no positive yield displacement found for record {bad[0]} at "
+            f"ductility {mu[bad[1]]:g} and period {p[bad[2]]:g} s (a response below the "
+            "double precision of the record's scale)"
+        )
     return DuctilitySpectrum(p, mu, zeta, float(alpha), uy, el, [m.name for m in ms])

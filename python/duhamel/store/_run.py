@@ -24,14 +24,16 @@ from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import support_terms
 from duhamel.results.solution import Solution
 from duhamel.store._codec import Checkpoint, StoreError, decode, dumps, encode, pack, unpack
+from duhamel.store._integrity import check_grid, checked_chunks, damaged, digest, fits
 from duhamel.store._model import Model, Segment, capture
 from duhamel.store._solution import _shifted, _solution
 from duhamel.system import System
 
 __all__ = ["FORMAT", "SEGMENT_BYTES", "Store", "resume", "run_stored"]
 
-#: The store layout this version writes and reads.
-FORMAT = 1
+#: The store layout this version writes and reads: 2 adds the root record's checksum and
+#: the CRC-32C of every data chunk, and keeps the checkpoints uncompressed.
+FORMAT = 2
 #: Memory budget of one segment's saved rows (engine history and physical outputs), bytes.
 #: A segment holds a multiple of 1024 saved rows (at least 1024, whatever the budget).
 SEGMENT_BYTES = 32 * 2**20
@@ -77,6 +79,13 @@ class Store:
         if not isinstance(self.modal, bool):
             raise TypeError(f"`modal` must be True or False, got {self.modal!r}")
         object.__setattr__(self, "segment_bytes", positive_int(self.segment_bytes, "segment_bytes"))
+
+
+def _crc32c() -> Any:
+    """zarr's CRC-32C codec (zarr is imported on use)."""
+    from zarr.codecs import Crc32cCodec
+
+    return Crc32cCodec()
 
 
 def _zarr() -> Any:
@@ -162,13 +171,15 @@ def run_stored(
             f"`store`: {path!r} already exists; continue it with duhamel.resume({path!r}) or "
             "delete it first"
         ) from None
-    tree = encode(model.to_tree(), group.create_group("model"))
+    model_group = group.create_group("model")
+    text = dumps(encode(model.to_tree(), model_group))
     # The record that makes the store a store: written last, after the model it refers to.
     group.attrs[_KEY] = {
         "format": FORMAT,
         "version": __version__,
         "grid": grid,
-        "model": dumps(tree),
+        "model": text,
+        "checksum": digest(grid, text, model_group),
     }
     forces = [e for e in system.elements if e._spec()[0] != "coupling"]
     return _proceed(
@@ -210,7 +221,12 @@ def resume(path: str | os.PathLike[str], progress: bool | Progress | None = None
     FileNotFoundError
         No store at `path`.
     duhamel.store.StoreError
-        Not a duhamel store, an unknown format version, or damaged records.
+        Not a duhamel store, an unknown format version (format 1 stores of duhamel before
+        the data checksums included), or a damaged store: a root record (grid, model)
+        whose checksum does not match or whose grid no run can have, a committed data
+        chunk missing, cut short or with a changed byte. The message names the store and
+        what is damaged. A damaged checkpoint slot is not an error: the other slot is used,
+        or the run starts again when neither is intact (docs/store.md, "Damage").
 
     Examples
     --------
@@ -224,8 +240,9 @@ def resume(path: str | os.PathLike[str], progress: bool | Progress | None = None
     (True, (51,))
     """
     started = _time.perf_counter()
-    group, model, grid = _open(_path(path, "path"))
-    return _proceed(group, model, grid, _latest(group, model, grid), None, progress, started)
+    where = _path(path, "path")
+    group, model, grid = _open(where)
+    return _proceed(group, model, grid, _latest(group, model, grid, where), None, progress, started)
 
 
 def _open(path: str) -> tuple[Any, Model, dict]:
@@ -244,18 +261,39 @@ def _open(path: str) -> tuple[Any, Model, dict]:
             "store, or a run killed while its store was being created; solve again)"
         )
     if record.get("format") != FORMAT:
+        old = record.get("format") == 1
         raise StoreError(
             f"`path`: {path!r} has store format {record.get('format')!r} (written by duhamel "
             f"{record.get('version')}); this duhamel ({__version__}) reads format {FORMAT}"
+            + (
+                " (format 2 added checksums to the data chunks): resume it with the duhamel "
+                "that wrote it, or solve again"
+                if old
+                else ""
+            )
         )
     import json
 
     try:
-        tree = decode(json.loads(record["model"]), group["model"])
+        text, grid = record["model"], record["grid"]
+        if not isinstance(text, str) or not isinstance(grid, dict):
+            raise TypeError("the model text or the grid is not of its type")
+        if digest(grid, text, group["model"]) != record["checksum"]:
+            raise ValueError("the checksum of its grid and model does not match")
+    except Exception as exc:  # a missing field, unreadable model arrays, a changed byte
+        raise damaged(path, f"its root record (grid and model) ({exc})") from None
+    try:
+        tree = decode(json.loads(text), group["model"])
         model = Model.from_tree(tree)
-        grid = dict(record["grid"])
-    except (KeyError, TypeError, ValueError) as exc:
-        raise StoreError(f"`path`: the model record of {path!r} is damaged ({exc})") from None
+        grid = dict(grid)
+        check_grid(grid, model.basis.phi.shape[0])
+        if model.route not in ("uncoupled", "first-order", "pseudo-force"):
+            raise ValueError(f"unknown route {model.route!r}")
+        model.core(model.plan())  # builds the engine's model: its shapes and kinds checked
+        if not np.all(np.isfinite(model.initial_state())):
+            raise ValueError("a non-finite initial state")
+    except Exception as exc:  # a forged record with its checksum written again
+        raise damaged(path, f"its model or grid record ({type(exc).__name__}: {exc})") from None
     return group, model, grid
 
 
@@ -263,42 +301,44 @@ def _start(model: Model) -> Checkpoint:
     return Checkpoint(seq=0, step=0, rows=0, state=model.initial_state(), element_state=None)
 
 
-def _latest(group: Any, model: Model, grid: dict) -> Checkpoint:
-    """The newest intact checkpoint (the start of the run when there is none)."""
+def _latest(group: Any, model: Model, grid: dict, path: str) -> Checkpoint:
+    """The newest intact checkpoint that fits the grid (the start of the run when there is
+    none); a StoreError naming the store when the data it commits is damaged."""
     found = []
-    if "checkpoints" in group:
-        slots = group["checkpoints"]
-        for name in ("0", "1"):
-            if name in slots:
-                c = unpack(slots[name][...])
-                if c is not None:
-                    found.append(c)
-    if not found:
-        return _start(model)
-    c = max(found, key=lambda k: k.seq)
-    s, seg = grid["save_every"], grid["segment_rows"] * grid["save_every"]
-    width = model.initial_state().size
-    final = c.step == grid["n_steps"]
-    consistent = (
-        c.state.size == width
-        and c.step <= grid["n_steps"]
-        and (final or (c.step % seg == 0 and c.rows == c.step // s))
-        and (not final or c.rows == grid["rows"])
-    )
-    if not consistent:
-        raise StoreError(
-            f"the checkpoint of the store (step {c.step}, {c.rows} rows) does not fit its grid"
-        )
+    for name in ("0", "1"):
+        try:  # a slot that cannot be read is a damaged slot: the other one is used
+            slots = group["checkpoints"]
+            c = unpack(slots[name][...]) if name in slots else None
+        except Exception:
+            c = None
+        if c is not None and fits(c, grid, model.initial_state().size):
+            found.append(c)
+    c = max(found, key=lambda k: k.seq) if found else _start(model)
+    checked_chunks(path, group, grid, c.rows)
     return c
 
 
 def _checkpoint(group: Any, c: Checkpoint) -> None:
     """Writes `c` into slot ``seq % 2`` (the other slot keeps the previous one)."""
     blob = pack(c)
-    slots = group.require_group("checkpoints")
+    try:
+        slots = group.require_group("checkpoints")
+    except Exception:  # its metadata damaged (no slot was readable): made anew
+        slots = group.create_group("checkpoints", overwrite=True)
     name = str(c.seq % 2)
-    if name not in slots or slots[name].shape != blob.shape:
-        slots.create_array(name, shape=blob.shape, dtype="u1", chunks=blob.shape, overwrite=True)
+    try:
+        fresh = name not in slots or slots[name].shape != blob.shape
+    except Exception:  # a damaged slot (its metadata unreadable): written anew
+        fresh = True
+    if fresh:
+        slots.create_array(
+            name,
+            shape=blob.shape,
+            dtype="u1",
+            chunks=blob.shape,
+            compressors=None,  # the record's own CRC-32 is checked first, nothing to inflate
+            overwrite=True,
+        )
     slots[name][...] = blob
 
 
@@ -339,7 +379,7 @@ def _write(
                 dtype="f8",
                 chunks=(chunk, *(max(1, k) for k in value.shape[1:])),
                 fill_value=np.nan,
-                compressors=None,
+                compressors=[_crc32c()],  # per chunk: a changed or cut chunk is refused
                 overwrite=True,
                 attributes={"widths": [int(w) for w in widths]}
                 if name.startswith("element_") and widths is not None

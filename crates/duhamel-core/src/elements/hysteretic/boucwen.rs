@@ -53,6 +53,12 @@ use super::common::{check, check_alpha, finite, local_dofs, relative, scatter};
 use crate::elements::element::{Element, PathState, Tangent};
 use crate::error::CoreError;
 
+mod adaptive;
+
+/// Above this exponent the substeps follow the local stiffness of `g` (see
+/// [`BoucWen::advance_adaptive`]): the uniform bound `lambda ~ n` would cost `100 n`
+/// substeps per unit of `xi`.
+const ADAPTIVE_N: f64 = 16.0;
 /// RK4 substep bound, `lambda h <= H0`.
 const H0: f64 = 0.01;
 /// Bound on the RK4 substeps of one branch (a saturated branch needs far fewer).
@@ -302,6 +308,8 @@ impl BoucWen {
             z_c
         } else if self.n == 1.0 {
             s * self.advance_linear(s * z_c, xi)
+        } else if self.n > ADAPTIVE_N && self.g(s * z_c, s * z_c >= 0.0) > 0.0 {
+            s * self.advance_adaptive(s * z_c, xi)
         } else {
             s * self.advance_rk4(s * z_c, xi)
         };
@@ -374,7 +382,7 @@ mod tests {
     use super::*;
 
     /// A grounded element at dof 0 of `[k, fy, alpha, n, beta, gamma]`.
-    fn grounded([k, fy, alpha, n, beta, gamma]: [f64; 6]) -> Result<BoucWen, CoreError> {
+    pub(super) fn grounded([k, fy, alpha, n, beta, gamma]: [f64; 6]) -> Result<BoucWen, CoreError> {
         let params = BoucWenParams {
             k,
             fy,
