@@ -48,6 +48,18 @@ impl Shifted {
     /// Subtracts `K0 x + C0 v` from `r` and the matrices from the tangent.
     fn subtract(&self, x: &[f64], v: &[f64], r: &mut [f64], tangent: Option<Tangent<'_>>) {
         let n = x.len();
+        if let ([x0], [v0], [r0], [k00], [c00]) = (x, v, &mut *r, &self.k0[..], &self.c0[..]) {
+            // one dof (a device on one dof): the same sums as the loop below, without its
+            // slicing (`once(..).sum()` keeps the loop's rounding and sign of zero)
+            let kx: f64 = std::iter::once(k00 * x0).sum();
+            let cv: f64 = std::iter::once(c00 * v0).sum();
+            *r0 -= kx + cv;
+            if let Some(t) = tangent {
+                t.kx[0] -= k00;
+                t.cv[0] -= c00;
+            }
+            return;
+        }
         for (i, ri) in r.iter_mut().enumerate().take(n) {
             let row = i * n..(i + 1) * n;
             let kx: f64 = self.k0[row.clone()].iter().zip(x).map(|(a, b)| a * b).sum();
