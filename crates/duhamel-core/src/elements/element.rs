@@ -132,6 +132,10 @@ pub(crate) struct Evaluation<'a> {
     pub cv: Vec<f64>,
     committed: Vec<f64>,
     trial: Vec<f64>,
+    /// The number of evaluations so far, and whether the last one computed `kx`, `cv`
+    /// (what lets the stiffness watch reuse an evaluation at the state it would evaluate).
+    evaluations: u64,
+    with_tangent: bool,
 }
 
 impl<'a> Evaluation<'a> {
@@ -149,6 +153,8 @@ impl<'a> Evaluation<'a> {
             cv: vec![0.0; nl * nl],
             trial: committed.clone(),
             committed,
+            evaluations: 0,
+            with_tangent: false,
         }
     }
 
@@ -191,6 +197,8 @@ impl<'a> Evaluation<'a> {
     /// The force at the stored local state (overwrites `r`) and, with `tangent`, its
     /// tangents (analytic, or central differences for an element without them).
     pub fn evaluate(&mut self, t: f64, tangent: bool) -> Result<(), CoreError> {
+        self.evaluations += 1;
+        self.with_tangent = false;
         self.r.fill(0.0);
         let analytic = tangent && self.element.has_tangent();
         if analytic {
@@ -217,7 +225,18 @@ impl<'a> Evaluation<'a> {
                 &mut self.cv,
             )?;
         }
+        self.with_tangent = tangent;
         Ok(())
+    }
+
+    /// The number of evaluations so far.
+    pub fn evaluations(&self) -> u64 {
+        self.evaluations
+    }
+
+    /// Whether the last evaluation computed the tangents `kx`, `cv` (and succeeded).
+    pub fn with_tangent(&self) -> bool {
+        self.with_tangent
     }
 }
 

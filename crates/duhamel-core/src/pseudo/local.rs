@@ -40,6 +40,10 @@ pub struct ElementSpace<'a> {
     /// `Phi_D`, row-major `n_d x n_modes`.
     phi: Vec<f64>,
     members: Vec<Member<'a>>,
+    /// Set by a step solver whose last evaluation (with tangents) was at its converged end
+    /// state: the evaluations the members had counted then. The stiffness watch reuses
+    /// those tangents when no evaluation came in between.
+    end_mark: Option<u64>,
 }
 
 impl<'a> ElementSpace<'a> {
@@ -65,7 +69,20 @@ impl<'a> ElementSpace<'a> {
             n_modes,
             phi,
             members,
+            end_mark: None,
         }
+    }
+
+    /// The evaluations all members have counted.
+    fn evaluations(&self) -> u64 {
+        self.members.iter().map(|m| m.eval.evaluations()).sum()
+    }
+
+    /// Marks the members' last evaluations as the converged end state's, with tangents (a
+    /// step solver calls this right after evaluating there with tangents).
+    pub fn mark_end(&mut self) {
+        let fresh = self.members.iter().all(|m| m.eval.with_tangent());
+        self.end_mark = fresh.then(|| self.evaluations());
     }
 
     /// Whether an element has internal variables (hysteresis) to commit after each step.
@@ -138,7 +155,10 @@ impl<'a> ElementSpace<'a> {
     /// evaluation with tangents per call (central differences for a Python element without a
     /// Jacobian: its stiffness escapes the step's stability limit no more than a built-in
     /// one's). Path-dependent elements are evaluated from their committed variables (their
-    /// trial variables are overwritten, as any evaluation does).
+    /// trial variables are overwritten, as any evaluation does). When the step solver's last
+    /// evaluation was at its converged end state with tangents ([`ElementSpace::mark_end`])
+    /// and none came after it, its tangents are used (the state the watch asks for is that
+    /// one, up to the rounding of its element coordinates and Newton's tolerance).
     pub fn tangent_stiffness(
         &mut self,
         modal_k: &[f64],
@@ -147,16 +167,19 @@ impl<'a> ElementSpace<'a> {
         t: f64,
     ) -> Result<(f64, usize), CoreError> {
         let n = self.n_modes;
+        let reuse = self.end_mark.take() == Some(self.evaluations());
         let phi = &self.phi;
         let (mut total, mut worst, mut largest, mut background) = (0.0, 0, 0.0, 0.0f64);
         for (index, m) in self.members.iter_mut().enumerate() {
             let e = &mut m.eval;
-            for (j, &a) in m.at.iter().enumerate() {
-                let row = &phi[a * n..(a + 1) * n];
-                e.x[j] = crate::dense::dot(row, q);
-                e.v[j] = crate::dense::dot(row, v);
+            if !reuse {
+                for (j, &a) in m.at.iter().enumerate() {
+                    let row = &phi[a * n..(a + 1) * n];
+                    e.x[j] = crate::dense::dot(row, q);
+                    e.v[j] = crate::dense::dot(row, v);
+                }
+                e.evaluate(t, true)?;
             }
-            e.evaluate(t, true)?;
             let nl = m.at.len();
             // G = Phi_e Phi_e^T; the nonzero eigenvalues of Phi_e^T K Phi_e are those of K G
             let g = |i: usize, j: usize| {

@@ -112,8 +112,15 @@ impl Modal {
             0
         } else {
             let it = self.newton(set, pf, inp)?;
-            // Node values at the converged state (Newton's last ones precede its update).
-            self.nodes(set, pf, inp, false, Nodes::Varying)?;
+            // Node values at the converged state (Newton's last ones precede its update);
+            // for one mode with the end state as the last node, with the tangents the
+            // stiffness watch then reuses (wider, the modal tangents cost n^2 per node).
+            let end = (0..set.rule.nodes.len()).rev().find(|&i| !set.constant[i]);
+            let at_end = set.n == 1 && end.is_some_and(|i| set.rule.nodes[i].s == 1.0);
+            self.nodes(set, pf, inp, at_end, Nodes::Varying)?;
+            if at_end {
+                pf.space_mut().mark_end();
+            }
             it
         };
         // The other half of the end state, explicitly, from the node values.

@@ -111,8 +111,14 @@ impl LocalNewton {
             let size = self.delta.iter().fold(0.0_f64, |a, d| a.max(d.abs()));
             let ymax = self.y.iter().fold(0.0_f64, |a, y| a.max(y.abs()));
             if set.linear || size <= set.tol * ymax.max(scale0) || size == 0.0 {
-                // The forces at the accepted state.
-                self.residual(space, set, inp, false)?;
+                // The forces at the accepted state, with the tangents the stiffness watch
+                // then reuses when the last node evaluated is the end state.
+                let end = self.map.iter().rev().find(|m| !m.constant);
+                let at_end = end.is_some_and(|m| m.s == 1.0);
+                self.residual(space, set, inp, at_end)?;
+                if at_end {
+                    space.mark_end();
+                }
                 return Ok(iter);
             }
             last = Some(norm);
