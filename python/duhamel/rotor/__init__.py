@@ -31,6 +31,7 @@ from duhamel.rotor.bearing import Bearing
 from duhamel.rotor.campbell import Campbell
 from duhamel.rotor.critical_map import CriticalSpeedMap, Intersection
 from duhamel.rotor.disk import Disk
+from duhamel.rotor.faults import BreathingCrack
 from duhamel.rotor.dofs import DIRECTIONS
 from duhamel.rotor.frequency import FrequencyResponse, FrequencyResponseMap
 from duhamel.rotor.journal import ShortJournalBearing
@@ -57,6 +58,7 @@ __all__ = [
     "Disk",
     "FrequencyResponse",
     "FrequencyResponseMap",
+    "BreathingCrack",
     "Gravity",
     "Intersection",
     "Level1Stability",
