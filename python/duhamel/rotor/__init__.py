@@ -31,8 +31,8 @@ from duhamel.rotor.bearing import Bearing
 from duhamel.rotor.campbell import Campbell
 from duhamel.rotor.critical_map import CriticalSpeedMap, Intersection
 from duhamel.rotor.disk import Disk
-from duhamel.rotor.faults import BreathingCrack
 from duhamel.rotor.dofs import DIRECTIONS
+from duhamel.rotor.faults import BreathingCrack
 from duhamel.rotor.frequency import FrequencyResponse, FrequencyResponseMap
 from duhamel.rotor.journal import ShortJournalBearing
 from duhamel.rotor.loads import Gravity, RotorLoad, SuddenForce, Unbalance, VectorStep
@@ -52,13 +52,13 @@ __all__ = [
     "PID",
     "STEEL",
     "Bearing",
+    "BreathingCrack",
     "Campbell",
     "ClosedLoop",
     "CriticalSpeedMap",
     "Disk",
     "FrequencyResponse",
     "FrequencyResponseMap",
-    "BreathingCrack",
     "Gravity",
     "Intersection",
     "Level1Stability",
