@@ -122,6 +122,17 @@ class Element:
     ) -> Element:
         """On the journal's dofs ``(x, y)``."""
     @staticmethod
+    def breathing_crack(
+        dof_x: int,
+        dof_y: int,
+        dk_xi: float,
+        dk_eta: float,
+        breathing: str,
+        phase: float,
+        law: SpeedLaw,
+    ) -> Element:
+        """A breathing crack's stiffness loss in the rotating frame."""
+    @staticmethod
     def speed_table(
         dof_x: int,
         dof_y: int,

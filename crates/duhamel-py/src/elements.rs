@@ -4,6 +4,7 @@
 use duhamel_core::elements::{
     Bilinear, BoucWen, BoucWenParams, FrictionPendulum, Gap, LeadRubberBearing, ViscousDamper,
 };
+use duhamel_core::elements::{Breathing, BreathingCrack};
 use duhamel_core::elements::{Contact, Damper, Element, Polynomial, Shifted, Spring};
 use duhamel_core::elements::{ShortJournalBearing, SpeedTableBearing, Tangent};
 use pyo3::exceptions::PyValueError;
@@ -28,6 +29,7 @@ enum Spec {
     Gap(Gap),
     Journal(ShortJournalBearing),
     SpeedTable(SpeedTableBearing),
+    Crack(BreathingCrack),
     Callable {
         dofs: Vec<usize>,
         func: Py<PyAny>,
@@ -139,6 +141,36 @@ impl ElementSpec {
             SpeedTableBearing::new(dof_x, dof_y, speeds, values, slopes, law.0).map_err(core_err)
         })?;
         Ok(ElementSpec(Spec::SpeedTable(e)))
+    }
+
+    /// A breathing crack on a shaft node's lateral dofs: the stiffness losses `dk_xi`,
+    /// `dk_eta` of the open crack in the rotating frame at the angle `law.theta(t) + phase`,
+    /// `breathing` "switching" (Gasch) or "cosine" (Mayes & Davies).
+    #[staticmethod]
+    #[pyo3(signature = (dof_x, dof_y, dk_xi, dk_eta, breathing, phase, law))]
+    fn breathing_crack(
+        dof_x: usize,
+        dof_y: usize,
+        dk_xi: f64,
+        dk_eta: f64,
+        breathing: &str,
+        phase: f64,
+        law: &crate::speed::SpeedLaw,
+    ) -> PyResult<Self> {
+        let breathing = match breathing {
+            "switching" => Breathing::Switching,
+            "cosine" => Breathing::Cosine,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "`breathing` must be 'switching' or 'cosine', got {other:?}"
+                )))
+            }
+        };
+        let e = guarded(|| {
+            BreathingCrack::new(dof_x, dof_y, dk_xi, dk_eta, breathing, phase, law.0)
+                .map_err(core_err)
+        })?;
+        Ok(ElementSpec(Spec::Crack(e)))
     }
 
     /// The restoring force and its tangents `(r, dr/dx, dr/dx')` (row-major) of a
@@ -414,6 +446,7 @@ fn make(py: Python<'_>, spec: &ElementSpec, built: &mut Built) -> PyResult<Box<d
         Spec::Gap(e) => Box::new(e.clone()),
         Spec::Journal(e) => Box::new(e.clone()),
         Spec::SpeedTable(e) => Box::new(e.clone()),
+        Spec::Crack(e) => Box::new(e.clone()),
         Spec::Callable {
             dofs,
             func,
@@ -452,6 +485,7 @@ impl ElementSpec {
             Spec::Gap(e) => e.dofs().to_vec(),
             Spec::Journal(e) => e.dofs().to_vec(),
             Spec::SpeedTable(e) => e.dofs().to_vec(),
+            Spec::Crack(e) => e.dofs().to_vec(),
             Spec::Callable { dofs, .. } => dofs.clone(),
             Spec::Shifted { inner, .. } => inner.get().dof_list(),
         }

@@ -108,6 +108,9 @@ def element(spec: tuple) -> Any:
     if kind == "journal":
         dof_x, dof_y, *geometry, law = args
         return _core.Element.journal_bearing((dof_x, dof_y), *geometry, speed_law(law))
+    if kind == "crack":
+        *crack, law = args
+        return _core.Element.breathing_crack(*crack, speed_law(law))
     if kind == "bilinear":
         return _core.Element.bilinear(*args)
     if kind == "bouc_wen":

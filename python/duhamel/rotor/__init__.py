@@ -32,6 +32,7 @@ from duhamel.rotor.campbell import Campbell
 from duhamel.rotor.critical_map import CriticalSpeedMap, Intersection
 from duhamel.rotor.disk import Disk
 from duhamel.rotor.dofs import DIRECTIONS
+from duhamel.rotor.faults import BreathingCrack
 from duhamel.rotor.frequency import FrequencyResponse, FrequencyResponseMap
 from duhamel.rotor.journal import ShortJournalBearing
 from duhamel.rotor.loads import Gravity, RotorLoad, SuddenForce, Unbalance, VectorStep
@@ -51,6 +52,7 @@ __all__ = [
     "PID",
     "STEEL",
     "Bearing",
+    "BreathingCrack",
     "Campbell",
     "ClosedLoop",
     "CriticalSpeedMap",

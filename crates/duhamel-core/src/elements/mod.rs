@@ -6,6 +6,7 @@
 //! element family.
 
 mod contact;
+mod crack;
 mod element;
 mod hysteretic;
 mod journal;
@@ -15,6 +16,7 @@ mod spring;
 mod table;
 
 pub use contact::Contact;
+pub use crack::{Breathing, BreathingCrack};
 pub(crate) use element::Evaluation;
 pub use element::{Element, ModalCubic, PathState, Tangent};
 pub use hysteretic::{
