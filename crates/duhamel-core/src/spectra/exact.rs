@@ -218,11 +218,41 @@ fn run(
             pa[l] = larger(pa[l], k[l].mul_add(x[l], c[l] * v[l]).abs());
         }
     }
+    // Padding lanes (at rest) never need a search: an infinite peak (reset below).
+    for (l, ol) in o.iter().enumerate() {
+        if ol.is_none() {
+            (px[l], pv[l], pa[l]) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
+        }
+    }
     let mut search = Search::new();
     for (n, pair) in acc.windows(2).enumerate() {
         let (p0, p1) = (-pair[0], -pair[1]);
         let r = (p1 - p0) / h;
         let (x0s, v0s, xns, vns) = (xs[n], vs[n], xs[n + 1], vs[n + 1]);
+        // A cheap gate first: the ends plus `h^2/8` times the bound of the second
+        // derivative (the first of the two bounds below, which both must pass).
+        let mut gate = [0.0f64; LANES];
+        for l in 0..LANES {
+            let (x0, v0, xn, vn) = (x0s[l], v0s[l], xns[l], vns[l]);
+            let (kl, cl, sl, iwl) = (k[l], c[l], sigma[l], iw[l]);
+            let a0 = p0 - cl * v0 - kl * x0;
+            let q = (r - cl * a0 - kl * v0 + sl * a0) * iwl;
+            let amp2 = a0.mul_add(a0, q * q) * h2;
+            let excess = |gap: f64, r2: f64| r2 - gap * gap.abs();
+            let big = |a: f64, b: f64| larger(a.abs(), b.abs());
+            let s0 = kl.mul_add(x0, cl * v0);
+            let s1 = kl.mul_add(xn, cl * vn);
+            gate[l] = larger(
+                excess(px[l] - big(x0, xn), amp2),
+                larger(
+                    excess(pv[l] - big(v0, vn), amp2 * f1[l] * f1[l]),
+                    excess(pa[l] - big(s0, s1), amp2 * f2[l] * f2[l]),
+                ),
+            );
+        }
+        if gate.iter().fold(f64::NEG_INFINITY, |m, y| larger(m, *y)) < 0.0 {
+            continue;
+        }
         let mut score = [0.0f64; LANES];
         for l in 0..LANES {
             let (x0, v0, xn, vn) = (x0s[l], v0s[l], xns[l], vns[l]);
@@ -276,6 +306,11 @@ fn run(
                     [px[l], pv[l], pa[l]] = pk;
                 }
             }
+        }
+    }
+    for (l, ol) in o.iter().enumerate() {
+        if ol.is_none() {
+            (px[l], pv[l], pa[l]) = (0.0, 0.0, 0.0);
         }
     }
     let (x, v) = (xs[xs.len() - 1], vs[vs.len() - 1]);
