@@ -131,3 +131,49 @@ def test_gap_closing_located_consistently_as_dt_shrinks() -> None:
     for j in (1, 2):  # the closings after a contact
         slope = np.polyfit(np.log(steps), np.log(errors[:, j]), 1)[0]
         assert slope > 1.6, (j, errors[:, j], slope)
+
+
+def _stopping_model(route: str) -> duhamel.System:
+    m, k = 1e5 * np.eye(2), 4e7 * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    if route == "first-order":
+        s = duhamel.System(m, k, np.array([[3e5, -1e5], [-1e5, 2e4]]))
+    else:
+        s = duhamel.System(m, k, zeta=0.05)
+    if route == "elements":
+        s.add(duhamel.elements.Bilinear(0, None, k=4e7, fy=1.2e6, alpha=0.05))
+    t = np.arange(0.0, 40.0, 0.01)
+    ramp = np.sin(3 * t) * np.minimum(t / 20.0, 1.0) * 5.0
+    return s.add_load(duhamel.loads.Tabulated(1, t, 1e5 * ramp))
+
+
+@pytest.mark.parametrize("route", ["uncoupled", "first-order", "elements"])
+def test_terminal_event_stops_the_work(route: str) -> None:
+    """A terminal event stops the run itself: the steps after it are not taken (the run's
+    stats count far fewer than a full run's), and what is returned equals, bit for bit, the
+    rows, events and located state of the same run with the event not terminal."""
+    prep = duhamel.prepare(_stopping_model(route), duhamel.Semianalytic(), dt=0.002)
+    assert prep.route == {"elements": "pseudo-force"}.get(route, route)
+    level = 0.6 * np.abs(prep.run(t_end=40.0).x[:, 1]).max()  # reached as the load grows
+    watch = [events.threshold(1, level), events.threshold(0, 0.3 * level)]
+    full = prep.run(t_end=40.0, events=watch)
+    assert full.stats.steps == 20000
+    crossing = next(o for o in full.events if o.index == 0)
+    assert 5.0 < crossing.time < 30.0  # not in the run's first chunk, nor its last
+    stop = [events.threshold(1, level, terminal=True), watch[1]]
+    sol = prep.run(t_end=40.0, events=stop, dense=True)
+    assert sol.stats.steps < crossing.time / 0.002 + 20000 / 16
+    assert sol.stats.steps < 0.8 * full.stats.steps
+    n = sol.t.size - 1
+    assert sol.t[n] == crossing.time
+    for name in ("t", "x", "v", "a"):
+        np.testing.assert_array_equal(getattr(sol, name)[:n], getattr(full, name)[:n])
+    np.testing.assert_array_equal(sol.x[n], crossing.x)
+    np.testing.assert_array_equal(sol.v[n], crossing.v)
+    kept = [(o.index, o.time) for o in full.events if o.time <= crossing.time]
+    assert [(o.index, o.time) for o in sol.events] == kept
+    for mine, theirs in zip(sol.elements, full.elements, strict=True):
+        np.testing.assert_array_equal(mine.force[:n], theirs.force[:n])
+    inside = 0.5 * (sol.t[n - 2] + sol.t[n - 1])
+    again = prep.run(t_end=40.0, events=watch, dense=True)
+    inside = 0.5 * (sol.t[n - 2] + sol.t[n - 1])
+    np.testing.assert_array_equal(sol.at(inside)[0], again.at(inside)[0])

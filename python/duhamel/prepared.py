@@ -15,7 +15,7 @@ from numpy.typing import ArrayLike
 from duhamel._engine import modal
 from duhamel._engine.direct_run import DirectSetup, prepare_direct
 from duhamel._engine.labels import resolve_list
-from duhamel._engine.locate import checked_events, checked_times, dense_run
+from duhamel._engine.locate import checked_events, checked_times, dense_run, terminal_check
 from duhamel._engine.run import Progress
 from duhamel._engine.run_inputs import checked_loads, checked_models, massless_store_check
 from duhamel._engine.validate import (
@@ -254,6 +254,7 @@ class Prepared:
         t_eval: ArrayLike | None = None,
         dense: bool = False,
         _dense: bool = False,
+        _stop: Any = None,
     ) -> Solution:
         dt = self.dt
         t0 = finite_float(t0, "t0")
@@ -275,7 +276,7 @@ class Prepared:
                 )
             args = dict(t_end=t_end, t0=t0, x0=x0, v0=v0, loads=loads, save_every=1,
                         dofs=dofs, store=None, checkpoint_every=None, progress=progress,
-                        started=started, _dense=True)  # fmt: skip
+                        started=started, _dense=True, _stop=terminal_check(evs))  # fmt: skip
             return dense_run(lambda: self._run(**args), evs, times, bool(dense))
         if store is not None:
             from duhamel.store._run import run_stored
@@ -295,7 +296,7 @@ class Prepared:
             )  # fmt: skip
         assert self._modal is not None
         opts = modal.RunOptions(
-            t0, dt, n_steps, save_every, out_dofs, x0, v0, loads, progress, started, _dense
+            t0, dt, n_steps, save_every, out_dofs, x0, v0, loads, progress, started, _dense, _stop
         )
         return modal.run(self._modal, opts)
 

@@ -16,7 +16,7 @@ from duhamel.events import Event, Occurrence
 from duhamel.results.solution import ModalHistory, Solution
 from duhamel.results.structural import ElementHistory
 
-__all__ = ["checked_events", "checked_times", "finish", "locate"]
+__all__ = ["checked_events", "checked_times", "finish", "locate", "terminal_check"]
 
 #: Root-finding tolerance, as a fraction of the step.
 XTOL = 1e-12
@@ -53,6 +53,25 @@ def _crossings(g: NDArray, direction: int) -> NDArray[np.int64]:
     down = (s0 > 0) & (s1 <= 0)
     mask = up if direction > 0 else down if direction < 0 else up | down
     return np.flatnonzero(mask)
+
+
+def terminal_check(events: Sequence[Event]) -> Any:
+    """``check(solution)``: whether a terminal one of `events` crosses (or is not finite)
+    along `solution`'s saved rows, as :func:`locate` finds its crossings; None without a
+    terminal event. A run in chunks stops after the first chunk where it is true."""
+    terminal = [ev for ev in events if ev.terminal]
+    if not terminal:
+        return None
+
+    def check(sol: Solution) -> bool:
+        for ev in terminal:
+            ev._bind(sol)
+            g = ev._values(sol.t, sol.x, sol.v, sol)
+            if not np.all(np.isfinite(g)) or _crossings(g, ev.direction).size:
+                return True
+        return False
+
+    return check
 
 
 def locate(events: Sequence[Event], sol: Solution, dense: Dense) -> list[Occurrence]:

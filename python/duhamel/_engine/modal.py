@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._engine import dispatch
+from duhamel._engine.chunks import chunked, steps_of
 from duhamel._engine.correction import substeps
 from duhamel._engine.dense import ExactSteps, State
 from duhamel._engine.massless import load_terms
@@ -26,6 +27,7 @@ from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_f
 from duhamel._engine.structure import structure_model
 from duhamel._engine.validate import as_float_array
 from duhamel.elements.basic import LinearCoupling
+from duhamel.errors import SolverError
 from duhamel.integrators import Semianalytic
 from duhamel.loads import support_terms
 from duhamel.results.solution import Solution, SolveStats
@@ -135,6 +137,9 @@ class RunOptions:
     progress: bool | Progress | None
     started: float
     dense: bool = False  # keep what the exact interpolant of a linear route needs
+    #: ``stop(solution)``: whether a chunk's solution holds a terminal event's crossing (the
+    #: run then stops after that chunk, :mod:`duhamel._engine.chunks`).
+    stop: Any = None
 
 
 def run(prep: ModalSetup, opts: RunOptions) -> Solution:
@@ -161,6 +166,13 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
     )
     spec = dispatch.run_spec(route, grid, state)
     forcing = ModalCallable(fns, system.n_dof) if fns else None
+    if opts.stop is not None and (opts.progress is None or opts.progress is False):
+        stopped = _stopping(prep, opts, state, sub, loads, out, forcing, patterns, base)
+        if stopped is not None:
+            sol, joined = stopped
+            if opts.dense:
+                sol._exact = exact_steps(prep, loads, out, patterns, forcing, joined)
+            return sol
     if opts.progress is None or opts.progress is False:
         loop_start = _time.perf_counter()
         result = prep.model.run(spec, loads, out.maps, forcing, None)
@@ -174,6 +186,32 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
     if opts.dense:
         sol._exact = exact_steps(prep, loads, out, patterns, forcing, result)
     return sol
+
+
+def _stopping(
+    prep: ModalSetup, opts: RunOptions, state: Any, sub: int, loads: Any, out: Outputs,
+    forcing: Any, patterns: NDArray, base: Any,
+) -> tuple[Solution, Any] | None:  # fmt: skip
+    """The run in chunks, stopped after the chunk where ``opts.stop`` fires (None: a chunk
+    failed, the caller runs the whole grid)."""
+
+    def one(spec: Any) -> Any:
+        return prep.model.run(spec, loads, out.maps, forcing, None)
+
+    def seen(result: Any, steps: int) -> bool:
+        part = solution(prep, result, out, patterns, steps_of(opts, steps), 0.0, base, sub)
+        return bool(opts.stop(part))
+
+    loop_start = _time.perf_counter()
+    try:
+        done = chunked(prep, opts, state, sub, one, seen)
+    except (ArithmeticError, SolverError):  # an overflow: the whole run raises it
+        return None
+    if done is None:
+        return None
+    joined, steps = done
+    wall = _time.perf_counter() - loop_start
+    return solution(prep, joined, out, patterns, steps_of(opts, steps), wall, base, sub), joined
 
 
 def exact_steps(
