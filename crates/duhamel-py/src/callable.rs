@@ -290,6 +290,9 @@ impl Element for ArcElement {
     fn initial_state(&self, x: &[f64], v: &[f64], state: &mut [f64]) {
         self.0.initial_state(x, v, state)
     }
+    fn initial_time(&self, t0: f64, state: &mut [f64]) {
+        self.0.initial_time(t0, state)
+    }
     fn eval_path(
         &self,
         x: &[f64],

@@ -2,7 +2,8 @@
 //! `Callable` element.
 
 use duhamel_core::elements::{
-    Bilinear, BoucWen, BoucWenParams, FrictionPendulum, Gap, LeadRubberBearing, ViscousDamper,
+    Bilinear, BoucWen, BoucWenParams, FrictionPendulum, Gap, LeadRubberBearing, MaxwellDamper,
+    ViscousDamper,
 };
 use duhamel_core::elements::{Contact, Damper, Element, Polynomial, Shifted, Spring};
 use duhamel_core::elements::{ShortJournalBearing, SpeedTableBearing, Tangent};
@@ -25,6 +26,7 @@ enum Spec {
     FrictionPendulum(FrictionPendulum),
     LeadRubber(LeadRubberBearing),
     ViscousDamper(ViscousDamper),
+    Maxwell(MaxwellDamper),
     Gap(Gap),
     Journal(ShortJournalBearing),
     SpeedTable(SpeedTableBearing),
@@ -286,6 +288,26 @@ impl ElementSpec {
         guarded(made).map(|e| ElementSpec(Spec::ViscousDamper(e)))
     }
 
+    /// Power-law viscous damper in series with a brace of stiffness `kb` (Maxwell model).
+    #[staticmethod]
+    #[pyo3(signature = (i, j, c, exponent, v0, kb))]
+    fn maxwell_damper(
+        i: usize,
+        j: Option<usize>,
+        c: f64,
+        exponent: f64,
+        v0: f64,
+        kb: f64,
+    ) -> PyResult<Self> {
+        let made = || {
+            ViscousDamper::new(i, j, c, exponent)
+                .and_then(|d| d.with_v0(v0))
+                .and_then(|d| MaxwellDamper::new(d, kb))
+                .map_err(core_err)
+        };
+        guarded(made).map(|e| ElementSpec(Spec::Maxwell(e)))
+    }
+
     /// Element minus the local linear part `k0 x + c0 v` (row-major `n x n` matrices at its
     /// `n` dofs): the remainder of an element whose linear part is in the background.
     #[staticmethod]
@@ -411,6 +433,7 @@ fn make(py: Python<'_>, spec: &ElementSpec, built: &mut Built) -> PyResult<Box<d
         Spec::FrictionPendulum(e) => Box::new(e.clone()),
         Spec::LeadRubber(e) => Box::new(e.clone()),
         Spec::ViscousDamper(e) => Box::new(e.clone()),
+        Spec::Maxwell(e) => Box::new(e.clone()),
         Spec::Gap(e) => Box::new(e.clone()),
         Spec::Journal(e) => Box::new(e.clone()),
         Spec::SpeedTable(e) => Box::new(e.clone()),
@@ -449,6 +472,7 @@ impl ElementSpec {
             Spec::FrictionPendulum(e) => e.dofs().to_vec(),
             Spec::LeadRubber(e) => e.dofs().to_vec(),
             Spec::ViscousDamper(e) => e.dofs().to_vec(),
+            Spec::Maxwell(e) => e.dofs().to_vec(),
             Spec::Gap(e) => e.dofs().to_vec(),
             Spec::Journal(e) => e.dofs().to_vec(),
             Spec::SpeedTable(e) => e.dofs().to_vec(),

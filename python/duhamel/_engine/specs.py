@@ -127,6 +127,8 @@ def element(spec: tuple) -> Any:
         )
     if kind == "viscous_damper":
         return _core.Element.viscous_damper(*args)
+    if kind == "maxwell_damper":
+        return _core.Element.maxwell_damper(*args)
     if kind == "gap":
         return _core.Element.gap(*args)
     if kind == "shifted":

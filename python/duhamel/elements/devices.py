@@ -304,10 +304,18 @@ class ViscousDamper(Deformation, Element):
     the power law's force and slope at `v0` keeps the force smooth and its slope finite, so
     Newton converges; `v0` defaults to 1e-4, 0.1 mm/s in SI units).
 
+    With `brace_stiffness` ``k_b`` the damper acts in series with its brace (Maxwell model,
+    OpenSees ``ViscousDamper`` material with ``K``): ``F = k_b (u - u_d) = c |u_d'|^exponent
+    sgn(u_d')`` with the damper's own deformation ``u_d`` an internal variable, integrated
+    over each step by the trapezoidal rule (second order) and solved per evaluation by a
+    safeguarded Newton iteration, with the consistent tangent. The element starts
+    unstressed and stores ``F^2 / (2 k_b)`` in the brace. None (default): a rigid brace.
+
     Examples
     --------
     >>> import duhamel
     >>> damper = duhamel.elements.ViscousDamper(2, 1, c=3e5, exponent=0.35)
+    >>> braced = duhamel.elements.ViscousDamper(2, 1, c=3e5, exponent=0.35, brace_stiffness=2e7)
     """
 
     i: int
@@ -315,24 +323,23 @@ class ViscousDamper(Deformation, Element):
     c: float = 0.0
     exponent: float = 1.0
     v0: float = 1e-4
+    brace_stiffness: float | None = None
 
     def __post_init__(self) -> None:
         nonneg(self.c, "c")
         positive(self.exponent, "exponent")
         positive(self.v0, "v0")
+        if self.brace_stiffness is not None:
+            positive(self.brace_stiffness, "brace_stiffness")
 
     def _passive(self) -> bool:
         return True
 
     def _spec(self) -> tuple:
-        return (
-            "viscous_damper",
-            int(self.i),
-            _j(self.j),
-            float(self.c),
-            float(self.exponent),
-            float(self.v0),
-        )
+        base = (int(self.i), _j(self.j), float(self.c), float(self.exponent), float(self.v0))
+        if self.brace_stiffness is None:
+            return ("viscous_damper", *base)
+        return ("maxwell_damper", *base, float(self.brace_stiffness))
 
 
 @dataclass(frozen=True)

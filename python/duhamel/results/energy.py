@@ -130,6 +130,8 @@ def stored_energy(element: Any, u: NDArray[np.float64], f: NDArray[np.float64]) 
         hyst = f[:, 0] - element.alpha * element.k * ue
         soft = (1.0 - element.alpha) * element.k
         return 0.5 * element.alpha * element.k * ue**2 + (hyst**2 / (2 * soft) if soft > 0 else 0)
+    if kind == "ViscousDamper" and element.brace_stiffness is not None:
+        return f[:, 0] ** 2 / (2.0 * element.brace_stiffness)
     if kind == "Spring":
         ue = u[:, 0] - (u[:, 1] if u.shape[1] == 2 else 0.0)
         return 0.5 * element.k * ue**2 + 0.25 * element.k3 * ue**4
