@@ -168,6 +168,10 @@ class Element:
     @staticmethod
     def viscous_damper(i: int, j: int | None, c: float, exponent: float, v0: float) -> Element: ...
     @staticmethod
+    def friction_pendulum_axial(
+        dof_x: int, dof_z: int, radius: float, mu: float, nominal: tuple[float, float], kv: float
+    ) -> Element: ...
+    @staticmethod
     def maxwell_damper(
         i: int, j: int | None, c: float, exponent: float, v0: float, kb: float
     ) -> Element: ...

@@ -2,8 +2,8 @@
 //! `Callable` element.
 
 use duhamel_core::elements::{
-    Bilinear, BoucWen, BoucWenParams, FrictionPendulum, Gap, LeadRubberBearing, MaxwellDamper,
-    ViscousDamper,
+    AxialFrictionPendulum, Bilinear, BoucWen, BoucWenParams, FrictionPendulum, Gap,
+    LeadRubberBearing, MaxwellDamper, ViscousDamper,
 };
 use duhamel_core::elements::{Contact, Damper, Element, Polynomial, Shifted, Spring};
 use duhamel_core::elements::{ShortJournalBearing, SpeedTableBearing, Tangent};
@@ -27,6 +27,7 @@ enum Spec {
     LeadRubber(LeadRubberBearing),
     ViscousDamper(ViscousDamper),
     Maxwell(MaxwellDamper),
+    AxialPendulum(AxialFrictionPendulum),
     Gap(Gap),
     Journal(ShortJournalBearing),
     SpeedTable(SpeedTableBearing),
@@ -288,6 +289,25 @@ impl ElementSpec {
         guarded(made).map(|e| ElementSpec(Spec::ViscousDamper(e)))
     }
 
+    /// Uniaxial friction pendulum on `(dof_x, dof_z)` to the ground, its normal force from
+    /// the vertical dof's axial stiffness `kv` (`nominal = (weight, yield_displacement)` set
+    /// the initial stiffness `mu W / Y`).
+    #[staticmethod]
+    #[pyo3(signature = (dof_x, dof_z, radius, mu, nominal, kv))]
+    fn friction_pendulum_axial(
+        dof_x: usize,
+        dof_z: usize,
+        radius: f64,
+        mu: f64,
+        nominal: (f64, f64),
+        kv: f64,
+    ) -> PyResult<Self> {
+        let made = || {
+            AxialFrictionPendulum::new((dof_x, dof_z), radius, mu, nominal, kv).map_err(core_err)
+        };
+        guarded(made).map(|e| ElementSpec(Spec::AxialPendulum(e)))
+    }
+
     /// Power-law viscous damper in series with a brace of stiffness `kb` (Maxwell model).
     #[staticmethod]
     #[pyo3(signature = (i, j, c, exponent, v0, kb))]
@@ -434,6 +454,7 @@ fn make(py: Python<'_>, spec: &ElementSpec, built: &mut Built) -> PyResult<Box<d
         Spec::LeadRubber(e) => Box::new(e.clone()),
         Spec::ViscousDamper(e) => Box::new(e.clone()),
         Spec::Maxwell(e) => Box::new(e.clone()),
+        Spec::AxialPendulum(e) => Box::new(e.clone()),
         Spec::Gap(e) => Box::new(e.clone()),
         Spec::Journal(e) => Box::new(e.clone()),
         Spec::SpeedTable(e) => Box::new(e.clone()),
@@ -473,6 +494,7 @@ impl ElementSpec {
             Spec::LeadRubber(e) => e.dofs().to_vec(),
             Spec::ViscousDamper(e) => e.dofs().to_vec(),
             Spec::Maxwell(e) => e.dofs().to_vec(),
+            Spec::AxialPendulum(e) => e.dofs().to_vec(),
             Spec::Gap(e) => e.dofs().to_vec(),
             Spec::Journal(e) => e.dofs().to_vec(),
             Spec::SpeedTable(e) => e.dofs().to_vec(),

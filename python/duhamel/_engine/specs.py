@@ -127,6 +127,9 @@ def element(spec: tuple) -> Any:
         )
     if kind == "viscous_damper":
         return _core.Element.viscous_damper(*args)
+    if kind == "friction_pendulum_axial":
+        dof_x, dof_z, radius, mu, weight, yd, kv = args
+        return _core.Element.friction_pendulum_axial(dof_x, dof_z, radius, mu, (weight, yd), kv)
     if kind == "maxwell_damper":
         return _core.Element.maxwell_damper(*args)
     if kind == "gap":

@@ -144,7 +144,7 @@ impl Element for MaxwellDamper {
         if dt < 0.0 && dt >= -1e-12 * (1.0 + t.abs()) {
             dt = 0.0;
         }
-        if !(dt >= 0.0) {
+        if dt.is_nan() || dt < 0.0 {
             return Err(CoreError::InvalidInput {
                 name: "t",
                 problem: format!(

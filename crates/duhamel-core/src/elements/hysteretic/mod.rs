@@ -1,5 +1,6 @@
 //! Hysteretic and device elements of earthquake engineering: the path-dependent
-//! [`Bilinear`], [`BoucWen`], [`FrictionPendulum`] and [`LeadRubberBearing`] (committed and trial internal
+//! [`Bilinear`], [`BoucWen`], [`FrictionPendulum`], [`AxialFrictionPendulum`] (its normal force from a vertical dof)
+//! and [`LeadRubberBearing`] (committed and trial internal
 //! variables, [`crate::elements::PathState`]) the damper in series with its brace
 //! [`MaxwellDamper`] (its internal deformation evolves in time) and the stateless
 //! [`ViscousDamper`] and [`Gap`].
@@ -11,6 +12,7 @@ mod common;
 mod friction;
 mod gap;
 mod maxwell;
+mod pendulum_axial;
 mod rubber;
 mod viscous;
 
@@ -19,5 +21,6 @@ pub use boucwen::{BoucWen, BoucWenParams};
 pub use friction::{FrictionPendulum, DEFAULT_YIELD_DISPLACEMENT};
 pub use gap::Gap;
 pub use maxwell::MaxwellDamper;
+pub use pendulum_axial::AxialFrictionPendulum;
 pub use rubber::LeadRubberBearing;
 pub use viscous::{ViscousDamper, DEFAULT_V0};
