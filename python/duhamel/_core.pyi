@@ -173,7 +173,7 @@ class Element:
     ) -> Element: ...
     @staticmethod
     def maxwell_damper(
-        i: int, j: int | None, c: float, exponent: float, v0: float, kb: float
+        i: int, j: int | None, law: tuple[float, float, float], kb: float
     ) -> Element: ...
     @staticmethod
     def shifted(inner: Element, k0: Array, c0: Array) -> Element:

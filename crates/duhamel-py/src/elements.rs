@@ -289,9 +289,7 @@ impl ElementSpec {
         guarded(made).map(|e| ElementSpec(Spec::ViscousDamper(e)))
     }
 
-    /// Uniaxial friction pendulum on `(dof_x, dof_z)` to the ground, its normal force from
-    /// the vertical dof's axial stiffness `kv` (`nominal = (weight, yield_displacement)` set
-    /// the initial stiffness `mu W / Y`).
+    /// Uniaxial friction pendulum on `(dof_x, dof_z)`, normal force from the axial stiffness `kv`.
     #[staticmethod]
     #[pyo3(signature = (dof_x, dof_z, radius, mu, nominal, kv))]
     fn friction_pendulum_axial(
@@ -302,26 +300,16 @@ impl ElementSpec {
         nominal: (f64, f64),
         kv: f64,
     ) -> PyResult<Self> {
-        let made = || {
-            AxialFrictionPendulum::new((dof_x, dof_z), radius, mu, nominal, kv).map_err(core_err)
-        };
-        guarded(made).map(|e| ElementSpec(Spec::AxialPendulum(e)))
+        let made = || AxialFrictionPendulum::new((dof_x, dof_z), radius, mu, nominal, kv);
+        guarded(|| made().map_err(core_err)).map(|e| ElementSpec(Spec::AxialPendulum(e)))
     }
 
-    /// Power-law viscous damper in series with a brace of stiffness `kb` (Maxwell model).
+    /// Power-law viscous damper `law = (c, exponent, v0)` in series with a brace `kb` (Maxwell).
     #[staticmethod]
-    #[pyo3(signature = (i, j, c, exponent, v0, kb))]
-    fn maxwell_damper(
-        i: usize,
-        j: Option<usize>,
-        c: f64,
-        exponent: f64,
-        v0: f64,
-        kb: f64,
-    ) -> PyResult<Self> {
+    fn maxwell_damper(i: usize, j: Option<usize>, law: (f64, f64, f64), kb: f64) -> PyResult<Self> {
+        let damper = || ViscousDamper::new(i, j, law.0, law.1).and_then(|d| d.with_v0(law.2));
         let made = || {
-            ViscousDamper::new(i, j, c, exponent)
-                .and_then(|d| d.with_v0(v0))
+            damper()
                 .and_then(|d| MaxwellDamper::new(d, kb))
                 .map_err(core_err)
         };

@@ -216,7 +216,7 @@ class FrictionPendulum(TwoAxis, Element):
                 )
 
     def _validate(self, system: Model) -> None:
-        if self.dof_z is not None:
+        if getattr(self, "dof_z", None) is not None:
             x = dof_index(self.dof_x, "dof_x", system.n_dof)
             if dof_index(self.dof_z, "dof_z", system.n_dof) == x:
                 raise ValueError(f"`dof_z` must differ from dof_x (both are {x})")
@@ -226,7 +226,7 @@ class FrictionPendulum(TwoAxis, Element):
             TwoAxis._validate(self, system)
 
     def _dofs(self) -> tuple[int, ...]:
-        if self.dof_z is not None:
+        if getattr(self, "dof_z", None) is not None:
             return (int(self.dof_x), int(self.dof_z))
         return (int(self.dof_x),) if self.dof_y is None else (int(self.dof_x), int(self.dof_y))
 
@@ -312,18 +312,12 @@ class LeadRubberBearing(TwoAxis, Element):
             object.__setattr__(self, name, float(getattr(self, name)))
 
     def _validate(self, system: Model) -> None:
-        if self.dof_z is not None:
-            x = dof_index(self.dof_x, "dof_x", system.n_dof)
-            if dof_index(self.dof_z, "dof_z", system.n_dof) == x:
-                raise ValueError(f"`dof_z` must differ from dof_x (both are {x})")
-        elif self.dof_y is None:
+        if self.dof_y is None:
             dof_index(self.dof_x, "dof_x", system.n_dof)
         else:
             TwoAxis._validate(self, system)
 
     def _dofs(self) -> tuple[int, ...]:
-        if self.dof_z is not None:
-            return (int(self.dof_x), int(self.dof_z))
         return (int(self.dof_x),) if self.dof_y is None else (int(self.dof_x), int(self.dof_y))
 
     def _passive(self) -> bool:
