@@ -179,6 +179,14 @@ class Element:
     @staticmethod
     def viscous_damper(i: int, j: int | None, c: float, exponent: float, v0: float) -> Element: ...
     @staticmethod
+    def friction_pendulum_axial(
+        dof_x: int, dof_z: int, radius: float, mu: float, nominal: tuple[float, float], kv: float
+    ) -> Element: ...
+    @staticmethod
+    def maxwell_damper(
+        i: int, j: int | None, law: tuple[float, float, float], kb: float
+    ) -> Element: ...
+    @staticmethod
     def shifted(inner: Element, k0: Array, c0: Array) -> Element:
         """`inner` minus ``k0 x + c0 v`` (row-major ``n x n`` at its ``n`` dofs)."""
     @staticmethod

@@ -11,7 +11,8 @@ use pyo3::prelude::*;
 
 use crate::arrays::{matrix_of, vec_of};
 use crate::driver::run;
-use crate::elements::{self, ElementSpec};
+use crate::element_build;
+use crate::elements::ElementSpec;
 use crate::history::RunResult;
 use crate::loads::PyForcing;
 use crate::problem::RunSpec;
@@ -177,8 +178,8 @@ pub(crate) fn first_order(
     });
     let corrector = route.corrector.as_ref().map(Py::get);
     let built = match corrector {
-        Some(c) => elements::build_all(py, &c.elements)?,
-        None => elements::Built::default(),
+        Some(c) => element_build::build_all(py, &c.elements)?,
+        None => crate::callable::Built::default(),
     };
     let refs = built.refs();
     let nonlinear = corrector.map(|c| Nonlinear {

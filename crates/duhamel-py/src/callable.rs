@@ -290,6 +290,9 @@ impl Element for ArcElement {
     fn initial_state(&self, x: &[f64], v: &[f64], state: &mut [f64]) {
         self.0.initial_state(x, v, state)
     }
+    fn initial_time(&self, t0: f64, state: &mut [f64]) {
+        self.0.initial_time(t0, state)
+    }
     fn eval_path(
         &self,
         x: &[f64],
@@ -309,5 +312,26 @@ impl Element for ArcElement {
     }
     fn has_tangent(&self) -> bool {
         self.0.has_tangent()
+    }
+}
+
+/// Built elements, and handles on the Python ones (to collect their exceptions).
+#[derive(Default)]
+pub(crate) struct Built {
+    pub(crate) elements: Vec<Box<dyn Element>>,
+    pub(crate) python: Vec<std::sync::Arc<PyElement>>,
+}
+
+impl Built {
+    /// The elements as the core takes them.
+    pub(crate) fn refs(&self) -> Vec<&dyn Element> {
+        self.elements.iter().map(|b| b.as_ref()).collect()
+    }
+
+    /// The first exception a Python element raised, if any.
+    pub(crate) fn take_error(&self) -> Option<PyErr> {
+        self.python
+            .iter()
+            .find_map(|e| e.error.lock().unwrap_or_else(|p| p.into_inner()).take())
     }
 }

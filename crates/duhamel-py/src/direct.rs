@@ -12,7 +12,8 @@ use pyo3::types::PyTuple;
 
 use crate::arrays::{index_vec, vec_of};
 use crate::driver::run as run_with;
-use crate::elements::{self, ElementSpec};
+use crate::element_build;
+use crate::elements::ElementSpec;
 use crate::error::core_err;
 use crate::guard::guarded;
 use crate::history::RunResult;
@@ -236,7 +237,7 @@ impl DirectModel {
                 })
                 .collect();
             let loads = owned_loads(&loads);
-            let built = elements::build_all(py, &self.elements)?;
+            let built = element_build::build_all(py, &self.elements)?;
             let refs = built.refs();
             let g = run.grid;
             let p = DirectProblem {
@@ -294,7 +295,7 @@ pub(crate) fn element_stiffness<'py>(
                 x.len()
             )));
         }
-        let built = elements::build(py, elements)?;
+        let built = element_build::build(py, elements)?;
         // A failing Python element re-raises its own exception.
         let fail = |e: duhamel_core::CoreError| built.take_error().unwrap_or_else(|| core_err(e));
         let (mut rows, mut cols, mut vals) = (Vec::new(), Vec::new(), Vec::new());

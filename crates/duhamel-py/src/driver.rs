@@ -4,7 +4,7 @@ use duhamel_core::loads::ModalForcing;
 use duhamel_core::{Control, Failure};
 use pyo3::prelude::*;
 
-use crate::elements::Built;
+use crate::callable::Built;
 use crate::guard::guarded;
 use crate::history::{finish, Causes, IntoResult, IntoStats, RunResult};
 use crate::loads::PyForcing;

@@ -2,7 +2,8 @@
 //! `Callable` element.
 
 use duhamel_core::elements::{
-    Bilinear, BoucWen, BoucWenParams, FrictionPendulum, Gap, LeadRubberBearing, ViscousDamper,
+    AxialFrictionPendulum, Bilinear, BoucWen, BoucWenParams, FrictionPendulum, Gap,
+    LeadRubberBearing, MaxwellDamper, ViscousDamper,
 };
 use duhamel_core::elements::{Breathing, BreathingCrack};
 use duhamel_core::elements::{Contact, Damper, Element, Polynomial, Shifted, Spring};
@@ -11,7 +12,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use crate::arrays::vec_of;
-use crate::callable::{ArcElement, PyElement};
+use crate::callable::{ArcElement, Built, PyElement};
 use crate::error::core_err;
 use crate::guard::guarded;
 
@@ -26,6 +27,8 @@ enum Spec {
     FrictionPendulum(FrictionPendulum),
     LeadRubber(LeadRubberBearing),
     ViscousDamper(ViscousDamper),
+    Maxwell(MaxwellDamper),
+    AxialPendulum(AxialFrictionPendulum),
     Gap(Gap),
     Journal(ShortJournalBearing),
     SpeedTable(SpeedTableBearing),
@@ -318,6 +321,33 @@ impl ElementSpec {
         guarded(made).map(|e| ElementSpec(Spec::ViscousDamper(e)))
     }
 
+    /// Uniaxial friction pendulum on `(dof_x, dof_z)`, normal force from the axial stiffness `kv`.
+    #[staticmethod]
+    #[pyo3(signature = (dof_x, dof_z, radius, mu, nominal, kv))]
+    fn friction_pendulum_axial(
+        dof_x: usize,
+        dof_z: usize,
+        radius: f64,
+        mu: f64,
+        nominal: (f64, f64),
+        kv: f64,
+    ) -> PyResult<Self> {
+        let made = || AxialFrictionPendulum::new((dof_x, dof_z), radius, mu, nominal, kv);
+        guarded(|| made().map_err(core_err)).map(|e| ElementSpec(Spec::AxialPendulum(e)))
+    }
+
+    /// Power-law viscous damper `law = (c, exponent, v0)` in series with a brace `kb` (Maxwell).
+    #[staticmethod]
+    fn maxwell_damper(i: usize, j: Option<usize>, law: (f64, f64, f64), kb: f64) -> PyResult<Self> {
+        let damper = || ViscousDamper::new(i, j, law.0, law.1).and_then(|d| d.with_v0(law.2));
+        let made = || {
+            damper()
+                .and_then(|d| MaxwellDamper::new(d, kb))
+                .map_err(core_err)
+        };
+        guarded(made).map(|e| ElementSpec(Spec::Maxwell(e)))
+    }
+
     /// Element minus the local linear part `k0 x + c0 v` (row-major `n x n` matrices at its
     /// `n` dofs): the remainder of an element whose linear part is in the background.
     #[staticmethod]
@@ -380,59 +410,42 @@ impl ElementSpec {
     }
 }
 
-/// Built elements, and handles on the Python ones (to collect their exceptions).
-#[derive(Default)]
-pub(crate) struct Built {
-    pub(crate) elements: Vec<Box<dyn Element>>,
-    pub(crate) python: Vec<std::sync::Arc<PyElement>>,
-}
-
-impl Built {
-    /// The elements as the core takes them.
-    pub(crate) fn refs(&self) -> Vec<&dyn Element> {
-        self.elements.iter().map(|b| b.as_ref()).collect()
+impl ElementSpec {
+    /// The global dofs the element acts on, in its local order.
+    fn dof_list(&self) -> Vec<usize> {
+        match &self.0 {
+            Spec::Polynomial(e) => e.dofs().to_vec(),
+            Spec::Spring(e) => e.dofs().to_vec(),
+            Spec::Damper(e) => e.dofs().to_vec(),
+            Spec::Contact(e) => e.dofs().to_vec(),
+            Spec::Bilinear(e) => e.dofs().to_vec(),
+            Spec::BoucWen(e) => e.dofs().to_vec(),
+            Spec::FrictionPendulum(e) => e.dofs().to_vec(),
+            Spec::LeadRubber(e) => e.dofs().to_vec(),
+            Spec::ViscousDamper(e) => e.dofs().to_vec(),
+            Spec::Maxwell(e) => e.dofs().to_vec(),
+            Spec::AxialPendulum(e) => e.dofs().to_vec(),
+            Spec::Gap(e) => e.dofs().to_vec(),
+            Spec::Journal(e) => e.dofs().to_vec(),
+            Spec::SpeedTable(e) => e.dofs().to_vec(),
+            Spec::Crack(e) => e.dofs().to_vec(),
+            Spec::Callable { dofs, .. } => dofs.clone(),
+            Spec::Shifted { inner, .. } => inner.get().dof_list(),
+        }
     }
 
-    /// The first exception a Python element raised, if any.
-    pub(crate) fn take_error(&self) -> Option<PyErr> {
-        self.python
-            .iter()
-            .find_map(|e| e.error.lock().unwrap_or_else(|p| p.into_inner()).take())
+    /// The number of local dofs of the element.
+    fn n_dofs(&self) -> usize {
+        self.dof_list().len()
     }
-}
-
-/// Builds fresh elements (initial state) of the specs a model holds.
-pub(crate) fn build_all(py: Python<'_>, specs: &[Py<ElementSpec>]) -> PyResult<Built> {
-    let mut built = Built {
-        elements: Vec::new(),
-        python: Vec::new(),
-    };
-    for spec in specs {
-        let element = make(py, spec.get(), &mut built)?;
-        built.elements.push(element);
-    }
-    Ok(built)
-}
-
-/// Builds the elements of a sequence of `_core.Element` specs.
-pub(crate) fn build(py: Python<'_>, specs: &Bound<'_, PyAny>) -> PyResult<Built> {
-    let mut built = Built {
-        elements: Vec::new(),
-        python: Vec::new(),
-    };
-    if specs.is_none() {
-        return Ok(built);
-    }
-    for item in specs.try_iter()? {
-        let item = item?;
-        let element = make(py, item.cast::<ElementSpec>()?.get(), &mut built)?;
-        built.elements.push(element);
-    }
-    Ok(built)
 }
 
 /// A fresh core element from its spec (Python elements are also kept in `built.python`).
-fn make(py: Python<'_>, spec: &ElementSpec, built: &mut Built) -> PyResult<Box<dyn Element>> {
+pub(crate) fn make(
+    py: Python<'_>,
+    spec: &ElementSpec,
+    built: &mut Built,
+) -> PyResult<Box<dyn Element>> {
     Ok(match &spec.0 {
         Spec::Polynomial(e) => Box::new(e.clone()),
         Spec::Spring(e) => Box::new(e.clone()),
@@ -443,6 +456,8 @@ fn make(py: Python<'_>, spec: &ElementSpec, built: &mut Built) -> PyResult<Box<d
         Spec::FrictionPendulum(e) => Box::new(e.clone()),
         Spec::LeadRubber(e) => Box::new(e.clone()),
         Spec::ViscousDamper(e) => Box::new(e.clone()),
+        Spec::Maxwell(e) => Box::new(e.clone()),
+        Spec::AxialPendulum(e) => Box::new(e.clone()),
         Spec::Gap(e) => Box::new(e.clone()),
         Spec::Journal(e) => Box::new(e.clone()),
         Spec::SpeedTable(e) => Box::new(e.clone()),
@@ -467,32 +482,4 @@ fn make(py: Python<'_>, spec: &ElementSpec, built: &mut Built) -> PyResult<Box<d
             Box::new(Shifted::new(inner, k0.clone(), c0.clone()).map_err(core_err)?)
         }
     })
-}
-
-impl ElementSpec {
-    /// The global dofs the element acts on, in its local order.
-    fn dof_list(&self) -> Vec<usize> {
-        match &self.0 {
-            Spec::Polynomial(e) => e.dofs().to_vec(),
-            Spec::Spring(e) => e.dofs().to_vec(),
-            Spec::Damper(e) => e.dofs().to_vec(),
-            Spec::Contact(e) => e.dofs().to_vec(),
-            Spec::Bilinear(e) => e.dofs().to_vec(),
-            Spec::BoucWen(e) => e.dofs().to_vec(),
-            Spec::FrictionPendulum(e) => e.dofs().to_vec(),
-            Spec::LeadRubber(e) => e.dofs().to_vec(),
-            Spec::ViscousDamper(e) => e.dofs().to_vec(),
-            Spec::Gap(e) => e.dofs().to_vec(),
-            Spec::Journal(e) => e.dofs().to_vec(),
-            Spec::SpeedTable(e) => e.dofs().to_vec(),
-            Spec::Crack(e) => e.dofs().to_vec(),
-            Spec::Callable { dofs, .. } => dofs.clone(),
-            Spec::Shifted { inner, .. } => inner.get().dof_list(),
-        }
-    }
-
-    /// The number of local dofs of the element.
-    fn n_dofs(&self) -> usize {
-        self.dof_list().len()
-    }
 }

@@ -14,6 +14,7 @@ mod background;
 mod callable;
 mod direct;
 mod driver;
+mod element_build;
 mod elements;
 mod error;
 mod guard;

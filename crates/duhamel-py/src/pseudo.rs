@@ -12,7 +12,8 @@ use pyo3::prelude::*;
 
 use crate::direct::{Matrix, ScaledCoupling};
 use crate::driver::run as drive;
-use crate::elements::{self, ElementSpec};
+use crate::element_build;
+use crate::elements::ElementSpec;
 use crate::history::RunResult;
 use crate::loads::PyForcing;
 use crate::mass::Mass;
@@ -164,7 +165,7 @@ pub(crate) fn run(
     let mut base = job.problem;
     // One mode-coupled step at a time: a single thread.
     base.threads = Some(1);
-    let built = elements::build_all(py, &route.elements)?;
+    let built = element_build::build_all(py, &route.elements)?;
     let refs = built.refs();
     let scaled = route
         .scaled

@@ -130,6 +130,12 @@ def element(spec: tuple) -> Any:
         )
     if kind == "viscous_damper":
         return _core.Element.viscous_damper(*args)
+    if kind == "friction_pendulum_axial":
+        dof_x, dof_z, radius, mu, weight, yd, kv = args
+        return _core.Element.friction_pendulum_axial(dof_x, dof_z, radius, mu, (weight, yd), kv)
+    if kind == "maxwell_damper":
+        i, j, c, exponent, v0, kb = args
+        return _core.Element.maxwell_damper(i, j, (c, exponent, v0), kb)
     if kind == "gap":
         return _core.Element.gap(*args)
     if kind == "shifted":

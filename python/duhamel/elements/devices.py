@@ -156,8 +156,17 @@ class FrictionPendulum(TwoAxis, Element):
     Velocity-dependent friction (OpenSees' ``VelDependent`` model): with `mu_slow` and
     ``rate > 0``, ``mu(s) = mu - (mu - mu_slow) exp(-rate s)`` at the sliding speed ``s``
     (`mu` is then the high-speed coefficient ``mu_fast``; the pre-sliding stiffness stays
-    ``mu weight / yield_displacement``). Constant `weight` (no vertical coupling, no
-    pressure dependence, no uplift). Units: `yield_displacement` defaults to 2.5e-4 (m).
+    ``mu weight / yield_displacement``). Units: `yield_displacement` defaults to 2.5e-4 (m).
+
+    With a vertical dof (``dof_z``, upward, to the ground, plane models: ``dof_y=None``) and
+    the bearing's axial stiffness `vertical_stiffness` ``k_v``, the normal force comes from
+    the model (OpenSees ``singleFPBearing`` in 2-D): the bearing carries ``P = -k_v u_z``
+    in compression and nothing in tension (uplift: zero shear, zero axial force); the shear
+    is ``V = (N / R) u + f`` with the normal force ``N = P + V u / R``, friction
+    ``|f| <= mu N`` and the pre-sliding stiffness ``k_i - N / R`` (``k_i = mu weight /
+    yield_displacement``, `weight` the nominal load: it sets only this stiffness). The
+    weight itself is a load on ``dof_z`` (start from the static state, e.g. ``x0`` with
+    ``u_z = -W / k_v``). Constant `mu` there (no `mu_slow`).
 
     Examples
     --------
@@ -179,9 +188,21 @@ class FrictionPendulum(TwoAxis, Element):
     yield_displacement: float = 2.5e-4
     mu_slow: float | None = None
     rate: float = 0.0
+    dof_z: int | None = None
+    vertical_stiffness: float | None = None
     _path_dependent = True
 
     def __post_init__(self) -> None:
+        if self.dof_z is not None:
+            if self.vertical_stiffness is None:
+                raise ValueError("`vertical_stiffness` is required with `dof_z`")
+            positive(self.vertical_stiffness, "vertical_stiffness")
+            if self.dof_y is not None:
+                raise ValueError("`dof_z` needs `dof_y=None` (a plane model)")
+            if self.mu_slow is not None and self.rate > 0:
+                raise ValueError("`mu_slow` is not supported with `dof_z` (constant mu)")
+        elif self.vertical_stiffness is not None:
+            raise ValueError("`vertical_stiffness` needs the vertical dof `dof_z`")
         positive(self.radius, "radius")
         mu = nonneg(self.mu, "mu")
         positive(self.weight, "weight")
@@ -195,18 +216,35 @@ class FrictionPendulum(TwoAxis, Element):
                 )
 
     def _validate(self, system: Model) -> None:
-        if self.dof_y is None:
+        if getattr(self, "dof_z", None) is not None:
+            x = dof_index(self.dof_x, "dof_x", system.n_dof)
+            if dof_index(self.dof_z, "dof_z", system.n_dof) == x:
+                raise ValueError(f"`dof_z` must differ from dof_x (both are {x})")
+        elif self.dof_y is None:
             dof_index(self.dof_x, "dof_x", system.n_dof)
         else:
             TwoAxis._validate(self, system)
 
     def _dofs(self) -> tuple[int, ...]:
+        if getattr(self, "dof_z", None) is not None:
+            return (int(self.dof_x), int(self.dof_z))
         return (int(self.dof_x),) if self.dof_y is None else (int(self.dof_x), int(self.dof_y))
 
     def _passive(self) -> bool:
         return True
 
     def _spec(self) -> tuple:
+        if self.dof_z is not None:
+            return (
+                "friction_pendulum_axial",
+                int(self.dof_x),
+                int(self.dof_z),
+                float(self.radius),
+                float(self.mu),
+                float(self.weight),
+                float(self.yield_displacement),
+                float(self.vertical_stiffness),  # type: ignore[arg-type]
+            )
         slow = None if self.mu_slow is None else float(self.mu_slow)
         return (
             "friction_pendulum",
@@ -221,8 +259,11 @@ class FrictionPendulum(TwoAxis, Element):
         )
 
     def _linear(self) -> tuple[tuple[int, ...], NDArray[np.float64]]:
-        # The pendulum's gravity stiffness W / R, in each direction (friction stays).
+        # The pendulum's gravity stiffness W / R, in each direction (friction stays); with
+        # the vertical dof, W / R and the axial stiffness.
         dofs = self._dofs()
+        if self.dof_z is not None:
+            return dofs, np.diag([self.weight / self.radius, float(self.vertical_stiffness)])
         return dofs, (self.weight / self.radius) * np.eye(len(dofs))
 
 
@@ -304,10 +345,18 @@ class ViscousDamper(Deformation, Element):
     the power law's force and slope at `v0` keeps the force smooth and its slope finite, so
     Newton converges; `v0` defaults to 1e-4, 0.1 mm/s in SI units).
 
+    With `brace_stiffness` ``k_b`` the damper acts in series with its brace (Maxwell model,
+    OpenSees ``ViscousDamper`` material with ``K``): ``F = k_b (u - u_d) = c |u_d'|^exponent
+    sgn(u_d')`` with the damper's own deformation ``u_d`` an internal variable, integrated
+    over each step by the trapezoidal rule (second order) and solved per evaluation by a
+    safeguarded Newton iteration, with the consistent tangent. The element starts
+    unstressed and stores ``F^2 / (2 k_b)`` in the brace. None (default): a rigid brace.
+
     Examples
     --------
     >>> import duhamel
     >>> damper = duhamel.elements.ViscousDamper(2, 1, c=3e5, exponent=0.35)
+    >>> braced = duhamel.elements.ViscousDamper(2, 1, c=3e5, exponent=0.35, brace_stiffness=2e7)
     """
 
     i: int
@@ -315,24 +364,23 @@ class ViscousDamper(Deformation, Element):
     c: float = 0.0
     exponent: float = 1.0
     v0: float = 1e-4
+    brace_stiffness: float | None = None
 
     def __post_init__(self) -> None:
         nonneg(self.c, "c")
         positive(self.exponent, "exponent")
         positive(self.v0, "v0")
+        if self.brace_stiffness is not None:
+            positive(self.brace_stiffness, "brace_stiffness")
 
     def _passive(self) -> bool:
         return True
 
     def _spec(self) -> tuple:
-        return (
-            "viscous_damper",
-            int(self.i),
-            _j(self.j),
-            float(self.c),
-            float(self.exponent),
-            float(self.v0),
-        )
+        base = (int(self.i), _j(self.j), float(self.c), float(self.exponent), float(self.v0))
+        if self.brace_stiffness is None:
+            return ("viscous_damper", *base)
+        return ("maxwell_damper", *base, float(self.brace_stiffness))
 
 
 @dataclass(frozen=True)

@@ -16,7 +16,7 @@ __all__ = ["BOUNDS", "property_bounds", "solve_bounds"]
 BOUNDS = ("lower", "upper")
 
 #: Fields that say where an element acts, never scaled.
-_PLACEMENT = {"i", "j", "dof", "dof_x", "dof_y", "dofs"}
+_PLACEMENT = {"i", "j", "dof", "dof_x", "dof_y", "dof_z", "dofs"}
 
 
 def _factors(lambdas: Mapping[str, Any]) -> dict[str, tuple[float, float]]:

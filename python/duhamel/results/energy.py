@@ -130,9 +130,18 @@ def stored_energy(element: Any, u: NDArray[np.float64], f: NDArray[np.float64]) 
         hyst = f[:, 0] - element.alpha * element.k * ue
         soft = (1.0 - element.alpha) * element.k
         return 0.5 * element.alpha * element.k * ue**2 + (hyst**2 / (2 * soft) if soft > 0 else 0)
+    if kind == "ViscousDamper" and element.brace_stiffness is not None:
+        return f[:, 0] ** 2 / (2.0 * element.brace_stiffness)
     if kind == "Spring":
         ue = u[:, 0] - (u[:, 1] if u.shape[1] == 2 else 0.0)
         return 0.5 * element.k * ue**2 + 0.25 * element.k3 * ue**4
+    if kind == "FrictionPendulum" and element.dof_z is not None:
+        # the axial spring's energy and the pendulum's N u^2 / (2 R) at the current axial
+        # force (approximate: the coupled model has no separable potential)
+        axial = -f[:, 1]
+        return axial**2 / (2.0 * element.vertical_stiffness) + axial * u[:, 0] ** 2 / (
+            2.0 * element.radius
+        )
     if kind == "FrictionPendulum":
         kr = element.weight / element.radius
         friction = f - kr * u

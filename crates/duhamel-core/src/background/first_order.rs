@@ -373,7 +373,15 @@ pub fn integrate(
                 (modes.gain_re, modes.gain_im),
                 (modes.eta0_re, modes.eta0_im),
             );
-            Corrector::new(nl, problem.k, problem.c, &lambda, gain, eta0, problem.dt)
+            Corrector::new(
+                nl,
+                problem.k,
+                problem.c,
+                &lambda,
+                gain,
+                eta0,
+                (problem.time(0), problem.dt),
+            )
         })
         .transpose()
         .map_err(fail)?;

@@ -121,7 +121,7 @@ pub fn integrate(
             .external(&[t0], forcing.as_deref_mut(), &mut f)
             .map_err(at0)?;
         let k0 = model.coefs(t0, false);
-        model.start(&x, &v);
+        model.start(&x, &v, t0);
         match problem.a0 {
             Some(a0) => a.copy_from_slice(a0),
             None => model

@@ -232,11 +232,11 @@ impl<'a> Model<'a> {
     }
 
     /// Sets the path-dependent elements' internal variables to their initial values at the
-    /// run's initial state `(x, v)`.
-    pub fn start(&mut self, x: &[f64], v: &[f64]) {
+    /// run's initial state `(x, v)` at time `t0`.
+    pub fn start(&mut self, x: &[f64], v: &[f64], t0: f64) {
         self.gather(x, v);
         for slot in &mut self.slots {
-            slot.start();
+            slot.start(t0);
         }
     }
 

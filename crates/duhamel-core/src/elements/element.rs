@@ -63,6 +63,11 @@ pub trait Element: Send + Sync {
     /// at the initial local state `(x, v)`.
     fn initial_state(&self, _x: &[f64], _v: &[f64], _state: &mut [f64]) {}
 
+    /// Tells the element the run's initial time `t0` after [`Element::initial_state`] (an
+    /// element whose internal variables evolve in time, e.g. a damper in series with its
+    /// brace, stores it to know the length of its first step). Default: nothing.
+    fn initial_time(&self, _t0: f64, _state: &mut [f64]) {}
+
     /// A path-dependent element's force at the trial state `(x, v, t)` reached from the
     /// committed variables, as [`Element::eval`] adds it, writing the trial variables. The
     /// default (path-independent elements) is [`Element::eval`].
@@ -175,11 +180,12 @@ impl<'a> Evaluation<'a> {
     }
 
     /// Sets the internal variables to their initial values at the stored local state (the
-    /// run's initial state).
-    pub fn start(&mut self) {
+    /// run's initial state) and initial time `t0`.
+    pub fn start(&mut self, t0: f64) {
         if self.stateful() {
             self.element
                 .initial_state(&self.x, &self.v, &mut self.committed);
+            self.element.initial_time(t0, &mut self.committed);
             self.trial.copy_from_slice(&self.committed);
         }
     }

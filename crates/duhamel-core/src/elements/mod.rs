@@ -20,8 +20,8 @@ pub use crack::{Breathing, BreathingCrack};
 pub(crate) use element::Evaluation;
 pub use element::{Element, ModalCubic, PathState, Tangent};
 pub use hysteretic::{
-    Bilinear, BoucWen, BoucWenParams, FrictionPendulum, Gap, LeadRubberBearing, ViscousDamper,
-    DEFAULT_V0, DEFAULT_YIELD_DISPLACEMENT,
+    AxialFrictionPendulum, Bilinear, BoucWen, BoucWenParams, FrictionPendulum, Gap,
+    LeadRubberBearing, MaxwellDamper, ViscousDamper, DEFAULT_V0, DEFAULT_YIELD_DISPLACEMENT,
 };
 pub use journal::ShortJournalBearing;
 pub use polynomial::Polynomial;

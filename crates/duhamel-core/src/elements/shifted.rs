@@ -123,6 +123,10 @@ impl Element for Shifted {
         self.inner.initial_state(x, v, state)
     }
 
+    fn initial_time(&self, t0: f64, state: &mut [f64]) {
+        self.inner.initial_time(t0, state)
+    }
+
     fn eval_path(
         &self,
         x: &[f64],

@@ -109,7 +109,7 @@ impl<'a> ElementSpace<'a> {
                 e.v[j] = crate::dense::dot(row, v);
             }
             if initial {
-                e.start();
+                e.start(t);
             } else {
                 e.commit(t)?;
             }

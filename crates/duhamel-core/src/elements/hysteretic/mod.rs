@@ -1,6 +1,9 @@
 //! Hysteretic and device elements of earthquake engineering: the path-dependent
-//! [`Bilinear`], [`BoucWen`], [`FrictionPendulum`] and [`LeadRubberBearing`] (committed and trial internal
-//! variables, [`crate::elements::PathState`]) and the stateless [`ViscousDamper`] and [`Gap`].
+//! [`Bilinear`], [`BoucWen`], [`FrictionPendulum`], [`AxialFrictionPendulum`] (its normal force from a vertical dof)
+//! and [`LeadRubberBearing`] (committed and trial internal
+//! variables, [`crate::elements::PathState`]) the damper in series with its brace
+//! [`MaxwellDamper`] (its internal deformation evolves in time) and the stateless
+//! [`ViscousDamper`] and [`Gap`].
 //! Each returns its exact (consistent) tangent.
 
 mod bilinear;
@@ -8,6 +11,8 @@ mod boucwen;
 mod common;
 mod friction;
 mod gap;
+mod maxwell;
+mod pendulum_axial;
 mod rubber;
 mod viscous;
 
@@ -15,5 +20,7 @@ pub use bilinear::Bilinear;
 pub use boucwen::{BoucWen, BoucWenParams};
 pub use friction::{FrictionPendulum, DEFAULT_YIELD_DISPLACEMENT};
 pub use gap::Gap;
+pub use maxwell::MaxwellDamper;
+pub use pendulum_axial::AxialFrictionPendulum;
 pub use rubber::LeadRubberBearing;
 pub use viscous::{ViscousDamper, DEFAULT_V0};

@@ -115,7 +115,7 @@ impl<'a> Corrector<'a> {
         lambda: &[Complex64],
         gain: (&[f64], &[f64]),
         eta0: (&[f64], &[f64]),
-        dt: f64,
+        (t0, dt): (f64, f64),
     ) -> Result<Self, CoreError> {
         let (m, r) = (k.len(), lambda.len());
         // `r m` is the length of the gains (checked by the caller): `4 r m` cannot overflow.
@@ -219,7 +219,7 @@ impl<'a> Corrector<'a> {
         if corrector.pf.stateful() {
             let mut v = vec![0.0; m];
             corrector.map(eta0.0, eta0.1, 1, &mut v);
-            corrector.pf.commit(&q, &v, 0.0, true)?;
+            corrector.pf.commit(&q, &v, t0, true)?;
         }
         if let Some(state) = nl.element_state {
             corrector.pf.set_element_state(state)?;
