@@ -1,0 +1,125 @@
+"""Critical speeds: the crossings of a rotor's Campbell diagram with an excitation line,
+bracketed on a grid and refined on the eigenproblem (:meth:`RotorAnalyses.critical_speeds`)."""
+
+from __future__ import annotations
+
+import itertools
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from duhamel._engine.validate import as_float_array, positive_float
+from duhamel.rotor.modes import Modes
+
+__all__ = ["critical_speeds"]
+
+
+def critical_speeds(
+    analyses: Any,
+    speeds: ArrayLike,
+    harmonic: float,
+    whirl: str | None,
+    n_modes: int | None,
+) -> NDArray[np.float64]:
+    """The critical speeds of `analyses` (a rotor with ``campbell`` and ``modes``) on the
+    grid `speeds`: see :meth:`duhamel.rotor.Rotor.critical_speeds`."""
+    from scipy.optimize import brentq
+
+    if whirl not in ("forward", "backward", None):
+        raise ValueError(f"`whirl` must be 'forward', 'backward' or None, got {whirl!r}")
+    h = positive_float(harmonic, "harmonic")
+    grid = np.unique(as_float_array(speeds, "speeds"))
+    try:
+        first = analyses.campbell(grid[:1], n_modes).frequencies[0]
+        diagram = analyses.campbell(_refined(grid, first, h), n_modes)
+    except np.linalg.LinAlgError as exc:
+        raise ValueError(
+            f"`speeds`: the rotor's eigenproblem fails on this grid (up to {grid[-1]:g} "
+            f"rad/s, gyroscopic terms beyond the double range?): {exc}"
+        ) from None
+    ws, freq = diagram.speeds, diagram.frequencies
+    found = []
+    for j in range(freq.shape[1]):
+        g = freq[:, j] - h * ws
+        for p in range(ws.size - 1):
+            if not (np.isfinite(g[p]) and np.isfinite(g[p + 1]) and g[p] * g[p + 1] <= 0):
+                continue
+            if whirl is not None and whirl not in (
+                diagram.whirl[p, j],
+                diagram.whirl[p + 1, j],
+            ):
+                continue
+            a, b = float(ws[p]), float(ws[p + 1])
+            here = analyses.modes(a)
+            ref = here.shapes[:, int(np.argmin(np.abs(here.frequencies - freq[p, j])))]
+
+            def branch(w: float, ref: NDArray = ref, f0: float = freq[p, j]) -> float:
+                m = analyses.modes(w)
+                mac = m.mac(Modes(w, np.zeros(1, complex), ref[:, None], ("",), m.length_scale))
+                score = mac[:, 0] - 1e-9 * np.abs(m.frequencies - f0) / max(abs(f0), 1.0)
+                return float(m.frequencies[int(np.argmax(score))]) - h * w
+
+            if g[p] == 0.0:
+                found.append(a)
+            elif g[p + 1] != 0.0:
+                found.append(_crossing(brentq, branch, a, b))
+    return np.unique(np.asarray(found, dtype=float))
+
+
+def _refined(speeds: NDArray, frequencies: NDArray, harmonic: float) -> NDArray:
+    """`speeds` with speeds inserted wherever two neighbours differ by more than a factor
+    of 2 above a quarter of the lowest crossing speed possible (the lowest frequency at the
+    first speed over `harmonic`): a grid such as ``[0, 1e20]`` would bracket many crossings
+    of a branch at once (and miss them); about 2 log2(b / a) points are added."""
+    positive = frequencies[np.isfinite(frequencies) & (frequencies > 0.0)]
+    if positive.size == 0 or speeds.size < 2:
+        return speeds
+    floor = float(positive.min()) / harmonic / 4.0
+    extra: list[float] = []
+    for a, b in itertools.pairwise(speeds):
+        lo = max(float(a), floor)
+        if a < floor < b:
+            extra.append(floor)
+        while b > 2.0 * lo:
+            lo *= 2.0
+            extra.append(lo)
+    return np.unique(np.concatenate([speeds, np.asarray(extra, dtype=float)]))
+
+
+def _crossing(brentq: Any, branch: Any, a: float, b: float) -> float:
+    """The zero of `branch` between the grid speeds `a` and `b` that bracket a crossing on
+    the tracked Campbell diagram, to 1e-14 relative (Brent, with an absolute tolerance
+    that does not grow with the bracket: a grid ``[0, 1e20]`` still finds 265 rad/s).
+    Following the branch by its shape may pick another mode at an end of the bracket (modes
+    that swap between grid points); the bracket is then searched on 16 inner speeds, and a
+    ValueError asks for a finer grid when no sign change is found."""
+    fa, fb = branch(a), branch(b)
+    if fa == 0.0:
+        return a
+    if fb == 0.0:
+        return b
+    if fa * fb > 0.0:
+        inner = np.linspace(a, b, 18)[1:-1]
+        values = [branch(w) for w in inner]
+        points, signs = [a, *inner.tolist(), b], [fa, *values, fb]
+        for k in range(len(points) - 1):
+            if signs[k] * signs[k + 1] <= 0.0:
+                a, b = points[k], points[k + 1]
+                break
+        else:
+            raise ValueError(
+                f"`speeds`: the Campbell diagram crosses the excitation line between {a:g} and "
+                f"{b:g} rad/s, but the branch followed by its mode shape does not (modes swap "
+                "between these grid speeds); pass a finer grid of `speeds` there"
+            )
+        if branch(a) == 0.0:
+            return a
+    root = float(brentq(branch, a, b, xtol=1e-300, rtol=1e-14, maxiter=500))
+    if abs(branch(root)) > 1e-8 * max(abs(root), 1.0):
+        raise ValueError(
+            f"`speeds`: between {a:g} and {b:g} rad/s the branch followed by its mode shape "
+            f"jumps from one mode to another (at {root:g} rad/s) instead of crossing the "
+            "excitation line; pass a finer grid of `speeds` there"
+        )
+    return root

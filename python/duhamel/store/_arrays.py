@@ -1,0 +1,63 @@
+"""The arrays of a stored run's segments, written into the store's data group with a
+CRC-32C per chunk (so that ``resume`` detects a changed or cut chunk)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+
+def _crc32c() -> Any:
+    """zarr's CRC-32C codec (zarr is imported on use)."""
+    from zarr.codecs import Crc32cCodec
+
+    return Crc32cCodec()
+
+
+def _columns(result: Any, x: NDArray, v: NDArray, a: NDArray, modal: bool) -> dict[str, NDArray]:
+    """The arrays of a segment kept in the store, by name."""
+    out = {"t": result.t, "x": x, "v": v, "a": a}
+    elements = {
+        "element_x": result.element_x,
+        "element_v": result.element_v,
+        "element_force": result.element_force,
+    }
+    out.update({name: value for name, value in elements.items() if value is not None})
+    if not modal:
+        return out
+    out["load_values"] = result.load_values
+    if result.eta is not None:
+        out["modal_eta"] = result.eta
+    else:
+        out["modal_q"], out["modal_v"] = result.q, result.v
+    extra = {"pseudo": result.pseudo, "forcing": result.forcing}
+    out.update({name: value for name, value in extra.items() if value is not None})
+    return out
+
+
+def _write(
+    data: Any, grid: dict, arrays: dict[str, NDArray], start: int, keep: int, widths: Any
+) -> None:
+    """Rows ``start:start+keep`` of every array (created on first use; the element arrays
+    carry the elements' `widths`)."""
+    total, chunk = grid["rows"], grid["chunk_rows"]
+    for name, value in arrays.items():
+        value = np.asarray(value)
+        shape = (total, *value.shape[1:])
+        if name not in data or data[name].shape != shape:
+            data.create_array(
+                name,
+                shape=shape,
+                dtype="f8",
+                chunks=(chunk, *(max(1, k) for k in value.shape[1:])),
+                fill_value=np.nan,
+                compressors=[_crc32c()],  # per chunk: a changed or cut chunk is refused
+                overwrite=True,
+                attributes={"widths": [int(w) for w in widths]}
+                if name.startswith("element_") and widths is not None
+                else None,
+            )
+        if keep:
+            data[name][start : start + keep] = value[:keep]
