@@ -83,17 +83,12 @@ impl Bound {
     /// plus the amplitude of the free, damped sinusoidal part (tight for short periods).
     /// Branch-free (`&`, `|`), so the lanes' loop vectorises.
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
     fn flags(
         &self,
-        h: f64,
-        h2: f64,
-        x0: f64,
-        v0: f64,
-        xn: f64,
-        vn: f64,
-        p0: f64,
-        r: f64,
+        (h, h2): (f64, f64),
+        (x0, v0): (f64, f64),
+        (xn, vn): (f64, f64),
+        (p0, r): (f64, f64),
         pk: [f64; 3],
     ) -> [bool; 3] {
         let (k, c, sigma, iw, ik) = (self.k, self.c, self.sigma, self.inv_wd, self.inv_k);
@@ -305,8 +300,8 @@ fn run(
                 if let (Some(ol), true) = (&o[l], score[l] >= 0.0) {
                     let mut pk = [px[l], pv[l], pa[l]];
                     let (x0, v0, xn, vn) = (x0s[l], v0s[l], xns[l], vns[l]);
-                    let f = bound[l].flags(h, h2, x0, v0, xn, vn, p0, r, pk);
-                    search.step(ol, h, (x0, v0), (xn, vn), (p0, p1), f, &mut pk);
+                    let f = bound[l].flags((h, h2), (x0, v0), (xn, vn), (p0, r), pk);
+                    search.step(ol, h, ((x0, v0), (xn, vn)), (p0, p1), f, &mut pk);
                     [px[l], pv[l], pa[l]] = pk;
                 }
             }

@@ -130,13 +130,11 @@ impl Search {
 
     /// Updates `peak` (`[sd, sv, sa]`) with the interior extrema of the step of length `h`
     /// from `(x0, v0)` under `p0 -> p1` whose bounds (`flags`) say they may exceed it.
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn step(
         &mut self,
         o: &Osc,
         h: f64,
-        (x0, v0): (f64, f64),
-        (xn, vn): (f64, f64),
+        ((x0, v0), (xn, vn)): ((f64, f64), (f64, f64)),
         (p0, p1): (f64, f64),
         flags: [bool; 3],
         peak: &mut [f64; 3],
