@@ -14,6 +14,7 @@ side of the equation of motion).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -111,18 +112,7 @@ class BoucWen(Deformation, Element):
     _path_dependent = True
 
     def __post_init__(self) -> None:
-        positive(self.k, "k")
-        positive(self.fy, "fy")
-        _alpha(self.alpha)
-        n = finite_float(self.n, "n")
-        if n < 1:
-            raise ValueError(f"`n` must be >= 1, got {n}")
-        beta = positive(self.beta, "beta")
-        gamma = finite_float(self.gamma, "gamma")
-        if gamma <= -beta:
-            raise ValueError(f"`gamma` must be > -beta = {-beta} (bounded z), got {gamma}")
-        for name in ("n", "beta", "gamma"):
-            object.__setattr__(self, name, float(getattr(self, name)))
+        _bouc_wen_fields(self, "n")
 
     def _passive(self) -> bool:
         # the hysteretic loop dissipates for beta >= |gamma| (Bouc-Wen's passivity condition)
@@ -298,18 +288,7 @@ class LeadRubberBearing(TwoAxis, Element):
     _path_dependent = True
 
     def __post_init__(self) -> None:
-        positive(self.k, "k")
-        positive(self.fy, "fy")
-        _alpha(self.alpha)
-        eta = finite_float(self.eta, "eta")
-        if eta < 1:
-            raise ValueError(f"`eta` must be >= 1, got {eta}")
-        beta = positive(self.beta, "beta")
-        gamma = finite_float(self.gamma, "gamma")
-        if gamma <= -beta:
-            raise ValueError(f"`gamma` must be > -beta = {-beta} (bounded z), got {gamma}")
-        for name in ("eta", "beta", "gamma"):
-            object.__setattr__(self, name, float(getattr(self, name)))
+        _bouc_wen_fields(self, "eta")
 
     def _validate(self, system: Model) -> None:
         if self.dof_y is None:
@@ -409,3 +388,21 @@ class Gap(Deformation, Element):
 
     def _spec(self) -> tuple:
         return ("gap", int(self.i), _j(self.j), float(self.gap), float(self.k))
+
+
+def _bouc_wen_fields(element: Any, exponent: str) -> None:
+    """Checks and stores as floats the fields of a Bouc-Wen device (`BoucWen`, whose
+    exponent is `n`, and `LeadRubberBearing`, whose exponent is `eta`): `k`, `fy` positive,
+    `alpha`, the exponent >= 1, `beta` > 0 and `gamma` > -beta (bounded z)."""
+    positive(element.k, "k")
+    positive(element.fy, "fy")
+    _alpha(element.alpha)
+    value = finite_float(getattr(element, exponent), exponent)
+    if value < 1:
+        raise ValueError(f"`{exponent}` must be >= 1, got {value}")
+    beta = positive(element.beta, "beta")
+    gamma = finite_float(element.gamma, "gamma")
+    if gamma <= -beta:
+        raise ValueError(f"`gamma` must be > -beta = {-beta} (bounded z), got {gamma}")
+    for name in (exponent, "beta", "gamma"):
+        object.__setattr__(element, name, float(getattr(element, name)))
