@@ -164,13 +164,25 @@ def critical_speed_map(
         raise ValueError(f"`n_modes` must be a positive integer, got {n_modes!r}")
     dofs = np.array([d for pair in supports for d in pair], dtype=np.intp)
 
+    known: dict[float, NDArray[np.float64]] = {}
+
     def omegas(k: float) -> NDArray[np.float64]:
-        Kk = np.array(K_structure, dtype=float)
-        Kk[dofs, dofs] += k
-        return undamped_critical_speeds(M, Kk, G, gyroscopic=gyroscopic, length_scale=length_scale)
+        # bearings alike (and kxx = kyy) share their curves: each stiffness solved once
+        if k not in known:
+            Kk = np.array(K_structure, dtype=float)
+            Kk[dofs, dofs] += k
+            known[k] = undamped_critical_speeds(
+                M, Kk, G, gyroscopic=gyroscopic, length_scale=length_scale
+            )
+        return known[k]
 
     rows = [omegas(float(k)) for k in ks]
     m = min(n_modes, min(r.size for r in rows))
+    if m == 0:
+        raise ValueError(
+            "no critical speed found at some stiffness (with `gyroscopic`, a rotor without "
+            "gyroscopic terms has no distinct forward orbits: use gyroscopic=False)"
+        )
     table = np.array([r[:m] for r in rows])
     if speeds is None:
         ws = np.linspace(0.0, 1.2 * float(table[-1, -1]), 241)
