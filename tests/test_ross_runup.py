@@ -105,3 +105,21 @@ def test_run_up_agrees_with_ross_run_time_response_to_its_accuracy():
     assert agree < 0.1 * err[1e-4]  # ... to far inside its own error at 1e-4 s
     assert diff(ours_1e4, ref[::4]) < 5e-3  # ours at ROSS's step: the same order of error
     assert stale > 0.05  # the coefficients must follow the speed
+
+
+@pytest.mark.filterwarnings("ignore:File was created with ROSS")
+def test_run_up_example():
+    """examples/ross_runup.py runs: ROSS's run within its error of ours, frozen far off."""
+    import importlib.util
+    from pathlib import Path
+
+    compressor()
+    path = Path(__file__).resolve().parents[1] / "examples" / "ross_runup.py"
+    spec = importlib.util.spec_from_file_location("ross_runup_example", path)
+    assert spec is not None and spec.loader is not None
+    ex = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ex)
+    r = ex.run(dt=1e-4)
+    peak = np.abs(r["duhamel"]).max()
+    assert np.abs(r["ross"] - r["duhamel"]).max() < 5e-3 * peak
+    assert np.abs(r["frozen"] - r["duhamel"]).max() > 0.05 * peak
