@@ -6,7 +6,9 @@ fast stretch: 200 -> 1000 rad/s in 10 ms, so that the seals' coefficients change
 ROSS's Newmark is second order: at 1e-4 s its own error is about 1e-3 of the peak. The check
 "agrees to its accuracy": ROSS's difference from our converged run falls at second order as
 its step is halved, and ROSS's Richardson extrapolation from two steps lands on our converged
-run far inside ROSS's own error. Also used by benchmarks/ross_runup.py.
+run far inside ROSS's own error; ROSS's scheme, written out here (equal to ROSS to round-off)
+and extrapolated from fine steps, lands on our run to 2.5e-6 of the peak. Also used by
+benchmarks/ross_runup.py.
 """
 
 from __future__ import annotations
@@ -77,11 +79,13 @@ def theirs(rr, w0, w1, t1, t_end, dt):
 W0, W1, T1 = 200.0, 1000.0, 0.01
 
 
-@pytest.mark.filterwarnings("ignore:File was created with ROSS")
-def test_run_up_agrees_with_ross_run_time_response_to_its_accuracy():
+@functools.cache
+def converged():
+    """Ours on the 2.5e-5 s grid, Richardson from 2.5e-5 and 1.25e-5 s (the two agree with
+    the pair 1.25e-5, 6.25e-6 to 2.4e-6 of the peak); (ref, dofs, diff)."""
     rr = compressor()
     fine = {}
-    for dt in (2.5e-5, 1.25e-5):  # ours, converged: Richardson from two steps
+    for dt in (2.5e-5, 1.25e-5):
         fine[dt], _, dofs = ours(rr, W0, W1, T1, T1, dt, duhamel.Semianalytic())
     ref = (4.0 * fine[1.25e-5][::2] - fine[2.5e-5]) / 3.0
     trans = [i for i, label in enumerate(dofs.labels) if label[0] in "xy"]
@@ -89,6 +93,53 @@ def test_run_up_agrees_with_ross_run_time_response_to_its_accuracy():
 
     def diff(a, b):
         return float(np.abs(a[:, trans] - b[:, trans]).max() / scale)
+
+    return ref, dofs, diff
+
+
+def rosss_newmark(rr, dofs, dt):
+    """ROSS's run-up written out: average-acceleration Newmark from rest on
+    ``M x'' + (C(w) + w G) x' + (K(w) + alpha Ksdt) x = F`` with ROSS's own ``K(w)``,
+    ``C(w)`` (lateral block) at the end of every step."""
+    alpha = (W1 - W0) / T1
+    t = np.arange(round(T1 / dt) + 1) * dt
+    keep = np.ix_(dofs.ross_index, dofs.ross_index)
+    M, G, Ksdt = rr.M()[keep], rr.G()[keep], rr.Ksdt()[keep]
+    F = force(rr, t, W0, alpha)[:, dofs.ross_index]
+    x, v, a = (np.zeros(M.shape[0]) for _ in range(3))
+    out = [x]
+    for i in range(1, t.size):
+        w = W0 + alpha * t[i]
+        K, C = rr.K(w)[keep] + alpha * Ksdt, rr.C(w)[keep] + w * G
+        x1, v1 = x + dt * v + 0.25 * dt**2 * a, v + 0.5 * dt * a
+        a = np.linalg.solve(M + 0.5 * dt * C + 0.25 * dt**2 * K, F[i] - K @ x1 - C @ v1)
+        x, v = x1 + 0.25 * dt**2 * a, v1 + 0.5 * dt * a
+        out.append(x)
+    return np.array(out)
+
+
+@pytest.mark.filterwarnings("ignore:File was created with ROSS")
+def test_rosss_run_up_converges_onto_ours():
+    """ROSS's run-up is Newmark on the ODE with its coefficients at every step (its run
+    written out here equals it to round-off); that scheme, extrapolated from fine steps,
+    lands on our run: the two solve the same equation."""
+    rr = compressor()
+    ref, dofs, diff = converged()
+    written = rosss_newmark(rr, dofs, 1e-4)
+    same = diff(written, dofs.from_ross(theirs(rr, W0, W1, T1, T1, 1e-4)[0]))
+    steps = {dt: rosss_newmark(rr, dofs, dt) for dt in (2.5e-5, 1.25e-5)}
+    extrapolated = (4.0 * steps[1.25e-5][::2] - steps[2.5e-5]) / 3.0
+    gap = diff(extrapolated, ref)
+    print(f"\nROSS's Newmark written out vs ROSS: {same:.1e}; extrapolated from 2.5e-5 and "
+          f"1.25e-5 s vs ours: {gap:.1e}")  # fmt: skip
+    assert same < 1e-12
+    assert gap < 1e-5
+
+
+@pytest.mark.filterwarnings("ignore:File was created with ROSS")
+def test_run_up_agrees_with_ross_run_time_response_to_its_accuracy():
+    rr = compressor()
+    ref, dofs, diff = converged()
 
     ross = {dt: dofs.from_ross(theirs(rr, W0, W1, T1, T1, dt)[0]) for dt in (1e-4, 5e-5)}
     err = {dt: diff(ross[dt], ref[:: round(dt / 2.5e-5)]) for dt in ross}
