@@ -22,7 +22,7 @@ import numpy as np
 from duhamel.rotor import from_ross
 
 
-def run() -> object:
+def run(n_k: int = 41) -> object:
     with warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
         warnings.simplefilter("ignore")  # ROSS's ccp dependency, the file's ROSS version
         import ross
@@ -30,7 +30,7 @@ def run() -> object:
         rotor = ross.compressor_example()
     model = from_ross(rotor, 0.0)
     return model.rotor.critical_speed_map(
-        np.logspace(6, 10, 41), n_modes=4, speeds=np.linspace(0.0, 2000.0, 201)
+        np.logspace(6, 10, n_k), n_modes=4, speeds=np.linspace(0.0, 2000.0, 201)
     )
 
 
