@@ -290,3 +290,20 @@ def test_blocks_refuse_bad_input():
     t = np.linspace(0.0, 1e-3, 11)
     with pytest.raises(TypeError, match="elements"):
         loop.transient(t, elements=["rub"])
+
+
+def test_an_unstable_loop_has_no_frequency_response():
+    """A low-pass at 2e4 rad/s destabilises the first bending mode (spillover): the modes
+    show it, and the sensitivity and receptances, no steady state then, are refused."""
+    rotor, loop = bending_case()
+    assert loop.stable
+    chain = [PID(3e4, 1e5, 30.0, 1e-4), LowPass(2e4, order=2)]
+    unstable = rotor.closed_loop(0.0, [MagneticBearing(n, 100.0, 1e6, chain) for n in (0, 4)])
+    assert not unstable.stable and np.max(unstable.eigenvalues.real) > 0.0
+    ws = np.linspace(1.0, 3e4, 100)
+    with pytest.raises(ValueError, match="unstable"):
+        unstable.sensitivity(ws)
+    with pytest.raises(ValueError, match="unstable"):
+        unstable.peak_sensitivity(ws)
+    with pytest.raises(ValueError, match="unstable"):
+        unstable.frequency_response(ws, [0], [0])

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -105,7 +106,7 @@ class ClosedLoop:
     M_inv: NDArray[np.float64]
     _E: NDArray[np.float64]  # disturbance input of each axis (the measured-signal channel)
 
-    @property
+    @cached_property
     def eigenvalues(self) -> NDArray[np.complex128]:
         """Closed-loop eigenvalues, sorted by imaginary then real part."""
         import scipy.linalg
@@ -130,11 +131,18 @@ class ClosedLoop:
         self, frequencies: ArrayLike, inputs: Sequence[int], outputs: Sequence[int]
     ) -> NDArray[np.complex128]:
         """Closed-loop receptances ``(n_frequencies, n_outputs, n_inputs)``: ``x_o =
-        Re(H F e^{i w t})`` for forces ``Re(F e^{i w t})`` on the `inputs` dofs."""
+        Re(H F e^{i w t})`` for forces ``Re(F e^{i w t})`` on the `inputs` dofs (a stable
+        loop only: an unstable one raises ``ValueError``, as :meth:`sensitivity` does)."""
         return self._response(frequencies, self.force_input(inputs), list(outputs))
 
     def _response(self, frequencies: ArrayLike, B: NDArray, rows: list[int]) -> NDArray:
         ws = as_float_array(frequencies, "frequencies", ndim=1)
+        if not self.stable:
+            grow = float(np.max(self.eigenvalues.real))
+            raise ValueError(
+                f"the closed loop is unstable (an eigenvalue with real part {grow:.4g} 1/s): "
+                "its frequency response and sensitivity are no steady state; see `eigenvalues`"
+            )
         n = self.A.shape[0]
         out = np.empty((ws.size, len(rows), B.shape[1]), dtype=complex)
         for k, w in enumerate(ws):
