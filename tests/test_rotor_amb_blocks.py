@@ -307,3 +307,16 @@ def test_an_unstable_loop_has_no_frequency_response():
         unstable.peak_sensitivity(ws)
     with pytest.raises(ValueError, match="unstable"):
         unstable.frequency_response(ws, [0], [0])
+
+
+def test_a_failing_element_step_stops_with_the_history_kept():
+    """A stiff rub with too few Newton iterations: SolverError at its step, the states up to
+    it in `partial` (no silent result)."""
+    rotor, ambs = model()
+    loop = rotor.closed_loop(SPEED, ambs)
+    dx, dy = rotor.dof(2, "x"), rotor.dof(2, "y")
+    rub = duhamel.elements.Contact(dx, dy, 1e-6, 1e12)
+    t = np.linspace(0.0, 0.02, 101)
+    with pytest.raises(duhamel.SolverError, match="did not converge") as info:
+        loop.transient(t, np.full((t.size, 1), 2e4), [dx], elements=[rub], max_iter=2)
+    assert info.value.partial.shape[1] == loop.A.shape[0]
