@@ -9,6 +9,7 @@ import contextlib
 import functools
 import io
 import warnings
+from typing import ClassVar
 
 import numpy as np
 import pytest
@@ -176,3 +177,37 @@ def test_compressor_map_example():
     for p in ucs.intersections:
         k = np.interp(p.speed, ucs.speeds, curves[(p.node, p.direction)])
         assert p.stiffness == pytest.approx(k, rel=1e-2)  # the curve is drawn piecewise linear
+
+
+def test_without_gyroscopic_terms_forward_whirl_is_the_planar_mode():
+    """G = 0: the map with gyroscopic=True equals the one at rest (it found no forward orbit
+    before: a degenerate x/y pair has none)."""
+
+    class Bearing:
+        n, frequency = 0, None
+        dof_global_index: ClassVar = {"x_0": 0, "y_0": 1, "alpha_0": 2, "beta_0": 3}
+        kxx_interpolated = kyy_interpolated = staticmethod(lambda w: 1e6 + 0.0 * w)
+        kxy_interpolated = kyx_interpolated = staticmethod(lambda w: 0.0 * w)
+
+    class Toy:
+        elements = bearing_elements = (Bearing(),)
+        K0 = np.diag([0.0, 0.0, 1e6, 1e6])
+
+        def M(self, f=None):
+            return np.diag([2.0, 2.0, 0.1, 0.1])
+
+        def K(self, f):
+            return self.K0 + np.diag([1e6, 1e6, 0.0, 0.0])
+
+        def C(self, f):
+            return np.zeros((4, 4))
+
+        def G(self):
+            return np.zeros((4, 4))
+
+    rotor = from_ross(Toy(), 0.0).rotor
+    ks = [2e4, 8e4, 1e6]
+    spun = rotor.critical_speed_map(ks, n_modes=2)
+    rest = rotor.critical_speed_map(ks, n_modes=2, gyroscopic=False)
+    np.testing.assert_array_equal(spun.critical_speeds, rest.critical_speeds)
+    np.testing.assert_allclose(spun.critical_speeds[:, 0], np.sqrt(np.array(ks) / 2.0), 1e-14)

@@ -110,8 +110,9 @@ def undamped_critical_speeds(
     signed orbit area, tilts weighted by `length_scale`, positive; the others are backward
     whirl at ``w = spin``, which an axisymmetric rotor's unbalance does not excite). Without
     it, the rotor at rest in the x-z plane: ``K X = w^2 M X`` on the dofs ``(x, theta_y)``
-    (isotropic supports: the y-z plane has the same frequencies). Massless dofs give
-    ``mu = 0`` and are dropped.
+    (isotropic supports: the y-z plane has the same frequencies); so also with `gyroscopic`
+    when ``G`` is zero (a forward orbit is then a degenerate pair of planar modes, which the
+    orbit test cannot pick). Massless dofs give ``mu = 0`` and are dropped.
 
     Examples
     --------
@@ -123,6 +124,8 @@ def undamped_critical_speeds(
     """
     import scipy.linalg
 
+    if gyroscopic and not np.any(G):  # no gyroscopic terms: forward whirl is the planar mode
+        gyroscopic = False
     if gyroscopic:
         B, KK = M - 1j * G, K
     else:
