@@ -7,7 +7,10 @@ A 1 m steel shaft (50 mm, 4 elements) with a 20 kg disk at mid-span, on two magn
 at 400 rad/s.
 
     python examples/magnetic_bearing.py                       # prints
-    python examples/magnetic_bearing.py --save docs/figures    # writes rotor_amb.png
+    python examples/magnetic_bearing.py --save docs/figures    # rotor_amb.png, rotor_amb_notch.png
+
+The second figure: with a second-order low-pass at 4e4 rad/s in the chain the first bending
+mode keeps 0.13 % damping; a notch 5 % below it damps it.
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from duhamel.rotor import PID, STEEL, Disk, MagneticBearing, Rotor, Shaft
+from duhamel.rotor import PID, STEEL, Disk, LowPass, MagneticBearing, Notch, Rotor, Shaft
 
 SPEED = 400.0
 
@@ -36,6 +39,25 @@ def run(kp: float = 3e4) -> dict:
         force = np.column_stack([np.where(t > 0.005, 100.0, 0.0)])  # 100 N, over one sample
         out["t"], out["x"] = t, loop.transient(t, force, [rotor.dof(2, "x")])[:, rotor.dof(2, "x")]
     return out
+
+
+def notch_case() -> dict:
+    """The bending mode with and without a notch 5 % below it: receptance at the bearing."""
+    rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 20.0, 0.3, 0.15)],
+                  rayleigh=(0.0, 1e-6))  # fmt: skip
+
+    def loop(extra: list) -> object:
+        chain = [PID(3e4, 1e5, 30.0, 1e-4), LowPass(4e4, order=2), *extra]
+        return rotor.closed_loop(0.0, [MagneticBearing(n, 100.0, 1e6, chain) for n in (0, 4)])
+
+    plain = loop([])
+    lam = plain.eigenvalues
+    w_mode = float(np.abs(lam[(lam.imag > 1.5e4) & (lam.imag < 2.5e4)][0]))
+    notched = loop([Notch(0.95 * w_mode, zeta=0.05)])
+    ws = np.linspace(0.8 * w_mode, 1.2 * w_mode, 3000)
+    d = rotor.dof(0, "x")
+    H = [np.abs(lp.frequency_response(ws, [d], [d])[:, 0, 0]) for lp in (plain, notched)]
+    return {"ws": ws, "H": H, "w_mode": w_mode}
 
 
 def main() -> None:
@@ -71,6 +93,16 @@ def main() -> None:
         b.set_title("100 N step at the disk (closed loop)")
         fig.tight_layout()
         fig.savefig(Path(args.save) / "rotor_amb.png", dpi=90)
+        nc = notch_case()
+        fig, ax = plt.subplots(figsize=(6.5, 4.2))
+        ax.semilogy(nc["ws"], nc["H"][0], label="PID + low-pass (4e4 rad/s)")
+        ax.semilogy(nc["ws"], nc["H"][1], label="+ notch at 0.95 x the mode")
+        ax.set_xlabel("frequency (rad/s)")
+        ax.set_ylabel("|x / F| at the bearing (m/N)")
+        ax.set_title(f"first bending mode ({nc['w_mode']:.0f} rad/s), closed loop")
+        ax.legend()
+        fig.tight_layout()
+        fig.savefig(Path(args.save) / "rotor_amb_notch.png", dpi=90)
 
 
 if __name__ == "__main__":

@@ -29,6 +29,15 @@ from duhamel.rotor._speed import constant_speed, rpm
 from duhamel.rotor.assembly import RotorMatrices
 from duhamel.rotor.bearing import Bearing
 from duhamel.rotor.campbell import Campbell
+from duhamel.rotor.controllers import (
+    PID,
+    Amplifier,
+    LowPass,
+    Notch,
+    Sensor,
+    Series,
+    StateSpace,
+)
 from duhamel.rotor.critical_map import CriticalSpeedMap, Intersection
 from duhamel.rotor.disk import Disk
 from duhamel.rotor.dofs import DIRECTIONS
@@ -36,7 +45,7 @@ from duhamel.rotor.faults import BreathingCrack
 from duhamel.rotor.frequency import FrequencyResponse, FrequencyResponseMap
 from duhamel.rotor.journal import ShortJournalBearing
 from duhamel.rotor.loads import Gravity, RotorLoad, SuddenForce, Unbalance, VectorStep
-from duhamel.rotor.magnetic import PID, ClosedLoop, MagneticBearing
+from duhamel.rotor.magnetic import ClosedLoop, MagneticBearing
 from duhamel.rotor.material import STEEL, Material
 from duhamel.rotor.model import Rotor
 from duhamel.rotor.modes import Modes
@@ -51,6 +60,7 @@ __all__ = [
     "DIRECTIONS",
     "PID",
     "STEEL",
+    "Amplifier",
     "Bearing",
     "BreathingCrack",
     "Campbell",
@@ -62,9 +72,11 @@ __all__ = [
     "Gravity",
     "Intersection",
     "Level1Stability",
+    "LowPass",
     "MagneticBearing",
     "Material",
     "Modes",
+    "Notch",
     "Peak",
     "RossDofs",
     "RossModel",
@@ -72,9 +84,12 @@ __all__ = [
     "Rotor",
     "RotorLoad",
     "RotorMatrices",
+    "Sensor",
+    "Series",
     "Shaft",
     "ShortJournalBearing",
     "Stage",
+    "StateSpace",
     "SuddenForce",
     "Unbalance",
     "UnbalanceResponse",

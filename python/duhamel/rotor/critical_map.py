@@ -110,8 +110,9 @@ def undamped_critical_speeds(
     signed orbit area, tilts weighted by `length_scale`, positive; the others are backward
     whirl at ``w = spin``, which an axisymmetric rotor's unbalance does not excite). Without
     it, the rotor at rest in the x-z plane: ``K X = w^2 M X`` on the dofs ``(x, theta_y)``
-    (isotropic supports: the y-z plane has the same frequencies). Massless dofs give
-    ``mu = 0`` and are dropped.
+    (isotropic supports: the y-z plane has the same frequencies); so also with `gyroscopic`
+    when ``G`` is zero (a forward orbit is then a degenerate pair of planar modes, which the
+    orbit test cannot pick). Massless dofs give ``mu = 0`` and are dropped.
 
     Examples
     --------
@@ -123,6 +124,8 @@ def undamped_critical_speeds(
     """
     import scipy.linalg
 
+    if gyroscopic and not np.any(G):  # no gyroscopic terms: forward whirl is the planar mode
+        gyroscopic = False
     if gyroscopic:
         B, KK = M - 1j * G, K
     else:
@@ -164,13 +167,25 @@ def critical_speed_map(
         raise ValueError(f"`n_modes` must be a positive integer, got {n_modes!r}")
     dofs = np.array([d for pair in supports for d in pair], dtype=np.intp)
 
+    known: dict[float, NDArray[np.float64]] = {}
+
     def omegas(k: float) -> NDArray[np.float64]:
-        Kk = np.array(K_structure, dtype=float)
-        Kk[dofs, dofs] += k
-        return undamped_critical_speeds(M, Kk, G, gyroscopic=gyroscopic, length_scale=length_scale)
+        # bearings alike (and kxx = kyy) share their curves: each stiffness solved once
+        if k not in known:
+            Kk = np.array(K_structure, dtype=float)
+            Kk[dofs, dofs] += k
+            known[k] = undamped_critical_speeds(
+                M, Kk, G, gyroscopic=gyroscopic, length_scale=length_scale
+            )
+        return known[k]
 
     rows = [omegas(float(k)) for k in ks]
     m = min(n_modes, min(r.size for r in rows))
+    if m == 0:
+        raise ValueError(
+            "no critical speed found at some stiffness (with `gyroscopic`, a rotor without "
+            "gyroscopic terms has no distinct forward orbits: use gyroscopic=False)"
+        )
     table = np.array([r[:m] for r in rows])
     if speeds is None:
         ws = np.linspace(0.0, 1.2 * float(table[-1, -1]), 241)

@@ -4,10 +4,12 @@ system (closed-loop modes, frequency responses, the sensitivity function, transi
 In each direction (x, y) of its node a :class:`MagneticBearing` pushes the rotor with
 ``f = k_s x + k_i i`` (``k_s > 0`` the open-loop negative stiffness, as ROSS writes it) and
 its current is ``i = -C(s) e``, ``e`` the measured displacement (``x``, plus a sensor
-disturbance ``d`` for the sensitivity function), with the :class:`PID` controller
-``C(s) = kp + ki / s + kd s / (1 + tau s)``. Its states are the integral of ``e`` (when
-``ki != 0``) and the first-order filter ``z' = (e - z) / tau`` of the derivative (when
-``kd != 0``: ``kd s / (1 + tau s) e = (kd / tau)(e - z)``). With the rotor's
+disturbance ``d`` for the sensitivity function). ``C(s)`` is a :class:`PID`
+``kp + ki / s + kd s / (1 + tau s)`` or any chain of the state-space blocks of
+:mod:`duhamel.rotor.controllers` (sensor, PID, low-pass, notch, amplifier...), whose
+realization ``z' = A_c z + B_c e``, ``C(s) e = C_c z + D_c e`` supplies the controller states
+(the PID's: the integral of ``e`` when ``ki != 0``, the derivative's filter
+``z' = (e - z) / tau`` when ``kd != 0``). With the rotor's
 ``M x'' + (C + speed G) x' + K x = f`` the closed loop is
 
     s' = A s + B f_ext,    s = (x, x', controller states),
@@ -22,51 +24,16 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._engine.validate import as_float_array, finite_float, nonneg_float, positive_float
+from duhamel.rotor.controllers import PID, ControllerBlock, Series
 
 __all__ = ["PID", "ClosedLoop", "MagneticBearing", "closed_loop"]
-
-
-@dataclass(frozen=True)
-class PID:
-    """``C(s) = kp + ki / s + kd s / (1 + tau s)`` (A/m, A/(m s), A s/m, s)."""
-
-    kp: float
-    ki: float = 0.0
-    kd: float = 0.0
-    tau: float = 0.0
-
-    def __post_init__(self) -> None:
-        for name in ("kp", "ki", "kd"):
-            object.__setattr__(self, name, finite_float(getattr(self, name), name))
-        object.__setattr__(self, "tau", nonneg_float(self.tau, "tau"))
-        if self.kd != 0.0 and self.tau <= 0.0:
-            raise ValueError("`tau` must be > 0 with a derivative gain `kd` (a proper C(s))")
-
-    def __call__(self, s: complex | NDArray) -> Any:
-        """``C(s)``."""
-        out = self.kp + (self.ki / s if self.ki else 0.0)
-        return out + (self.kd * s / (1.0 + self.tau * s) if self.kd else 0.0)
-
-    def state_space(self) -> tuple[NDArray, NDArray, NDArray, float]:
-        """``(A_c, B_c, C_c, D_c)`` of ``z' = A_c z + B_c e``, ``C(s) e = C_c z + D_c e``."""
-        a, b, c = [], [], []
-        if self.ki:
-            a.append(0.0)
-            b.append(1.0)
-            c.append(self.ki)
-        d = self.kp
-        if self.kd:
-            a.append(-1.0 / self.tau)
-            b.append(1.0 / self.tau)
-            c.append(-self.kd / self.tau)
-            d += self.kd / self.tau
-        return np.diag(a), np.array(b), np.array(c), d
 
 
 @dataclass(frozen=True)
@@ -80,21 +47,43 @@ class MagneticBearing:
         Current stiffness (N/A), > 0.
     k_s : float
         Open-loop negative stiffness (N/m), >= 0: the force is ``+k_s x``.
-    controller : PID
+    controller : PID, controller block, or sequence of blocks
+        ``C(s)`` from the measured displacement to the current: a :class:`PID`, any block of
+        :mod:`duhamel.rotor.controllers` (:class:`~duhamel.rotor.controllers.LowPass`,
+        :class:`~duhamel.rotor.controllers.Notch`, :class:`~duhamel.rotor.controllers.Sensor`,
+        :class:`~duhamel.rotor.controllers.Amplifier`,
+        :class:`~duhamel.rotor.controllers.StateSpace`), or several in series (a sequence
+        becomes a :class:`~duhamel.rotor.controllers.Series`).
+
+    Examples
+    --------
+    >>> from duhamel.rotor import PID, LowPass, MagneticBearing, Notch, Sensor
+    >>> amb = MagneticBearing(0, k_i=100.0, k_s=1e6,
+    ...                       controller=[Sensor(bandwidth=3e4), PID(3e4, 1e5, 30.0, 1e-4),
+    ...                                   LowPass(8e3, order=2), Notch(900.0)])
+    >>> amb.controller.n_states
+    7
     """
 
     node: int
     k_i: float
     k_s: float
-    controller: PID
+    controller: Any
 
     def __post_init__(self) -> None:
         if isinstance(self.node, bool) or not isinstance(self.node, int | np.integer):
             raise TypeError(f"`node` must be an integer, got {self.node!r}")
         object.__setattr__(self, "k_i", positive_float(self.k_i, "k_i"))
         object.__setattr__(self, "k_s", nonneg_float(self.k_s, "k_s"))
-        if not isinstance(self.controller, PID):
-            raise TypeError(f"`controller` must be a PID, got {type(self.controller).__name__}")
+        c = self.controller
+        if isinstance(c, list | tuple) and all(isinstance(b, ControllerBlock) for b in c):
+            c = Series(*c)
+        if not isinstance(c, ControllerBlock):
+            raise TypeError(
+                "`controller` must be a PID or another controller block (or a sequence of "
+                f"them), got {type(c).__name__}"
+            )
+        object.__setattr__(self, "controller", c)
 
 
 @dataclass(frozen=True, eq=False)
@@ -117,7 +106,7 @@ class ClosedLoop:
     M_inv: NDArray[np.float64]
     _E: NDArray[np.float64]  # disturbance input of each axis (the measured-signal channel)
 
-    @property
+    @cached_property
     def eigenvalues(self) -> NDArray[np.complex128]:
         """Closed-loop eigenvalues, sorted by imaginary then real part."""
         import scipy.linalg
@@ -142,11 +131,18 @@ class ClosedLoop:
         self, frequencies: ArrayLike, inputs: Sequence[int], outputs: Sequence[int]
     ) -> NDArray[np.complex128]:
         """Closed-loop receptances ``(n_frequencies, n_outputs, n_inputs)``: ``x_o =
-        Re(H F e^{i w t})`` for forces ``Re(F e^{i w t})`` on the `inputs` dofs."""
+        Re(H F e^{i w t})`` for forces ``Re(F e^{i w t})`` on the `inputs` dofs (a stable
+        loop only: an unstable one raises ``ValueError``, as :meth:`sensitivity` does)."""
         return self._response(frequencies, self.force_input(inputs), list(outputs))
 
     def _response(self, frequencies: ArrayLike, B: NDArray, rows: list[int]) -> NDArray:
         ws = as_float_array(frequencies, "frequencies", ndim=1)
+        if not self.stable:
+            grow = float(np.max(self.eigenvalues.real))
+            raise ValueError(
+                f"the closed loop is unstable (an eigenvalue with real part {grow:.4g} 1/s): "
+                "its frequency response and sensitivity are no steady state; see `eigenvalues`"
+            )
         n = self.A.shape[0]
         out = np.empty((ws.size, len(rows), B.shape[1]), dtype=complex)
         for k, w in enumerate(ws):
@@ -177,10 +173,36 @@ class ClosedLoop:
         *,
         x0: ArrayLike | None = None,
         v0: ArrayLike | None = None,
+        elements: Sequence[Any] = (),
+        tol: float = 1e-10,
+        max_iter: int = 50,
     ) -> NDArray[np.float64]:
         """States at the equally spaced times `t`, forces ``(len(t), len(dofs))`` linear
         between the samples: ``s[n+1] = Ad s[n] + B0 f[n] + B1 f[n+1]`` from ``expm`` of
-        Van Loan's augmented matrix, exact for such forces. Returns ``(len(t), n_states)``."""
+        Van Loan's augmented matrix, exact for such forces. Returns ``(len(t), n_states)``.
+
+        With `elements` (duhamel elements on the rotor's dofs: a rub
+        :class:`~duhamel.elements.Contact`, a cubic :class:`~duhamel.elements.Spring`...)
+        their forces act on top of the closed loop as pseudo-forces: the Rust core's
+        first-order route on the closed loop's own modes
+        (:mod:`duhamel.rotor._closed_loop_run`), the linear loop exact, the elements'
+        forces second order in the step (Newton to `tol`, at most `max_iter` iterations).
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> from duhamel.rotor import PID, STEEL, Disk, MagneticBearing, Rotor, Shaft
+        >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 20.0, 0.3, 0.15)])
+        >>> amb = [MagneticBearing(n, 100.0, 1e6, PID(3e4, 1e5, 30.0, 1e-4)) for n in (0, 4)]
+        >>> loop = rotor.closed_loop(400.0, amb)
+        >>> rub = duhamel.elements.Contact(rotor.dof(2, "x"), rotor.dof(2, "y"), 1e-5, 1e8)
+        >>> t = np.linspace(0.0, 0.02, 401)
+        >>> f = np.full((t.size, 1), 2e3)
+        >>> s = loop.transient(t, f, [rotor.dof(2, "x")], elements=[rub])
+        >>> x = s[-1, rotor.dof(2, "x")]   # 2 kN: 1 mm without the stator, 29 um with it
+        >>> bool(2e-5 < x < 4e-5)
+        True
+        """
         import scipy.linalg
 
         ts = as_float_array(t, "t", ndim=1)
@@ -193,6 +215,19 @@ class ClosedLoop:
         f = np.zeros((ts.size, m)) if forces is None else np.asarray(forces, dtype=float)
         if f.shape != (ts.size, m):
             raise ValueError(f"`forces` must have shape (len(t), len(dofs)) = {(ts.size, m)}")
+        s = np.zeros((ts.size, n))
+        s[0, : self.n_dof] = 0.0 if x0 is None else as_float_array(x0, "x0", ndim=1)
+        s[0, self.n_dof : 2 * self.n_dof] = 0.0 if v0 is None else as_float_array(v0, "v0", ndim=1)
+        if elements:
+            from duhamel.rotor._closed_loop_run import transient_with_elements
+
+            s = transient_with_elements(
+                self.A, self.force_input(range(self.n_dof)), s[0], ts, f, list(dofs),
+                list(elements), tol=tol, max_iter=max_iter,
+            )  # fmt: skip
+            if not np.all(np.isfinite(s)):
+                raise ValueError("the closed-loop transient is not finite (an unstable tuning?)")
+            return s
         big = np.zeros((n + 2 * m, n + 2 * m))
         big[:n, :n] = self.A * h
         big[:n, n : n + m] = B * h
@@ -200,9 +235,6 @@ class ClosedLoop:
         E = scipy.linalg.expm(big)
         Ad, G1, G2 = E[:n, :n], E[:n, n : n + m], E[:n, n + m :]
         B0, B1 = G1 - G2, G2
-        s = np.zeros((ts.size, n))
-        s[0, : self.n_dof] = 0.0 if x0 is None else as_float_array(x0, "x0", ndim=1)
-        s[0, self.n_dof : 2 * self.n_dof] = 0.0 if v0 is None else as_float_array(v0, "v0", ndim=1)
         for k in range(ts.size - 1):
             s[k + 1] = Ad @ s[k] + B0 @ f[k] + B1 @ f[k + 1]
         if not np.all(np.isfinite(s)):

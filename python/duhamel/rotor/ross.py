@@ -152,6 +152,43 @@ class RossModel(_RossModelFields):
         """:meth:`Rotor.frequency_response_map <duhamel.rotor.Rotor.frequency_response_map>`."""
         return self.rotor.frequency_response_map(speeds, frequencies, inputs, outputs)
 
+    def acceleration_stiffness(self) -> Any:
+        """ROSS's angular-acceleration stiffness ``Ksdt`` (lateral block, System order): a
+        run-up at the rate ``alpha = d omega / dt`` adds ``alpha Ksdt`` to the stiffness, as
+        ROSS's ``run_time_response`` with a speed array does. from_ross does not add it (a
+        speed law's rate jumps to zero at its end); for a run over a linear ramp add it as
+        ``system.add(duhamel.elements.LinearCoupling(K=alpha * model.acceleration_stiffness()))``.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor import from_ross
+        >>> class Disk:
+        ...     dof_global_index = {"x_0": 0, "y_0": 1, "alpha_0": 2, "beta_0": 3}
+        >>> class Toy:
+        ...     elements = [Disk()]
+        ...     def M(self, f=None): return np.diag([2.0, 2.0, 0.1, 0.1])
+        ...     def K(self, f): return np.diag([8e4, 8e4, 1e4, 1e4])
+        ...     def C(self, f): return np.zeros((4, 4))
+        ...     def G(self): return np.zeros((4, 4))
+        ...     def Ksdt(self): return np.array([[0, 0, 0, 0], [0, 0, 0, 0],
+        ...                                      [0, 0, 0, -0.2], [0, 0, 0, 0]])
+        >>> from_ross(Toy(), 0.0).acceleration_stiffness()[2, 3]
+        np.float64(-0.2)
+        """
+        if self._source is None or not hasattr(self._source, "Ksdt"):
+            raise ValueError("the ROSS model has no `Ksdt` (angular-acceleration stiffness)")
+        K = np.asarray(self._source.Ksdt(), dtype=float)
+        keep = self.dofs.ross_index
+        dropped = np.setdiff1d(np.arange(self.dofs.n_ross), keep)
+        if K.shape != (self.dofs.n_ross, self.dofs.n_ross):
+            raise ValueError(f"ROSS's `Ksdt` has shape {K.shape}")
+        cross = max(np.abs(K[np.ix_(keep, dropped)]).max(initial=0.0),
+                    np.abs(K[np.ix_(dropped, keep)]).max(initial=0.0))  # fmt: skip
+        if cross > 1e-12 * max(float(np.abs(K).max()), 1e-300):
+            raise ValueError("ROSS's `Ksdt` couples the lateral dofs to the dropped ones")
+        return K[np.ix_(keep, keep)]
+
     def unbalance_response(self, speeds: Any, unbalances: Any) -> Any:
         """Steady-state unbalance response (:func:`duhamel.rotor.unbalance_response`) with
         these matrices (ROSS's ``K`` and ``C`` at the model's `frequency`; for
@@ -205,7 +242,8 @@ def from_ross(
         scaled by ``omega(t)``, and every frequency-dependent bearing and seal follows the
         speed (ROSS's coefficient curves sampled over the range of the law, PCHIP between
         the samples: :mod:`duhamel.rotor._ross_runup`). ROSS's angular-acceleration
-        stiffness ``Ksdt`` of a run-up is not mapped.
+        stiffness ``Ksdt`` of a run-up is not added (:meth:`RossModel.acceleration_stiffness`
+        gives it).
     frequency : float, optional
         Keyword only. Excitation frequency at which frequency-dependent bearing and seal
         coefficients are evaluated; default `speed`, as ROSS's ``run_time_response``.

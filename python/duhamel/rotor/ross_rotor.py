@@ -11,15 +11,36 @@ from functools import lru_cache
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from duhamel.rotor._analyses import RotorAnalyses
 from duhamel.rotor._ross_matrices import COUPLING_RTOL, RossDofs
 from duhamel.rotor._speed import constant_speed
 from duhamel.rotor.assembly import RotorMatrices
+from duhamel.rotor.critical_map import CriticalSpeedMap
 from duhamel.rotor.modes import Modes
 
-__all__ = ["RossRotor"]
+__all__ = ["RossBearingCurve", "RossRotor"]
+
+
+class RossBearingCurve:
+    """A ROSS bearing's ``k..`` against speed through ROSS's own interpolants, its end values
+    held beyond its frequencies (as a native bearing table's): the curve a critical speed map
+    draws."""
+
+    def __init__(self, element: Any) -> None:
+        self.element = element
+        self.node = int(element.n)
+        freq = getattr(element, "frequency", None)
+        f = np.atleast_1d(np.asarray(freq if freq is not None else [0.0], dtype=float))
+        self._range = (float(f.min()), float(f.max()))
+
+    def stiffness_at(self, speed: float) -> NDArray[np.float64]:
+        """``[[kxx, kxy], [kyx, kyy]]`` at `speed` (rad/s)."""
+        w = min(max(float(speed), self._range[0]), self._range[1])
+        names = ("kxx", "kxy", "kyx", "kyy")
+        k = [float(np.asarray(getattr(self.element, f"{n}_interpolated")(w))) for n in names]
+        return np.array(k).reshape(2, 2)
 
 
 def _parameters(method: Any) -> tuple[str, ...]:
@@ -125,9 +146,7 @@ class RossRotor(RotorAnalyses):
             return self._fixed
         return self._at(w)
 
-    def modes(self, speed: float = 0.0, n: int | None = None) -> Modes:
-        """:meth:`Rotor.modes <duhamel.rotor.Rotor.modes>` (needs 4 dofs at every node;
-        models with 2-dof point-mass nodes are refused)."""
+    def _check_layout(self, what: str) -> None:
         labels = self.dofs.labels
         regular = len(labels) % 4 == 0 and all(
             labels[4 * k + d] == f"{name}_{labels[4 * k].split('_')[1]}"
@@ -136,10 +155,103 @@ class RossRotor(RotorAnalyses):
         )
         if not regular:
             raise ValueError(
-                "modes need (x, y, alpha, beta) at every node; this ROSS model has nodes "
+                f"{what} need (x, y, alpha, beta) at every node; this ROSS model has nodes "
                 "with only x and y (point masses): use its matrices directly"
             )
+
+    def modes(self, speed: float = 0.0, n: int | None = None) -> Modes:
+        """:meth:`Rotor.modes <duhamel.rotor.Rotor.modes>` (needs 4 dofs at every node;
+        models with 2-dof point-mass nodes are refused)."""
+        self._check_layout("modes")
         return super().modes(speed, n)
+
+    def _structure_stiffness(self) -> NDArray[np.float64]:
+        """ROSS's stiffness without its bearings and seals (``K0``, else ``K(0)`` minus each
+        bearing element's ``K(0)`` at its dofs), lateral block."""
+        src = self.source
+        K0 = getattr(src, "K0", None)
+        if K0 is None:
+            K0 = np.array(src.K(0.0), dtype=float)
+            for b in getattr(src, "bearing_elements", ()):
+                idx = list(b.dof_global_index.values())
+                K0[np.ix_(idx, idx)] -= np.asarray(b.K(0.0), dtype=float)
+        return np.asarray(K0, dtype=float)[self._blocks[0]]
+
+    def critical_speed_map(
+        self,
+        stiffnesses: ArrayLike,
+        *,
+        n_modes: int = 4,
+        gyroscopic: bool = True,
+        speeds: ArrayLike | None = None,
+    ) -> CriticalSpeedMap:
+        """:meth:`Rotor.critical_speed_map <duhamel.rotor.Rotor.critical_speed_map>` of the
+        ROSS model: its bearings (not its seals, as ROSS's ``run_ucs``) replaced by an
+        isotropic spring of each of `stiffnesses` on their node's x and y, the shaft and
+        disks as ROSS assembles them (``K0``, ``M``, ``G``), the bearings' ``kxx`` and ``kyy``
+        curves from ROSS's interpolants (end values held beyond their frequencies).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor import from_ross
+        >>> class Brg:
+        ...     def __init__(self, n): self.n, self.frequency = n, None
+        ...     kxx_interpolated = kyy_interpolated = staticmethod(lambda w: 1e6 + 0 * w)
+        ...     kxy_interpolated = kyx_interpolated = staticmethod(lambda w: 0 * w)
+        >>> class Toy:                       # a rigid disk (2 kg) on one bearing
+        ...     elements = bearing_elements = [Brg(0)]
+        ...     dof_global_index = {"x_0": 0, "y_0": 1, "alpha_0": 2, "beta_0": 3}
+        ...     K0 = np.diag([0.0, 0.0, 1e6, 1e6])
+        ...     def M(self, f=None): return np.diag([2.0, 2.0, 0.1, 0.1])
+        ...     def K(self, f): return self.K0 + np.diag([1e6, 1e6, 0, 0])
+        ...     def C(self, f): return np.zeros((4, 4))
+        ...     def G(self): return np.zeros((4, 4))
+        >>> Toy.elements[0].dof_global_index = Toy.dof_global_index
+        >>> rotor = from_ross(Toy(), 0.0).rotor
+        >>> ucs = rotor.critical_speed_map([2e4, 8e4], n_modes=1, gyroscopic=False,
+        ...                                speeds=np.linspace(0.0, 1000.0, 101))
+        >>> ucs.critical_speeds[:, 0].round(6).tolist()   # sqrt(k / 2 kg)
+        [100.0, 200.0]
+        >>> round(ucs.intersections[0].speed, 6)     # 1e6 N/m: sqrt(1e6 / 2)
+        707.106781
+        """
+        from duhamel.rotor.critical_map import critical_speed_map
+
+        if self.source is None:
+            raise ValueError("a critical speed map needs the ROSS model (its bearings)")
+        seal = _seal_class(self.source)
+        link_nodes = set(getattr(self.source, "link_nodes", ()) or ())
+        bearings = [
+            b
+            for b in getattr(self.source, "bearing_elements", ())
+            if not (seal is not None and isinstance(b, seal)) and int(b.n) not in link_nodes
+        ]
+        if not bearings:
+            raise ValueError("the ROSS model has no bearings: a critical speed map needs supports")
+        for b in bearings:
+            if getattr(b, "n_link", None) is not None:
+                raise ValueError(
+                    f"the ROSS bearing at node {b.n} is linked to node {b.n_link}: the map "
+                    "takes only bearings between a shaft node and the ground"
+                )
+        self._check_layout("critical speed maps")
+        M, _, _, G = self.matrices(0.0)
+        supports = [(self.dof(int(b.n), "x"), self.dof(int(b.n), "y")) for b in bearings]
+        lengths = [float(s.L) for s in self.shafts if hasattr(s, "L")]
+        return critical_speed_map(
+            M, self._structure_stiffness(), G, supports, [RossBearingCurve(b) for b in bearings],
+            stiffnesses, n_modes=n_modes, gyroscopic=gyroscopic, speeds=speeds,
+            length_scale=float(np.mean(lengths)) if lengths else 1.0,
+        )  # fmt: skip
 
     def __repr__(self) -> str:
         return f"RossRotor(n_dof={self.n_dof}, source={type(self.source).__name__})"
+
+
+def _seal_class(source: Any) -> Any:
+    """ROSS's ``SealElement`` class when ROSS is imported (seals are not supports)."""
+    import sys
+
+    ross = sys.modules.get("ross")
+    return getattr(ross, "SealElement", None) if ross is not None else None
