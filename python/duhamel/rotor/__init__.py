@@ -37,6 +37,7 @@ from duhamel.rotor.frequency import FrequencyResponse, FrequencyResponseMap
 from duhamel.rotor.journal import ShortJournalBearing
 from duhamel.rotor.loads import Gravity, RotorLoad, SuddenForce, Unbalance, VectorStep
 from duhamel.rotor.magnetic import PID, ClosedLoop, MagneticBearing
+from duhamel.rotor.misalignment import CouplingMisalignment
 from duhamel.rotor.material import STEEL, Material
 from duhamel.rotor.model import Rotor
 from duhamel.rotor.modes import Modes
@@ -55,6 +56,7 @@ __all__ = [
     "BreathingCrack",
     "Campbell",
     "ClosedLoop",
+    "CouplingMisalignment",
     "CriticalSpeedMap",
     "Disk",
     "FrequencyResponse",
