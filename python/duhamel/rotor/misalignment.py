@@ -159,9 +159,11 @@ class CouplingMisalignment(RotorLoad):
             angular = (0.0, 0.0)
         return radius, parallel, angular
 
-    def _radius(self) -> float:
+    def _radius(self, rotor: RotorModel | None) -> float:
+        if rotor is not None:
+            return self.nodes(rotor)[2]
         if self.radius is None:
-            raise ValueError("give `radius` (the shaft radius at the coupling, m)")
+            raise ValueError("give `radius` (the shaft radius at the coupling, m) or a `rotor`")
         return self.radius
 
     def nodes(self, rotor: RotorModel) -> tuple[int, int, float]:
@@ -191,18 +193,23 @@ class CouplingMisalignment(RotorLoad):
         params = (law._spec(), *self._parts(radius))
         return [_CouplingForce(rotor.dof(left, d), rotor.dof(right, d), params, d) for d in "xy"]
 
-    def force(self, theta: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    def force(
+        self, theta: ArrayLike, rotor: RotorModel | None = None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The force ``(F_x, F_y)`` (N) at the rotor angles `theta` (rad), as the core
-        evaluates it during a run (needs `radius`)."""
+        evaluates it during a run (the radius: `radius`, or shaft `n`'s of `rotor`)."""
         th = np.ascontiguousarray(as_float_array(theta, "theta", ndim=1))
-        params = (as_speed_law(1.0, "speed")._spec(), *self._parts(self._radius()))
+        params = (as_speed_law(1.0, "speed")._spec(), *self._parts(self._radius(rotor)))
         fx, fy = (np.asarray(time_function("misalignment", (*params, a)).values(th)) for a in "xy")
         return fx, fy
 
-    def harmonics(self, orders: ArrayLike) -> NDArray[np.complex128]:
+    def harmonics(
+        self, orders: ArrayLike, rotor: RotorModel | None = None
+    ) -> NDArray[np.complex128]:
         """The force's Fourier coefficients in closed form, ``c[k] = (c_x, c_y)`` of
         ``F = sum_m c_m exp(i m theta)`` over all integers ``m`` at the `orders` ``m``
-        (``c_-m = conj(c_m)``; the amplitude of order ``m > 0`` is ``2 |c_m|``).
+        (``c_-m = conj(c_m)``; the amplitude of order ``m > 0`` is ``2 |c_m|``); the radius:
+        `radius`, or shaft `n`'s of `rotor`.
 
         The parallel part: ``g(u) = r (|1 + q e^(iu)| - 1)``, ``q = d / r < 1``, has the
         coefficients ``G_n = r q^|n| binom(1/2, |n|) 2F1(-1/2, |n| - 1/2; |n| + 1; q^2)``
@@ -214,7 +221,7 @@ class CouplingMisalignment(RotorLoad):
         from scipy.special import binom, hyp2f1
 
         m = np.asarray(as_float_array(orders, "orders", ndim=1)).astype(np.int64)
-        radius, (dx, dy, kd), (alpha, kb) = self._parts(self._radius())
+        radius, (dx, dy, kd), (alpha, kb) = self._parts(self._radius(rotor))
         out = np.zeros((m.size, 2), dtype=np.complex128)
         d = float(np.hypot(dx, dy))
         if d > 0.0 and kd > 0.0:
