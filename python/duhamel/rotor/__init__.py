@@ -37,8 +37,8 @@ from duhamel.rotor.frequency import FrequencyResponse, FrequencyResponseMap
 from duhamel.rotor.journal import ShortJournalBearing
 from duhamel.rotor.loads import Gravity, RotorLoad, SuddenForce, Unbalance, VectorStep
 from duhamel.rotor.magnetic import PID, ClosedLoop, MagneticBearing
-from duhamel.rotor.misalignment import CouplingMisalignment
 from duhamel.rotor.material import STEEL, Material
+from duhamel.rotor.misalignment import CouplingMisalignment
 from duhamel.rotor.model import Rotor
 from duhamel.rotor.modes import Modes
 from duhamel.rotor.plot import plot_campbell, plot_orbit

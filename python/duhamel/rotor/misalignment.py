@@ -80,7 +80,9 @@ class CouplingMisalignment(RotorLoad):
     the speed law (``theta = Omega t`` at constant speed, exact along a run-up).
 
     The force acts ``+F`` on the element's first node and ``-F`` on its second, on the x and
-    y translations, as ROSS applies it. ROSS's driving and load torques act on torsional dofs,
+    y translations, as ROSS applies it. Within a step the run takes the load's parabola
+    (fourth order) and integrates the angular force's kinks exactly (one per step at most:
+    steps shorter than a sixth of a turn). ROSS's driving and load torques act on torsional dofs,
     which duhamel's rotors do not have; they are not modelled.
 
     Parameters

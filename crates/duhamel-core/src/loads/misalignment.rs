@@ -24,7 +24,11 @@
 //!
 //! (ROSS's `|aux sin(ang + 4 a)| cos(ang + pi + 4 a)`; `sqrt(2 - 2 cos alpha) = 2 |sin(alpha
 //! / 2)|`). The force acts with `+` on the coupling's first node and `-` on its second (the
-//! caller's load pattern).
+//! caller's load pattern). The angular force has kinks at the multiples of `pi / 3`
+//! ([`Coupling::kink_in`], [`Coupling::kink_jumps`]), which the load's step integrates
+//! exactly (`TimeFunction::jump_in`).
+
+use std::cmp::Ordering;
 
 use crate::error::CoreError;
 
@@ -117,13 +121,47 @@ impl Coupling {
         [self.radial_stiffness * f[0], self.radial_stiffness * f[1]]
     }
 
-    /// The angular misalignment's force.
-    fn angular(&self, theta: f64) -> [f64; 2] {
-        let a = self.bending_stiffness
+    /// The amplitude `a` of the angular force.
+    fn angular_amplitude(&self) -> f64 {
+        self.bending_stiffness
             * self.radius
             * 2.0
             * (0.5 * self.angle).sin().abs()
-            * self.angle.sin().abs();
+            * self.angle.sin().abs()
+    }
+
+    /// The angle of the one kink of the angular force strictly inside `(theta0, theta1)`
+    /// (the kinks are at the multiples of `pi / 3`, where one of the `|sin u_j|` turns), or
+    /// `None` when there is none, more than one, or no angular force.
+    pub fn kink_in(&self, theta0: f64, theta1: f64) -> Option<f64> {
+        if self.angular_amplitude() == 0.0 || theta1.partial_cmp(&theta0) != Some(Ordering::Greater)
+        {
+            return None;
+        }
+        let sixth = std::f64::consts::FRAC_PI_3;
+        let first = (theta0 / sixth).floor() + 1.0;
+        let last = (theta1 / sixth).ceil() - 1.0;
+        (first == last).then_some(first * sixth)
+    }
+
+    /// The jumps of the first and second derivatives of `(F_x, F_y)` with respect to the
+    /// angle at the kink `theta_k` (a multiple of `pi / 3`): `[[dF_x', dF_x''], [dF_y',
+    /// dF_y'']]`. At `u_j = k pi`, `|sin u_j|` changes sign by `sigma = 2 (-1)^k`, so
+    /// `-a |sin u| cos u` gains `-a sigma` in slope and `-a |sin u| sin u` gains `-2 a sigma`
+    /// in curvature; the force itself is continuous.
+    pub fn kink_jumps(&self, theta_k: f64) -> [[f64; 2]; 2] {
+        let p = (theta_k / std::f64::consts::FRAC_PI_3).round() as i64;
+        // the term j with p + 2 j = 0 (mod 3): u_j = (p + 2 j) pi / 3 = k pi
+        let j = (0..3).find(|j| (p + 2 * j).rem_euclid(3) == 0).unwrap_or(0);
+        let k = (p + 2 * j) / 3;
+        let sigma = if k.rem_euclid(2) == 0 { 2.0 } else { -2.0 };
+        let a = self.angular_amplitude();
+        [[-a * sigma, 0.0], [0.0, -2.0 * a * sigma]]
+    }
+
+    /// The angular misalignment's force.
+    fn angular(&self, theta: f64) -> [f64; 2] {
+        let a = self.angular_amplitude();
         if a == 0.0 {
             return [0.0, 0.0];
         }
@@ -185,6 +223,39 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// One-sided finite differences across each kink of a turn agree with `kink_jumps`.
+    #[test]
+    fn kink_jumps_are_the_one_sided_differences() {
+        let c = coupling();
+        let h = 1e-4;
+        for p in -7..8 {
+            let tk = p as f64 * std::f64::consts::FRAC_PI_3;
+            assert_eq!(c.kink_in(tk - 0.1, tk + 0.2), Some(tk));
+            let f = |x: f64| c.force(x);
+            for axis in 0..2 {
+                let r = |m: f64| f(tk + m * h)[axis];
+                let l = |m: f64| f(tk - m * h)[axis];
+                let d1 = (-3.0 * r(0.0) + 4.0 * r(1.0) - r(2.0)) / (2.0 * h)
+                    - (3.0 * l(0.0) - 4.0 * l(1.0) + l(2.0)) / (2.0 * h);
+                let d2 = (2.0 * r(0.0) - 5.0 * r(1.0) + 4.0 * r(2.0) - r(3.0)) / (h * h)
+                    - (2.0 * l(0.0) - 5.0 * l(1.0) + 4.0 * l(2.0) - l(3.0)) / (h * h);
+                let want = c.kink_jumps(tk)[axis];
+                let scale = c.angular_amplitude();
+                assert!(
+                    (d1 - want[0]).abs() < 1e-5 * scale,
+                    "{p} {axis}: {d1} {want:?}"
+                );
+                assert!(
+                    (d2 - want[1]).abs() < 1e-3 * scale,
+                    "{p} {axis}: {d2} {want:?}"
+                );
+            }
+        }
+        // none, or two kinks in the interval
+        assert_eq!(c.kink_in(0.1, 1.0), None);
+        assert_eq!(c.kink_in(0.1, 2.5), None);
     }
 
     #[test]

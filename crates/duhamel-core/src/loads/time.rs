@@ -284,7 +284,8 @@ impl TimeFunction {
     /// `(j0 + j1 (s - tj) + j2 (s - tj)^2) H(s - tj)` that the caller integrates exactly (the
     /// rest is smooth enough for the parabola: twice continuously differentiable). A step:
     /// `j = (1, 0, 0)`; an unbalance at the end of a run-up: the jumps of the force and of its
-    /// first two derivatives (the second halved).
+    /// first two derivatives (the second halved); a misalignment at a kink of its angular
+    /// force: the jumps of the first two derivatives.
     pub fn jump_in(&self, t: f64, dt: f64) -> Option<(f64, [f64; 3])> {
         self.break_in(t, dt).map(|(tj, j)| (t + dt - tj, j))
     }
@@ -329,6 +330,20 @@ impl TimeFunction {
                     Axis::Y => re * s + im * c,
                 });
                 Some((tj, j))
+            }
+            TimeFunction::Misalignment {
+                coupling,
+                law,
+                axis,
+            } => {
+                // A kink of the angular force at the angle `theta_k`: `f = h(theta(t))` keeps
+                // its value and gains `h' omega` in slope and `h'' omega^2 + h' omega'` in
+                // curvature (one kink per step at most: else the parabola takes them).
+                let theta_k = coupling.kink_in(law.theta(t), law.theta(t + dt))?;
+                let tj = law.time_at_angle(theta_k, t, t + dt)?;
+                let [d1, d2] = coupling.kink_jumps(theta_k)[(*axis == Axis::Y) as usize];
+                let (w, a) = (law.omega(tj), law.domega(tj));
+                Some((tj, [0.0, d1 * w, 0.5 * (d2 * w * w + d1 * a)]))
             }
             _ => None,
         }

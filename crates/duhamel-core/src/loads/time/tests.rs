@@ -137,3 +137,65 @@ fn harmonic_basis_is_parabola() {
     assert!((b[0] - (0.5f64).sin()).abs() < 1e-15);
     assert!((b[0] + b[1] - (0.9f64).sin()).abs() < 1e-15);
 }
+
+/// A misalignment's kink inside a step of a run-up: located at the law's time of the kink
+/// angle, with the jumps of the first two time derivatives of one-sided finite differences.
+#[test]
+fn misalignment_kink_coefficients() {
+    use crate::loads::Coupling;
+    let law = SpeedLaw::LinearRunUp {
+        omega0: 30.0,
+        omega1: 90.0,
+        t1: 2.0,
+    };
+    let coupling = Coupling {
+        radius: 0.01,
+        delta: [1e-4, 2e-4],
+        radial_stiffness: 1e5,
+        angle: 0.05,
+        bending_stiffness: 2e5,
+    };
+    for axis in [Axis::X, Axis::Y] {
+        let f = TimeFunction::Misalignment {
+            coupling,
+            law,
+            axis,
+        };
+        let dt = 0.01;
+        let t = (0..100)
+            .map(|i| 0.7 + i as f64 * 0.003)
+            .find(|&t| f.jump_in(t, dt).is_some())
+            .unwrap();
+        let (rest, j) = f.jump_in(t, dt).unwrap();
+        let tk = t + dt - rest;
+        let angle = law.theta(tk);
+        let sixth = std::f64::consts::FRAC_PI_3;
+        assert!((angle / sixth - (angle / sixth).round()).abs() < 1e-13);
+        let h = 1e-5;
+        let right = |k: f64| f.eval(tk + k * h);
+        let left = |k: f64| f.eval(tk - k * h);
+        let d1 = (-3.0 * right(0.0) + 4.0 * right(1.0) - right(2.0)) / (2.0 * h)
+            - (3.0 * left(0.0) - 4.0 * left(1.0) + left(2.0)) / (2.0 * h);
+        let d2 = (2.0 * right(0.0) - 5.0 * right(1.0) + 4.0 * right(2.0) - right(3.0)) / (h * h)
+            - (2.0 * left(0.0) - 5.0 * left(1.0) + 4.0 * left(2.0) - left(3.0)) / (h * h);
+        assert_eq!(j[0], 0.0);
+        let scale = j[1].abs().max(j[2].abs() * h).max(1.0);
+        assert!(
+            (d1 - j[1]).abs() < 1e-4 * scale,
+            "{axis:?}: {d1} vs {}",
+            j[1]
+        );
+        assert!(
+            (d2 - 2.0 * j[2]).abs() < 1e-2 * (2.0 * j[2]).abs().max(j[1].abs()),
+            "{axis:?}: {d2} vs {}",
+            2.0 * j[2]
+        );
+    }
+    // a step with two kinks, or none: left to the parabola
+    let f = TimeFunction::Misalignment {
+        coupling,
+        law,
+        axis: Axis::X,
+    };
+    assert!(f.jump_in(0.7, 0.5).is_none());
+}
