@@ -257,6 +257,21 @@ def test_time_response_against_ross(mis_type) -> None:
         assert e2 < 5e-5 and e1 / e2 > 3.0  # measured 3.1e-5, 3.4 (the angular kinks)
 
 
+def test_speed_given_once_or_twice_alike() -> None:
+    """The fault's own speed (a number or a law) and the rotor's must agree; either serves."""
+    rotor = small_rotor()
+    kw = dict(mis_distance_x=1e-4, radial_stiffness=1e5)
+    t = np.linspace(0.0, 0.1, 11)
+    own = CouplingMisalignment(0, "parallel", speed=300.0, **kw)
+    given = CouplingMisalignment(0, "parallel", **kw)
+    a = sum(load.evaluate(rotor.system(300.0), t) for load in own.loads(rotor, 300.0))
+    b = sum(load.evaluate(rotor.system(300.0), t) for load in given.loads(rotor, 300.0))
+    c = sum(load.evaluate(rotor.system(300.0), t) for load in own.loads(rotor))
+    assert np.array_equal(a, b) and np.array_equal(a, c)
+    with pytest.raises(ValueError, match="differs"):
+        own.loads(rotor, LinearRunUp(omega0=0.0, omega1=300.0, t1=1.0))
+
+
 def test_bad_input_is_named() -> None:
     with pytest.raises(ValueError, match="mis_type"):
         CouplingMisalignment(0, "skewed", radial_stiffness=1.0)

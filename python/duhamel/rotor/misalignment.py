@@ -28,7 +28,8 @@ from duhamel._engine.validate import (
 )
 from duhamel.loads import Load
 from duhamel.rotor._protocols import RotorModel
-from duhamel.rotor.loads import RotorLoad, _resolve_speed
+from duhamel.rotor._speed import speed_or_law
+from duhamel.rotor.loads import RotorLoad
 from duhamel.speed import as_speed_law
 
 __all__ = ["CouplingMisalignment"]
@@ -149,7 +150,7 @@ class CouplingMisalignment(RotorLoad):
         if self.radius is not None:
             object.__setattr__(self, "radius", positive_float(self.radius, "radius"))
         if self.speed is not None:
-            object.__setattr__(self, "speed", as_speed_law(self.speed, "speed"))
+            object.__setattr__(self, "speed", speed_or_law(self.speed))
 
     def _parts(self, radius: float) -> tuple[float, tuple, tuple]:
         """The core's `(radius, parallel, angular)` with the unused part zeroed."""
@@ -191,7 +192,19 @@ class CouplingMisalignment(RotorLoad):
         """The force on the coupling's nodes: two loads (x and y), ``+F`` on the first node,
         ``-F`` on the second, evaluated in Rust at the angle of the speed law."""
         left, right, radius = self.nodes(rotor)
-        law = as_speed_law(_resolve_speed(self.speed, speed), "speed")
+        own = self.speed
+        given = None if speed is None else speed_or_law(speed)
+        if own is None and given is None:
+            raise ValueError(
+                "the misalignment needs a speed: give `speed` to CouplingMisalignment or to "
+                "Rotor.system"
+            )
+        if own is not None and given is not None and own != given:
+            raise ValueError(
+                f"the misalignment's speed {own!r} differs from the rotor's {given!r} (rad/s); "
+                "give the speed once (CouplingMisalignment(speed=None) takes the rotor's)"
+            )
+        law = as_speed_law(own if own is not None else given, "speed")
         params = (law._spec(), *self._parts(radius))
         return [_CouplingForce(rotor.dof(left, d), rotor.dof(right, d), params, d) for d in "xy"]
 
