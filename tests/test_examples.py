@@ -209,3 +209,21 @@ def test_cracked_rotor_example(tmp_path) -> None:
         third = float(line.split("3x peak at ")[1].split("(")[1].split()[0])
         assert 0.49 < half < 0.54 and 0.32 < third < 0.36
     assert (tmp_path / "rotor_crack.png").exists()
+
+
+def test_misaligned_rotor_example(tmp_path) -> None:
+    """The misaligned coupling's run-up: the 2x order peaks near half the first critical
+    speed and the 3x (the angular part's) near a third (a little above: the run-up's lag);
+    the figure is written."""
+    out = subprocess.run(
+        [sys.executable, str(ROOT / "examples" / "misaligned_rotor.py"), "--save", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=300,
+    ).stdout
+    line = next(s for s in out.splitlines() if s.startswith("first critical"))
+    half = float(line.split("2x peak at ")[1].split("(")[1].split()[0])
+    third = float(line.split("3x peak at ")[1].split("(")[1].split()[0])
+    assert 0.49 < half < 0.54 and 0.32 < third < 0.36
+    assert (tmp_path / "rotor_misalignment.png").exists()

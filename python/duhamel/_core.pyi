@@ -55,6 +55,14 @@ class TimeFunction:
     def table(t: Array, values: Array, hold: bool) -> TimeFunction: ...
     @staticmethod
     def unbalance(law: SpeedLaw, phase: float, axis: Literal["x", "y"]) -> TimeFunction: ...
+    @staticmethod
+    def misalignment(
+        law: SpeedLaw,
+        radius: float,
+        parallel: tuple[float, float, float],
+        angular: tuple[float, float],
+        axis: Literal["x", "y"],
+    ) -> TimeFunction: ...
     def values(self, t: Array) -> Array:
         """The values at the times `t` (right limits at jumps)."""
 

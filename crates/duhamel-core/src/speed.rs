@@ -136,6 +136,42 @@ impl SpeedLaw {
         }
     }
 
+    /// The time in `(t0, t1)` at which the angle is `angle` (`theta(t0) < angle <
+    /// theta(t1)`), when the speed is positive at both ends (so `theta` rises through the
+    /// interval, `omega` being linear on each side of a run-up's end): Newton's method on
+    /// `theta`, kept inside a shrinking bracket. `None` otherwise.
+    pub fn time_at_angle(&self, angle: f64, t0: f64, t1: f64) -> Option<f64> {
+        let (mut lo, mut hi) = (t0, t1);
+        let (a0, a1) = (self.theta(lo), self.theta(hi));
+        if !(self.omega(lo) > 0.0 && self.omega(hi) > 0.0 && a0 < angle && angle < a1) {
+            return None;
+        }
+        let mut t = lo + (hi - lo) * (angle - a0) / (a1 - a0);
+        for _ in 0..60 {
+            let f = self.theta(t) - angle;
+            if f == 0.0 {
+                break;
+            }
+            if f > 0.0 {
+                hi = t;
+            } else {
+                lo = t;
+            }
+            let next = t - f / self.omega(t);
+            let next = if next > lo && next < hi {
+                next
+            } else {
+                0.5 * (lo + hi)
+            };
+            if next == t || hi - lo <= 4.0 * f64::EPSILON * hi.abs().max(lo.abs()) {
+                t = next;
+                break;
+            }
+            t = next;
+        }
+        Some(t)
+    }
+
     /// The time inside `(t, t + dt)` where `omega'` jumps (the end of a run-up), if any.
     pub fn breakpoint_in(&self, t: f64, dt: f64) -> Option<f64> {
         match *self {

@@ -1,6 +1,6 @@
 //! Loads: time functions as typed values, the loads of a problem, and Python load functions.
 
-use duhamel_core::loads::{Axis, ModalForcing, ModalLoad, TimeFunction as CoreFunction};
+use duhamel_core::loads::{Axis, Coupling, ModalForcing, ModalLoad, TimeFunction as CoreFunction};
 use duhamel_core::CoreError;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -44,19 +44,35 @@ impl TimeFunction {
     /// One component (`axis` "x" or "y") of an unbalance force per unit `m e` along `law`.
     #[staticmethod]
     fn unbalance(law: &Bound<'_, PyAny>, phase: f64, axis: &str) -> PyResult<Self> {
-        let axis = match axis {
-            "x" => Axis::X,
-            "y" => Axis::Y,
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "`axis` must be 'x' or 'y', got {other:?}"
-                )))
-            }
-        };
         checked(CoreFunction::Unbalance {
             law: speed_of(law)?,
             phase,
-            axis,
+            axis: axis_of(axis)?,
+        })
+    }
+
+    /// One component (`axis` "x" or "y") of a misaligned flexible coupling's reaction force
+    /// (N) at the angle of `law`: shaft `radius`, `parallel = (delta_x, delta_y,
+    /// radial_stiffness)`, `angular = (angle, bending_stiffness)`.
+    #[staticmethod]
+    fn misalignment(
+        law: &Bound<'_, PyAny>,
+        radius: f64,
+        parallel: (f64, f64, f64),
+        angular: (f64, f64),
+        axis: &str,
+    ) -> PyResult<Self> {
+        let coupling = Coupling {
+            radius,
+            delta: [parallel.0, parallel.1],
+            radial_stiffness: parallel.2,
+            angle: angular.0,
+            bending_stiffness: angular.1,
+        };
+        checked(CoreFunction::Misalignment {
+            coupling,
+            law: speed_of(law)?,
+            axis: axis_of(axis)?,
         })
     }
 
@@ -73,6 +89,16 @@ impl TimeFunction {
 
     fn __repr__(&self) -> String {
         format!("{:?}", self.0)
+    }
+}
+
+fn axis_of(axis: &str) -> PyResult<Axis> {
+    match axis {
+        "x" => Ok(Axis::X),
+        "y" => Ok(Axis::Y),
+        other => Err(PyValueError::new_err(format!(
+            "`axis` must be 'x' or 'y', got {other:?}"
+        ))),
     }
 }
 

@@ -62,6 +62,11 @@ def time_function(kind: str, params: tuple) -> Any:
     if kind == "unbalance":
         law, phase, axis = params
         return _core.TimeFunction.unbalance(speed_law(law), float(phase), str(axis))
+    if kind == "misalignment":
+        law, radius, parallel, angular, axis = params
+        return _core.TimeFunction.misalignment(
+            speed_law(law), float(radius), tuple(parallel), tuple(angular), str(axis)
+        )
     raise ValueError(f"unknown load kind {kind!r}")
 
 

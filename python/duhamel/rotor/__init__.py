@@ -47,6 +47,7 @@ from duhamel.rotor.journal import ShortJournalBearing
 from duhamel.rotor.loads import Gravity, RotorLoad, SuddenForce, Unbalance, VectorStep
 from duhamel.rotor.magnetic import ClosedLoop, MagneticBearing
 from duhamel.rotor.material import STEEL, Material
+from duhamel.rotor.misalignment import CouplingMisalignment
 from duhamel.rotor.model import Rotor
 from duhamel.rotor.modes import Modes
 from duhamel.rotor.plot import plot_campbell, plot_orbit
@@ -65,6 +66,7 @@ __all__ = [
     "BreathingCrack",
     "Campbell",
     "ClosedLoop",
+    "CouplingMisalignment",
     "CriticalSpeedMap",
     "Disk",
     "FrequencyResponse",

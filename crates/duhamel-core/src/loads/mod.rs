@@ -2,9 +2,11 @@
 //! scalar time function evaluated in Rust.
 
 pub mod block;
+mod misalignment;
 mod steps;
 mod time;
 
+pub use misalignment::Coupling;
 pub use steps::Steps;
 pub use time::{Axis, TimeFunction};
 
