@@ -3,6 +3,8 @@
 use faer::linalg::solvers::Solve;
 use faer::Mat;
 
+use crate::dense_fixed as fixed;
+
 /// `a . b` over the shorter length, in four interleaved partial sums (which the compiler
 /// can keep in SIMD registers: a plain sequential sum cannot be reordered, and vectorised).
 #[inline]
@@ -255,6 +257,27 @@ impl DenseLu {
     /// `k`-wide vector operation); `perm` is scratch of the same size. False if the
     /// solution is not finite.
     pub fn solve_transpose_many(&self, b: &mut [f64], k: usize, perm: &mut [f64]) -> bool {
+        let n = self.n;
+        let (lu, piv) = (&self.lu[..], &self.piv[..]);
+        match k {
+            1 => return fixed::solve_transpose_fixed::<1>(lu, piv, n, b, perm),
+            2 => return fixed::solve_transpose_fixed::<2>(lu, piv, n, b, perm),
+            3 => return fixed::solve_transpose_fixed::<3>(lu, piv, n, b, perm),
+            4 => return fixed::solve_transpose_fixed::<4>(lu, piv, n, b, perm),
+            6 => return fixed::solve_transpose_fixed::<6>(lu, piv, n, b, perm),
+            8 => return fixed::solve_transpose_fixed::<8>(lu, piv, n, b, perm),
+            _ => {}
+        }
+        self.solve_transpose_general(b, k, perm)
+    }
+
+    /// [`DenseLu::solve_transpose_many`] for any `k` (a loop of length `k` per update).
+    pub(crate) fn solve_transpose_general(
+        &self,
+        b: &mut [f64],
+        k: usize,
+        perm: &mut [f64],
+    ) -> bool {
         let n = self.n;
         let (b, perm) = (&mut b[..n * k], &mut perm[..n * k]);
         // U^T Y = B, row by row.
