@@ -98,6 +98,8 @@ pub(in super::super) struct LocalNewton {
     /// Under a mass law with constant couplings, per node with a state-dependent coupling
     /// term: `(i, W_i (alpha_i K + beta_i C))` ([`scaled`]).
     h: Vec<(usize, Vec<f64>)>,
+    /// With it, `Phi_D^T` (`n x n_d`, row-major), formed on the first step.
+    phi_t: Vec<f64>,
     has_kc: (bool, bool),
     /// Coupling products `K q0, K v0, C q0, C v0`, `K z`, `C z` (constant couplings).
     prod: [Vec<f64>; 6],
@@ -183,6 +185,7 @@ impl LocalNewton {
             kc: vec![vec![0.0; square]; coupling_nodes],
             cc: vec![vec![0.0; square]; coupling_nodes],
             h: Vec::new(),
+            phi_t: Vec::new(),
             has_kc: (false, false),
             prod: std::array::from_fn(|_| vec_n(coupled)),
             pq: vec![0.0; nd],
@@ -253,10 +256,11 @@ impl LocalNewton {
         if rebuild {
             if self.scaled_applies(pf.has_mass()) {
                 self.assemble_scaled(set);
+                self.prepare_scaled(pf.space())?;
             } else {
                 self.assemble(pf, set);
+                self.prepare(pf.space())?;
             }
-            self.prepare(pf.space())?;
         }
         // y0 = P b, then the constant nodes' forces, evaluated once.
         if self.affine {

@@ -5,14 +5,19 @@
 //! `s_i = 1/mu(t_i)`, so `A = I + sum_i W_i (diag(d_i) + s_i M_i)` changes every step
 //! (parent module). Its coupling part is `sum_i s_i H_i` with `H_i = diag(W_i) M_i`
 //! (`M_i = alpha_i K + beta_i C`) fixed for the run: formed once here, each step then costs
-//! one pass of `n_nodes` scaled additions instead of reading both couplings per node.
+//! one pass of `n_nodes` scaled additions instead of reading both couplings per node. The
+//! factors `P^T = A^-T Phi_D^T` then give every `G_i` in one pass over the modes with
+//! `[f64; n_d]` updates (a few element dofs), instead of `n_d^2` dot products per node.
 //!
 //! A factorisation per step remains: the nodes' `s_i` differ (the law at the start and the
 //! end of the step) and multiply different dense matrices (`H_i`), so `A` is a
 //! two-parameter family for the trapezoid rule, not a scalar shift of a fixed matrix; only
 //! without couplings is it diagonal (no factorisation at all, as before).
 
+use super::super::super::local::ElementSpace;
 use super::{LocalNewton, Setting};
+use crate::dense::DenseLu;
+use crate::error::CoreError;
 
 impl LocalNewton {
     /// Whether [`LocalNewton::assemble_scaled`] applies: a mass law, couplings, and the
@@ -44,12 +49,11 @@ impl LocalNewton {
             }
         }
         self.diag.fill(1.0);
-        for i in 0..self.map.len() {
-            let si = self.s[i];
-            for (wh, wm) in self.w_hat[i].iter_mut().zip(&w[i]) {
+        for (((wi, &si), w_hat), d) in w.iter().zip(&self.s).zip(&mut self.w_hat).zip(&self.d) {
+            for (wh, wm) in w_hat.iter_mut().zip(wi) {
                 *wh = si * wm;
             }
-            for ((dg, wm), dm) in self.diag.iter_mut().zip(&w[i]).zip(&self.d[i]) {
+            for ((dg, wm), dm) in self.diag.iter_mut().zip(wi).zip(d) {
                 *dg += wm * dm;
             }
         }
@@ -70,5 +74,74 @@ impl LocalNewton {
                 }
             }
         }
+    }
+}
+
+impl LocalNewton {
+    /// [`LocalNewton::prepare`] after [`LocalNewton::assemble_scaled`]: `P = Phi_D A^{-1}`
+    /// and every `G_i`, the element dofs' count fixed at compile time where it is small.
+    pub(super) fn prepare_scaled(&mut self, space: &ElementSpace) -> Result<(), CoreError> {
+        match self.nd {
+            1 => self.prepare_fixed::<1>(space),
+            2 => self.prepare_fixed::<2>(space),
+            3 => self.prepare_fixed::<3>(space),
+            4 => self.prepare_fixed::<4>(space),
+            6 => self.prepare_fixed::<6>(space),
+            8 => self.prepare_fixed::<8>(space),
+            _ => self.prepare(space),
+        }
+    }
+
+    fn prepare_fixed<const K: usize>(&mut self, space: &ElementSpace) -> Result<(), CoreError> {
+        let n = self.n;
+        for m in 0..n {
+            self.a[m * n + m] += self.diag[m];
+        }
+        let lu = self.lu.get_or_insert_with(DenseLu::default);
+        if !lu.refactor(n, &self.a) {
+            return Err(CoreError::NonFinite {
+                time: 0.0,
+                step: 0,
+                last_good_time: None,
+            });
+        }
+        if self.phi_t.is_empty() {
+            // Phi_D^T, `n x n_d` row-major: row `m` holds mode `m` at every element dof.
+            self.phi_t = vec![0.0; n * K];
+            for (a, row) in space.phi().chunks_exact(n).enumerate() {
+                for (m, &p) in row.iter().enumerate() {
+                    self.phi_t[m * K + a] = p;
+                }
+            }
+        }
+        self.pt.copy_from_slice(&self.phi_t);
+        lu.solve_transpose_many(&mut self.pt, K, &mut self.pt_work);
+        for (m, col) in self.pt.chunks_exact(K).enumerate() {
+            for (a, &p) in col.iter().enumerate() {
+                self.pmat[a * n + m] = p;
+            }
+        }
+        // G_i[a][b] = sum_m P[a][m] w_hat_i[m] Phi_D[b][m], one mode at a time.
+        for (g, wh) in self.g.iter_mut().zip(&self.w_hat) {
+            let mut acc = [[0.0; K]; K];
+            for ((p, f), &w) in self
+                .pt
+                .chunks_exact(K)
+                .zip(self.phi_t.chunks_exact(K))
+                .zip(wh.iter())
+            {
+                for (row, &pa) in acc.iter_mut().zip(p) {
+                    let c = pa * w;
+                    for (x, &fb) in row.iter_mut().zip(f) {
+                        *x += c * fb;
+                    }
+                }
+            }
+            for (dst, row) in g.chunks_exact_mut(K).zip(&acc) {
+                dst.copy_from_slice(row);
+            }
+        }
+        self.ready = true;
+        Ok(())
     }
 }
