@@ -163,6 +163,20 @@ impl DenseLu {
     /// Factorises `a` into this object's buffers (no allocation after the first time);
     /// `false` when it is numerically singular (the factors are then meaningless).
     pub fn refactor(&mut self, n: usize, a: &[f64]) -> bool {
+        self.refactor_with(n, a, true)
+    }
+
+    /// [`DenseLu::refactor`], without searching for pivots when `a` is strictly column
+    /// diagonally dominant (with a margin): partial pivoting then keeps every diagonal pivot
+    /// (dominance is inherited by each Schur complement), so the factors are the same, bit
+    /// for bit, for about `n^2` comparisons instead of the column scans (a fifth of the
+    /// factorisation at `n = 20`; the mass-law step refactorises every step).
+    pub fn refactor_dominant(&mut self, n: usize, a: &[f64]) -> bool {
+        let search = !fixed::column_dominant(n, a);
+        self.refactor_with(n, a, search)
+    }
+
+    fn refactor_with(&mut self, n: usize, a: &[f64], search: bool) -> bool {
         debug_assert_eq!(a.len(), n * n);
         self.n = n;
         self.lu.clear();
@@ -171,8 +185,17 @@ impl DenseLu {
         self.piv.extend(0..n);
         let lu = &mut self.lu;
         for k in 0..n {
-            let Some(p) = pivot_row(lu, n, k) else {
-                return false;
+            let p = if search {
+                let Some(p) = pivot_row(lu, n, k) else {
+                    return false;
+                };
+                p
+            } else {
+                let d = lu[k * n + k].abs();
+                if !(d.is_finite() && d > 0.0) {
+                    return false;
+                }
+                k
             };
             if p != k {
                 let (top, bottom) = lu.split_at_mut(p * n);

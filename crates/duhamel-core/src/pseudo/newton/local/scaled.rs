@@ -98,7 +98,7 @@ impl LocalNewton {
             self.a[m * n + m] += self.diag[m];
         }
         let lu = self.lu.get_or_insert_with(DenseLu::default);
-        if !lu.refactor(n, &self.a) {
+        if !lu.refactor_dominant(n, &self.a) {
             return Err(CoreError::NonFinite {
                 time: 0.0,
                 step: 0,
