@@ -9,6 +9,7 @@
 pub mod background;
 pub mod cubic;
 pub mod dense;
+mod dense_fixed;
 pub mod direct;
 pub mod driver;
 pub mod elements;

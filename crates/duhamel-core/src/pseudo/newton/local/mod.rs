@@ -33,6 +33,7 @@
 
 mod affine;
 mod iterate;
+mod scaled;
 
 use super::super::force::PseudoForce;
 use super::super::local::ElementSpace;
@@ -94,6 +95,11 @@ pub(in super::super) struct LocalNewton {
     /// The couplings at each node (`n x n`; one shared pair when they are constant).
     kc: Vec<Vec<f64>>,
     cc: Vec<Vec<f64>>,
+    /// Under a mass law with constant couplings, per node with a state-dependent coupling
+    /// term: `(i, W_i (alpha_i K + beta_i C))` ([`scaled`]).
+    h: Vec<(usize, Vec<f64>)>,
+    /// With it, `Phi_D^T` (`n x n_d`, row-major), formed on the first step.
+    phi_t: Vec<f64>,
     has_kc: (bool, bool),
     /// Coupling products `K q0, K v0, C q0, C v0`, `K z`, `C z` (constant couplings).
     prod: [Vec<f64>; 6],
@@ -178,6 +184,8 @@ impl LocalNewton {
             t: per_node(n),
             kc: vec![vec![0.0; square]; coupling_nodes],
             cc: vec![vec![0.0; square]; coupling_nodes],
+            h: Vec::new(),
+            phi_t: Vec::new(),
             has_kc: (false, false),
             prod: std::array::from_fn(|_| vec_n(coupled)),
             pq: vec![0.0; nd],
@@ -246,8 +254,13 @@ impl LocalNewton {
             self.affine_terms(pf, set, inp);
         }
         if rebuild {
-            self.assemble(pf, set);
-            self.prepare(pf.space())?;
+            if self.scaled_applies(pf.has_mass()) {
+                self.assemble_scaled(set);
+                self.prepare_scaled(pf.space())?;
+            } else {
+                self.assemble(pf, set);
+                self.prepare(pf.space())?;
+            }
         }
         // y0 = P b, then the constant nodes' forces, evaluated once.
         if self.affine {
