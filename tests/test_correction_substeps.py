@@ -98,3 +98,42 @@ def test_soft_elements_are_stepped_at_dt_and_stiff_ones_resolved(k, stiff) -> No
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=T_END, dt=DT)
     drift = response(sol.x, N)
     assert np.abs(drift[:, 0]).max() > 3e-5 and drift[:, 1].min() < -0.002
+
+
+def test_a_stored_run_takes_the_same_internal_steps(tmp_path, monkeypatch) -> None:
+    """A run into a store applies the same rule, and saves what the run in memory does."""
+    import duhamel.store._run as stored
+
+    seen: list[int] = []
+    real = stored.substeps
+
+    def recorded(omega, dt):
+        seen.append(real(omega, dt))
+        return seen[-1]
+
+    monkeypatch.setattr(stored, "substeps", recorded)
+    for k in (1e4, 1e6):
+        s = chain_with_devices(k)
+        integ = duhamel.Semianalytic(modes=5)
+        kept = duhamel.solve(s, integ, t_end=0.1, dt=DT, store=tmp_path / f"{k:g}.zarr")
+        memory = duhamel.solve(s, integ, t_end=0.1, dt=DT)
+        assert np.array_equal(np.asarray(kept.x), memory.x)
+        assert seen[-1] == memory.stats.substeps
+    assert seen == [1, 5]
+
+
+def test_an_unbounded_or_first_order_run_keeps_the_previous_rule() -> None:
+    """A Python element (no bound on its tangent) keeps every coordinate it loads resolved;
+    on the first-order route (an exactly integrated coupling) every coordinate is."""
+    soft = chain_with_devices(1e4)
+    assert plan(soft, duhamel.Semianalytic(modes=5)).resolve.size == 0
+    python = chain_with_devices(1e4).add(E.Callable(lambda x, v, t: 1e2 * x, [N // 3]))
+    route = plan(python, duhamel.Semianalytic(modes=5))
+    assert route.resolve.size > 0
+    assert substeps(route.resolve, DT) > 1
+    G = np.zeros((N, N))
+    G[0, 1], G[1, 0] = 1.0, -1.0
+    coupled = chain_with_devices(1e4).add(E.LinearCoupling(C=G))
+    route = plan(coupled, duhamel.Semianalytic(modes=5))
+    assert route.route == "first-order"
+    assert np.array_equal(route.resolve, route.correction)

@@ -73,7 +73,7 @@ class Plan:
     resolve : ndarray
         Those of `correction` a run resolves in time: the quasi-static ones and the
         static-correction coordinates the elements' tangent can make unstable
-        (``duhamel._engine.correction.resolved``).
+        (``duhamel._engine.correction.resolved``; all of them on the first-order route).
     carried : ndarray or None
         The K-orthonormal static vectors of those quasi-static coordinates
         (``duhamel._engine.massless.quasi_static``).
@@ -242,6 +242,9 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         modes = _first_order(system, basis, integrator, couplings)
         if modes is not None:
             route = "first-order"
+            # the one-oscillator measurement behind `resolved` is of the undamped modes'
+            # step: on the first-order modes every correction coordinate is resolved
+            resolve = correction
     coupling = None if not coupled else ("exact" if modes is not None else "pseudo-force")
     quiet = passive(system, couplings, basis)
     return Plan(
