@@ -28,7 +28,7 @@ from duhamel.loads import Callable
 from duhamel.modal import ModalBasis, damped
 from duhamel.system import System
 
-__all__ = ["corrected", "enriched", "force_directions", "substeps"]
+__all__ = ["corrected", "enriched", "force_directions", "resolved", "stiffness_ratios", "substeps"]
 
 Array = NDArray[np.float64]
 
@@ -38,6 +38,10 @@ RESOLVED = 1.0
 STIFF = 4.0
 #: At most this many internal steps per step.
 MAX_SUBSTEPS = 64
+#: A correction coordinate whose elements' tangent stiffness on it stays within
+#: ``SAFE_RATIO * zeta`` of its own ``omega^2`` (``zeta`` its damping ratio) is stable at any
+#: ``omega dt`` and is not resolved in time (see :func:`resolved`).
+SAFE_RATIO = 2.0
 
 #: Correction vectors whose M-norm falls below this fraction of their size after the kept
 #: modes are removed are dependent (already in the basis) and dropped.
@@ -175,7 +179,12 @@ def substeps(omega: Array, dt: float) -> int:
     the same flexibility over many modes, each with a small share, the stiff local ones at
     ``omega dt >> 4``. The reduced model stays cheap, so its correction coordinates are
     resolved in time instead: the smallest count of internal steps that leaves none of them
-    in ``(RESOLVED, STIFF)``."""
+    in ``(RESOLVED, STIFF)``.
+
+    A run passes only the coordinates :func:`resolved` keeps (those whose elements' bounded
+    tangent can exceed ``SAFE_RATIO * zeta`` of their ``omega^2``; all of them under an
+    element with an unbounded tangent). The count is the cheapest that clears the band: a
+    count between two tried ones would leave the largest coordinate in the band in it."""
     if len(omega) == 0:  # no correction coordinate: the common case, at once
         return 1
     h = np.asarray(omega, dtype=np.float64) * dt
@@ -218,3 +227,114 @@ def enriched(system: System, basis: ModalBasis) -> tuple[ModalBasis, Array]:
     result = damped(lam, phi, _damping(system, n, order)), np.sqrt(theta)
     cache[key] = result
     return result
+
+
+def _tangent_bound(element: Any) -> tuple[float, float] | None:
+    """Bounds ``(k, c)`` on the norm of `element`'s tangent stiffness and damping matrices as
+    a pseudo-force, over any state it can reach; None when the tangent has no bound (a
+    cubic or higher term, a Python function, a device whose tangent is not bounded here)."""
+    from duhamel._engine.background import _Remainder
+    from duhamel.elements.basic import Damper, Polynomial, Spring
+    from duhamel.elements.devices import Bilinear, Gap
+    from duhamel.rotor._speed_table import SpeedTableElement
+
+    if isinstance(element, _Remainder):  # the element minus the linear part k0 x
+        inner = _tangent_bound(element.element)
+        linear = element.element._linear()
+        if inner is None:
+            return None
+        k0 = 0.0 if linear is None else float(np.linalg.norm(linear[1], 2))
+        return inner[0] + k0, inner[1]
+    if isinstance(element, Spring):
+        return (abs(float(element.k)), 0.0) if element.k3 == 0.0 else None
+    if isinstance(element, Polynomial):
+        c = np.asarray(element.coefficients, dtype=np.float64)
+        return (abs(float(c[1])), 0.0) if np.all(c[2:] == 0.0) and c.size > 1 else None
+    if isinstance(element, Damper):
+        return 0.0, abs(float(element.c))
+    if isinstance(element, Bilinear):  # elastic k, post-yield alpha k
+        return abs(float(element.k)) * max(1.0, abs(float(element.alpha))), 0.0
+    if isinstance(element, Gap):  # closed: k, open: 0
+        return float(element.k), 0.0
+    if isinstance(element, SpeedTableElement):
+        # PCHIP and linear interpolation stay within each entry's tabulated values: the
+        # entrywise largest difference bounds the Frobenius norm at any speed.
+        b = element.bearing
+        out = []
+        for names, ref in ((("kxx", "kxy", "kyx", "kyy"), element.k0),
+                           (("cxx", "cxy", "cyx", "cyy"), element.c0)):  # fmt: skip
+            r = np.asarray(ref, dtype=np.float64).ravel()
+            worst = [
+                np.abs(np.asarray(getattr(b, name), dtype=np.float64) - r[i]).max()
+                for i, name in enumerate(names)
+            ]
+            out.append(float(np.sqrt(np.sum(np.square(worst)))))
+        return out[0], out[1]
+    return None
+
+
+def stiffness_ratios(system: System, basis: ModalBasis, columns: NDArray[np.intp]) -> Array:
+    """Per column of `basis` in `columns`, an upper bound on the ratio ``a`` of the elements'
+    tangent stiffness projected on that coordinate to its own ``omega^2``, less the margin
+    its damping leaves: ``(sum_e k_e |phi_e|^2) / omega^2 - SAFE_RATIO * zeta_eff`` where
+    ``zeta_eff`` is its damping ratio less what the elements' damping could take away (the
+    off-diagonal modal damping of a non-proportional ``C``, dissipative as a whole, is not
+    counted); ``inf`` where an element with an unbounded tangent loads it. The coordinate is
+    stable at any ``omega dt`` when the value is <= 0 (see :func:`resolved`)."""
+    phi = basis.phi[:, columns]
+    w2 = np.asarray(basis.omega2, dtype=np.float64)[columns]
+    w = np.sqrt(np.maximum(w2, 0.0))
+    k = np.zeros(columns.size)
+    c = np.zeros(columns.size)
+    scale = np.abs(phi).max(axis=0) if phi.size else np.zeros(0)
+    for element in system.elements:
+        if isinstance(element, LinearCoupling):
+            continue
+        share = np.zeros(columns.size)
+        for i, j in element._directions():
+            d = phi[i] if j is None else phi[i] - phi[j]
+            share += d * d
+        loaded = share > (1e-12 * scale) ** 2
+        bound = _tangent_bound(element)
+        if bound is None:
+            k[loaded] = np.inf
+            continue
+        k += bound[0] * share
+        c += bound[1] * share
+    zeta = np.asarray(basis.zeta, dtype=np.float64)[columns].copy()
+    with np.errstate(divide="ignore", invalid="ignore"):
+        zeta = np.where(w > 0.0, zeta - c / (2.0 * np.where(w > 0, w, 1.0)), 0.0)
+        ratio = np.where(w2 > 0.0, k / np.where(w2 > 0, w2, 1.0), np.inf)
+        out = ratio - SAFE_RATIO * np.maximum(zeta, 0.0)
+    return np.where(np.isnan(out), np.inf, out)
+
+
+def resolved(system: System, basis: ModalBasis, omega: Array) -> Array:
+    """The circular frequencies among `omega` (the static-correction coordinates of the
+    enriched `basis`) that a run must resolve in time (:func:`substeps`): those the
+    elements' tangent can make unstable.
+
+    Measured on one oscillator (the pseudo-force step, scheme b, with a linear element of
+    ``a`` times its stiffness as a pseudo-force; spectral radius over ``omega dt`` from 0.05
+    to 60): stable at every ``omega dt`` for ``|a| <= 0.02`` at zeta = 0.005 and 0.01,
+    ``|a| <= 0.05`` at 0.02, ``|a| <= 0.2`` at 0.05, and unstable near ``omega dt = pi``
+    just beyond (1 + 1.5e-2 at zeta = 0.005, a = 0.05; 1 + 2.2e-3 at 0.02, a = -0.1;
+    1 + 5.9e-2 at 0.05, a = -0.3). A positive damping pseudo-force is stable. The rule
+    keeps a coordinate out of the band check when ``|a| <= SAFE_RATIO * zeta`` with ``a``
+    from the elements' largest tangent (:func:`stiffness_ratios`); a coordinate loaded by
+    an element whose tangent has no bound (``Cubic``, a ``Spring`` with ``k3``, a Python
+    element) is always resolved, since the core's stiffness watch only sees elements at
+    least twice the background's stiffness and the band is unstable from ``a`` ~ 2 zeta
+    up to there."""
+    omega = np.asarray(omega, dtype=np.float64)
+    if omega.size == 0:
+        return omega
+    w = np.sqrt(np.maximum(np.asarray(basis.omega2, dtype=np.float64), 0.0))
+    columns = []
+    for value in omega:
+        match = np.flatnonzero(w == value)
+        if match.size != 1:  # not identified (ambiguous): resolved, as before
+            return omega
+        columns.append(int(match[0]))
+    ratio = stiffness_ratios(system, basis, np.asarray(columns, dtype=np.intp))
+    return omega[ratio > 0.0]

@@ -74,7 +74,7 @@ class ModalSetup:
         once per step."""
         sub = self._substeps.get(dt)
         if sub is None:
-            sub = self._substeps[dt] = substeps(self.route.correction, dt)
+            sub = self._substeps[dt] = substeps(self.route.resolve, dt)
         return sub
 
     def initial(self, value: Any, name: str) -> NDArray[np.float64]:

@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._engine.background import background
-from duhamel._engine.correction import enriched
+from duhamel._engine.correction import enriched, resolved
 from duhamel._engine.coupled import CONDITION_LIMIT, FirstOrderModes, first_order_modes
 from duhamel._engine.massless import quasi_static
 from duhamel._engine.specs import ScaledSpec, load, speed_law
@@ -70,6 +70,10 @@ class Plan:
         elements as pseudo-forces (empty without them): a run resolves them in time
         (``duhamel._engine.correction.substeps``), and of the quasi-static coordinates of
         elements at massless dofs.
+    resolve : ndarray
+        Those of `correction` a run resolves in time: the quasi-static ones and the
+        static-correction coordinates the elements' tangent can make unstable
+        (``duhamel._engine.correction.resolved``; all of them on the first-order route).
     carried : ndarray or None
         The K-orthonormal static vectors of those quasi-static coordinates
         (``duhamel._engine.massless.quasi_static``).
@@ -90,6 +94,7 @@ class Plan:
     correction: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0), compare=False)
     carried: NDArray[np.float64] | None = field(default=None, compare=False)
     passive: bool = False
+    resolve: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0), compare=False)
 
 
 def modal_loads(
@@ -215,10 +220,12 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         basis, correction = enriched(system, basis)
     if not any(not isinstance(e, LinearCoupling) for e in system.elements):
         correction = np.zeros(0)  # the linear steps are exact at any dt
+    resolve = resolved(system, basis, correction)
     carried = np.zeros((system.n_dof, 0))
     if system._condensation is not None and system.elements:
         basis, quasi, carried = quasi_static(system, basis)
         correction = np.concatenate([correction, quasi])
+        resolve = np.concatenate([resolve, quasi])
     if integrator.modes is not None:
         _warn_missing_mass(system, basis)
     elements = core_elements(system.elements)
@@ -235,11 +242,15 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         modes = _first_order(system, basis, integrator, couplings)
         if modes is not None:
             route = "first-order"
+            # the one-oscillator measurement behind `resolved` is of the undamped modes'
+            # step: on the first-order modes every correction coordinate is resolved
+            resolve = correction
     coupling = None if not coupled else ("exact" if modes is not None else "pseudo-force")
     quiet = passive(system, couplings, basis)
     return Plan(
-        route, basis, couplings, modes, coupling, elements, bg.linear, correction, carried, quiet
-    )
+        route, basis, couplings, modes, coupling, elements, bg.linear, correction, carried, quiet,
+        resolve,
+    )  # fmt: skip
 
 
 def _semidefinite(m: NDArray | None, *, symmetric: bool) -> bool:

@@ -149,8 +149,9 @@ def run_stored(
     model = capture(system, integrator, x0, v0)
     # As duhamel.solve: static-correction coordinates under nonlinear elements resolved in
     # time (the store holds the internal grid, its saved instants unchanged).
-    correction = plan(system, integrator).correction
-    sub = substeps(correction, dt)
+    route = plan(system, integrator)
+    correction = route.correction
+    sub = substeps(route.resolve, dt)
     n_steps, save_every = n_steps * sub, save_every * sub
     grid = _grid(model, len(out_dofs), t0, dt / sub, n_steps, save_every, options.segment_bytes)
     grid["dofs"] = [int(d) for d in out_dofs]
