@@ -3,6 +3,7 @@
 
 pub mod block;
 mod steps;
+mod table;
 mod time;
 
 pub use steps::Steps;
