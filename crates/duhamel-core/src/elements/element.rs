@@ -1,5 +1,6 @@
 //! The element interface: force, tangents and what the step solvers need to know.
 
+use super::builtin::{Builtin, Dispatch};
 use crate::error::CoreError;
 
 /// Local tangent matrices, row-major `n x n` for an element with `n` dofs.
@@ -90,6 +91,12 @@ pub trait Element: Send + Sync {
     fn modal_cubic(&self, _phi: &[f64]) -> Option<ModalCubic> {
         None
     }
+
+    /// The element as a built-in type, for the integrators to call it without dynamic
+    /// dispatch (see [`Builtin`]); None (the default) for any other element.
+    fn builtin(&self) -> Option<Builtin<'_>> {
+        None
+    }
 }
 
 /// Coefficients `a[i][j]` of `sum a[i][j] q^i v^j` (`i + j <= 3`).
@@ -130,6 +137,8 @@ pub(crate) fn relative(phi: &[f64]) -> f64 {
 /// element its committed and trial variables: what the integrators evaluate per element.
 pub(crate) struct Evaluation<'a> {
     pub element: &'a dyn Element,
+    /// How `element` is called (directly when it is a built-in one).
+    dispatch: Dispatch<'a>,
     pub x: Vec<f64>,
     pub v: Vec<f64>,
     pub r: Vec<f64>,
@@ -151,6 +160,7 @@ impl<'a> Evaluation<'a> {
         element.initial_state(&vec![0.0; nl], &vec![0.0; nl], &mut committed);
         Evaluation {
             element,
+            dispatch: Dispatch::of(element),
             x: vec![0.0; nl],
             v: vec![0.0; nl],
             r: vec![0.0; nl],
@@ -219,8 +229,9 @@ impl<'a> Evaluation<'a> {
             committed: &self.committed,
             trial: &mut self.trial,
         };
-        self.element
-            .eval_path(&self.x, &self.v, t, history, &mut self.r, tan)?;
+        let state = (&self.x[..], &self.v[..], t);
+        self.dispatch
+            .eval_path(self.element, state, history, &mut self.r, tan)?;
         if tangent && !analytic {
             let history = (&self.committed[..], &mut self.trial[..]);
             numeric_tangent(

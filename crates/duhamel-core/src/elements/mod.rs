@@ -5,6 +5,7 @@
 //! request, `dr/dx` and `dr/dx'` at its own degrees of freedom ([`Element`]). One file per
 //! element family.
 
+mod builtin;
 mod contact;
 mod crack;
 mod element;
@@ -15,6 +16,7 @@ mod shifted;
 mod spring;
 mod table;
 
+pub use builtin::Builtin;
 pub use contact::Contact;
 pub use crack::{Breathing, BreathingCrack};
 pub(crate) use element::Evaluation;

@@ -91,6 +91,10 @@ impl Spring {
 }
 
 impl Element for Spring {
+    fn builtin(&self) -> Option<crate::elements::Builtin<'_>> {
+        Some(crate::elements::Builtin::Spring(self))
+    }
+
     fn dofs(&self) -> &[usize] {
         &self.dofs
     }

@@ -101,6 +101,10 @@ impl Bilinear {
 }
 
 impl Element for Bilinear {
+    fn builtin(&self) -> Option<crate::elements::Builtin<'_>> {
+        Some(crate::elements::Builtin::Bilinear(self))
+    }
+
     fn dofs(&self) -> &[usize] {
         &self.dofs
     }

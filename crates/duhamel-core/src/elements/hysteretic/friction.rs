@@ -248,6 +248,10 @@ impl FrictionPendulum {
 }
 
 impl Element for FrictionPendulum {
+    fn builtin(&self) -> Option<crate::elements::Builtin<'_>> {
+        Some(crate::elements::Builtin::Pendulum(self))
+    }
+
     fn dofs(&self) -> &[usize] {
         &self.dofs
     }

@@ -62,6 +62,10 @@ impl Gap {
 }
 
 impl Element for Gap {
+    fn builtin(&self) -> Option<crate::elements::Builtin<'_>> {
+        Some(crate::elements::Builtin::Gap(self))
+    }
+
     fn dofs(&self) -> &[usize] {
         &self.dofs
     }

@@ -95,6 +95,10 @@ impl ViscousDamper {
 }
 
 impl Element for ViscousDamper {
+    fn builtin(&self) -> Option<crate::elements::Builtin<'_>> {
+        Some(crate::elements::Builtin::Viscous(self))
+    }
+
     fn dofs(&self) -> &[usize] {
         &self.dofs
     }
