@@ -137,8 +137,11 @@ pub(crate) fn relative(phi: &[f64]) -> f64 {
 /// element its committed and trial variables: what the integrators evaluate per element.
 pub(crate) struct Evaluation<'a> {
     pub element: &'a dyn Element,
-    /// How `element` is called (directly when it is a built-in one).
+    /// How `element` is called (directly when it is a built-in one), and whether it has
+    /// analytic tangents and uses the velocities (asked once: they are the element's kind).
     dispatch: Dispatch<'a>,
+    has_tangent: bool,
+    uses_velocity: bool,
     pub x: Vec<f64>,
     pub v: Vec<f64>,
     pub r: Vec<f64>,
@@ -161,6 +164,8 @@ impl<'a> Evaluation<'a> {
         Evaluation {
             element,
             dispatch: Dispatch::of(element),
+            has_tangent: element.has_tangent(),
+            uses_velocity: element.uses_velocity(),
             x: vec![0.0; nl],
             v: vec![0.0; nl],
             r: vec![0.0; nl],
@@ -212,11 +217,12 @@ impl<'a> Evaluation<'a> {
 
     /// The force at the stored local state (overwrites `r`) and, with `tangent`, its
     /// tangents (analytic, or central differences for an element without them).
+    #[inline]
     pub fn evaluate(&mut self, t: f64, tangent: bool) -> Result<(), CoreError> {
         self.evaluations += 1;
         self.with_tangent = false;
         self.r.fill(0.0);
-        let analytic = tangent && self.element.has_tangent();
+        let analytic = tangent && self.has_tangent;
         if analytic {
             self.kx.fill(0.0);
             self.cv.fill(0.0);
@@ -244,6 +250,11 @@ impl<'a> Evaluation<'a> {
         }
         self.with_tangent = tangent;
         Ok(())
+    }
+
+    /// Whether the element's force depends on the velocities.
+    pub fn uses_velocity(&self) -> bool {
+        self.uses_velocity
     }
 
     /// The number of evaluations so far.

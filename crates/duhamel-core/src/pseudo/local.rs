@@ -87,7 +87,7 @@ impl<'a> ElementSpace<'a> {
         let fresh = self
             .members
             .iter()
-            .all(|m| m.eval.with_tangent() && !m.eval.element.uses_velocity());
+            .all(|m| m.eval.with_tangent() && !m.eval.uses_velocity());
         self.end_mark = fresh.then(|| self.evaluations());
     }
 

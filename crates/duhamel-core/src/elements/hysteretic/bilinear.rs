@@ -141,6 +141,7 @@ impl Element for Bilinear {
         state[1] = self.backbone(u).0;
     }
 
+    #[inline]
     fn eval_path(
         &self,
         x: &[f64],
