@@ -221,11 +221,11 @@ impl<'a> Evaluation<'a> {
     pub fn evaluate(&mut self, t: f64, tangent: bool) -> Result<(), CoreError> {
         self.evaluations += 1;
         self.with_tangent = false;
-        self.r.fill(0.0);
+        zero(&mut self.r);
         let analytic = tangent && self.has_tangent;
         if analytic {
-            self.kx.fill(0.0);
-            self.cv.fill(0.0);
+            zero(&mut self.kx);
+            zero(&mut self.cv);
         }
         let tan = analytic.then(|| Tangent {
             kx: &mut self.kx,
@@ -265,6 +265,17 @@ impl<'a> Evaluation<'a> {
     /// Whether the last evaluation computed the tangents `kx`, `cv` (and succeeded).
     pub fn with_tangent(&self) -> bool {
         self.with_tangent
+    }
+}
+
+/// `x.fill(0.0)`, a one-dof element's single entry written directly (a `memset` call for
+/// eight bytes was 3 % of a one-dof device's step).
+#[inline(always)]
+fn zero(x: &mut [f64]) {
+    if let [only] = x {
+        *only = 0.0;
+    } else {
+        x.fill(0.0);
     }
 }
 
