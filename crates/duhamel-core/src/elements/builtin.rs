@@ -9,12 +9,14 @@
 //! the same functions' (results bit for bit); any other element keeps the dynamic call.
 
 use super::element::{Element, PathState, Tangent};
-use super::{Bilinear, FrictionPendulum, Gap, Shifted, Spring, ViscousDamper};
+use super::hysteretic::{Bilinear, FrictionPendulum, Gap, ViscousDamper};
+use super::shifted::Shifted;
+use super::spring::Spring;
 use crate::error::CoreError;
 
-/// A built-in element by its type ([`Element::builtin`]).
+/// A built-in element by its type (from [`Element::as_any`]).
 #[derive(Clone, Copy)]
-pub enum Builtin<'e> {
+pub(crate) enum Builtin<'e> {
     Bilinear(&'e Bilinear),
     Spring(&'e Spring),
     Gap(&'e Gap),
@@ -24,7 +26,25 @@ pub enum Builtin<'e> {
     Shifted(&'e Shifted),
 }
 
-impl Builtin<'_> {
+impl<'e> Builtin<'e> {
+    /// The built-in type of `element`, if it is one.
+    fn of(element: &'e dyn Element) -> Option<Self> {
+        let any = element.as_any()?;
+        if let Some(e) = any.downcast_ref::<Bilinear>() {
+            Some(Builtin::Bilinear(e))
+        } else if let Some(e) = any.downcast_ref::<Spring>() {
+            Some(Builtin::Spring(e))
+        } else if let Some(e) = any.downcast_ref::<Gap>() {
+            Some(Builtin::Gap(e))
+        } else if let Some(e) = any.downcast_ref::<ViscousDamper>() {
+            Some(Builtin::Viscous(e))
+        } else if let Some(e) = any.downcast_ref::<FrictionPendulum>() {
+            Some(Builtin::Pendulum(e))
+        } else {
+            any.downcast_ref::<Shifted>().map(Builtin::Shifted)
+        }
+    }
+
     /// [`Element::eval_path`] of the element, called directly.
     #[inline(always)]
     pub(crate) fn eval_path(
@@ -59,9 +79,9 @@ pub(crate) enum Dispatch<'e> {
 impl<'e> Dispatch<'e> {
     /// How to call `element`.
     pub(crate) fn of(element: &'e dyn Element) -> Self {
-        match element.builtin() {
+        match Builtin::of(element) {
             None => Dispatch::Dynamic,
-            Some(Builtin::Shifted(s)) => match s.inner().builtin() {
+            Some(Builtin::Shifted(s)) => match Builtin::of(s.inner()) {
                 Some(Builtin::Shifted(_)) | None => Dispatch::Dynamic,
                 Some(inner) => Dispatch::Shifted(s, inner),
             },

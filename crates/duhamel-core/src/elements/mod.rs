@@ -9,6 +9,7 @@ mod builtin;
 mod contact;
 mod crack;
 mod element;
+mod evaluation;
 mod hysteretic;
 mod journal;
 mod polynomial;
@@ -16,11 +17,10 @@ mod shifted;
 mod spring;
 mod table;
 
-pub use builtin::Builtin;
 pub use contact::Contact;
 pub use crack::{Breathing, BreathingCrack};
-pub(crate) use element::Evaluation;
 pub use element::{Element, ModalCubic, PathState, Tangent};
+pub(crate) use evaluation::Evaluation;
 pub use hysteretic::{
     AxialFrictionPendulum, Bilinear, BoucWen, BoucWenParams, FrictionPendulum, Gap,
     LeadRubberBearing, MaxwellDamper, ViscousDamper, DEFAULT_V0, DEFAULT_YIELD_DISPLACEMENT,

@@ -55,7 +55,7 @@ impl Shifted {
     #[inline(always)]
     pub(crate) fn eval_path_over(
         &self,
-        inner: crate::elements::Builtin<'_>,
+        inner: super::builtin::Builtin<'_>,
         (x, v, t): (&[f64], &[f64], f64),
         history: PathState<'_>,
         r: &mut [f64],
@@ -108,8 +108,8 @@ fn again<'b>(tangent: &'b mut Option<Tangent<'_>>) -> Option<Tangent<'b>> {
 }
 
 impl Element for Shifted {
-    fn builtin(&self) -> Option<crate::elements::Builtin<'_>> {
-        Some(crate::elements::Builtin::Shifted(self))
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
     }
 
     fn dofs(&self) -> &[usize] {

@@ -91,8 +91,8 @@ impl Spring {
 }
 
 impl Element for Spring {
-    fn builtin(&self) -> Option<crate::elements::Builtin<'_>> {
-        Some(crate::elements::Builtin::Spring(self))
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
     }
 
     fn dofs(&self) -> &[usize] {

@@ -248,8 +248,8 @@ impl FrictionPendulum {
 }
 
 impl Element for FrictionPendulum {
-    fn builtin(&self) -> Option<crate::elements::Builtin<'_>> {
-        Some(crate::elements::Builtin::Pendulum(self))
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
     }
 
     fn dofs(&self) -> &[usize] {

@@ -62,8 +62,8 @@ impl Gap {
 }
 
 impl Element for Gap {
-    fn builtin(&self) -> Option<crate::elements::Builtin<'_>> {
-        Some(crate::elements::Builtin::Gap(self))
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
     }
 
     fn dofs(&self) -> &[usize] {

@@ -95,8 +95,8 @@ impl ViscousDamper {
 }
 
 impl Element for ViscousDamper {
-    fn builtin(&self) -> Option<crate::elements::Builtin<'_>> {
-        Some(crate::elements::Builtin::Viscous(self))
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
     }
 
     fn dofs(&self) -> &[usize] {

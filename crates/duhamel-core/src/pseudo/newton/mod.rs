@@ -133,7 +133,10 @@ impl<'r> StepSolver<'r> {
             }
             None if local => Strategy::ElementSpace(Box::new(LocalNewton::new(pf, &set, n))),
             None if closed_form => Strategy::ClosedForm(modal()),
-            None if OneMode::applies(&set, pf) => Strategy::OneMode(OneMode::new(&set)),
+            // the dense reference stays the generic modal Newton
+            None if solver != Solver::ModalNewton && OneMode::applies(&set, pf) => {
+                Strategy::OneMode(OneMode::new(&set))
+            }
             None => Strategy::ModalNewton(modal()),
         };
         Ok(StepSolver {
