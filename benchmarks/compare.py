@@ -355,6 +355,36 @@ def _cases():
         "contact": E.Contact(4, 5, clearance=1e-3, stiffness=1e6, friction=0.2),
     }.items():
         case(f"element-{name}", lambda element=element: _with(_linear(), element), SA(), x0=x0)
+
+    # -- one mode (the one-dof device, one kept mode of a two-dof frame): its own solver
+    def one_dof(element, m=10.0, k=1e4):
+        s = duhamel.System(m * np.eye(1), k * np.eye(1), zeta=0.05)
+        t = np.linspace(0.0, 3.0, 601)
+        s.add_load(L.BaseAcceleration(np.ones(1), t, 30.0 * np.sin(7.0 * t) * np.sin(1.3 * t)))
+        return _with(s, element)
+
+    for name, element in {
+        "bilinear": E.Bilinear(0, None, k=1e4, fy=60.0, alpha=0.05),
+        "gap": E.Gap(0, None, gap=0.004, k=3e4),
+        "viscous-damper": E.ViscousDamper(0, None, c=200.0, exponent=0.4),
+        "friction-pendulum": E.FrictionPendulum(0, None, radius=2.0, mu=0.05, weight=98.0),
+        "bouc-wen": E.BoucWen(0, None, k=1e4, fy=60.0, alpha=0.1, n=2.0),
+    }.items():
+        make = lambda element=element: one_dof(element)  # noqa: E731
+        case(f"one-mode-{name}", make, SA(), t_end=3.0, dt=0.005, save_every=3)
+    bilinear1 = lambda: one_dof(E.Bilinear(0, None, k=1e4, fy=60.0, alpha=0.05))  # noqa: E731
+    for scheme in ("a", "c"):
+        for quadrature in ("parabolic", "exact"):
+            integrator = SA(scheme=scheme, quadrature=quadrature)
+            case(f"one-mode-bilinear-{scheme}-{quadrature}", bilinear1, integrator, t_end=3.0)
+    case("one-mode-stiff-gap",
+         lambda: one_dof(E.Gap(0, None, gap=0.002, k=1e8)), SA(), t_end=3.0, dt=0.01)  # fmt: skip
+
+    def frame():
+        s = duhamel.System(np.diag([2.0, 1.0]), _chain(2), zeta=0.03)
+        return _with(s, E.Bilinear(0, 1, k=3e3, fy=5.0, alpha=0.1))
+
+    case("one-mode-of-two", frame, SA(modes=1, static_correction=False), x0=[0.004, 0.01])
     case("callable-element",
          lambda: _with(_linear(), E.Callable(_callable_force, [2, 3])), SA())  # fmt: skip
     case("callable-element-jacobian",

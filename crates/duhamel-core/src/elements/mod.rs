@@ -5,9 +5,11 @@
 //! request, `dr/dx` and `dr/dx'` at its own degrees of freedom ([`Element`]). One file per
 //! element family.
 
+mod builtin;
 mod contact;
 mod crack;
 mod element;
+mod evaluation;
 mod hysteretic;
 mod journal;
 mod polynomial;
@@ -17,8 +19,8 @@ mod table;
 
 pub use contact::Contact;
 pub use crack::{Breathing, BreathingCrack};
-pub(crate) use element::Evaluation;
 pub use element::{Element, ModalCubic, PathState, Tangent};
+pub(crate) use evaluation::Evaluation;
 pub use hysteretic::{
     AxialFrictionPendulum, Bilinear, BoucWen, BoucWenParams, FrictionPendulum, Gap,
     LeadRubberBearing, MaxwellDamper, ViscousDamper, DEFAULT_V0, DEFAULT_YIELD_DISPLACEMENT,

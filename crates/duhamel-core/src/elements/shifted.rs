@@ -45,7 +45,29 @@ impl Shifted {
         })
     }
 
+    /// The element whose linear part is taken out.
+    pub fn inner(&self) -> &dyn Element {
+        &*self.inner
+    }
+
+    /// [`Element::eval_path`] with `inner` (this element's own, resolved to its type) called
+    /// directly: the same arithmetic.
+    #[inline(always)]
+    pub(crate) fn eval_path_over(
+        &self,
+        inner: super::builtin::Builtin<'_>,
+        (x, v, t): (&[f64], &[f64], f64),
+        history: PathState<'_>,
+        r: &mut [f64],
+        mut tangent: Option<Tangent<'_>>,
+    ) -> Result<(), CoreError> {
+        inner.eval_path((x, v, t), history, r, again(&mut tangent))?;
+        self.subtract(x, v, r, tangent);
+        Ok(())
+    }
+
     /// Subtracts `K0 x + C0 v` from `r` and the matrices from the tangent.
+    #[inline(always)]
     fn subtract(&self, x: &[f64], v: &[f64], r: &mut [f64], tangent: Option<Tangent<'_>>) {
         let n = x.len();
         if let ([x0], [v0], [r0], [k00], [c00]) = (x, v, &mut *r, &self.k0[..], &self.c0[..]) {
@@ -86,6 +108,10 @@ fn again<'b>(tangent: &'b mut Option<Tangent<'_>>) -> Option<Tangent<'b>> {
 }
 
 impl Element for Shifted {
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
+    }
+
     fn dofs(&self) -> &[usize] {
         self.inner.dofs()
     }

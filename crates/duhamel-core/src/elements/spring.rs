@@ -91,6 +91,10 @@ impl Spring {
 }
 
 impl Element for Spring {
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
+    }
+
     fn dofs(&self) -> &[usize] {
         &self.dofs
     }

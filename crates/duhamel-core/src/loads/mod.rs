@@ -4,6 +4,7 @@
 pub mod block;
 mod misalignment;
 mod steps;
+mod table;
 mod time;
 
 pub use misalignment::Coupling;

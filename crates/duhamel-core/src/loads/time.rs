@@ -6,6 +6,7 @@ use crate::speed::SpeedLaw;
 
 use super::misalignment::Coupling;
 use super::steps::Steps;
+use super::table::{table_at, table_before, table_eval};
 
 /// A direction in the plane of a rotor's cross-section.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -165,25 +166,36 @@ impl TimeFunction {
     pub fn basis(&self, t: f64, dt: f64) -> [f64; 3] {
         match self {
             TimeFunction::Step { .. } => [self.eval(t), 0.0, 0.0],
-            _ => {
-                let p0 = self.eval(t);
-                let mut pm = self.eval(t + 0.5 * dt);
-                let mut p1 = self.eval_before(t + dt);
-                if let Some((tj, j)) = self.break_in(t, dt) {
-                    let poly = |s: f64| {
-                        let d = s - tj;
-                        if d >= 0.0 {
-                            j[0] + d * (j[1] + d * j[2])
-                        } else {
-                            0.0
-                        }
-                    };
-                    pm -= poly(t + 0.5 * dt);
-                    p1 -= poly(t + dt);
+            _ => self.parabola(t, dt, |x, before| {
+                if before {
+                    self.eval_before(x)
+                } else {
+                    self.eval(x)
                 }
-                [p0, p1 - p0, pm - 0.5 * (p0 + p1)]
-            }
+            }),
         }
+    }
+
+    /// [`TimeFunction::basis`] of a function that is not a step, its values (`before`: the
+    /// left limit) given by `value`.
+    #[inline(always)]
+    fn parabola(&self, t: f64, dt: f64, mut value: impl FnMut(f64, bool) -> f64) -> [f64; 3] {
+        let p0 = value(t, false);
+        let mut pm = value(t + 0.5 * dt, false);
+        let mut p1 = value(t + dt, true);
+        if let Some((tj, j)) = self.break_in(t, dt) {
+            let poly = |s: f64| {
+                let d = s - tj;
+                if d >= 0.0 {
+                    j[0] + d * (j[1] + d * j[2])
+                } else {
+                    0.0
+                }
+            };
+            pm -= poly(t + 0.5 * dt);
+            p1 -= poly(t + dt);
+        }
+        [p0, p1 - p0, pm - 0.5 * (p0 + p1)]
     }
 
     /// The bases of the steps `steps`, appended to `out` with stride `stride` starting at
@@ -216,6 +228,22 @@ impl TimeFunction {
                     let p1 = self.eval(time(n + 1));
                     out[offset + n * stride] = [p0, p1 - p0, pm - 0.5 * (p0 + p1)];
                     p0 = p1;
+                }
+            }
+            TimeFunction::Table { t: ts, v, hold } => {
+                // The steps advance through the record: each sample is found from the last
+                // one found (a short walk), not by a search of the whole record; the
+                // segment, hence the value, is the search's.
+                let mut at = ts.partition_point(|&x| x <= time(0));
+                for n in 0..len {
+                    let value = |x: f64, before: bool| {
+                        if before {
+                            table_before(ts, v, *hold, x, &mut at)
+                        } else {
+                            table_at(ts, v, *hold, x, &mut at)
+                        }
+                    };
+                    out[offset + n * stride] = self.parabola(time(n), dt, value);
                 }
             }
             _ => {
@@ -360,28 +388,6 @@ fn unbalance(law: &SpeedLaw, phase: f64, axis: Axis, t: f64, left: bool) -> f64 
         Axis::X => w * w * c + dw * s,
         Axis::Y => w * w * s - dw * c,
     }
-}
-
-/// Right-continuous table value: 0 before the first sample, and after the last one unless
-/// `hold` (the value at the last sample itself is the value just after it: 0 unless `hold`);
-/// NaN at a NaN time. `ts` has at least two samples ([`TimeFunction::validate`]).
-fn table_eval(ts: &[f64], v: &[f64], hold: bool, t: f64) -> f64 {
-    let last = ts.len() - 1;
-    // NaN compares false with every sample: it would fall through to index -1 below.
-    if t.is_nan() {
-        return f64::NAN;
-    }
-    if t < ts[0] {
-        return 0.0;
-    }
-    if t >= ts[last] {
-        return if hold { v[last] } else { 0.0 };
-    }
-    // first index with ts[i] > t
-    let i = ts.partition_point(|&x| x <= t);
-    let (t0, t1) = (ts[i - 1], ts[i]);
-    let w = (t - t0) / (t1 - t0);
-    v[i - 1] + w * (v[i] - v[i - 1])
 }
 
 #[cfg(test)]

@@ -23,6 +23,17 @@ use crate::error::CoreError;
 /// about as stiff as their modes, ratio 1.05) stays on its plain steps.
 pub const DOMINANT: f64 = 2.0;
 
+/// `x.fill(0.0)`, a single entry written directly (a `memset` call for one number costs
+/// more than the element dof's whole force evaluation).
+#[inline(always)]
+pub(super) fn zero(x: &mut [f64]) {
+    if let [only] = x {
+        *only = 0.0;
+    } else {
+        x.fill(0.0);
+    }
+}
+
 /// The symmetric part of a row-major `nl x nl` tangent, entry `(i, j)`.
 fn k_sym(kx: &[f64], nl: usize, i: usize, j: usize) -> f64 {
     0.5 * (kx[i * nl + j] + kx[j * nl + i])
@@ -32,6 +43,9 @@ fn k_sym(kx: &[f64], nl: usize, i: usize, j: usize) -> f64 {
 struct Member<'a> {
     eval: Evaluation<'a>,
     at: Vec<usize>,
+    /// `Phi_e Phi_e^T` (`nl x nl`, row-major): fixed for the run, formed once for the
+    /// stiffness watch (the same dot products it formed at every step).
+    gram: Vec<f64>,
 }
 
 /// The element dofs `D`, their mode-shape rows and the elements acting on them.
@@ -54,16 +68,26 @@ impl<'a> ElementSpace<'a> {
         dofs.sort_unstable();
         dofs.dedup();
         let position = |d: usize| dofs.binary_search(&d).unwrap_or(0);
-        let members = elements
-            .iter()
-            .map(|&e| Member {
-                eval: Evaluation::new(e),
-                at: e.dofs().iter().map(|&d| position(d)).collect(),
-            })
-            .collect();
-        let phi = dofs
+        let phi: Vec<f64> = dofs
             .iter()
             .flat_map(|&d| phi[d * n_modes..(d + 1) * n_modes].iter().copied())
+            .collect();
+        let row = |a: usize| &phi[a * n_modes..(a + 1) * n_modes];
+        let members = elements
+            .iter()
+            .map(|&e| {
+                let at: Vec<usize> = e.dofs().iter().map(|&d| position(d)).collect();
+                let gram = at
+                    .iter()
+                    .flat_map(|&a| at.iter().map(move |&b| (a, b)))
+                    .map(|(a, b)| crate::dense::dot(row(a), row(b)))
+                    .collect();
+                Member {
+                    eval: Evaluation::new(e),
+                    at,
+                    gram,
+                }
+            })
             .collect();
         ElementSpace {
             n_modes,
@@ -87,7 +111,7 @@ impl<'a> ElementSpace<'a> {
         let fresh = self
             .members
             .iter()
-            .all(|m| m.eval.with_tangent() && !m.eval.element.uses_velocity());
+            .all(|m| m.eval.with_tangent() && !m.eval.uses_velocity());
         self.end_mark = fresh.then(|| self.evaluations());
     }
 
@@ -188,10 +212,7 @@ impl<'a> ElementSpace<'a> {
             }
             let nl = m.at.len();
             // G = Phi_e Phi_e^T; the nonzero eigenvalues of Phi_e^T K Phi_e are those of K G
-            let g = |i: usize, j: usize| {
-                let (a, b) = (m.at[i], m.at[j]);
-                crate::dense::dot(&phi[a * n..(a + 1) * n], &phi[b * n..(b + 1) * n])
-            };
+            let g = |i: usize, j: usize| m.gram[i * nl + j];
             let k = |i: usize, j: usize| k_sym(&e.kx, nl, i, j);
             let lambda = match nl {
                 0 => 0.0,
@@ -352,10 +373,10 @@ impl<'a> ElementSpace<'a> {
         mut tangent: Option<(&mut [f64], &mut [f64])>,
     ) -> Result<(), CoreError> {
         let nd = r.len();
-        r.fill(0.0);
+        zero(r);
         if let Some((k, c)) = tangent.as_mut() {
-            k.fill(0.0);
-            c.fill(0.0);
+            zero(k);
+            zero(c);
         }
         for m in &mut self.members {
             let e = &mut m.eval;

@@ -101,6 +101,10 @@ impl Bilinear {
 }
 
 impl Element for Bilinear {
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
+    }
+
     fn dofs(&self) -> &[usize] {
         &self.dofs
     }
@@ -137,6 +141,7 @@ impl Element for Bilinear {
         state[1] = self.backbone(u).0;
     }
 
+    #[inline]
     fn eval_path(
         &self,
         x: &[f64],

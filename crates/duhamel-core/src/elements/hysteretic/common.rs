@@ -30,12 +30,14 @@ pub(crate) fn local_dofs(i: usize, j: Option<usize>) -> Result<Vec<usize>, CoreE
 }
 
 /// `x_i - x_j` (`x_i` when grounded).
+#[inline]
 pub(crate) fn relative(x: &[f64]) -> f64 {
     x[0] - x.get(1).copied().unwrap_or(0.0)
 }
 
 /// Adds the element force `s` (`+s` on `i`, `-s` on `j`) into `r` and its derivative `ds`
 /// with respect to the relative coordinate into the `n x n` matrix `m` (`n = 1` or `2`).
+#[inline]
 pub(crate) fn scatter(s: f64, ds: f64, r: &mut [f64], m: Option<&mut [f64]>) {
     let n = r.len();
     r[0] += s;
@@ -53,6 +55,7 @@ pub(crate) fn scatter(s: f64, ds: f64, r: &mut [f64], m: Option<&mut [f64]>) {
 }
 
 /// `Ok` when all `values` are finite, else the run failure the driver locates.
+#[inline]
 pub(crate) fn finite(t: f64, values: &[f64]) -> Result<(), CoreError> {
     if values.iter().all(|v| v.is_finite()) {
         Ok(())

@@ -248,6 +248,10 @@ impl FrictionPendulum {
 }
 
 impl Element for FrictionPendulum {
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
+    }
+
     fn dofs(&self) -> &[usize] {
         &self.dofs
     }

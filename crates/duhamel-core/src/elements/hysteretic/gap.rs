@@ -62,6 +62,10 @@ impl Gap {
 }
 
 impl Element for Gap {
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
+    }
+
     fn dofs(&self) -> &[usize] {
         &self.dofs
     }

@@ -95,6 +95,10 @@ impl ViscousDamper {
 }
 
 impl Element for ViscousDamper {
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
+    }
+
     fn dofs(&self) -> &[usize] {
         &self.dofs
     }

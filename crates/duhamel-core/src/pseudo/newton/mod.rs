@@ -10,6 +10,7 @@ mod cubic;
 mod damping;
 mod local;
 mod modal;
+mod one;
 mod setting;
 
 use super::closed::{scalar_step, ScalarPlan};
@@ -19,6 +20,7 @@ use super::scheme::{Rule, Scheme, StepInput, Unknown};
 use crate::error::CoreError;
 use local::{End, LocalNewton};
 use modal::{Modal, Start};
+use one::OneMode;
 use setting::Setting;
 
 /// How the step equation is solved, chosen once per run.
@@ -33,6 +35,8 @@ enum Strategy {
     ClosedForm(Modal),
     /// Newton on all the modal coordinates.
     ModalNewton(Modal),
+    /// The same for one mode, on scalars ([`one`]).
+    OneMode(OneMode),
     /// Newton in the elements' space, where the pseudo-force allows it and it is smaller.
     ElementSpace(Box<LocalNewton>),
 }
@@ -129,6 +133,10 @@ impl<'r> StepSolver<'r> {
             }
             None if local => Strategy::ElementSpace(Box::new(LocalNewton::new(pf, &set, n))),
             None if closed_form => Strategy::ClosedForm(modal()),
+            // the dense reference stays the generic modal Newton
+            None if solver != Solver::ModalNewton && OneMode::applies(&set, pf) => {
+                Strategy::OneMode(OneMode::new(&set))
+            }
             None => Strategy::ModalNewton(modal()),
         };
         Ok(StepSolver {
@@ -164,6 +172,10 @@ impl<'r> StepSolver<'r> {
             }
             Strategy::ClosedForm(modal) => (modal, true),
             Strategy::ModalNewton(modal) => (modal, false),
+            Strategy::OneMode(one) => {
+                start.known = set.constant[0];
+                return one.solve(set, pf, inp, (q_out, v_out), &mut start.values[0]);
+            }
             Strategy::ElementSpace(newton) => {
                 // A constant first node is the start state itself (see Modal::solve).
                 start.known = set.constant[0];

@@ -1,6 +1,6 @@
 //! Newton's method on the element-space step equation `F(y) = 0` (see the parent module).
 
-use super::super::super::local::ElementSpace;
+use super::super::super::local::{zero, ElementSpace};
 use super::super::super::scheme::StepInput;
 use super::super::damping::backtrack;
 use super::{LocalNewton, Setting};
@@ -51,7 +51,7 @@ impl LocalNewton {
     /// `J = I + sum_i G_i (alpha_i K_i + beta_i C_i)` over the varying nodes.
     fn jacobian(&mut self) {
         let nd = self.nd;
-        self.mat.fill(0.0);
+        zero(&mut self.mat);
         for a in 0..nd {
             self.mat[a * nd + a] = 1.0;
         }

@@ -34,6 +34,7 @@
 mod affine;
 mod iterate;
 mod scaled;
+mod single;
 
 use super::super::force::PseudoForce;
 use super::super::local::ElementSpace;
@@ -282,7 +283,11 @@ impl LocalNewton {
             .iter()
             .chain(self.u0.iter().flatten())
             .fold(0.0_f64, |a, b| a.max(b.abs()));
-        let iterations = self.newton(pf.space_mut(), set, inp, scale0)?;
+        let iterations = if self.nd == 1 {
+            self.newton_one(pf.space_mut(), set, inp, scale0)?
+        } else {
+            self.newton(pf.space_mut(), set, inp, scale0)?
+        };
         self.finish(pf.space(), set, z, (w_lin, w), start);
         Ok(iterations)
     }

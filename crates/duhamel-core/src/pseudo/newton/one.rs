@@ -1,0 +1,298 @@
+//! The modal Newton of one mode on scalars: a one-dof device, a storey with one isolator.
+//!
+//! The same iteration as [`super::modal::Modal::solve`] for `n = 1` (no mass law, no
+//! couplings: the pseudo-force is the elements' alone), operation for operation, so its
+//! results are the modal Newton's bit for bit: the predictor from the start state's force,
+//! Newton's steps damped by [`backtrack`], the node values at the converged state, the
+//! explicit half. What it leaves out is the generic machinery around one number: the
+//! `Vec` per node and per tangent, the modal projection and congruence loops over `n`, the
+//! elimination of a `1 x 1` system. Nothing is allocated per step; the elements are called
+//! through their [`Evaluation`](crate::elements::Evaluation) (built-in ones directly).
+
+use super::super::force::PseudoForce;
+use super::super::local::ElementSpace;
+use super::super::scheme::{StepInput, Unknown};
+use super::damping::backtrack;
+use super::setting::Setting;
+use crate::error::CoreError;
+
+/// The most nodes a quadrature has (the exact cubic rule's four).
+const NODES: usize = 4;
+
+/// The pseudo-force `Q = -phi^T r` of one mode at `(q, v, t)`, with its tangents
+/// `dQ/dq`, `dQ/dv` when `tangent`: [`PseudoForce::eval`]'s arithmetic for `n = 1` without
+/// mass law or couplings (the sums in its order, from its zero).
+#[inline(always)]
+fn force(
+    space: &mut ElementSpace,
+    (q, v, t): (f64, f64, f64),
+    tangent: bool,
+) -> Result<[f64; 3], CoreError> {
+    let (phi, members) = space.members_mut();
+    let (mut rho, mut kq, mut cq) = (0.0, 0.0, 0.0);
+    for (e, at) in members {
+        for (j, &a) in at.iter().enumerate() {
+            // a one-term dot product, as `dot` and the iterator sums round it
+            e.x[j] = std::iter::once(phi[a] * q).sum();
+            e.v[j] = std::iter::once(phi[a] * v).sum();
+        }
+        e.evaluate(t, tangent)?;
+        for (j, &a) in at.iter().enumerate() {
+            rho += phi[a] * e.r[j];
+        }
+        if tangent {
+            let nl = at.len();
+            for (m, out) in [(&e.kx, &mut kq), (&e.cv, &mut cq)] {
+                for a in 0..nl {
+                    for b in 0..nl {
+                        let tab = m[a * nl + b];
+                        if tab != 0.0 {
+                            *out += phi[at[a]] * tab * phi[at[b]];
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Ok([-rho, -kq, -cq])
+}
+
+/// The one-mode step's rule (fixed for the run) and its node values.
+pub(super) struct OneMode {
+    nodes: usize,
+    s: [f64; NODES],
+    d: [[f64; 4]; NODES],
+    wx: [f64; NODES],
+    wv: [f64; NODES],
+    constant: [bool; NODES],
+    /// The weights summed over the nodes (the predictor's).
+    wx_sum: f64,
+    wv_sum: f64,
+    /// The last node whose state varies, when it is the end state (its final evaluation
+    /// then computes the tangents the stiffness watch reuses).
+    at_end: bool,
+    /// Per node: `Q` and its tangents `dQ/dq`, `dQ/dv` (zero at the constant nodes).
+    values: [f64; NODES],
+    kq: [f64; NODES],
+    cq: [f64; NODES],
+    /// The end state.
+    q1: f64,
+    v1: f64,
+}
+
+impl OneMode {
+    /// The step of `set` (one mode, at most [`NODES`] nodes, unknown `q1` or `v1`).
+    pub fn new(set: &Setting) -> Self {
+        let rule = set.rule;
+        let nodes = rule.nodes.len();
+        let mut one = OneMode {
+            nodes,
+            s: [0.0; NODES],
+            d: [[0.0; 4]; NODES],
+            wx: [0.0; NODES],
+            wv: [0.0; NODES],
+            constant: [true; NODES],
+            wx_sum: rule.wx.iter().map(|w| w[0]).sum(),
+            wv_sum: rule.wv.iter().map(|w| w[0]).sum(),
+            at_end: false,
+            values: [0.0; NODES],
+            kq: [0.0; NODES],
+            cq: [0.0; NODES],
+            q1: 0.0,
+            v1: 0.0,
+        };
+        for (i, node) in rule.nodes.iter().enumerate() {
+            one.s[i] = node.s;
+            one.d[i] = node.d;
+            one.wx[i] = rule.wx[i][0];
+            one.wv[i] = rule.wv[i][0];
+            one.constant[i] = set.constant[i];
+        }
+        let end = (0..nodes).rev().find(|&i| !set.constant[i]);
+        one.at_end = end.is_some_and(|i| rule.nodes[i].s == 1.0);
+        one
+    }
+
+    /// Whether it applies: one mode, a pseudo-force of elements only, a known unknown.
+    pub fn applies(set: &Setting, pf: &PseudoForce) -> bool {
+        set.n == 1
+            && set.unknown != Unknown::Both
+            && set.rule.nodes.len() <= NODES
+            && !pf.has_mass()
+            && !pf.has_couplings()
+    }
+
+    /// Evaluates the selected nodes (`constant` or varying) at the current end state.
+    #[inline(always)]
+    fn eval_nodes(
+        &mut self,
+        set: &Setting,
+        space: &mut ElementSpace,
+        inp: &StepInput,
+        tangent: bool,
+        constant: bool,
+    ) -> Result<(), CoreError> {
+        let (dt, q0, v0) = (set.dt, inp.q0[0], inp.v0[0]);
+        for i in 0..self.nodes {
+            if self.constant[i] != constant {
+                continue;
+            }
+            let s = self.s[i];
+            let (q, v) = set.scheme.state(s, dt, q0, v0, self.q1, self.v1);
+            let [value, kq, cq] = force(space, (q, v, inp.t + s * dt), tangent)?;
+            self.values[i] = value;
+            if tangent {
+                (self.kq[i], self.cq[i]) = (kq, cq);
+            }
+        }
+        Ok(())
+    }
+
+    /// `base + sum_i w_i Q_i` (row 0: `q`, 1: `v`).
+    #[inline(always)]
+    fn explicit(&self, base: f64, row: usize) -> f64 {
+        let w = if row == 0 { &self.wx } else { &self.wv };
+        base + (0..self.nodes).map(|i| w[i] * self.values[i]).sum::<f64>()
+    }
+
+    /// The unknown half.
+    #[inline(always)]
+    fn unknown(&self, set: &Setting) -> f64 {
+        if set.unknown == Unknown::V1 {
+            self.v1
+        } else {
+            self.q1
+        }
+    }
+
+    #[inline(always)]
+    fn set_unknown(&mut self, set: &Setting, u: f64) {
+        if set.unknown == Unknown::V1 {
+            self.v1 = u;
+        } else {
+            self.q1 = u;
+        }
+    }
+
+    /// The residual of the unknown and its absolute value (NaN kept).
+    #[inline(always)]
+    fn residual(&self, set: &Setting, inp: &StepInput) -> (f64, f64) {
+        let r = if set.unknown == Unknown::V1 {
+            self.v1 - self.explicit(inp.v_lin[0], 1)
+        } else {
+            self.q1 - self.explicit(inp.q_lin[0], 0)
+        };
+        let norm = if r.is_nan() || r.abs() > 0.0 {
+            r.abs()
+        } else {
+            0.0
+        };
+        (r, norm)
+    }
+
+    /// Newton's matrix `1 - sum_i W_i dQ_i/du`.
+    #[inline(always)]
+    fn jacobian(&self, set: &Setting) -> f64 {
+        let dt = set.dt;
+        let mut mat = 1.0;
+        for i in 0..self.nodes {
+            let [dqq, dqv, dvq, dvv] = self.d[i];
+            let (kq, cq, da) = (self.kq[i], self.cq[i], 0.0);
+            if set.unknown == Unknown::V1 {
+                mat -= self.wv[i] * (kq * dqv + cq * dvv + da / dt);
+            } else {
+                mat -= self.wx[i] * (kq * dqq + cq * dvq);
+            }
+        }
+        mat
+    }
+
+    /// Solves the step into `(q_out, v_out)`; the start state's pseudo-force into `start`
+    /// (returned: whether the first node is the start state). Returns the iterations.
+    pub fn solve(
+        &mut self,
+        set: &Setting,
+        pf: &mut PseudoForce,
+        inp: &StepInput,
+        (q_out, v_out): (&mut [f64], &mut [f64]),
+        start: &mut f64,
+    ) -> Result<usize, CoreError> {
+        let space = pf.space_mut();
+        let (q0, v0) = (inp.q0[0], inp.v0[0]);
+        (self.q1, self.v1) = (q0, v0);
+        self.eval_nodes(set, space, inp, false, true)?;
+        *start = if self.constant[0] {
+            self.values[0]
+        } else {
+            force(space, (q0, v0, inp.t), false)?[0]
+        };
+        self.q1 = inp.q_lin[0] + self.wx_sum * *start;
+        self.v1 = inp.v_lin[0] + self.wv_sum * *start;
+        let iterations = self.newton(set, space, inp)?;
+        self.eval_nodes(set, space, inp, self.at_end, false)?;
+        if self.at_end {
+            space.mark_end();
+        }
+        match set.unknown {
+            Unknown::V1 => self.q1 = self.explicit(inp.q_lin[0], 0),
+            _ => self.v1 = self.explicit(inp.v_lin[0], 1),
+        }
+        (q_out[0], v_out[0]) = (self.q1, self.v1);
+        Ok(iterations)
+    }
+
+    /// Newton's method on the unknown, damped as the modal one.
+    fn newton(
+        &mut self,
+        set: &Setting,
+        space: &mut ElementSpace,
+        inp: &StepInput,
+    ) -> Result<usize, CoreError> {
+        let scale0 = [inp.q0[0], inp.v0[0], inp.q_lin[0], inp.v_lin[0]]
+            .iter()
+            .fold(0.0_f64, |a, b| a.max(b.abs()));
+        let (mut z0, mut delta) = (0.0, 0.0);
+        let mut norm = f64::INFINITY;
+        let mut last: Option<f64> = None;
+        for iter in 1..=set.max_iter {
+            self.eval_nodes(set, space, inp, true, false)?;
+            let (mut res, n) = self.residual(set, inp);
+            norm = n;
+            if let Some(prev) = last {
+                norm = backtrack(prev, norm, scale0, |lambda| {
+                    self.set_unknown(set, z0 + lambda * delta);
+                    self.eval_nodes(set, space, inp, true, false)?;
+                    let (r, n) = self.residual(set, inp);
+                    res = r;
+                    Ok(n)
+                })?;
+            }
+            let mat = self.jacobian(set);
+            // the elimination of the 1 x 1 system: its pivot test, its back substitution
+            let pivot = mat.abs();
+            if !(pivot.is_finite() && pivot > 0.0) {
+                break;
+            }
+            let none: f64 = std::iter::empty::<f64>().sum();
+            delta = (-res - none) / mat;
+            if !delta.is_finite() {
+                break;
+            }
+            z0 = self.unknown(set);
+            self.set_unknown(set, z0 + 1.0 * delta);
+            let size = 0.0_f64.max(delta.abs());
+            let zmax = 0.0_f64.max((z0 + delta).abs());
+            if set.linear || size <= set.tol * zmax.max(scale0) || size == 0.0 {
+                return Ok(iter);
+            }
+            last = Some(norm);
+        }
+        Err(CoreError::NoConvergence {
+            time: inp.t + set.dt,
+            step: 0,
+            residual: norm,
+            iterations: set.max_iter,
+            last_good_time: Some(inp.t),
+        })
+    }
+}
