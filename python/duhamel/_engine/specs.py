@@ -136,10 +136,9 @@ def element(spec: tuple) -> Any:
     if kind == "viscous_damper":
         return _core.Element.viscous_damper(*args)
     if kind == "friction_pendulum_axial":
-        dof_x, dof_z, radius, mu, weight, yd, kv, *rest = args
-        y, velocity, pressure = rest if rest else (None, None, None)
+        dofs, radius, mu, weight, yd, kv, velocity, pressure = args
         return _core.Element.friction_pendulum_axial(
-            dof_x, dof_z, radius, mu, (weight, yd), kv, y, velocity, pressure
+            list(dofs), radius, mu, (weight, yd), kv, velocity, pressure
         )
     if kind == "maxwell_damper":
         i, j, c, exponent, v0, kb = args

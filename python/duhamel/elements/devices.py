@@ -448,14 +448,12 @@ def _pendulum_vertical_spec(fp: FrictionPendulum) -> tuple:
         pressure = (float(fp.contact_area), float(fp.delta_mu), float(fp.pressure_alpha))
     return (
         "friction_pendulum_axial",
-        int(fp.dof_x),
-        int(fp.dof_z),  # type: ignore[arg-type]
+        fp._dofs(),
         float(fp.radius),
         float(fp.mu),
         float(fp.weight),
         float(fp.yield_displacement),
         float(fp.vertical_stiffness),  # type: ignore[arg-type]
-        None if fp.dof_y is None else int(fp.dof_y),
         velocity,
         pressure,
     )

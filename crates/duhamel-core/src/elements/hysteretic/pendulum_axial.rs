@@ -89,7 +89,34 @@ impl AxialFrictionPendulum {
         nominal: (f64, f64),
         vertical_stiffness: f64,
     ) -> Result<Self, CoreError> {
-        Self::build(vec![dof_x, dof_y, dof_z], radius, mu, nominal, vertical_stiffness)
+        Self::build(
+            vec![dof_x, dof_y, dof_z],
+            radius,
+            mu,
+            nominal,
+            vertical_stiffness,
+        )
+    }
+
+    /// The bearing on `dofs`: `[dof_x, dof_z]` (uniaxial) or `[dof_x, dof_y, dof_z]`
+    /// (bidirectional), the parameters as in [`Self::new`].
+    pub fn on(
+        dofs: &[usize],
+        radius: f64,
+        mu: f64,
+        nominal: (f64, f64),
+        vertical_stiffness: f64,
+    ) -> Result<Self, CoreError> {
+        if !(2..=3).contains(&dofs.len()) {
+            return Err(CoreError::InvalidInput {
+                name: "dofs",
+                problem: format!(
+                    "must be (dof_x, dof_z) or (dof_x, dof_y, dof_z), got {} dofs",
+                    dofs.len()
+                ),
+            });
+        }
+        Self::build(dofs.to_vec(), radius, mu, nominal, vertical_stiffness)
     }
 
     fn build(
@@ -137,7 +164,12 @@ impl AxialFrictionPendulum {
     /// The same bearing with pressure-dependent friction (OpenSees `VelPressureDep`): the
     /// high-speed coefficient `mu - delta_mu tanh(alpha N / A)` with the contact area
     /// `area > 0`, `0 <= delta_mu < mu` and `alpha >= 0` (per unit pressure).
-    pub fn with_pressure(mut self, area: f64, delta_mu: f64, alpha: f64) -> Result<Self, CoreError> {
+    pub fn with_pressure(
+        mut self,
+        area: f64,
+        delta_mu: f64,
+        alpha: f64,
+    ) -> Result<Self, CoreError> {
         check("contact_area", area, true)?;
         check("delta_mu", delta_mu, false)?;
         check("pressure_alpha", alpha, false)?;
@@ -151,6 +183,24 @@ impl AxialFrictionPendulum {
         self.law.friction.pressure =
             (delta_mu > 0.0 && alpha > 0.0).then_some((area, delta_mu, alpha));
         Ok(self)
+    }
+
+    /// The same bearing with velocity-dependent friction (`velocity = (mu_slow, rate)`, see
+    /// [`Self::with_velocity`]) and pressure-dependent friction (`pressure = (area,
+    /// delta_mu, alpha)`, see [`Self::with_pressure`]) when given.
+    pub fn with_friction(
+        self,
+        velocity: Option<(f64, f64)>,
+        pressure: Option<(f64, f64, f64)>,
+    ) -> Result<Self, CoreError> {
+        let e = match velocity {
+            Some((slow, rate)) => self.with_velocity(slow, rate)?,
+            None => self,
+        };
+        match pressure {
+            Some((area, delta, alpha)) => e.with_pressure(area, delta, alpha),
+            None => Ok(e),
+        }
     }
 
     /// The number of horizontal dofs (1 or 2).

@@ -83,10 +83,7 @@ impl Law {
             return (0.0, [0.0; 2], [0.0; 2]);
         }
         let ds_du = [uv * v[0] / (r2 * s), uv * v[1] / (r2 * s)];
-        let ds_dv = [
-            (v[0] + uv * u[0] / r2) / s,
-            (v[1] + uv * u[1] / r2) / s,
-        ];
+        let ds_dv = [(v[0] + uv * u[0] / r2) / s, (v[1] + uv * u[1] / r2) / s];
         (s, ds_du, ds_dv)
     }
 
@@ -207,8 +204,7 @@ impl Law {
             for j in 0..2 {
                 let dmu_du = mu_s * ds_du[j] + mu_n * dn_du[j];
                 let dmu_dv = mu_s * ds_dv[j] + mu_n * dn_dv[j];
-                let da_du =
-                    (if i == j { 1.0 / r } else { 0.0 }) + mu * proj(i, j) + nv[i] * dmu_du;
+                let da_du = (if i == j { 1.0 / r } else { 0.0 }) + mu * proj(i, j) + nv[i] * dmu_du;
                 out.kx[3 * i + j] = a[i] * dn_du[j] + n * da_du;
                 out.cv[3 * i + j] = a[i] * dn_dv[j] + n * nv[i] * dmu_dv;
             }

@@ -98,7 +98,8 @@ fn bidirectional_tangents_are_consistent_sticking_and_sliding() {
             let p = -1e5 * x[2];
             let n = p + (r[0] * x[0] + r[1] * x[1]) / 2.0;
             let f = [r[0] - n * x[0] / 2.0, r[1] - n * x[1] / 2.0];
-            let s = (v[0] * v[0] + v[1] * v[1] + ((x[0] * v[0] + x[1] * v[1]) / 2.0).powi(2)).sqrt();
+            let s =
+                (v[0] * v[0] + v[1] * v[1] + ((x[0] * v[0] + x[1] * v[1]) / 2.0).powi(2)).sqrt();
             let (mu, _, _) = e.law.friction.at(s, n);
             assert!(f[0].hypot(f[1]) <= mu * n * (1.0 + 1e-12));
             if trial != c {
@@ -136,7 +137,7 @@ fn friction_coefficients_follow_opensees() {
     let e = &bearings()[2];
     let f = &e.law.friction;
     // VelPressureDep: mu_f = 0.08 - 0.04 tanh(0.01 N / 0.5), mu = mu_f - (mu_f - 0.03) e^{-15 s}
-    let (n, s) = (30.0, 0.1);
+    let (n, s): (f64, f64) = (30.0, 0.1);
     let mu_f = 0.08 - 0.04 * (0.01 * n / 0.5_f64).tanh();
     let want = mu_f - (mu_f - 0.03) * (-15.0 * s).exp();
     assert!((f.at(s, n).0 - want).abs() < 1e-15);
@@ -149,7 +150,10 @@ fn friction_coefficients_follow_opensees() {
 fn bidirectional_uplift_and_checks() {
     let e = &bearings()[1];
     let [r, k, c, trial] = eval(e, &[0.1, -0.2, 0.001], &[1.0; 3], &[0.0, 0.0]);
-    assert_eq!((r, k, c, trial), (vec![0.0; 3], vec![0.0; 9], vec![0.0; 9], vec![0.1, -0.2]));
+    assert_eq!(
+        (r, k, c, trial),
+        (vec![0.0; 3], vec![0.0; 9], vec![0.0; 9], vec![0.1, -0.2])
+    );
     let bad = |dofs| {
         AxialFrictionPendulum::bidirectional(dofs, 2.0, 0.08, (1e3, 1e-3), 1e5)
             .unwrap_err()
@@ -158,7 +162,21 @@ fn bidirectional_uplift_and_checks() {
     assert!(bad((0, 0, 2)).contains("dof_y"));
     assert!(bad((0, 1, 1)).contains("dof_z"));
     let two = AxialFrictionPendulum::new((0, 1), 2.0, 0.08, (1e3, 1e-3), 1e5).unwrap();
-    assert!(two.clone().with_velocity(0.1, 1.0).unwrap_err().to_string().contains("mu_slow"));
-    assert!(two.clone().with_pressure(0.0, 0.01, 1.0).unwrap_err().to_string().contains("contact_area"));
-    assert!(two.with_pressure(1.0, 0.09, 1.0).unwrap_err().to_string().contains("delta_mu"));
+    assert!(two
+        .clone()
+        .with_velocity(0.1, 1.0)
+        .unwrap_err()
+        .to_string()
+        .contains("mu_slow"));
+    assert!(two
+        .clone()
+        .with_pressure(0.0, 0.01, 1.0)
+        .unwrap_err()
+        .to_string()
+        .contains("contact_area"));
+    assert!(two
+        .with_pressure(1.0, 0.09, 1.0)
+        .unwrap_err()
+        .to_string()
+        .contains("delta_mu"));
 }
