@@ -244,8 +244,8 @@ impl AxialFrictionPendulum {
         // local index of the element's dofs: (x, z) -> (0, 2), (x, y, z) -> (0, 1, 2)
         let idx: &[usize] = if m == 2 { &[0, 1, 2] } else { &[0, 2] };
         let n = idx.len();
-        for i in 0..m {
-            r[i] += res.shear[i];
+        for (ri, v) in r.iter_mut().zip(&res.shear[..m]) {
+            *ri += v;
         }
         r[m] -= res.axial;
         if let Some(tg) = tangent {

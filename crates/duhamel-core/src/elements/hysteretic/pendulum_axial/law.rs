@@ -125,9 +125,9 @@ impl Law {
             for j in 0..2 {
                 // dnum/du_j = k_i (u_j + d_j) / R, dden/du_j = -u_p,j / R^2
                 let dn_du = (ki * (u[j] + d[j]) / r * den + num * up_c[j] / (r * r)) / (den * den);
-                for i in 0..2 {
+                for (i, up) in up_c.iter().enumerate() {
                     let kron = if i == j { ki } else { 0.0 };
-                    out.kx[3 * i + j] = kron + up_c[i] / r * dn_du;
+                    out.kx[3 * i + j] = kron + up / r * dn_du;
                 }
             }
             let dn_dw = -kv / den;
