@@ -173,10 +173,11 @@ class FrictionPendulum(TwoAxis, Element):
     ...                                           rate=20.0, weight=5e6)
     >>> plane.dof_y is None
     True
-    >>> lifted = duhamel.elements.FrictionPendulum(0, 1, radius=2.0, mu=0.06, weight=5e6,
-    ...                                            dof_z=2, vertical_stiffness=5e9)
-    >>> lifted._dofs()
-    (0, 1, 2)
+    >>> spatial = duhamel.elements.FrictionPendulum(0, 1, radius=2.0, mu=0.06, mu_slow=0.03,
+    ...                                             rate=20.0, weight=5e6, dof_z=2,
+    ...                                             vertical_stiffness=5e9)
+    >>> (spatial.dof_y, spatial.dof_z)
+    (1, 2)
     """
 
     dof_x: int
