@@ -132,8 +132,11 @@ def test_normal_force_friction_and_uplift() -> None:
 def test_vertical_dof_checks() -> None:
     with pytest.raises(ValueError, match="`vertical_stiffness`"):
         E.FrictionPendulum(0, dof_z=1)
-    with pytest.raises(ValueError, match="`dof_y=None`"):
-        E.FrictionPendulum(0, 2, dof_z=1, vertical_stiffness=1.0)
+    # bidirectional with its vertical dof (3-D, built since): the three dofs distinct
+    with pytest.raises(ValueError, match="`dof_z` must differ from dof_y"):
+        duhamel.System(np.eye(3), np.eye(3)).add(
+            E.FrictionPendulum(0, 2, dof_z=2, vertical_stiffness=1.0)
+        )
     with pytest.raises(ValueError, match="`vertical_stiffness`"):
         E.FrictionPendulum(0, vertical_stiffness=1.0)
     bad = duhamel.System(np.eye(2), np.eye(2))

@@ -188,8 +188,16 @@ class Element:
     def viscous_damper(i: int, j: int | None, c: float, exponent: float, v0: float) -> Element: ...
     @staticmethod
     def friction_pendulum_axial(
-        dof_x: int, dof_z: int, radius: float, mu: float, nominal: tuple[float, float], kv: float
-    ) -> Element: ...
+        dofs: list[int],
+        radius: float,
+        mu: float,
+        nominal: tuple[float, float],
+        kv: float,
+        velocity: tuple[float, float] | None = None,
+        pressure: tuple[float, float, float] | None = None,
+    ) -> Element:
+        """`dofs` = ``(dof_x, [dof_y,] dof_z)``; `velocity` = ``(mu_slow, rate)``, `pressure` =
+        ``(area, delta_mu, alpha)``."""
     @staticmethod
     def maxwell_damper(
         i: int, j: int | None, law: tuple[float, float, float], kb: float

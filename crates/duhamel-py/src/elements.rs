@@ -321,18 +321,22 @@ impl ElementSpec {
         guarded(made).map(|e| ElementSpec(Spec::ViscousDamper(e)))
     }
 
-    /// Uniaxial friction pendulum on `(dof_x, dof_z)`, normal force from the axial stiffness `kv`.
+    /// Friction pendulum on `dofs = (dof_x, dof_z)` or `(dof_x, dof_y, dof_z)`, normal force
+    /// from the axial stiffness `kv`; `velocity = (mu_slow, rate)`, `pressure = (area,
+    /// delta_mu, alpha)` for velocity- and pressure-dependent friction.
     #[staticmethod]
-    #[pyo3(signature = (dof_x, dof_z, radius, mu, nominal, kv))]
+    #[pyo3(signature = (dofs, radius, mu, nominal, kv, velocity=None, pressure=None))]
     fn friction_pendulum_axial(
-        dof_x: usize,
-        dof_z: usize,
+        dofs: Vec<usize>,
         radius: f64,
         mu: f64,
         nominal: (f64, f64),
         kv: f64,
+        velocity: Option<(f64, f64)>,
+        pressure: Option<(f64, f64, f64)>,
     ) -> PyResult<Self> {
-        let made = || AxialFrictionPendulum::new((dof_x, dof_z), radius, mu, nominal, kv);
+        let made = || AxialFrictionPendulum::on(&dofs, radius, mu, nominal, kv);
+        let made = || made().and_then(|e| e.with_friction(velocity, pressure));
         guarded(|| made().map_err(core_err)).map(|e| ElementSpec(Spec::AxialPendulum(e)))
     }
 

@@ -136,8 +136,10 @@ def element(spec: tuple) -> Any:
     if kind == "viscous_damper":
         return _core.Element.viscous_damper(*args)
     if kind == "friction_pendulum_axial":
-        dof_x, dof_z, radius, mu, weight, yd, kv = args
-        return _core.Element.friction_pendulum_axial(dof_x, dof_z, radius, mu, (weight, yd), kv)
+        dofs, radius, mu, weight, yd, kv, velocity, pressure = args
+        return _core.Element.friction_pendulum_axial(
+            list(dofs), radius, mu, (weight, yd), kv, velocity, pressure
+        )
     if kind == "maxwell_damper":
         i, j, c, exponent, v0, kb = args
         return _core.Element.maxwell_damper(i, j, (c, exponent, v0), kb)

@@ -148,15 +148,20 @@ class FrictionPendulum(TwoAxis, Element):
     (`mu` is then the high-speed coefficient ``mu_fast``; the pre-sliding stiffness stays
     ``mu weight / yield_displacement``). Units: `yield_displacement` defaults to 2.5e-4 (m).
 
-    With a vertical dof (``dof_z``, upward, to the ground, plane models: ``dof_y=None``) and
-    the bearing's axial stiffness `vertical_stiffness` ``k_v``, the normal force comes from
-    the model (OpenSees ``singleFPBearing`` in 2-D): the bearing carries ``P = -k_v u_z``
-    in compression and nothing in tension (uplift: zero shear, zero axial force); the shear
-    is ``V = (N / R) u + f`` with the normal force ``N = P + V u / R``, friction
-    ``|f| <= mu N`` and the pre-sliding stiffness ``k_i - N / R`` (``k_i = mu weight /
-    yield_displacement``, `weight` the nominal load: it sets only this stiffness). The
-    weight itself is a load on ``dof_z`` (start from the static state, e.g. ``x0`` with
-    ``u_z = -W / k_v``). Constant `mu` there (no `mu_slow`).
+    With a vertical dof (``dof_z``, upward, to the ground; uniaxial with ``dof_y=None`` or
+    bidirectional) and the bearing's axial stiffness `vertical_stiffness` ``k_v``, the
+    normal force comes from the model (OpenSees ``singleFPBearing``, 2-D and 3-D): the
+    bearing carries ``P = -k_v u_z`` in compression and nothing in tension (uplift: zero
+    shear, zero axial force); the shear is ``V = (N / R) u + f`` with the normal force
+    ``N = P + V . u / R``, friction ``|f| <= mu N`` (a circle in two directions) and the
+    pre-sliding stiffness ``k_i - N / R`` (``k_i = mu weight / yield_displacement``,
+    `weight` the nominal load: it sets only this stiffness). The weight itself is a load on
+    ``dof_z`` (start from the static state, e.g. ``x0`` with ``u_z = -W / k_v``). There the
+    sliding speed of `mu_slow`/`rate` is the speed on the surface,
+    ``sqrt(|u'|^2 + (u . u' / R)^2)`` (as OpenSees), and friction may also depend on the
+    contact pressure ``N / A`` (OpenSees ``VelPressureDep``): with `contact_area` ``A``,
+    `delta_mu` and `pressure_alpha`, the high-speed coefficient is
+    ``mu - delta_mu tanh(pressure_alpha N / A)``.
 
     Examples
     --------
@@ -168,6 +173,11 @@ class FrictionPendulum(TwoAxis, Element):
     ...                                           rate=20.0, weight=5e6)
     >>> plane.dof_y is None
     True
+    >>> spatial = duhamel.elements.FrictionPendulum(0, 1, radius=2.0, mu=0.06, mu_slow=0.03,
+    ...                                             rate=20.0, weight=5e6, dof_z=2,
+    ...                                             vertical_stiffness=5e9)
+    >>> (spatial.dof_y, spatial.dof_z)
+    (1, 2)
     """
 
     dof_x: int
@@ -180,19 +190,13 @@ class FrictionPendulum(TwoAxis, Element):
     rate: float = 0.0
     dof_z: int | None = None
     vertical_stiffness: float | None = None
+    contact_area: float | None = None
+    delta_mu: float = 0.0
+    pressure_alpha: float = 0.0
     _path_dependent = True
 
     def __post_init__(self) -> None:
-        if self.dof_z is not None:
-            if self.vertical_stiffness is None:
-                raise ValueError("`vertical_stiffness` is required with `dof_z`")
-            positive(self.vertical_stiffness, "vertical_stiffness")
-            if self.dof_y is not None:
-                raise ValueError("`dof_z` needs `dof_y=None` (a plane model)")
-            if self.mu_slow is not None and self.rate > 0:
-                raise ValueError("`mu_slow` is not supported with `dof_z` (constant mu)")
-        elif self.vertical_stiffness is not None:
-            raise ValueError("`vertical_stiffness` needs the vertical dof `dof_z`")
+        _pendulum_vertical_checks(self)
         positive(self.radius, "radius")
         mu = nonneg(self.mu, "mu")
         positive(self.weight, "weight")
@@ -207,9 +211,7 @@ class FrictionPendulum(TwoAxis, Element):
 
     def _validate(self, system: Model) -> None:
         if getattr(self, "dof_z", None) is not None:
-            x = dof_index(self.dof_x, "dof_x", system.n_dof)
-            if dof_index(self.dof_z, "dof_z", system.n_dof) == x:
-                raise ValueError(f"`dof_z` must differ from dof_x (both are {x})")
+            _pendulum_vertical_dofs(self, system)
         elif self.dof_y is None:
             dof_index(self.dof_x, "dof_x", system.n_dof)
         else:
@@ -217,7 +219,8 @@ class FrictionPendulum(TwoAxis, Element):
 
     def _dofs(self) -> tuple[int, ...]:
         if getattr(self, "dof_z", None) is not None:
-            return (int(self.dof_x), int(self.dof_z))
+            y = () if self.dof_y is None else (int(self.dof_y),)
+            return (int(self.dof_x), *y, int(self.dof_z))
         return (int(self.dof_x),) if self.dof_y is None else (int(self.dof_x), int(self.dof_y))
 
     def _passive(self) -> bool:
@@ -225,16 +228,7 @@ class FrictionPendulum(TwoAxis, Element):
 
     def _spec(self) -> tuple:
         if self.dof_z is not None:
-            return (
-                "friction_pendulum_axial",
-                int(self.dof_x),
-                int(self.dof_z),
-                float(self.radius),
-                float(self.mu),
-                float(self.weight),
-                float(self.yield_displacement),
-                float(self.vertical_stiffness),  # type: ignore[arg-type]
-            )
+            return _pendulum_vertical_spec(self)
         slow = None if self.mu_slow is None else float(self.mu_slow)
         return (
             "friction_pendulum",
@@ -253,7 +247,8 @@ class FrictionPendulum(TwoAxis, Element):
         # the vertical dof, W / R and the axial stiffness.
         dofs = self._dofs()
         if self.dof_z is not None:
-            return dofs, np.diag([self.weight / self.radius, float(self.vertical_stiffness)])
+            kp = [self.weight / self.radius] * (len(dofs) - 1)
+            return dofs, np.diag([*kp, float(self.vertical_stiffness)])  # type: ignore[arg-type]
         return dofs, (self.weight / self.radius) * np.eye(len(dofs))
 
 
@@ -406,3 +401,60 @@ def _bouc_wen_fields(element: Any, exponent: str) -> None:
         raise ValueError(f"`gamma` must be > -beta = {-beta} (bounded z), got {gamma}")
     for name in (exponent, "beta", "gamma"):
         object.__setattr__(element, name, float(getattr(element, name)))
+
+
+def _pendulum_vertical_checks(fp: FrictionPendulum) -> None:
+    """The checks of a `FrictionPendulum`'s vertical dof and pressure-dependent friction."""
+    if fp.dof_z is not None:
+        if fp.vertical_stiffness is None:
+            raise ValueError("`vertical_stiffness` is required with `dof_z`")
+        positive(fp.vertical_stiffness, "vertical_stiffness")
+    elif fp.vertical_stiffness is not None:
+        raise ValueError("`vertical_stiffness` needs the vertical dof `dof_z`")
+    if fp.contact_area is None:
+        if fp.delta_mu or fp.pressure_alpha:
+            raise ValueError("`delta_mu` and `pressure_alpha` need `contact_area`")
+        return
+    if fp.dof_z is None:
+        raise ValueError(
+            "`contact_area` (pressure-dependent friction) needs the vertical dof `dof_z`"
+        )
+    positive(fp.contact_area, "contact_area")
+    delta = nonneg(fp.delta_mu, "delta_mu")
+    nonneg(fp.pressure_alpha, "pressure_alpha")
+    if delta > 0 and delta >= finite_float(fp.mu, "mu"):
+        raise ValueError(f"`delta_mu` must be < mu (the fast coefficient) = {fp.mu}, got {delta}")
+
+
+def _pendulum_vertical_dofs(fp: FrictionPendulum, system: Model) -> None:
+    """`dof_x`, `dof_y` (if any) and `dof_z` in range and distinct."""
+    named = [("dof_x", fp.dof_x), ("dof_y", fp.dof_y), ("dof_z", fp.dof_z)]
+    seen: dict[int, str] = {}
+    for name, dof in named:
+        if dof is None:
+            continue
+        k = dof_index(dof, name, system.n_dof)
+        if k in seen:
+            raise ValueError(f"`{name}` must differ from {seen[k]} (both are {k})")
+        seen[k] = name
+
+
+def _pendulum_vertical_spec(fp: FrictionPendulum) -> tuple:
+    """The core spec of a `FrictionPendulum` with its vertical dof."""
+    velocity = None
+    if fp.mu_slow is not None and fp.rate > 0:
+        velocity = (float(fp.mu_slow), float(fp.rate))
+    pressure = None
+    if fp.contact_area is not None:
+        pressure = (float(fp.contact_area), float(fp.delta_mu), float(fp.pressure_alpha))
+    return (
+        "friction_pendulum_axial",
+        fp._dofs(),
+        float(fp.radius),
+        float(fp.mu),
+        float(fp.weight),
+        float(fp.yield_displacement),
+        float(fp.vertical_stiffness),  # type: ignore[arg-type]
+        velocity,
+        pressure,
+    )
