@@ -12,6 +12,7 @@ pub mod dense;
 pub mod direct;
 pub mod driver;
 pub mod elements;
+pub mod energy;
 pub mod error;
 pub mod history;
 pub mod kernel;

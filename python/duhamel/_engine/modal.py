@@ -20,6 +20,7 @@ from duhamel._engine import dispatch
 from duhamel._engine.chunks import chunked, steps_of
 from duhamel._engine.correction import substeps
 from duhamel._engine.dense import ExactSteps, State
+from duhamel._engine.energy_run import EnergyModel, energy_model, energy_spec
 from duhamel._engine.massless import load_terms
 from duhamel._engine.output import check_memory, physical
 from duhamel._engine.plan import Plan, mass, modal_loads, plan
@@ -140,6 +141,9 @@ class RunOptions:
     #: ``stop(solution)``: whether a chunk's solution holds a terminal event's crossing (the
     #: run then stops after that chunk, :mod:`duhamel._engine.chunks`).
     stop: Any = None
+    #: ``solve(..., energy=True)``: the work integrals accumulated in the core (pseudo-force
+    #: route; the others compute the balance after the run).
+    energy: bool = False
 
 
 def run(prep: ModalSetup, opts: RunOptions) -> Solution:
@@ -164,7 +168,10 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
     grid = dispatch.grid(
         opts.t0, opts.dt / sub, opts.n_steps * sub, opts.save_every * sub, 0, prep.threads
     )
-    spec = dispatch.run_spec(route, grid, state)
+    emodel = _energy_model(prep, opts, patterns)
+    spec = dispatch.run_spec(
+        route, grid, state, energy=None if emodel is None else energy_spec(emodel)
+    )
     forcing = ModalCallable(fns, system.n_dof) if fns else None
     if opts.stop is not None and (opts.progress is None or opts.progress is False):
         stopped = _stopping(prep, opts, state, sub, loads, out, forcing, patterns, base)
@@ -182,7 +189,7 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
             loop_start = _time.perf_counter()
             result = prep.model.run(spec, loads, out.maps, forcing, report)
             wall = _time.perf_counter() - loop_start
-    sol = solution(prep, result, out, patterns, opts, wall, base, sub)
+    sol = solution(prep, result, out, patterns, opts, wall, base, sub, emodel)
     if opts.dense:
         sol._exact = exact_steps(prep, loads, out, patterns, forcing, result)
     return sol
@@ -267,6 +274,7 @@ def solution(
     wall: float,
     base: list[Any] | None,
     sub: int = 1,
+    emodel: EnergyModel | None = None,
 ) -> Solution:
     """The :class:`duhamel.Solution` of a core run's `result` (raises the run's failure,
     with the solution up to it as ``partial``)."""
@@ -328,6 +336,8 @@ def solution(
             tuple(prep.system.loads if opts.loads is None else opts.loads),
         ),
     )
+    if emodel is not None and terms is None and result.energy is not None:
+        solution._energy_run = (result.energy[:kept], emodel)
     if error is None and kept < result.t.size:
         raise overflow_error(result.t, kept, opts.dt, opts.t0, solution)
     if error is not None:
@@ -348,6 +358,20 @@ def solution(
         )
         raise_failure(error, solution, note, step)
     return solution
+
+
+def _energy_model(
+    prep: ModalSetup, opts: RunOptions, patterns: NDArray[np.float64]
+) -> EnergyModel | None:
+    """The energy model of a run that accumulates its energy in the core (None: not asked
+    for, or a route that computes it after the run)."""
+    if not opts.energy or prep.route.route != "pseudo-force" or opts.stop is not None:
+        return None
+    system = prep.system
+    loads = system.loads if opts.loads is None else opts.loads
+    structure = structure_model(system, prep.route.basis, tuple(system.elements), tuple(loads))
+    phi = prep.route.basis.phi
+    return energy_model(system, phi, patterns, loads, structure, prep.route.linear)
 
 
 def _plus(acc: Any, extra: NDArray[np.float64]) -> Any:

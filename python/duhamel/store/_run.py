@@ -134,8 +134,11 @@ def run_stored(
     threads: int | None,
     progress: bool | Progress | None,
     started: float,
+    energy: bool = False,
 ) -> Solution:
     """``duhamel.solve(..., store=...)``: creates the store and runs into it."""
+    if energy:
+        raise ValueError("`energy`: a streamed run (`store`) does not accumulate its energy yet")
     options = store if isinstance(store, Store) else Store(_path(store))
     path = os.fspath(options.path)
     if isinstance(integrator, DirectIntegrator):
