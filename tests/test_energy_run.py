@@ -46,7 +46,7 @@ def test_balance_closes_and_converges_with_dt() -> None:
     dts = [0.004, 0.002, 0.001, 0.0005]
     ends = []
     for dt in dts:
-        e = run(dt, save_every=max(1, int(round(0.02 / dt)))).energy
+        e = run(dt, save_every=max(1, round(0.02 / dt))).energy
         assert e.hysteretic[-1] > 0.3 * e.input[-1]  # the devices take most of the input
         ends.append(abs(e.error[-1]) / e.input[-1])
     # measured: 5.8e-5, 2.9e-5, 7.3e-6, 1.8e-6 (slope 1.7 over all, 2.0 over the finest
@@ -96,7 +96,7 @@ def test_element_work_is_the_loop_integral_of_its_history() -> None:
 def test_absolute_and_relative_inputs_differ_by_the_kinetic_terms() -> None:
     gaps, dts = [], [0.002, 0.001, 0.0005]
     for dt in dts:
-        e = run(dt, save_every=max(1, int(round(0.04 / dt)))).energy
+        e = run(dt, save_every=max(1, round(0.04 / dt))).energy
         gap = (e.input_absolute - e.input) - (e.kinetic_absolute - e.kinetic)
         gaps.append(np.abs(gap).max() / np.abs(e.input).max())
         # the difference itself is not small: the terms are the ground's
@@ -136,7 +136,7 @@ def test_a_free_oscillator_with_an_element_and_other_loads() -> None:
 
 def test_requests_the_route_cannot_serve_are_refused() -> None:
     linear = duhamel.System(np.eye(1), np.eye(1), zeta=0.05)
-    with pytest.raises(ValueError, match="`energy`.*save_every=1"):
+    with pytest.raises(ValueError, match=r"`energy`.*save_every=1"):
         duhamel.solve(linear, duhamel.Semianalytic(), t_end=1.0, dt=0.1, energy=True, save_every=2)
     with pytest.raises(TypeError, match="`energy`"):
         duhamel.solve(linear, duhamel.Semianalytic(), t_end=1.0, dt=0.1, energy="yes")
