@@ -310,16 +310,29 @@ impl EnergyTap {
         }
     }
 
+    /// Starts the integrals at the modal state `(q, v)` at `t`; `record` gives the
+    /// elements' rows there (a hysteretic element's from its committed variables, so this
+    /// comes before the first step is committed).
+    pub fn start(
+        &mut self,
+        (q, v): (&[f64], &[f64]),
+        t: f64,
+        record: &mut Record,
+    ) -> Result<(), CoreError> {
+        if !self.x.is_empty() {
+            record((q, v), t, (&mut self.x, &mut self.v, &mut self.r))?;
+            self.add_linear();
+        }
+        self.acc.start(v, (&self.x, &self.r));
+        Ok(())
+    }
+
     /// Adds the step `s`; `record` gives the elements' rows at a state (the start state's
-    /// at the run's first step).
+    /// too, when [`EnergyTap::start`] could not be done before the first step).
     pub fn step(&mut self, s: &ModalStep, record: &mut Record) -> Result<(), CoreError> {
         let has_elements = !self.x.is_empty();
         if !self.acc.started() {
-            if has_elements {
-                record(s.start, s.t.0, (&mut self.x, &mut self.v, &mut self.r))?;
-                self.add_linear();
-            }
-            self.acc.start(s.start.1, (&self.x, &self.r));
+            self.start(s.start, s.t.0, record)?;
         }
         if has_elements {
             record(s.end, s.t.1, (&mut self.x, &mut self.v, &mut self.r))?;

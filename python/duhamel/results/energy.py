@@ -245,16 +245,24 @@ def _balance(
 def energy_from_run(sol: Any, rows: NDArray[np.float64], emodel: Any) -> Energy:
     """The :class:`Energy` of a run that accumulated its work integrals in the core
     (``solve(..., energy=True)``): `rows` the core's integrals at the saved instants
-    (``[damping, input, absolute - relative input, v_g per base, work per element]``),
+    (``[damping, input, absolute - relative input, v_g per base, work per element]``, a
+    stored run's followed by its kinetic and linear strain energies and ``w_b . v``),
     `emodel` the run's :class:`duhamel._engine.energy_run.EnergyModel`. The state functions
     are evaluated here from the saved modal coordinates and element histories."""
     t = np.asarray(sol.t)
-    q, v = np.asarray(sol.modal.q), np.asarray(sol.modal.v)
-    kinetic = 0.5 * np.einsum("ij,ij->i", v, v @ emodel.mm.T)
-    strain_linear = 0.5 * np.einsum("ij,ij->i", q, q @ emodel.km.T)
+    rows = np.asarray(rows)
     nb = emodel.base_loads.size
+    n_core = 3 + nb + len(emodel.structure.elements)
+    if rows.shape[1] == n_core + 2 + nb:  # a stored run: its state functions stored too
+        kinetic, strain_linear = rows[:, n_core].copy(), rows[:, n_core + 1].copy()
+        wv = rows[:, n_core + 2 :]
+        rows = rows[:, :n_core]
+    else:
+        q, v = np.asarray(sol.modal.q), np.asarray(sol.modal.v)
+        kinetic = 0.5 * np.einsum("ij,ij->i", v, v @ emodel.mm.T)
+        strain_linear = 0.5 * np.einsum("ij,ij->i", q, q @ emodel.km.T)
+        wv = v @ emodel.base_w.T
     vg = rows[:, 3 : 3 + nb]
-    wv = v @ emodel.base_w.T
     kinetic_abs = kinetic + (vg * wv).sum(axis=1)
     kinetic_abs += 0.5 * np.einsum("ib,bc,ic->i", vg, emodel.base_rr, vg)
     model = emodel.structure

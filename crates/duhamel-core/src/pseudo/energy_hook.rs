@@ -9,18 +9,26 @@ use crate::error::CoreError;
 use crate::loads::block::BlockLoads;
 use crate::problem::ModalProblem;
 
-/// The run's tap (None when energy is not asked for), its spec checked.
+/// The run's tap (None when energy is not asked for), its spec checked, started from the
+/// initial state with the elements' committed variables (`pf` after its first commit). An
+/// element that cannot be evaluated there leaves the start to the first step, which reports
+/// that failure.
 pub(super) fn energy_tap(
     problem: &NonlinearProblem,
+    pf: &mut PseudoForce,
     widths: &[usize],
     n_saved: usize,
 ) -> Result<Option<EnergyTap>, CoreError> {
     let Some(spec) = &problem.energy else {
         return Ok(None);
     };
-    let n = problem.base.n_modes();
-    spec.check(n, problem.base.loads.len(), widths)?;
-    Ok(Some(EnergyTap::new(spec, n, widths.to_vec(), n_saved)))
+    let base = &problem.base;
+    let n = base.n_modes();
+    spec.check(n, base.loads.len(), widths)?;
+    let mut tap = EnergyTap::new(spec, n, widths.to_vec(), n_saved);
+    let start = (base.q0, base.v0);
+    let _ = tap.start(start, base.time(0), &mut |x, t, rows| pf.record(x, t, rows));
+    Ok(Some(tap))
 }
 
 /// Adds local step `s` of the block `loads` (from `(q, v)` to `(q1, v1)`, modal load basis

@@ -441,7 +441,7 @@ pub fn integrate(
     let buffer = |what| zeroed(cells, what).map_err(fail);
     let widths = pf.element_widths();
     let width = widths.iter().sum();
-    let tap = energy_tap(problem, &widths, loads.n_saved()).map_err(fail)?;
+    let tap = energy_tap(problem, &mut pf, &widths, loads.n_saved()).map_err(fail)?;
     let element_cells = size(loads.n_saved(), width, "the element history").map_err(fail)?;
     let element_buffer = |what| zeroed(element_cells, what).map_err(fail);
     let he = ElementRows {
