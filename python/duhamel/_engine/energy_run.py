@@ -10,6 +10,7 @@ adds the state functions at the saved instants.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
@@ -17,10 +18,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel import _core
+from duhamel._engine import dispatch
 from duhamel.loads import BaseAcceleration, Callable
 from duhamel.results.forces import StructureModel
 
-__all__ = ["EnergyModel", "energy_model", "energy_spec"]
+__all__ = ["ACCUMULATED", "EnergyModel", "check_energy", "energy_model", "energy_spec", "stepwise"]
+
+#: The routes whose runs accumulate the energy in the core: the pseudo-force route, and the
+#: uncoupled route stepped one step at a time (:func:`stepwise`).
+ACCUMULATED = ("pseudo-force", "uncoupled")
 
 
 @dataclass(frozen=True, eq=False)
@@ -129,10 +135,18 @@ def check_energy(energy: Any, route: str, save_every: int, dofs: Any, store: Any
     the run would not keep what the after-run balance needs."""
     if not isinstance(energy, bool | np.bool_):
         raise TypeError(f"`energy` must be True or False, got {type(energy).__name__}")
-    if energy and route != "pseudo-force" and (save_every != 1 or dofs is not None or store):
+    if energy and route not in ACCUMULATED and (save_every != 1 or dofs is not None or store):
         raise ValueError(
             "`energy`: the work integrals are accumulated during the run on the pseudo-force "
-            f"route only (systems with elements); this run's route is {route!r}, whose energy "
-            "balance is computed after the run from every step and dof: solve with "
-            "`save_every=1`, `dofs=None` and no `store`"
+            f"and uncoupled routes only; this run's route is {route!r}, whose energy balance "
+            "is computed after the run from every step and dof: solve with `save_every=1`, "
+            "`dofs=None` and no `store`"
         )
+
+
+def stepwise(route: Any, loads: list[Any], integrator: Any) -> Any:
+    """The core's model of an uncoupled route stepped one step at a time, as the pseudo-force
+    route steps it with nothing to correct (the same exact modal step, to round-off), so
+    that the energy integrals see every step."""
+    plan = dataclasses.replace(route, route="pseudo-force", elements=[])
+    return dispatch.modal_model(plan, loads, integrator, None)

@@ -20,7 +20,13 @@ from duhamel._engine import dispatch
 from duhamel._engine.chunks import chunked, steps_of
 from duhamel._engine.correction import substeps
 from duhamel._engine.dense import ExactSteps, State
-from duhamel._engine.energy_run import EnergyModel, energy_model, energy_spec
+from duhamel._engine.energy_run import (
+    ACCUMULATED,
+    EnergyModel,
+    energy_model,
+    energy_spec,
+    stepwise,
+)
 from duhamel._engine.massless import load_terms
 from duhamel._engine.output import check_memory, physical
 from duhamel._engine.plan import Plan, mass, modal_loads, plan
@@ -65,6 +71,16 @@ class ModalSetup:
     _outputs: dict[Any, Outputs] = field(default_factory=dict)
     _zeros: NDArray[np.float64] | None = None
     _substeps: dict[float, int] = field(default_factory=dict)
+    _stepwise: Any = None  # the uncoupled route's model stepped one step at a time
+
+    def stepwise(self) -> Any:
+        """The core's model of a run that accumulates its energy (:func:`_engine.energy_run.
+        stepwise`): the uncoupled route's same exact modal step, one step at a time."""
+        if self.route.route != "uncoupled":
+            return self.model
+        if self._stepwise is None:
+            self._stepwise = stepwise(self.route, self.loads, self.integrator)
+        return self._stepwise
 
     @property
     def n_modes(self) -> int:
@@ -180,14 +196,15 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
             if opts.dense:
                 sol._exact = exact_steps(prep, loads, out, patterns, forcing, joined)
             return sol
+    model = prep.model if emodel is None else prep.stepwise()
     if opts.progress is None or opts.progress is False:
         loop_start = _time.perf_counter()
-        result = prep.model.run(spec, loads, out.maps, forcing, None)
+        result = model.run(spec, loads, out.maps, forcing, None)
         wall = _time.perf_counter() - loop_start
     else:
         with watch(opts.progress, opts.n_steps * sub) as report:
             loop_start = _time.perf_counter()
-            result = prep.model.run(spec, loads, out.maps, forcing, report)
+            result = model.run(spec, loads, out.maps, forcing, report)
             wall = _time.perf_counter() - loop_start
     sol = solution(prep, result, out, patterns, opts, wall, base, sub, emodel)
     if opts.dense:
@@ -365,7 +382,7 @@ def _energy_model(
 ) -> EnergyModel | None:
     """The energy model of a run that accumulates its energy in the core (None: not asked
     for, or a route that computes it after the run)."""
-    if not opts.energy or prep.route.route != "pseudo-force" or opts.stop is not None:
+    if not opts.energy or prep.route.route not in ACCUMULATED or opts.stop is not None:
         return None
     system = prep.system
     loads = system.loads if opts.loads is None else opts.loads

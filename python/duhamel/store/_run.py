@@ -169,6 +169,8 @@ def run_stored(
     grid["checkpoint_every"] = every
     grid["modal"] = options.modal
     if energy:
+        if model.route == "uncoupled":  # stepped one step at a time (energy_run.stepwise)
+            model.route = "pseudo-force"
         grid["energy"] = energy_record(system, model)
     try:
         group = zarr.open_group(path, mode="w-")
