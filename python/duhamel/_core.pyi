@@ -398,10 +398,17 @@ class Matrices:
 @final
 class DirectRun:
     """One direct run: its grid, initial `x0`, `v0` and, optionally, `a0`
-    (generalized-alpha; None: from the equation of motion), and the dofs kept."""
+    (generalized-alpha; None: from the equation of motion), and the dofs kept; the energy
+    integrals to accumulate (an :class:`EnergySpec` without damping matrix)."""
 
     def __new__(
-        cls, grid: Grid, x0: Array, v0: Array, out_dofs: Index, a0: Array | None = None
+        cls,
+        grid: Grid,
+        x0: Array,
+        v0: Array,
+        out_dofs: Index,
+        a0: Array | None = None,
+        energy: EnergySpec | None = None,
     ) -> Self: ...
 
 @final

@@ -298,7 +298,7 @@ class Prepared:
         if self._direct is not None:
             return self._direct.run(
                 t0=t0, dt=dt, n_steps=n_steps, save_every=save_every, dofs=out_dofs,
-                x0=x0, v0=v0, loads=loads, progress=progress, started=started,
+                x0=x0, v0=v0, loads=loads, progress=progress, started=started, energy=energy,
             )  # fmt: skip
         assert self._modal is not None
         opts = modal.RunOptions(

@@ -25,7 +25,9 @@ use crate::error::CoreError;
 /// What the energy accumulator needs of the model, in modal coordinates.
 #[derive(Debug, Clone, Copy)]
 pub struct EnergySpec<'a> {
-    /// The modal damping matrix `Phi^T C Phi`, `n_modes x n_modes` row-major.
+    /// The modal damping matrix `Phi^T C Phi`, `n_modes x n_modes` row-major; empty when
+    /// the route gives the damping power itself (the direct integrators, with their
+    /// physical `C`).
     pub damping: &'a [f64],
     /// For each base excitation, the index of the load whose time function is its ground
     /// acceleration.
@@ -49,13 +51,14 @@ impl EnergySpec<'_> {
         let nb = self.base_loads.len();
         let linear: usize = widths.iter().map(|w| 2 * w * w).sum();
         let linear = if self.linear.is_empty() { 0 } else { linear };
+        let damping = if self.damping.is_empty() {
+            0
+        } else {
+            n_modes * n_modes
+        };
         for (name, got, expected) in [
             ("energy linear parts", self.linear.len(), linear),
-            (
-                "energy damping matrix",
-                self.damping.len(),
-                n_modes * n_modes,
-            ),
+            ("energy damping matrix", self.damping.len(), damping),
             ("energy base directions", self.base_w.len(), nb * n_modes),
             ("energy base products", self.base_rr.len(), nb * nb),
             ("energy ground velocities", self.vg0.len(), nb),
@@ -97,6 +100,9 @@ pub struct StepEnd<'a> {
     pub load_basis: &'a [[f64; 3]],
     /// The elements' local displacements and forces at the end.
     pub elements: (&'a [f64], &'a [f64]),
+    /// The damping power `v^T C v` at the end, when the route gives it (else from the
+    /// spec's damping matrix).
+    pub damping_power: Option<f64>,
 }
 
 /// The running integrals of a run (see the module docs).
@@ -168,6 +174,9 @@ impl EnergyAccumulator {
 
     fn quadratic(&self, v: &[f64]) -> f64 {
         let n = self.n;
+        if self.damping_matrix.is_empty() {
+            return 0.0;
+        }
         self.damping_matrix
             .chunks_exact(n.max(1))
             .zip(v)
@@ -184,8 +193,14 @@ impl EnergyAccumulator {
     /// Sets the state the integrals start from: modal velocities `v` and the elements'
     /// local displacements `u` and forces `f`.
     pub fn start(&mut self, v: &[f64], (u, f): (&[f64], &[f64])) {
+        self.start_with(v, (u, f), None);
+    }
+
+    /// [`EnergyAccumulator::start`] with the damping power given (see
+    /// [`StepEnd::damping_power`]).
+    pub fn start_with(&mut self, v: &[f64], (u, f): (&[f64], &[f64]), power: Option<f64>) {
         self.v.copy_from_slice(v);
-        self.power_c = self.quadratic(v);
+        self.power_c = power.unwrap_or_else(|| self.quadratic(v));
         let mut wv = std::mem::take(&mut self.wv);
         self.base_products(v, &mut wv);
         self.wv = wv;
@@ -199,7 +214,7 @@ impl EnergyAccumulator {
         let half = 0.5 * dt;
         let (p0, p1) = end.p;
         let v1 = end.v;
-        let power_c = self.quadratic(v1);
+        let power_c = end.damping_power.unwrap_or_else(|| self.quadratic(v1));
         self.damping += half * (self.power_c + power_c);
         self.power_c = power_c;
         self.input += half * (crate::dense::dot(&self.v, p0) + crate::dense::dot(v1, p1));
@@ -346,6 +361,7 @@ impl EnergyTap {
             p: (s.p.0, &self.p1),
             load_basis: s.load_basis,
             elements: (&self.x, &self.r),
+            damping_power: None,
         };
         self.acc.step(s.dt, &end);
         Ok(())

@@ -175,6 +175,9 @@ impl RunResult {
         r.x = Some(shaped(h.x)?);
         r.v = Some(shaped(h.v)?);
         r.a = Some(shaped(h.a)?);
+        if let Some(e) = h.energy {
+            r.energy = Some(array2(py, e.values, rows, e.n_cols)?);
+        }
         Ok(r)
     }
 }

@@ -207,10 +207,12 @@ def direct_model(mats: dict[str, Any], elements: list[Any], mass: Any, integrato
 
 
 def direct_run(
-    run_grid: Any, x0: NDArray, v0: NDArray, dofs: NDArray, a0: NDArray | None = None
-) -> Any:
-    """One direct run from `x0`, `v0` (and `a0`), keeping the dofs `dofs`."""
+    run_grid: Any, x0: NDArray, v0: NDArray, dofs: NDArray, a0: NDArray | None = None,
+    energy: Any = None,
+) -> Any:  # fmt: skip
+    """One direct run from `x0`, `v0` (and `a0`), keeping the dofs `dofs`; `energy` the
+    integrals to accumulate (a ``_core.EnergySpec``)."""
     return _core.DirectRun(
         run_grid, _c(x0), _c(v0), np.ascontiguousarray(dofs, dtype=np.int64),
-        None if a0 is None else _c(a0),
+        None if a0 is None else _c(a0), energy,
     )  # fmt: skip

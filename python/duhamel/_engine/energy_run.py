@@ -22,11 +22,19 @@ from duhamel._engine import dispatch
 from duhamel.loads import BaseAcceleration, Callable
 from duhamel.results.forces import StructureModel
 
-__all__ = ["ACCUMULATED", "EnergyModel", "check_energy", "energy_model", "energy_spec", "stepwise"]
+__all__ = [
+    "ACCUMULATED",
+    "EnergyModel",
+    "check_energy",
+    "direct_energy_model",
+    "energy_model",
+    "energy_spec",
+    "stepwise",
+]
 
-#: The routes whose runs accumulate the energy in the core: the pseudo-force route, and the
-#: uncoupled route stepped one step at a time (:func:`stepwise`).
-ACCUMULATED = ("pseudo-force", "uncoupled")
+#: The routes whose runs accumulate the energy in the core: the pseudo-force route, the
+#: uncoupled route stepped one step at a time (:func:`stepwise`), the direct integrators.
+ACCUMULATED = ("pseudo-force", "uncoupled", "direct")
 
 
 @dataclass(frozen=True, eq=False)
@@ -77,21 +85,9 @@ def energy_model(
     run's load objects, projected in order into the core loads of modal `patterns`);
     `linear`: per force element, the ``LinearPart`` the background took over, or None."""
     n = phi.shape[1]
-    index, base_loads, directions = 0, [], []
-    for item in loads:
-        if isinstance(item, Callable):
-            continue
-        count = len(item._specs(system))
-        if isinstance(item, BaseAcceleration) and count == 1:
-            base_loads.append(index)
-            directions.append(np.asarray(item.direction_vector, dtype=np.float64))
-        index += count
+    base_loads, _, base_rr = _bases(system, loads)
     m = system.M
     base_w = np.array([-patterns[:, i] for i in base_loads]).reshape(len(base_loads), n)
-    mr = [np.asarray(m @ r, dtype=np.float64).ravel() for r in directions]
-    base_rr = np.array([[float(r @ w) for w in mr] for r in directions]).reshape(
-        len(directions), len(directions)
-    )
     return EnergyModel(
         mm=_modal(m, phi, n),
         km=_modal(structure.k, phi, n),
@@ -101,6 +97,42 @@ def energy_model(
         base_rr=np.ascontiguousarray(base_rr),
         structure=structure,
         linear=_linear(structure, linear),
+    )
+
+
+def _bases(system: Any, loads: Any) -> tuple[list[int], list[NDArray], NDArray[np.float64]]:
+    """The index among the core loads of each base excitation, its influence vector, and
+    ``r^T M r'``."""
+    index, base_loads, directions = 0, [], []
+    for item in loads:
+        if isinstance(item, Callable):
+            continue
+        count = len(item._specs(system))
+        if isinstance(item, BaseAcceleration) and count == 1:
+            base_loads.append(index)
+            directions.append(np.asarray(item.direction_vector, dtype=np.float64))
+        index += count
+    mr = [np.asarray(system.M @ r, dtype=np.float64).ravel() for r in directions]
+    rr = np.array([[float(r @ w) for w in mr] for r in directions])
+    return base_loads, directions, rr.reshape(len(directions), len(directions))
+
+
+def direct_energy_model(system: Any, loads: Any, structure: StructureModel) -> EnergyModel:
+    """The :class:`EnergyModel` of a direct integrator's run (physical coordinates: no
+    modal matrices, the damping power from the run's own ``C``)."""
+    base_loads, directions, base_rr = _bases(system, loads)
+    n = system.n_dof
+    mr = [np.asarray(system.M @ r, dtype=np.float64).ravel() for r in directions]
+    none = np.zeros((0, 0))
+    return EnergyModel(
+        mm=none,
+        km=none,
+        cm=none,
+        base_loads=np.asarray(base_loads, dtype=np.int64),
+        base_w=np.ascontiguousarray(np.array(mr).reshape(len(mr), n)),
+        base_rr=np.ascontiguousarray(base_rr),
+        structure=structure,
+        linear=np.zeros(0),
     )
 
 

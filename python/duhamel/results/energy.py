@@ -252,8 +252,15 @@ def energy_from_run(sol: Any, rows: NDArray[np.float64], emodel: Any) -> Energy:
     t = np.asarray(sol.t)
     rows = np.asarray(rows)
     nb = emodel.base_loads.size
-    n_core = 3 + nb + len(emodel.structure.elements)
-    if rows.shape[1] == n_core + 2 + nb:  # a stored run: its state functions stored too
+    model = emodel.structure
+    n_core = 3 + nb + len(model.elements)
+    width = sum(len(dofs) for _, dofs in model.elements)
+    local = None
+    if rows.shape[1] == n_core + 2 + nb + 2 * width and width > 0:
+        # a direct run: the elements' local displacements and forces stored too
+        local = (rows[:, n_core + 2 + nb : n_core + 2 + nb + width], rows[:, -width:])
+        rows = rows[:, : n_core + 2 + nb]
+    if rows.shape[1] == n_core + 2 + nb:  # a stored or direct run: its state functions too
         kinetic, strain_linear = rows[:, n_core].copy(), rows[:, n_core + 1].copy()
         wv = rows[:, n_core + 2 :]
         rows = rows[:, :n_core]
@@ -265,15 +272,21 @@ def energy_from_run(sol: Any, rows: NDArray[np.float64], emodel: Any) -> Energy:
     vg = rows[:, 3 : 3 + nb]
     kinetic_abs = kinetic + (vg * wv).sum(axis=1)
     kinetic_abs += 0.5 * np.einsum("ib,bc,ic->i", vg, emodel.base_rr, vg)
-    model = emodel.structure
-    histories = _histories(sol, model)
     work = np.ascontiguousarray(rows[:, 3 + nb :])
-    if work.shape[1] != len(histories):
-        raise ValueError(
-            f"the core accumulated the work of {work.shape[1]} elements, the run has "
-            f"{len(histories)}: the element work is not available"
-        )
+    if local is not None:
+        stored, at = np.zeros((t.size, len(model.elements))), 0
+        for k, (element, dofs) in enumerate(model.elements):
+            cut = slice(at, at + len(dofs))
+            stored[:, k] = stored_energy(element, local[0][:, cut], local[1][:, cut])
+            at += len(dofs)
+    else:
+        histories = _histories(sol, model)
+        if work.shape[1] != len(histories):
+            raise ValueError(
+                f"the core accumulated the work of {work.shape[1]} elements, the run has "
+                f"{len(histories)}: the element work is not available"
+            )
+        stored = _stored(histories, model)
     states = (kinetic, kinetic_abs, strain_linear)
     inputs = (rows[:, 1].copy(), rows[:, 1] + rows[:, 2])
-    stored = _stored(histories, model)
     return _balance(t, states, rows[:, 0].copy(), work, stored, inputs, integrated=True)
