@@ -142,6 +142,29 @@ impl GrowthGuard {
     }
 }
 
+/// The run's growth guard (None when `limit` is infinite or nothing bounds the start), from
+/// the pseudo-force at the initial state. A pseudo-force that cannot be evaluated there
+/// leaves the run unguarded: the run's first step reports that failure in its place.
+pub(super) fn growth_guard(
+    pf: &mut PseudoForce,
+    base: &ModalProblem,
+    limit: f64,
+    continued: Option<&[f64]>,
+) -> Option<(GrowthGuard, Vec<f64>)> {
+    if !limit.is_finite() {
+        return None;
+    }
+    let n = base.n_modes();
+    if let Some(state) = continued {
+        return GrowthGuard::resume(limit, base.k, state).map(|g| (g, vec![0.0; n]));
+    }
+    let mut force0 = vec![0.0; n];
+    pf.at_state(base.q0, base.v0, base.time(0), &vec![0.0; n], &mut force0)
+        .ok()?;
+    let guard = GrowthGuard::new(limit, base.k, (base.q0, base.v0), &force0);
+    guard.map(|g| (g, vec![0.0; n]))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -196,27 +219,4 @@ mod tests {
             .step(10.0, (&[0.0], &[24.0]), (&[0.0], &[0.0], &[3.0]))
             .is_ok());
     }
-}
-
-/// The run's growth guard (None when `limit` is infinite or nothing bounds the start), from
-/// the pseudo-force at the initial state. A pseudo-force that cannot be evaluated there
-/// leaves the run unguarded: the run's first step reports that failure in its place.
-pub(super) fn growth_guard(
-    pf: &mut PseudoForce,
-    base: &ModalProblem,
-    limit: f64,
-    continued: Option<&[f64]>,
-) -> Option<(GrowthGuard, Vec<f64>)> {
-    if !limit.is_finite() {
-        return None;
-    }
-    let n = base.n_modes();
-    if let Some(state) = continued {
-        return GrowthGuard::resume(limit, base.k, state).map(|g| (g, vec![0.0; n]));
-    }
-    let mut force0 = vec![0.0; n];
-    pf.at_state(base.q0, base.v0, base.time(0), &vec![0.0; n], &mut force0)
-        .ok()?;
-    let guard = GrowthGuard::new(limit, base.k, (base.q0, base.v0), &force0);
-    guard.map(|g| (g, vec![0.0; n]))
 }
