@@ -280,6 +280,7 @@ class EnergySpec:
         base_rr: Array,
         vg0: Array,
         linear: Array,
+        back: Array | None = None,
     ) -> Self: ...
 
 @final

@@ -130,10 +130,11 @@ impl ModalModel {
             let forcing = PyForcing::projected(forcing.unwrap_or(&none), &self.phi_t, self.n_dof);
             let progress = progress.unwrap_or(&none);
             let problem = run.problem(&self.k, &self.c, loads);
-            if run.energy.is_some() && !matches!(self.route, Route::PseudoForce(_)) {
+            if run.energy.is_some() && matches!(self.route, Route::Uncoupled) {
                 return Err(PyValueError::new_err(
                     "`energy`: the energy integrals are accumulated during the run on the \
-                     pseudo-force route only",
+                     pseudo-force and first-order routes (an uncoupled model is stepped by \
+                     the pseudo-force route for it)",
                 ));
             }
             match &self.route {

@@ -75,7 +75,8 @@ impl Grid {
 /// modal damping matrix `damping` (`Phi^T C Phi`, `n_modes x n_modes`), the loads that are
 /// ground accelerations `base_loads`, their `base_w` (`Phi^T M r`, one row per base) and
 /// `base_rr` (`r^T M r'`), the ground velocities `vg0` at the run's start, and the linear
-/// parts `linear` the background took over from the elements (`k0`, `c0` per element).
+/// parts `linear` the background took over from the elements (`k0`, `c0` per element); on
+/// the first-order route, `back` (`2 r x 2 m`) makes the real modal state of its coordinates.
 #[pyclass(frozen, name = "EnergySpec", module = "duhamel._core")]
 #[derive(Clone)]
 pub(crate) struct EnergySpec {
@@ -85,11 +86,14 @@ pub(crate) struct EnergySpec {
     base_rr: Vec<f64>,
     vg0: Vec<f64>,
     linear: Vec<f64>,
+    back: Vec<f64>,
 }
 
 #[pymethods]
 impl EnergySpec {
     #[new]
+    #[pyo3(signature = (damping, base_loads, base_w, base_rr, vg0, linear, back=None))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         damping: &Bound<'_, PyAny>,
         base_loads: &Bound<'_, PyAny>,
@@ -97,6 +101,7 @@ impl EnergySpec {
         base_rr: &Bound<'_, PyAny>,
         vg0: &Bound<'_, PyAny>,
         linear: &Bound<'_, PyAny>,
+        back: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         Ok(EnergySpec {
             damping: vec_of(damping, "damping")?,
@@ -105,11 +110,20 @@ impl EnergySpec {
             base_rr: vec_of(base_rr, "base_rr")?,
             vg0: vec_of(vg0, "vg0")?,
             linear: vec_of(linear, "linear")?,
+            back: back
+                .map(|b| vec_of(b, "back"))
+                .transpose()?
+                .unwrap_or_default(),
         })
     }
 }
 
 impl EnergySpec {
+    /// The first-order route's back-transformation to the real modal state.
+    pub(crate) fn back(&self) -> &[f64] {
+        &self.back
+    }
+
     /// The core's view of it.
     pub(crate) fn core(&self) -> duhamel_core::energy::EnergySpec<'_> {
         duhamel_core::energy::EnergySpec {

@@ -34,7 +34,7 @@ __all__ = [
 
 #: The routes whose runs accumulate the energy in the core: the pseudo-force route, the
 #: uncoupled route stepped one step at a time (:func:`stepwise`), the direct integrators.
-ACCUMULATED = ("pseudo-force", "uncoupled", "direct")
+ACCUMULATED = ("pseudo-force", "uncoupled", "direct", "first-order")
 
 
 @dataclass(frozen=True, eq=False)
@@ -151,14 +151,18 @@ def _linear(structure: StructureModel, linear: Any) -> NDArray[np.float64]:
     return np.concatenate(out)
 
 
-def energy_spec(model: EnergyModel, vg0: NDArray[np.float64] | None = None) -> Any:
+def energy_spec(
+    model: EnergyModel, vg0: NDArray[np.float64] | None = None, back: Any = None
+) -> Any:
     """The core's ``EnergySpec`` of `model`, the ground velocities starting at `vg0`
-    (zeros: a run from rest of the ground)."""
+    (zeros: a run from rest of the ground); `back` the first-order route's
+    back-transformation to the real modal state."""
     nb = model.base_loads.size
     vg = np.zeros(nb) if vg0 is None else np.asarray(vg0, dtype=np.float64)
+    flat = None if back is None else np.ascontiguousarray(back, dtype=np.float64).ravel()
     return _core.EnergySpec(
         model.cm.ravel(), model.base_loads, model.base_w.ravel(), model.base_rr.ravel(), vg,
-        model.linear,
+        model.linear, flat,
     )  # fmt: skip
 
 

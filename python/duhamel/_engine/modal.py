@@ -184,9 +184,10 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
     grid = dispatch.grid(
         opts.t0, opts.dt / sub, opts.n_steps * sub, opts.save_every * sub, 0, prep.threads
     )
-    emodel = _energy_model(prep, opts, patterns)
+    emodel = _energy_model(prep, opts, patterns, bool(fns))
+    back = None if route.modes is None else route.modes.back
     spec = dispatch.run_spec(
-        route, grid, state, energy=None if emodel is None else energy_spec(emodel)
+        route, grid, state, energy=None if emodel is None else energy_spec(emodel, None, back)
     )
     forcing = ModalCallable(fns, system.n_dof) if fns else None
     if opts.stop is not None and (opts.progress is None or opts.progress is False):
@@ -378,11 +379,20 @@ def solution(
 
 
 def _energy_model(
-    prep: ModalSetup, opts: RunOptions, patterns: NDArray[np.float64]
+    prep: ModalSetup, opts: RunOptions, patterns: NDArray[np.float64], python_loads: bool
 ) -> EnergyModel | None:
     """The energy model of a run that accumulates its energy in the core (None: not asked
-    for, or a route that computes it after the run)."""
+    for, or a run that computes it after the run: a first-order one with elements or
+    Python loads)."""
     if not opts.energy or prep.route.route not in ACCUMULATED or opts.stop is not None:
+        return None
+    if prep.route.route == "first-order" and (prep.route.elements or python_loads):
+        if opts.save_every != 1 or opts.dofs is not None:
+            raise ValueError(
+                "`energy`: a first-order (coupled) run with elements or Python loads has its "
+                "energy balance computed after the run from every step and dof: solve with "
+                "`save_every=1` and `dofs=None`"
+            )
         return None
     system = prep.system
     loads = system.loads if opts.loads is None else opts.loads
