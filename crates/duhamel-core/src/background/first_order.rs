@@ -19,7 +19,8 @@
 //! (eigenvalues, which of each conjugate pair to keep, and the way back to `(q, q')`) is done
 //! by the caller; the engine only advances the given coordinates and saves them.
 
-use crate::energy::{EnergySpec, FirstOrderTap};
+use super::energy::FirstOrderTap;
+use crate::energy::EnergySpec;
 use num_complex::Complex64;
 
 use crate::driver::{drive, finish, Control, Route, StepFailure};
