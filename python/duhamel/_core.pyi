@@ -269,7 +269,7 @@ class RunSpec:
     """One run of a :class:`ModalModel`: its grid and modal state ``q0``, ``v0``; on the
     first-order route the coordinates `eta0` (``Re | Im``); the elements' committed
     variables of a continued run, `element_state`, and its growth guard's bounds,
-    `guard_state`."""
+    `guard_state`; the energy integrals to accumulate, `energy` (pseudo-force route)."""
 
     def __new__(
         cls,
@@ -279,6 +279,24 @@ class RunSpec:
         eta0: Array | None = None,
         element_state: Array | None = None,
         guard_state: Array | None = None,
+        energy: EnergySpec | None = None,
+    ) -> Self: ...
+
+@final
+class EnergySpec:
+    """The energy integrals a run accumulates: the modal damping matrix, the loads that are
+    ground accelerations with their ``Phi^T M r`` rows and ``r^T M r'``, the ground
+    velocities at the start, the elements' linear parts in the background (``k0``, ``c0``)."""
+
+    def __new__(
+        cls,
+        damping: Array,
+        base_loads: Index,
+        base_w: Array,
+        base_rr: Array,
+        vg0: Array,
+        linear: Array,
+        back: Array | None = None,
     ) -> Self: ...
 
 @final
@@ -397,10 +415,17 @@ class Matrices:
 @final
 class DirectRun:
     """One direct run: its grid, initial `x0`, `v0` and, optionally, `a0`
-    (generalized-alpha; None: from the equation of motion), and the dofs kept."""
+    (generalized-alpha; None: from the equation of motion), and the dofs kept; the energy
+    integrals to accumulate (an :class:`EnergySpec` without damping matrix)."""
 
     def __new__(
-        cls, grid: Grid, x0: Array, v0: Array, out_dofs: Index, a0: Array | None = None
+        cls,
+        grid: Grid,
+        x0: Array,
+        v0: Array,
+        out_dofs: Index,
+        a0: Array | None = None,
+        energy: EnergySpec | None = None,
     ) -> Self: ...
 
 @final
@@ -488,6 +513,8 @@ class RunResult:
     def element_state(self) -> list[float] | None: ...
     @property
     def guard_state(self) -> list[float] | None: ...
+    @property
+    def energy(self) -> Array | None: ...
     @property
     def newton_iterations(self) -> int: ...
     @property

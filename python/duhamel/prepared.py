@@ -14,6 +14,7 @@ from numpy.typing import ArrayLike
 
 from duhamel._engine import modal
 from duhamel._engine.direct_run import DirectSetup, prepare_direct
+from duhamel._engine.energy_run import check_energy
 from duhamel._engine.labels import resolve_list
 from duhamel._engine.locate import checked_events, checked_times, dense_run, terminal_check
 from duhamel._engine.run import Progress
@@ -184,6 +185,7 @@ class Prepared:
         events: Sequence[Event] | None = None,
         t_eval: ArrayLike | None = None,
         dense: bool = False,
+        energy: bool = False,
     ) -> Solution:
         """Runs the prepared model from `t0` to `t_end`.
 
@@ -208,8 +210,8 @@ class Prepared:
             With `store`: a checkpoint every this many segments (default 1).
         progress : bool or callable, optional
             A progress bar (``True``) or a function ``(step, n_steps, t)``.
-        events, t_eval, dense
-            Events, instants and dense output (see :func:`duhamel.solve`).
+        events, t_eval, dense, energy
+            Events, instants, dense output and the energy balance (see :func:`duhamel.solve`).
 
         Returns
         -------
@@ -234,6 +236,7 @@ class Prepared:
             t_end=t_end, t0=t0, x0=x0, v0=v0, loads=loads, save_every=save_every, dofs=dofs,
             store=store, checkpoint_every=checkpoint_every, progress=progress,
             started=_time.perf_counter(), events=events, t_eval=t_eval, dense=dense,
+            energy=energy,
         )  # fmt: skip
 
     def _run(
@@ -253,6 +256,7 @@ class Prepared:
         events: Sequence[Event] | None = None,
         t_eval: ArrayLike | None = None,
         dense: bool = False,
+        energy: bool = False,
         _dense: bool = False,
         _stop: Any = None,
     ) -> Solution:
@@ -266,6 +270,7 @@ class Prepared:
         out_dofs = None if dofs is None else dof_list(dofs, "dofs", system.n_dof)
         if loads is not None:
             loads = checked_loads(loads, system)
+        check_energy(energy, self.route, save_every, out_dofs, store)
         if events is not None or t_eval is not None or dense:
             evs = [] if events is None else checked_events(events)
             times = None if t_eval is None else checked_times(t_eval, t0, t0 + n_steps * dt)
@@ -288,15 +293,28 @@ class Prepared:
                 target, self.integrator, store=store, checkpoint_every=checkpoint_every,
                 t0=t0, dt=dt, n_steps=n_steps, save_every=save_every, out_dofs=chosen, x0=x0,
                 v0=v0, threads=self.threads, progress=progress, started=started,
+                energy=energy,
             )  # fmt: skip
         if self._direct is not None:
             return self._direct.run(
                 t0=t0, dt=dt, n_steps=n_steps, save_every=save_every, dofs=out_dofs,
-                x0=x0, v0=v0, loads=loads, progress=progress, started=started,
+                x0=x0, v0=v0, loads=loads, progress=progress, started=started, energy=energy,
             )  # fmt: skip
         assert self._modal is not None
         opts = modal.RunOptions(
-            t0, dt, n_steps, save_every, out_dofs, x0, v0, loads, progress, started, _dense, _stop
+            t0,
+            dt,
+            n_steps,
+            save_every,
+            out_dofs,
+            x0,
+            v0,
+            loads,
+            progress,
+            started,
+            _dense,
+            _stop,
+            energy,
         )
         return modal.run(self._modal, opts)
 
@@ -370,6 +388,7 @@ def solve(
     events: Sequence[Event] | None = None,
     t_eval: ArrayLike | None = None,
     dense: bool = False,
+    energy: bool = False,
 ) -> Solution:
     """Transient response of `system` from `t0` to `t_end` with a fixed step `dt`.
 
@@ -423,6 +442,10 @@ def solve(
     dense : bool
         Keep what ``sol.at(t)`` needs to evaluate the response between the steps.
         `events`, `t_eval` and `dense` need ``save_every=1`` and no `store`.
+    energy : bool
+        Accumulate the energy balance's work integrals during the run (``sol.energy``, with
+        any `save_every`, `dofs` or `store`; pseudo-force route, docs/structural.md). Without
+        it ``sol.energy`` is computed after the run and needs every step and dof saved.
 
     Returns
     -------
@@ -466,5 +489,5 @@ def solve(
     return prepared._run(
         t_end=t_end, t0=t0, x0=x0, v0=v0, loads=None, save_every=save_every, dofs=dofs,
         store=store, checkpoint_every=checkpoint_every, progress=progress, started=started,
-        events=events, t_eval=t_eval, dense=dense,
+        events=events, t_eval=t_eval, dense=dense, energy=energy,
     )  # fmt: skip

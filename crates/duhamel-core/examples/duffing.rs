@@ -53,6 +53,7 @@ fn main() {
             },
             element_state: None,
             guard_state: None,
+            energy: None,
         };
         let start = std::time::Instant::now();
         let (history, stats) = integrate(&problem, None, &mut Unattended).expect("runs");

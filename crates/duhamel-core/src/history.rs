@@ -53,6 +53,9 @@ pub struct History {
     /// The elements' local states and restoring forces at the saved instants, for routes
     /// that evaluate elements.
     pub elements: Option<ElementRows>,
+    /// The energy integrals accumulated during the run at the saved instants, when asked for
+    /// ([`crate::energy`]).
+    pub energy: Option<crate::energy::EnergyRows>,
     /// The elements' committed internal variables at the end of the run (hysteretic
     /// elements; what a continued run starts from).
     pub element_state: Option<Vec<f64>>,
@@ -117,6 +120,9 @@ impl History {
             .flatten()
         {
             cut(v);
+        }
+        if let Some(e) = &mut self.energy {
+            e.values.truncate(keep * e.n_cols);
         }
         if let Some(e) = &mut self.elements {
             for v in [&mut e.x, &mut e.v, &mut e.r] {

@@ -13,6 +13,7 @@ mod dense_fixed;
 pub mod direct;
 pub mod driver;
 pub mod elements;
+pub mod energy;
 pub mod error;
 pub mod history;
 pub mod kernel;

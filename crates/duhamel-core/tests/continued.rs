@@ -48,6 +48,7 @@ fn run(
         },
         element_state: None,
         guard_state: None,
+        energy: None,
     };
     integrate(&problem, None, &mut Unattended).expect("runs").0
 }

@@ -58,6 +58,7 @@ fn problem<'a>(
         method,
         tol: 1e-12,
         max_iter: 20,
+        energy: None,
     }
 }
 

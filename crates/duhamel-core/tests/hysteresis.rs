@@ -717,6 +717,7 @@ fn bilinear_sdof(dt: f64) -> f64 {
         },
         element_state: None,
         guard_state: None,
+        energy: None,
     };
     let history = integrate(&problem, None, &mut Unattended).expect("runs").0;
     *history.q().last().unwrap()

@@ -194,14 +194,9 @@ pub(crate) fn first_order(
         growth_limit: c.growth_limit,
     });
     let problem = job.problem;
+    let energy = job.run.energy.as_ref().map(|e| (e.core(), e.back()));
     run(py, forcing, Some(&built), progress, |f, control| {
-        first_order::integrate(
-            problem,
-            &modes,
-            outputs.as_ref(),
-            nonlinear.as_ref(),
-            f,
-            control,
-        )
+        let with = (outputs.as_ref(), nonlinear.as_ref(), energy);
+        first_order::integrate_with(problem, &modes, with, f, control)
     })
 }

@@ -19,7 +19,7 @@ use crate::guard::guarded;
 use crate::history::RunResult;
 use crate::loads::{owned_loads, Load, PyForcing};
 use crate::mass::Mass;
-use crate::problem::Grid;
+use crate::problem::{EnergySpec, Grid};
 use crate::speed::SpeedLaw;
 
 /// A dense or CSR sparse matrix for the direct integrators.
@@ -158,7 +158,8 @@ pub(crate) struct DirectModel {
 
 /// One direct run: its grid, initial displacements `x0` and velocities `v0`, optionally the
 /// initial acceleration `a0` (generalized-alpha; None: from the equation of motion), and the
-/// dofs whose history is kept (`out_dofs`, int64).
+/// dofs whose history is kept (`out_dofs`, int64); the energy integrals to accumulate,
+/// `energy` (an `EnergySpec` without damping matrix).
 #[pyclass(frozen, name = "DirectRun", module = "duhamel._core")]
 pub(crate) struct DirectRun {
     grid: Grid,
@@ -166,18 +167,20 @@ pub(crate) struct DirectRun {
     v0: Vec<f64>,
     a0: Option<Vec<f64>>,
     out_dofs: Vec<usize>,
+    energy: Option<EnergySpec>,
 }
 
 #[pymethods]
 impl DirectRun {
     #[new]
-    #[pyo3(signature = (grid, x0, v0, out_dofs, a0=None))]
+    #[pyo3(signature = (grid, x0, v0, out_dofs, a0=None, energy=None))]
     fn new(
         grid: &Grid,
         x0: &Bound<'_, PyAny>,
         v0: &Bound<'_, PyAny>,
         out_dofs: &Bound<'_, PyAny>,
         a0: Option<&Bound<'_, PyAny>>,
+        energy: Option<PyRef<'_, EnergySpec>>,
     ) -> PyResult<Self> {
         Ok(DirectRun {
             grid: *grid,
@@ -185,6 +188,7 @@ impl DirectRun {
             v0: vec_of(v0, "v0")?,
             a0: a0.map(|a| vec_of(a, "a0")).transpose()?,
             out_dofs: index_vec(out_dofs, "dofs")?,
+            energy: energy.map(|e| e.clone()),
         })
     }
 }
@@ -260,6 +264,7 @@ impl DirectModel {
                 method: self.method,
                 tol: self.tol,
                 max_iter: self.max_iter,
+                energy: run.energy.as_ref().map(|e| e.core()),
             };
             let none = py.None().into_bound(py);
             let forcing = PyForcing::physical(forcing.unwrap_or(&none), run.x0.len());

@@ -62,6 +62,10 @@ pub(crate) struct RunResult {
     /// None when the run was not guarded.
     #[pyo3(get)]
     guard_state: Option<Vec<f64>>,
+    /// The energy integrals at the saved instants, when asked for: `[damping, input,
+    /// absolute - relative input, ground velocities, element work]`.
+    #[pyo3(get)]
+    energy: Option<Array2>,
     /// Newton iterations, closed-form steps and factorisations over the run.
     #[pyo3(get)]
     newton_iterations: usize,
@@ -116,6 +120,7 @@ impl RunResult {
             element_widths: None,
             element_state: None,
             guard_state: None,
+            energy: None,
             newton_iterations: 0,
             closed_form_steps: 0,
             factorizations: 0,
@@ -156,6 +161,9 @@ impl RunResult {
         }
         r.element_state = h.element_state;
         r.guard_state = h.guard_state;
+        if let Some(e) = h.energy {
+            r.energy = Some(array2(py, e.values, rows, e.n_cols)?);
+        }
         Ok(r)
     }
 
@@ -167,6 +175,9 @@ impl RunResult {
         r.x = Some(shaped(h.x)?);
         r.v = Some(shaped(h.v)?);
         r.a = Some(shaped(h.a)?);
+        if let Some(e) = h.energy {
+            r.energy = Some(array2(py, e.values, rows, e.n_cols)?);
+        }
         Ok(r)
     }
 }

@@ -161,6 +161,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<loads::TimeFunction>()?;
     m.add_class::<mass::MassLaw>()?;
     m.add_class::<elements::ElementSpec>()?;
+    m.add_class::<problem::EnergySpec>()?;
     m.add_class::<direct::Matrix>()?;
     m.add_class::<direct::Method>()?;
     m.add_class::<direct::ScaledCoupling>()?;

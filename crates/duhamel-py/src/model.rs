@@ -130,6 +130,13 @@ impl ModalModel {
             let forcing = PyForcing::projected(forcing.unwrap_or(&none), &self.phi_t, self.n_dof);
             let progress = progress.unwrap_or(&none);
             let problem = run.problem(&self.k, &self.c, loads);
+            if run.energy.is_some() && matches!(self.route, Route::Uncoupled) {
+                return Err(PyValueError::new_err(
+                    "`energy`: the energy integrals are accumulated during the run on the \
+                     pseudo-force and first-order routes (an uncoupled model is stepped by \
+                     the pseudo-force route for it)",
+                ));
+            }
             match &self.route {
                 Route::Uncoupled => background::uncoupled(py, &problem, forcing, progress),
                 Route::FirstOrder(route) => background::first_order(
@@ -154,6 +161,7 @@ impl ModalModel {
                         problem,
                         element_state: run.element_state.as_deref(),
                         guard_state: run.guard_state.as_deref(),
+                        energy: run.energy.as_ref().map(|e| e.core()),
                     },
                     forcing,
                     progress,

@@ -151,6 +151,7 @@ pub(crate) struct PseudoRun<'a> {
     pub(crate) problem: ModalProblem<'a>,
     pub(crate) element_state: Option<&'a [f64]>,
     pub(crate) guard_state: Option<&'a [f64]>,
+    pub(crate) energy: Option<duhamel_core::energy::EnergySpec<'a>>,
 }
 
 /// Integrates a modal problem whose pseudo-force (elements, couplings, mass law) is solved
@@ -191,6 +192,7 @@ pub(crate) fn run(
         options: route.options,
         element_state: job.element_state,
         guard_state: job.guard_state,
+        energy: job.energy,
     };
     drive(py, forcing, Some(&built), progress, |f, control| {
         pseudo::integrate(&problem, f, control)

@@ -13,6 +13,7 @@ from numpy.typing import NDArray
 
 from duhamel._engine import dispatch
 from duhamel._engine.direct import _check_central, physical_matrices
+from duhamel._engine.energy_run import direct_energy_model, energy_spec
 from duhamel._engine.plan import mass, modal_loads
 from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
 from duhamel._engine.specs import elements as core_elements
@@ -52,9 +53,10 @@ class DirectSetup:
         progress: bool | Progress | None,
         started: float,
         a0: NDArray | None = None,
+        energy: bool = False,
     ) -> Solution:
         """One run (see :meth:`duhamel.Prepared.run`); `a0` overrides the initial
-        acceleration (see :func:`step_matrix`)."""
+        acceleration (see :func:`step_matrix`); `energy` accumulates the energy integrals."""
         system, integrator = self.system, self.integrator
         n = system.n_dof
         x0 = np.zeros(n) if x0 is None else as_float_array(x0, "x0", ndim=1, shape=(n,))
@@ -66,7 +68,15 @@ class DirectSetup:
             _check_central(system, self.mats, self.elements, x0, v0, dt, span)
         if a0 is None and system._condensation is not None:
             a0 = _massless_a0(self, x0, v0, t0, loads)
-        run = dispatch.direct_run(dispatch.grid(t0, dt, n_steps, save_every), x0, v0, out_dofs, a0)
+        em = None
+        if energy:
+            run_loads = system.loads if loads is None else loads
+            structure = structure_model(system, None, tuple(system.elements), tuple(run_loads))
+            em = direct_energy_model(system, run_loads, structure)
+        run = dispatch.direct_run(
+            dispatch.grid(t0, dt, n_steps, save_every), x0, v0, out_dofs, a0,
+            None if em is None else energy_spec(em),
+        )  # fmt: skip
         forcing = ModalCallable(fns, n) if fns else None
         with watch(progress, n_steps) as report:
             loop_start = _time.perf_counter()
@@ -109,6 +119,8 @@ class DirectSetup:
                 tuple(system.loads if loads is None else loads),
             ),
         )
+        if em is not None and result.energy is not None:
+            solution._energy_run = (result.energy[:kept], em)
         if error is None and kept < result.t.size:
             raise overflow_error(result.t, kept, dt, t0, solution)
         if error is not None:

@@ -125,10 +125,12 @@ def run_spec(
     element_state: NDArray | None = None,
     eta: NDArray | None = None,
     guard_state: NDArray | None = None,
+    energy: Any = None,
 ) -> Any:
     """One run from the modal `state` ``(q0, v0)``; on the first-order route from `eta`
     (``Re | Im``, computed from the state when None); a continued run's growth guard from
-    `guard_state` (the run before's ``RunResult.guard_state``)."""
+    `guard_state` (the run before's ``RunResult.guard_state``); the energy integrals to
+    accumulate, `energy` (a ``_core.EnergySpec``, :mod:`duhamel._engine.energy_run`)."""
     q0, v0 = state
     if route.route == "first-order" and eta is None:
         eta = eta0(route, q0, v0)
@@ -139,6 +141,7 @@ def run_spec(
         None if eta is None else _c(eta),
         None if element_state is None else _c(element_state),
         None if guard_state is None else _c(guard_state),
+        energy,
     )
 
 
@@ -204,10 +207,12 @@ def direct_model(mats: dict[str, Any], elements: list[Any], mass: Any, integrato
 
 
 def direct_run(
-    run_grid: Any, x0: NDArray, v0: NDArray, dofs: NDArray, a0: NDArray | None = None
-) -> Any:
-    """One direct run from `x0`, `v0` (and `a0`), keeping the dofs `dofs`."""
+    run_grid: Any, x0: NDArray, v0: NDArray, dofs: NDArray, a0: NDArray | None = None,
+    energy: Any = None,
+) -> Any:  # fmt: skip
+    """One direct run from `x0`, `v0` (and `a0`), keeping the dofs `dofs`; `energy` the
+    integrals to accumulate (a ``_core.EnergySpec``)."""
     return _core.DirectRun(
         run_grid, _c(x0), _c(v0), np.ascontiguousarray(dofs, dtype=np.int64),
-        None if a0 is None else _c(a0),
+        None if a0 is None else _c(a0), energy,
     )  # fmt: skip

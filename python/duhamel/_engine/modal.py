@@ -20,6 +20,13 @@ from duhamel._engine import dispatch
 from duhamel._engine.chunks import chunked, steps_of
 from duhamel._engine.correction import substeps
 from duhamel._engine.dense import ExactSteps, State
+from duhamel._engine.energy_run import (
+    ACCUMULATED,
+    EnergyModel,
+    energy_model,
+    energy_spec,
+    stepwise,
+)
 from duhamel._engine.massless import load_terms
 from duhamel._engine.output import check_memory, physical
 from duhamel._engine.plan import Plan, mass, modal_loads, plan
@@ -64,6 +71,16 @@ class ModalSetup:
     _outputs: dict[Any, Outputs] = field(default_factory=dict)
     _zeros: NDArray[np.float64] | None = None
     _substeps: dict[float, int] = field(default_factory=dict)
+    _stepwise: Any = None  # the uncoupled route's model stepped one step at a time
+
+    def stepwise(self) -> Any:
+        """The core's model of a run that accumulates its energy (:func:`_engine.energy_run.
+        stepwise`): the uncoupled route's same exact modal step, one step at a time."""
+        if self.route.route != "uncoupled":
+            return self.model
+        if self._stepwise is None:
+            self._stepwise = stepwise(self.route, self.loads, self.integrator)
+        return self._stepwise
 
     @property
     def n_modes(self) -> int:
@@ -140,6 +157,9 @@ class RunOptions:
     #: ``stop(solution)``: whether a chunk's solution holds a terminal event's crossing (the
     #: run then stops after that chunk, :mod:`duhamel._engine.chunks`).
     stop: Any = None
+    #: ``solve(..., energy=True)``: the work integrals accumulated in the core (pseudo-force
+    #: route; the others compute the balance after the run).
+    energy: bool = False
 
 
 def run(prep: ModalSetup, opts: RunOptions) -> Solution:
@@ -164,7 +184,11 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
     grid = dispatch.grid(
         opts.t0, opts.dt / sub, opts.n_steps * sub, opts.save_every * sub, 0, prep.threads
     )
-    spec = dispatch.run_spec(route, grid, state)
+    emodel = _energy_model(prep, opts, patterns, bool(fns))
+    back = None if route.modes is None else route.modes.back
+    spec = dispatch.run_spec(
+        route, grid, state, energy=None if emodel is None else energy_spec(emodel, None, back)
+    )
     forcing = ModalCallable(fns, system.n_dof) if fns else None
     if opts.stop is not None and (opts.progress is None or opts.progress is False):
         stopped = _stopping(prep, opts, state, sub, loads, out, forcing, patterns, base)
@@ -173,16 +197,17 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
             if opts.dense:
                 sol._exact = exact_steps(prep, loads, out, patterns, forcing, joined)
             return sol
+    model = prep.model if emodel is None else prep.stepwise()
     if opts.progress is None or opts.progress is False:
         loop_start = _time.perf_counter()
-        result = prep.model.run(spec, loads, out.maps, forcing, None)
+        result = model.run(spec, loads, out.maps, forcing, None)
         wall = _time.perf_counter() - loop_start
     else:
         with watch(opts.progress, opts.n_steps * sub) as report:
             loop_start = _time.perf_counter()
-            result = prep.model.run(spec, loads, out.maps, forcing, report)
+            result = model.run(spec, loads, out.maps, forcing, report)
             wall = _time.perf_counter() - loop_start
-    sol = solution(prep, result, out, patterns, opts, wall, base, sub)
+    sol = solution(prep, result, out, patterns, opts, wall, base, sub, emodel)
     if opts.dense:
         sol._exact = exact_steps(prep, loads, out, patterns, forcing, result)
     return sol
@@ -267,6 +292,7 @@ def solution(
     wall: float,
     base: list[Any] | None,
     sub: int = 1,
+    emodel: EnergyModel | None = None,
 ) -> Solution:
     """The :class:`duhamel.Solution` of a core run's `result` (raises the run's failure,
     with the solution up to it as ``partial``)."""
@@ -328,6 +354,8 @@ def solution(
             tuple(prep.system.loads if opts.loads is None else opts.loads),
         ),
     )
+    if emodel is not None and terms is None and result.energy is not None:
+        solution._energy_run = (result.energy[:kept], emodel)
     if error is None and kept < result.t.size:
         raise overflow_error(result.t, kept, opts.dt, opts.t0, solution)
     if error is not None:
@@ -348,6 +376,29 @@ def solution(
         )
         raise_failure(error, solution, note, step)
     return solution
+
+
+def _energy_model(
+    prep: ModalSetup, opts: RunOptions, patterns: NDArray[np.float64], python_loads: bool
+) -> EnergyModel | None:
+    """The energy model of a run that accumulates its energy in the core (None: not asked
+    for, or a run that computes it after the run: a first-order one with elements or
+    Python loads)."""
+    if not opts.energy or prep.route.route not in ACCUMULATED or opts.stop is not None:
+        return None
+    if prep.route.route == "first-order" and (prep.route.elements or python_loads):
+        if opts.save_every != 1 or opts.dofs is not None:
+            raise ValueError(
+                "`energy`: a first-order (coupled) run with elements or Python loads has its "
+                "energy balance computed after the run from every step and dof: solve with "
+                "`save_every=1` and `dofs=None`"
+            )
+        return None
+    system = prep.system
+    loads = system.loads if opts.loads is None else opts.loads
+    structure = structure_model(system, prep.route.basis, tuple(system.elements), tuple(loads))
+    phi = prep.route.basis.phi
+    return energy_model(system, phi, patterns, loads, structure, prep.route.linear)
 
 
 def _plus(acc: Any, extra: NDArray[np.float64]) -> Any:

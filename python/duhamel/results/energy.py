@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["Energy", "energy_balance", "stored_energy"]
+__all__ = ["Energy", "energy_balance", "energy_from_run", "stored_energy"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -179,7 +179,6 @@ def energy_balance(sol: Any, model: Any) -> Energy:
         )
     else:
         power = base_power
-    work_in = _cumtrapz(power, t)
     v_abs = v.copy()
     absolute_power = power - base_power
     for (r, _), w, ag in zip(model.base, mr, grounds, strict=True):
@@ -187,19 +186,45 @@ def energy_balance(sol: Any, model: Any) -> Energy:
         v_abs += np.outer(vg, r)
         absolute_power = absolute_power + vg * (np.asarray(sol.a_absolute) @ w)
     kinetic_abs = 0.5 * _quad(model.m, v_abs)
-    histories = sol.elements if model.elements else ()
-    if len(histories) != len(model.elements):
-        raise ValueError("the run kept no element histories: the element work is not available")
-    ne = len(histories)
-    work = np.zeros((t.size, ne))
-    stored = np.zeros((t.size, ne))
-    for k, (history, (element, _)) in enumerate(zip(histories, model.elements, strict=True)):
+    histories = _histories(sol, model)
+    work = np.zeros((t.size, len(histories)))
+    for k, history in enumerate(histories):
         f, u = np.asarray(history.force), np.asarray(history.x)
         increments = 0.5 * ((f[1:] + f[:-1]) * np.diff(u, axis=0)).sum(axis=1)
         work[1:, k] = np.cumsum(increments)
-        stored[:, k] = stored_energy(element, u, f)
+    states = (kinetic, kinetic_abs, strain_linear)
+    return _balance(t, states, damping, work, _stored(histories, model), (power, absolute_power))
+
+
+def _histories(sol: Any, model: Any) -> tuple[Any, ...]:
+    histories = sol.elements if model.elements else ()
+    if len(histories) != len(model.elements):
+        raise ValueError("the run kept no element histories: the element work is not available")
+    return tuple(histories)
+
+
+def _stored(histories: tuple[Any, ...], model: Any) -> NDArray[np.float64]:
+    """Each element's stored energy at the saved instants, shape (n_saved, n_elements)."""
+    n = histories[0].x.shape[0] if histories else 0
+    stored = np.zeros((n, len(histories)))
+    for k, (history, (element, _)) in enumerate(zip(histories, model.elements, strict=True)):
+        stored[:, k] = stored_energy(element, np.asarray(history.x), np.asarray(history.force))
+    return stored
+
+
+def _balance(
+    t: NDArray, states: tuple[NDArray, NDArray, NDArray], damping: NDArray, work: NDArray,
+    stored: NDArray, inputs: tuple[NDArray, NDArray], integrated: bool = False,
+) -> Energy:  # fmt: skip
+    """The :class:`Energy` of the state functions `states` (kinetic, absolute kinetic,
+    linear strain), the work integrals and the inputs (integrated, or their powers to
+    integrate by the trapezoidal rule)."""
+    kinetic, kinetic_abs, strain_linear = states
+    if stored.shape[0] != t.size:
+        stored = np.zeros((t.size, work.shape[1]))
     strain = strain_linear + stored.sum(axis=1)
     hysteretic = (work - (stored - stored[:1])).sum(axis=1)
+    work_in, absolute = inputs if integrated else (_cumtrapz(p, t) for p in inputs)
     error = work_in - (kinetic - kinetic[0]) - (strain - strain[0]) - damping - hysteretic
     return Energy(
         t=t,
@@ -212,6 +237,56 @@ def energy_balance(sol: Any, model: Any) -> Energy:
         element_stored=stored,
         hysteretic=hysteretic,
         input=work_in,
-        input_absolute=_cumtrapz(absolute_power, t),
+        input_absolute=absolute,
         error=error,
     )
+
+
+def energy_from_run(sol: Any, rows: NDArray[np.float64], emodel: Any) -> Energy:
+    """The :class:`Energy` of a run that accumulated its work integrals in the core
+    (``solve(..., energy=True)``): `rows` the core's integrals at the saved instants
+    (``[damping, input, absolute - relative input, v_g per base, work per element]``, a
+    stored run's followed by its kinetic and linear strain energies and ``w_b . v``),
+    `emodel` the run's :class:`duhamel._engine.energy_run.EnergyModel`. The state functions
+    are evaluated here from the saved modal coordinates and element histories."""
+    t = np.asarray(sol.t)
+    rows = np.asarray(rows)
+    nb = emodel.base_loads.size
+    model = emodel.structure
+    n_core = 3 + nb + len(model.elements)
+    width = sum(len(dofs) for _, dofs in model.elements)
+    local = None
+    if rows.shape[1] == n_core + 2 + nb + 2 * width and width > 0:
+        # a direct run: the elements' local displacements and forces stored too
+        local = (rows[:, n_core + 2 + nb : n_core + 2 + nb + width], rows[:, -width:])
+        rows = rows[:, : n_core + 2 + nb]
+    if rows.shape[1] == n_core + 2 + nb:  # a stored or direct run: its state functions too
+        kinetic, strain_linear = rows[:, n_core].copy(), rows[:, n_core + 1].copy()
+        wv = rows[:, n_core + 2 :]
+        rows = rows[:, :n_core]
+    else:
+        q, v = np.asarray(sol.modal.q), np.asarray(sol.modal.v)
+        kinetic = 0.5 * np.einsum("ij,ij->i", v, v @ emodel.mm.T)
+        strain_linear = 0.5 * np.einsum("ij,ij->i", q, q @ emodel.km.T)
+        wv = v @ emodel.base_w.T
+    vg = rows[:, 3 : 3 + nb]
+    kinetic_abs = kinetic + (vg * wv).sum(axis=1)
+    kinetic_abs += 0.5 * np.einsum("ib,bc,ic->i", vg, emodel.base_rr, vg)
+    work = np.ascontiguousarray(rows[:, 3 + nb :])
+    if local is not None:
+        stored, at = np.zeros((t.size, len(model.elements))), 0
+        for k, (element, dofs) in enumerate(model.elements):
+            cut = slice(at, at + len(dofs))
+            stored[:, k] = stored_energy(element, local[0][:, cut], local[1][:, cut])
+            at += len(dofs)
+    else:
+        histories = _histories(sol, model)
+        if work.shape[1] != len(histories):
+            raise ValueError(
+                f"the core accumulated the work of {work.shape[1]} elements, the run has "
+                f"{len(histories)}: the element work is not available"
+            )
+        stored = _stored(histories, model)
+    states = (kinetic, kinetic_abs, strain_linear)
+    inputs = (rows[:, 1].copy(), rows[:, 1] + rows[:, 2])
+    return _balance(t, states, rows[:, 0].copy(), work, stored, inputs, integrated=True)

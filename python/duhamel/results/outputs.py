@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel.results.energy import Energy, energy_balance
+from duhamel.results.energy import Energy, energy_balance, energy_from_run
 from duhamel.results.forces import StructureModel, base_shear, columns
 from duhamel.results.peaks import Peaks, peak_table
 
@@ -178,8 +178,12 @@ class StructuralOutputs:
     def energy(self) -> Energy:
         """The energy balance of the run (:class:`duhamel.results.energy.Energy`): kinetic,
         strain, damping, element work, input (relative and absolute) and the balance
-        error, over the saved instants. Needs every step saved (``save_every=1``) and every
-        dof (``dofs=None``).
+        error, over the saved instants.
+
+        A run solved with ``energy=True`` on the pseudo-force route (elements) accumulated
+        the work integrals in the core every step: any `save_every`, `dofs` or streamed
+        store. Otherwise the balance is computed after the run from the saved histories,
+        which then need every step (``save_every=1``) and every dof (``dofs=None``).
 
         Examples
         --------
@@ -192,7 +196,11 @@ class StructuralOutputs:
         """
         cached = self.__dict__.get("_energy")
         if cached is None:
-            cached = energy_balance(self, self._structure())
+            run = getattr(self, "_energy_run", None)
+            if run is not None:
+                cached = energy_from_run(self, *run)
+            else:
+                cached = energy_balance(self, self._structure())
             self.__dict__["_energy"] = cached
         return cached
 

@@ -268,6 +268,8 @@ class Solution(StructuralOutputs):
         self.events: list[Any] = []
         self._dense: Any = None  # the interpolant kept by a run with dense=True
         self._exact: Any = None  # a linear route's fractional steps (dense runs)
+        # (the core's energy integrals, the run's EnergyModel): solve(..., energy=True)
+        self._energy_run: Any = None
 
     @cached_property
     def a(self) -> NDArray[np.float64]:

@@ -48,6 +48,8 @@ class Segment:
     outputs: Any
     report: Any
     guard_state: NDArray[np.float64] | None = None
+    #: The energy integrals to accumulate (a ``_core.EnergySpec``), or None.
+    energy: Any = None
 
 
 @dataclass(frozen=True)
@@ -185,8 +187,9 @@ class Model:
         else:
             halves = (np.ascontiguousarray(state[:m]), np.ascontiguousarray(state[m:]))
             spec = dispatch.run_spec(
-                route, run_grid, halves, segment.element_state, guard_state=segment.guard_state
-            )
+                route, run_grid, halves, segment.element_state, guard_state=segment.guard_state,
+                energy=segment.energy,
+            )  # fmt: skip
         return core.run(spec, None, segment.outputs, None, segment.report)
 
     def element_objects(self) -> list[Any]:

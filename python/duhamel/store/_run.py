@@ -25,6 +25,15 @@ from duhamel.loads import support_terms
 from duhamel.results.solution import Solution
 from duhamel.store._arrays import _columns, _write
 from duhamel.store._codec import Checkpoint, StoreError, decode, dumps, encode, pack, unpack
+from duhamel.store._energy import (
+    Carry,
+    energy_record,
+    load_carry,
+    save_carry,
+    segment_energy,
+    spec_of,
+    stored_model,
+)
 from duhamel.store._integrity import check_grid, checked_chunks, damaged, digest, fits
 from duhamel.store._model import Model, Segment, capture
 from duhamel.store._solution import _shifted, _solution
@@ -134,6 +143,7 @@ def run_stored(
     threads: int | None,
     progress: bool | Progress | None,
     started: float,
+    energy: bool = False,
 ) -> Solution:
     """``duhamel.solve(..., store=...)``: creates the store and runs into it."""
     options = store if isinstance(store, Store) else Store(_path(store))
@@ -159,6 +169,10 @@ def run_stored(
     grid["correction"] = [float(w) for w in correction]
     grid["checkpoint_every"] = every
     grid["modal"] = options.modal
+    if energy:
+        if model.route == "uncoupled":  # stepped one step at a time (energy_run.stepwise)
+            model.route = "pseudo-force"
+        grid["energy"] = energy_record(system, model)
     try:
         group = zarr.open_group(path, mode="w-")
     except (FileExistsError, zarr.errors.ContainsGroupError, zarr.errors.ContainsArrayError):
@@ -360,6 +374,13 @@ def _proceed(
     maps = dispatch.outputs(route, phi_out, patterns.shape[1])
     data = group.require_group("data")
     run_grid = {**grid, "threads": threads}
+    em, carry = None, None
+    if "energy" in grid:
+        em = stored_model(grid["energy"])
+        nb, n_cols = em.base_loads.size, 3 + em.base_loads.size + grid["energy"]["n_elements"]
+        carry = Carry(n_cols, nb) if at.step == 0 else load_carry(group, at.seq, n_cols, nb)
+        if carry is None:  # the checkpoint's energy is lost: the run starts again
+            at, carry = _start(model), Carry(n_cols, nb)
     step, rows, state, element_state = at.step, at.rows, at.state, at.element_state
     # The growth guard's bounds are carried from segment to segment in memory (a resumed run
     # counts them from the checkpoint it resumes at).
@@ -393,6 +414,7 @@ def _proceed(
                 maps,
                 None if report is None else seg_report,
                 guard_state,
+                None if em is None or carry is None else spec_of(em, carry),
             )
             result = model.run(core, route, segment)
             wall += _time.perf_counter() - loop_start
@@ -403,6 +425,9 @@ def _proceed(
             if not failed:
                 a = a()  # type: ignore[operator]
             arrays = _columns(result, x, v, a, grid["modal"])
+            ended = carry
+            if em is not None and carry is not None and result.energy is not None:
+                arrays["energy"], ended = segment_energy(result, em, carry)
             _write(data, grid, arrays, rows, keep, result.element_widths)
             if failed:
                 partial = _solution(group, model, grid, rows + keep, wall, counts, depth, started)
@@ -424,6 +449,8 @@ def _proceed(
                 user_step = None if sub == 1 else -(-error.step // sub)
                 raise_failure(error, partial, note, user_step)
             step, rows = step + n, rows + keep
+            if em is not None:
+                carry = ended
             state, element_state = model.end_state(result), result.element_state
             guard_state = None if result.guard_state is None else np.asarray(result.guard_state)
             counts += [
@@ -445,6 +472,8 @@ def _proceed(
                     depth,
                     wall,
                 )
+                if carry is not None:
+                    save_carry(group, seq, carry)
                 _checkpoint(group, c)
                 seq, pending = seq + 1, 0
     return _solution(

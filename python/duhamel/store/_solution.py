@@ -15,6 +15,7 @@ from duhamel.loads import support_terms
 from duhamel.results.solution import ModalHistory, Solution, SolveStats
 from duhamel.results.structural import ElementHistory
 from duhamel.store._array import StoredArray
+from duhamel.store._energy import stored_model
 from duhamel.store._model import Model
 
 __all__ = ["_shifted", "_solution"]
@@ -81,7 +82,7 @@ def _solution(
             histories = tuple(out)
     if base is None:
         base = support_terms(model.base_loads(), dofs)
-    return Solution(
+    sol = Solution(
         t=t,
         x=read("x"),
         v=read("v"),
@@ -113,6 +114,10 @@ def _solution(
         elements=histories,
         base=base,
     )
+    if "energy" in data and "energy" in grid:
+        objects = tuple(h.element for h in histories)
+        sol._energy_run = (np.asarray(read("energy")), stored_model(grid["energy"], objects))
+    return sol
 
 
 @dataclass(frozen=True)

@@ -19,6 +19,8 @@
 //! (eigenvalues, which of each conjugate pair to keep, and the way back to `(q, q')`) is done
 //! by the caller; the engine only advances the given coordinates and saves them.
 
+use super::energy::FirstOrderTap;
+use crate::energy::EnergySpec;
 use num_complex::Complex64;
 
 use crate::driver::{drive, finish, Control, Route, StepFailure};
@@ -133,6 +135,8 @@ struct FirstOrder<'s, 'a: 's> {
     /// The pseudo-force at the saved states (`n_saved x m`), with a corrector.
     pseudo: &'s mut [f64],
     mapper: Option<Mapper<'s>>,
+    /// The energy integrals, when asked for ([`crate::energy`]).
+    energy: Option<FirstOrderTap>,
 }
 
 impl<'s> FirstOrder<'s, '_> {
@@ -225,6 +229,7 @@ impl<'s> FirstOrder<'s, '_> {
             co,
             corrector,
             pseudo,
+            energy,
             ..
         } = self;
         // Reused across the steps of the block: no allocation per step.
@@ -234,6 +239,9 @@ impl<'s> FirstOrder<'s, '_> {
         let ends_buf = &mut [vec![0.0; width], vec![0.0; width], vec![0.0; width]];
         for s in 0..len {
             if let Some(slot) = loads.slot[s] {
+                if let Some(tap) = energy.as_mut() {
+                    tap.acc.save(slot);
+                }
                 let row = &mut eta[(slot - row0) * 2 * r..][..2 * r];
                 row[..r].copy_from_slice(xr);
                 row[r..].copy_from_slice(xi);
@@ -273,7 +281,7 @@ impl<'s> FirstOrder<'s, '_> {
                 // The modal load at the step's ends, for the growth guard (loads computed
                 // outside the engine are not known in real modal coordinates here: skipped).
                 let ends = if c.guarded() && loads.forcing.is_empty() {
-                    modal_load_ends(problem, loads, s, ends_buf);
+                    loads.modal_load_ends(problem, s, ends_buf);
                     Some((&ends_buf[0][..], &ends_buf[1][..], &ends_buf[2][..]))
                 } else {
                     None
@@ -289,6 +297,11 @@ impl<'s> FirstOrder<'s, '_> {
                     last_good_time: None,
                 };
                 return Err(StepFailure { error, step });
+            }
+            if let Some(tap) = energy.as_mut() {
+                loads.modal_load_ends(problem, s, &mut tap.ends);
+                let basis = &loads.basis[s * n_loads..(s + 1) * n_loads];
+                tap.step(problem.dt, (xr, xi), basis);
             }
         }
         Ok(())
@@ -312,32 +325,17 @@ impl<'s> Route for FirstOrder<'s, '_> {
         slot: usize,
     ) -> Result<(), CoreError> {
         let row = self.take_rows(1);
+        if let Some(tap) = self.energy.as_mut() {
+            tap.acc.save(slot);
+        }
         let result = self.save(row, slot, problem.time(loads.n0 + loads.len));
         self.map(loads, row, slot, 1);
         result
     }
 }
 
-/// The modal load at the start and the end of local step `s` of a block and its bubble
-/// coefficient (built-in loads).
-fn modal_load_ends(
-    problem: &ModalProblem,
-    loads: &BlockLoads,
-    s: usize,
-    [p0, p1, p2]: &mut [Vec<f64>; 3],
-) {
-    for p in [&mut *p0, &mut *p1, &mut *p2] {
-        p.fill(0.0);
-    }
-    let n_loads = problem.loads.len();
-    for (load, b) in problem.loads.iter().zip(&loads.basis[s * n_loads..]) {
-        for (i, &pattern) in load.pattern.iter().enumerate() {
-            p0[i] += pattern * b[0];
-            p1[i] += pattern * (b[0] + b[1]);
-            p2[i] += pattern * b[2];
-        }
-    }
-}
+/// The energy integrals of a first-order run: their spec and the back-transformation.
+pub type EnergyRun<'e> = (EnergySpec<'e>, &'e [f64]);
 
 /// Integrates the coupled problem exactly in its first-order modes; `forcing` adds modal
 /// loads computed outside the engine, `control` may stop or watch the run.
@@ -358,7 +356,29 @@ pub fn integrate(
     forcing: Option<&mut dyn ModalForcing>,
     control: &mut dyn Control,
 ) -> Result<(History, Stats), Box<Failure>> {
+    let run = (outputs, nonlinear, None);
+    integrate_with(problem, modes, run, forcing, control)
+}
+
+/// [`integrate`] with the energy integrals of `energy` (its spec and the `2 r x 2 m`
+/// back-transformation to the real modal state) accumulated every step; linear runs only
+/// (no `nonlinear`), built-in loads only (no `forcing`).
+pub fn integrate_with(
+    problem: &ModalProblem,
+    modes: &FirstOrderModes,
+    (outputs, nonlinear, energy): (Option<&Outputs>, Option<&Nonlinear>, Option<EnergyRun>),
+    forcing: Option<&mut dyn ModalForcing>,
+    control: &mut dyn Control,
+) -> Result<(History, Stats), Box<Failure>> {
     let fail = |e: CoreError| Box::new(Failure::from(e));
+    if energy.is_some() && (nonlinear.is_some() || forcing.is_some()) {
+        return Err(fail(CoreError::InvalidInput {
+            name: "energy",
+            problem: "is accumulated on the first-order route without elements and Python \
+                      loads only"
+                .into(),
+        }));
+    }
     problem.check().map_err(fail)?;
     let m = problem.n_modes();
     modes.check(m).map_err(fail)?;
@@ -420,6 +440,14 @@ pub fn integrate(
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     let pipelined = threads > 1;
     let has_corrector = corrector.is_some();
+    let tap = match energy {
+        Some((spec, back)) => {
+            spec.check(m, problem.loads.len(), &[]).map_err(fail)?;
+            let eta0 = (modes.eta0_re, modes.eta0_im);
+            Some(FirstOrderTap::new(&spec, (m, back), eta0, n_saved).map_err(fail)?)
+        }
+        None => None,
+    };
 
     let (loads, ending, stats) = std::thread::scope(|scope| {
         let mapper = outputs.map(|o| Mapper::new(o, &mut out, pipelined.then_some(scope)));
@@ -435,6 +463,7 @@ pub fn integrate(
             corrector,
             pseudo: &mut pseudo,
             mapper,
+            energy: tap,
         };
         let (loads, ending) = drive(problem, &mut route, loads, forcing, control);
         let stats = route
@@ -446,9 +475,10 @@ pub fn integrate(
                 ..Stats::default()
             });
         let records = route.corrector.as_mut().map(|c| c.take_records());
-        (loads, ending, (stats, records.unwrap_or_default()))
+        let energy = route.energy.map(|tap| tap.acc.into_rows());
+        (loads, ending, (stats, records.unwrap_or_default(), energy))
     });
-    let (stats, (elements, element_state, guard_state)) = stats;
+    let (stats, (elements, element_state, guard_state), energy) = stats;
     let kept = History {
         n_modes: m,
         n_outputs: n_cols,
@@ -458,6 +488,7 @@ pub fn integrate(
         elements,
         element_state,
         guard_state,
+        energy,
         ..History::default()
     };
     finish(problem, loads, kept, ending).map(|h| (h, stats))

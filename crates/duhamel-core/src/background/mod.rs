@@ -7,6 +7,7 @@
 //!   diagonalised in first order and stepped with complex exponentials
 //!   ([`crate::kernel::cphi`]).
 
+mod energy;
 pub mod first_order;
 mod modes;
 pub mod uncoupled;

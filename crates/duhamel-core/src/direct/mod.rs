@@ -19,6 +19,7 @@
 pub mod assembly;
 
 mod alpha;
+mod energy;
 mod hermite;
 mod lowrank;
 mod model;
@@ -34,6 +35,7 @@ use crate::history::{reserve, size, zeroed, Failure, Stats};
 use crate::loads::ModalForcing;
 use crate::problem::SaveGrid;
 use assembly::IterationMatrix;
+use energy::DirectTap;
 use model::{Model, State};
 use problem::validate;
 use stepper::Stepper;
@@ -94,6 +96,7 @@ pub fn integrate(
             x: buffer("the displacement history")?,
             v: buffer("the velocity history")?,
             a: buffer("the acceleration history")?,
+            energy: None,
         },
         grid,
         next: 0,
@@ -102,6 +105,7 @@ pub fn integrate(
     let mut stats = Stats::default();
     let dt = problem.dt;
     let time = |n: usize| problem.t0 + n as f64 * dt;
+    let mut tap: Option<DirectTap> = None;
 
     let outcome = (|| -> Result<(), (CoreError, usize)> {
         let at0 = |e| (e, 0);
@@ -145,6 +149,12 @@ pub fn integrate(
                 last_good_time: None,
             }));
         }
+        if let Some(spec) = &problem.energy {
+            let mut t = DirectTap::new(spec, &model, rec.grid.count()).map_err(at0)?;
+            t.start(&mut model, forcing.as_deref_mut(), (&x, &v), t0)
+                .map_err(at0)?;
+            tap = Some(t);
+        }
         let mut stepper: Box<dyn Stepper> = match problem.method {
             Method::Alpha(par) => {
                 Box::new(alpha::Alpha::new(&mut model, par, [&x, &v, &a], &f).map_err(at0)?)
@@ -179,6 +189,10 @@ pub fn integrate(
                 } else {
                     a_out.copy_from_slice(&a);
                 }
+                if let Some(tap) = tap.as_mut() {
+                    tap.save(&mut model, rec.next, (&x, &v), t)
+                        .map_err(|e| (e, step))?;
+                }
                 rec.push(problem.out_dofs, t, &x, &v, &a_out);
             }
             if step == block_end {
@@ -208,6 +222,10 @@ pub fn integrate(
             model
                 .commit(&x, &v, time(step + 1))
                 .map_err(|e| (e, step + 1))?;
+            if let Some(tap) = tap.as_mut() {
+                tap.step(&mut model, forcing.as_deref_mut(), (t, dt), (&x, &v))
+                    .map_err(|e| (e, step + 1))?;
+            }
             stats.newton_iterations += iters;
             stats.factorizations = stepper.factorizations();
             if !x.iter().chain(&v).chain(&a).all(|u| u.is_finite()) {
@@ -221,8 +239,13 @@ pub fn integrate(
         }
         Ok(())
     })();
+    let finish = |rec: Recorder| {
+        let mut h = rec.finish();
+        h.energy = tap.map(|tap| tap.into_rows(h.t.len()));
+        h
+    };
     match outcome {
-        Ok(()) => Ok((rec.finish(), stats)),
+        Ok(()) => Ok((finish(rec), stats)),
         Err((error, step)) => Err(Box::new(Failure {
             // Failures of the initial state (step 0) keep their own times.
             error: if step > 0 {
@@ -230,7 +253,7 @@ pub fn integrate(
             } else {
                 error
             },
-            partial: rec.finish(),
+            partial: finish(rec),
             stats,
         })),
     }

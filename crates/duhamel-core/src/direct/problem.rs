@@ -74,6 +74,9 @@ pub struct DirectProblem<'a> {
     pub tol: f64,
     /// Newton iterations per step before giving up.
     pub max_iter: usize,
+    /// The energy integrals to accumulate ([`crate::energy`], the damping matrix empty: the
+    /// power is `v^T C v` of `c`); None: none.
+    pub energy: Option<crate::energy::EnergySpec<'a>>,
 }
 
 /// Saved history of a direct integration, time-major `(n_saved, n_out)` arrays.
@@ -87,6 +90,10 @@ pub struct DirectHistory {
     pub x: Vec<f64>,
     pub v: Vec<f64>,
     pub a: Vec<f64>,
+    /// The energy rows at the saved instants, when asked for: the accumulator's columns,
+    /// then the kinetic and linear strain energies, `M r_b . v` per base, the elements'
+    /// local displacements and forces.
+    pub energy: Option<crate::energy::EnergyRows>,
 }
 
 pub(super) fn validate(p: &DirectProblem) -> Result<(), CoreError> {

@@ -61,6 +61,27 @@ pub struct BlockLoads {
 }
 
 impl BlockLoads {
+    /// The modal load at the start and the end of local step `s` of a block and its bubble
+    /// coefficient (built-in loads).
+    pub fn modal_load_ends(
+        &self,
+        problem: &ModalProblem,
+        s: usize,
+        [p0, p1, p2]: &mut [Vec<f64>; 3],
+    ) {
+        for p in [&mut *p0, &mut *p1, &mut *p2] {
+            p.fill(0.0);
+        }
+        let n_loads = problem.loads.len();
+        for (load, b) in problem.loads.iter().zip(&self.basis[s * n_loads..]) {
+            for (i, &pattern) in load.pattern.iter().enumerate() {
+                p0[i] += pattern * b[0];
+                p1[i] += pattern * (b[0] + b[1]);
+                p2[i] += pattern * b[2];
+            }
+        }
+    }
+
     /// The block loads of `problem`; with `modal_jumps`, in-step jumps are also turned into
     /// the responses of the uncoupled oscillators `problem.k`, `problem.c`. `forcing` says
     /// whether an external forcing will be sampled (its saved values are then kept).

@@ -27,7 +27,9 @@
 //! parametric resonance, cross-coupled stiffness, a self-excited whirl) can exceed it
 //! rightly.
 
+use super::force::PseudoForce;
 use crate::error::CoreError;
+use crate::problem::ModalProblem;
 
 /// The guard of one run (see the module's documentation).
 #[derive(Debug, Clone)]
@@ -138,6 +140,29 @@ impl GrowthGuard {
             last_good_time: None,
         })
     }
+}
+
+/// The run's growth guard (None when `limit` is infinite or nothing bounds the start), from
+/// the pseudo-force at the initial state. A pseudo-force that cannot be evaluated there
+/// leaves the run unguarded: the run's first step reports that failure in its place.
+pub(super) fn growth_guard(
+    pf: &mut PseudoForce,
+    base: &ModalProblem,
+    limit: f64,
+    continued: Option<&[f64]>,
+) -> Option<(GrowthGuard, Vec<f64>)> {
+    if !limit.is_finite() {
+        return None;
+    }
+    let n = base.n_modes();
+    if let Some(state) = continued {
+        return GrowthGuard::resume(limit, base.k, state).map(|g| (g, vec![0.0; n]));
+    }
+    let mut force0 = vec![0.0; n];
+    pf.at_state(base.q0, base.v0, base.time(0), &vec![0.0; n], &mut force0)
+        .ok()?;
+    let guard = GrowthGuard::new(limit, base.k, (base.q0, base.v0), &force0);
+    guard.map(|g| (g, vec![0.0; n]))
 }
 
 #[cfg(test)]

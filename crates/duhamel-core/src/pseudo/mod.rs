@@ -9,6 +9,7 @@
 //! [`first_order`].
 
 mod closed;
+mod energy_hook;
 pub mod first_order;
 pub mod force;
 mod growth;

@@ -67,6 +67,8 @@ pub struct NonlinearProblem<'a> {
     /// The growth guard's bounds at the start (a continued run: [`crate::History::guard_state`]
     /// of the run before); None: counted from this run's start.
     pub guard_state: Option<&'a [f64]>,
+    /// The energy integrals to accumulate during the run ([`crate::energy`]); None: none.
+    pub energy: Option<crate::energy::EnergySpec<'a>>,
 }
 
 /// Checks the problem; errors name the Python-side parameter.

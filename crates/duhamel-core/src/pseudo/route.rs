@@ -2,14 +2,16 @@
 //! implicit step equation of the pseudo-force (elements, couplings, mass law) solved every
 //! step ([`super::newton`]).
 
+use super::energy_hook::{energy_step, energy_tap};
 use super::force::{Parts, PseudoForce};
-use super::growth::GrowthGuard;
+use super::growth::{growth_guard, GrowthGuard};
 use super::newton::StepSolver;
 use super::problem::{validate, NonlinearProblem};
 use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
 use super::subdivide::{halvings, level_rules, retriable, too_stiff, Subdivider};
 use crate::driver::{drive, finish, Control, Route, StepFailure};
+use crate::energy::EnergyTap;
 use crate::error::CoreError;
 use crate::history::{size, zeroed, Coordinates, ElementRows, Failure, History, Stats};
 use crate::kernel::oscillator::Transfer;
@@ -128,6 +130,8 @@ struct PseudoRoute<'r, 'a> {
     /// The elements' saved rows.
     he: ElementRows,
     stats: Stats,
+    /// The energy integrals, when asked for ([`crate::energy`], hooks in `energy_hook.rs`).
+    energy: Option<EnergyTap>,
 }
 
 impl PseudoRoute<'_, '_> {
@@ -140,6 +144,9 @@ impl PseudoRoute<'_, '_> {
         t: f64,
         known: bool,
     ) -> Result<(), CoreError> {
+        if let Some(tap) = self.energy.as_mut() {
+            tap.acc.save(slot);
+        }
         let n = q.len();
         let r = slot * n..(slot + 1) * n;
         self.hq[r.clone()].copy_from_slice(q);
@@ -326,6 +333,16 @@ impl PseudoRoute<'_, '_> {
                     break;
                 }
             }
+            if let Err(f) = energy_step(
+                &mut self.energy,
+                &mut self.pf,
+                (problem, loads, s),
+                [&**q, v, q1, v1],
+                pb,
+            ) {
+                result = Err(f);
+                break;
+            }
             std::mem::swap(q, q1);
             std::mem::swap(v, v1);
         }
@@ -352,29 +369,6 @@ impl Route for PseudoRoute<'_, '_> {
         self.state = st;
         result
     }
-}
-
-/// The run's growth guard (None when `limit` is infinite or nothing bounds the start), from
-/// the pseudo-force at the initial state. A pseudo-force that cannot be evaluated there
-/// leaves the run unguarded: the run's first step reports that failure in its place.
-fn growth_guard(
-    pf: &mut PseudoForce,
-    base: &ModalProblem,
-    limit: f64,
-    continued: Option<&[f64]>,
-) -> Option<(GrowthGuard, Vec<f64>)> {
-    if !limit.is_finite() {
-        return None;
-    }
-    let n = base.n_modes();
-    if let Some(state) = continued {
-        return GrowthGuard::resume(limit, base.k, state).map(|g| (g, vec![0.0; n]));
-    }
-    let mut force0 = vec![0.0; n];
-    pf.at_state(base.q0, base.v0, base.time(0), &vec![0.0; n], &mut force0)
-        .ok()?;
-    let guard = GrowthGuard::new(limit, base.k, (base.q0, base.v0), &force0);
-    guard.map(|g| (g, vec![0.0; n]))
 }
 
 /// Integrates the problem; `forcing` adds modal loads computed outside the engine,
@@ -447,6 +441,7 @@ pub fn integrate(
     let buffer = |what| zeroed(cells, what).map_err(fail);
     let widths = pf.element_widths();
     let width = widths.iter().sum();
+    let tap = energy_tap(problem, &mut pf, &widths, loads.n_saved()).map_err(fail)?;
     let element_cells = size(loads.n_saved(), width, "the element history").map_err(fail)?;
     let element_buffer = |what| zeroed(element_cells, what).map_err(fail);
     let he = ElementRows {
@@ -469,6 +464,7 @@ pub fn integrate(
         hq: buffer("the modal history (q)")?,
         hv: buffer("the modal history (v)")?,
         hp: buffer("the pseudo-force")?,
+        energy: tap,
         he,
         stats: Stats::default(),
     };
@@ -483,6 +479,7 @@ pub fn integrate(
         elements: (route.he.width > 0).then_some(route.he),
         element_state: stateful.then(|| route.pf.element_state()),
         guard_state: route.guard.as_ref().map(|(g, _)| g.state()),
+        energy: route.energy.map(|tap| tap.acc.into_rows()),
         ..History::default()
     };
     let mut stats = route.stats;
