@@ -19,6 +19,7 @@ pub use contact::Contact;
 pub use crack::{Breathing, BreathingCrack};
 pub(crate) use element::Evaluation;
 pub use element::{Element, ModalCubic, PathState, Tangent};
+pub use hysteretic::TripleFrictionPendulum;
 pub use hysteretic::{
     AxialFrictionPendulum, Bilinear, BoucWen, BoucWenParams, FrictionPendulum, Gap,
     LeadRubberBearing, MaxwellDamper, ViscousDamper, DEFAULT_V0, DEFAULT_YIELD_DISPLACEMENT,
