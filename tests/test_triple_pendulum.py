@@ -221,3 +221,51 @@ def test_bidirectional_against_opensees() -> None:
     # plus one to y
     alone = ours(4, [ax], t)[:, 0]
     assert np.abs(alone - x[:, 0]).max() > 0.05 * peak
+
+
+@pytest.mark.parametrize(
+    "method", [duhamel.Semianalytic(), duhamel.Newmark()], ids=["semianalytic", "newmark"]
+)
+def test_converges_with_dt(method: object) -> None:
+    # the error against a run at dt / 64 falls at about second order on average (friction
+    # makes the force's rate jump at each stick-slip and stage change: the order per
+    # halving varies between 1 and 3)
+    t, a = record(20.0, 0.5)
+    ref = ours(64, [a], t)[:, 0]
+    peak = np.abs(ref).max()
+    ks = np.array([1, 2, 4, 8, 16])
+    errors = [np.abs(ours(k, [a], t, method)[:, 0] - ref).max() / peak for k in ks]
+    slope = np.polyfit(np.log(1.0 / ks), np.log(errors), 1)[0]  # the order
+    assert slope > 1.6, (errors, slope)
+    assert errors[0] < 2e-4 and errors[-1] < 1e-6
+
+
+def test_input_is_checked() -> None:
+    ok = {"mu": MU, "radius": RADIUS, "displacement_capacity": CAPACITY, "weight": 1.0}
+    bad = [
+        ({"mu": (0.06, 0.02, 0.1)}, "`mu` must be ordered"),
+        ({"mu": (0.02, 0.1, 0.06)}, "`mu` must be ordered"),
+        ({"mu": (0.0, 0.02, 0.1)}, "`mu` must be > 0"),
+        ({"mu": (0.02, 0.06)}, "`mu` must hold three"),
+        ({"radius": (2.0, 1.0, 3.0)}, "`radius`"),
+        ({"radius": (0.3, 2.0, float("nan"))}, "`radius`"),
+        ({"displacement_capacity": (0.05, -0.3, 0.3)}, "`displacement_capacity` must be > 0"),
+        ({"weight": 0.0}, "`weight`"),
+        ({"yield_displacement": 0.1}, "`yield_displacement` must be below"),
+    ]
+    for change, message in bad:
+        with pytest.raises(ValueError, match=message):
+            E.TripleFrictionPendulum(0, **{**ok, **change})
+    with pytest.raises(TypeError):
+        E.TripleFrictionPendulum(0, 1, (0.02, 0.06, 0.1))  # the surfaces are keywords
+    s = duhamel.System(np.eye(2), np.eye(2))
+    with pytest.raises(ValueError, match="`dof_y`"):
+        s.add(E.TripleFrictionPendulum(0, 0, **ok))
+    with pytest.raises(ValueError, match="`dof_x`"):
+        s.add(E.TripleFrictionPendulum(4, **ok))
+    # the core checks too (the same rules), naming the parameter
+    from duhamel import _core
+
+    args = (0, 1, (0.02, 0.06, 0.1), (2.0, 1.0, 3.0), CAPACITY, 1.0, 1e-4)
+    with pytest.raises(ValueError, match="`radius`"):
+        _core.Element.device("triple_friction_pendulum", args)
