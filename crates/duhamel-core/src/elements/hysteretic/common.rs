@@ -64,3 +64,28 @@ pub(crate) fn finite(t: f64, values: &[f64]) -> Result<(), CoreError> {
         })
     }
 }
+
+/// The 4 x 4 system `a x = b` by Gaussian elimination with partial pivoting (`a`
+/// nonsingular: the triple pendulum's symmetric positive definite Hessian).
+pub(crate) fn solve4(mut a: [[f64; 4]; 4], mut b: [f64; 4]) -> [f64; 4] {
+    for col in 0..4 {
+        let p = (col..4)
+            .max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))
+            .unwrap_or(col);
+        a.swap(col, p);
+        b.swap(col, p);
+        for row in col + 1..4 {
+            let m = a[row][col] / a[col][col];
+            for k in col..4 {
+                a[row][k] -= m * a[col][k];
+            }
+            b[row] -= m * b[col];
+        }
+    }
+    let mut x = [0.0; 4];
+    for row in (0..4).rev() {
+        let s: f64 = (row + 1..4).map(|k| a[row][k] * x[k]).sum();
+        x[row] = (b[row] - s) / a[row][row];
+    }
+    x
+}

@@ -40,7 +40,7 @@
 //! ep_2, ep_3]` (each 2 entries; `y` entries 0 for a uniaxial bearing). **Initial state:**
 //! virgin at `u = 0`, loaded along the straight line to the initial displacement.
 
-use super::common::{check, finite};
+use super::common::{check, finite, solve4};
 use crate::elements::element::distinct;
 use crate::elements::element::{Element, PathState, Tangent};
 use crate::error::CoreError;
@@ -142,30 +142,6 @@ struct Solved {
     k: M2,
     /// `[d_1, d_2, d_3, ep_1, ep_2, ep_3]`.
     state: [f64; 12],
-}
-
-/// The `n x n` system `a x = b` by Gaussian elimination with partial pivoting (`a` SPD here).
-fn solve4(mut a: [[f64; 4]; 4], mut b: [f64; 4]) -> [f64; 4] {
-    for col in 0..4 {
-        let p = (col..4)
-            .max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))
-            .unwrap_or(col);
-        a.swap(col, p);
-        b.swap(col, p);
-        for row in col + 1..4 {
-            let m = a[row][col] / a[col][col];
-            for k in col..4 {
-                a[row][k] -= m * a[col][k];
-            }
-            b[row] -= m * b[col];
-        }
-    }
-    let mut x = [0.0; 4];
-    for row in (0..4).rev() {
-        let s: f64 = (row + 1..4).map(|k| a[row][k] * x[k]).sum();
-        x[row] = (b[row] - s) / a[row][row];
-    }
-    x
 }
 
 /// Triple friction pendulum bearing on `(dof_x, dof_y)`, or on `dof_x` alone.
