@@ -150,13 +150,16 @@ def _material(mat: dict[str, Any], i: int | None, j: int | None, sign: float) ->
             raise Untranslatable("a gap whose moving side is the fixed node")
         return Gap(a, b, gap=0.0, k=float(mat["E"]))
     if kind == "ViscousDamper":
-        warnings.warn(
-            f"ViscousDamper material {mat['name']} translated as a dashpot: its series "
-            f"stiffness K = {mat.get('K')} is taken as rigid",
-            UserWarning,
-            stacklevel=4,
+        # the damper in series with its brace K (the Maxwell model); the pin's gap is not
+        if float(mat.get("LGap", 0.0)) != 0.0:
+            raise Untranslatable(f"ViscousDamper material {mat['name']} with a gap (LGap)")
+        return ViscousDamper(
+            sym[0],
+            sym[1],
+            c=float(mat["C"]),
+            exponent=float(mat["Alpha"]),
+            brace_stiffness=float(mat["K"]),
         )
-        return ViscousDamper(sym[0], sym[1], c=float(mat["C"]), exponent=float(mat["Alpha"]))
     raise Untranslatable(f"material {mat.get('name')} of type {kind}")
 
 
