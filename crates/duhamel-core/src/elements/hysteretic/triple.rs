@@ -79,6 +79,38 @@ fn inverse(k: M2) -> M2 {
 }
 
 impl Segment {
+    /// The tangent at the committed state `(d, ep)` for continued loading: sliding
+    /// (`E I - (E - Ep) n n^T`) when the state is on its yield surface, elastic otherwise;
+    /// plus the stop's.
+    fn loading_tangent(&self, d: V2, ep: V2) -> M2 {
+        let Segment { fy, e, h, gap } = *self;
+        let z = [d[0] - ep[0] - h * ep[0] / e, d[1] - ep[1] - h * ep[1] / e];
+        let r = z[0].hypot(z[1]);
+        let mut k = [e, 0.0, 0.0, e];
+        if r >= (1.0 - 1e-9) * fy / e && r > 0.0 {
+            let n = [z[0] / r, z[1] / r];
+            let soft = e - e * h / (e + h);
+            let nn = outer(n, n);
+            k = [
+                e - soft * nn[0],
+                -soft * nn[1],
+                -soft * nn[2],
+                e - soft * nn[3],
+            ];
+        }
+        let rd = d[0].hypot(d[1]);
+        if rd > gap {
+            let c = [d[0] / rd, d[1] / rd];
+            let cc = outer(c, c);
+            let a = gap / rd;
+            k[0] += e * (1.0 - a + a * cc[0]);
+            k[1] += e * a * cc[1];
+            k[2] += e * a * cc[2];
+            k[3] += e * (1.0 - a + a * cc[3]);
+        }
+        k
+    }
+
     /// The state at displacement `d` from the committed plastic displacement `ep_c` (the
     /// back force is `H ep`).
     fn eval(&self, d: V2, ep_c: V2) -> SegmentState {
@@ -294,13 +326,22 @@ impl TripleFrictionPendulum {
     fn solve(&self, c: &[f64], u: V2, t: f64) -> Result<Solved, CoreError> {
         let ep_c = [[c[6], c[7]], [c[8], c[9]], [c[10], c[11]]];
         let du = [u[0] - c[0] - c[2] - c[4], u[1] - c[1] - c[3] - c[5]];
-        // unknowns d_1, d_2 (d_3 closes the sum); the elastic split as the predictor
-        let mut x = [
-            c[0] + du[0] / 3.0,
-            c[1] + du[1] / 3.0,
-            c[2] + du[0] / 3.0,
-            c[3] + du[1] / 3.0,
-        ];
+        // unknowns d_1, d_2 (d_3 closes the sum); the predictor splits the increment by the
+        // elements' tangents for continued loading from the committed state (exact while
+        // no element changes state)
+        let compliance = [0, 1, 2].map(|i| {
+            let d = [c[2 * i], c[2 * i + 1]];
+            inverse(self.segments[i].loading_tangent(d, ep_c[i]))
+        });
+        let sum = [0, 1, 2, 3].map(|k| compliance[0][k] + compliance[1][k] + compliance[2][k]);
+        let kp = inverse(sum);
+        let df = [kp[0] * du[0] + kp[1] * du[1], kp[2] * du[0] + kp[3] * du[1]];
+        let step = |i: usize| {
+            let ci = compliance[i];
+            [ci[0] * df[0] + ci[1] * df[1], ci[2] * df[0] + ci[3] * df[1]]
+        };
+        let (s0, s1) = (step(0), step(1));
+        let mut x = [c[0] + s0[0], c[1] + s0[1], c[2] + s1[0], c[3] + s1[1]];
         let split = |x: &[f64; 4]| -> [V2; 3] {
             [
                 [x[0], x[1]],
