@@ -74,10 +74,11 @@ pub(crate) fn solve4(mut a: [[f64; 4]; 4], mut b: [f64; 4]) -> [f64; 4] {
             .unwrap_or(col);
         a.swap(col, p);
         b.swap(col, p);
+        let pivot = a[col];
         for row in col + 1..4 {
-            let m = a[row][col] / a[col][col];
-            for k in col..4 {
-                a[row][k] -= m * a[col][k];
+            let m = a[row][col] / pivot[col];
+            for (v, p) in a[row][col..].iter_mut().zip(&pivot[col..]) {
+                *v -= m * p;
             }
             b[row] -= m * b[col];
         }
