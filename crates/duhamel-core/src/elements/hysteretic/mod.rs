@@ -15,6 +15,7 @@ mod maxwell;
 mod pendulum_axial;
 mod rubber;
 mod triple;
+mod triple_segment;
 mod viscous;
 
 pub use bilinear::Bilinear;
