@@ -25,6 +25,10 @@ with one device in parallel, under the same 20-s synthetic record (filtered nois
   same planar ``singleFPBearing``, with ``Coulomb`` friction and with velocity-dependent
   friction (``mu_slow = 0.025``, ``rate = 20`` s/m against OpenSees ``VelDependent`` with
   ``muSlow = 0.025``, ``muFast = 0.05``, ``transRate = 20``);
+* the same mass on a uniaxial ``TripleFrictionPendulum`` (issue 27; mu = (0.02, 0.06, 0.10),
+  radius = (0.3, 2.0, 2.5) m, capacities (0.05, 0.3, 0.35) m, uy = 0.5 mm, the record x 1.5)
+  against OpenSees ``TripleFrictionPendulum`` in 3-D (``benchmarks/_triple.py``; both codes'
+  errors against duhamel's converged run, OpenSees having none of its own);
 * the same mass on a ``LeadRubberBearing(k, fy = 0.1 m g, alpha = 0.1)`` (initial period
   0.5 s), uniaxial against OpenSees ``elastomericBearingBoucWen`` in 2-D and bidirectional
   (the y record: 0.7 x the x record shifted by 1.5 s) against it in 3-D (``qd = (1 - alpha)
@@ -66,6 +70,7 @@ from collections.abc import Callable  # noqa: E402
 from dataclasses import dataclass  # noqa: E402
 
 import _section  # noqa: E402
+import _triple  # noqa: E402
 import numpy as np  # noqa: E402
 import scipy.signal  # noqa: E402
 
@@ -164,6 +169,7 @@ def cases() -> list[Case]:
             E.LeadRubberBearing(0, 1, k=K_LRB, fy=FY, alpha=0.1),
             lambda tag: None,
         ),
+        Case(_triple.TFP, _triple.bearing(M), lambda tag: None),
     ]
 
 
@@ -241,6 +247,8 @@ PLANE = (FPS_1, FPS_V)  # uniaxial bearings (issue 27): a rigid mass on one dof
 
 
 def run_duhamel(case: Case, gm: GroundMotion, k: int) -> np.ndarray:
+    if case.name == _triple.TFP:
+        return _triple.run_duhamel(case.device, M, gm, DT_REC, k)
     if case.name in (LRB_1, LRB_2):
         return run_duhamel_lrb(case, gm, k)
     if case.name in PLANE:
@@ -323,6 +331,9 @@ def run_opensees(case: Case, gm: GroundMotion, k: int, path: str) -> None:
     if case.name == FPS:
         run_opensees_fps(gm, k, path)
         return
+    if case.name == _triple.TFP:
+        _triple.run_opensees(M, gm, DT_REC, k, path)
+        return
     if case.name in PLANE:
         run_opensees_fps(gm, k, path, case)
         return
@@ -369,8 +380,11 @@ def measure(quick: bool) -> dict:
         if ONLY and not any(o in case.name for o in ONLY):
             continue
         ref_d = run_duhamel(case, gm, k_ref)
-        run_opensees(case, gm, k_ref, path)
-        ref_o = read_opensees(path, k_ref, gm.a.size)
+        if case.name == _triple.TFP:  # no converged OpenSees run (benchmarks/_triple.py)
+            ref_o = ref_d
+        else:
+            run_opensees(case, gm, k_ref, path)
+            ref_o = read_opensees(path, k_ref, gm.a.size)
         peak = np.abs(ref_d).max()
         row = {"name": case.name, "cross": float(np.abs(ref_d - ref_o).max() / peak), "k": {}}
         for k in ks:
@@ -416,7 +430,9 @@ def markdown(r: dict) -> list[str]:
         "it, no frame; bidirectional on (x, y) excited along x, uniaxial on x with constant or "
         "velocity-dependent friction, mu_slow = 0.025, rate = 20 s/m, against the same planar "
         "singleFPBearing; lead-rubber bearings, uniaxial against the 2-D and bidirectional "
-        "against the 3-D elastomericBearingBoucWen), synthetic record of "
+        "against the 3-D elastomericBearingBoucWen; the uniaxial triple friction pendulum "
+        "against OpenSees' TripleFrictionPendulum, the record x 1.5, both codes' errors "
+        "against duhamel's converged run), synthetic record of "
         f"{r['seconds']:.0f} s at 200 Hz (PGA 0.4 g). Error: largest difference at the "
         "record's samples against the same code at dt = 0.005/256, over the peak displacement; "
         "time: the whole call (set-up included), best of repeats, codes interleaved. "

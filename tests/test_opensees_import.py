@@ -533,11 +533,14 @@ def test_gap_damper_and_elastic_materials_translated() -> None:
     _sdof(["Elastic", 1, 5e5, 300.0])  # linear: in K, its eta in C
     s = duhamel.opensees.from_opensees()
     assert s.elements == [] and (s.K[0, 0], s.C[0, 0]) == (5e5, 300.0)
-    _sdof(["ViscousDamper", 1, 1e9, 2e4, 0.35])
-    with pytest.warns(UserWarning, match="series stiffness"):
-        s = duhamel.opensees.from_opensees()
+    _sdof(["ViscousDamper", 1, 1e9, 2e4, 0.35])  # in series with its brace K (issue 27)
+    s = duhamel.opensees.from_opensees()
     (damper,) = s.opensees.elements[1]
-    assert (damper.c, damper.exponent) == (2e4, 0.35) and s.K[0, 0] == pytest.approx(0.0)
+    assert (damper.c, damper.exponent, damper.brace_stiffness) == (2e4, 0.35, 1e9)
+    assert s.K[0, 0] == pytest.approx(0.0)
+    _sdof(["ViscousDamper", 1, 1e9, 2e4, 0.35, 0.01])  # a gap at the pins: no counterpart
+    with pytest.raises(ValueError, match="LGap"):
+        duhamel.opensees.from_opensees()
     _sdof(["Steel01", 1, 1e4, 1e6, 0.05, 0.01, 1.0, 0.0, 1.0])  # isotropic hardening
     with pytest.raises(ValueError, match="isotropic hardening"):
         duhamel.opensees.from_opensees()

@@ -156,6 +156,11 @@ class Element:
     @staticmethod
     def bilinear(i: int, j: int | None, k: float, fy: float, alpha: float) -> Element: ...
     @staticmethod
+    def device(kind: str, args: tuple) -> Element:
+        """A device of the binding's ``devices.rs``: ``"triple_friction_pendulum"`` with
+        ``(dof_x, dof_y, mu, radius, displacement_capacity, weight, yield_displacement)``
+        (``dof_y`` None: uniaxial; the three middle ones each three floats)."""
+    @staticmethod
     def bouc_wen(
         i: int,
         j: int | None,

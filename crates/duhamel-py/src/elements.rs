@@ -13,6 +13,7 @@ use pyo3::prelude::*;
 
 use crate::arrays::vec_of;
 use crate::callable::{ArcElement, Built, PyElement};
+use crate::devices::{build as build_device, Device};
 use crate::error::core_err;
 use crate::guard::guarded;
 
@@ -33,6 +34,8 @@ enum Spec {
     Journal(ShortJournalBearing),
     SpeedTable(SpeedTableBearing),
     Crack(BreathingCrack),
+    /// A device built by `devices.rs` (a prototype cloned per run).
+    Device(Device),
     Callable {
         dofs: Vec<usize>,
         func: Py<PyAny>,
@@ -289,6 +292,12 @@ impl ElementSpec {
         guarded(made).map(|e| ElementSpec(Spec::FrictionPendulum(e)))
     }
 
+    /// A device element of `devices.rs`: `kind` and its arguments (a tuple).
+    #[staticmethod]
+    fn device(kind: &str, args: &Bound<'_, PyAny>) -> PyResult<Self> {
+        build_device(kind, args).map(|d| ElementSpec(Spec::Device(d)))
+    }
+
     /// Lead-rubber bearing: coupled bidirectional Bouc-Wen on `(dof_x, dof_y)`, uniaxial on
     /// `dof_x` when `dof_y` is None; `strength = (k, fy, alpha)`, `shape = (eta, beta, gamma)`.
     #[staticmethod]
@@ -433,6 +442,7 @@ impl ElementSpec {
             Spec::Journal(e) => e.dofs().to_vec(),
             Spec::SpeedTable(e) => e.dofs().to_vec(),
             Spec::Crack(e) => e.dofs().to_vec(),
+            Spec::Device(d) => d.dofs(),
             Spec::Callable { dofs, .. } => dofs.clone(),
             Spec::Shifted { inner, .. } => inner.get().dof_list(),
         }
@@ -466,6 +476,7 @@ pub(crate) fn make(
         Spec::Journal(e) => Box::new(e.clone()),
         Spec::SpeedTable(e) => Box::new(e.clone()),
         Spec::Crack(e) => Box::new(e.clone()),
+        Spec::Device(d) => d.fresh(),
         Spec::Callable {
             dofs,
             func,

@@ -12,6 +12,7 @@
 mod arrays;
 mod background;
 mod callable;
+mod devices;
 mod direct;
 mod driver;
 mod element_build;

@@ -118,6 +118,8 @@ def element(spec: tuple) -> Any:
         return _core.Element.breathing_crack(*crack, speed_law(law))
     if kind == "bilinear":
         return _core.Element.bilinear(*args)
+    if kind == "device":
+        return _core.Element.device(*args)
     if kind == "bouc_wen":
         i, j, k, fy, alpha, *shape = args
         return _core.Element.bouc_wen(i, j, k, fy, alpha, tuple(shape))

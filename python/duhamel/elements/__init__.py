@@ -6,7 +6,8 @@ integrator treats the element forces as modal pseudo-forces; :class:`LinearCoupl
 projected on the modes once. The hysteretic and device elements of earthquake engineering
 (:class:`Bilinear`, :class:`BoucWen`, :class:`FrictionPendulum`,
 :class:`LeadRubberBearing`, :class:`ViscousDamper`, :class:`Gap`) are defined in
-:mod:`.devices`, the others in :mod:`.basic`, their base class in :mod:`.base`; all are
+:mod:`.devices` (the triple friction pendulum :class:`TripleFrictionPendulum` in
+:mod:`.triple`), the others in :mod:`.basic`, their base class in :mod:`.base`; all are
 exported here. :class:`PDelta` (in :mod:`.geometric`) is no force element: it is linear,
 and :meth:`duhamel.System.add` takes it into the stiffness.
 """
@@ -32,6 +33,7 @@ from duhamel.elements.devices import (
     ViscousDamper,
 )
 from duhamel.elements.geometric import PDelta
+from duhamel.elements.triple import TripleFrictionPendulum
 
 __all__ = [
     "Bilinear",
@@ -48,5 +50,6 @@ __all__ = [
     "PDelta",
     "Polynomial",
     "Spring",
+    "TripleFrictionPendulum",
     "ViscousDamper",
 ]

@@ -13,7 +13,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel.elements import Bilinear, BoucWen, Element, FrictionPendulum, Gap, ViscousDamper
+from duhamel.elements import (
+    Bilinear,
+    BoucWen,
+    Element,
+    FrictionPendulum,
+    Gap,
+    TripleFrictionPendulum,
+    ViscousDamper,
+)
 from duhamel.opensees._read import DofMap, Printout, components
 
 __all__ = ["Translation", "translate"]
@@ -142,13 +150,16 @@ def _material(mat: dict[str, Any], i: int | None, j: int | None, sign: float) ->
             raise Untranslatable("a gap whose moving side is the fixed node")
         return Gap(a, b, gap=0.0, k=float(mat["E"]))
     if kind == "ViscousDamper":
-        warnings.warn(
-            f"ViscousDamper material {mat['name']} translated as a dashpot: its series "
-            f"stiffness K = {mat.get('K')} is taken as rigid",
-            UserWarning,
-            stacklevel=4,
+        # the damper in series with its brace K (the Maxwell model); the pin's gap is not
+        if float(mat.get("LGap", 0.0)) != 0.0:
+            raise Untranslatable(f"ViscousDamper material {mat['name']} with a gap (LGap)")
+        return ViscousDamper(
+            sym[0],
+            sym[1],
+            c=float(mat["C"]),
+            exponent=float(mat["Alpha"]),
+            brace_stiffness=float(mat["K"]),
         )
-        return ViscousDamper(sym[0], sym[1], c=float(mat["C"]), exponent=float(mat["Alpha"]))
     raise Untranslatable(f"material {mat.get('name')} of type {kind}")
 
 
@@ -251,6 +262,46 @@ def _slider(ops: Any, tag: int, ele: dict, dmap: DofMap, idx: dict) -> Made:
     return made, removed, [note]
 
 
+def _triple(ops: Any, tag: int, ele: dict, dmap: DofMap, idx: dict) -> Made:
+    """OpenSees' ``TripleFrictionPendulum`` (vertical, 3-D) as duhamel's, to the ground,
+    under its axial load at import and the friction coefficients at import (Coulomb)."""
+    ni, nj = (int(v) for v in ops.eleNodes(tag))
+    mu = tuple(_resp(ops, tag, "frictionModel", str(k), "frictionCoeff")[0] for k in (1, 2, 3))
+    weight = _resp(ops, tag, "frictionModel", "1", "normalForce")[0]
+    if not weight > 0:
+        raise Untranslatable(
+            "bearing without axial load at import (run the gravity analysis before importing)"
+        )
+    sheared = [ops.nodeDisp(nj, d) - ops.nodeDisp(ni, d) for d in (1, 2)]
+    if any(abs(v) > 0.0 for v in sheared):
+        raise Untranslatable(f"bearing sheared at import ({sheared}); it starts undeformed")
+    pairs = [(_eq(dmap, ni, c, idx), _eq(dmap, nj, c, idx)) for c in ("ux", "uy")]
+    if any(i is not None for i, _ in pairs) and any(j is not None for _, j in pairs):
+        raise Untranslatable("bearing between two free nodes (duhamel's is to the ground)")
+    dofs = [j if i is None else i for i, j in pairs]  # the force is odd in the deformation
+    free = [d for d in dofs if d is not None]
+    if not free:
+        return [], [], []
+    uy = float(ele["uy"])
+    made: list[Element] = [
+        TripleFrictionPendulum(
+            *free,
+            mu=mu,  # type: ignore[arg-type]
+            radius=(float(ele["L1"]), float(ele["L2"]), float(ele["L3"])),
+            displacement_capacity=(float(ele["d1"]), float(ele["d2"]), float(ele["d3"])),
+            weight=weight,
+            yield_displacement=uy,
+        )
+    ]
+    k0 = mu[0] * weight / uy  # its initial stiffness in the matrix, in each direction
+    removed = [_pair(i, j, k0) for i, j in pairs if (i, j) != (None, None)]
+    note = (
+        f"element {tag}: friction taken as Coulomb with mu = {mu} (the values at import) "
+        f"under the axial load at import {weight:g}"
+    )
+    return made, removed, [note]
+
+
 def translate(ops: Any, pr: Printout, dmap: DofMap, nonlinear: str) -> Translation:
     """Every element of the session: kept (linear), translated, or refused by tag and type
     (kept at its stiffness at import, with a warning, under ``nonlinear="linearize"``)."""
@@ -269,6 +320,8 @@ def translate(ops: Any, pr: Printout, dmap: DofMap, nonlinear: str) -> Translati
                 made, removed, notes = _zero_length(ops, tag, ele, pr, dmap, idx)
             elif kind in SLIDERS:
                 made, removed, notes = _slider(ops, tag, ele, dmap, idx)
+            elif kind == "TripleFrictionPendulum":
+                made, removed, notes = _triple(ops, tag, ele, dmap, idx)
             else:
                 raise Untranslatable("no duhamel counterpart")
             if kind not in LINEAR and made:

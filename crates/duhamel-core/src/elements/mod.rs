@@ -21,6 +21,7 @@ pub use contact::Contact;
 pub use crack::{Breathing, BreathingCrack};
 pub use element::{Element, ModalCubic, PathState, Tangent};
 pub(crate) use evaluation::Evaluation;
+pub use hysteretic::TripleFrictionPendulum;
 pub use hysteretic::{
     AxialFrictionPendulum, Bilinear, BoucWen, BoucWenParams, FrictionPendulum, Gap,
     LeadRubberBearing, MaxwellDamper, ViscousDamper, DEFAULT_V0, DEFAULT_YIELD_DISPLACEMENT,

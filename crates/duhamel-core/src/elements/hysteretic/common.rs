@@ -67,3 +67,29 @@ pub(crate) fn finite(t: f64, values: &[f64]) -> Result<(), CoreError> {
         })
     }
 }
+
+/// The 4 x 4 system `a x = b` by Gaussian elimination with partial pivoting (`a`
+/// nonsingular: the triple pendulum's symmetric positive definite Hessian).
+pub(crate) fn solve4(mut a: [[f64; 4]; 4], mut b: [f64; 4]) -> [f64; 4] {
+    for col in 0..4 {
+        let p = (col..4)
+            .max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))
+            .unwrap_or(col);
+        a.swap(col, p);
+        b.swap(col, p);
+        let pivot = a[col];
+        for row in col + 1..4 {
+            let m = a[row][col] / pivot[col];
+            for (v, p) in a[row][col..].iter_mut().zip(&pivot[col..]) {
+                *v -= m * p;
+            }
+            b[row] -= m * b[col];
+        }
+    }
+    let mut x = [0.0; 4];
+    for row in (0..4).rev() {
+        let s: f64 = (row + 1..4).map(|k| a[row][k] * x[k]).sum();
+        x[row] = (b[row] - s) / a[row][row];
+    }
+    x
+}

@@ -1,6 +1,6 @@
 //! Hysteretic and device elements of earthquake engineering: the path-dependent
 //! [`Bilinear`], [`BoucWen`], [`FrictionPendulum`], [`AxialFrictionPendulum`] (its normal force from a vertical dof)
-//! and [`LeadRubberBearing`] (committed and trial internal
+//! [`LeadRubberBearing`] and [`TripleFrictionPendulum`] (committed and trial internal
 //! variables, [`crate::elements::PathState`]) the damper in series with its brace
 //! [`MaxwellDamper`] (its internal deformation evolves in time) and the stateless
 //! [`ViscousDamper`] and [`Gap`].
@@ -14,6 +14,8 @@ mod gap;
 mod maxwell;
 mod pendulum_axial;
 mod rubber;
+mod triple;
+mod triple_segment;
 mod viscous;
 
 pub use bilinear::Bilinear;
@@ -23,4 +25,5 @@ pub use gap::Gap;
 pub use maxwell::MaxwellDamper;
 pub use pendulum_axial::AxialFrictionPendulum;
 pub use rubber::LeadRubberBearing;
+pub use triple::TripleFrictionPendulum;
 pub use viscous::{ViscousDamper, DEFAULT_V0};
