@@ -246,6 +246,38 @@ def test_linear_element_at_massless_dof_with_a_load_there():
     assert np.abs(a.x - b.x).max() <= 1e-4 * np.abs(a.x).max()
 
 
+@pytest.mark.parametrize("linear_parts", ["auto", "background"])
+def test_element_linear_part_in_background_counts_in_the_massless_static_part(linear_parts):
+    """Regression: with the element's linear part moved into the background (the default),
+    the static part of a load at a massless dof was taken with K_ss WITHOUT the element's
+    stiffness (a Spring k = 50 at a massless dof loaded there gave 0.636 instead of the
+    exact 100 u / (100 + 50) = 0.424, silently). Against the closed form of the static dof
+    and against the spring written into K."""
+    t = np.linspace(0.0, 1.0, 2001)
+    u = 0.9 * np.sin(1.5 * np.pi * t)
+    for k in (1.0, 50.0):
+        load = duhamel.loads.Tabulated(0, t, 100.0 * u, hold=True)
+        s = duhamel.System(np.diag([0.0, 1.0]), np.diag([100.0, 1.0])).add_load(load)
+        s.add(duhamel.elements.Spring(0, None, k=k))
+        sol = duhamel.solve(s, duhamel.Semianalytic(linear_parts=linear_parts), t_end=1.0, dt=5e-4)
+        closed = 100.0 * u / (100.0 + k)
+        assert np.abs(sol.x[:, 0] - closed).max() <= 1e-4 * np.abs(closed).max()
+    # a coupled frame: the spring at a massless rotation, against the spring in K
+    M, K, _ = moment_frame(3, 1)
+    r = np.flatnonzero(np.diag(M) == 0)
+    tt = np.arange(0.0, 3.2, DT)
+    moment = duhamel.loads.Tabulated(int(r[1]), tt, 4e4 * np.sin(5.0 * tt))
+    kr = 3e7
+    stiff = K.copy()
+    stiff[r[1], r[1]] += kr
+    exact = duhamel.System(M, stiff, rayleigh=(0.4, 0.0)).add_load(moment)
+    spring = duhamel.System(M, K, rayleigh=(0.4, 0.0)).add_load(moment)
+    spring.add(duhamel.elements.Spring(int(r[1]), None, k=kr))
+    a = duhamel.solve(exact, duhamel.Semianalytic(), t_end=3.0, dt=DT)
+    b = duhamel.solve(spring, duhamel.Semianalytic(linear_parts=linear_parts), t_end=3.0, dt=DT)
+    assert np.abs(a.x - b.x).max() <= 1e-4 * np.abs(a.x).max()
+
+
 def test_streamed_run_with_a_massless_load_refused(tmp_path):
     pytest.importorskip("zarr")
     M, K, _ = moment_frame(2, 1)

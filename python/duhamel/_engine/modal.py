@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._engine import dispatch
+from duhamel._engine.background import background
 from duhamel._engine.chunks import chunked, steps_of
 from duhamel._engine.correction import substeps
 from duhamel._engine.dense import ExactSteps, State
@@ -300,8 +301,10 @@ def solution(
     kept, x, vel, acc, modal = physical(result, route, out.phi_out, patterns)
     error = result.error
     t = result.t if kept == result.t.size else result.t[:kept]
+    # The static part is K_ss^-1 f_s of the background the run integrated: elements' linear
+    # parts at massless dofs moved into it (`linear_parts="auto"/"background"`) belong to K_ss.
     terms = load_terms(
-        prep.system,
+        background(prep.system, prep.integrator.linear_parts).system,
         prep.system.loads if base is None else base,
         t,
         out.dofs,
