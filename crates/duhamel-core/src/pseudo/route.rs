@@ -8,7 +8,7 @@ use super::newton::StepSolver;
 use super::problem::{validate, NonlinearProblem};
 use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
-use super::subdivide::{halvings, level_rules, retriable, too_stiff, Subdivider};
+use super::subdivide::{level_rules, retriable, too_stiff, Subdivider, Watch};
 use crate::driver::{drive, finish, Control, Route, StepFailure};
 use crate::error::CoreError;
 use crate::history::{size, zeroed, Coordinates, ElementRows, Failure, History, Stats};
@@ -116,9 +116,9 @@ struct PseudoRoute<'r, 'a> {
     /// The levels of automatic subdivision, when the step equation is nonlinear or the
     /// elements' stiffness is watched.
     sub: Option<Subdivider<'r>>,
-    /// The elements' modal tangent stiffness at the start of the step, when watched (see
-    /// [`super::subdivide::STIFF_LIMIT`]).
-    stiffness: Option<f64>,
+    /// The elements' modal tangent stiffness, when watched, and the substep rule on it (see
+    /// [`super::subdivide::Watch`]).
+    stiffness: Option<Watch>,
     /// The growth guard, with the end-of-step modal load it is given.
     guard: Option<(GrowthGuard, Vec<f64>)>,
     state: StepBuffers,
@@ -206,17 +206,24 @@ impl PseudoRoute<'_, '_> {
             // The elements' tangent at the end state (and the start's): a step they make
             // too stiff for the pseudo-force step is taken in enough halves, or stops.
             let mut min_depth = 0;
-            let solved = match (solved, self.stiffness) {
-                (Ok(iters), Some(start)) => {
+            let solved = match (solved, self.stiffness.as_mut()) {
+                (Ok(iters), Some(watch)) => {
                     let end = problem.time(step + 1);
                     match self.pf.tangent_stiffness(q1, v1, end) {
                         Ok((lambda, worst)) => {
-                            let need = halvings(problem.dt * lambda.max(start).sqrt());
-                            let depth = self.sub.as_ref().map_or(0, |s| s.depth());
-                            self.stiffness = Some(lambda);
-                            if need == 0 {
+                            let start = watch.start();
+                            // a step holding a load jump is not subdivided: only stability
+                            let jump = loads.jumps.iter().any(|j| j.0 == s);
+                            let depth = match &self.sub {
+                                Some(sub) if !jump => sub.depth(),
+                                _ => 0,
+                            };
+                            let end_state = (lambda, self.pf.space().background());
+                            let need = watch.depth(end_state, problem.dt, 1.0, depth);
+                            if need == Ok(0) {
+                                watch.accept(end_state);
                                 Ok(iters)
-                            } else if need > depth || loads.jumps.iter().any(|j| j.0 == s) {
+                            } else if need.is_err() {
                                 let at = if lambda >= start {
                                     (lambda, worst)
                                 } else {
@@ -225,7 +232,7 @@ impl PseudoRoute<'_, '_> {
                                 };
                                 Err(too_stiff(&self.pf, at, problem.dt, 0))
                             } else {
-                                min_depth = need;
+                                min_depth = need.unwrap_or(0);
                                 Err(CoreError::NoConvergence {
                                     time: 0.0,
                                     step: 0,
@@ -251,12 +258,15 @@ impl PseudoRoute<'_, '_> {
                     v1.copy_from_slice(v);
                     let basis = [&pb[0][..], &pb[1][..], &pb[2][..]];
                     let span = (t, problem.dt);
-                    match sub.step(&mut self.pf, span, basis, (q1, v1), min_depth) {
+                    let watch = (min_depth, self.stiffness.as_mut());
+                    match sub.step(&mut self.pf, span, basis, (q1, v1), watch) {
                         Ok(iters) => {
-                            if self.stiffness.is_some() {
+                            if let Some(watch) = self.stiffness.as_mut() {
                                 let end = problem.time(step + 1);
                                 match self.pf.tangent_stiffness(q1, v1, end) {
-                                    Ok((lambda, _)) => self.stiffness = Some(lambda),
+                                    Ok((lambda, _)) => {
+                                        watch.accept((lambda, self.pf.space().background()))
+                                    }
                                     Err(error) => {
                                         result = Err(StepFailure {
                                             error,
@@ -437,7 +447,8 @@ pub fn integrate(
     // reports the failure with the initial state kept.
     let stiffness = if watch {
         let start = pf.tangent_stiffness(base.q0, base.v0, base.time(0));
-        Some(start.map_or(0.0, |(lambda, _)| lambda))
+        let start = start.map_or(0.0, |(lambda, _)| lambda);
+        Some(Watch::new((start, pf.space().background())))
     } else {
         None
     };

@@ -8,6 +8,7 @@
 //! is not subdivided. Hysteretic elements commit at the end of every accepted substep.
 
 use super::force::PseudoForce;
+use super::local::DOMINANT;
 use super::newton::StepSolver;
 use super::problem::{NonlinearProblem, Options};
 use super::rows::{linear_step, step_rows, StepRows};
@@ -26,12 +27,132 @@ use crate::kernel::oscillator::Transfer;
 /// converged one at omega_c dt = 10 subdivided to <= 3; at <= 2 it is within 2 %).
 pub(super) const STIFF_LIMIT: f64 = 2.0;
 
-/// The number of halvings that bring `omega_c dt` (`h`) within [`STIFF_LIMIT`].
-pub(super) fn halvings(h: f64) -> usize {
-    if h <= STIFF_LIMIT {
+/// The `omega_c dt` of a substep the accuracy rule aims at (see [`depth_for`]).
+pub(super) const ACCURATE_LIMIT: f64 = 0.25;
+
+/// The largest change of the closed state's `ln omega_c^2` over a substep the accuracy rule
+/// allows (see [`depth_for`]).
+pub(super) const CHANGE_LIMIT: f64 = 0.5;
+
+/// The largest `omega_c dt` the coupled (first-order) route, which does not subdivide,
+/// steps at: measured on a stiff stop with non-classical damping (`Gap(k=1e8)` on two dofs
+/// of 1e4, issue 23) its error was 0.011 of the peak at 0.45 (Newmark's 0.098) and 0.084 at
+/// 0.89 (Newmark's 0.027). Beyond it the run stops, naming the element.
+pub(crate) const COUPLED_LIMIT: f64 = 0.5;
+
+/// The halvings that bring `x` within `limit`.
+fn halvings_to(x: f64, limit: f64) -> usize {
+    if x <= limit {
         0
     } else {
-        (h / STIFF_LIMIT).log2().ceil().min(64.0) as usize
+        (x / limit).log2().ceil().min(64.0) as usize
+    }
+}
+
+/// The one substep rule, for a step of the run's `dt` at `omega_c dt = h` (`omega_c` of the
+/// elements that dominate the modes they load, the larger at its ends; 0 when none does),
+/// `peak` the largest `omega_c dt` of the run so far (see [`Watch`]) and `change` the change
+/// of `ln omega_c^2` over the step, with `max_depth` levels of subdivision: `Ok(d)`, the step
+/// is taken in `2^d` substeps, or `Err(d)` when stability needs `d > max_depth` halvings.
+///
+/// Stability: substeps of `omega_c dt <= STIFF_LIMIT`, or the run stops. Accuracy (as far as
+/// `max_depth` allows; it never stops a run): substeps of `omega_c dt <= ACCURATE_LIMIT` at
+/// the run's `peak` (beyond, the stiff state's phase error over many of its periods grew
+/// larger than Newmark's at the same step: a stiff `Contact` or `Cubic` at `omega_c dt` 1,
+/// docs/nonlinear.md, "Stiff elements"), and substeps over which the closed state's
+/// stiffness changes by at most `e^CHANGE_LIMIT` (a gap closing, a smoothed contact's ramp,
+/// a yield: a kink inside the step, where the trapezoid of the pseudo-force erred 1.3 - 1.5
+/// times more than Newmark at `omega_c dt = 0.1`, and a ramp faster than the stiff state
+/// vibrates, 10 times more at 1).
+pub(super) fn depth_for(h: f64, peak: f64, change: f64, max_depth: usize) -> Result<usize, usize> {
+    if !(h > 0.0) {
+        return Ok(0);
+    }
+    let stable = halvings_to(h, STIFF_LIMIT);
+    if stable > max_depth {
+        return Err(stable);
+    }
+    let accurate = halvings_to(peak.max(h), ACCURATE_LIMIT).max(halvings_to(change, CHANGE_LIMIT));
+    Ok(stable.max(accurate.min(max_depth)))
+}
+
+/// The number of halvings that bring `omega_c dt` (`h`) within [`STIFF_LIMIT`].
+pub(super) fn halvings(h: f64) -> usize {
+    halvings_to(h, STIFF_LIMIT)
+}
+
+/// The stiffness watch of a run: the closed state's `omega_c^2`
+/// ([`super::local::ElementSpace::tangent_stiffness`]) at the start of the (sub)step and the
+/// largest met so far, and the substep rule ([`depth_for`]) on them. The accuracy depth
+/// follows the run's largest `omega_c`, not the current one: a tangent that varies inside a
+/// contact (a smoothed `Contact`, a `Cubic`) would otherwise change the substep from step to
+/// step while the stiff state vibrates, and each change costs the linear-acceleration step
+/// its energy balance (measured: a stiff `Contact` at `omega_c dt = 1` in 2 and 3 levels:
+/// 9.5e-4 and 4.0e-3 of the peak with the depth following the tangent, 1.2e-4 and 3.0e-5 in
+/// uniform substeps).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Watch {
+    /// `omega_c^2` at the start of the (sub)step (0: no element dominates) and the
+    /// background's modal stiffness it counted.
+    start: (f64, f64),
+    /// The largest `omega_c^2` met so far.
+    peak: f64,
+}
+
+impl Watch {
+    /// The watch of a run whose initial state has `omega_c^2 = start.0` over a background
+    /// of `start.1`.
+    pub fn new(start: (f64, f64)) -> Self {
+        Watch {
+            start,
+            peak: if start.0 > 0.0 { start.0 } else { 0.0 },
+        }
+    }
+
+    /// `omega_c^2` at the start of the step.
+    pub fn start(&self) -> f64 {
+        self.start.0
+    }
+
+    /// The depth ([`depth_for`]) of a (sub)step from the last accepted state to one whose
+    /// elements' `omega_c^2` is `end.0` over a background `end.1`, the (sub)step `fraction`
+    /// of the run's `dt`, with `max_depth` levels. An element that starts or stops
+    /// dominating changes the stiffness from its threshold, `DOMINANT + 1` times the
+    /// background.
+    pub fn depth(
+        &self,
+        end: (f64, f64),
+        dt: f64,
+        fraction: f64,
+        max_depth: usize,
+    ) -> Result<usize, usize> {
+        let lambda = end.0.max(self.start.0);
+        if !(lambda > 0.0) {
+            return Ok(0);
+        }
+        let threshold = |(l, b): (f64, f64)| if l > 0.0 { l } else { (DOMINANT + 1.0) * b };
+        let (a, b) = if end.0 > 0.0 && self.start.0 > 0.0 {
+            (end.0, self.start.0)
+        } else if end.0 > 0.0 {
+            (end.0, threshold((0.0, end.1)))
+        } else {
+            (self.start.0, threshold((0.0, self.start.1)))
+        };
+        let change = if b > 0.0 {
+            (a / b).ln().abs() / fraction
+        } else {
+            f64::INFINITY
+        };
+        let peak = self.peak.max(lambda);
+        depth_for(dt * lambda.sqrt(), dt * peak.sqrt(), change, max_depth)
+    }
+
+    /// An accepted (sub)step ends at `omega_c^2 = end.0` over a background `end.1`.
+    pub fn accept(&mut self, end: (f64, f64)) {
+        self.start = end;
+        if end.0 > self.peak {
+            self.peak = end.0;
+        }
     }
 }
 
@@ -94,7 +215,8 @@ pub(super) struct Subdivider<'r> {
     n: usize,
     /// Whether hysteretic elements commit at the end of every accepted substep.
     stateful: bool,
-    /// Whether the elements' tangent stiffness is watched at the end of every substep.
+    /// Whether the elements' tangent stiffness is watched (then at the end of every substep,
+    /// with the run's [`Watch`]).
     watch: bool,
     dt: f64,
     /// Steps that needed subdividing, and the deepest level reached.
@@ -153,17 +275,18 @@ impl<'r> Subdivider<'r> {
         (t, dt): (f64, f64),
         pb: [&[f64]; 3],
         (q, v): (&mut [f64], &mut [f64]),
-        min_depth: usize,
+        (min_depth, watch): (usize, Option<&mut Watch>),
     ) -> Result<usize, CoreError> {
         self.steps += 1;
+        let mut watch = watch.filter(|_| self.watch);
         let span = Span {
             t,
             dt,
             pb,
             min_depth,
         };
-        let first = self.advance(1, pf, &span, 0.0, (q, v))?;
-        let second = self.advance(1, pf, &span, 0.5, (q, v))?;
+        let first = self.advance(1, pf, &span, 0.0, (q, v), &mut watch)?;
+        let second = self.advance(1, pf, &span, 0.5, (q, v), &mut watch)?;
         Ok(first + second)
     }
 
@@ -176,6 +299,7 @@ impl<'r> Subdivider<'r> {
         span: &Span,
         a: f64,
         (q, v): (&mut [f64], &mut [f64]),
+        watch: &mut Option<&mut Watch>,
     ) -> Result<usize, CoreError> {
         let n = self.n;
         let h = 0.5f64.powi(depth as i32);
@@ -184,8 +308,8 @@ impl<'r> Subdivider<'r> {
         let (mut q1, mut v1) = (vec![0.0; n], vec![0.0; n]);
         let deeper = depth < self.levels.len();
         if depth < span.min_depth && deeper {
-            let first = self.advance(depth + 1, pf, span, a, (q, v))?;
-            let second = self.advance(depth + 1, pf, span, a + 0.5 * h, (q, v))?;
+            let first = self.advance(depth + 1, pf, span, a, (q, v), watch)?;
+            let second = self.advance(depth + 1, pf, span, a + 0.5 * h, (q, v), watch)?;
             return Ok(first + second);
         }
         let attempt = {
@@ -205,15 +329,24 @@ impl<'r> Subdivider<'r> {
         };
         let end = t + h * span.dt;
         let attempt = match attempt {
-            Ok(iterations) if self.watch => {
+            Ok(iterations) if watch.is_some() => {
+                // the run's rule, with the tangent at this substep's end
                 let stiffness = pf.tangent_stiffness(&q1, &v1, end)?;
-                let hs = h * self.dt * stiffness.0.sqrt();
-                if hs <= STIFF_LIMIT {
-                    Ok(iterations)
-                } else if deeper {
-                    Err(None)
-                } else {
-                    return Err(too_stiff(pf, stiffness, h * self.dt, depth));
+                let levels = self.levels.len();
+                let fraction = h;
+                let end_state = (stiffness.0, pf.space().background());
+                match watch
+                    .as_mut()
+                    .map(|w| w.depth(end_state, self.dt, fraction, levels))
+                {
+                    Some(Ok(need)) if depth >= need => {
+                        if let Some(w) = watch.as_mut() {
+                            w.accept(end_state);
+                        }
+                        Ok(iterations)
+                    }
+                    _ if deeper => Err(None),
+                    _ => return Err(too_stiff(pf, stiffness, h * self.dt, depth)),
                 }
             }
             Ok(iterations) => Ok(iterations),
@@ -231,9 +364,9 @@ impl<'r> Subdivider<'r> {
                 Ok(iterations)
             }
             Err(None) => {
-                let first = self.advance(depth + 1, pf, span, a, (q, v))?;
+                let first = self.advance(depth + 1, pf, span, a, (q, v), watch)?;
                 let mid = a + 0.5 * h;
-                let second = self.advance(depth + 1, pf, span, mid, (q, v))?;
+                let second = self.advance(depth + 1, pf, span, mid, (q, v), watch)?;
                 Ok(first + second)
             }
             Err(Some(error)) => Err(error),
