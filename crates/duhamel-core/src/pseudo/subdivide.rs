@@ -28,11 +28,11 @@ use crate::kernel::oscillator::Transfer;
 pub(super) const STIFF_LIMIT: f64 = 2.0;
 
 /// The `omega_c dt` of a substep the accuracy rule aims at (see [`depth_for`]).
-pub(super) const ACCURATE_LIMIT: f64 = 0.25;
+pub(super) const ACCURATE_LIMIT: f64 = 0.5;
 
 /// The largest change of the closed state's `ln omega_c^2` over a substep the accuracy rule
 /// allows (see [`depth_for`]).
-pub(super) const CHANGE_LIMIT: f64 = 0.5;
+pub(super) const CHANGE_LIMIT: f64 = 1.0;
 
 /// The largest `omega_c dt` the coupled (first-order) route, which does not subdivide,
 /// steps at: measured on a stiff stop with non-classical damping (`Gap(k=1e8)` on two dofs
@@ -58,12 +58,15 @@ fn halvings_to(x: f64, limit: f64) -> usize {
 /// Stability: substeps of `omega_c dt <= STIFF_LIMIT`, or the run stops. Accuracy (as far as
 /// `max_depth` allows; it never stops a run): substeps of `omega_c dt <= ACCURATE_LIMIT` at
 /// the run's `peak` (beyond, the stiff state's phase error over many of its periods grew
-/// larger than Newmark's at the same step: a stiff `Contact` or `Cubic` at `omega_c dt` 1,
-/// docs/nonlinear.md, "Stiff elements"), and substeps over which the closed state's
-/// stiffness changes by at most `e^CHANGE_LIMIT` (a gap closing, a smoothed contact's ramp,
-/// a yield: a kink inside the step, where the trapezoid of the pseudo-force erred 1.3 - 1.5
-/// times more than Newmark at `omega_c dt = 0.1`, and a ramp faster than the stiff state
-/// vibrates, 10 times more at 1).
+/// larger than Newmark's at the same step: a `Cubic` 1e4 times its mode at `omega_c dt = 1`,
+/// 0.61 of the peak against 0.24; docs/nonlinear.md, "Stiff elements"), and substeps over
+/// which the closed state's stiffness changes by at most `e^CHANGE_LIMIT` (a gap closing, a
+/// smoothed contact's ramp, a yield: a kink inside the step, where the trapezoid of the
+/// pseudo-force erred 1.3 - 1.5 times more than Newmark at `omega_c dt = 0.1`, and a ramp
+/// faster than the stiff state vibrates). Both limits are the largest that keep the whole
+/// family within Newmark's error while the paper's Duffing oscillator (12 times its
+/// background at the amplitude, `omega_c dt` 0.23 and 0.45 at 100 and 50 steps per period,
+/// its stiffness changing by at most `e^0.64` per step) keeps its plain steps.
 pub(super) fn depth_for(h: f64, peak: f64, change: f64, max_depth: usize) -> Result<usize, usize> {
     if !(h > 0.0) {
         return Ok(0);
@@ -82,21 +85,24 @@ pub(super) fn halvings(h: f64) -> usize {
 }
 
 /// The stiffness watch of a run: the closed state's `omega_c^2`
-/// ([`super::local::ElementSpace::tangent_stiffness`]) at the start of the (sub)step and the
-/// largest met so far, and the substep rule ([`depth_for`]) on them. The accuracy depth
-/// follows the run's largest `omega_c`, not the current one: a tangent that varies inside a
-/// contact (a smoothed `Contact`, a `Cubic`) would otherwise change the substep from step to
-/// step while the stiff state vibrates, and each change costs the linear-acceleration step
-/// its energy balance (measured: a stiff `Contact` at `omega_c dt = 1` in 2 and 3 levels:
-/// 9.5e-4 and 4.0e-3 of the peak with the depth following the tangent, 1.2e-4 and 3.0e-5 in
-/// uniform substeps).
-#[derive(Clone, Copy, Debug)]
+/// ([`super::local::ElementSpace::tangent_stiffness`]) at the start of the (sub)step, the
+/// largest met so far and the largest accuracy depth needed so far, and the substep rule
+/// ([`depth_for`]) on them. A dominated step is taken at least as finely as any before it:
+/// a tangent that varies inside a contact (a smoothed `Contact`, a `Cubic`, the ramp into a
+/// stop) would otherwise change the substep from step to step while the stiff state
+/// vibrates, and each change costs the linear-acceleration step its energy balance
+/// (measured: a stiff `Contact` at `omega_c dt = 1` in 2 and 3 levels: 9.5e-4 and 4.0e-3 of
+/// the peak with the depth following the tangent, 1.2e-4 and 3.0e-5 in uniform substeps;
+/// with the ramp taken finely and the rest coarser, 9.8e-3 against Newmark's 4.4e-3).
+#[derive(Clone, Debug)]
 pub(super) struct Watch {
     /// `omega_c^2` at the start of the (sub)step (0: no element dominates) and the
     /// background's modal stiffness it counted.
     start: (f64, f64),
     /// The largest `omega_c^2` met so far.
     peak: f64,
+    /// The largest accuracy depth a dominated (sub)step has needed so far.
+    held: std::cell::Cell<usize>,
 }
 
 impl Watch {
@@ -106,6 +112,7 @@ impl Watch {
         Watch {
             start,
             peak: if start.0 > 0.0 { start.0 } else { 0.0 },
+            held: std::cell::Cell::new(0),
         }
     }
 
@@ -144,7 +151,9 @@ impl Watch {
             f64::INFINITY
         };
         let peak = self.peak.max(lambda);
-        depth_for(dt * lambda.sqrt(), dt * peak.sqrt(), change, max_depth)
+        let need = depth_for(dt * lambda.sqrt(), dt * peak.sqrt(), change, max_depth)?;
+        self.held.set(self.held.get().max(need));
+        Ok(need.max(self.held.get().min(max_depth)))
     }
 
     /// An accepted (sub)step ends at `omega_c^2 = end.0` over a background `end.1`.
@@ -402,10 +411,61 @@ impl Span<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::Span;
+    use super::{depth_for, Span, Watch, ACCURATE_LIMIT, CHANGE_LIMIT, STIFF_LIMIT};
 
-    /// A substep's load basis reproduces the step's quadratic load at every point of the
-    /// substep, for nested substeps too.
+    /// The rule: stability first (an error when the levels cannot reach it), then accuracy
+    /// as far as the levels allow; nothing for a step no element dominates.
+    #[test]
+    fn one_rule_for_stability_and_accuracy() {
+        assert_eq!((ACCURATE_LIMIT, CHANGE_LIMIT), (0.5, 1.0));
+        assert_eq!(depth_for(0.0, 10.0, f64::INFINITY, 4), Ok(0));
+        assert_eq!(depth_for(f64::NAN, 0.0, 0.0, 4), Ok(0));
+        // within both limits: the plain step
+        assert_eq!(
+            depth_for(ACCURATE_LIMIT, ACCURATE_LIMIT, CHANGE_LIMIT, 4),
+            Ok(0)
+        );
+        // accuracy: omega_c dt 2 -> 0.5 in two halvings, capped by the levels, never an error
+        assert_eq!(depth_for(2.0, 2.0, 0.0, 4), Ok(2));
+        assert_eq!(depth_for(2.0, 2.0, 0.0, 1), Ok(1));
+        assert_eq!(depth_for(2.0, 2.0, 0.0, 0), Ok(0));
+        // the run's peak, not the current stiffness, sets the accuracy depth
+        assert_eq!(depth_for(0.1, 2.0, 0.0, 4), Ok(2));
+        // a fast change of the stiffness: e^4 over the step -> 2 halvings to e^1
+        assert_eq!(depth_for(0.1, 0.1, 4.0, 4), Ok(2));
+        assert_eq!(depth_for(0.1, 0.1, f64::INFINITY, 4), Ok(4));
+        // stability: 2^3 substeps bring 10 to 1.25; with 2 levels the run stops
+        assert_eq!(depth_for(10.0, 10.0, 0.0, 2), Err(3));
+        assert_eq!(depth_for(2.0 * STIFF_LIMIT, 0.0, 0.0, 1), Ok(1));
+        assert_eq!(depth_for(10.0, 10.0, 0.0, 6), Ok(5));
+    }
+
+    /// The watch: an element that starts dominating changes the stiffness from its
+    /// threshold (3 times the background); the peak and the depth it needed are kept.
+    #[test]
+    fn watch_counts_onset_from_the_threshold_and_keeps_the_depth() {
+        let dt = 0.01;
+        let mut w = Watch::new((0.0, 1.0));
+        // just dominating (3.1 x a background of 1): no change worth a substep
+        assert_eq!(w.depth((3.1, 1.0), dt, 1.0, 4), Ok(0));
+        // a gap closing at 1e4 x its background: ln(1e4 / 3) = 8.1 -> 4 halvings
+        assert_eq!(w.depth((1e4, 1.0), dt, 1.0, 4), Ok(4));
+        w.accept((1e4, 1.0));
+        // closed and steady at omega_c dt = 1: one halving would do, the depth is held
+        assert_eq!(w.depth((1e4, 1.0), dt, 1.0, 4), Ok(4));
+        // fewer levels available: as many as there are
+        assert_eq!(w.depth((1e4, 1.0), dt, 1.0, 2), Ok(2));
+        w.accept((0.0, 0.0));
+        // open: the plain step
+        assert_eq!(w.depth((0.0, 0.0), dt, 1.0, 4), Ok(0));
+        // a fresh watch: steady at omega_c dt = 1, one halving
+        let mut fresh = Watch::new((1e4, 1.0));
+        assert_eq!(fresh.depth((1e4, 1.0), dt, 1.0, 4), Ok(1));
+        fresh.accept((1e4, 1.0));
+        // a half substep as stiff: the same rule at its length
+        assert_eq!(fresh.depth((1e4, 1.0), dt, 0.5, 4), Ok(1));
+    }
+
     #[test]
     #[allow(clippy::needless_range_loop)]
     fn restricted_load_is_the_step_load() {
