@@ -108,8 +108,10 @@ def main() -> None:
         )
         nm = n.get("newmark", o.get("newmark", "-"))
         nm = f"{nm:.3g}" if isinstance(nm, float) else nm
-        print(f"| {k} | {cell(o, 'old')} | {cell(n, 'new')} ({n.get('sub', 0)}/{n.get('steps', '-')}) "
-              f"| {ratio} | {nm} |")
+        print(
+            f"| {k} | {cell(o, 'old')} | {cell(n, 'new')} ({n.get('sub', 0)}/{n.get('steps', '-')}) "
+            f"| {ratio} | {nm} |"
+        )
 
 
 if __name__ == "__main__":

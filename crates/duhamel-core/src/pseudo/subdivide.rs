@@ -28,11 +28,11 @@ use crate::kernel::oscillator::Transfer;
 pub(super) const STIFF_LIMIT: f64 = 2.0;
 
 /// The `omega_c dt` of a substep the accuracy rule aims at (see [`depth_for`]).
-pub(super) const ACCURATE_LIMIT: f64 = 0.5;
+pub(super) const ACCURATE_LIMIT: f64 = 1.0;
 
 /// The largest change of the closed state's `ln omega_c^2` over a substep the accuracy rule
 /// allows (see [`depth_for`]).
-pub(super) const CHANGE_LIMIT: f64 = 1.0;
+pub(super) const CHANGE_LIMIT: f64 = 2.0;
 
 /// The largest `omega_c dt` the coupled (first-order) route, which does not subdivide,
 /// steps at: measured on a stiff stop with non-classical damping (`Gap(k=1e8)` on two dofs
@@ -417,7 +417,7 @@ mod tests {
     /// as far as the levels allow; nothing for a step no element dominates.
     #[test]
     fn one_rule_for_stability_and_accuracy() {
-        assert_eq!((ACCURATE_LIMIT, CHANGE_LIMIT), (0.5, 1.0));
+        assert_eq!((ACCURATE_LIMIT, CHANGE_LIMIT), (1.0, 2.0));
         assert_eq!(depth_for(0.0, 10.0, f64::INFINITY, 4), Ok(0));
         assert_eq!(depth_for(f64::NAN, 0.0, 0.0, 4), Ok(0));
         // within both limits: the plain step
@@ -425,19 +425,18 @@ mod tests {
             depth_for(ACCURATE_LIMIT, ACCURATE_LIMIT, CHANGE_LIMIT, 4),
             Ok(0)
         );
-        // accuracy: omega_c dt 2 -> 0.5 in two halvings, capped by the levels, never an error
-        assert_eq!(depth_for(2.0, 2.0, 0.0, 4), Ok(2));
-        assert_eq!(depth_for(2.0, 2.0, 0.0, 1), Ok(1));
+        // accuracy: omega_c dt 2 -> 1 in one halving, capped by the levels, never an error
+        assert_eq!(depth_for(2.0, 2.0, 0.0, 4), Ok(1));
         assert_eq!(depth_for(2.0, 2.0, 0.0, 0), Ok(0));
         // the run's peak, not the current stiffness, sets the accuracy depth
-        assert_eq!(depth_for(0.1, 2.0, 0.0, 4), Ok(2));
-        // a fast change of the stiffness: e^4 over the step -> 2 halvings to e^1
-        assert_eq!(depth_for(0.1, 0.1, 4.0, 4), Ok(2));
+        assert_eq!(depth_for(0.1, 4.0, 0.0, 4), Ok(2));
+        // a fast change of the stiffness: e^8 over the step -> 2 halvings to e^2
+        assert_eq!(depth_for(0.1, 0.1, 8.0, 4), Ok(2));
         assert_eq!(depth_for(0.1, 0.1, f64::INFINITY, 4), Ok(4));
         // stability: 2^3 substeps bring 10 to 1.25; with 2 levels the run stops
         assert_eq!(depth_for(10.0, 10.0, 0.0, 2), Err(3));
         assert_eq!(depth_for(2.0 * STIFF_LIMIT, 0.0, 0.0, 1), Ok(1));
-        assert_eq!(depth_for(10.0, 10.0, 0.0, 6), Ok(5));
+        assert_eq!(depth_for(10.0, 10.0, 0.0, 6), Ok(4));
     }
 
     /// The watch: an element that starts dominating changes the stiffness from its
@@ -448,22 +447,21 @@ mod tests {
         let mut w = Watch::new((0.0, 1.0));
         // just dominating (3.1 x a background of 1): no change worth a substep
         assert_eq!(w.depth((3.1, 1.0), dt, 1.0, 4), Ok(0));
-        // a gap closing at 1e4 x its background: ln(1e4 / 3) = 8.1 -> 4 halvings
-        assert_eq!(w.depth((1e4, 1.0), dt, 1.0, 4), Ok(4));
+        // a gap closing at 1e4 x its background: ln(1e4 / 3) = 8.1 -> 3 halvings to e^2
+        assert_eq!(w.depth((1e4, 1.0), dt, 1.0, 4), Ok(3));
         w.accept((1e4, 1.0));
-        // closed and steady at omega_c dt = 1: one halving would do, the depth is held
-        assert_eq!(w.depth((1e4, 1.0), dt, 1.0, 4), Ok(4));
+        // closed and steady at omega_c dt = 1: no substep needed, the depth is held
+        assert_eq!(w.depth((1e4, 1.0), dt, 1.0, 4), Ok(3));
         // fewer levels available: as many as there are
         assert_eq!(w.depth((1e4, 1.0), dt, 1.0, 2), Ok(2));
         w.accept((0.0, 0.0));
         // open: the plain step
         assert_eq!(w.depth((0.0, 0.0), dt, 1.0, 4), Ok(0));
-        // a fresh watch: steady at omega_c dt = 1, one halving
-        let mut fresh = Watch::new((1e4, 1.0));
-        assert_eq!(fresh.depth((1e4, 1.0), dt, 1.0, 4), Ok(1));
-        fresh.accept((1e4, 1.0));
-        // a half substep as stiff: the same rule at its length
-        assert_eq!(fresh.depth((1e4, 1.0), dt, 0.5, 4), Ok(1));
+        // a fresh watch: steady at omega_c dt = 2, one halving, also for a half substep
+        let mut fresh = Watch::new((4e4, 1.0));
+        assert_eq!(fresh.depth((4e4, 1.0), dt, 1.0, 4), Ok(1));
+        fresh.accept((4e4, 1.0));
+        assert_eq!(fresh.depth((4e4, 1.0), dt, 0.5, 4), Ok(1));
     }
 
     #[test]
