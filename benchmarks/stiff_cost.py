@@ -96,7 +96,7 @@ def main() -> None:
     for k in first["new"]:
         o, n = first["old"][k], first["new"][k]
 
-        def cell(r, b):
+        def cell(r, b, k=k):
             if r.get("wall") is None:
                 return r["error"]
             return f"{r['error']:.3g} / {best[b][k] * 1e3:.2f} ms"
@@ -109,8 +109,8 @@ def main() -> None:
         nm = n.get("newmark", o.get("newmark", "-"))
         nm = f"{nm:.3g}" if isinstance(nm, float) else nm
         print(
-            f"| {k} | {cell(o, 'old')} | {cell(n, 'new')} ({n.get('sub', 0)}/{n.get('steps', '-')}) "
-            f"| {ratio} | {nm} |"
+            f"| {k} | {cell(o, 'old')} | {cell(n, 'new')} "
+            f"({n.get('sub', 0)}/{n.get('steps', '-')}) | {ratio} | {nm} |"
         )
 
 
