@@ -8,7 +8,8 @@ use super::newton::StepSolver;
 use super::problem::{validate, NonlinearProblem};
 use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
-use super::subdivide::{level_rules, retriable, too_stiff, Subdivider, Watch};
+use super::stiff_rule::Watch;
+use super::subdivide::{level_rules, retriable, Subdivider};
 use crate::driver::{drive, finish, Control, Route, StepFailure};
 use crate::error::CoreError;
 use crate::history::{size, zeroed, Coordinates, ElementRows, Failure, History, Stats};
@@ -208,39 +209,21 @@ impl PseudoRoute<'_, '_> {
             let mut min_depth = 0;
             let solved = match (solved, self.stiffness.as_mut()) {
                 (Ok(iters), Some(watch)) => {
-                    let end = problem.time(step + 1);
-                    match self.pf.tangent_stiffness(q1, v1, end) {
-                        Ok((lambda, worst)) => {
-                            let start = watch.start();
-                            // a step holding a load jump is not subdivided: only stability
-                            let jump = loads.jumps.iter().any(|j| j.0 == s);
-                            let depth = match &self.sub {
-                                Some(sub) if !jump => sub.depth(),
-                                _ => 0,
-                            };
-                            let end_state = (lambda, self.pf.space().background());
-                            let need = watch.depth(end_state, problem.dt, 1.0, depth);
-                            if need == Ok(0) {
-                                watch.accept(end_state);
-                                Ok(iters)
-                            } else if need.is_err() {
-                                let at = if lambda >= start {
-                                    (lambda, worst)
-                                } else {
-                                    let (q, v) = (&*q, &*v);
-                                    self.pf.tangent_stiffness(q, v, t).unwrap_or((start, worst))
-                                };
-                                Err(too_stiff(&self.pf, at, problem.dt, 0))
-                            } else {
-                                min_depth = need.unwrap_or(0);
-                                Err(CoreError::NoConvergence {
-                                    time: 0.0,
-                                    step: 0,
-                                    residual: 0.0,
-                                    iterations: 0,
-                                    last_good_time: None,
-                                })
-                            }
+                    // a step holding a load jump is not subdivided: only stability
+                    let jump = loads.jumps.iter().any(|j| j.0 == s);
+                    let depth = self.sub.as_ref().filter(|_| !jump).map_or(0, |s| s.depth());
+                    let ends = ((&**q, &**v, t), (&**q1, &**v1, problem.time(step + 1)));
+                    match watch.decide(&mut self.pf, ends, problem.dt, depth) {
+                        Ok(0) => Ok(iters),
+                        Ok(need) => {
+                            min_depth = need;
+                            Err(CoreError::NoConvergence {
+                                time: 0.0,
+                                step: 0,
+                                residual: 0.0,
+                                iterations: 0,
+                                last_good_time: None,
+                            })
                         }
                         Err(error) => Err(error),
                     }
@@ -264,9 +247,7 @@ impl PseudoRoute<'_, '_> {
                             if let Some(watch) = self.stiffness.as_mut() {
                                 let end = problem.time(step + 1);
                                 match self.pf.tangent_stiffness(q1, v1, end) {
-                                    Ok((lambda, _)) => {
-                                        watch.accept((lambda, self.pf.space().background()))
-                                    }
+                                    Ok((lambda, _)) => watch.accept((lambda, self.pf.bg())),
                                     Err(error) => {
                                         result = Err(StepFailure {
                                             error,

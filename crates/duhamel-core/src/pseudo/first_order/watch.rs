@@ -4,7 +4,7 @@
 
 use super::{Corrector, Work};
 use crate::error::CoreError;
-use crate::pseudo::subdivide::COUPLED_LIMIT;
+use crate::pseudo::stiff_rule::COUPLED_LIMIT;
 
 impl Corrector<'_> {
     /// Whether the growth guard watches the run (it then needs the modal loads).
