@@ -12,37 +12,9 @@ use super::newton::StepSolver;
 use super::problem::{NonlinearProblem, Options};
 use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
-use super::stiff_rule::{halvings, Watch, STIFF_LIMIT};
+use super::stiff_rule::{too_stiff, Watch};
 use crate::error::CoreError;
 use crate::kernel::oscillator::Transfer;
-
-/// The failure of a step whose elements are too stiff for it even at the deepest level
-/// (`depth` halvings; `lambda` their modal stiffness, `worst` the element adding most).
-pub(super) fn too_stiff(
-    pf: &PseudoForce,
-    (lambda, worst): (f64, usize),
-    dt: f64,
-    depth: usize,
-) -> CoreError {
-    let h = dt * lambda.sqrt();
-    let dofs = pf.space().element_dofs(worst);
-    let step = dt * 2f64.powi(depth as i32);
-    CoreError::TooStiff {
-        message: format!(
-            "element {worst} (on dofs {dofs:?}) is too stiff for the step: with its tangent \
-             the modes it loads (dominating them) vibrate at omega_c^2 = {lambda:.4e} \
-             (rad/s)^2, omega_c dt = {h:.4} in steps of {dt:e} after {depth} halvings of \
-             dt = {step:e} (`subdivisions`), and the pseudo-force step is held below \
-             omega_c dt = {STIFF_LIMIT} (unstable beyond 2 sqrt(3) = 3.46); reduce `dt` below \
-             {:.4e} or raise `subdivisions` to {}",
-            STIFF_LIMIT * 2f64.powi(depth as i32) / lambda.sqrt(),
-            depth + halvings(h)
-        ),
-        time: 0.0,
-        step: 0,
-        last_good_time: None,
-    }
-}
 
 /// The transfer matrices and quadrature rule of each level, `dt / 2`, `dt / 4`, ...
 pub(super) fn level_rules(problem: &NonlinearProblem, depth: usize) -> Vec<(Vec<Transfer>, Rule)> {
