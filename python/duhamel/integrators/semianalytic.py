@@ -75,8 +75,8 @@ class Semianalytic(Integrator):
         the steps an element at least twice as stiff as the modes it loads dominates: to
         ``omega_c dt <= 2`` of the closed state for stability (the step is unstable beyond
         ``2 sqrt(3)``; when the levels cannot, the run stops with ``reason="stiffness"``
-        naming the element), and, as far as the levels go, to ``omega_c dt <= 0.5`` and a
-        stiffness change of at most a factor e per substep for accuracy
+        naming the element), and, as far as the levels go, to ``omega_c dt <= 1`` and a
+        stiffness change of at most a factor e**2 per substep for accuracy
         (docs/nonlinear.md, "Stiff elements"). The coupled route (``coupling="exact"``)
         does not subdivide: it stops beyond ``omega_c dt = 0.5``. How many steps needed
         it and how deep: ``stats.subdivided_steps``, ``stats.subdivision_depth``.
