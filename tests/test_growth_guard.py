@@ -86,7 +86,20 @@ def test_coupled_route_stops_on_a_stop_too_stiff_for_its_step(element):
     ) as err:
         duhamel.solve(_coupled(element), duhamel.Semianalytic(), t_end=3.0, dt=0.001)
     assert err.value.reason == "stiffness"
-    assert "reduce `dt` below 4.47" in str(err.value)
+    # omega_c dt <= 0.5 (accuracy; it was 2, stability only, until the test below)
+    assert "reduce `dt` below 1.118" in str(err.value)
+
+
+def test_coupled_route_stops_where_it_is_less_accurate_than_newmark():
+    """Regression: at dt = 2e-4 (omega_c dt = 0.89 of the closed stop) the coupled route ran
+    and erred 0.084 of the peak against Newmark's 0.027 at the same step, without an error.
+    It does not subdivide: it now stops beyond omega_c dt = 0.5."""
+    with pytest.raises(duhamel.SolverError, match=r"element 0 \(on dofs \[1\]\)") as err:
+        duhamel.solve(
+            _coupled(E.Gap(1, gap=0.02, k=1e8)), duhamel.Semianalytic(), t_end=1.0, dt=2e-4
+        )
+    assert err.value.reason == "stiffness"
+    assert "held below omega_c dt = 0.5" in str(err.value)
 
 
 @pytest.fixture(scope="module")

@@ -75,9 +75,10 @@ def test_linear_pseudo_force_spring_beyond_the_limit():
     dt = 10.0 / w
     semi = duhamel.Semianalytic(linear_parts="pseudo-force")
     sol = duhamel.solve(s, semi, t_end=200 * dt, dt=dt, x0=[1.0])
-    assert sol.stats.subdivision_depth == 3
-    # bounded by the initial amplitude (substeps of omega dt = 1.25 err in phase: 9.44
-    # instead of 10 rad per step, so the saved states alias to about (-1)^n)
+    # stability needs 3 halvings (omega dt = 1.25); the accuracy rule takes all 4 levels
+    # of the default `subdivisions` (0.625)
+    assert sol.stats.subdivision_depth == 4
+    # bounded by the initial amplitude (substeps err in phase, so the saved states alias)
     assert np.abs(sol.x[:, 0]).max() <= 1.0 + 1e-9
     assert np.abs(sol.x[-10:, 0]).max() > 0.2
     with pytest.raises(duhamel.SolverError, match="too stiff") as info:
@@ -114,48 +115,98 @@ def _family(kind, ratio):
     return s
 
 
-# (element, ratio of its stiffness to the mode's, omega dt of the closed state); measured in
-# docs/nonlinear.md ("Stiff elements"). Cases where the semi-analytic step is stable but
-# less accurate than Newmark (stiff Cubic and Contact at omega_c dt ~ 1, a phase error) are
-# listed there, not here.
+@pytest.fixture(scope="module")
+def family_reference():
+    """Newmark at omega_c dt = 0.01 (at most 1e-3) per element and ratio, computed once."""
+    cache = {}
+
+    def get(kind, ratio):
+        if (kind, ratio) not in cache:
+            w = np.sqrt(1.0 + ratio)
+            system = _family(kind, ratio)
+            cache[kind, ratio] = duhamel.solve(
+                system, duhamel.Newmark(), t_end=6.0, dt=min(0.01 / w, 1e-3)
+            )
+        return cache[kind, ratio]
+
+    return get
+
+
+# The whole family of the issue: every element, ratio of its stiffness to the mode's
+# (kappa) and omega_c dt of the closed state (docs/nonlinear.md, "Stiff elements", with the
+# measured errors). Where the step is longer than the run (kappa 1 from omega_c dt = 10,
+# kappa 100 at 100: dt = 7.1 - 70 s against 6 s) there is no run: the step is refused.
 FAMILY = [
-    ("gap", 1e2, 1.0),
-    ("gap", 1e4, 1.0),
-    ("gap", 1e4, 10.0),
-    ("gap", 1e6, 10.0),
-    ("gap", 1e6, 100.0),
-    ("contact", 1.0, 0.1),
-    ("contact", 1e6, 1.0),
-    ("contact", 1e6, 10.0),
-    ("contact", 1e6, 100.0),
-    ("cubic", 1e2, 0.1),
-    ("cubic", 1e2, 1.0),
-    ("cubic", 1e6, 10.0),
-    ("cubic", 1e6, 100.0),
-    ("bilinear", 1e2, 1.0),
-    ("bilinear", 1e4, 0.1),
-    ("bilinear", 1e6, 10.0),
-    ("bilinear", 1e6, 100.0),
+    (kind, ratio, h)
+    for kind in ("gap", "contact", "cubic", "bilinear")
+    for ratio in (1.0, 1e2, 1e4, 1e6)
+    for h in (0.1, 1.0, 10.0, 100.0)
 ]
 
 
+# The two cases the substep rule does not bring within Newmark's error (omega_c dt = 1 of a
+# closed state 1e4 times the mode's stiffness; ACCURATE_LIMIT = 1 in pseudo/subdivide.rs).
+NOT_MET = {("cubic", 1e4, 1.0), ("bilinear", 1e4, 1.0)}
+
+
 @pytest.mark.parametrize(("kind", "ratio", "h"), FAMILY)
-def test_family_agrees_or_stops(kind, ratio, h):
+def test_family_agrees_or_stops(family_reference, kind, ratio, h):
+    """Every case of the family agrees with converged Newmark within the error Newmark
+    itself makes at the same step, or stops with a SolverError naming the element. Before
+    the accuracy rule (issue 23, second part) 7 of the 52 runs were less accurate than
+    Newmark at omega_c dt <= 1 (e.g. a stiff Contact, kappa 100 at omega_c dt = 1: 0.159
+    of the peak against Newmark's 0.055; a Cubic, kappa 1e4 at 1: 0.61 against 0.24)."""
     w = np.sqrt(1.0 + ratio)
     dt = h / w
-    ref = duhamel.solve(_family(kind, ratio), duhamel.Newmark(), t_end=6.0, dt=min(0.01 / w, 1e-3))
+    if dt > 6.0:
+        with pytest.raises(ValueError, match="at least one step"):
+            duhamel.solve(_family(kind, ratio), duhamel.Semianalytic(), t_end=6.0, dt=dt)
+        return
+    ref = family_reference(kind, ratio)
     try:
         semi = duhamel.solve(_family(kind, ratio), duhamel.Semianalytic(), t_end=6.0, dt=dt)
     except duhamel.SolverError as err:
-        assert err.reason in ("stiffness", "convergence")
-        if err.reason == "stiffness":
-            assert "element 0 (on dofs" in str(err)
+        assert err.reason == "stiffness"
+        assert "element 0 (on dofs" in str(err)
         return
     try:
         newmark = duhamel.solve(_family(kind, ratio), duhamel.Newmark(), t_end=6.0, dt=dt)
     except duhamel.SolverError:
         return  # Newmark itself fails at this step: any finite bounded answer is better
+    if (kind, ratio, h) in NOT_MET:
+        # NOT met (docs/nonlinear.md): the accuracy limit that keeps the existing
+        # convergence-order tests on their plain steps leaves these less accurate than
+        # Newmark (measured 0.59 against 0.24, 0.0058 against 0.0049); bounded meanwhile
+        assert _error(semi, ref) <= 3.0 * _error(newmark, ref)
+        return
     assert _error(semi, ref) <= _error(newmark, ref)
+
+
+def test_family_reference_is_converged(family_reference):
+    """The references are converged far below the differences the family tests: Newmark at
+    a quarter of the reference step differs by 4e-6 - 6e-3 of the peak (the largest for the
+    Cubic at kappa 1e6, whose errors at the tested steps are 0.2)."""
+    for kind, ratio, bound in (("gap", 1e6, 1e-4), ("contact", 1e4, 1e-4), ("cubic", 1e6, 1e-2)):
+        w = np.sqrt(1.0 + ratio)
+        fine = duhamel.solve(
+            _family(kind, ratio), duhamel.Newmark(), t_end=6.0, dt=min(0.01 / w, 1e-3) / 4
+        )
+        assert _error(family_reference(kind, ratio), fine) < bound
+
+
+def test_a_ramping_contact_is_resolved_where_it_stiffens(family_reference):
+    """A smoothed Contact (kappa 1e6) at omega_c dt = 1 stiffens by e^2 per step as it
+    closes. Substeps that follow its current tangent only take that entry too coarsely: 0.0069
+    of the peak against Newmark's 0.0044 (measured while building the rule; the plain step of
+    the build before, 0.0016). The accuracy rule halves where the stiffness changes fast."""
+    ratio = 1e6
+    w = np.sqrt(1.0 + ratio)
+    semi = duhamel.solve(_family("contact", ratio), duhamel.Semianalytic(), t_end=6.0, dt=1 / w)
+    newmark = duhamel.solve(_family("contact", ratio), duhamel.Newmark(), t_end=6.0, dt=1 / w)
+    ref = family_reference("contact", ratio)
+    assert semi.stats.subdivided_steps > 0
+    # measured: 8.8e-4 against Newmark's 4.4e-3
+    assert _error(semi, ref) < 0.3 * _error(newmark, ref)
 
 
 def _chain_with(element):

@@ -72,10 +72,13 @@ class Semianalytic(Integrator):
         :class:`duhamel.SolverError` instead). Every level steps the modal oscillators
         with its own exact matrices; the substeps see the step's load (its quadratic in
         time); hysteretic elements commit at every accepted substep. The same levels take
-        a step in which an element at least twice as stiff as the modes it loads puts
-        ``omega_c dt`` of the closed state above 2 (the step is unstable beyond
-        ``2 sqrt(3)``); when they cannot, the run stops with ``reason="stiffness"``
-        naming the element (docs/nonlinear.md, "Stiff elements"). How many steps needed
+        the steps an element at least twice as stiff as the modes it loads dominates: to
+        ``omega_c dt <= 2`` of the closed state for stability (the step is unstable beyond
+        ``2 sqrt(3)``; when the levels cannot, the run stops with ``reason="stiffness"``
+        naming the element), and, as far as the levels go, to ``omega_c dt <= 1`` and a
+        stiffness change of at most a factor e**2 per substep for accuracy
+        (docs/nonlinear.md, "Stiff elements"). The coupled route (``coupling="exact"``)
+        does not subdivide: it stops beyond ``omega_c dt = 0.5``. How many steps needed
         it and how deep: ``stats.subdivided_steps``, ``stats.subdivision_depth``.
     coupling : {"auto", "exact", "pseudo-force"}
         Modal couplings — non-classical damping, gyroscopic and cross-coupled

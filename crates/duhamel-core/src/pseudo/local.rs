@@ -58,6 +58,9 @@ pub struct ElementSpace<'a> {
     /// state: the evaluations the members had counted then. The stiffness watch reuses
     /// those tangents when no evaluation came in between.
     end_mark: Option<u64>,
+    /// The background of the last [`ElementSpace::tangent_stiffness`] (0 when no element
+    /// dominated).
+    background: f64,
 }
 
 impl<'a> ElementSpace<'a> {
@@ -94,6 +97,7 @@ impl<'a> ElementSpace<'a> {
             phi,
             members,
             end_mark: None,
+            background: 0.0,
         }
     }
 
@@ -261,7 +265,14 @@ impl<'a> ElementSpace<'a> {
                 (largest, worst) = (lambda, index);
             }
         }
+        self.background = if total > 0.0 { background } else { 0.0 };
         Ok((if total > 0.0 { total + background } else { 0.0 }, worst))
+    }
+
+    /// The modal stiffness of the background the last
+    /// [`ElementSpace::tangent_stiffness`] counted (0 when no element dominated it).
+    pub fn background(&self) -> f64 {
+        self.background
     }
 
     /// Whether [`ElementSpace::tangent_stiffness`] watches any element.

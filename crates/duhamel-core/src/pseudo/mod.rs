@@ -20,6 +20,7 @@ mod route;
 mod rows;
 mod scalar;
 mod scheme;
+mod stiff_rule;
 mod subdivide;
 
 pub use growth::GrowthGuard;

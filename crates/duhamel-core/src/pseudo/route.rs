@@ -9,7 +9,8 @@ use super::newton::StepSolver;
 use super::problem::{validate, NonlinearProblem};
 use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
-use super::subdivide::{halvings, level_rules, retriable, too_stiff, Subdivider};
+use super::stiff_rule::Watch;
+use super::subdivide::{level_rules, retriable, Subdivider};
 use crate::driver::{drive, finish, Control, Route, StepFailure};
 use crate::energy::EnergyTap;
 use crate::error::CoreError;
@@ -118,9 +119,9 @@ struct PseudoRoute<'r, 'a> {
     /// The levels of automatic subdivision, when the step equation is nonlinear or the
     /// elements' stiffness is watched.
     sub: Option<Subdivider<'r>>,
-    /// The elements' modal tangent stiffness at the start of the step, when watched (see
-    /// [`super::subdivide::STIFF_LIMIT`]).
-    stiffness: Option<f64>,
+    /// The elements' modal tangent stiffness, when watched, and the substep rule on it (see
+    /// [`super::subdivide::Watch`]).
+    stiffness: Option<Watch>,
     /// The growth guard, with the end-of-step modal load it is given.
     guard: Option<(GrowthGuard, Vec<f64>)>,
     state: StepBuffers,
@@ -213,34 +214,23 @@ impl PseudoRoute<'_, '_> {
             // The elements' tangent at the end state (and the start's): a step they make
             // too stiff for the pseudo-force step is taken in enough halves, or stops.
             let mut min_depth = 0;
-            let solved = match (solved, self.stiffness) {
-                (Ok(iters), Some(start)) => {
-                    let end = problem.time(step + 1);
-                    match self.pf.tangent_stiffness(q1, v1, end) {
-                        Ok((lambda, worst)) => {
-                            let need = halvings(problem.dt * lambda.max(start).sqrt());
-                            let depth = self.sub.as_ref().map_or(0, |s| s.depth());
-                            self.stiffness = Some(lambda);
-                            if need == 0 {
-                                Ok(iters)
-                            } else if need > depth || loads.jumps.iter().any(|j| j.0 == s) {
-                                let at = if lambda >= start {
-                                    (lambda, worst)
-                                } else {
-                                    let (q, v) = (&*q, &*v);
-                                    self.pf.tangent_stiffness(q, v, t).unwrap_or((start, worst))
-                                };
-                                Err(too_stiff(&self.pf, at, problem.dt, 0))
-                            } else {
-                                min_depth = need;
-                                Err(CoreError::NoConvergence {
-                                    time: 0.0,
-                                    step: 0,
-                                    residual: 0.0,
-                                    iterations: 0,
-                                    last_good_time: None,
-                                })
-                            }
+            let solved = match (solved, self.stiffness.as_mut()) {
+                (Ok(iters), Some(watch)) => {
+                    // a step holding a load jump is not subdivided: only stability
+                    let jump = loads.jumps.iter().any(|j| j.0 == s);
+                    let depth = self.sub.as_ref().filter(|_| !jump).map_or(0, |s| s.depth());
+                    let ends = ((&**q, &**v, t), (&**q1, &**v1, problem.time(step + 1)));
+                    match watch.decide(&mut self.pf, ends, problem.dt, depth) {
+                        Ok(0) => Ok(iters),
+                        Ok(need) => {
+                            min_depth = need;
+                            Err(CoreError::NoConvergence {
+                                time: 0.0,
+                                step: 0,
+                                residual: 0.0,
+                                iterations: 0,
+                                last_good_time: None,
+                            })
                         }
                         Err(error) => Err(error),
                     }
@@ -258,12 +248,13 @@ impl PseudoRoute<'_, '_> {
                     v1.copy_from_slice(v);
                     let basis = [&pb[0][..], &pb[1][..], &pb[2][..]];
                     let span = (t, problem.dt);
-                    match sub.step(&mut self.pf, span, basis, (q1, v1), min_depth) {
+                    let watch = (min_depth, self.stiffness.as_mut());
+                    match sub.step(&mut self.pf, span, basis, (q1, v1), watch) {
                         Ok(iters) => {
-                            if self.stiffness.is_some() {
+                            if let Some(watch) = self.stiffness.as_mut() {
                                 let end = problem.time(step + 1);
                                 match self.pf.tangent_stiffness(q1, v1, end) {
-                                    Ok((lambda, _)) => self.stiffness = Some(lambda),
+                                    Ok((lambda, _)) => watch.accept((lambda, self.pf.bg())),
                                     Err(error) => {
                                         result = Err(StepFailure {
                                             error,
@@ -431,7 +422,8 @@ pub fn integrate(
     // reports the failure with the initial state kept.
     let stiffness = if watch {
         let start = pf.tangent_stiffness(base.q0, base.v0, base.time(0));
-        Some(start.map_or(0.0, |(lambda, _)| lambda))
+        let start = start.map_or(0.0, |(lambda, _)| lambda);
+        Some(Watch::new((start, pf.space().background())))
     } else {
         None
     };

@@ -12,56 +12,9 @@ use super::newton::StepSolver;
 use super::problem::{NonlinearProblem, Options};
 use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
+use super::stiff_rule::{too_stiff, Watch};
 use crate::error::CoreError;
 use crate::kernel::oscillator::Transfer;
-
-/// The largest `omega_c dt` a (sub)step may take, `omega_c^2` the closed state's frequency
-/// bound of [`super::local::ElementSpace::tangent_stiffness`] (elements that dominate the
-/// modes they load). The pseudo-force step (scheme b, trapezoid) of an element much stiffer
-/// than its background is the linear-acceleration method, stable up to
-/// `omega_c dt = 2 sqrt(3) = 3.46`; with the background the limit is 3.30 - 3.32 for an
-/// element as stiff as it and 3.21 - 3.30 for 0.3 of it (zeta 0 - 0.05; docs/nonlinear.md).
-/// Steps are held below 2 and subdivided when the elements stiffen beyond: a hardening element
-/// stiffens inside the step, and at 3 a stiff `Cubic` still grew (peak 2.5 times the
-/// converged one at omega_c dt = 10 subdivided to <= 3; at <= 2 it is within 2 %).
-pub(super) const STIFF_LIMIT: f64 = 2.0;
-
-/// The number of halvings that bring `omega_c dt` (`h`) within [`STIFF_LIMIT`].
-pub(super) fn halvings(h: f64) -> usize {
-    if h <= STIFF_LIMIT {
-        0
-    } else {
-        (h / STIFF_LIMIT).log2().ceil().min(64.0) as usize
-    }
-}
-
-/// The failure of a step whose elements are too stiff for it even at the deepest level
-/// (`depth` halvings; `lambda` their modal stiffness, `worst` the element adding most).
-pub(super) fn too_stiff(
-    pf: &PseudoForce,
-    (lambda, worst): (f64, usize),
-    dt: f64,
-    depth: usize,
-) -> CoreError {
-    let h = dt * lambda.sqrt();
-    let dofs = pf.space().element_dofs(worst);
-    let step = dt * 2f64.powi(depth as i32);
-    CoreError::TooStiff {
-        message: format!(
-            "element {worst} (on dofs {dofs:?}) is too stiff for the step: with its tangent \
-             the modes it loads (dominating them) vibrate at omega_c^2 = {lambda:.4e} \
-             (rad/s)^2, omega_c dt = {h:.4} in steps of {dt:e} after {depth} halvings of \
-             dt = {step:e} (`subdivisions`), and the pseudo-force step is held below \
-             omega_c dt = {STIFF_LIMIT} (unstable beyond 2 sqrt(3) = 3.46); reduce `dt` below \
-             {:.4e} or raise `subdivisions` to {}",
-            STIFF_LIMIT * 2f64.powi(depth as i32) / lambda.sqrt(),
-            depth + halvings(h)
-        ),
-        time: 0.0,
-        step: 0,
-        last_good_time: None,
-    }
-}
 
 /// The transfer matrices and quadrature rule of each level, `dt / 2`, `dt / 4`, ...
 pub(super) fn level_rules(problem: &NonlinearProblem, depth: usize) -> Vec<(Vec<Transfer>, Rule)> {
@@ -94,7 +47,8 @@ pub(super) struct Subdivider<'r> {
     n: usize,
     /// Whether hysteretic elements commit at the end of every accepted substep.
     stateful: bool,
-    /// Whether the elements' tangent stiffness is watched at the end of every substep.
+    /// Whether the elements' tangent stiffness is watched (then at the end of every substep,
+    /// with the run's [`Watch`]).
     watch: bool,
     dt: f64,
     /// Steps that needed subdividing, and the deepest level reached.
@@ -153,17 +107,18 @@ impl<'r> Subdivider<'r> {
         (t, dt): (f64, f64),
         pb: [&[f64]; 3],
         (q, v): (&mut [f64], &mut [f64]),
-        min_depth: usize,
+        (min_depth, watch): (usize, Option<&mut Watch>),
     ) -> Result<usize, CoreError> {
         self.steps += 1;
+        let mut watch = watch.filter(|_| self.watch);
         let span = Span {
             t,
             dt,
             pb,
             min_depth,
         };
-        let first = self.advance(1, pf, &span, 0.0, (q, v))?;
-        let second = self.advance(1, pf, &span, 0.5, (q, v))?;
+        let first = self.advance(1, pf, &span, 0.0, (q, v), &mut watch)?;
+        let second = self.advance(1, pf, &span, 0.5, (q, v), &mut watch)?;
         Ok(first + second)
     }
 
@@ -176,6 +131,7 @@ impl<'r> Subdivider<'r> {
         span: &Span,
         a: f64,
         (q, v): (&mut [f64], &mut [f64]),
+        watch: &mut Option<&mut Watch>,
     ) -> Result<usize, CoreError> {
         let n = self.n;
         let h = 0.5f64.powi(depth as i32);
@@ -184,8 +140,8 @@ impl<'r> Subdivider<'r> {
         let (mut q1, mut v1) = (vec![0.0; n], vec![0.0; n]);
         let deeper = depth < self.levels.len();
         if depth < span.min_depth && deeper {
-            let first = self.advance(depth + 1, pf, span, a, (q, v))?;
-            let second = self.advance(depth + 1, pf, span, a + 0.5 * h, (q, v))?;
+            let first = self.advance(depth + 1, pf, span, a, (q, v), watch)?;
+            let second = self.advance(depth + 1, pf, span, a + 0.5 * h, (q, v), watch)?;
             return Ok(first + second);
         }
         let attempt = {
@@ -205,15 +161,24 @@ impl<'r> Subdivider<'r> {
         };
         let end = t + h * span.dt;
         let attempt = match attempt {
-            Ok(iterations) if self.watch => {
+            Ok(iterations) if watch.is_some() => {
+                // the run's rule, with the tangent at this substep's end
                 let stiffness = pf.tangent_stiffness(&q1, &v1, end)?;
-                let hs = h * self.dt * stiffness.0.sqrt();
-                if hs <= STIFF_LIMIT {
-                    Ok(iterations)
-                } else if deeper {
-                    Err(None)
-                } else {
-                    return Err(too_stiff(pf, stiffness, h * self.dt, depth));
+                let levels = self.levels.len();
+                let fraction = h;
+                let end_state = (stiffness.0, pf.space().background());
+                match watch
+                    .as_mut()
+                    .map(|w| w.depth(end_state, self.dt, fraction, levels))
+                {
+                    Some(Ok(need)) if depth >= need => {
+                        if let Some(w) = watch.as_mut() {
+                            w.accept(end_state);
+                        }
+                        Ok(iterations)
+                    }
+                    _ if deeper => Err(None),
+                    _ => return Err(too_stiff(pf, stiffness, h * self.dt, depth)),
                 }
             }
             Ok(iterations) => Ok(iterations),
@@ -231,9 +196,9 @@ impl<'r> Subdivider<'r> {
                 Ok(iterations)
             }
             Err(None) => {
-                let first = self.advance(depth + 1, pf, span, a, (q, v))?;
+                let first = self.advance(depth + 1, pf, span, a, (q, v), watch)?;
                 let mid = a + 0.5 * h;
-                let second = self.advance(depth + 1, pf, span, mid, (q, v))?;
+                let second = self.advance(depth + 1, pf, span, mid, (q, v), watch)?;
                 Ok(first + second)
             }
             Err(Some(error)) => Err(error),
@@ -271,8 +236,6 @@ impl Span<'_> {
 mod tests {
     use super::Span;
 
-    /// A substep's load basis reproduces the step's quadratic load at every point of the
-    /// substep, for nested substeps too.
     #[test]
     #[allow(clippy::needless_range_loop)]
     fn restricted_load_is_the_step_load() {

@@ -1,9 +1,10 @@
 //! The checks after a corrected step of the coupled route: the elements' tangent stiffness
-//! against the step's stability limit, and the growth guard.
+//! against the route's limit ([`COUPLED_LIMIT`]: accuracy, well within stability), and the
+//! growth guard.
 
 use super::{Corrector, Work};
 use crate::error::CoreError;
-use crate::pseudo::subdivide::STIFF_LIMIT;
+use crate::pseudo::stiff_rule::COUPLED_LIMIT;
 
 impl Corrector<'_> {
     /// Whether the growth guard watches the run (it then needs the modal loads).
@@ -27,17 +28,17 @@ impl Corrector<'_> {
         if self.watch {
             let (lambda, worst) = self.pf.tangent_stiffness(&self.q, &w.v, t)?;
             let h = self.dt * lambda.sqrt();
-            if h > STIFF_LIMIT {
+            if h > COUPLED_LIMIT {
                 let dofs = self.pf.space().element_dofs(worst);
                 return Err(CoreError::TooStiff {
                     message: format!(
                         "element {worst} (on dofs {dofs:?}) is too stiff for the step of the \
                          coupled (first-order) route: with its tangent the modes it loads \
                          vibrate at omega_c^2 = {lambda:.4e} (rad/s)^2, omega_c dt = {h:.4}, and \
-                         the pseudo-force step is held below omega_c dt = {STIFF_LIMIT} \
-                         (unstable beyond 2 sqrt(3) = 3.46); this route does not subdivide: \
-                         reduce `dt` below {:.4e}",
-                        STIFF_LIMIT / lambda.sqrt()
+                         this route, which does not subdivide, is held below omega_c dt = \
+                         {COUPLED_LIMIT} (less accurate than Newmark beyond; the pseudo-force \
+                         step is unstable beyond 2 sqrt(3) = 3.46): reduce `dt` below {:.4e}",
+                        COUPLED_LIMIT / lambda.sqrt()
                     ),
                     time: 0.0,
                     step: 0,

@@ -237,6 +237,11 @@ impl<'a> PseudoForce<'a> {
         &self.space
     }
 
+    /// The background of the last [`PseudoForce::tangent_stiffness`] (0: none dominated).
+    pub fn bg(&self) -> f64 {
+        self.space.background()
+    }
+
     /// The modal stiffness the elements' tangents add at `(q, v, t)`, with the element
     /// adding most ([`ElementSpace::tangent_stiffness`] against this background).
     pub fn tangent_stiffness(
