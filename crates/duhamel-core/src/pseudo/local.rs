@@ -46,6 +46,10 @@ struct Member<'a> {
     /// `Phi_e Phi_e^T` (`nl x nl`, row-major): fixed for the run, formed once for the
     /// stiffness watch (the same dot products it formed at every step).
     gram: Vec<f64>,
+    /// One-dof elements: `(sum phi^2, sum phi^2 max(k_m, 0))` over the modes, the element's
+    /// share of the background per unit tangent (fixed for the run's modal stiffnesses;
+    /// formed at the first watch instead of a pass over the modes at every step).
+    share: Option<(f64, f64)>,
 }
 
 /// The element dofs `D`, their mode-shape rows and the elements acting on them.
@@ -61,6 +65,8 @@ pub struct ElementSpace<'a> {
     /// The background of the last [`ElementSpace::tangent_stiffness`] (0 when no element
     /// dominated).
     background: f64,
+    /// The modal stiffnesses the members' `share` were formed with (address and length).
+    share_key: (usize, usize),
 }
 
 impl<'a> ElementSpace<'a> {
@@ -89,6 +95,7 @@ impl<'a> ElementSpace<'a> {
                     eval: Evaluation::new(e),
                     at,
                     gram,
+                    share: None,
                 }
             })
             .collect();
@@ -98,6 +105,7 @@ impl<'a> ElementSpace<'a> {
             members,
             end_mark: None,
             background: 0.0,
+            share_key: (0, 0),
         }
     }
 
@@ -202,6 +210,9 @@ impl<'a> ElementSpace<'a> {
     ) -> Result<(f64, usize), CoreError> {
         let n = self.n_modes;
         let reuse = self.end_mark.take() == Some(self.evaluations());
+        let key = (modal_k.as_ptr() as usize, modal_k.len());
+        let fresh = self.share_key != key;
+        self.share_key = key;
         let phi = &self.phi;
         let (mut total, mut worst, mut largest, mut background) = (0.0, 0, 0.0, 0.0f64);
         for (index, m) in self.members.iter_mut().enumerate() {
@@ -240,20 +251,38 @@ impl<'a> ElementSpace<'a> {
                 }
             };
             // the background it loads: the modal stiffness weighted by the element's share
-            // |diag(Phi_e^T K_e Phi_e)| in each mode
-            let (mut share, mut weighted) = (0.0, 0.0);
-            for (mode, &km) in modal_k.iter().enumerate() {
-                let mut d = 0.0f64;
-                for i in 0..nl {
-                    for j in 0..nl {
-                        d += k_sym(&e.kx, nl, i, j)
-                            * phi[m.at[i] * n + mode]
-                            * phi[m.at[j] * n + mode];
-                    }
+            // |diag(Phi_e^T K_e Phi_e)| in each mode (one dof: |k| phi^2, so |k| times sums
+            // fixed for the run)
+            let (share, weighted) = if nl == 1 {
+                if fresh {
+                    m.share = None;
                 }
-                share += d.abs();
-                weighted += d.abs() * km.max(0.0);
-            }
+                let row = &phi[m.at[0] * n..(m.at[0] + 1) * n];
+                let (s, w) = *m.share.get_or_insert_with(|| {
+                    row.iter()
+                        .zip(modal_k)
+                        .fold((0.0, 0.0), |(s, w), (&p, &km)| {
+                            (s + p * p, w + p * p * km.max(0.0))
+                        })
+                });
+                let a = e.kx[0].abs();
+                (a * s, a * w)
+            } else {
+                let (mut share, mut weighted) = (0.0, 0.0);
+                for (mode, &km) in modal_k.iter().enumerate() {
+                    let mut d = 0.0f64;
+                    for i in 0..nl {
+                        for j in 0..nl {
+                            d += k_sym(&e.kx, nl, i, j)
+                                * phi[m.at[i] * n + mode]
+                                * phi[m.at[j] * n + mode];
+                        }
+                    }
+                    share += d.abs();
+                    weighted += d.abs() * km.max(0.0);
+                }
+                (share, weighted)
+            };
             if !(lambda > 0.0 && lambda.is_finite() && share > 0.0)
                 || lambda * share < DOMINANT * weighted
             {
