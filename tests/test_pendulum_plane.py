@@ -100,8 +100,14 @@ def test_uniaxial_is_the_bidirectional_bearing_excited_along_x() -> None:
     two = duhamel.System(M * np.eye(2), np.zeros((2, 2)))
     two.add(E.FrictionPendulum(0, 1, radius=R, mu=MU, weight=M * G))
     two.add_load(L.BaseAcceleration(np.array([1.0, 0.0]), t, a))
-    x1 = duhamel.solve(one, duhamel.Semianalytic(), t_end=6.0, dt=0.005).x[:, 0]
-    x2 = duhamel.solve(two, duhamel.Semianalytic(), t_end=6.0, dt=0.005).x[:, 0]
+    # The same element either way, compared on the same steps: the accuracy substeps of a
+    # stiff element (docs/nonlinear.md) follow the tangent's largest eigenvalue, which the
+    # bidirectional bearing keeps large across the slip (friction's tangent normal to it)
+    # while the uniaxial one drops to W / R, so the two are subdivided differently; both
+    # runs here stay below the stability limit (omega_c dt = 0.22 sticking).
+    plain = duhamel.Semianalytic(subdivisions=0)
+    x1 = duhamel.solve(one, plain, t_end=6.0, dt=0.005).x[:, 0]
+    x2 = duhamel.solve(two, plain, t_end=6.0, dt=0.005).x[:, 0]
     np.testing.assert_allclose(x1, x2, rtol=0, atol=1e-12 * np.abs(x2).max())
     newmark = duhamel.solve(one, duhamel.Newmark(), t_end=6.0, dt=0.001, save_every=5).x[:, 0]
     assert np.abs(newmark - x1).max() < 2e-3 * np.abs(x1).max()
