@@ -290,15 +290,13 @@ class RunSpec:
 @final
 class EnergySpec:
     """The energy integrals a run accumulates: the modal damping matrix, the loads that are
-    ground accelerations with their ``Phi^T M r`` rows and ``r^T M r'``, the ground
+    ground accelerations with their ``Phi^T M r`` rows and ``r^T M r'`` (`base`), the ground
     velocities at the start, the elements' linear parts in the background (``k0``, ``c0``)."""
 
     def __new__(
         cls,
         damping: Array,
-        base_loads: Index,
-        base_w: Array,
-        base_rr: Array,
+        base: tuple[Index, Array, Array],
         vg0: Array,
         linear: Array,
         back: Array | None = None,

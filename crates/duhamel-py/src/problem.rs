@@ -92,22 +92,20 @@ pub(crate) struct EnergySpec {
 #[pymethods]
 impl EnergySpec {
     #[new]
-    #[pyo3(signature = (damping, base_loads, base_w, base_rr, vg0, linear, back=None))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (damping, base, vg0, linear, back=None))]
     fn new(
         damping: &Bound<'_, PyAny>,
-        base_loads: &Bound<'_, PyAny>,
-        base_w: &Bound<'_, PyAny>,
-        base_rr: &Bound<'_, PyAny>,
+        base: (Bound<'_, PyAny>, Bound<'_, PyAny>, Bound<'_, PyAny>),
         vg0: &Bound<'_, PyAny>,
         linear: &Bound<'_, PyAny>,
         back: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let (base_loads, base_w, base_rr) = base;
         Ok(EnergySpec {
             damping: vec_of(damping, "damping")?,
-            base_loads: index_vec(base_loads, "base_loads")?,
-            base_w: vec_of(base_w, "base_w")?,
-            base_rr: vec_of(base_rr, "base_rr")?,
+            base_loads: index_vec(&base_loads, "base_loads")?,
+            base_w: vec_of(&base_w, "base_w")?,
+            base_rr: vec_of(&base_rr, "base_rr")?,
             vg0: vec_of(vg0, "vg0")?,
             linear: vec_of(linear, "linear")?,
             back: back

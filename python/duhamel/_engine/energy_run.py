@@ -160,10 +160,8 @@ def energy_spec(
     nb = model.base_loads.size
     vg = np.zeros(nb) if vg0 is None else np.asarray(vg0, dtype=np.float64)
     flat = None if back is None else np.ascontiguousarray(back, dtype=np.float64).ravel()
-    return _core.EnergySpec(
-        model.cm.ravel(), model.base_loads, model.base_w.ravel(), model.base_rr.ravel(), vg,
-        model.linear, flat,
-    )  # fmt: skip
+    base = (model.base_loads, model.base_w.ravel(), model.base_rr.ravel())
+    return _core.EnergySpec(model.cm.ravel(), base, vg, model.linear, flat)
 
 
 def check_energy(energy: Any, route: str, save_every: int, dofs: Any, store: Any) -> None:
