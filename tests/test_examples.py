@@ -150,7 +150,7 @@ def test_opensees_frame_matches_opensees() -> None:
     try:
         import openseespy.opensees  # noqa: F401
     except Exception as exc:  # the wheel needs the system BLAS/LAPACK
-        pytest.skip(f"openseespy cannot be loaded: {exc}")
+        pytest.skip(reason=f"openseespy cannot be loaded: {exc}")
     out = subprocess.run(
         [sys.executable, str(ROOT / "examples" / "opensees_frame.py")],
         capture_output=True,

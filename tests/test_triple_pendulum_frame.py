@@ -18,7 +18,7 @@ import duhamel
 try:  # the wheel needs the system BLAS/LAPACK (libblas3, liblapack3)
     import openseespy.opensees as ops
 except Exception as exc:  # pragma: no cover - depends on the machine
-    pytest.skip(f"openseespy cannot be loaded: {exc}", allow_module_level=True)
+    pytest.skip(reason=f"openseespy cannot be loaded: {exc}", allow_module_level=True)
 
 from test_triple_pendulum import CAPACITY, DT, MU, RADIUS, G, record
 
