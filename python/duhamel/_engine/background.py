@@ -59,6 +59,14 @@ class _Remainder(Element):
     def _validate(self, system: Model) -> None:
         self.element._validate(system)
 
+    def _tangent_bound(self) -> tuple[float, float] | None:
+        inner = self.element._tangent_bound()  # the element minus its linear part k0 x
+        linear = self.element._linear()
+        if inner is None:
+            return None
+        k0 = 0.0 if linear is None else float(np.linalg.norm(linear[1], 2))
+        return inner[0] + k0, inner[1]
+
     def _spec(self) -> tuple:
         return self.spec
 

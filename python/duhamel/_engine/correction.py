@@ -229,50 +229,6 @@ def enriched(system: System, basis: ModalBasis) -> tuple[ModalBasis, Array]:
     return result
 
 
-def _tangent_bound(element: Any) -> tuple[float, float] | None:
-    """Bounds ``(k, c)`` on the norm of `element`'s tangent stiffness and damping matrices as
-    a pseudo-force, over any state it can reach; None when the tangent has no bound (a
-    cubic or higher term, a Python function, a device whose tangent is not bounded here)."""
-    from duhamel._engine.background import _Remainder
-    from duhamel.elements.basic import Damper, Polynomial, Spring
-    from duhamel.elements.devices import Bilinear, Gap
-    from duhamel.rotor._speed_table import SpeedTableElement
-
-    if isinstance(element, _Remainder):  # the element minus the linear part k0 x
-        inner = _tangent_bound(element.element)
-        linear = element.element._linear()
-        if inner is None:
-            return None
-        k0 = 0.0 if linear is None else float(np.linalg.norm(linear[1], 2))
-        return inner[0] + k0, inner[1]
-    if isinstance(element, Spring):
-        return (abs(float(element.k)), 0.0) if element.k3 == 0.0 else None
-    if isinstance(element, Polynomial):
-        c = np.asarray(element.coefficients, dtype=np.float64)
-        return (abs(float(c[1])), 0.0) if np.all(c[2:] == 0.0) and c.size > 1 else None
-    if isinstance(element, Damper):
-        return 0.0, abs(float(element.c))
-    if isinstance(element, Bilinear):  # elastic k, post-yield alpha k
-        return abs(float(element.k)) * max(1.0, abs(float(element.alpha))), 0.0
-    if isinstance(element, Gap):  # closed: k, open: 0
-        return float(element.k), 0.0
-    if isinstance(element, SpeedTableElement):
-        # PCHIP and linear interpolation stay within each entry's tabulated values: the
-        # entrywise largest difference bounds the Frobenius norm at any speed.
-        b = element.bearing
-        out = []
-        for names, ref in ((("kxx", "kxy", "kyx", "kyy"), element.k0),
-                           (("cxx", "cxy", "cyx", "cyy"), element.c0)):  # fmt: skip
-            r = np.asarray(ref, dtype=np.float64).ravel()
-            worst = [
-                np.abs(np.asarray(getattr(b, name), dtype=np.float64) - r[i]).max()
-                for i, name in enumerate(names)
-            ]
-            out.append(float(np.sqrt(np.sum(np.square(worst)))))
-        return out[0], out[1]
-    return None
-
-
 def stiffness_ratios(system: System, basis: ModalBasis, columns: NDArray[np.intp]) -> Array:
     """Per column of `basis` in `columns`, an upper bound on the ratio ``a`` of the elements'
     tangent stiffness projected on that coordinate to its own ``omega^2``, less the margin
@@ -295,7 +251,7 @@ def stiffness_ratios(system: System, basis: ModalBasis, columns: NDArray[np.intp
             d = phi[i] if j is None else phi[i] - phi[j]
             share += d * d
         loaded = share > (1e-12 * scale) ** 2
-        bound = _tangent_bound(element)
+        bound = element._tangent_bound()
         if bound is None:
             k[loaded] = np.inf
             continue

@@ -50,6 +50,14 @@ class Element:
         (``Semianalytic(linear_parts="background")``), or None when it has none."""
         return None
 
+    def _tangent_bound(self) -> tuple[float, float] | None:
+        """Bounds ``(k, c)`` on the norms of the element's tangent stiffness and damping
+        matrices as a pseudo-force over any state it can reach, for the substep rule of the
+        static-correction coordinates (``duhamel._engine.correction``); None (the default)
+        when the tangent has no bound (a cubic or higher term, a Python function, a device
+        whose bound is not known)."""
+        return None
+
     def _directions(self) -> list[tuple[int, int | None]]:
         """The directions the element's force acts along, each ``(i, j)``: the deformation
         ``x_i - x_j`` (``j`` None: ``x_i`` alone). By default each of its dofs alone (the

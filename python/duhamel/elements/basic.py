@@ -60,6 +60,10 @@ class Polynomial(Element):
         c = np.asarray(self.coefficients, dtype=np.float64)
         return bool(np.all(c[0::2] == 0.0) and np.all(c[1::2] >= 0.0))
 
+    def _tangent_bound(self) -> tuple[float, float] | None:
+        c = np.asarray(self.coefficients, dtype=np.float64)
+        return (abs(float(c[1])), 0.0) if np.all(c[2:] == 0.0) and c.size > 1 else None
+
     def _spec(self) -> tuple:
         return ("polynomial", int(self.dof), np.array(self.coefficients, dtype=np.float64))
 
@@ -121,6 +125,9 @@ class Spring(Deformation, Element):
     def _passive(self) -> bool:
         return float(self.k) >= 0.0 and float(self.k3) >= 0.0
 
+    def _tangent_bound(self) -> tuple[float, float] | None:
+        return (abs(float(self.k)), 0.0) if self.k3 == 0.0 else None
+
     def _spec(self) -> tuple:
         j = None if self.j is None else int(self.j)
         return ("spring", int(self.i), j, float(self.k), float(self.k3))
@@ -152,6 +159,9 @@ class Damper(Deformation, Element):
 
     def _passive(self) -> bool:
         return float(self.c) >= 0.0
+
+    def _tangent_bound(self) -> tuple[float, float] | None:
+        return 0.0, abs(float(self.c))
 
     def _spec(self) -> tuple:
         j = None if self.j is None else int(self.j)

@@ -72,6 +72,9 @@ class Bilinear(Deformation, Element):
     def _passive(self) -> bool:
         return float(self.alpha) >= 0.0
 
+    def _tangent_bound(self) -> tuple[float, float] | None:  # elastic k, post-yield alpha k
+        return abs(float(self.k)) * max(1.0, abs(float(self.alpha))), 0.0
+
     def _spec(self) -> tuple:
         return (
             "bilinear",
@@ -380,6 +383,9 @@ class Gap(Deformation, Element):
 
     def _passive(self) -> bool:
         return True
+
+    def _tangent_bound(self) -> tuple[float, float] | None:  # closed: k, open: 0
+        return float(self.k), 0.0
 
     def _spec(self) -> tuple:
         return ("gap", int(self.i), _j(self.j), float(self.gap), float(self.k))

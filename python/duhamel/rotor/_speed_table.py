@@ -31,6 +31,20 @@ class SpeedTableElement(TwoAxis, Element):
     k0: tuple[tuple[float, ...], ...]
     c0: tuple[tuple[float, ...], ...]
 
+    def _tangent_bound(self) -> tuple[float, float] | None:
+        # PCHIP and linear interpolation stay within each entry's tabulated values: the
+        # entrywise largest difference bounds the Frobenius norm at any speed.
+        out = []
+        for names, ref in ((("kxx", "kxy", "kyx", "kyy"), self.k0),
+                           (("cxx", "cxy", "cyx", "cyy"), self.c0)):  # fmt: skip
+            r = np.asarray(ref, dtype=np.float64).ravel()
+            worst = [
+                np.abs(np.asarray(getattr(self.bearing, name), dtype=np.float64) - r[i]).max()
+                for i, name in enumerate(names)
+            ]
+            out.append(float(np.sqrt(np.sum(np.square(worst)))))
+        return out[0], out[1]
+
     def _spec(self) -> tuple:
         from scipy.interpolate import PchipInterpolator
 
