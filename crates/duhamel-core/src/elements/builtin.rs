@@ -45,6 +45,16 @@ impl<'e> Builtin<'e> {
         }
     }
 
+    /// What the element's trial variables depend on besides its committed ones and its
+    /// displacements: `(velocity, time)`. A `Bilinear`'s return map reads neither; the
+    /// others are answered conservatively (their time- or velocity-dependent paths).
+    fn path_reads(self) -> (bool, bool) {
+        match self {
+            Builtin::Bilinear(_) | Builtin::Spring(_) | Builtin::Gap(_) => (false, false),
+            Builtin::Viscous(_) | Builtin::Pendulum(_) | Builtin::Shifted(_) => (true, true),
+        }
+    }
+
     /// [`Element::eval_path`] of the element, called directly.
     #[inline(always)]
     pub(crate) fn eval_path(
@@ -86,6 +96,16 @@ impl<'e> Dispatch<'e> {
                 Some(inner) => Dispatch::Shifted(s, inner),
             },
             Some(b) => Dispatch::Direct(b),
+        }
+    }
+
+    /// For a built-in element (its arithmetic deterministic and known), what its trial
+    /// variables depend on besides the committed ones and the displacements:
+    /// `Some((velocity, time))`; `None` for any other element (nothing is assumed).
+    pub(crate) fn path_reads(self) -> Option<(bool, bool)> {
+        match self {
+            Dispatch::Dynamic => None,
+            Dispatch::Direct(b) | Dispatch::Shifted(_, b) => Some(b.path_reads()),
         }
     }
 

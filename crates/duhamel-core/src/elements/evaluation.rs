@@ -25,6 +25,15 @@ pub(crate) struct Evaluation<'a> {
     /// (what lets the stiffness watch reuse an evaluation at the state it would evaluate).
     evaluations: u64,
     with_tangent: bool,
+    /// For a built-in hysteretic element: what its trial variables read besides the
+    /// displacements (`(velocity, time)`, see [`Dispatch::path_reads`]), and the state of
+    /// its last successful evaluation while the trial variables are still that one's
+    /// (`seen`): a commit at the same state then keeps them instead of evaluating again.
+    reads: Option<(bool, bool)>,
+    seen: bool,
+    seen_x: Vec<f64>,
+    seen_v: Vec<f64>,
+    seen_t: f64,
 }
 
 impl<'a> Evaluation<'a> {
@@ -33,9 +42,10 @@ impl<'a> Evaluation<'a> {
         let ns = element.state_len();
         let mut committed = vec![0.0; ns];
         element.initial_state(&vec![0.0; nl], &vec![0.0; nl], &mut committed);
+        let dispatch = Dispatch::of(element);
         Evaluation {
             element,
-            dispatch: Dispatch::of(element),
+            dispatch,
             has_tangent: element.has_tangent(),
             uses_velocity: element.uses_velocity(),
             x: vec![0.0; nl],
@@ -47,6 +57,11 @@ impl<'a> Evaluation<'a> {
             committed,
             evaluations: 0,
             with_tangent: false,
+            reads: dispatch.path_reads().filter(|_| ns > 0),
+            seen: false,
+            seen_x: vec![0.0; nl],
+            seen_v: vec![0.0; nl],
+            seen_t: 0.0,
         }
     }
 
@@ -62,6 +77,7 @@ impl<'a> Evaluation<'a> {
 
     /// Sets the committed (and trial) internal variables, e.g. from a checkpoint.
     pub fn set_committed(&mut self, state: &[f64]) {
+        self.seen = false;
         self.committed.copy_from_slice(state);
         self.trial.copy_from_slice(state);
     }
@@ -69,6 +85,7 @@ impl<'a> Evaluation<'a> {
     /// Sets the internal variables to their initial values at the stored local state (the
     /// run's initial state) and initial time `t0`.
     pub fn start(&mut self, t0: f64) {
+        self.seen = false;
         if self.stateful() {
             self.element
                 .initial_state(&self.x, &self.v, &mut self.committed);
@@ -78,13 +95,35 @@ impl<'a> Evaluation<'a> {
     }
 
     /// Evaluates the force at the stored local state and commits the trial variables it
-    /// reaches (once per accepted step, at the step's end state).
+    /// reaches (once per accepted step, at the step's end state). A built-in element whose
+    /// last evaluation was at this state (bit for bit in what its path reads) already holds
+    /// those trial variables (its arithmetic is deterministic): they are committed as they
+    /// are, without evaluating again (for a one-dof `Bilinear`, one of its four evaluations
+    /// per step).
     pub fn commit(&mut self, t: f64) -> Result<(), CoreError> {
         if self.stateful() {
-            self.evaluate(t, false)?;
+            if !self.holds(t) {
+                self.evaluate(t, false)?;
+            }
             self.committed.copy_from_slice(&self.trial);
+            // the trial variables are now the committed ones, no evaluation's from them
+            self.seen = false;
         }
         Ok(())
+    }
+
+    /// Whether the trial variables are those an evaluation at the stored state and `t`
+    /// would reach (see [`Evaluation::commit`]).
+    fn holds(&self, t: f64) -> bool {
+        let same = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(p, q)| p.to_bits() == q.to_bits());
+        match self.reads {
+            Some((velocity, time)) if self.seen => {
+                same(&self.x, &self.seen_x)
+                    && (!velocity || same(&self.v, &self.seen_v))
+                    && (!time || t.to_bits() == self.seen_t.to_bits())
+            }
+            _ => false,
+        }
     }
 
     /// The force at the stored local state (overwrites `r`) and, with `tangent`, its
@@ -93,6 +132,7 @@ impl<'a> Evaluation<'a> {
     pub fn evaluate(&mut self, t: f64, tangent: bool) -> Result<(), CoreError> {
         self.evaluations += 1;
         self.with_tangent = false;
+        self.seen = false;
         zero(&mut self.r);
         let analytic = tangent && self.has_tangent;
         if analytic {
@@ -121,6 +161,12 @@ impl<'a> Evaluation<'a> {
             )?;
         }
         self.with_tangent = tangent;
+        if self.reads.is_some() {
+            self.seen_x.copy_from_slice(&self.x);
+            self.seen_v.copy_from_slice(&self.v);
+            self.seen_t = t;
+            self.seen = true;
+        }
         Ok(())
     }
 

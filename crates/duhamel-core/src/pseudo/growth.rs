@@ -117,8 +117,12 @@ impl GrowthGuard {
         (q1, v1): (&[f64], &[f64]),
         (p0, p1, p2): (&[f64], &[f64], &[f64]),
     ) -> Result<(), CoreError> {
-        let norm = |p: &[f64]| crate::dense::dot(p, p).sqrt();
-        let load = norm(p0).max(norm(p1)) + 2.0 / 3.0 * norm(p2);
+        // max(|p0|, |p1|) as the root of the larger square (the root is monotone and
+        // correctly rounded: the same number), the bubble's root only when it has one
+        let square = |p: &[f64]| crate::dense::dot(p, p);
+        let bubble = square(p2);
+        let bubble = if bubble == 0.0 { 0.0 } else { bubble.sqrt() };
+        let load = square(p0).max(square(p1)).sqrt() + 2.0 / 3.0 * bubble;
         self.amplitude += dt * load * std::f64::consts::FRAC_1_SQRT_2;
         let held = self.energy(q1, v1);
         let bound = self.start.sqrt() + self.amplitude;

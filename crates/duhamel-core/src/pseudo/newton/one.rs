@@ -228,8 +228,14 @@ impl OneMode {
         };
         self.q1 = inp.q_lin[0] + self.wx_sum * *start;
         self.v1 = inp.v_lin[0] + self.wv_sum * *start;
-        let iterations = self.newton(set, space, inp)?;
-        self.eval_nodes(set, space, inp, self.at_end, false)?;
+        let (iterations, moved) = self.newton(set, space, inp)?;
+        // Newton's last evaluation was at the state before its last update: when that
+        // update left the unknown as it was (bit for bit: a predictor that was the answer,
+        // as in every elastic step of a hysteretic device), the node values, tangents and
+        // the elements' trial variables are those of the end state already.
+        if moved {
+            self.eval_nodes(set, space, inp, self.at_end, false)?;
+        }
         if self.at_end {
             space.mark_end();
         }
@@ -241,13 +247,14 @@ impl OneMode {
         Ok(iterations)
     }
 
-    /// Newton's method on the unknown, damped as the modal one.
+    /// Newton's method on the unknown, damped as the modal one: the iterations, and whether
+    /// the last update moved the unknown from the state last evaluated.
     fn newton(
         &mut self,
         set: &Setting,
         space: &mut ElementSpace,
         inp: &StepInput,
-    ) -> Result<usize, CoreError> {
+    ) -> Result<(usize, bool), CoreError> {
         let scale0 = [inp.q0[0], inp.v0[0], inp.q_lin[0], inp.v_lin[0]]
             .iter()
             .fold(0.0_f64, |a, b| a.max(b.abs()));
@@ -279,11 +286,12 @@ impl OneMode {
                 break;
             }
             z0 = self.unknown(set);
-            self.set_unknown(set, z0 + 1.0 * delta);
+            let z = z0 + 1.0 * delta;
+            self.set_unknown(set, z);
             let size = 0.0_f64.max(delta.abs());
             let zmax = 0.0_f64.max((z0 + delta).abs());
             if set.linear || size <= set.tol * zmax.max(scale0) || size == 0.0 {
-                return Ok(iter);
+                return Ok((iter, z.to_bits() != z0.to_bits()));
             }
             last = Some(norm);
         }
