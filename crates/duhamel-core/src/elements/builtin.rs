@@ -55,6 +55,18 @@ impl<'e> Builtin<'e> {
         }
     }
 
+    /// Whether the element's force at a committed state is, bit for bit, the force of the
+    /// evaluation whose trial variables were committed there (for the force alone, given
+    /// the same displacements): true of the memoryless `Spring` and `Gap` and of the
+    /// `Bilinear`, whose return map from `(u_c, f_c)` at `u_c` meets the trial `f_c + k 0 =
+    /// f_c` on or inside its band and keeps it.
+    fn restarts_exactly(self) -> bool {
+        matches!(
+            self,
+            Builtin::Bilinear(_) | Builtin::Spring(_) | Builtin::Gap(_)
+        )
+    }
+
     /// [`Element::eval_path`] of the element, called directly.
     #[inline(always)]
     pub(crate) fn eval_path(
@@ -106,6 +118,14 @@ impl<'e> Dispatch<'e> {
         match self {
             Dispatch::Dynamic => None,
             Dispatch::Direct(b) | Dispatch::Shifted(_, b) => Some(b.path_reads()),
+        }
+    }
+
+    /// [`Builtin::restarts_exactly`] of a built-in element (false for any other).
+    pub(crate) fn restarts_exactly(self) -> bool {
+        match self {
+            Dispatch::Dynamic => false,
+            Dispatch::Direct(b) | Dispatch::Shifted(_, b) => b.restarts_exactly(),
         }
     }
 

@@ -170,6 +170,12 @@ impl<'a> Evaluation<'a> {
         Ok(())
     }
 
+    /// Whether the force at the committed state is that of the evaluation committed there,
+    /// whatever the time and velocities ([`Dispatch::restarts_exactly`], velocity-free).
+    pub fn restarts_exactly(&self) -> bool {
+        self.dispatch.restarts_exactly() && !self.uses_velocity
+    }
+
     /// Whether the element's force depends on the velocities.
     pub fn uses_velocity(&self) -> bool {
         self.uses_velocity

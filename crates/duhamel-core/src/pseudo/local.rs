@@ -67,6 +67,10 @@ pub struct ElementSpace<'a> {
     background: f64,
     /// The modal stiffnesses the members' `share` were formed with (address and length).
     share_key: (usize, usize),
+    /// How many times the members' committed variables were set (commits, starts,
+    /// restores): what tells a step solver that nothing but one commit came between two
+    /// steps.
+    generation: u64,
 }
 
 impl<'a> ElementSpace<'a> {
@@ -106,7 +110,19 @@ impl<'a> ElementSpace<'a> {
             end_mark: None,
             background: 0.0,
             share_key: (0, 0),
+            generation: 0,
         }
+    }
+
+    /// How many times the committed variables were set so far.
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// Whether every member's force at a committed state is that of the evaluation
+    /// committed there ([`Evaluation::restarts_exactly`]).
+    pub fn restarts_exactly(&self) -> bool {
+        self.members.iter().all(|m| m.eval.restarts_exactly())
     }
 
     /// The evaluations all members have counted.
@@ -135,6 +151,7 @@ impl<'a> ElementSpace<'a> {
     /// The hysteretic elements' variables at the modal state `(q, v)`: set to their initial
     /// values (`initial`) or committed after evaluating there at `t`.
     pub fn commit(&mut self, q: &[f64], v: &[f64], t: f64, initial: bool) -> Result<(), CoreError> {
+        self.generation += 1;
         let n = self.n_modes;
         let phi = &self.phi;
         for m in self.members.iter_mut().filter(|m| m.eval.stateful()) {
@@ -177,6 +194,7 @@ impl<'a> ElementSpace<'a> {
                 problem: format!("must be finite (entry {i} is {})", state[i]),
             });
         }
+        self.generation += 1;
         let mut at = 0;
         for m in &mut self.members {
             let len = m.eval.committed().len();

@@ -78,6 +78,18 @@ pub(super) struct OneMode {
     /// The end state.
     q1: f64,
     v1: f64,
+    /// Whether the elements' force at a committed state is the one that committed it
+    /// ([`ElementSpace::restarts_exactly`]), and whether they are hysteretic (asked at the
+    /// first step).
+    restarts: Option<(bool, bool)>,
+    /// The last node whose state varies (the end node when `at_end`), and the `q` it was
+    /// last evaluated at (the scheme's end state: `q0 + (q1 - q0)` is not always `q1`).
+    end_node: usize,
+    end_q: f64,
+    /// The last step's end node: its `q` (bits), the space's
+    /// [`ElementSpace::generation`] then, and its `Q`, which is the next start's when the
+    /// next step starts at that `q` after (at most) the route's one commit.
+    end: Option<(u64, u64, f64)>,
 }
 
 impl OneMode {
@@ -100,6 +112,10 @@ impl OneMode {
             cq: [0.0; NODES],
             q1: 0.0,
             v1: 0.0,
+            restarts: None,
+            end_node: 0,
+            end_q: 0.0,
+            end: None,
         };
         for (i, node) in rule.nodes.iter().enumerate() {
             one.s[i] = node.s;
@@ -110,6 +126,7 @@ impl OneMode {
         }
         let end = (0..nodes).rev().find(|&i| !set.constant[i]);
         one.at_end = end.is_some_and(|i| rule.nodes[i].s == 1.0);
+        one.end_node = end.unwrap_or(0);
         one
     }
 
@@ -122,7 +139,8 @@ impl OneMode {
             && !pf.has_couplings()
     }
 
-    /// Evaluates the selected nodes (`constant` or varying) at the current end state.
+    /// Evaluates the selected nodes (`constant` or varying) from node `from` on at the
+    /// current end state.
     #[inline(always)]
     fn eval_nodes(
         &mut self,
@@ -131,14 +149,18 @@ impl OneMode {
         inp: &StepInput,
         tangent: bool,
         constant: bool,
+        from: usize,
     ) -> Result<(), CoreError> {
         let (dt, q0, v0) = (set.dt, inp.q0[0], inp.v0[0]);
-        for i in 0..self.nodes {
+        for i in from..self.nodes {
             if self.constant[i] != constant {
                 continue;
             }
             let s = self.s[i];
             let (q, v) = set.scheme.state(s, dt, q0, v0, self.q1, self.v1);
+            if i == self.end_node {
+                self.end_q = q;
+            }
             let [value, kq, cq] = force(space, (q, v, inp.t + s * dt), tangent)?;
             self.values[i] = value;
             if tangent {
@@ -220,7 +242,29 @@ impl OneMode {
         let space = pf.space_mut();
         let (q0, v0) = (inp.q0[0], inp.v0[0]);
         (self.q1, self.v1) = (q0, v0);
-        self.eval_nodes(set, space, inp, false, true)?;
+        let (restarts, stateful) = *self
+            .restarts
+            .get_or_insert_with(|| (space.restarts_exactly(), space.stateful()));
+        // The start state's Q is the last end's when the step starts where the last one
+        // ended (bit for bit) and, for hysteretic elements, exactly one commit (the route's,
+        // at that end) came in between; elements that restart exactly only (a `Bilinear`,
+        // springs, gaps: time- and velocity-free), the start a node of the rule.
+        let known = self.end.take().filter(|&(bits, generation, _)| {
+            let commits = space.generation() - generation;
+            restarts
+                && self.constant[0]
+                && self.s[0] == 0.0
+                && bits == q0.to_bits()
+                && commits == u64::from(stateful)
+        });
+        let from = match known {
+            Some((_, _, value)) => {
+                self.values[0] = value;
+                1
+            }
+            None => 0,
+        };
+        self.eval_nodes(set, space, inp, false, true, from)?;
         *start = if self.constant[0] {
             self.values[0]
         } else {
@@ -234,10 +278,14 @@ impl OneMode {
         // as in every elastic step of a hysteretic device), the node values, tangents and
         // the elements' trial variables are those of the end state already.
         if moved {
-            self.eval_nodes(set, space, inp, self.at_end, false)?;
+            self.eval_nodes(set, space, inp, self.at_end, false, 0)?;
         }
         if self.at_end {
             space.mark_end();
+            if restarts {
+                let value = self.values[self.end_node];
+                self.end = Some((self.end_q.to_bits(), space.generation(), value));
+            }
         }
         match set.unknown {
             Unknown::V1 => self.q1 = self.explicit(inp.q_lin[0], 0),
@@ -262,13 +310,13 @@ impl OneMode {
         let mut norm = f64::INFINITY;
         let mut last: Option<f64> = None;
         for iter in 1..=set.max_iter {
-            self.eval_nodes(set, space, inp, true, false)?;
+            self.eval_nodes(set, space, inp, true, false, 0)?;
             let (mut res, n) = self.residual(set, inp);
             norm = n;
             if let Some(prev) = last {
                 norm = backtrack(prev, norm, scale0, |lambda| {
                     self.set_unknown(set, z0 + lambda * delta);
-                    self.eval_nodes(set, space, inp, true, false)?;
+                    self.eval_nodes(set, space, inp, true, false, 0)?;
                     let (r, n) = self.residual(set, inp);
                     res = r;
                     Ok(n)
