@@ -202,7 +202,13 @@ impl PseudoRoute<'_, '_> {
                 v_lin: vl,
                 pb: [&pb[0], &pb[1], &pb[2]],
             };
-            let solved = self.solver.solve(&mut self.pf, &input, q1, v1);
+            // the error boxed: the result is held across the save below, and a large
+            // `Result` spilled there and reloaded whole stalled the loop (perf: 2 % of a
+            // one-dof device's step on one load)
+            let solved = self
+                .solver
+                .solve(&mut self.pf, &input, q1, v1)
+                .map_err(Box::new);
             // The start state is saved after its step: the step has usually evaluated the
             // start state's pseudo-force already.
             if let Some(slot) = loads.slot[s] {
@@ -224,15 +230,15 @@ impl PseudoRoute<'_, '_> {
                         Ok(0) => Ok(iters),
                         Ok(need) => {
                             min_depth = need;
-                            Err(CoreError::NoConvergence {
+                            Err(Box::new(CoreError::NoConvergence {
                                 time: 0.0,
                                 step: 0,
                                 residual: 0.0,
                                 iterations: 0,
                                 last_good_time: None,
-                            })
+                            }))
                         }
-                        Err(error) => Err(error),
+                        Err(error) => Err(Box::new(error)),
                     }
                 }
                 (solved, _) => solved,
@@ -277,7 +283,7 @@ impl PseudoRoute<'_, '_> {
                 }
                 (Err(error), _) => {
                     result = Err(StepFailure {
-                        error,
+                        error: *error,
                         step: step + 1,
                     });
                     break;
