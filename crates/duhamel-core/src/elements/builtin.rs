@@ -10,6 +10,7 @@
 
 use super::element::{Element, PathState, Tangent};
 use super::hysteretic::{Bilinear, FrictionPendulum, Gap, ViscousDamper};
+use super::polynomial::Polynomial;
 use super::shifted::Shifted;
 use super::spring::Spring;
 use crate::error::CoreError;
@@ -20,6 +21,7 @@ pub(crate) enum Builtin<'e> {
     Bilinear(&'e Bilinear),
     Spring(&'e Spring),
     Gap(&'e Gap),
+    Polynomial(&'e Polynomial),
     Viscous(&'e ViscousDamper),
     Pendulum(&'e FrictionPendulum),
     /// An element with its linear part taken out (resolved one level further down).
@@ -36,6 +38,8 @@ impl<'e> Builtin<'e> {
             Some(Builtin::Spring(e))
         } else if let Some(e) = any.downcast_ref::<Gap>() {
             Some(Builtin::Gap(e))
+        } else if let Some(e) = any.downcast_ref::<Polynomial>() {
+            Some(Builtin::Polynomial(e))
         } else if let Some(e) = any.downcast_ref::<ViscousDamper>() {
             Some(Builtin::Viscous(e))
         } else if let Some(e) = any.downcast_ref::<FrictionPendulum>() {
@@ -50,20 +54,23 @@ impl<'e> Builtin<'e> {
     /// others are answered conservatively (their time- or velocity-dependent paths).
     fn path_reads(self) -> (bool, bool) {
         match self {
-            Builtin::Bilinear(_) | Builtin::Spring(_) | Builtin::Gap(_) => (false, false),
+            Builtin::Bilinear(_)
+            | Builtin::Spring(_)
+            | Builtin::Gap(_)
+            | Builtin::Polynomial(_) => (false, false),
             Builtin::Viscous(_) | Builtin::Pendulum(_) | Builtin::Shifted(_) => (true, true),
         }
     }
 
     /// Whether the element's force at a committed state is, bit for bit, the force of the
     /// evaluation whose trial variables were committed there (for the force alone, given
-    /// the same displacements): true of the memoryless `Spring` and `Gap` and of the
-    /// `Bilinear`, whose return map from `(u_c, f_c)` at `u_c` meets the trial `f_c + k 0 =
+    /// the same displacements): true of the memoryless `Spring`, `Gap` and `Polynomial`
+    /// and of the `Bilinear`, whose return map from `(u_c, f_c)` at `u_c` meets the trial `f_c + k 0 =
     /// f_c` on or inside its band and keeps it.
     fn restarts_exactly(self) -> bool {
         matches!(
             self,
-            Builtin::Bilinear(_) | Builtin::Spring(_) | Builtin::Gap(_)
+            Builtin::Bilinear(_) | Builtin::Spring(_) | Builtin::Gap(_) | Builtin::Polynomial(_)
         )
     }
 
@@ -80,6 +87,7 @@ impl<'e> Builtin<'e> {
             Builtin::Bilinear(e) => e.eval_path(x, v, t, history, r, tangent),
             Builtin::Spring(e) => e.eval_path(x, v, t, history, r, tangent),
             Builtin::Gap(e) => e.eval_path(x, v, t, history, r, tangent),
+            Builtin::Polynomial(e) => e.eval_path(x, v, t, history, r, tangent),
             Builtin::Viscous(e) => e.eval_path(x, v, t, history, r, tangent),
             Builtin::Pendulum(e) => e.eval_path(x, v, t, history, r, tangent),
             Builtin::Shifted(e) => e.eval_path(x, v, t, history, r, tangent),
