@@ -119,10 +119,14 @@ impl GrowthGuard {
     ) -> Result<(), CoreError> {
         // max(|p0|, |p1|) as the root of the larger square (the root is monotone and
         // correctly rounded: the same number), the bubble's root only when it has one
-        let square = |p: &[f64]| crate::dense::dot(p, p);
-        let bubble = square(p2);
-        let bubble = if bubble == 0.0 { 0.0 } else { bubble.sqrt() };
-        let load = square(p0).max(square(p1)).sqrt() + 2.0 / 3.0 * bubble;
+        let (mut s0, mut s1, mut s2) = (0.0, 0.0, 0.0);
+        for ((a, b), c) in p0.iter().zip(p1).zip(p2) {
+            s0 += a * a;
+            s1 += b * b;
+            s2 += c * c;
+        }
+        let bubble = if s2 == 0.0 { 0.0 } else { s2.sqrt() };
+        let load = f64::max(s0, s1).sqrt() + 2.0 / 3.0 * bubble;
         self.amplitude += dt * load * std::f64::consts::FRAC_1_SQRT_2;
         let held = self.energy(q1, v1);
         let bound = self.start.sqrt() + self.amplitude;
