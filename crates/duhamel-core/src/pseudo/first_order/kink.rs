@@ -264,3 +264,53 @@ impl Corrector<'_> {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{Nodes, KINK_LEVELS};
+    use crate::kernel::cphi;
+    use num_complex::Complex64;
+
+    /// The node weights integrate a force linear in time exactly, as the trapezoid does:
+    /// their sum is `w_a + w_b` and their first moment `w_b`, at every level; and a force
+    /// with a kink at a node is integrated exactly (against a fine midpoint sum).
+    #[test]
+    fn node_weights_are_the_piecewise_linear_quadrature() {
+        let (dt, lam) = (0.3, Complex64::new(-0.4, 7.0));
+        // one mode, unit gain; back maps Re eta to q (2r x 2m = 2 x 2)
+        let nodes = Nodes::new(&[lam], (&[1.0], &[0.0]), &[1.0, 0.0, 0.0, 0.0], 1, dt);
+        let mu = cphi::moments(lam, dt);
+        let (wa, wb) = (mu[0] - mu[1], mu[1]);
+        for d in 1..=KINK_LEVELS {
+            let level = &nodes.levels[d - 1];
+            let pieces = 1usize << d;
+            let sum: Complex64 = level.iter().map(|(g, _)| g[0]).sum();
+            let first: Complex64 = level
+                .iter()
+                .enumerate()
+                .map(|(i, (g, _))| g[0] * (i as f64 / pieces as f64))
+                .sum();
+            assert!((sum - (wa + wb)).norm() < 1e-13 * (wa + wb).norm(), "{d}");
+            assert!((first - wb).norm() < 1e-13 * wb.norm(), "{d}");
+            // a ramp starting at node 1: f(s) = max(s - 1/pieces, 0)
+            let kink = 1.0 / pieces as f64;
+            let f = |s: f64| (s - kink).max(0.0);
+            let quad: Complex64 = level
+                .iter()
+                .enumerate()
+                .map(|(i, (g, _))| g[0] * f(i as f64 / pieces as f64))
+                .sum();
+            let n = 200_000;
+            let exact: Complex64 = (0..n)
+                .map(|k| {
+                    let s = (k as f64 + 0.5) / n as f64;
+                    (lam * (dt * (1.0 - s))).exp() * f(s) * (dt / n as f64)
+                })
+                .sum();
+            assert!(
+                (quad - exact).norm() < 1e-8 * exact.norm(),
+                "{d}: {quad} {exact}"
+            );
+        }
+    }
+}
