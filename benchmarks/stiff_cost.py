@@ -1,5 +1,7 @@
 """What the stiff-element substep rule costs (issue 23): two builds, interleaved, on the
-family of tests/test_stiff_elements.py and the issue's stop, per run the loop time
+family of tests/test_stiff_elements.py, the issue's stop and the coupled (first-order) route's
+family of tests/test_stiff_coupled.py (``coupled-*``: Newmark at half that step as the
+reference), per run the loop time
 (``Solution.stats.wall_time``, best of the repeats) and the error against Newmark at
 ``omega_c dt = 0.01`` (at most 1e-3), as a fraction of the peak::
 
@@ -42,26 +44,42 @@ def issue_gap(_kind, _ratio):
     s.add_load(BaseAcceleration(np.ones(1), t, 40.0 * np.sin(2 * np.pi * t)))
     return s, 3.0, float(np.sqrt(1e7 + 1e3))
 
+def coupled(kind, ratio):
+    s = duhamel.System(np.eye(2), np.diag([1.0, 4.0]), C=np.array([[0.1, 0.03], [0.03, 0.2]]))
+    s.add({"gap": lambda: E.Gap(0, gap=0.3, k=ratio),
+           "contact": lambda: E.Contact(0, 1, clearance=0.3, stiffness=ratio),
+           "cubic": lambda: E.Cubic(0, (ratio / 3.0) ** 3)}[kind]())
+    t = np.linspace(0.0, 6.0, 12001)
+    scale = 2.0 if kind == "contact" else 1.0
+    s.add_load(BaseAcceleration(np.ones(2), t, scale * np.sin(0.8 * t)))
+    return s, 6.0, float(np.sqrt(1.0 + ratio))
+
 CASES = [("gap", 1e4, 0.1), ("gap", 1e4, 1.0), ("contact", 1e4, 0.1), ("contact", 1e6, 1.0),
          ("cubic", 1e2, 0.1), ("cubic", 1e4, 1.0), ("cubic", 1e6, 0.1),
          ("bilinear", 1e4, 0.1), ("bilinear", 1e6, 1.0),
-         ("issue-gap", 0.0, 0.316), ("issue-gap", 0.0, 3.16)]
+         ("issue-gap", 0.0, 0.316), ("issue-gap", 0.0, 3.16),
+         ("coupled-gap", 1e4, 0.1), ("coupled-gap", 1e6, 0.1), ("coupled-gap", 1e6, 0.5),
+         ("coupled-contact", 1e4, 0.1), ("coupled-cubic", 1e4, 0.25)]
 out = {}
 for kind, ratio, h in CASES:
-    make = issue_gap if kind == "issue-gap" else family
-    s, t_end, w = make(kind, ratio)
+    coupled_kind = kind.startswith("coupled-")
+    make = issue_gap if kind == "issue-gap" else coupled if coupled_kind else family
+    elem = kind.removeprefix("coupled-")
+    s, t_end, w = make(elem, ratio)
     dt = h / w
     name = f"{kind} kappa={ratio:g} omega_c dt={h:g}" if ratio else f"{kind} omega_c dt={h:g}"
     try:
-        sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=t_end, dt=dt)
+        semi = duhamel.Semianalytic
+        integrator = semi(coupling="exact") if coupled_kind else semi()
+        sol = duhamel.solve(s, integrator, t_end=t_end, dt=dt)
     except duhamel.SolverError as e:
         out[name] = {"wall": None, "error": "stop: " + e.reason}
         continue
     row = {"wall": sol.stats.wall_time, "sub": sol.stats.subdivided_steps, "steps": sol.stats.steps}
     if sys.argv[1] == "1":
-        ref = duhamel.solve(make(kind, ratio)[0], duhamel.Newmark(), t_end=t_end,
-                            dt=min(0.01 / w, 1e-3))
-        nm = duhamel.solve(make(kind, ratio)[0], duhamel.Newmark(), t_end=t_end, dt=dt)
+        ref = duhamel.solve(make(elem, ratio)[0], duhamel.Newmark(), t_end=t_end,
+                            dt=min(0.01 / w, 1e-3) / (2 if coupled_kind else 1))
+        nm = duhamel.solve(make(elem, ratio)[0], duhamel.Newmark(), t_end=t_end, dt=dt)
         def err(a):
             x = np.interp(a.t, ref.t, ref.x[:, 0])
             return float(np.abs(a.x[:, 0] - x).max() / np.abs(ref.x[:, 0]).max())

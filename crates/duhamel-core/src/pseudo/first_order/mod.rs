@@ -19,6 +19,7 @@
 
 use num_complex::Complex64;
 
+mod kink;
 mod watch;
 
 use super::force::{At, Jacobian, Parts, PseudoForce};
@@ -90,6 +91,8 @@ pub(crate) struct Corrector<'a> {
     watch: bool,
     /// The growth guard.
     guard: Option<GrowthGuard>,
+    /// The refined quadrature of steps with a kink (watched elements only; `kink.rs`).
+    nodes: Option<kink::Nodes>,
 }
 
 #[derive(Default)]
@@ -162,22 +165,7 @@ impl<'a> Corrector<'a> {
                 gb.push(wb * g);
             }
         }
-        let h = |gw: &[Complex64]| {
-            let mut out = vec![0.0; m * m];
-            for kk in 0..r {
-                let (re_row, im_row) = (
-                    &nl.back[kk * 2 * m..][..m],
-                    &nl.back[(r + kk) * 2 * m..][..m],
-                );
-                for j in 0..m {
-                    let x = gw[kk * m + j];
-                    for i in 0..m {
-                        out[i * m + j] += x.re * re_row[i] + x.im * im_row[i];
-                    }
-                }
-            }
-            out
-        };
+        let h = |gw: &[Complex64]| kink::back_project(nl.back, gw, m, r);
         let (ha, hb) = (h(&ga), h(&gb));
         let mut corrector = Corrector {
             pf,
@@ -200,6 +188,7 @@ impl<'a> Corrector<'a> {
             rows: None,
             watch: false,
             guard: None,
+            nodes: None,
             work: Work {
                 q1: vec![0.0; m],
                 q1_lin: vec![0.0; m],
@@ -225,6 +214,14 @@ impl<'a> Corrector<'a> {
             corrector.pf.set_element_state(state)?;
         }
         corrector.watch = corrector.pf.space().watched();
+        if corrector.watch {
+            let mut nodes = kink::Nodes::new(lambda, gain, nl.back, m, dt);
+            let mut v = vec![0.0; m];
+            corrector.map(eta0.0, eta0.1, 1, &mut v);
+            let start = corrector.pf.tangent_stiffness(&q, &v, t0);
+            nodes.start = start.map_or((0.0, 0.0), |(l, _)| (l, corrector.pf.bg()));
+            corrector.nodes = Some(nodes);
+        }
         if nl.growth_limit.is_finite() {
             let mut v = vec![0.0; m];
             corrector.map(eta0.0, eta0.1, 1, &mut v);
@@ -344,18 +341,23 @@ impl<'a> Corrector<'a> {
         w: &mut Work,
     ) -> Result<usize, CoreError> {
         let m = self.m;
-        let iters = self.newton(t, re, im, w)?;
-        // The step's end from the converged displacement: both pseudo-forces there.
-        self.ends(t, w, false)?;
-        for kk in 0..self.r {
-            let mut x = Complex64::new(0.0, 0.0);
-            for i in 0..m {
-                x += self.ga[kk * m + i] * w.f0[i] + self.gb[kk * m + i] * w.f1[i];
+        let mut iters = self.newton(t, re, im, w)?;
+        let depth = self.kink(t, w)?;
+        if depth > 0 {
+            iters += self.refined(t, (re, im), w, depth)?;
+        } else {
+            // The step's end from the converged displacement: both pseudo-forces there.
+            self.ends(t, w, false)?;
+            for kk in 0..self.r {
+                let mut x = Complex64::new(0.0, 0.0);
+                for i in 0..m {
+                    x += self.ga[kk * m + i] * w.f0[i] + self.gb[kk * m + i] * w.f1[i];
+                }
+                re[kk] += x.re;
+                im[kk] += x.im;
             }
-            re[kk] += x.re;
-            im[kk] += x.im;
+            self.last.copy_from_slice(&w.f1);
         }
-        self.last.copy_from_slice(&w.f1);
         let mut q = std::mem::take(&mut self.q);
         self.map(re, im, 0, &mut q);
         if self.pf.stateful() {

@@ -28,6 +28,10 @@ impl Corrector<'_> {
         if self.watch {
             let (lambda, worst) = self.pf.tangent_stiffness(&self.q, &w.v, t)?;
             let h = self.dt * lambda.sqrt();
+            let background = self.pf.bg();
+            if let Some(nodes) = self.nodes.as_mut() {
+                nodes.start = (lambda, background);
+            }
             if h > COUPLED_LIMIT {
                 let dofs = self.pf.space().element_dofs(worst);
                 return Err(CoreError::TooStiff {
