@@ -192,6 +192,12 @@ impl FrictionPendulum {
         u: [f64; 2],
         v: [f64; 2],
     ) -> ([f64; 2], [f64; 4], [f64; 4]) {
+        // With constant friction the speed and the sliding test serve nothing (`dmu = 0`):
+        // two `hypot` calls of the three per evaluation left out.
+        let Some(_) = self.velocity else {
+            let (f, kf) = self.friction_at(u_c, f_c, u, self.mu);
+            return (f, kf, [0.0; 4]);
+        };
         let speed = v[0].hypot(v[1]);
         let (mu, dmu) = self.coefficient(speed);
         let (f, kf) = self.friction_at(u_c, f_c, u, mu);
