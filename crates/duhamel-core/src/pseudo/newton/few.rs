@@ -5,7 +5,7 @@
 //! couplings: the pseudo-force is the elements' alone, `Q = -Phi^T r`), operation for
 //! operation, so its results are the modal Newton's bit for bit: the predictor from the
 //! start state's force, Newton's steps damped by [`backtrack`], the `N x N` system by the
-//! same elimination ([`solve_overwriting`]), the node values at the converged state, the
+//! same elimination ([`eliminate_fixed`], `dense::eliminate` unrolled), the node values at the converged state, the
 //! explicit half. What it leaves out is the generic machinery around `N` numbers: the
 //! `Vec` per node and per tangent, the pseudo-force's zeroed buffers and negated copies,
 //! the loops over a run-time `n`. Nothing is allocated per step; the elements are called
@@ -17,7 +17,7 @@ use super::super::local::ElementSpace;
 use super::super::scheme::{StepInput, Unknown};
 use super::damping::backtrack;
 use super::setting::Setting;
-use crate::dense::solve_overwriting;
+use crate::dense_fixed::eliminate_fixed;
 use crate::error::CoreError;
 
 /// The most nodes a quadrature has (the exact cubic rule's four).
@@ -343,7 +343,7 @@ impl<const N: usize> Few<N> {
             for (d, r) in self.delta.iter_mut().zip(&self.res) {
                 *d = -r;
             }
-            if !solve_overwriting(N, self.mat.as_flattened_mut(), &mut self.delta) {
+            if !eliminate_fixed(&mut self.mat, &mut self.delta) {
                 break;
             }
             self.z0 = if set.unknown == Unknown::V1 {
