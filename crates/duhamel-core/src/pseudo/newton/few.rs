@@ -6,7 +6,8 @@
 //! operation, so its results are the modal Newton's bit for bit: the predictor from the
 //! start state's force, Newton's steps damped by [`backtrack`], the `N x N` system by the
 //! same elimination ([`eliminate_fixed`], `dense::eliminate` unrolled), the node values at the converged state, the
-//! explicit half. What it leaves out is the generic machinery around `N` numbers: the
+//! explicit half (the last with the tangents the stiffness watch then reuses, as
+//! [`super::one`] does). What it leaves out is the generic machinery around `N` numbers: the
 //! `Vec` per node and per tangent, the pseudo-force's zeroed buffers and negated copies,
 //! the loops over a run-time `n`. Nothing is allocated per step; the elements are called
 //! through their [`Evaluation`](crate::elements::Evaluation) (built-in ones directly). It
@@ -110,6 +111,10 @@ pub(super) struct Few<const N: usize> {
     wx: [[f64; N]; NODES],
     wv: [[f64; N]; NODES],
     constant: [bool; NODES],
+    /// The last node whose state varies, when it is the end state (its final evaluation
+    /// then computes the tangents the stiffness watch reuses; `N^2` numbers per element,
+    /// against an evaluation saved).
+    at_end: bool,
     /// The weights summed over the nodes, per mode (the predictor's).
     wx_sum: [f64; N],
     wv_sum: [f64; N],
@@ -137,6 +142,7 @@ impl<const N: usize> Few<N> {
             wx: [[0.0; N]; NODES],
             wv: [[0.0; N]; NODES],
             constant: [true; NODES],
+            at_end: false,
             wx_sum: [0.0; N],
             wv_sum: [0.0; N],
             values: [Value::ZERO; NODES],
@@ -158,6 +164,8 @@ impl<const N: usize> Few<N> {
             few.wv[i].copy_from_slice(&rule.wv[i][..N]);
             few.constant[i] = set.constant[i];
         }
+        let end = (0..nodes).rev().find(|&i| !set.constant[i]);
+        few.at_end = end.is_some_and(|i| rule.nodes[i].s == 1.0);
         few
     }
 
@@ -301,7 +309,10 @@ impl<const N: usize> Few<N> {
             self.v1[m] = inp.v_lin[m] + self.wv_sum[m] * start[m];
         }
         let iterations = self.newton(set, space, inp)?;
-        self.eval_nodes(set, space, inp, false, false)?;
+        self.eval_nodes(set, space, inp, self.at_end, false)?;
+        if self.at_end {
+            space.mark_end();
+        }
         for m in 0..N {
             match set.unknown {
                 Unknown::V1 => self.q1[m] = self.explicit(inp, 0, m),
