@@ -74,8 +74,9 @@ pub(crate) fn eliminate_fixed<const N: usize>(m: &mut [[f64; N]; N], b: &mut [f6
         for i in k + 1..N {
             let f = m[i][k] * inv;
             if f != 0.0 {
-                for j in k..N {
-                    m[i][j] -= f * m[k][j];
+                let (above, below) = m.split_at_mut(i);
+                for (x, y) in below[0][k..].iter_mut().zip(&above[k][k..]) {
+                    *x -= f * y;
                 }
                 b[i] -= f * b[k];
             }
@@ -148,7 +149,9 @@ mod tests {
             }
         }
         for k in 0..200 {
-            let x = |j: usize| ((k * 31 + j * 17) as f64 * 0.731).sin() * 10f64.powi((j % 5) as i32 - 2);
+            let x = |j: usize| {
+                ((k * 31 + j * 17) as f64 * 0.731).sin() * 10f64.powi((j % 5) as i32 - 2)
+            };
             both([[x(0), x(1)], [x(2), x(3)]], [x(4), -x(5)]);
             both([[1e-3 * x(0), x(1)], [x(2), x(3)]], [x(4), 0.0]);
             both(

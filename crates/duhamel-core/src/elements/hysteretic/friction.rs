@@ -330,7 +330,16 @@ mod tests {
 
     #[test]
     fn length_is_hypot_bit_for_bit() {
-        for a in [0.0, -0.0, 3.0, -2.5e-300, 1.7e308, f64::INFINITY, f64::NAN, 5e-324] {
+        for a in [
+            0.0,
+            -0.0,
+            3.0,
+            -2.5e-300,
+            1.7e308,
+            f64::INFINITY,
+            f64::NAN,
+            5e-324,
+        ] {
             for b in [0.0, -0.0, a, 4.0] {
                 assert_eq!(length(a, b).to_bits(), a.hypot(b).to_bits(), "{a} {b}");
                 assert_eq!(length(b, a).to_bits(), b.hypot(a).to_bits(), "{b} {a}");

@@ -196,9 +196,9 @@ impl<const N: usize> Few<N> {
             }
             let s = self.s[i];
             for m in 0..N {
-                (qn[m], vn[m]) =
-                    set.scheme
-                        .state(s, dt, inp.q0[m], inp.v0[m], self.q1[m], self.v1[m]);
+                (qn[m], vn[m]) = set
+                    .scheme
+                    .state(s, dt, inp.q0[m], inp.v0[m], self.q1[m], self.v1[m]);
             }
             force(
                 space,
@@ -255,7 +255,8 @@ impl<const N: usize> Few<N> {
             for r in 0..N {
                 for c in 0..N {
                     if set.unknown == Unknown::V1 {
-                        let d = kq[r][c] * dqv + cq[r][c] * dvv + if r == c { da / dt } else { 0.0 };
+                        let d =
+                            kq[r][c] * dqv + cq[r][c] * dvv + if r == c { da / dt } else { 0.0 };
                         self.mat[r][c] -= self.wv[i][r] * d;
                     } else {
                         let d = kq[r][c] * dqq + cq[r][c] * dvq;
@@ -304,9 +305,9 @@ impl<const N: usize> Few<N> {
             start.copy_from_slice(&at_start.q);
         }
         let space = pf.space_mut();
-        for m in 0..N {
-            self.q1[m] = inp.q_lin[m] + self.wx_sum[m] * start[m];
-            self.v1[m] = inp.v_lin[m] + self.wv_sum[m] * start[m];
+        for (m, &s) in start.iter().enumerate() {
+            self.q1[m] = inp.q_lin[m] + self.wx_sum[m] * s;
+            self.v1[m] = inp.v_lin[m] + self.wv_sum[m] * s;
         }
         let iterations = self.newton(set, space, inp)?;
         self.eval_nodes(set, space, inp, self.at_end, false)?;
