@@ -94,9 +94,11 @@ fn force<const N: usize>(
         *o = -r;
     }
     if tangent {
-        for (dst, src) in [(&mut out.kq, &kq), (&mut out.cq, &cq)] {
-            for (d, s) in dst.iter_mut().flatten().zip(src.iter().flatten()) {
-                *d = -s;
+        // by index: the flattened iterators' loop was 7 % of a bidirectional bearing's step
+        for i in 0..N {
+            for j in 0..N {
+                out.kq[i][j] = -kq[i][j];
+                out.cq[i][j] = -cq[i][j];
             }
         }
     }
