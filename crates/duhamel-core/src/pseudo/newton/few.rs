@@ -1,5 +1,5 @@
 //! The modal Newton of a few modes on fixed-size arrays: a bidirectional bearing under a
-//! rigid mass, a two-dof device.
+//! rigid mass (two modes, three with its vertical dof), a two-dof device.
 //!
 //! The same iteration as [`super::modal::Modal::solve`] for `n = N` modes (no mass law, no
 //! couplings: the pseudo-force is the elements' alone, `Q = -Phi^T r`), operation for

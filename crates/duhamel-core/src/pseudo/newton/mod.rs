@@ -39,8 +39,9 @@ enum Strategy {
     ModalNewton(Modal),
     /// The same for one mode, on scalars ([`one`]).
     OneMode(OneMode),
-    /// The same for two modes, on fixed-size arrays ([`few`]).
+    /// The same for two and three modes, on fixed-size arrays ([`few`]).
     TwoModes(Box<Few<2>>),
+    ThreeModes(Box<Few<3>>),
     /// Newton in the elements' space, where the pseudo-force allows it and it is smaller.
     ElementSpace(Box<LocalNewton>),
 }
@@ -144,6 +145,9 @@ impl<'r> StepSolver<'r> {
             None if solver != Solver::ModalNewton && Few::<2>::applies(&set, pf) => {
                 Strategy::TwoModes(Box::new(Few::new(&set)))
             }
+            None if solver != Solver::ModalNewton && Few::<3>::applies(&set, pf) => {
+                Strategy::ThreeModes(Box::new(Few::new(&set)))
+            }
             None => Strategy::ModalNewton(modal()),
         };
         Ok(StepSolver {
@@ -184,6 +188,10 @@ impl<'r> StepSolver<'r> {
                 return one.solve(set, pf, inp, (q_out, v_out), &mut start.values[0]);
             }
             Strategy::TwoModes(few) => {
+                start.known = set.constant[0];
+                return few.solve(set, pf, inp, (q_out, v_out), &mut start.values);
+            }
+            Strategy::ThreeModes(few) => {
                 start.known = set.constant[0];
                 return few.solve(set, pf, inp, (q_out, v_out), &mut start.values);
             }
