@@ -52,6 +52,43 @@ pub(crate) fn solve_transpose_fixed<const K: usize>(
     b.iter().all(|v| v.is_finite())
 }
 
+/// [`eliminate`](crate::dense::eliminate) for an `N x N` system known at compile time (the
+/// few-mode Newton's): the same operations in the same order (partial pivoting, the
+/// elimination, the back substitution and its sums), bit for bit its results, unrolled.
+/// `m` is overwritten by the factors and `b` by the solution; false when the matrix is
+/// numerically singular or the solution not finite.
+#[inline(always)]
+pub(crate) fn eliminate_fixed<const N: usize>(m: &mut [[f64; N]; N], b: &mut [f64; N]) -> bool {
+    for k in 0..N {
+        let (p, pivot) = (k..N)
+            .map(|i| (i, m[i][k].abs()))
+            .fold((k, -1.0), |best, c| if c.1 > best.1 { c } else { best });
+        if !(pivot.is_finite() && pivot > 0.0) {
+            return false;
+        }
+        if p != k {
+            m.swap(k, p);
+            b.swap(k, p);
+        }
+        let inv = 1.0 / m[k][k];
+        for i in k + 1..N {
+            let f = m[i][k] * inv;
+            if f != 0.0 {
+                let (above, below) = m.split_at_mut(i);
+                for (x, y) in below[0][k..].iter_mut().zip(&above[k][k..]) {
+                    *x -= f * y;
+                }
+                b[i] -= f * b[k];
+            }
+        }
+    }
+    for k in (0..N).rev() {
+        let s: f64 = (k + 1..N).map(|j| m[k][j] * b[j]).sum();
+        b[k] = (b[k] - s) / m[k][k];
+    }
+    b.iter().all(|v| v.is_finite())
+}
+
 /// Whether the row-major `n x n` matrix `a` is strictly column diagonally dominant with a
 /// margin: `|a_jj| > (1 + 1e-6) sum_{i != j} |a_ij|` for every column `j` (Gaussian
 /// elimination with partial pivoting then never exchanges rows, whatever the rounding).
@@ -93,6 +130,39 @@ mod tests {
             assert!(lu.solve_transpose_general(&mut slow, k, &mut perm));
             assert_eq!(fast, slow, "k = {k}");
         }
+    }
+
+    /// The fixed-size elimination is the general one's, bit for bit: pivoted, not pivoted,
+    /// singular and tiny systems.
+    #[test]
+    fn fixed_elimination_is_the_general_one_bit_for_bit() {
+        fn both<const N: usize>(a: [[f64; N]; N], b: [f64; N]) {
+            let (mut m1, mut b1) = (a, b);
+            let ok1 = super::eliminate_fixed(&mut m1, &mut b1);
+            let (mut m2, mut b2) = (a.as_flattened().to_vec(), b.to_vec());
+            let ok2 = crate::dense::eliminate(N, &mut m2, &mut b2);
+            assert_eq!(ok1, ok2, "{a:?}");
+            let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            if ok1 {
+                assert_eq!(bits(m1.as_flattened()), bits(&m2), "{a:?}");
+                assert_eq!(bits(&b1), bits(&b2), "{a:?}");
+            }
+        }
+        for k in 0..200 {
+            let x = |j: usize| {
+                ((k * 31 + j * 17) as f64 * 0.731).sin() * 10f64.powi((j % 5) as i32 - 2)
+            };
+            both([[x(0), x(1)], [x(2), x(3)]], [x(4), -x(5)]);
+            both([[1e-3 * x(0), x(1)], [x(2), x(3)]], [x(4), 0.0]);
+            both(
+                [[x(0), x(1), x(2)], [x(3), x(4), x(5)], [x(6), x(7), x(8)]],
+                [x(9), x(10), -0.0],
+            );
+        }
+        both([[0.0, 0.0], [0.0, 1.0]], [1.0, 1.0]);
+        both([[1.0, 2.0], [2.0, 4.0]], [1.0, 1.0]);
+        both([[f64::NAN, 1.0], [1.0, 1.0]], [1.0, 1.0]);
+        both([[0.0, 1.0], [1.0, 0.0]], [-0.0, 0.0]);
     }
 
     /// On a column dominant matrix the factors without the pivot search are partial

@@ -47,6 +47,20 @@ use crate::elements::element::distinct;
 use crate::elements::element::{Element, PathState, Tangent};
 use crate::error::CoreError;
 
+/// `hypot(a, b)`, without the call when a component is zero (a uniaxial bearing, a
+/// bidirectional one moving along an axis): `hypot(a, +-0) = |a|` exactly (IEEE 754; glibc's
+/// agrees bit for bit, NaN and infinities included).
+#[inline(always)]
+fn length(a: f64, b: f64) -> f64 {
+    if b == 0.0 {
+        a.abs()
+    } else if a == 0.0 {
+        b.abs()
+    } else {
+        a.hypot(b)
+    }
+}
+
 /// The default yield (pre-sliding) displacement `Y`, in metres (0.25 mm).
 pub const DEFAULT_YIELD_DISPLACEMENT: f64 = 2.5e-4;
 
@@ -166,7 +180,7 @@ impl FrictionPendulum {
         let f_max = mu * self.weight;
         let k0 = self.mu * self.weight / self.yield_displacement;
         let trial = [f_c[0] + k0 * (u[0] - u_c[0]), f_c[1] + k0 * (u[1] - u_c[1])];
-        let norm = trial[0].hypot(trial[1]);
+        let norm = length(trial[0], trial[1]);
         if norm <= f_max {
             (trial, [k0, 0.0, 0.0, k0])
         } else {
@@ -192,12 +206,18 @@ impl FrictionPendulum {
         u: [f64; 2],
         v: [f64; 2],
     ) -> ([f64; 2], [f64; 4], [f64; 4]) {
-        let speed = v[0].hypot(v[1]);
+        // With constant friction the speed and the sliding test serve nothing (`dmu = 0`):
+        // two `hypot` calls of the three per evaluation left out.
+        let Some(_) = self.velocity else {
+            let (f, kf) = self.friction_at(u_c, f_c, u, self.mu);
+            return (f, kf, [0.0; 4]);
+        };
+        let speed = length(v[0], v[1]);
         let (mu, dmu) = self.coefficient(speed);
         let (f, kf) = self.friction_at(u_c, f_c, u, mu);
         let mut cf = [0.0; 4];
         let f_max = mu * self.weight;
-        let sliding = f_max > 0.0 && f[0].hypot(f[1]) >= f_max * (1.0 - 1e-14);
+        let sliding = f_max > 0.0 && length(f[0], f[1]) >= f_max * (1.0 - 1e-14);
         if sliding && dmu != 0.0 && speed > 0.0 {
             let n = [f[0] / f_max, f[1] / f_max];
             let dir = [v[0] / speed, v[1] / speed];
@@ -307,6 +327,25 @@ impl Element for FrictionPendulum {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn length_is_hypot_bit_for_bit() {
+        for a in [
+            0.0,
+            -0.0,
+            3.0,
+            -2.5e-300,
+            1.7e308,
+            f64::INFINITY,
+            f64::NAN,
+            5e-324,
+        ] {
+            for b in [0.0, -0.0, a, 4.0] {
+                assert_eq!(length(a, b).to_bits(), a.hypot(b).to_bits(), "{a} {b}");
+                assert_eq!(length(b, a).to_bits(), b.hypot(a).to_bits(), "{b} {a}");
+            }
+        }
+    }
 
     #[test]
     fn sticks_then_slides_radially() {

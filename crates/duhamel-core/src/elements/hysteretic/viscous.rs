@@ -88,8 +88,20 @@ impl ViscousDamper {
             // a >= 1: F = 0, slope c (a = 1) or 0
             (0.0, if a == 1.0 { c } else { 0.0 })
         } else {
-            let m = c * v.abs().powf(a);
+            let m = c * self.power(v.abs());
             (m.copysign(v), a * m / v.abs())
+        }
+    }
+
+    /// `s^a` for `s > 0`: the square root for the usual `a = 1/2` (correctly rounded and
+    /// about ten times cheaper than `powf`, which it equals but in the last bit of about
+    /// one value in 1,400), `powf` otherwise.
+    #[inline(always)]
+    fn power(&self, s: f64) -> f64 {
+        if self.exponent == 0.5 {
+            s.sqrt()
+        } else {
+            s.powf(self.exponent)
         }
     }
 }
@@ -136,6 +148,17 @@ mod tests {
         for v in [-2.0, -1e-6, 0.0, 1e-9, 0.5] {
             let (f, df) = d.force(v);
             assert!((f - 3.0 * v).abs() <= 1e-15 * (1.0 + v.abs()) && (df - 3.0).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn square_root_law_is_the_power_law() {
+        let d = ViscousDamper::new(0, None, 3.0, 0.5).unwrap();
+        for v in [-2.0, -1e-3, 1.5e-4, 0.25, 7.0] {
+            let (f, df) = d.force(v);
+            let want = 3.0 * v.abs().powf(0.5);
+            assert!((f.abs() - want).abs() <= 2.0 * f64::EPSILON * want && f * v > 0.0);
+            assert!((df - 0.5 * want / v.abs()).abs() <= 4.0 * f64::EPSILON * df);
         }
     }
 

@@ -8,6 +8,7 @@
 
 mod cubic;
 mod damping;
+mod few;
 mod local;
 mod modal;
 mod one;
@@ -18,6 +19,7 @@ use super::force::PseudoForce;
 use super::problem::{Options, Solver};
 use super::scheme::{Rule, Scheme, StepInput, Unknown};
 use crate::error::CoreError;
+use few::Few;
 use local::{End, LocalNewton};
 use modal::{Modal, Start};
 use one::OneMode;
@@ -37,6 +39,9 @@ enum Strategy {
     ModalNewton(Modal),
     /// The same for one mode, on scalars ([`one`]).
     OneMode(OneMode),
+    /// The same for two and three modes, on fixed-size arrays ([`few`]).
+    TwoModes(Box<Few<2>>),
+    ThreeModes(Box<Few<3>>),
     /// Newton in the elements' space, where the pseudo-force allows it and it is smaller.
     ElementSpace(Box<LocalNewton>),
 }
@@ -137,6 +142,12 @@ impl<'r> StepSolver<'r> {
             None if solver != Solver::ModalNewton && OneMode::applies(&set, pf) => {
                 Strategy::OneMode(OneMode::new(&set))
             }
+            None if solver != Solver::ModalNewton && Few::<2>::applies(&set, pf) => {
+                Strategy::TwoModes(Box::new(Few::new(&set)))
+            }
+            None if solver != Solver::ModalNewton && Few::<3>::applies(&set, pf) => {
+                Strategy::ThreeModes(Box::new(Few::new(&set)))
+            }
             None => Strategy::ModalNewton(modal()),
         };
         Ok(StepSolver {
@@ -175,6 +186,14 @@ impl<'r> StepSolver<'r> {
             Strategy::OneMode(one) => {
                 start.known = set.constant[0];
                 return one.solve(set, pf, inp, (q_out, v_out), &mut start.values[0]);
+            }
+            Strategy::TwoModes(few) => {
+                start.known = set.constant[0];
+                return few.solve(set, pf, inp, (q_out, v_out), &mut start.values);
+            }
+            Strategy::ThreeModes(few) => {
+                start.known = set.constant[0];
+                return few.solve(set, pf, inp, (q_out, v_out), &mut start.values);
             }
             Strategy::ElementSpace(newton) => {
                 // A constant first node is the start state itself (see Modal::solve).
