@@ -50,15 +50,19 @@ impl<'e> Builtin<'e> {
     }
 
     /// What the element's trial variables depend on besides its committed ones and its
-    /// displacements: `(velocity, time)`. A `Bilinear`'s return map reads neither; the
-    /// others are answered conservatively (their time- or velocity-dependent paths).
+    /// displacements: `(velocity, time)`. A `Bilinear`'s return map reads neither, a
+    /// friction pendulum's the velocity when its coefficient depends on it; the viscous
+    /// damper integrates its internal state over time.
     fn path_reads(self) -> (bool, bool) {
         match self {
             Builtin::Bilinear(_)
             | Builtin::Spring(_)
             | Builtin::Gap(_)
             | Builtin::Polynomial(_) => (false, false),
-            Builtin::Viscous(_) | Builtin::Pendulum(_) | Builtin::Shifted(_) => (true, true),
+            // the friction pendulum's return map reads the velocity only through a
+            // velocity-dependent coefficient; its time only names a failure
+            Builtin::Pendulum(e) => (e.uses_velocity(), false),
+            Builtin::Viscous(_) | Builtin::Shifted(_) => (true, true),
         }
     }
 
