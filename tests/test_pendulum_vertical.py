@@ -144,3 +144,26 @@ def test_vertical_dof_checks() -> None:
         bad.add(E.FrictionPendulum(0, dof_z=0, vertical_stiffness=1.0))
     with pytest.raises(ValueError, match="`dof_z`"):
         bad.add(E.FrictionPendulum(0, dof_z=5, vertical_stiffness=1.0))
+
+
+@pytest.mark.parametrize("integrator", [duhamel.Semianalytic(), duhamel.Newmark()])
+def test_beyond_half_the_radius_stops_naming_the_bearing(integrator) -> None:
+    # a horizontal push ramped up until the slider passes R / 2, where the model (small
+    # angles, the normal force from the axial load) ends: the run stops with a message that
+    # names the bearing and the limit (before: "the state became non-finite", the response
+    # said to diverge) and keeps what it computed
+    radius = 2.0
+    s = duhamel.System(10.0 * np.eye(2), np.zeros((2, 2)))
+    s.add(E.FrictionPendulum(0, radius=radius, mu=0.05, weight=98.0, dof_z=1,
+                             vertical_stiffness=2e5))  # fmt: skip
+    s.add_load(L.Step(1, -98.0))
+    t = np.linspace(0.0, 4.0, 401)
+    s.add_load(L.Tabulated(0, t, 30.0 * t))
+    x0 = np.array([0.0, -98.0 / 2e5])
+    with pytest.raises(duhamel.SolverError, match="reached half the radius") as info:
+        duhamel.solve(s, integrator, t_end=4.0, dt=0.001, x0=x0)
+    assert "dofs [0, 1]" in str(info.value)
+    partial = info.value.partial
+    reach = np.abs(partial.x[:, 0])
+    assert 0.49 * radius < reach.max() < 0.5 * radius
+    assert np.isfinite(partial.x).all()

@@ -233,8 +233,24 @@ impl AxialFrictionPendulum {
         let res = self.response(x, v, up_c);
         let (u, _, _) = self.local(x, v);
         // beyond the small-angle model (u of the order of R) the normal force has no solution
-        let valid = u[0].hypot(u[1]) < 0.5 * self.law.radius;
-        let mut values = vec![res.axial, if valid { 0.0 } else { f64::NAN }];
+        let reach = u[0].hypot(u[1]);
+        if !(reach < 0.5 * self.law.radius) {
+            return Err(CoreError::OutOfDomain {
+                time: t,
+                step: 0,
+                last_good_time: None,
+                message: format!(
+                    "FrictionPendulum with its vertical dof (dofs {:?}): the horizontal displacement \
+                     |u| = {reach:.6e} m reached half the radius R = {:e} m, where the model \
+                     (small angles, the normal force from the axial load) ends: the motion is \
+                     beyond what this bearing model covers (check the bearing's displacement \
+                     capacity and the excitation), or the step is too large",
+                    self.dofs,
+                    self.law.radius,
+                ),
+            });
+        }
+        let mut values = vec![res.axial];
         values.extend_from_slice(&res.shear);
         values.extend_from_slice(&res.plastic);
         values.extend_from_slice(&res.kx);
