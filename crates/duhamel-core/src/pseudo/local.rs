@@ -67,6 +67,8 @@ pub struct ElementSpace<'a> {
     background: f64,
     /// The modal stiffnesses the members' `share` were formed with (address and length).
     share_key: (usize, usize),
+    /// Whether the space is one element on one dof ([`ElementSpace::eval_one`]).
+    single: bool,
 }
 
 impl<'a> ElementSpace<'a> {
@@ -98,7 +100,8 @@ impl<'a> ElementSpace<'a> {
                     share: None,
                 }
             })
-            .collect();
+            .collect::<Vec<Member>>();
+        let single = matches!(&members[..], [m] if m.at.len() == 1);
         ElementSpace {
             n_modes,
             phi,
@@ -106,6 +109,7 @@ impl<'a> ElementSpace<'a> {
             end_mark: None,
             background: 0.0,
             share_key: (0, 0),
+            single,
         }
     }
 
@@ -125,6 +129,20 @@ impl<'a> ElementSpace<'a> {
             .iter()
             .all(|m| m.eval.with_tangent() && !m.eval.uses_velocity());
         self.end_mark = fresh.then(|| self.evaluations());
+    }
+
+    /// Whether the end mark of [`ElementSpace::mark_end`] still holds (no evaluation since).
+    pub fn end_marked(&self) -> bool {
+        self.end_mark.is_some() && self.end_mark == Some(self.evaluations())
+    }
+
+    /// Keeps the end mark across evaluations without tangents that left the members'
+    /// tangents `kx`, `cv` as they were (the record of a saved state): the watch then still
+    /// reuses the converged end state's tangents, as it does on a step that saves nothing.
+    pub fn keep_end_mark(&mut self, marked: bool) {
+        if marked {
+            self.end_mark = Some(self.evaluations());
+        }
     }
 
     /// Whether an element has internal variables (hysteresis) to commit after each step.
@@ -401,6 +419,30 @@ impl<'a> ElementSpace<'a> {
         }
     }
 
+    /// Whether the space is one element on one dof: [`ElementSpace::eval_one`] applies.
+    pub fn single(&self) -> bool {
+        self.single
+    }
+
+    /// [`ElementSpace::eval`] of a space of one element on one dof ([`ElementSpace::single`])
+    /// on scalars: the force, and with `tangent` its tangents `dr/du`, `dr/du'` (otherwise
+    /// the last ones computed), each summed from zero as `eval` assembles them (the same
+    /// numbers, signed zeros included).
+    #[inline]
+    pub fn eval_one(
+        &mut self,
+        u: f64,
+        ud: f64,
+        t: f64,
+        tangent: bool,
+    ) -> Result<(f64, f64, f64), CoreError> {
+        debug_assert!(self.single);
+        let e = &mut self.members[0].eval;
+        (e.x[0], e.v[0]) = (u, ud);
+        e.evaluate(t, tangent)?;
+        Ok((0.0 + e.r[0], 0.0 + e.kx[0], 0.0 + e.cv[0]))
+    }
+
     /// The assembled element force `r` (length `n_d`, overwritten) at the element-space
     /// state `(u, u')` and time `t`; with `tangent`, `dr/du` and `dr/du'` (row-major
     /// `n_d x n_d`, overwritten).
@@ -413,6 +455,14 @@ impl<'a> ElementSpace<'a> {
         mut tangent: Option<(&mut [f64], &mut [f64])>,
     ) -> Result<(), CoreError> {
         let nd = r.len();
+        if self.single && nd == 1 {
+            let (force, k, c) = self.eval_one(u[0], ud[0], t, tangent.is_some())?;
+            r[0] = force;
+            if let Some((kt, ct)) = tangent {
+                (kt[0], ct[0]) = (k, c);
+            }
+            return Ok(());
+        }
         zero(r);
         if let Some((k, c)) = tangent.as_mut() {
             zero(k);

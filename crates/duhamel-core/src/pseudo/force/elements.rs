@@ -43,6 +43,9 @@ impl PseudoForce<'_> {
         (x, v_out, r): (&mut [f64], &mut [f64], &mut [f64]),
     ) -> Result<(), CoreError> {
         let n = self.n;
+        // the evaluations here compute no tangents: the end state's, which the stiffness
+        // watch reuses, stay in the members' buffers
+        let marked = self.space.end_marked();
         let (phi, members) = self.space.members_mut();
         let mut at = 0;
         for (e, dofs) in members {
@@ -58,6 +61,7 @@ impl PseudoForce<'_> {
             r[at..at + nl].copy_from_slice(&e.r);
             at += nl;
         }
+        self.space.keep_end_mark(marked);
         Ok(())
     }
 }

@@ -166,6 +166,7 @@ impl LocalNewton {
                 }
             }
             None => {
+                self.unit = self.diag.iter().all(|&d| d == 1.0);
                 self.pmat.copy_from_slice(phi);
                 for row in self.pmat.chunks_exact_mut(n) {
                     for (p, d) in row.iter_mut().zip(&self.diag) {
@@ -212,6 +213,8 @@ impl LocalNewton {
             Some(lu) => {
                 lu.solve(z, &mut self.work);
             }
+            // x / 1 is x (NaN, infinities and signed zeros too)
+            None if self.unit => {}
             None => {
                 for (zm, d) in z.iter_mut().zip(&self.diag) {
                     *zm /= d;

@@ -83,6 +83,9 @@ pub(in super::super) struct LocalNewton {
     pt_work: Vec<f64>,
     /// The diagonal of `A`, and with couplings `A` itself and its factors.
     diag: Vec<f64>,
+    /// Whether `diag` is all ones (no mass law): the end state's division by it is then
+    /// the identity and left out.
+    unit: bool,
     a: Vec<f64>,
     lu: Option<DenseLu>,
     work: Vec<f64>,
@@ -175,6 +178,7 @@ impl LocalNewton {
             pt: vec![0.0; if coupled { nd * n } else { 0 }],
             pt_work: vec![0.0; if coupled { nd * n } else { 0 }],
             diag: vec![1.0; n],
+            unit: false,
             a: vec![0.0; square],
             lu: None,
             work: vec![0.0; n],
