@@ -107,6 +107,21 @@ fn lu_solve(n: usize, a: &[f64], b: &mut [f64]) -> bool {
 /// numerically singular or the solution not finite. For callers that rebuild `m` anyway (no
 /// copy needed).
 pub fn eliminate(n: usize, m: &mut [f64], b: &mut [f64]) -> bool {
+    // the same code for each small size, its loops then of known length (unrolled, no
+    // bounds checks): the same operations in the same order
+    match n {
+        1 => eliminate_sized(1, m, b),
+        2 => eliminate_sized(2, m, b),
+        3 => eliminate_sized(3, m, b),
+        4 => eliminate_sized(4, m, b),
+        _ => eliminate_sized(n, m, b),
+    }
+}
+
+/// [`eliminate`]'s body, inlined where `n` is a constant.
+#[inline(always)]
+fn eliminate_sized(n: usize, m: &mut [f64], b: &mut [f64]) -> bool {
+    let (m, b) = (&mut m[..n * n], &mut b[..n]);
     for k in 0..n {
         let Some(p) = pivot_row(m, n, k) else {
             return false;
@@ -137,6 +152,7 @@ pub fn eliminate(n: usize, m: &mut [f64], b: &mut [f64]) -> bool {
 
 /// The row at or below `k` with the largest entry in column `k` (partial pivoting), or None
 /// when that entry is zero or not finite (a numerically singular matrix).
+#[inline(always)]
 fn pivot_row(m: &[f64], n: usize, k: usize) -> Option<usize> {
     let (p, pivot) = (k..n)
         .map(|i| (i, m[i * n + k].abs()))

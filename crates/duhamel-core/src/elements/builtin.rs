@@ -10,6 +10,7 @@
 
 use super::element::{Element, PathState, Tangent};
 use super::hysteretic::{Bilinear, FrictionPendulum, Gap, ViscousDamper};
+use super::polynomial::Polynomial;
 use super::shifted::Shifted;
 use super::spring::Spring;
 use crate::error::CoreError;
@@ -22,6 +23,7 @@ pub(crate) enum Builtin<'e> {
     Gap(&'e Gap),
     Viscous(&'e ViscousDamper),
     Pendulum(&'e FrictionPendulum),
+    Polynomial(&'e Polynomial),
     /// An element with its linear part taken out (resolved one level further down).
     Shifted(&'e Shifted),
 }
@@ -40,6 +42,8 @@ impl<'e> Builtin<'e> {
             Some(Builtin::Viscous(e))
         } else if let Some(e) = any.downcast_ref::<FrictionPendulum>() {
             Some(Builtin::Pendulum(e))
+        } else if let Some(e) = any.downcast_ref::<Polynomial>() {
+            Some(Builtin::Polynomial(e))
         } else {
             any.downcast_ref::<Shifted>().map(Builtin::Shifted)
         }
@@ -60,6 +64,7 @@ impl<'e> Builtin<'e> {
             Builtin::Gap(e) => e.eval_path(x, v, t, history, r, tangent),
             Builtin::Viscous(e) => e.eval_path(x, v, t, history, r, tangent),
             Builtin::Pendulum(e) => e.eval_path(x, v, t, history, r, tangent),
+            Builtin::Polynomial(e) => e.eval_path(x, v, t, history, r, tangent),
             Builtin::Shifted(e) => e.eval_path(x, v, t, history, r, tangent),
         }
     }

@@ -74,6 +74,10 @@ impl Polynomial {
 }
 
 impl Element for Polynomial {
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
+    }
+
     fn dofs(&self) -> &[usize] {
         &self.dofs
     }

@@ -69,6 +69,22 @@ pub struct ElementSpace<'a> {
     share_key: (usize, usize),
     /// Whether the space is one element on one dof ([`ElementSpace::eval_one`]).
     single: bool,
+    /// The members' local states and forces at the start state of the last element-space
+    /// step ([`ElementSpace::keep_start`]), for the record of that state.
+    start: Start,
+}
+
+/// The members' local displacements, velocities and forces (each member's in member order,
+/// as [`crate::pseudo::force::PseudoForce::record`] writes them) evaluated at the modal
+/// state at the addresses `key` and time `t`, when `valid`.
+#[derive(Default)]
+struct Start {
+    valid: bool,
+    t: f64,
+    key: (usize, usize),
+    x: Vec<f64>,
+    v: Vec<f64>,
+    r: Vec<f64>,
 }
 
 impl<'a> ElementSpace<'a> {
@@ -110,6 +126,7 @@ impl<'a> ElementSpace<'a> {
             background: 0.0,
             share_key: (0, 0),
             single,
+            start: Start::default(),
         }
     }
 
@@ -145,6 +162,61 @@ impl<'a> ElementSpace<'a> {
         }
     }
 
+    /// Forgets the kept start state ([`ElementSpace::keep_start`]).
+    pub fn drop_start(&mut self) {
+        self.start.valid = false;
+    }
+
+    /// Keeps the members' last evaluation as that of the modal state `(q, v)` at `t` (the
+    /// key: their addresses and `t`), whose element coordinates are `(pq, pv)` = `Phi_D q`,
+    /// `Phi_D v` bit for bit as [`crate::dense::dot`] forms them. The caller has just
+    /// evaluated every member at `t` and at the displacements `pq`, without changing the
+    /// committed variables since; at the velocities `pv` too unless `velocity_differs`,
+    /// in which case nothing is kept when a member's force depends on the velocities.
+    /// [`ElementSpace::record_start`] then gives that state's record without evaluating it
+    /// again, until the next commit.
+    pub fn keep_start(
+        &mut self,
+        (q, v): (&[f64], &[f64]),
+        t: f64,
+        (pq, pv): (&[f64], &[f64]),
+        velocity_differs: bool,
+    ) {
+        let st = &mut self.start;
+        st.valid = false;
+        if velocity_differs && self.members.iter().any(|m| m.eval.uses_velocity()) {
+            return;
+        }
+        (st.x.clear(), st.v.clear(), st.r.clear());
+        for m in &self.members {
+            st.x.extend(m.at.iter().map(|&a| pq[a]));
+            st.v.extend(m.at.iter().map(|&a| pv[a]));
+            st.r.extend_from_slice(&m.eval.r);
+        }
+        st.t = t;
+        st.key = (q.as_ptr() as usize, v.as_ptr() as usize);
+        st.valid = true;
+    }
+
+    /// The kept start state's record ([`ElementSpace::keep_start`]) into `x`, `v`, `r`
+    /// (the members' widths summed), when it is that of `(q, v)` at `t`: whether it was.
+    pub fn record_start(
+        &self,
+        (q, v): (&[f64], &[f64]),
+        t: f64,
+        (x, v_out, r): (&mut [f64], &mut [f64], &mut [f64]),
+    ) -> bool {
+        let st = &self.start;
+        let key = (q.as_ptr() as usize, v.as_ptr() as usize);
+        if !(st.valid && st.key == key && st.t.to_bits() == t.to_bits() && st.x.len() == x.len()) {
+            return false;
+        }
+        x.copy_from_slice(&st.x);
+        v_out.copy_from_slice(&st.v);
+        r.copy_from_slice(&st.r);
+        true
+    }
+
     /// Whether an element has internal variables (hysteresis) to commit after each step.
     pub fn stateful(&self) -> bool {
         self.members.iter().any(|m| m.eval.stateful())
@@ -154,6 +226,8 @@ impl<'a> ElementSpace<'a> {
     /// values (`initial`) or committed after evaluating there at `t`.
     pub fn commit(&mut self, q: &[f64], v: &[f64], t: f64, initial: bool) -> Result<(), CoreError> {
         let n = self.n_modes;
+        // a kept start state was evaluated from the variables committed before
+        self.start.valid = false;
         let phi = &self.phi;
         for m in self.members.iter_mut().filter(|m| m.eval.stateful()) {
             let e = &mut m.eval;
@@ -195,6 +269,7 @@ impl<'a> ElementSpace<'a> {
                 problem: format!("must be finite (entry {i} is {})", state[i]),
             });
         }
+        self.start.valid = false;
         let mut at = 0;
         for m in &mut self.members {
             let len = m.eval.committed().len();

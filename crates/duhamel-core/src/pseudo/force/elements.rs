@@ -42,6 +42,12 @@ impl PseudoForce<'_> {
         t: f64,
         (x, v_out, r): (&mut [f64], &mut [f64], &mut [f64]),
     ) -> Result<(), CoreError> {
+        if self
+            .space
+            .record_start((q, v), t, (&mut *x, &mut *v_out, &mut *r))
+        {
+            return Ok(());
+        }
         let n = self.n;
         // the evaluations here compute no tangents: the end state's, which the stiffness
         // watch reuses, stay in the members' buffers
