@@ -35,12 +35,14 @@ pub fn dot3(r: &[f64], x: [&[f64]; 3]) -> (f64, f64, f64) {
     let (r, a, b, c) = (&r[..n], &x[0][..n], &x[1][..n], &x[2][..n]);
     let mut acc = [[0.0; 4]; 3];
     let full = n - n % 4;
-    for j in (0..full).step_by(4) {
+    // chunks of four (vectorised: one lane per partial sum)
+    let chunks = r.chunks_exact(4).zip(a.chunks_exact(4));
+    for ((rc, ac), (bc, cc)) in chunks.zip(b.chunks_exact(4).zip(c.chunks_exact(4))) {
         for k in 0..4 {
-            let p = r[j + k];
-            acc[0][k] += p * a[j + k];
-            acc[1][k] += p * b[j + k];
-            acc[2][k] += p * c[j + k];
+            let p = rc[k];
+            acc[0][k] += p * ac[k];
+            acc[1][k] += p * bc[k];
+            acc[2][k] += p * cc[k];
         }
     }
     let mut out = [0.0; 3];

@@ -174,11 +174,15 @@ fn squares3(p: [&[f64]; 3]) -> (f64, f64, f64) {
     let (a, b, c) = (&p[0][..n], &p[1][..n], &p[2][..n]);
     let mut acc = [[0.0; 4]; 3];
     let full = n - n % 4;
-    for j in (0..full).step_by(4) {
+    let chunks = a
+        .chunks_exact(4)
+        .zip(b.chunks_exact(4))
+        .zip(c.chunks_exact(4));
+    for ((ac, bc), cc) in chunks {
         for k in 0..4 {
-            acc[0][k] += a[j + k] * a[j + k];
-            acc[1][k] += b[j + k] * b[j + k];
-            acc[2][k] += c[j + k] * c[j + k];
+            acc[0][k] += ac[k] * ac[k];
+            acc[1][k] += bc[k] * bc[k];
+            acc[2][k] += cc[k] * cc[k];
         }
     }
     let mut out = [0.0; 3];

@@ -203,6 +203,27 @@ impl LocalNewton {
         let n = self.n;
         let (_, w_other) = Self::weights(set);
         z.copy_from_slice(&self.base);
+        if !self.affine && self.lu.is_none() && self.unit {
+            // Nothing but the elements (A = I): each node's `z -= s_i W_i t_i`,
+            // `Q_i = -s_i t_i` and `w += W'_i Q_i` in one pass, the same operations in the
+            // same order as below.
+            w.copy_from_slice(w_lin);
+            for i in 0..self.map.len() {
+                let si = self.s[i];
+                space.project(&self.r[i], &mut self.t[i]);
+                let zw = z.iter_mut().zip(w.iter_mut());
+                let weights = self.w_hat[i].iter().zip(&w_other[i]);
+                for ((q, (zm, wm)), (wh, wo)) in self.t[i].iter_mut().zip(zw).zip(weights) {
+                    *zm -= wh * *q;
+                    *q *= -si;
+                    *wm += wo * *q;
+                }
+            }
+            if let Some(start) = start {
+                start.copy_from_slice(&self.t[0]);
+            }
+            return;
+        }
         for i in 0..self.map.len() {
             space.project(&self.r[i], &mut self.t[i]);
             for ((zm, wh), t) in z.iter_mut().zip(&self.w_hat[i]).zip(&self.t[i]) {
