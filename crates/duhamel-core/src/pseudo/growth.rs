@@ -37,8 +37,9 @@ pub struct GrowthGuard {
     limit: f64,
     /// The background's modal stiffness, negative entries counted as 0.
     k: Vec<f64>,
-    /// `E(0) + S(0)`.
+    /// `E(0) + S(0)`, and its square root.
     start: f64,
+    root: f64,
     /// `int |p| dt / sqrt(2)` so far.
     amplitude: f64,
 }
@@ -66,9 +67,11 @@ impl GrowthGuard {
             limit,
             k,
             start: 0.0,
+            root: 0.0,
             amplitude: 0.0,
         };
         guard.start = guard.energy(q0, v0) + held;
+        guard.root = guard.start.sqrt();
         guard.start.is_finite().then_some(guard)
     }
 
@@ -89,6 +92,7 @@ impl GrowthGuard {
             limit,
             k: k.iter().map(|&x| x.max(0.0)).collect(),
             start,
+            root: start.sqrt(),
             amplitude,
         })
     }
@@ -143,10 +147,11 @@ impl GrowthGuard {
         (p0, p1, p2): (&[f64], &[f64], &[f64]),
     ) -> Result<(), CoreError> {
         let (s0, s1, s2) = squares3([p0, p1, p2]);
-        let load = s0.sqrt().max(s1.sqrt()) + 2.0 / 3.0 * s2.sqrt();
+        // sqrt is monotonic and correctly rounded: the larger root is the larger's root
+        let load = s0.max(s1).sqrt() + 2.0 / 3.0 * s2.sqrt();
         self.amplitude += dt * load * std::f64::consts::FRAC_1_SQRT_2;
         let held = self.energy_check(q1, v1);
-        let bound = self.start.sqrt() + self.amplitude;
+        let bound = self.root + self.amplitude;
         let supply = bound * bound;
         if held <= self.limit * supply || !held.is_finite() {
             return Ok(());
