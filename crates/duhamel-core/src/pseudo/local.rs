@@ -484,28 +484,13 @@ impl<'a> ElementSpace<'a> {
 
     /// `out = Phi_D^T r` (length `n_modes`, overwritten).
     pub fn project(&self, r: &[f64], out: &mut [f64]) {
-        // The first row's terms added to zero in registers (not to the zeros stored first
-        // and read back: a stall on short rows), the others added on: the same sums.
-        let mut zeroed = out.len() != self.n_modes;
-        if zeroed {
-            out.fill(0.0);
-        }
+        out.fill(0.0);
         for (&ra, row) in r.iter().zip(self.phi.chunks_exact(self.n_modes)) {
             if ra != 0.0 {
-                if zeroed {
-                    for (o, p) in out.iter_mut().zip(row) {
-                        *o += ra * p;
-                    }
-                } else {
-                    for (o, p) in out.iter_mut().zip(row) {
-                        *o = 0.0 + ra * p;
-                    }
-                    zeroed = true;
+                for (o, p) in out.iter_mut().zip(row) {
+                    *o += ra * p;
                 }
             }
-        }
-        if !zeroed {
-            out.fill(0.0);
         }
     }
 
