@@ -402,6 +402,40 @@ mod tests {
     use super::*;
 
     #[test]
+    fn dot3_is_three_dots_bit_for_bit() {
+        // every length's chunks and tail, values of mixed sign and magnitude
+        let value =
+            |i: usize, s: f64| ((i as f64 + s) * 0.7).sin() * 10f64.powi((i % 7) as i32 - 3);
+        for n in 0..40 {
+            let r: Vec<f64> = (0..n).map(|i| value(i, 0.1)).collect();
+            let x: Vec<Vec<f64>> = (0..3)
+                .map(|k| (0..n).map(|i| value(i, 1.3 + k as f64)).collect())
+                .collect();
+            let (a, b, c) = dot3(&r, [&x[0], &x[1], &x[2]]);
+            for (got, xk) in [a, b, c].iter().zip(&x) {
+                assert_eq!(got.to_bits(), dot(&r, xk).to_bits(), "n = {n}");
+            }
+        }
+    }
+
+    #[test]
+    fn small_eliminations_are_the_general_loop_bit_for_bit() {
+        for n in 1..=5 {
+            let a: Vec<f64> = (0..n * n)
+                .map(|i| ((i as f64) * 1.7).cos() + if i % (n + 1) == 0 { 3.0 } else { 0.0 })
+                .collect();
+            let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.3).sin() + 1.0).collect();
+            let (mut m1, mut b1) = (a.clone(), b.clone());
+            let (mut m2, mut b2) = (a.clone(), b.clone());
+            assert!(eliminate(n, &mut m1, &mut b1));
+            assert!(eliminate_sized(n, &mut m2, &mut b2));
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&b1), bits(&b2));
+            assert_eq!(bits(&m1), bits(&m2));
+        }
+    }
+
+    #[test]
     fn solves_a_small_system() {
         let a = [4.0, 1.0, 0.0, 1.0, 3.0, 1.0, 0.0, 1.0, 2.0];
         let mut b = [1.0, 2.0, 3.0];

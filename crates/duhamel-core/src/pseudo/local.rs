@@ -187,7 +187,9 @@ impl<'a> ElementSpace<'a> {
         if velocity_differs && self.members.iter().any(|m| m.eval.uses_velocity()) {
             return;
         }
-        (st.x.clear(), st.v.clear(), st.r.clear());
+        st.x.clear();
+        st.v.clear();
+        st.r.clear();
         for m in &self.members {
             st.x.extend(m.at.iter().map(|&a| pq[a]));
             st.v.extend(m.at.iter().map(|&a| pv[a]));

@@ -208,11 +208,11 @@ impl LocalNewton {
             // `Q_i = -s_i t_i` and `w += W'_i Q_i` in one pass, the same operations in the
             // same order as below.
             w.copy_from_slice(w_lin);
-            for i in 0..self.map.len() {
+            for (i, wo_i) in w_other.iter().enumerate().take(self.map.len()) {
                 let si = self.s[i];
                 space.project(&self.r[i], &mut self.t[i]);
                 let zw = z.iter_mut().zip(w.iter_mut());
-                let weights = self.w_hat[i].iter().zip(&w_other[i]);
+                let weights = self.w_hat[i].iter().zip(wo_i);
                 for ((q, (zm, wm)), (wh, wo)) in self.t[i].iter_mut().zip(zw).zip(weights) {
                     *zm -= wh * *q;
                     *q *= -si;
