@@ -34,63 +34,13 @@ pub fn dot3(r: &[f64], x: [&[f64]; 3]) -> (f64, f64, f64) {
     let n = r.len().min(x[0].len()).min(x[1].len()).min(x[2].len());
     let (r, a, b, c) = (&r[..n], &x[0][..n], &x[1][..n], &x[2][..n]);
     let full = n - n % 4;
-    let acc = partial_sums3(full, r, [a, b, c]);
+    let acc = fixed::partial_sums3(full, r, [a, b, c]);
     let mut out = [0.0; 3];
     for (o, (acc, v)) in out.iter_mut().zip(acc.iter().zip([a, b, c])) {
         let tail: f64 = (full..n).map(|j| r[j] * v[j]).sum();
         *o = (acc[0] + acc[2]) + (acc[1] + acc[3]) + tail;
     }
     (out[0], out[1], out[2])
-}
-
-/// [`dot3`]'s four partial sums of each product over the first `full` entries (a multiple
-/// of four, within every slice): lane `k` sums the entries `k, k + 4, ...` in order.
-#[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
-#[inline(always)]
-fn partial_sums3(full: usize, r: &[f64], x: [&[f64]; 3]) -> [[f64; 4]; 3] {
-    let mut acc = [[0.0; 4]; 3];
-    for j in (0..full).step_by(4) {
-        for k in 0..4 {
-            let p = r[j + k];
-            for (acc, x) in acc.iter_mut().zip(x) {
-                acc[k] += p * x[j + k];
-            }
-        }
-    }
-    acc
-}
-
-/// [`dot3`]'s four partial sums on AVX: one 4-lane register per product, each lane the
-/// scalar loop's partial sum (the same multiplications and additions in the same order:
-/// no fused multiply-add), where the compiler's own vectorisation used half-width
-/// registers and shuffles.
-#[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
-#[inline(always)]
-fn partial_sums3(full: usize, r: &[f64], x: [&[f64]; 3]) -> [[f64; 4]; 3] {
-    use std::arch::x86_64::{__m256d, _mm256_storeu_pd};
-    use std::arch::x86_64::{_mm256_add_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_setzero_pd};
-    assert!(full % 4 == 0 && full <= r.len() && x.iter().all(|v| full <= v.len()));
-    // SAFETY: AVX is enabled at compile time (the cfg above); the intrinsic touches no
-    // memory.
-    let mut acc: [__m256d; 3] = [unsafe { _mm256_setzero_pd() }; 3];
-    for j in (0..full).step_by(4) {
-        // SAFETY: AVX is enabled at compile time (the cfg above); `j + 4 <= full` and
-        // `full` is within `r` and every `x[i]` (asserted), so each unaligned load reads
-        // four `f64` inside its slice.
-        unsafe {
-            let p = _mm256_loadu_pd(r.as_ptr().add(j));
-            for (acc, x) in acc.iter_mut().zip(x) {
-                let y = _mm256_loadu_pd(x.as_ptr().add(j));
-                *acc = _mm256_add_pd(*acc, _mm256_mul_pd(p, y));
-            }
-        }
-    }
-    let mut out = [[0.0; 4]; 3];
-    for (o, a) in out.iter_mut().zip(acc) {
-        // SAFETY: `o` is four writable `f64`; the store is unaligned.
-        unsafe { _mm256_storeu_pd(o.as_mut_ptr(), a) };
-    }
-    out
 }
 
 /// Largest system solved by the in-place elimination below; faer above.

@@ -10,6 +10,8 @@
 //! the space; the modal Newton, the element-space Newton and every subdivision level
 //! evaluate the same elements, and the route commits them once per accepted (sub)step.
 
+mod start;
+
 use crate::elements::{Element, Evaluation};
 use crate::error::CoreError;
 
@@ -71,20 +73,7 @@ pub struct ElementSpace<'a> {
     single: bool,
     /// The members' local states and forces at the start state of the last element-space
     /// step ([`ElementSpace::keep_start`]), for the record of that state.
-    start: Start,
-}
-
-/// The members' local displacements, velocities and forces (each member's in member order,
-/// as [`crate::pseudo::force::PseudoForce::record`] writes them) evaluated at the modal
-/// state at the addresses `key` and time `t`, when `valid`.
-#[derive(Default)]
-struct Start {
-    valid: bool,
-    t: f64,
-    key: (usize, usize),
-    x: Vec<f64>,
-    v: Vec<f64>,
-    r: Vec<f64>,
+    start: start::Start,
 }
 
 impl<'a> ElementSpace<'a> {
@@ -126,7 +115,7 @@ impl<'a> ElementSpace<'a> {
             background: 0.0,
             share_key: (0, 0),
             single,
-            start: Start::default(),
+            start: start::Start::default(),
         }
     }
 
@@ -146,77 +135,6 @@ impl<'a> ElementSpace<'a> {
             .iter()
             .all(|m| m.eval.with_tangent() && !m.eval.uses_velocity());
         self.end_mark = fresh.then(|| self.evaluations());
-    }
-
-    /// Whether the end mark of [`ElementSpace::mark_end`] still holds (no evaluation since).
-    pub fn end_marked(&self) -> bool {
-        self.end_mark.is_some() && self.end_mark == Some(self.evaluations())
-    }
-
-    /// Keeps the end mark across evaluations without tangents that left the members'
-    /// tangents `kx`, `cv` as they were (the record of a saved state): the watch then still
-    /// reuses the converged end state's tangents, as it does on a step that saves nothing.
-    pub fn keep_end_mark(&mut self, marked: bool) {
-        if marked {
-            self.end_mark = Some(self.evaluations());
-        }
-    }
-
-    /// Forgets the kept start state ([`ElementSpace::keep_start`]).
-    pub fn drop_start(&mut self) {
-        self.start.valid = false;
-    }
-
-    /// Keeps the members' last evaluation as that of the modal state `(q, v)` at `t` (the
-    /// key: their addresses and `t`), whose element coordinates are `(pq, pv)` = `Phi_D q`,
-    /// `Phi_D v` bit for bit as [`crate::dense::dot`] forms them. The caller has just
-    /// evaluated every member at `t` and at the displacements `pq`, without changing the
-    /// committed variables since; at the velocities `pv` too unless `velocity_differs`,
-    /// in which case nothing is kept when a member's force depends on the velocities.
-    /// [`ElementSpace::record_start`] then gives that state's record without evaluating it
-    /// again, until the next commit.
-    pub fn keep_start(
-        &mut self,
-        (q, v): (&[f64], &[f64]),
-        t: f64,
-        (pq, pv): (&[f64], &[f64]),
-        velocity_differs: bool,
-    ) {
-        let st = &mut self.start;
-        st.valid = false;
-        if velocity_differs && self.members.iter().any(|m| m.eval.uses_velocity()) {
-            return;
-        }
-        st.x.clear();
-        st.v.clear();
-        st.r.clear();
-        for m in &self.members {
-            st.x.extend(m.at.iter().map(|&a| pq[a]));
-            st.v.extend(m.at.iter().map(|&a| pv[a]));
-            st.r.extend_from_slice(&m.eval.r);
-        }
-        st.t = t;
-        st.key = (q.as_ptr() as usize, v.as_ptr() as usize);
-        st.valid = true;
-    }
-
-    /// The kept start state's record ([`ElementSpace::keep_start`]) into `x`, `v`, `r`
-    /// (the members' widths summed), when it is that of `(q, v)` at `t`: whether it was.
-    pub fn record_start(
-        &self,
-        (q, v): (&[f64], &[f64]),
-        t: f64,
-        (x, v_out, r): (&mut [f64], &mut [f64], &mut [f64]),
-    ) -> bool {
-        let st = &self.start;
-        let key = (q.as_ptr() as usize, v.as_ptr() as usize);
-        if !(st.valid && st.key == key && st.t.to_bits() == t.to_bits() && st.x.len() == x.len()) {
-            return false;
-        }
-        x.copy_from_slice(&st.x);
-        v_out.copy_from_slice(&st.v);
-        r.copy_from_slice(&st.r);
-        true
     }
 
     /// Whether an element has internal variables (hysteresis) to commit after each step.
