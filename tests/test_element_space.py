@@ -183,3 +183,59 @@ def test_mass_law_with_constant_couplings_at_any_element_dof_count(n_dofs, law, 
     peak = np.abs(dense.x).max()
     err = max(np.abs(local.x - dense.x).max(), np.abs(local.v - dense.v).max() * run["dt"])
     assert err <= 1e-12 * peak, f"{n_dofs} dofs/{law}/{scheme}: {err / peak:.2e}"
+
+
+def _chain(n: int = 8) -> duhamel.System:
+    links = np.full(n, 1e4)
+    k = np.diag(links + np.r_[links[1:], 0.0]) - np.diag(links[1:], 1) - np.diag(links[1:], -1)
+    system = duhamel.System(np.eye(n), k, zeta=0.02)
+    return system.add_load(L.Harmonic(n - 1, 300.0, 9.0))
+
+
+@pytest.mark.parametrize("scheme", ["a", "b", "c"])
+def test_saved_element_records_are_the_forces_at_the_saved_states(scheme):
+    # The element-space step keeps its evaluation of the start state for that state's
+    # record (issue 23): the saved displacement must be the structure's at that dof and
+    # the force the element's there: a cubic spring by its formula, and a bilinear spring
+    # by the return mapping replayed over the saved displacements (each step committed at
+    # the saved end state), independent of the engine.
+    # (a hardening ratio whose yield the watch does not subdivide: a substep commits too)
+    k3, (kb, fy, alpha) = 2e9, (3e3, 4.0, 0.3)
+    one = _chain().add(E.Cubic(2, k3))
+    two = _chain().add(E.Cubic(2, k3)).add(E.Bilinear(5, k=kb, fy=fy, alpha=alpha))
+    for system in (one, two):
+        sol = duhamel.solve(system, duhamel.Semianalytic(scheme=scheme), t_end=1.0, dt=2e-3)
+        cubic = sol.elements[0]
+        x = cubic.x[:, 0]
+        peak_x = np.abs(sol.x[:, 2]).max()
+        np.testing.assert_allclose(x, sol.x[:, 2], rtol=0, atol=1e-13 * peak_x)
+        np.testing.assert_allclose(cubic.force[:, 0], k3 * x**3, rtol=1e-12, atol=0)
+        if system is two:
+            assert sol.stats.subdivided_steps == 0
+            bil = sol.elements[1]
+            u = bil.x[:, 0]
+            force = np.zeros_like(u)
+            u_c, f_c = 0.0, 0.0
+            for i, ui in enumerate(u):
+                trial = f_c + kb * (ui - u_c)
+                line, band = alpha * kb * ui, (1 - alpha) * fy
+                force[i] = min(max(trial, line - band), line + band)
+                u_c, f_c = ui, force[i]
+            assert np.abs(force).max() >= fy  # it yields
+            np.testing.assert_allclose(bil.force[:, 0], force, rtol=0, atol=1e-12 * fy)
+
+
+def test_saving_every_step_changes_no_result_of_a_subdivided_run():
+    # The stiffness watch reuses the converged end state's tangents; a saved state's
+    # record in between must not change what it decides (issue 23): a stop stiff enough to
+    # subdivide, saved every step or every fifth, takes the same substeps to the same bits.
+    system = _chain().add(E.Gap(7, None, gap=0.02, k=1e8))
+    runs = [
+        duhamel.solve(system, duhamel.Semianalytic(), t_end=1.0, dt=2e-3, save_every=every)
+        for every in (1, 5)
+    ]
+    assert runs[0].stats.subdivided_steps > 0
+    assert runs[0].stats.subdivided_steps == runs[1].stats.subdivided_steps
+    assert runs[0].stats.newton_iterations == runs[1].stats.newton_iterations
+    np.testing.assert_array_equal(runs[0].x[::5], runs[1].x)
+    np.testing.assert_array_equal(runs[0].elements[0].force[::5], runs[1].elements[0].force)

@@ -49,7 +49,9 @@ pub fn nearest_root(c: [f64; 4], guess: f64) -> Option<f64> {
 #[inline]
 fn monotone_root(c: [f64; 4], guess: f64) -> Option<f64> {
     let [c0, c1, c2, c3] = c;
-    if !(c2 * c2 < 3.0 * c1 * c3) {
+    // false for a NaN coefficient as well
+    let monotone = c2 * c2 < 3.0 * c1 * c3;
+    if !monotone {
         return None;
     }
     let mut x = guess;

@@ -33,16 +33,8 @@ pub fn dot(a: &[f64], b: &[f64]) -> f64 {
 pub fn dot3(r: &[f64], x: [&[f64]; 3]) -> (f64, f64, f64) {
     let n = r.len().min(x[0].len()).min(x[1].len()).min(x[2].len());
     let (r, a, b, c) = (&r[..n], &x[0][..n], &x[1][..n], &x[2][..n]);
-    let mut acc = [[0.0; 4]; 3];
     let full = n - n % 4;
-    for j in (0..full).step_by(4) {
-        for k in 0..4 {
-            let p = r[j + k];
-            acc[0][k] += p * a[j + k];
-            acc[1][k] += p * b[j + k];
-            acc[2][k] += p * c[j + k];
-        }
-    }
+    let acc = fixed::partial_sums3(full, r, [a, b, c]);
     let mut out = [0.0; 3];
     for (o, (acc, v)) in out.iter_mut().zip(acc.iter().zip([a, b, c])) {
         let tail: f64 = (full..n).map(|j| r[j] * v[j]).sum();
@@ -107,6 +99,21 @@ fn lu_solve(n: usize, a: &[f64], b: &mut [f64]) -> bool {
 /// numerically singular or the solution not finite. For callers that rebuild `m` anyway (no
 /// copy needed).
 pub fn eliminate(n: usize, m: &mut [f64], b: &mut [f64]) -> bool {
+    // the same code for each small size, its loops then of known length (unrolled, no
+    // bounds checks): the same operations in the same order
+    match n {
+        1 => eliminate_sized(1, m, b),
+        2 => eliminate_sized(2, m, b),
+        3 => eliminate_sized(3, m, b),
+        4 => eliminate_sized(4, m, b),
+        _ => eliminate_sized(n, m, b),
+    }
+}
+
+/// [`eliminate`]'s body, inlined where `n` is a constant.
+#[inline(always)]
+fn eliminate_sized(n: usize, m: &mut [f64], b: &mut [f64]) -> bool {
+    let (m, b) = (&mut m[..n * n], &mut b[..n]);
     for k in 0..n {
         let Some(p) = pivot_row(m, n, k) else {
             return false;
@@ -137,6 +144,7 @@ pub fn eliminate(n: usize, m: &mut [f64], b: &mut [f64]) -> bool {
 
 /// The row at or below `k` with the largest entry in column `k` (partial pivoting), or None
 /// when that entry is zero or not finite (a numerically singular matrix).
+#[inline(always)]
 fn pivot_row(m: &[f64], n: usize, k: usize) -> Option<usize> {
     let (p, pivot) = (k..n)
         .map(|i| (i, m[i * n + k].abs()))
@@ -342,6 +350,40 @@ impl DenseLu {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn dot3_is_three_dots_bit_for_bit() {
+        // every length's chunks and tail, values of mixed sign and magnitude
+        let value =
+            |i: usize, s: f64| ((i as f64 + s) * 0.7).sin() * 10f64.powi((i % 7) as i32 - 3);
+        for n in 0..40 {
+            let r: Vec<f64> = (0..n).map(|i| value(i, 0.1)).collect();
+            let x: Vec<Vec<f64>> = (0..3)
+                .map(|k| (0..n).map(|i| value(i, 1.3 + k as f64)).collect())
+                .collect();
+            let (a, b, c) = dot3(&r, [&x[0], &x[1], &x[2]]);
+            for (got, xk) in [a, b, c].iter().zip(&x) {
+                assert_eq!(got.to_bits(), dot(&r, xk).to_bits(), "n = {n}");
+            }
+        }
+    }
+
+    #[test]
+    fn small_eliminations_are_the_general_loop_bit_for_bit() {
+        for n in 1..=5 {
+            let a: Vec<f64> = (0..n * n)
+                .map(|i| ((i as f64) * 1.7).cos() + if i % (n + 1) == 0 { 3.0 } else { 0.0 })
+                .collect();
+            let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.3).sin() + 1.0).collect();
+            let (mut m1, mut b1) = (a.clone(), b.clone());
+            let (mut m2, mut b2) = (a.clone(), b.clone());
+            assert!(eliminate(n, &mut m1, &mut b1));
+            assert!(eliminate_sized(n, &mut m2, &mut b2));
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&b1), bits(&b2));
+            assert_eq!(bits(&m1), bits(&m2));
+        }
+    }
 
     #[test]
     fn solves_a_small_system() {

@@ -234,7 +234,9 @@ impl AxialFrictionPendulum {
         let (u, _, _) = self.local(x, v);
         // beyond the small-angle model (u of the order of R) the normal force has no solution
         let reach = u[0].hypot(u[1]);
-        if !(reach < 0.5 * self.law.radius) {
+        // false for a non-finite displacement as well
+        let inside = reach < 0.5 * self.law.radius;
+        if !inside {
             return Err(CoreError::OutOfDomain {
                 time: t,
                 step: 0,

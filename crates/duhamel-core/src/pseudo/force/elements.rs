@@ -42,7 +42,16 @@ impl PseudoForce<'_> {
         t: f64,
         (x, v_out, r): (&mut [f64], &mut [f64], &mut [f64]),
     ) -> Result<(), CoreError> {
+        if self
+            .space
+            .record_start((q, v), t, (&mut *x, &mut *v_out, &mut *r))
+        {
+            return Ok(());
+        }
         let n = self.n;
+        // the evaluations here compute no tangents: the end state's, which the stiffness
+        // watch reuses, stay in the members' buffers
+        let marked = self.space.end_marked();
         let (phi, members) = self.space.members_mut();
         let mut at = 0;
         for (e, dofs) in members {
@@ -58,6 +67,7 @@ impl PseudoForce<'_> {
             r[at..at + nl].copy_from_slice(&e.r);
             at += nl;
         }
+        self.space.keep_end_mark(marked);
         Ok(())
     }
 }

@@ -166,6 +166,7 @@ impl LocalNewton {
                 }
             }
             None => {
+                self.unit = self.diag.iter().all(|&d| d == 1.0);
                 self.pmat.copy_from_slice(phi);
                 for row in self.pmat.chunks_exact_mut(n) {
                     for (p, d) in row.iter_mut().zip(&self.diag) {
@@ -202,6 +203,27 @@ impl LocalNewton {
         let n = self.n;
         let (_, w_other) = Self::weights(set);
         z.copy_from_slice(&self.base);
+        if !self.affine && self.lu.is_none() && self.unit {
+            // Nothing but the elements (A = I): each node's `z -= s_i W_i t_i`,
+            // `Q_i = -s_i t_i` and `w += W'_i Q_i` in one pass, the same operations in the
+            // same order as below.
+            w.copy_from_slice(w_lin);
+            for (i, wo_i) in w_other.iter().enumerate().take(self.map.len()) {
+                let si = self.s[i];
+                space.project(&self.r[i], &mut self.t[i]);
+                let zw = z.iter_mut().zip(w.iter_mut());
+                let weights = self.w_hat[i].iter().zip(wo_i);
+                for ((q, (zm, wm)), (wh, wo)) in self.t[i].iter_mut().zip(zw).zip(weights) {
+                    *zm -= wh * *q;
+                    *q *= -si;
+                    *wm += wo * *q;
+                }
+            }
+            if let Some(start) = start {
+                start.copy_from_slice(&self.t[0]);
+            }
+            return;
+        }
         for i in 0..self.map.len() {
             space.project(&self.r[i], &mut self.t[i]);
             for ((zm, wh), t) in z.iter_mut().zip(&self.w_hat[i]).zip(&self.t[i]) {
@@ -212,6 +234,8 @@ impl LocalNewton {
             Some(lu) => {
                 lu.solve(z, &mut self.work);
             }
+            // x / 1 is x (NaN, infinities and signed zeros too)
+            None if self.unit => {}
             None => {
                 for (zm, d) in z.iter_mut().zip(&self.diag) {
                     *zm /= d;

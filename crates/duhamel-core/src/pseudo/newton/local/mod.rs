@@ -83,6 +83,9 @@ pub(in super::super) struct LocalNewton {
     pt_work: Vec<f64>,
     /// The diagonal of `A`, and with couplings `A` itself and its factors.
     diag: Vec<f64>,
+    /// Whether `diag` is all ones (no mass law): the end state's division by it is then
+    /// the identity and left out.
+    unit: bool,
     a: Vec<f64>,
     lu: Option<DenseLu>,
     work: Vec<f64>,
@@ -175,6 +178,7 @@ impl LocalNewton {
             pt: vec![0.0; if coupled { nd * n } else { 0 }],
             pt_work: vec![0.0; if coupled { nd * n } else { 0 }],
             diag: vec![1.0; n],
+            unit: false,
             a: vec![0.0; square],
             lu: None,
             work: vec![0.0; n],
@@ -229,6 +233,7 @@ impl LocalNewton {
     ) -> Result<usize, CoreError> {
         let End { z, w, start } = end;
         self.start_ready = false;
+        pf.space_mut().drop_start();
         let (z_lin, w_lin) = if set.unknown == Unknown::V1 {
             (inp.v_lin, inp.q_lin)
         } else {
@@ -274,6 +279,12 @@ impl LocalNewton {
                 let t = inp.t + self.map[i].s * set.dt;
                 let space = pf.space_mut();
                 space.eval(&self.u0[i], &self.ud0[i], t, &mut self.r[i], None)?;
+                // the start state itself (its displacements bit for bit): kept for its record
+                if self.map[i].s == 0.0 && same(&self.u0[i], &self.pq) {
+                    let differs = !same(&self.ud0[i], &self.pv);
+                    let (pq, pv) = (&self.pq[..], &self.pv[..]);
+                    space.keep_start((inp.q0, inp.v0), t, (pq, pv), differs);
+                }
                 sub_product(&mut self.y0, &self.g[i], &self.r[i]);
             }
         }
@@ -298,6 +309,7 @@ impl LocalNewton {
         let first = self.map[0];
         if !(first.constant && first.s == 0.0) {
             space.eval(&self.pq, &self.pv, inp.t, &mut self.r_start, None)?;
+            space.keep_start((inp.q0, inp.v0), inp.t, (&self.pq, &self.pv), false);
         } else {
             self.r_start.copy_from_slice(&self.r[0]);
         }
@@ -309,6 +321,11 @@ impl LocalNewton {
         }
         Ok(())
     }
+}
+
+/// Whether `a` and `b` hold the same numbers bit for bit.
+fn same(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 /// `y -= G r` for a row-major `n_d x n_d` matrix `G`.

@@ -29,8 +29,16 @@ impl LocalNewton {
             self.u[0] = self.u0[i][0] + m.alpha * y;
             self.ud[0] = self.ud0[i][0] + m.beta * y;
             let t = inp.t + m.s * set.dt;
-            let tan = tangent.then_some((&mut self.kt[i][..], &mut self.ct[i][..]));
-            space.eval(&self.u, &self.ud, t, &mut self.r[i], tan)?;
+            if space.single() {
+                let (r, k, c) = space.eval_one(self.u[0], self.ud[0], t, tangent)?;
+                self.r[i][0] = r;
+                if tangent {
+                    (self.kt[i][0], self.ct[i][0]) = (k, c);
+                }
+            } else {
+                let tan = tangent.then_some((&mut self.kt[i][..], &mut self.ct[i][..]));
+                space.eval(&self.u, &self.ud, t, &mut self.r[i], tan)?;
+            }
             // `dot` of one term: its four zero partial sums, then the term
             let tail: f64 = std::iter::once(self.g[i][0] * self.r[i][0]).sum();
             res += (0.0 + 0.0) + (0.0 + 0.0) + tail;

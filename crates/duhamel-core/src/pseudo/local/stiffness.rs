@@ -1,0 +1,124 @@
+//! The stiffness watch's measure of the elements' tangent against the background they load
+//! ([`ElementSpace::tangent_stiffness`]).
+
+use super::{ElementSpace, DOMINANT};
+use crate::error::CoreError;
+
+/// The symmetric part of a row-major `nl x nl` tangent, entry `(i, j)`.
+fn k_sym(kx: &[f64], nl: usize, i: usize, j: usize) -> f64 {
+    0.5 * (kx[i * nl + j] + kx[j * nl + i])
+}
+
+impl ElementSpace<'_> {
+    /// The squared frequency `omega_c^2` of the closed state at the modal state `(q, v)`,
+    /// bounded as the modal stiffness the elements' current tangents add (for each element
+    /// the largest `|eigenvalue|` of `Phi_e^T K_e Phi_e`, the symmetric part of its tangent
+    /// `K_e` on its dofs' mode-shape rows `Phi_e`) plus that of the background they load
+    /// (the modal stiffness `k` of the modes weighted by the element's share
+    /// `|diag(Phi_e^T K_e Phi_e)|` in each, the largest over the elements); only elements that
+    /// dominate that background (at least [`DOMINANT`] times it) count, and 0 when none
+    /// does. With the index of the element adding most. Every element is watched: one
+    /// evaluation with tangents per call (central differences for a Python element without a
+    /// Jacobian: its stiffness escapes the step's stability limit no more than a built-in
+    /// one's). Path-dependent elements are evaluated from their committed variables (their
+    /// trial variables are overwritten, as any evaluation does). When the step solver's last
+    /// evaluation was at its converged end state with tangents ([`ElementSpace::mark_end`])
+    /// and none came after it, its tangents are used (the state the watch asks for is that
+    /// one, up to the rounding of its element coordinates and Newton's tolerance).
+    pub fn tangent_stiffness(
+        &mut self,
+        modal_k: &[f64],
+        q: &[f64],
+        v: &[f64],
+        t: f64,
+    ) -> Result<(f64, usize), CoreError> {
+        let n = self.n_modes;
+        let reuse = self.end_mark.take() == Some(self.evaluations());
+        let key = (modal_k.as_ptr() as usize, modal_k.len());
+        let fresh = self.share_key != key;
+        self.share_key = key;
+        let phi = &self.phi;
+        let (mut total, mut worst, mut largest, mut background) = (0.0, 0, 0.0, 0.0f64);
+        for (index, m) in self.members.iter_mut().enumerate() {
+            let e = &mut m.eval;
+            if !reuse {
+                for (j, &a) in m.at.iter().enumerate() {
+                    let row = &phi[a * n..(a + 1) * n];
+                    e.x[j] = crate::dense::dot(row, q);
+                    e.v[j] = crate::dense::dot(row, v);
+                }
+                e.evaluate(t, true)?;
+            }
+            let nl = m.at.len();
+            // G = Phi_e Phi_e^T; the nonzero eigenvalues of Phi_e^T K Phi_e are those of K G
+            let g = |i: usize, j: usize| m.gram[i * nl + j];
+            let k = |i: usize, j: usize| k_sym(&e.kx, nl, i, j);
+            let lambda = match nl {
+                0 => 0.0,
+                1 => (k(0, 0) * g(0, 0)).abs(),
+                2 => {
+                    let p = |i: usize, j: usize| k(i, 0) * g(0, j) + k(i, 1) * g(1, j);
+                    let (tr, det) = (p(0, 0) + p(1, 1), p(0, 0) * p(1, 1) - p(0, 1) * p(1, 0));
+                    let disc = (0.25 * tr * tr - det).max(0.0).sqrt();
+                    (0.5 * tr).abs() + disc
+                }
+                _ => {
+                    // the Frobenius norm of K G bounds its spectral radius
+                    let mut sum = 0.0;
+                    for i in 0..nl {
+                        for j in 0..nl {
+                            let pij: f64 = (0..nl).map(|l| k(i, l) * g(l, j)).sum();
+                            sum += pij * pij;
+                        }
+                    }
+                    sum.sqrt()
+                }
+            };
+            // the background it loads: the modal stiffness weighted by the element's share
+            // |diag(Phi_e^T K_e Phi_e)| in each mode (one dof: |k| phi^2, so |k| times sums
+            // fixed for the run)
+            let (share, weighted) = if nl == 1 {
+                if fresh {
+                    m.share = None;
+                }
+                let row = &phi[m.at[0] * n..(m.at[0] + 1) * n];
+                let (s, w) = *m.share.get_or_insert_with(|| {
+                    row.iter()
+                        .zip(modal_k)
+                        .fold((0.0, 0.0), |(s, w), (&p, &km)| {
+                            (s + p * p, w + p * p * km.max(0.0))
+                        })
+                });
+                let a = e.kx[0].abs();
+                (a * s, a * w)
+            } else {
+                let (mut share, mut weighted) = (0.0, 0.0);
+                for (mode, &km) in modal_k.iter().enumerate() {
+                    let mut d = 0.0f64;
+                    for i in 0..nl {
+                        for j in 0..nl {
+                            d += k_sym(&e.kx, nl, i, j)
+                                * phi[m.at[i] * n + mode]
+                                * phi[m.at[j] * n + mode];
+                        }
+                    }
+                    share += d.abs();
+                    weighted += d.abs() * km.max(0.0);
+                }
+                (share, weighted)
+            };
+            if !(lambda > 0.0 && lambda.is_finite() && share > 0.0)
+                || lambda * share < DOMINANT * weighted
+            {
+                continue;
+            }
+            total += lambda;
+            background = background.max(weighted / share);
+            if lambda > largest {
+                (largest, worst) = (lambda, index);
+            }
+        }
+        self.background = if total > 0.0 { background } else { 0.0 };
+        Ok((if total > 0.0 { total + background } else { 0.0 }, worst))
+    }
+}
