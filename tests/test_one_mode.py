@@ -95,8 +95,6 @@ def test_a_stiff_bilinear_that_subdivides_its_steps():
     # taken in substeps that commit the device several times; the next step must not take
     # the rejected trial's end force as its start (one.rs keeps the last end's force only
     # across exactly one commit)
-    fast, dense = _pair(
-        lambda: _one_dof(E.Bilinear(0, None, k=2e6, fy=400.0, alpha=0.02)), dt=0.01
-    )
+    fast, dense = _pair(lambda: _one_dof(E.Bilinear(0, None, k=2e6, fy=400.0, alpha=0.02)), dt=0.01)
     assert fast.stats.subdivided_steps > 0
     _same(fast, dense)
