@@ -249,3 +249,43 @@ pub(crate) fn numeric_tangent(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Evaluation;
+    use crate::elements::hysteretic::Bilinear;
+
+    /// Along a path through yield and reversal: a commit that keeps the trial variables of
+    /// the evaluation at the committed state leaves the same committed variables as one
+    /// that evaluates again, and the force at a committed state is the force that
+    /// committed it (what `Dispatch::restarts_exactly` says of the `Bilinear`).
+    #[test]
+    fn kept_commits_and_restarts_are_the_evaluated_ones_bit_for_bit() {
+        let element = Bilinear::new(0, None, 2e3, 5.0, 0.05).unwrap();
+        let (mut kept, mut fresh) = (Evaluation::new(&element), Evaluation::new(&element));
+        kept.start(0.0);
+        fresh.start(0.0);
+        let mut reuse = 0;
+        for step in 1..=400 {
+            let t = step as f64 * 1e-3;
+            let u = 0.01 * (t * 9.0).sin() * (1.0 + 3.0 * t);
+            kept.x[0] = u;
+            kept.evaluate(t, true).unwrap();
+            let force = kept.r[0];
+            reuse += usize::from(kept.holds(t));
+            kept.commit(t).unwrap();
+            fresh.x[0] = u;
+            fresh.commit(t).unwrap();
+            assert_eq!(kept.committed(), fresh.committed(), "step {step}");
+            // the force at the committed state, evaluated from it again
+            kept.evaluate(t, false).unwrap();
+            assert_eq!(kept.r[0].to_bits(), force.to_bits(), "step {step}");
+        }
+        assert_eq!(reuse, 400);
+        // a state other than the one evaluated is evaluated again
+        kept.x[0] = 0.5;
+        kept.evaluate(1.0, false).unwrap();
+        kept.x[0] = 0.25;
+        assert!(!kept.holds(1.0));
+    }
+}

@@ -250,7 +250,7 @@ impl OneMode {
         // at that end) came in between; elements that restart exactly only (a `Bilinear`,
         // springs, gaps: time- and velocity-free), the start a node of the rule.
         let known = self.end.take().filter(|&(bits, generation, _)| {
-            let commits = space.generation() - generation;
+            let commits = space.generation().wrapping_sub(generation);
             restarts
                 && self.constant[0]
                 && self.s[0] == 0.0
