@@ -8,7 +8,7 @@
 
 mod bilinear;
 mod boucwen;
-mod common;
+pub(crate) mod common;
 mod friction;
 mod gap;
 mod maxwell;
