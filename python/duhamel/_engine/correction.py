@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 
 from duhamel._engine.eigen import SHIFT_RTOL
 from duhamel._engine.validate import issparse
-from duhamel.elements.basic import LinearCoupling
+from duhamel.couplings import LinearCoupling
 from duhamel.loads import Callable
 from duhamel.modal import ModalBasis, damped
 from duhamel.system import System

@@ -10,7 +10,7 @@ from numpy.typing import NDArray
 from duhamel import _core
 from duhamel._engine.run import callback_error
 from duhamel._engine.validate import issparse
-from duhamel.elements.basic import LinearCoupling
+from duhamel.couplings import LinearCoupling
 from duhamel.results.solution import Solution, SolveStats
 from duhamel.system import System
 

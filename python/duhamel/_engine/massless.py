@@ -232,7 +232,7 @@ def quasi_static(system: Any, basis: Any) -> tuple[Any, Array, Array]:
     equation includes the static relation. Returns ``(basis, omega_f values, psi_hat)``;
     `psi_hat` (``psi``, K-orthonormal) also tells :func:`load_terms` what part of a load's
     static response the coordinates already carry."""
-    from duhamel.elements.basic import LinearCoupling
+    from duhamel.couplings import LinearCoupling
     from duhamel.modal import ModalBasis, frozen
 
     c = system._condensation

@@ -34,7 +34,7 @@ from duhamel._engine.plan import Plan, mass, modal_loads, plan
 from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
 from duhamel._engine.structure import structure_model
 from duhamel._engine.validate import as_float_array
-from duhamel.elements.basic import LinearCoupling
+from duhamel.couplings import LinearCoupling
 from duhamel.errors import SolverError
 from duhamel.integrators import Semianalytic
 from duhamel.loads import support_terms

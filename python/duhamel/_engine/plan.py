@@ -25,7 +25,7 @@ from duhamel._engine.massless import quasi_static
 from duhamel._engine.specs import ScaledSpec, load, speed_law
 from duhamel._engine.specs import elements as core_elements
 from duhamel._engine.specs import mass as core_mass
-from duhamel.elements.basic import LinearCoupling
+from duhamel.couplings import LinearCoupling
 from duhamel.integrators import Semianalytic
 from duhamel.loads import Callable
 from duhamel.system import ModalBasis, System

@@ -9,8 +9,7 @@ from typing import Any
 import numpy as np
 
 from duhamel._engine.direct import damping_matrix, physical_matrices
-from duhamel._engine.specs import element as core_element
-from duhamel.elements.basic import LinearCoupling
+from duhamel.couplings import LinearCoupling
 from duhamel.loads import BaseAcceleration
 from duhamel.results.forces import StructureModel
 
@@ -64,7 +63,7 @@ def structure_model(
                     c = factor * element.C if c is None else c + factor * element.C
     alpha = float(system.rayleigh[0]) if system.damping == "rayleigh" else 0.0
     forces = tuple(
-        (e, np.asarray(core_element(e._spec()).dofs, dtype=np.int64))
+        (e, np.asarray(e._dofs, dtype=np.int64))
         for e in elements
         if not isinstance(e, LinearCoupling)
     )

@@ -246,8 +246,7 @@ def _slider(ops: Any, tag: int, ele: dict, dmap: DofMap, idx: dict) -> Made:
             return [], [], []
         made = [
             FrictionPendulum(
-                dofs[0],
-                dofs[1],
+                (dofs[0], dofs[1]),
                 radius=min(radius, FLAT_RADIUS),
                 mu=mu,
                 weight=weight,
@@ -285,7 +284,7 @@ def _triple(ops: Any, tag: int, ele: dict, dmap: DofMap, idx: dict) -> Made:
     uy = float(ele["uy"])
     made: list[Element] = [
         TripleFrictionPendulum(
-            *free,
+            tuple(free),
             mu=mu,  # type: ignore[arg-type]
             radius=(float(ele["L1"]), float(ele["L2"]), float(ele["L3"])),
             displacement_capacity=(float(ele["d1"]), float(ele["d2"]), float(ele["d3"])),

@@ -371,7 +371,7 @@ class Bearing:
             ``Cubic`` elements on x and y (when ``beta != 0``) and a ``Contact`` (when
             `contact` is given).
         """
-        from duhamel.elements.basic import Contact, Cubic
+        from duhamel.elements import Contact, Cubic
 
         out: list[Any] = []
         if self.beta != 0.0:
@@ -396,10 +396,12 @@ class Bearing:
                         "is beyond the double range: check `x_stat` (the static deflection, "
                         "in m) and `beta`"
                     )
-                out.append(Cubic(dof, float(k3)))
+                out.append(Cubic(dof, k3=float(k3)))
         if self.contact is not None:
             clearance, stiffness, friction = self.contact
-            out.append(Contact(dof_x, dof_y, clearance, stiffness, friction))
+            out.append(
+                Contact((dof_x, dof_y), clearance=clearance, stiffness=stiffness, friction=friction)
+            )
         return out
 
     # ------------------------------------------------------------------ as a rotor component

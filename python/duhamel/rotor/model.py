@@ -21,8 +21,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from duhamel._core import Element
 from duhamel._engine.validate import finite_float
-from duhamel.elements.base import Element
 from duhamel.loads import Load
 from duhamel.rotor._analyses import RotorAnalyses
 from duhamel.rotor._equilibrium import (

@@ -13,8 +13,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel.elements.base import Element
-from duhamel.elements.basic import LinearCoupling
+from duhamel._core import Element
+from duhamel.couplings import LinearCoupling
 from duhamel.loads import Load
 from duhamel.rotor._protocols import RotorModel
 from duhamel.rotor.bearing import Bearing
@@ -101,7 +101,8 @@ def bearing_elements(
     >>> from duhamel.rotor import Bearing
     >>> from duhamel.rotor.transient import bearing_elements
     >>> b = Bearing(1, 1e6, 1e6, contact=(1e-4, 1e8))
-    >>> [type(e).__name__ for e in bearing_elements([b], lambda n, d: 4 * n, None, 0.0)]
+    >>> dof = lambda n, d: 4 * n + (d == "y")
+    >>> [type(e).__name__ for e in bearing_elements([b], dof, None, 0.0)]
     ['Contact']
     """
     out: list[Element] = []

@@ -20,6 +20,7 @@ from duhamel._engine.output import ROW_BLOCK, physical
 from duhamel._engine.plan import plan
 from duhamel._engine.run import Progress, overflow_error, raise_failure, watch
 from duhamel._engine.validate import positive_int
+from duhamel.couplings import LinearCoupling
 from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import support_terms
 from duhamel.results.solution import Solution
@@ -190,7 +191,7 @@ def run_stored(
         "model": text,
         "checksum": digest(grid, text, model_group),
     }
-    forces = [e for e in system.elements if e._spec()[0] != "coupling"]
+    forces = [e for e in system.elements if not isinstance(e, LinearCoupling)]
     return _proceed(
         group,
         model,
