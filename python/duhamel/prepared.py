@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from duhamel._engine import modal
+from duhamel._engine import modal, run_inputs
 from duhamel._engine.direct_run import DirectSetup, prepare_direct
 from duhamel._engine.energy_run import check_energy
 from duhamel._engine.labels import resolve_list
@@ -265,6 +265,7 @@ class Prepared:
         n_steps = _steps(t_end, dt, t0)
         # A stride beyond the run keeps its first and last instants, as the run's length does.
         save_every = min(positive_int(save_every, "save_every", maximum=2**64), n_steps)
+        checkpoint_every = run_inputs.checked_checkpoint_every(checkpoint_every, store)
         system = self.system
         dofs = resolve_list(system, dofs, "dofs")  # labels as indices
         out_dofs = None if dofs is None else dof_list(dofs, "dofs", system.n_dof)
