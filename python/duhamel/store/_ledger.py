@@ -200,8 +200,10 @@ class Guard:
                 try:
                     self.arr[k * self.chunk : (k + 1) * self.chunk]
                 except Exception as bad:
-                    where = f"rows {k * self.chunk}:{min(stop, (k + 1) * self.chunk)}"
+                    key = self.arr.metadata.encode_chunk_key((k,) + (0,) * (self.arr.ndim - 1))
+                    where = f"rows {k * self.chunk}:{min(self.arr.shape[0], (k + 1) * self.chunk)}"
                     raise damaged(
-                        self.path, f"the chunk of {where} of {self.name!r} is corrupt ({bad})"
+                        self.path,
+                        f"the chunk of {where} of {self.name!r} ({key}) is corrupt ({bad})",
                     ) from None
             raise exc
