@@ -191,6 +191,17 @@ def test_moved_chunks(stores, move, name, target):
     assert resumed_or_refused(a, stores["A"]) == "refused"
 
 
+def test_the_manifest_is_a_zarr_array_of_the_chunks_digests(stores):
+    """Its rows (written straight to their chunk files) read back through zarr, one row per
+    chunk, one nonzero digest per data array; every digest differs (keyed by the place)."""
+    m = zarr.open_group(stores["root"] / "A")["manifest"]
+    rows = np.asarray(m[...])
+    assert m.attrs["arrays"] == arrays(stores["root"] / "A")
+    assert rows.shape == (4, len(m.attrs["arrays"])) and np.all(rows)
+    assert np.unique(rows).size == rows.size
+    assert not np.any(rows == np.asarray(zarr.open_group(stores["root"] / "B")["manifest"][...]))
+
+
 def test_a_refusal_names_the_store_and_the_chunk(stores):
     a = _copy(stores, "A", "names")
     _swap(a, stores["root"] / "B", "x", 0)
@@ -374,6 +385,12 @@ def test_format_2_stores_resume_and_read_as_legacy(stores):
         assert not (a / "manifest").exists()
         assert all(c is not None and not c.store for c in slots(a))
         assert equal(content(resume(a)), reference)
+    # its arrays read through their CRC-32C: a changed byte is a StoreError on access too
+    raw = bytearray(chunk(a, "v", 2).read_bytes())
+    raw[64] ^= 2
+    chunk(a, "v", 2).write_bytes(bytes(raw))
+    with pytest.raises(StoreError, match=r"legacy-A_stop.*rows 2048:3072 of 'v' \(c/2/0\)"):
+        sol.v[3000]
     # what format 2 can check is checked: a changed byte, a forged checkpoint, a torn slot
     a = _copy(stores, "A_stop", "legacy-flip")
     _format2(a)

@@ -16,7 +16,8 @@ class StoredArray(NDArrayOperatorsMixin):
 
     Indexing reads only what it selects (``sol.x[-100:, 0]`` reads the chunks of the last
     100 rows); ``np.asarray(sol.x)`` and arithmetic (``sol.x * 2``, ``sol.x @ m``) read the
-    whole array. Nothing is kept in memory between accesses.
+    whole array. Nothing is kept in memory between accesses. A stored run's arrays read
+    through its store's `guard`, which checks each chunk read (docs/store.md, "Damage").
 
     Attributes
     ----------

@@ -224,9 +224,16 @@ def resume(path: str | os.PathLike[str], progress: bool | Progress | None = None
         Not a duhamel store, an unknown format version (format 1 stores of duhamel before
         the data checksums included), or a damaged store: a root record (grid, model)
         whose checksum does not match or whose grid no run can have, a committed data
-        chunk missing, cut short or with a changed byte. The message names the store and
-        what is damaged. A damaged checkpoint slot is not an error: the other slot is used,
-        or the run starts again when neither is intact (docs/store.md, "Damage").
+        chunk missing, cut short, with a changed byte, or not the chunk this store wrote at
+        its place (a chunk of another store, of another array or of another place in this
+        one; a ``data`` folder or manifest of another store), a checkpoint of another store
+        or rewritten (off the grid, or not matching the rows written before it). The
+        message names the store and the chunk or checkpoint slot. A torn checkpoint slot
+        (its CRC broken, as a kill during its write leaves it) is not an error: the other
+        slot is used, or the run starts again when neither is intact (docs/store.md,
+        "Damage"). The returned Solution's arrays check every chunk they read the same way.
+        Format-2 stores are resumed (and continued) as a legacy format, with the checks it
+        allows.
 
     Examples
     --------
@@ -333,9 +340,9 @@ def _proceed(
             ended = carry
             if em is not None and carry is not None and result.energy is not None:
                 arrays["energy"], ended = segment_energy(result, em, carry)
-            _write(data, grid, arrays, rows, keep, result.element_widths)
+            written = _write(data, grid, arrays, rows, keep, result.element_widths)
             if ledger is not None and keep:
-                ledger.record(data, list(arrays), rows // grid["chunk_rows"])
+                ledger.record(written, rows // grid["chunk_rows"])
             if failed:
                 partial = _solution(
                     group, model, grid, rows + keep, wall, counts, depth, started, ledger=ledger
