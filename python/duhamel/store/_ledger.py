@@ -6,9 +6,10 @@ digest of the manifest rows of the chunks it commits (its *chain*).
 A chunk's digest is a BLAKE2b keyed by the store's identity over the array's name, the
 chunk's index and the chunk's own CRC-32C (the last four bytes zarr's ``crc32c`` codec
 writes, and checks against the chunk's bytes whenever it is read). Recording it costs a
-four-byte read per chunk written; checking it, a four-byte read per chunk read: the data is
-never hashed twice. A chunk of another store, of another array or of another place in this
-one, a manifest or a ``data`` folder of another store, all fail the comparison.
+four-byte read per chunk written and a small file per segment (the manifest's row);
+checking it, a four-byte read per chunk read: the data is never hashed a second time. A
+chunk of another store, of another array or of another place in this one, a manifest or a
+``data`` folder of another store, all fail the comparison.
 """
 
 from __future__ import annotations
@@ -201,10 +202,6 @@ class Ledger:
                 f"CRC-32C {crc.hex()} is not the one its manifest records: a chunk of another "
                 "store, of another array or of another place in this one, or a damaged chunk)",
             )
-
-    def guard(self, name: str, arr: Any) -> Guard:
-        """The guard a :class:`StoredArray` of `name` reads through."""
-        return Guard(self.path, name, arr, self.chunk, self)
 
 
 class Guard:
