@@ -207,7 +207,7 @@ class Prepared:
         store : str, os.PathLike or duhamel.store.Store, optional
             Stream the run to a new zarr store (see :func:`duhamel.solve`).
         checkpoint_every : int, optional
-            With `store`: a checkpoint every this many segments (default 1).
+            With `store` (refused without it): a checkpoint every this many segments (default 1).
         progress : bool or callable, optional
             A progress bar (``True``) or a function ``(step, n_steps, t)``.
         events, t_eval, dense, energy
@@ -433,7 +433,7 @@ def solve(
         :func:`duhamel.resume` continues from after a crash; the returned Solution reads its
         arrays from the store. Semi-analytic integrator only; needs ``duhamel[store]``.
     checkpoint_every : int, optional
-        With `store`: write a checkpoint every this many segments (default 1).
+        With `store` (refused without it): a checkpoint every this many segments (default 1).
     events : list of duhamel.Event, optional
         Zero crossings located inside their step (``sol.events``); a terminal one ends the
         run at its instant (docs/events.md).
