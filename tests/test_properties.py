@@ -2393,7 +2393,9 @@ def test_store_damage_is_detected_or_harmless(data, damage):
         if data.draw(st.booleans(), label="checksum forged"):
             from duhamel.store._integrity import digest
 
-            record["checksum"] = digest(record["grid"], record["model"], group["model"])
+            record["checksum"] = digest(
+                record["grid"], record["model"], group["model"], record.get("store")
+            )
         group.attrs["duhamel"] = json.loads(json.dumps(record))
 
     def call() -> Any:

@@ -8,11 +8,12 @@ from typing import Any
 import numpy as np
 
 from duhamel._engine.labels import resolve_fields
+from duhamel._engine.validate import positive_int
 from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import Load
 from duhamel.system import System
 
-__all__ = ["checked_loads", "checked_models", "massless_store_check"]
+__all__ = ["checked_checkpoint_every", "checked_loads", "checked_models", "massless_store_check"]
 
 
 def massless_store_check(system: System) -> None:
@@ -32,6 +33,20 @@ def massless_store_check(system: System) -> None:
             "`store`: a streamed run does not yet support loads or elements at massless dofs "
             f"(dofs {c.s.tolist()[:8]}...); run without `store`"
         )
+
+
+def checked_checkpoint_every(value: Any, store: Any) -> int | None:
+    """`checkpoint_every` as a positive int (None: the default), refused without `store`
+    (there is nothing to checkpoint into: the value would be ignored)."""
+    if value is None:
+        return None
+    out = positive_int(value, "checkpoint_every")
+    if store is None:
+        raise ValueError(
+            f"`checkpoint_every` = {out} needs `store` (checkpoints are written into a "
+            "streamed run's store); pass `store=` or leave `checkpoint_every` out"
+        )
+    return out
 
 
 def checked_loads(loads: Any, system: System) -> list[Load]:
