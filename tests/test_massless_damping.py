@@ -223,3 +223,15 @@ def test_refusals() -> None:
         prepared.run(t_end=0.1, x0=x0)
     # a load in the held direction runs
     assert prepared.run(t_end=0.1, loads=[duhamel.loads.Step(int(s[0]), 1e3)]).x.shape[0] == 11
+
+
+def test_streamed_run_with_damping_at_massless_dofs_refused(tmp_path) -> None:
+    pytest.importorskip("zarr")
+    M, K, sway = moment_frame(2, 1)
+    C = 0.3 * M + 0.002 * K
+    C[np.ix_(sway, sway)] *= 1.5  # non-proportional: the massless dofs couple to the modes
+    system = duhamel.System(M, K, C=C).add_load(duhamel.loads.Step(int(sway[0]), 1e3))
+    with pytest.raises(ValueError, match=r"`store`.*damping matrix `C` that reaches"):
+        duhamel.solve(
+            system, duhamel.Semianalytic(), t_end=0.1, dt=0.01, store=str(tmp_path / "r.zarr")
+        )
