@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 from duhamel._engine.background import background
 from duhamel._engine.correction import enriched, resolved
 from duhamel._engine.coupled import CONDITION_LIMIT, FirstOrderModes, first_order_modes
-from duhamel._engine.massless import quasi_static
+from duhamel._engine.relaxation import Massless, massless_coordinates
 from duhamel._engine.specs import ScaledSpec, load, speed_law
 from duhamel._engine.specs import elements as core_elements
 from duhamel._engine.specs import mass as core_mass
@@ -68,15 +68,16 @@ class Plan:
     correction : ndarray
         The circular frequencies of the static-correction coordinates that carry nonlinear
         elements as pseudo-forces (empty without them): a run resolves them in time
-        (``duhamel._engine.correction.substeps``), and of the quasi-static coordinates of
-        elements at massless dofs.
+        (``duhamel._engine.correction.substeps``).
     resolve : ndarray
-        Those of `correction` a run resolves in time: the quasi-static ones and the
-        static-correction coordinates the elements' tangent can make unstable
-        (``duhamel._engine.correction.resolved``; all of them on the first-order route).
+        Those of `correction` a run resolves in time: the static-correction coordinates the
+        elements' tangent can make unstable (``duhamel._engine.correction.resolved``; all of
+        them on the first-order route).
     carried : ndarray or None
-        The K-orthonormal static vectors of those quasi-static coordinates
-        (``duhamel._engine.massless.quasi_static``).
+        The K-orthonormal vectors of the massless dofs' coordinates (`massless`).
+    massless : Massless or None
+        The coordinates of the massless dofs (quasi-static, or first-order where damping
+        reaches them; ``duhamel._engine.relaxation.massless_coordinates``), None without.
     passive : bool
         Whether everything beyond the background only stores or dissipates energy (passive
         elements, symmetric positive semi-definite couplings, gyroscopic terms; no mass
@@ -95,6 +96,7 @@ class Plan:
     carried: NDArray[np.float64] | None = field(default=None, compare=False)
     passive: bool = False
     resolve: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0), compare=False)
+    massless: Massless | None = field(default=None, compare=False)
 
 
 def modal_loads(
@@ -164,8 +166,8 @@ def mass(system: System, integrator: Any) -> Any:
 
 def _check_massless_elements(system: System) -> None:
     """Refuses linear couplings acting on massless dofs on the modal route (their
-    stiffness would not be condensed); force elements there get quasi-static coordinates
-    (:func:`duhamel._engine.massless.quasi_static`)."""
+    stiffness would not be condensed); force elements there get coordinates of their own
+    (:func:`duhamel._engine.relaxation.massless_coordinates`)."""
     if system._condensation is None or not system.elements:
         return
     massless = set(system.massless_dofs.tolist())
@@ -222,10 +224,15 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         correction = np.zeros(0)  # the linear steps are exact at any dt
     resolve = resolved(system, basis, correction)
     carried = np.zeros((system.n_dof, 0))
-    if system._condensation is not None and system.elements:
-        basis, quasi, carried = quasi_static(system, basis)
-        correction = np.concatenate([correction, quasi])
-        resolve = np.concatenate([resolve, quasi])
+    extra = massless_coordinates(system, basis)
+    if extra is not None:  # massless dofs off their static relation: static or first-order
+        basis, carried = extra.basis, extra.carried
+        if system.mass_law is not None:
+            raise ValueError(
+                "a mass law on a model with elements or damping at massless dofs is not "
+                "integrated by Semianalytic (their coordinates carry no mass); run it with "
+                "duhamel.Newmark()"
+            )
     if integrator.modes is not None:
         _warn_missing_mass(system, basis)
     elements = core_elements(system.elements)
@@ -234,12 +241,15 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         isinstance(e, LinearCoupling) for e in system.elements
     )
     if not has_elements and basis.c_coupling is None and system.mass_law is None:
-        return Plan("uncoupled", basis, Couplings(None, None, []), None, None, elements, bg.linear)
+        return Plan(
+            "uncoupled", basis, Couplings(None, None, []), None, None, elements, bg.linear,
+            correction, carried, massless=extra,
+        )  # fmt: skip
     couplings = _couplings(system, basis)
     route = "pseudo-force"
     modes = None
     if coupled and integrator.coupling != "pseudo-force":
-        modes = _first_order(system, basis, integrator, couplings)
+        modes = _first_order(system, basis, integrator, couplings, extra)
         if modes is not None:
             route = "first-order"
             # the one-oscillator measurement behind `resolved` is of the undamped modes'
@@ -249,7 +259,7 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
     quiet = passive(system, couplings, basis)
     return Plan(
         route, basis, couplings, modes, coupling, elements, bg.linear, correction, carried, quiet,
-        resolve,
+        resolve, extra,
     )  # fmt: skip
 
 
@@ -293,13 +303,22 @@ def passive(system: System, couplings: Couplings, basis: ModalBasis) -> bool:
 
 
 def _first_order(
-    system: System, basis: ModalBasis, integrator: Semianalytic, couplings: Couplings
+    system: System,
+    basis: ModalBasis,
+    integrator: Semianalytic,
+    couplings: Couplings,
+    extra: Massless | None = None,
 ) -> FirstOrderModes | None:
     """The first-order modes for the exact coupled route, or None for the pseudo-force
     route."""
     nonlinear = any(not isinstance(e, LinearCoupling) for e in system.elements)
     why = None
-    if system.mass_law is not None or couplings.scaled:
+    if extra is not None:
+        why = (
+            "is not taken with coordinates of massless dofs (static or first-order, without "
+            "mass): their couplings with the modes enter as pseudo-forces"
+        )
+    elif system.mass_law is not None or couplings.scaled:
         why = (
             "needs constant couplings and mass: no mass law, no coupling scaled by a "
             "time-varying speed law"

@@ -17,8 +17,9 @@ __all__ = ["checked_checkpoint_every", "checked_loads", "checked_models", "massl
 
 
 def massless_store_check(system: System) -> None:
-    """Refuses a streamed run of a model whose massless dofs carry loads or elements: the
-    store does not yet add their static part (in-memory runs do)."""
+    """Refuses a streamed run of a model whose massless dofs carry loads or elements, or
+    that a damping matrix reaches: the store does not yet add their static part or give
+    their coordinates an initial state (in-memory runs do)."""
     c = system._condensation
     if c is None:
         return
@@ -32,6 +33,15 @@ def massless_store_check(system: System) -> None:
         raise ValueError(
             "`store`: a streamed run does not yet support loads or elements at massless dofs "
             f"(dofs {c.s.tolist()[:8]}...); run without `store`"
+        )
+    from duhamel._engine.massless import massless_damping
+
+    how = massless_damping(system)
+    if how is not None and how.kind == "matrix":
+        raise ValueError(
+            "`store`: a streamed run does not yet support a damping matrix `C` that reaches "
+            f"massless dofs (dofs {c.s.tolist()[:8]}...: their first-order coordinates); run "
+            "without `store`"
         )
 
 
