@@ -29,7 +29,7 @@ import numpy as np
 
 import duhamel
 
-G = 9.81
+G = duhamel.STANDARD_GRAVITY
 H, BAY, STOREYS, BAYS = 3.0, 6.0, 3, 2
 M_NODE, M_BASE = 2.0e4, 1.0e4  # kg at each floor node, at each base node
 #: Rotational inertia of every node (kg m^2); 0 makes the rotations massless.

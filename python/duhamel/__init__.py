@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 from duhamel import elements, events, loads, mass, oscillator, speed
 from duhamel._core import __version__
+from duhamel.constants import STANDARD_GRAVITY
 from duhamel.damping import Rayleigh
 from duhamel.errors import DampingWarning, DuhamelError, InternalError, SolverError
 from duhamel.events import Event
@@ -44,6 +45,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "HHT",
+    "STANDARD_GRAVITY",
     "CentralDifference",
     "CubicHermite",
     "DampingWarning",
