@@ -40,7 +40,7 @@ from duhamel.store import resume
 from duhamel.system import ModalBasis, System
 
 if TYPE_CHECKING:
-    from duhamel import analysis, ensemble, exact, opensees, records, rotor, spectra
+    from duhamel import analysis, design, ensemble, exact, opensees, records, rotor, spectra
     from duhamel import paper as paper  # lazy too, but not in __all__ (`import *` skips it)
 
 __all__ = [
@@ -66,6 +66,7 @@ __all__ = [
     "System",
     "__version__",
     "analysis",
+    "design",
     "elements",
     "ensemble",
     "events",
@@ -86,7 +87,7 @@ __all__ = [
 #: Subpackages imported on first access (PEP 562), so that ``import duhamel`` stays light:
 #: they pull in scipy.optimize, scipy.special, scipy.signal ... which most runs never need.
 _LAZY = frozenset(
-    {"analysis", "ensemble", "exact", "opensees", "paper", "records", "rotor", "spectra"}
+    {"analysis", "design", "ensemble", "exact", "opensees", "paper", "records", "rotor", "spectra"}
 )
 
 
