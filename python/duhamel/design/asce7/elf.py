@@ -47,6 +47,12 @@ class ELFBound:
         Each isolator's loop at ``D_M``.
     evaluations : int
         Evaluations of the isolators' loops the fixed point took.
+    amplitude : float
+        ``D``, the amplitude the loops were driven to (the fixed point found); ``k_M`` and
+        ``beta_M`` are theirs.
+    residual : float
+        ``|D_M - D| / D_M``: how well the fixed point holds, the loops' own accuracy as
+        functions of the amplitude (about 1e-8).
     """
 
     name: str
@@ -62,6 +68,8 @@ class ELFBound:
     activation: float
     isolators: tuple[EffectiveProperties, ...]
     evaluations: int
+    amplitude: float
+    residual: float
 
 
 @dataclass(frozen=True, eq=False)
@@ -227,11 +235,11 @@ def _solve(
                 f"{name}: D_M exceeds 1 km: the isolation system has no restoring force at "
                 "the MCE_R demand"
             )
-    d_m = float(brentq(lambda d: d - demand(d), lo, hi, xtol=1e-15, rtol=1e-14, maxiter=200))
-    found = loops.at(d_m)
-    k_m, beta_m = _system_values(found, d_m)
+    amplitude = float(brentq(lambda d: d - demand(d), lo, hi, xtol=1e-15, rtol=1e-14))
+    found = loops.at(amplitude)
+    k_m, beta_m = _system_values(found, amplitude)
     t_m = eq.effective_period(weight, k_m, g=g)
-    d_tm = eq.total_displacement(d_m, **torsion)
+    d_m = eq.isolation_displacement(sm1, t_m, beta_m, g=g)  # Eq. 17.5-1 of these loops
     v_b = eq.base_shear(k_m, d_m)
     v_st = eq.unreduced_shear(v_b, weight, weight_above, beta_m, abrupt=abrupt)
     activation = _activation(found)
@@ -242,13 +250,15 @@ def _solve(
         beta_m,
         eq.damping_coefficient(beta_m),
         k_m,
-        d_tm,
+        eq.total_displacement(d_m, **torsion),
         v_b,
         v_st,
         eq.structure_shear(v_st, r_i),
         activation,
         tuple(found),
         loops.evaluations,
+        amplitude,
+        abs(d_m - amplitude) / d_m,
     )
     return bound, activation
 
@@ -265,7 +275,7 @@ def isolated_elf(
     torsion: Mapping[str, float] | None = None,
     v_s_minimum: float = 0.0,
     g: float = STANDARD_GRAVITY,
-    points: int = 2000,
+    points: int = 1000,
 ) -> IsolatedELF:
     """The equivalent lateral force procedure of ASCE 7-22 section 17.5 for an isolated
     structure, with the isolators' effective properties from their own loops
@@ -274,7 +284,8 @@ def isolated_elf(
     * the fixed point ``D_M = g S_M1 T_M / (4 pi^2 B_M)`` (Eq. 17.5-1) with ``T_M = 2 pi
       sqrt(W / (k_M g))`` (Eq. 17.5-2), ``k_M`` the isolators' effective stiffnesses at
       ``D_M`` summed, ``beta_M = sum E_loop / (2 pi k_M D_M^2)`` and ``B_M`` of Table 17.5-1
-      (found by Brent's method, to 1e-14 relative);
+      (found by Brent's method on ``D - D_M(D)``; the values given are the equations' at the
+      loops of the root, whose amplitude is ``D_M`` to ``residual``);
     * ``D_TM`` (Eq. 17.5-3, at least 1.15 ``D_M``), ``V_b = k_M D_M`` (Eq. 17.5-5),
       ``V_st = V_b (W_s / W)^(1 - 2.5 beta_M)`` (Eq. 17.5-7; ``1 - 3.5 beta_M`` with
       `abrupt`), ``V_s = V_st / R_I`` (Eq. 17.5-6), not less than (section 17.5.4.3) the
@@ -322,7 +333,7 @@ def isolated_elf(
     >>> from duhamel.design.asce7 import isolated_elf
     >>> w = 1e7
     >>> fps = [duhamel.elements.FrictionPendulum(0, radius=3.0, mu=0.06, weight=w / 4)] * 4
-    >>> elf = isolated_elf(fps, sm1=0.9, weight=w)
+    >>> elf = isolated_elf(fps, sm1=0.9, weight=w, points=500)
     >>> b = elf.bounds["nominal"]
     >>> round(b.d_m, 4), round(b.t_m, 3), round(b.beta_m, 4), round(b.b_m, 4)
     (0.4573, 2.944, 0.1797, 1.4391)
