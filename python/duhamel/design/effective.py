@@ -138,13 +138,15 @@ def _refined(
 ) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
     """`path` with each increment flagged in `kinked` split in :data:`REFINE` equal parts,
     and where each original point lands in it."""
-    pieces, marks, at = [path[:1]], [0], 0
-    for k in range(path.size - 1):
-        parts = REFINE if kinked[k] else 1
-        pieces.append(np.linspace(path[k], path[k + 1], parts + 1)[1:])
-        at += parts
-        marks.append(at)
-    return np.concatenate(pieces), np.asarray(marks)
+    parts = np.where(kinked, REFINE, 1)
+    marks = np.concatenate([[0], np.cumsum(parts)])
+    which = np.repeat(np.arange(path.size - 1), parts)
+    step = np.arange(1, marks[-1] + 1) - np.repeat(marks[:-1], parts)
+    out = np.empty(marks[-1] + 1)
+    out[0] = path[0]
+    out[1:] = path[which] + (path[which + 1] - path[which]) * (step / parts[which])
+    out[marks[1:]] = path[1:]  # the original points exactly
+    return out, marks
 
 
 def _forces(

@@ -235,7 +235,7 @@ def _solve(
                 f"{name}: D_M exceeds 1 km: the isolation system has no restoring force at "
                 "the MCE_R demand"
             )
-    amplitude = float(brentq(lambda d: d - demand(d), lo, hi, xtol=1e-15, rtol=1e-14))
+    amplitude = float(brentq(lambda d: d - demand(d), lo, hi, xtol=1e-14, rtol=1e-12))
     found = loops.at(amplitude)
     k_m, beta_m = _system_values(found, amplitude)
     t_m = eq.effective_period(weight, k_m, g=g)
@@ -284,8 +284,8 @@ def isolated_elf(
     * the fixed point ``D_M = g S_M1 T_M / (4 pi^2 B_M)`` (Eq. 17.5-1) with ``T_M = 2 pi
       sqrt(W / (k_M g))`` (Eq. 17.5-2), ``k_M`` the isolators' effective stiffnesses at
       ``D_M`` summed, ``beta_M = sum E_loop / (2 pi k_M D_M^2)`` and ``B_M`` of Table 17.5-1
-      (found by Brent's method on ``D - D_M(D)``; the values given are the equations' at the
-      loops of the root, whose amplitude is ``D_M`` to ``residual``);
+      (found by Brent's method on ``D - D_M(D)`` to 1e-12; the values given are the
+      equations' at the loops of the root, whose amplitude is ``D_M`` to ``residual``);
     * ``D_TM`` (Eq. 17.5-3, at least 1.15 ``D_M``), ``V_b = k_M D_M`` (Eq. 17.5-5),
       ``V_st = V_b (W_s / W)^(1 - 2.5 beta_M)`` (Eq. 17.5-7; ``1 - 3.5 beta_M`` with
       `abrupt`), ``V_s = V_st / R_I`` (Eq. 17.5-6), not less than (section 17.5.4.3) the
