@@ -176,6 +176,26 @@ def test_three_dimensional_building() -> None:
     assert not study.checks[0].passes
 
 
+def test_a_study_s_runs_travel_to_a_cluster(study: Study) -> None:
+    """What solve_many sends to Dask workers (the case maker and the per-run reduction)
+    pickles, and the copies give the same peaks."""
+    import pickle
+
+    from duhamel.design.quantities import Cases, RunPeaks
+
+    make = Cases(study.models, study.suite, study.building.x)
+    reduce = RunPeaks(study.building, study.periods)
+    make2, reduce2 = pickle.loads(pickle.dumps((make, reduce)))
+    case = study.cases[0]
+    system, options = make2(case)
+    prepared = duhamel.prepare(system, study.integrator, dt=0.01, threads=1)
+    sol = prepared.run(t_end=study.t_end, energy=True, **options)
+    peaks = reduce2(sol)
+    np.testing.assert_array_equal(
+        peaks["isolator_displacement"], study.ensemble.results[0]["isolator_displacement"]
+    )
+
+
 def test_bad_input() -> None:
     b = small_building()
     suite = Suite(pairs(1, duration=2.0))

@@ -52,7 +52,14 @@ class EffectiveProperties:
 
 def cycle(displacement: float, cycles: int, points: int) -> NDArray[np.float64]:
     """The deformation path of :func:`effective_properties`: from 0 up to ``+D``, then
-    `cycles` full cycles ``+D -> -D -> +D``, `points` equal increments per half cycle."""
+    `cycles` full cycles ``+D -> -D -> +D``, `points` equal increments per half cycle.
+
+    Examples
+    --------
+    >>> from duhamel.design.effective import cycle
+    >>> [round(u, 12) for u in cycle(0.1, 1, 4).tolist()]
+    [0.0, 0.05, 0.1, 0.05, 0.0, -0.05, -0.1, -0.05, 0.0, 0.05, 0.1]
+    """
     d = float(displacement)
     up = np.linspace(0.0, d, points // 2 + 1)
     down = np.linspace(d, -d, points + 1)[1:]
