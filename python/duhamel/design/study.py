@@ -158,6 +158,7 @@ class Study:
         self.periods = as_float_array(p, "periods", ndim=1)
         self.workers, self.client, self.progress = workers, client, bool(progress)
         self._elf = elf
+        self._dataset: Any = None
         self.ensemble: Any = None
         self.wall_time: dict[str, float] = {}
 
@@ -223,6 +224,7 @@ class Study:
     def clear(self) -> None:
         """Forgets the runs (the next access runs them again)."""
         self.ensemble = None
+        self._dataset = None
 
     # ------------------------------------------------------------------ results
     def _results(self) -> Any:
@@ -241,7 +243,7 @@ class Study:
         """The peaks of every run as an xarray Dataset over ``model``, ``record``,
         ``orientation`` (and ``isolator``, ``storey``, ``level``, ``period``), the isolator
         and energy histories over ``time``, with units in the variables' attributes."""
-        if getattr(self, "_dataset", None) is None:
+        if self._dataset is None:
             import xarray as xr
 
             results = self._results()
