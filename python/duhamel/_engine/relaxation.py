@@ -87,7 +87,7 @@ class Massless:
 def _directions(system: Any, loads: bool) -> tuple[list[Array], bool]:
     """The massless parts of the elements' directions (and, with `loads`, of the loads'
     patterns), and whether a Python load (pattern unknown) is among the loads."""
-    from duhamel.elements.basic import LinearCoupling
+    from duhamel.couplings import LinearCoupling
     from duhamel.loads import Callable
 
     c = system._condensation

@@ -61,6 +61,25 @@ def _modified(element: Any, factors: dict[str, tuple[float, float]], which: int)
     return element.replace(**changes) if changes else element
 
 
+def _available(elements: Any) -> str:
+    """The numeric properties of `elements` that factors can scale, per class, for a message."""
+    by_class: dict[str, set[str]] = {}
+    for element in elements:
+        if dataclasses.is_dataclass(element):
+            names = [field.name for field in dataclasses.fields(element)]
+        else:
+            names = [n for n in dir(element) if not n.startswith("_")]
+        numeric = by_class.setdefault(type(element).__name__, set())
+        for n in names:
+            value = getattr(element, n, None)
+            if n not in _PLACEMENT and isinstance(value, int | float):
+                if not isinstance(value, bool):
+                    numeric.add(n)
+    if not by_class:
+        return "the system has no elements"
+    return "; ".join(f"{c}: {', '.join(sorted(n)) or 'none'}" for c, n in sorted(by_class.items()))
+
+
 def property_bounds(system: Any, lambdas: Mapping[str, Any]) -> dict[str, Any]:
     """The lower- and upper-bound models of `system`: its elements with every property named
     in `lambdas` multiplied by the lower and by the upper factor.
@@ -100,7 +119,10 @@ def property_bounds(system: Any, lambdas: Mapping[str, Any]) -> dict[str, Any]:
             known |= {field, f"{type(element).__name__}.{field}"}
     unknown = sorted(set(factors) - known)
     if unknown:
-        raise ValueError(f"`lambdas`: {unknown} name no property of the system's elements")
+        raise ValueError(
+            f"`lambdas`: {unknown} name no property of the system's elements; the properties "
+            f"available are {_available(system.elements)} (a bare name, or 'Class.name')"
+        )
     out = {}
     for which, name in enumerate(BOUNDS):
         other = system._with_stiffness(system.K)

@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from duhamel.constants import STANDARD_GRAVITY
 from duhamel.rotor._crossings import critical_speeds
 from duhamel.rotor._plot_response import plot_mode_shape
 from duhamel.rotor._speed import constant_speed
@@ -269,7 +270,7 @@ class RotorAnalyses:
         w = constant_speed(speed)
         return closed_loop(self.matrices(w), magnetic_bearings, w, dof=self.dof)
 
-    def static_equilibrium(self, speed: float, g: float = 9.81) -> NDArray[np.float64]:
+    def static_equilibrium(self, speed: float, g: float = STANDARD_GRAVITY) -> NDArray[np.float64]:
         """The static state under the rotor's own weight (along ``-y``) at spin `speed`:
         the linear structure and bearings and the journal bearings' film forces (at rest)
         in balance, found by Newton's method on their exact tangents (backtracking keeps

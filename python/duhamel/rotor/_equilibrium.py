@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel.constants import STANDARD_GRAVITY
 from duhamel.rotor.journal import ShortJournalBearing
 
 __all__ = [
@@ -68,7 +69,9 @@ def _inside(rotor: Any, x: NDArray[np.float64], margin: float = 0.999) -> bool:
     )
 
 
-def static_equilibrium(rotor: Any, speed: float, g: float = 9.81) -> NDArray[np.float64]:
+def static_equilibrium(
+    rotor: Any, speed: float, g: float = STANDARD_GRAVITY
+) -> NDArray[np.float64]:
     """The state where the linear structure, the linear bearings and the journals' film
     forces (at rest, spinning at `speed`) carry the weight (along ``-y``)."""
     from duhamel.rotor.loads import Gravity

@@ -155,8 +155,8 @@ class Bearing:
       ``i = x, y``: a ``Cubic(dof, k3 = k_ii beta / x_stat^2)`` on each translation.
       ``x_stat`` (m) is a reference deflection; with ``x_stat=None`` the rotor uses the
       magnitude of the bearing's vertical static deflection under its own weight in the linear
-      model (``g = 9.81`` m/s^2, weight along ``-y``), as the paper does. With speed-dependent
-      ``kxx``, ``kyy``, ``k_ii`` is taken at the speed of the analysis.
+      model (standard gravity 9.80665 m/s^2, weight along ``-y``), as the paper does. With
+      speed-dependent ``kxx``, ``kyy``, ``k_ii`` is taken at the speed of the analysis.
     * ``contact = (clearance, stiffness[, friction])``: a radial rub
       (:class:`duhamel.elements.Contact`) of the node against a stator with that radial
       clearance (m), contact stiffness (N/m) and Coulomb friction coefficient.

@@ -23,6 +23,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from duhamel._core import Element
 from duhamel._engine.validate import finite_float
+from duhamel.constants import STANDARD_GRAVITY
 from duhamel.loads import Load
 from duhamel.rotor._analyses import RotorAnalyses
 from duhamel.rotor._equilibrium import (
@@ -272,7 +273,9 @@ class Rotor(RotorAnalyses):
         C = self.structural_damping(w) + cb
         return RotorMatrices(a.M.copy(), K, C, a.G.copy())
 
-    def static_deflection(self, g: float = 9.81, *, speed: float = 0.0) -> NDArray[np.float64]:
+    def static_deflection(
+        self, g: float = STANDARD_GRAVITY, *, speed: float = 0.0
+    ) -> NDArray[np.float64]:
         """Linear static deflection under the rotor's own weight (along ``-y``), ``K^-1 f_g``,
         with the full linear stiffness (nonlinear bearing parts left out) at spin speed
         `speed` (rad/s, keyword only; it matters only with speed-dependent bearings).
@@ -283,14 +286,14 @@ class Rotor(RotorAnalyses):
         >>> rotor = Rotor([Shaft(1.0, 0.05, material=STEEL)],
         ...               bearings=[Bearing(0, 1e6, 1e6), Bearing(1, 1e6, 1e6)])
         >>> round(float(rotor.static_deflection()[1]) * 1e6, 3)   # at a bearing: -m g / (2 k)
-        -75.218
+        -75.192
 
         Bearings twice as stiff at 1000 rad/s as at rest:
 
         >>> fluid = [Bearing(n, [1e6, 2e6], [1e6, 2e6], speeds=[0, 1000]) for n in (0, 1)]
         >>> rotor = Rotor([Shaft(1.0, 0.05, material=STEEL)], bearings=fluid)
         >>> round(float(rotor.static_deflection(speed=1000.0)[1]) * 1e6, 3)
-        -37.609
+        -37.596
         """
         import scipy.linalg
 
@@ -486,9 +489,10 @@ class Rotor(RotorAnalyses):
         """The bearings' nonlinear parts as :mod:`duhamel.elements` (global dofs).
 
         A cubic law without its own ``x_stat`` uses the magnitude of the bearing's vertical
-        deflection in :meth:`static_deflection` (``g = 9.81``). `speed` (rad/s) is where
-        speed-dependent bearings are evaluated (the static deflection, and ``kxx``, ``kyy`` of
-        a cubic law); it does not matter otherwise.
+        deflection in :meth:`static_deflection` (at standard gravity,
+        :data:`duhamel.constants.STANDARD_GRAVITY`). `speed` (rad/s) is where speed-dependent
+        bearings are evaluated (the static deflection, and ``kxx``, ``kyy`` of a cubic law);
+        it does not matter otherwise.
         """
         w = constant_speed(speed)
         return bearing_elements(self.bearings, self.dof, lambda: self.static_deflection(speed=w), w)
