@@ -18,7 +18,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from duhamel._engine.validate import finite_float
-from duhamel.rotor._ross_matrices import RossDofs, lateral_matrices
+from duhamel.rotor.ross.dofs import RossDofs, lateral_matrices
 from duhamel.rotor._speed import speed_or_law
 from duhamel.rotor.assembly import RotorMatrices
 from duhamel.rotor.transient import add_couplings, nonzero, storage
@@ -112,12 +112,12 @@ class RossModel(_RossModelFields):
 
     @property
     def rotor(self) -> Any:
-        """The ROSS model as a :class:`~duhamel.rotor.ross_rotor.RossRotor`: what a native
+        """The ROSS model as a :class:`~duhamel.rotor.ross.analyses.RossRotor`: what a native
         :class:`~duhamel.rotor.Rotor` offers at constant speed (``modes``, ``campbell``,
         ``critical_speeds``, ``frequency_response``, ``unbalance_response``,
         ``level1_stability``, ``critical_speed_map``...), with ROSS's ``K`` and ``C``
         re-evaluated at each speed (``frequency = speed``, as ROSS's own analyses)."""
-        from duhamel.rotor.ross_rotor import RossRotor
+        from duhamel.rotor.ross.analyses import RossRotor
 
         return RossRotor(self._source, self.dofs, self.matrices)
 
@@ -241,7 +241,7 @@ def from_ross(
         background takes ROSS's matrices at the initial speed, the gyroscopic coupling is
         scaled by ``omega(t)``, and every frequency-dependent bearing and seal follows the
         speed (ROSS's coefficient curves sampled over the range of the law, PCHIP between
-        the samples: :mod:`duhamel.rotor._ross_runup`). ROSS's angular-acceleration
+        the samples: :mod:`duhamel.rotor.ross.runup`). ROSS's angular-acceleration
         stiffness ``Ksdt`` of a run-up is not added (:meth:`RossModel.acceleration_stiffness`
         gives it).
     frequency : float, optional
@@ -322,7 +322,7 @@ def from_ross(
         system = System(conv(M), conv(k_sym))
     add_couplings(system, G, w, k_skew, c_skew, conv)
     if law is not None:
-        from duhamel.rotor._ross_runup import ross_speed_tables
+        from duhamel.rotor.ross.runup import ross_speed_tables
 
         for element in ross_speed_tables(rotor, dofs, law, w0):
             system.add(element)

@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel.rotor._analyses import RotorAnalyses
-from duhamel.rotor._ross_matrices import COUPLING_RTOL, RossDofs
+from duhamel.rotor.ross.dofs import COUPLING_RTOL, RossDofs
 from duhamel.rotor._speed import constant_speed
 from duhamel.rotor.assembly import RotorMatrices
 from duhamel.rotor.critical_map import CriticalSpeedMap

@@ -1,5 +1,5 @@
-"""ROSS's lateral matrices and dof map (the part of :mod:`duhamel.rotor.ross` that
-:mod:`duhamel.rotor.ross_rotor` also uses): :class:`RossDofs` and :func:`lateral_matrices`."""
+"""ROSS's lateral matrices and dof map: :class:`RossDofs` and :func:`lateral_matrices`
+(used by :mod:`duhamel.rotor.ross.model` and :mod:`duhamel.rotor.ross.analyses`)."""
 
 from __future__ import annotations
 

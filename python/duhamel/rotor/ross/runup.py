@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from duhamel.rotor._ross_matrices import RossDofs
+from duhamel.rotor.ross.dofs import RossDofs
 from duhamel.rotor.bearing import Bearing, _speed_table
 from duhamel.rotor.dofs import node_index
 
