@@ -14,11 +14,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel.rotor._analyses import RotorAnalyses
-from duhamel.rotor.ross.dofs import COUPLING_RTOL, RossDofs
 from duhamel.rotor._speed import constant_speed
 from duhamel.rotor.assembly import RotorMatrices
 from duhamel.rotor.critical_map import CriticalSpeedMap
 from duhamel.rotor.modes import Modes
+from duhamel.rotor.ross.dofs import COUPLING_RTOL, RossDofs
 
 __all__ = ["RossBearingCurve", "RossRotor"]
 

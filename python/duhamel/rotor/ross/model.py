@@ -18,9 +18,9 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from duhamel._engine.validate import finite_float
-from duhamel.rotor.ross.dofs import RossDofs, lateral_matrices
 from duhamel.rotor._speed import speed_or_law
 from duhamel.rotor.assembly import RotorMatrices
+from duhamel.rotor.ross.dofs import RossDofs, lateral_matrices
 from duhamel.rotor.transient import add_couplings, nonzero, storage
 from duhamel.speed import SpeedLaw
 from duhamel.system import System

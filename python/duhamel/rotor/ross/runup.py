@@ -16,9 +16,9 @@ from typing import Any
 
 import numpy as np
 
-from duhamel.rotor.ross.dofs import RossDofs
 from duhamel.rotor.bearing import Bearing, _speed_table
 from duhamel.rotor.dofs import node_index
+from duhamel.rotor.ross.dofs import RossDofs
 
 __all__ = ["TABLE_POINTS", "ross_speed_tables"]
 
