@@ -228,8 +228,7 @@ class RotorAnalyses:
         nodes = (location,) if isinstance(location, int | np.integer) else tuple(location)
         if not nodes:
             raise ValueError("`location` is empty")
-        xs = [self.dof(int(n), "x") for n in nodes]
-        ys = [self.dof(int(n), "y") for n in nodes]
+        xs, ys = self._location_dofs(nodes)
         M, K, C, G = self.matrices(w)
         if q_range is None:
             q_range = np.linspace(0.0, float(np.max(np.diag(K)[xs])), 31)
@@ -245,6 +244,19 @@ class RotorAnalyses:
 
         location_nodes = tuple(int(n) for n in nodes)
         return level1_stability(modes_with, w, location_nodes, q_range, q_a)  # type: ignore[arg-type]
+
+    def _location_dofs(self, nodes: tuple[Any, ...]) -> tuple[list[int], list[int]]:
+        """The x and y dofs of the Level I `location` nodes (errors name `location`)."""
+        xs, ys = [], []
+        for n in nodes:
+            if isinstance(n, bool) or not isinstance(n, int | np.integer):
+                raise TypeError(f"`location` must hold node numbers, got {n!r}")
+            try:
+                xs.append(self.dof(int(n), "x"))
+                ys.append(self.dof(int(n), "y"))
+            except ValueError:
+                raise ValueError(f"`location`: the rotor has no node {int(n)}") from None
+        return xs, ys
 
     def closed_loop(self, speed: float, magnetic_bearings: Sequence[Any]) -> Any:
         """The rotor at constant `speed` with active magnetic bearings (on top of its

@@ -110,10 +110,11 @@ class RossDofs:
             raise ValueError(f"ROSS dof {ross_dof} is axial or torsional: from_ross drops it")
         return out
 
-    def from_ross(self, values: ArrayLike) -> NDArray[np.float64]:
+    def from_ross(self, values: ArrayLike) -> NDArray[Any]:
         """Select the System's dofs from an array over ROSS's dofs (last axis ``n_ross``),
-        e.g. ROSS's force array ``F`` or a response ``yout``."""
-        a = np.asarray(values, dtype=np.float64)
+        e.g. ROSS's force array ``F`` or a response ``yout`` (complex amplitudes stay
+        complex)."""
+        a = _values(values)
         if a.ndim == 0 or a.shape[-1] != self.n_ross:
             raise ValueError(
                 f"`values` must have ROSS's {self.n_ross} dofs on its last axis, got shape "
@@ -121,16 +122,26 @@ class RossDofs:
             )
         return a[..., self.ross_index]
 
-    def to_ross(self, values: ArrayLike) -> NDArray[np.float64]:
+    def to_ross(self, values: ArrayLike) -> NDArray[Any]:
         """Spread an array over the System's dofs (last axis ``n_dof``) onto ROSS's dofs,
-        zero on the dropped axial and torsional dofs (e.g. ``sol.x`` beside ROSS's ``yout``)."""
-        a = np.asarray(values, dtype=np.float64)
+        zero on the dropped axial and torsional dofs (e.g. ``sol.x`` beside ROSS's ``yout``).
+        Complex values (an unbalance response's amplitudes, mode shapes) stay complex.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor.ross import RossDofs
+        >>> dofs = RossDofs(np.array([0, 1, 3, 4]), ("x_0", "y_0", "alpha_0", "beta_0"), 6)
+        >>> dofs.to_ross(np.array([1.0, 1j, 0.0, 2.0])).tolist()
+        [(1+0j), 1j, 0j, 0j, (2+0j), 0j]
+        """
+        a = _values(values)
         if a.ndim == 0 or a.shape[-1] != self.n_dof:
             raise ValueError(
                 f"`values` must have the System's {self.n_dof} dofs on its last axis, got "
                 f"shape {a.shape}"
             )
-        out = np.zeros((*a.shape[:-1], self.n_ross))
+        out = np.zeros((*a.shape[:-1], self.n_ross), dtype=a.dtype)
         out[..., self.ross_index] = a
         return out
 
@@ -170,6 +181,14 @@ class RossDofs:
         :class:`duhamel.loads.Unbalance`: ``m_e speed^2 (cos(speed t + phase), sin(speed t +
         phase))`` on the node's ``(x, y)``, the force of ROSS's unbalance response."""
         return UnbalanceLoad(self.index(node, "x"), self.index(node, "y"), m_e, speed, phase)
+
+
+def _values(values: ArrayLike) -> NDArray[Any]:
+    """`values` as float64, or complex128 when complex (never dropping an imaginary part)."""
+    a = np.asarray(values)
+    if np.iscomplexobj(a):
+        return a.astype(np.complex128)
+    return np.asarray(a, dtype=np.float64)
 
 
 def _labels(rotor: Any) -> dict[int, str]:
