@@ -9,10 +9,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel.rotor._crossings import critical_speeds
 from duhamel.rotor._plot_response import plot_mode_shape
 from duhamel.rotor._speed import constant_speed
 from duhamel.rotor.campbell import Campbell, campbell
+from duhamel.rotor.critical import HEAVY_DAMPING, CriticalSpeeds, critical_speeds
 from duhamel.rotor.frequency import (
     DofSpec,
     FrequencyResponse,
@@ -425,31 +425,59 @@ class RotorAnalyses:
         harmonic: float = 1.0,
         whirl: str | None = "forward",
         n_modes: int | None = None,
-    ) -> NDArray[np.float64]:
-        """Critical speeds: where a damped natural frequency equals `harmonic` times the spin
-        speed (the crossings of the Campbell diagram with the excitation line).
+        operating: tuple[float, float] | None = None,
+        unbalances: Sequence[tuple[int, float, float]] | None = None,
+        probe: int | None = None,
+        max_damping: float = HEAVY_DAMPING,
+    ) -> CriticalSpeeds:
+        """Critical speeds as API 684 reports them: where a damped natural frequency equals
+        `harmonic` times the spin speed (the crossings of the Campbell diagram with the
+        excitation line), each with its damping, amplification factor and separation margin;
+        heavily damped modes listed apart (:mod:`duhamel.rotor.critical`).
 
         The tracked :meth:`campbell` on `speeds` brackets each crossing; each is then refined
         on the eigenproblem itself (Brent's method to 1e-12 relative, following the branch by
         its shape), so the result does not depend on the grid once the grid separates the
-        crossings.
+        crossings. A crossing whose mode's damping ratio exceeds `max_damping` (0.2: ``AF``
+        about ``1 / (2 zeta) = 2.5``, API 684's critically damped limit) is not a critical
+        speed to keep away from: it goes to ``heavily_damped``. For each other synchronous
+        one (``harmonic = 1``) the unbalance response near it (an unbalance at the node of
+        the mode's largest translation, read there; or `unbalances` read at `probe`) gives
+        the peak speed ``N_c`` and the half-power speeds ``N_1, N_2`` (each refined on the
+        response by Brent's method), ``AF = N_c / (N_2 - N_1)``, and with `operating` the
+        separation margin and the one API 684 requires.
 
         Parameters
         ----------
         speeds : array_like
             Spin speeds (rad/s) spanning the range searched.
         harmonic : float
-            Keyword only. Excitation order (1: unbalance, synchronous).
+            Keyword only. Excitation order (1: unbalance, synchronous; other orders get no
+            amplification factor).
         whirl : {'forward', 'backward'} or None
             Keyword only. Only branches of this whirl (default forward, which unbalance
             excites in an isotropic rotor); None: all.
         n_modes : int, optional
             Keyword only. Branches among the lowest `n_modes` modes.
+        operating : (float, float), optional
+            Keyword only. Minimum operating and maximum continuous speeds (rad/s), for the
+            separation margins.
+        unbalances : list of (node, m_e, phase), optional
+            Keyword only. The unbalance of the responses (default: 1e-4 kg m at the node of
+            each mode's largest translation; the amplification factor does not depend on
+            its size).
+        probe : int, optional
+            Keyword only. The node whose orbit (major semi-axis) is read (default: the node
+            of each mode's largest translation).
+        max_damping : float
+            Keyword only. Damping ratio above which a crossing is heavily damped.
 
         Returns
         -------
-        ndarray
-            Critical speeds (rad/s), ascending.
+        CriticalSpeeds
+            As an array the critical speeds (rad/s, ascending); ``critical`` (each a
+            :class:`~duhamel.rotor.critical.CriticalSpeed`), ``heavily_damped``,
+            ``amplification_factors``, ``margins``, ``required_margins``, ``summary()``.
 
         Examples
         --------
@@ -458,7 +486,14 @@ class RotorAnalyses:
         >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
         ...               [Bearing(0, 1e7, 1e7, cxx=500.0, cyy=500.0),
         ...                Bearing(4, 1e7, 1e7, cxx=500.0, cyy=500.0)])
-        >>> np.round(rotor.critical_speeds(np.linspace(0.0, 1000.0, 21)), 3).tolist()
+        >>> crit = rotor.critical_speeds(np.linspace(0.0, 1000.0, 21), operating=(300, 450))
+        >>> np.round(crit, 3).tolist()
         [265.035]
+        >>> c = crit.critical[0]
+        >>> round(c.amplification_factor, 1), round(c.margin, 3), c.meets_margin
+        (501.7, 0.132, False)
         """
-        return critical_speeds(self, speeds, harmonic, whirl, n_modes)
+        return critical_speeds(
+            self, speeds, harmonic=harmonic, whirl=whirl, n_modes=n_modes,
+            operating=operating, unbalances=unbalances, probe=probe, max_damping=max_damping,
+        )  # fmt: skip
