@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["Modes", "complex_modes"]
+__all__ = ["Modes", "complex_modes", "modes_of", "split_eigenvalues"]
 
 #: Eigenvalues with ``Im(lambda) <= ZERO_FREQUENCY_RTOL * max|lambda|`` are not oscillatory:
 #: rigid-body modes (whose defective zero eigenvalues come out of the eigensolver as pairs of
@@ -194,14 +194,28 @@ def complex_modes(
     >>> modes.frequencies.tolist(), modes.whirl
     ([2.0, 2.0], ('backward', 'forward'))
     """
-    lam, shapes, over = _complex_modes(M, D, K)
+    return modes_of(*_complex_modes(M, D, K), speed=speed, n=n, length_scale=length_scale)
+
+
+def modes_of(
+    lam: NDArray[np.complex128],
+    shapes: NDArray[np.complex128],
+    over: NDArray[np.complex128],
+    *,
+    speed: float,
+    n: int | None = None,
+    length_scale: float = 1.0,
+) -> Modes:
+    """:class:`Modes` of oscillatory eigenpairs (ascending, shapes normalised, as
+    :func:`_complex_modes` gives them) and the other finite eigenvalues `over`: the lowest
+    `n`, circular pairs, whirl senses."""
     if n is not None:
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
             raise ValueError(f"`n` must be a positive integer, got {n!r}")
         lam, shapes = lam[:n], shapes[:, :n]
     ell = length_scale
     shapes = _circular_pairs(lam, shapes, ell)
-    n_nodes = M.shape[0] // 4
+    n_nodes = shapes.shape[0] // 4
     whirl = tuple(_whirl(shapes[:, j].reshape(n_nodes, 4), ell) for j in range(lam.size))
     if speed < 0.0:  # spinning about -z: the whirl sense relative to the spin flips
         flip = {"forward": "backward", "backward": "forward"}
@@ -239,8 +253,18 @@ def _complex_modes(
     A = np.block([[zero, s * eye], [-K / s, -D]])
     B = np.block([[eye, zero], [zero, M]])
     lam, vec = scipy.linalg.eig(A, B, check_finite=False)
+    return split_eigenvalues(lam, vec[:n] / s)
+
+
+def split_eigenvalues(
+    lam: NDArray[np.complex128], vec: NDArray[np.complex128]
+) -> tuple[NDArray[np.complex128], NDArray[np.complex128], NDArray[np.complex128]]:
+    """The finite eigenvalues `lam` (shapes `vec`, the dofs' rows) as the oscillatory
+    eigenpairs with ``Im(lambda) > 0``, ascending and normalised, and the other finite
+    eigenvalues (overdamped and rigid-body, slowest first)."""
+    n = vec.shape[0]
     finite = np.isfinite(lam)
-    lam, vec = lam[finite], vec[:n, finite] / s
+    lam, vec = lam[finite], vec[:, finite]
     if lam.size == 0:
         empty = np.zeros(0, dtype=complex)
         return empty, np.zeros((n, 0), dtype=complex), empty

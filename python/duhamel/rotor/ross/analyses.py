@@ -99,6 +99,12 @@ class RossRotor(RotorAnalyses):
         self._speed_kw = {
             name: "speed" in _parameters(getattr(source, name, None)) for name in ("M", "K", "C")
         }
+        from duhamel.rotor.ross.magnetic import is_magnetic, magnetic_bearing
+
+        #: ROSS's magnetic bearings as closed loops (:mod:`duhamel.rotor.ross.magnetic`).
+        self.magnetic = tuple(
+            magnetic_bearing(b) for b in getattr(source, "bearing_elements", ()) if is_magnetic(b)
+        )
 
     @property
     def n_dof(self) -> int:  # type: ignore[override]
@@ -123,10 +129,16 @@ class RossRotor(RotorAnalyses):
         """ROSS's ``M``, ``K``, ``C`` at ``frequency = speed = w`` (``G`` from from_ross),
         the lateral block, with from_ross's check that nothing couples it to the rest."""
         keep, cross, back = self._blocks
+        from duhamel.rotor.ross.magnetic import without_magnetic
+
         out = []
+        full = {}
         for name in ("M", "K", "C"):
             method = getattr(self.source, name)
-            a = np.asarray(method(w, speed=w) if self._speed_kw[name] else method(w), dtype=float)
+            full[name] = method(w, speed=w) if self._speed_kw[name] else method(w)
+        full["K"], full["C"] = without_magnetic(self.source, full["K"], full["C"], w)
+        for name in ("M", "K", "C"):
+            a = np.asarray(full[name], dtype=float)
             if a.shape != (self.dofs.n_ross, self.dofs.n_ross):
                 raise ValueError(f"ROSS's `{name}` at {w:g} rad/s has shape {a.shape}")
             c = max(np.abs(a[cross]).max(initial=0.0), np.abs(a[back]).max(initial=0.0))

@@ -215,16 +215,19 @@ def _evaluate(method: Any, frequency: float, speed: float) -> NDArray[np.float64
 
 
 def lateral_matrices(rotor: Any, w: float, freq: float) -> tuple[RotorMatrices, RossDofs]:
-    """ROSS's lateral ``(M, K, C, G)`` (``K``, ``C`` at `freq`, ROSS >= 3 also at speed `w`)
-    in System order, and the dof map; checks as :func:`from_ross` states."""
+    """ROSS's lateral ``(M, K, C, G)`` (``K``, ``C`` at `freq`, ROSS >= 3 also at speed `w`;
+    without its magnetic bearings, whose closed loops replace them:
+    :mod:`duhamel.rotor.ross.magnetic`) in System order, and the dof map; checks as
+    :func:`from_ross` states."""
     for name in ("M", "K", "C", "G", "elements"):
         if not hasattr(rotor, name):
             raise TypeError(
                 f"`rotor` must be a ROSS Rotor (it has no `{name}`), got {type(rotor).__name__}"
             )
+    from duhamel.rotor.ross.magnetic import without_magnetic
+
     M = _evaluate(rotor.M, freq, w)
-    K = _evaluate(rotor.K, freq, w)
-    C = _evaluate(rotor.C, freq, w)
+    K, C = without_magnetic(rotor, _evaluate(rotor.K, freq, w), _evaluate(rotor.C, freq, w), freq)
     G = np.asarray(rotor.G(), dtype=np.float64)
     n = M.shape[0]
     for name, a in (("M", M), ("K", K), ("C", C), ("G", G)):

@@ -84,9 +84,16 @@ class RossModel(_RossModelFields):
             raise TypeError(
                 f"`journal` must be a ShortJournalBearing, got {type(journal).__name__}"
             )
+        from duhamel.rotor.ross.magnetic import is_magnetic
+
         found = [
             b for b in getattr(self._source, "bearing_elements", ()) if int(b.n) == journal.node
         ]
+        if any(is_magnetic(b) for b in found):
+            raise ValueError(
+                f"the ROSS bearing at node {journal.node} is a magnetic bearing (a closed loop "
+                "with its controller): it is not swapped for a journal"
+            )
         if not found:
             raise ValueError(f"the ROSS model has no bearing at node {journal.node} to replace")
         k0, c0 = np.zeros((2, 2)), np.zeros((2, 2))
@@ -196,6 +203,12 @@ class RossModel(_RossModelFields):
         re-evaluates them at each speed), unbalances at ROSS nodes."""
         from duhamel.rotor.unbalance import unbalance_response
 
+        magnetic = self.rotor.magnetic
+        if magnetic:  # their dynamic stiffness at each speed (:mod:`duhamel.rotor._amb_linear`)
+            from duhamel.rotor._amb_linear import amb_axes, with_bearings_at
+
+            at = with_bearings_at(lambda w: self.matrices, amb_axes(magnetic, self.dofs))
+            return unbalance_response(at, speeds, unbalances, dof=self.dofs)
         return unbalance_response(self.matrices, speeds, unbalances, dof=self.dofs)
 
 
@@ -320,7 +333,12 @@ def from_ross(
         system = System(conv(M), conv(k_sym), conv(c_sym))
     else:
         system = System(conv(M), conv(k_sym))
-    add_couplings(system, G, w, k_skew, c_skew, conv)
+    from duhamel.rotor.ross.magnetic import is_magnetic, magnetic_bearing
+
+    magnetic = [
+        magnetic_bearing(b) for b in getattr(rotor, "bearing_elements", ()) if is_magnetic(b)
+    ]
+    add_couplings(system, G, w, k_skew, c_skew, conv, magnetic, dofs)
     if law is not None:
         from duhamel.rotor.ross.runup import ross_speed_tables
 

@@ -58,8 +58,10 @@ def ross_speed_tables(rotor: Any, dofs: RossDofs, law: Any, w0: float) -> list[A
     lo, hi = float(reach.min()), float(reach.max())
     speeds = np.linspace(lo, hi, TABLE_POINTS)
     out = []
+    from duhamel.rotor.ross.magnetic import is_magnetic
+
     for element in getattr(rotor, "bearing_elements", ()):
-        if not _varies(element):
+        if not _varies(element) or is_magnetic(element):  # a closed loop, not a table
             continue
         if getattr(element, "n_link", None) is not None:
             raise ValueError(
