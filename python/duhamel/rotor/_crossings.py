@@ -32,10 +32,12 @@ def crossings(
     harmonic: float,
     whirl: str | None,
     n_modes: int | None,
+    window: int | None = None,
 ) -> list[Crossing]:
     """The critical speeds of `analyses` (a rotor with ``campbell`` and ``modes``) on the
     grid `speeds`, ascending, each with its mode: see
-    :meth:`duhamel.rotor.Rotor.critical_speeds`."""
+    :meth:`duhamel.rotor.Rotor.critical_speeds`; `window`: the modes taken at each speed
+    (the lowest `window`; None: all)."""
     from scipy.optimize import brentq
 
     if whirl not in ("forward", "backward", None):
@@ -63,7 +65,7 @@ def crossings(
             ):
                 continue
             a, b = float(ws[p]), float(ws[p + 1])
-            here = analyses.modes(a)
+            here = analyses.modes(a, window)
             # the branch's mode there: nearest in frequency, of the branch's whirl within a
             # degenerate pair (equal frequencies, forward and backward)
             gap = np.abs(here.frequencies - freq[p, j])
@@ -71,7 +73,7 @@ def crossings(
             ref = here.shapes[:, int(np.lexsort((other, gap))[0])]
 
             def branch(w: float, ref: NDArray = ref, f0: float = freq[p, j]) -> float:
-                m = analyses.modes(w)
+                m = analyses.modes(w, window)
                 mac = m.mac(Modes(w, np.zeros(1, complex), ref[:, None], ("",), m.length_scale))
                 score = mac[:, 0] - 1e-9 * np.abs(m.frequencies - f0) / max(abs(f0), 1.0)
                 return float(m.frequencies[int(np.argmax(score))]) - h * w
@@ -82,7 +84,7 @@ def crossings(
                 root = _crossing(brentq, branch, a, b)
             else:
                 continue
-            found.append(_mode_at(analyses, root, ref, float(freq[p, j])))
+            found.append(_mode_at(analyses, root, ref, float(freq[p, j]), window))
     out: list[Crossing] = []
     for c in sorted(found, key=lambda c: (c.speed, c.whirl != "forward")):
         if not out or c.speed != out[-1].speed:  # two branches at one speed (a degenerate
@@ -91,10 +93,12 @@ def crossings(
     return out
 
 
-def _mode_at(analyses: Any, w: float, ref: NDArray[np.complex128], f0: float) -> Crossing:
+def _mode_at(
+    analyses: Any, w: float, ref: NDArray[np.complex128], f0: float, window: int | None
+) -> Crossing:
     """The mode at speed `w` of the branch whose shape is `ref` (as the refinement follows
     it)."""
-    m = analyses.modes(w)
+    m = analyses.modes(w, window)
     mac = m.mac(Modes(w, np.zeros(1, complex), ref[:, None], ("",), m.length_scale))
     score = mac[:, 0] - 1e-9 * np.abs(m.frequencies - f0) / max(abs(f0), 1.0)
     j = int(np.argmax(score))

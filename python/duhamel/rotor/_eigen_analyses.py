@@ -17,7 +17,11 @@ from duhamel.rotor.critical import HEAVY_DAMPING, CriticalSpeeds, critical_speed
 from duhamel.rotor.modes import Modes, complex_modes
 from duhamel.rotor.stability import Level1Stability, level1_stability
 
-__all__ = ["EigenAnalyses"]
+__all__ = ["LEVEL1_MODES", "EigenAnalyses"]
+
+#: Level I follows the first forward mode among the lowest ``LEVEL1_MODES + 4`` modes of a
+#: large model (shift-invert; all modes of a small one).
+LEVEL1_MODES = 6
 
 
 class EigenAnalyses:
@@ -28,10 +32,35 @@ class EigenAnalyses:
     matrices: Any
     dof: Any
     magnetic: tuple[Any, ...]
+    n_dof: int
 
     def _length_scale(self) -> float:
         lengths = [s.L for s in self.shafts]
         return float(np.mean(lengths)) if lengths else 1.0
+
+    def _window(self, n_modes: int | None) -> int | None:
+        """The modes a tracking needs of a large model (``n_modes + 4``: two pairs more
+        than shown, from the shift-invert path), None for all (small models, or all
+        asked)."""
+        from duhamel.rotor._sparse_modes import sparse_worth
+
+        if n_modes is None or isinstance(n_modes, bool) or not isinstance(n_modes, int):
+            return None
+        window = int(n_modes) + 4
+        return window if sparse_worth(int(self.n_dof), window) else None
+
+    def _modes_below(self, speed: float, frequency: float) -> int | None:
+        """How many modes of a large model lie below `frequency` at `speed`, plus two (the
+        shift-invert path asked for more until one is above it); None for small models."""
+        from duhamel.rotor._sparse_modes import sparse_worth
+
+        n = 12
+        while sparse_worth(int(self.n_dof), n + 4):
+            f = self.modes(speed, n + 4).frequencies
+            if f.size < n + 4 or f[-1] > frequency:
+                return int(np.count_nonzero(f <= frequency)) + 2
+            n *= 2
+        return None
 
     def _modes_of(
         self, M: NDArray, D: NDArray, K: NDArray, speed: float, n: int | None = None
@@ -105,12 +134,13 @@ class EigenAnalyses:
         if q_range is None:
             q_range = np.linspace(0.0, float(np.max(np.diag(K)[xs])), 31)
         D = C + w * G
+        window = self._window(LEVEL1_MODES)  # large models: the lowest modes, shift-invert
 
         def modes_with(q: float) -> Modes:
             Kq = np.array(K, dtype=float)
             Kq[xs, ys] += q / len(nodes)
             Kq[ys, xs] -= q / len(nodes)
-            return self._modes_of(M, D, Kq, w)
+            return self._modes_of(M, D, Kq, w, window)
 
         location_nodes = tuple(int(n) for n in nodes)
         return level1_stability(modes_with, w, location_nodes, q_range, q_a)  # type: ignore[arg-type]
@@ -222,7 +252,7 @@ class EigenAnalyses:
         >>> round(float(np.nanmin(tracked.mac)), 3)          # every matched pair
         0.993
         """
-        return campbell(self.modes, speeds, n_modes, track=track)
+        return campbell(self.modes, speeds, n_modes, track=track, window=self._window(n_modes))
 
     def plot_campbell(
         self,

@@ -36,7 +36,7 @@ PROBE_UNBALANCE = 1e-4
 #: Samples of the unbalance response around a critical speed, over ``+-`` this many damping
 #: ratios (at least 5 %, at most 90 % of the speed), before the peak and half-power speeds
 #: are refined on the response itself.
-WINDOW_SAMPLES = 81
+WINDOW_SAMPLES = 41
 WINDOW_ZETAS = 8.0
 
 
@@ -231,7 +231,8 @@ def critical_speeds(
         raise ValueError(f"`max_damping` must be a damping ratio in (0, 1], got {limit!r}")
     if probe is not None and (isinstance(probe, bool) or not isinstance(probe, int | np.integer)):
         raise TypeError(f"`probe` must be a node number, got {probe!r}")
-    found = crossings(analyses, speeds, harmonic, whirl, n_modes)
+    n_modes, window = _windows(analyses, speeds, harmonic, n_modes)
+    found = crossings(analyses, speeds, harmonic, whirl, n_modes, window)
     h = float(harmonic)
     listed, heavy = [], []
     for c in found:
@@ -268,6 +269,28 @@ def _own_peaks(
             c = CriticalSpeed(c.speed, c.damping_ratio, c.log_dec, c.whirl, c.node, margin=margin)
         out.append(c)
     return out
+
+
+def _windows(
+    analyses: Any, speeds: Any, harmonic: Any, n_modes: int | None
+) -> tuple[int | None, int | None]:
+    """`n_modes` and the modes taken at each speed: for a large model without `n_modes`,
+    the modes below 1.25 harmonic times the highest speed at both ends of the range (the
+    only ones that can cross the excitation line there), from the shift-invert path."""
+    below = getattr(analyses, "_modes_below", None)
+    if below is None:
+        return n_modes, None
+    try:
+        ws = np.asarray(speeds, dtype=float).ravel()
+        h = float(harmonic)
+    except (TypeError, ValueError):
+        return n_modes, None  # the crossings' own checks name what is wrong
+    if n_modes is None and ws.size and np.all(np.isfinite(ws)) and h > 0.0:
+        top = 1.25 * h * float(np.max(np.abs(ws)))
+        counts = [below(float(w), top) for w in (float(ws.min()), float(ws.max()))]
+        if all(c is not None for c in counts):
+            n_modes = max(counts)  # type: ignore[type-var]
+    return n_modes, analyses._window(n_modes)
 
 
 def _operating(operating: Any) -> tuple[float, float] | None:

@@ -194,7 +194,17 @@ def complex_modes(
     >>> modes.frequencies.tolist(), modes.whirl
     ([2.0, 2.0], ('backward', 'forward'))
     """
-    return modes_of(*_complex_modes(M, D, K), speed=speed, n=n, length_scale=length_scale)
+    from duhamel.rotor._sparse_modes import lowest_modes, sparse_worth
+
+    found = None
+    if sparse_worth(M.shape[0], n):  # a few modes of a large model: shift-invert
+        near = lowest_modes(M, D, K, int(n), oscillatory)  # type: ignore[arg-type]
+        if near is not None:
+            lam, vec, scale = near
+            found = split_eigenvalues(lam, vec, scale)
+    if found is None:
+        found = _complex_modes(M, D, K)
+    return modes_of(*found, speed=speed, n=n, length_scale=length_scale)
 
 
 def modes_of(
@@ -257,19 +267,21 @@ def _complex_modes(
 
 
 def split_eigenvalues(
-    lam: NDArray[np.complex128], vec: NDArray[np.complex128]
+    lam: NDArray[np.complex128], vec: NDArray[np.complex128], scale: float | None = None
 ) -> tuple[NDArray[np.complex128], NDArray[np.complex128], NDArray[np.complex128]]:
     """The finite eigenvalues `lam` (shapes `vec`, the dofs' rows) as the oscillatory
     eigenpairs with ``Im(lambda) > 0``, ascending and normalised, and the other finite
-    eigenvalues (overdamped and rigid-body, slowest first)."""
+    eigenvalues (overdamped and rigid-body, slowest first); `scale` the largest ``|lambda|``
+    of the problem (default: of `lam`), the rigid-body test's reference."""
     n = vec.shape[0]
     finite = np.isfinite(lam)
     lam, vec = lam[finite], vec[:, finite]
     if lam.size == 0:
         empty = np.zeros(0, dtype=complex)
         return empty, np.zeros((n, 0), dtype=complex), empty
-    keep = oscillatory(lam, float(np.max(np.abs(lam))))
-    other = ~keep & ~oscillatory(lam.conj(), float(np.max(np.abs(lam))))
+    top = float(np.max(np.abs(lam))) if scale is None else float(scale)
+    keep = oscillatory(lam, top)
+    other = ~keep & ~oscillatory(lam.conj(), top)
     over = lam[other]
     over = over[np.lexsort((over.imag, -over.real))]
     lam, vec = lam[keep], vec[:, keep]

@@ -125,9 +125,32 @@ class RossRotor(RotorAnalyses):
         """System dof of ROSS node `node` (:meth:`RossDofs.index`)."""
         return self.dofs.index(node, direction)
 
+    def _split(self) -> Any:
+        """ROSS's matrices as constant parts plus the bearings' curves
+        (:mod:`duhamel.rotor.ross.coefficients`), made on first use; None: read ROSS."""
+        if not hasattr(self, "_split_made"):
+            from duhamel.rotor.ross.coefficients import split
+            from duhamel.rotor.ross.magnetic import is_magnetic
+
+            made = None
+            if not any(self._speed_kw.values()):
+                elements = list(getattr(self.source, "bearing_elements", ()))
+                made = split(
+                    self.source,
+                    self.dofs.ross_index,
+                    [b for b in elements if not is_magnetic(b)],
+                    [b for b in elements if is_magnetic(b)],
+                )
+            self._split_made = made
+        return self._split_made
+
     def _read(self, w: float) -> RotorMatrices:
         """ROSS's ``M``, ``K``, ``C`` at ``frequency = speed = w`` (``G`` from from_ross),
         the lateral block, with from_ross's check that nothing couples it to the rest."""
+        fast = self._split()
+        if fast is not None:
+            at = fast.at(w)
+            return RotorMatrices((at["M"] + at["M"].T) / 2.0, at["K"], at["C"], self._fixed.G)
         keep, cross, back = self._blocks
         from duhamel.rotor.ross.magnetic import without_magnetic
 
