@@ -43,9 +43,8 @@ import io  # noqa: E402
 import statistics  # noqa: E402
 import warnings  # noqa: E402
 
-import numpy as np  # noqa: E402
-
 import _section  # noqa: E402
+import numpy as np  # noqa: E402
 
 SPEED = 1050.0
 CAMPBELL = np.linspace(0.0, 1500.0, 16)
@@ -69,6 +68,7 @@ def measure(repeats: int) -> dict:
     rr.rated_w = SPEED
     model = from_ross(rr, 0.0)
     out: dict = {}
+
     def fresh(fn, *args, **kwargs):  # ROSS keeps run_modal's results per instance
         rr.run_modal.cache_clear()
         return quiet(fn, *args, **kwargs)

@@ -140,16 +140,18 @@ def loop_modes(
     speed: float,
     n: int | None,
     length_scale: float,
+    layout: Any = None,
 ) -> Modes:
     """The closed loop's modes (see the module docstring): the rotor ``(M, D = C + speed G,
-    K)`` with the magnetic bearings' `axes`, the lowest `n`."""
+    K)`` with the magnetic bearings' `axes`, the lowest `n` (`layout`: the dofs per node,
+    :func:`duhamel.rotor.modes.complex_modes`)."""
     import scipy.linalg
 
     A, E, scale = loop_pencil(M, D, K, axes)
     lam, vec = scipy.linalg.eig(A, E, check_finite=False)
     nd = M.shape[0]
     lam_o, shapes, over = split_eigenvalues(lam, vec[:nd] / scale)
-    return modes_of(lam_o, shapes, over, speed=speed, n=n, length_scale=length_scale)
+    return modes_of(lam_o, shapes, over, speed=speed, n=n, length_scale=length_scale, layout=layout)
 
 
 def loop_pencil(

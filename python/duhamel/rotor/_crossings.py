@@ -11,7 +11,6 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._engine.validate import as_float_array, positive_float
-from duhamel.rotor.modes import Modes
 
 __all__ = ["Crossing", "crossings"]
 
@@ -74,8 +73,7 @@ def crossings(
 
             def branch(w: float, ref: NDArray = ref, f0: float = freq[p, j]) -> float:
                 m = analyses.modes(w, window)
-                mac = m.mac(Modes(w, np.zeros(1, complex), ref[:, None], ("",), m.length_scale))
-                score = mac[:, 0] - 1e-9 * np.abs(m.frequencies - f0) / max(abs(f0), 1.0)
+                score = m.mac_with(ref) - 1e-9 * np.abs(m.frequencies - f0) / max(abs(f0), 1.0)
                 return float(m.frequencies[int(np.argmax(score))]) - h * w
 
             if g[p] == 0.0:
@@ -99,8 +97,7 @@ def _mode_at(
     """The mode at speed `w` of the branch whose shape is `ref` (as the refinement follows
     it)."""
     m = analyses.modes(w, window)
-    mac = m.mac(Modes(w, np.zeros(1, complex), ref[:, None], ("",), m.length_scale))
-    score = mac[:, 0] - 1e-9 * np.abs(m.frequencies - f0) / max(abs(f0), 1.0)
+    score = m.mac_with(ref) - 1e-9 * np.abs(m.frequencies - f0) / max(abs(f0), 1.0)
     j = int(np.argmax(score))
     return Crossing(float(w), complex(m.eigenvalues[j]), m.whirl[j], m.shapes[:, j])
 

@@ -33,6 +33,9 @@ class EigenAnalyses:
     dof: Any
     magnetic: tuple[Any, ...]
     n_dof: int
+    #: Per node its dofs (x, y, theta_x, theta_y), -1 where absent (point masses); None: 4
+    #: per node in order.
+    layout: Any = None
 
     def _length_scale(self) -> float:
         lengths = [s.L for s in self.shafts]
@@ -71,8 +74,9 @@ class EigenAnalyses:
             from duhamel.rotor._amb_linear import amb_axes, loop_modes
 
             axes = amb_axes(self.magnetic, self.dof)
-            return loop_modes(M, D, K, axes, speed=speed, n=n, length_scale=ell)
-        return complex_modes(M, D, K, speed=speed, n=n, length_scale=ell)
+            return loop_modes(M, D, K, axes, speed=speed, n=n, length_scale=ell,
+                              layout=self.layout)  # fmt: skip
+        return complex_modes(M, D, K, speed=speed, n=n, length_scale=ell, layout=self.layout)
 
     def level1_stability(
         self,

@@ -137,7 +137,9 @@ def campbell(
     for p in range(1, ws.size):
         prev, cur = found[order[p - 1]], found[order[p]]
         k = min(prev.n_modes, cur.n_modes, m)
-        mac[order[p], :k] = _mac_columns(prev.shapes[:, :k], cur.shapes[:, :k], cur.length_scale)
+        mac[order[p], :k] = _mac_columns(
+            prev.shapes[:, :k], cur.shapes[:, :k], cur.length_scale, cur.layout
+        )
     return Campbell(ws, freq, zeta, whirl, mac=mac, tracked=False)
 
 

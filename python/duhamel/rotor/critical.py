@@ -66,7 +66,8 @@ class CriticalSpeed:
         ``N_1 < N_c < N_2``: amplitude ``peak / sqrt 2`` (refined on the response); NaN
         where the response does not fall that low near the peak.
     amplification_factor : float
-        ``N_c / (N_2 - N_1)`` (NaN without both half-power speeds).
+        ``N_c / (N_2 - N_1)`` (NaN without both half-power speeds; infinite for an
+        undamped mode, whose half-power speeds are one to round-off).
     margin : float
         Separation margin from the operating range: ``(N_min - N) / N`` below it,
         ``(N - N_max) / N_max`` above it, negative inside it, with ``N`` the peak speed (the
@@ -379,6 +380,8 @@ def _with_response(
                             xtol=1e-13 * w0, rtol=1e-13))  # fmt: skip
 
     n1, n2 = side(-1), side(1)
-    af = nc / (n2 - n1) if np.isfinite(n1) and np.isfinite(n2) else np.nan
-    required, margin = _margins(nc, af, span)
+    af = nc / (n2 - n1) if np.isfinite(n1) and np.isfinite(n2) and n2 > n1 else np.nan
+    if np.isfinite(n1) and np.isfinite(n2) and n2 <= n1:
+        af = np.inf  # an undamped resonance: half-power speeds one (rounded) speed
+    required, margin = _margins(nc, min(af, 1e300), span)
     return CriticalSpeed(w0, zeta, dec, c.whirl, node, nc, peak, (n1, n2), af, margin, required)

@@ -70,6 +70,9 @@ class Modes:
     whirl: tuple[str, ...]
     length_scale: float = 1.0
     overdamped: NDArray[np.complex128] = field(default_factory=lambda: np.zeros(0, dtype=complex))
+    #: Per node the dofs ``(x, y, theta_x, theta_y)`` (-1 where a node has none: a point
+    #: mass's tilts); None: 4 per node in order.
+    layout: NDArray[np.intp] | None = None
 
     @property
     def n_modes(self) -> int:
@@ -152,7 +155,12 @@ class Modes:
                 f"`other` has {other.shapes.shape[0]} degrees of freedom, these modes "
                 f"{self.shapes.shape[0]}"
             )
-        return _mac(self.shapes, other.shapes, self.length_scale)
+        return _mac(self.shapes, other.shapes, self.length_scale, self.layout)
+
+    def mac_with(self, shape: NDArray[np.complex128]) -> NDArray[np.float64]:
+        """:meth:`mac` of each mode with one `shape` (a column over the same dofs)."""
+        one = np.asarray(shape, dtype=complex).reshape(-1, 1)
+        return _mac(self.shapes, one, self.length_scale, self.layout)[:, 0]
 
 
 def complex_modes(
@@ -163,6 +171,7 @@ def complex_modes(
     speed: float,
     n: int | None = None,
     length_scale: float = 1.0,
+    layout: NDArray[np.intp] | None = None,
 ) -> Modes:
     """The oscillatory modes of ``lambda^2 M + lambda D + K`` (``D = C + speed G``), the
     lowest `n` (all by default), with circular pairs and their whirl sense.
@@ -178,6 +187,9 @@ def complex_modes(
         Keyword only. Keep the lowest `n` modes.
     length_scale : float
         Keyword only. Weight of the rotations in the MAC and whirl (m).
+    layout : ndarray of int, shape (n_nodes, 4), optional
+        Keyword only. Per node its dofs ``(x, y, theta_x, theta_y)``, -1 for none (a point
+        mass's tilts); default 4 per node in order.
 
     Returns
     -------
@@ -204,7 +216,7 @@ def complex_modes(
             found = split_eigenvalues(lam, vec, scale)
     if found is None:
         found = _complex_modes(M, D, K)
-    return modes_of(*found, speed=speed, n=n, length_scale=length_scale)
+    return modes_of(*found, speed=speed, n=n, length_scale=length_scale, layout=layout)
 
 
 def modes_of(
@@ -215,22 +227,25 @@ def modes_of(
     speed: float,
     n: int | None = None,
     length_scale: float = 1.0,
+    layout: NDArray[np.intp] | None = None,
 ) -> Modes:
-    """:class:`Modes` of oscillatory eigenpairs (ascending, shapes normalised, as
-    :func:`_complex_modes` gives them) and the other finite eigenvalues `over`: the lowest
-    `n`, circular pairs, whirl senses."""
+    """:class:`Modes` of oscillatory eigenpairs (ascending, as :func:`_complex_modes` gives
+    them) and the other finite eigenvalues `over`: the lowest `n`, shapes normalised on the
+    translations of `layout`, circular pairs, whirl senses."""
     if n is not None:
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
             raise ValueError(f"`n` must be a positive integer, got {n!r}")
         lam, shapes = lam[:n], shapes[:, :n]
     ell = length_scale
-    shapes = _circular_pairs(lam, shapes, ell)
-    n_nodes = shapes.shape[0] // 4
-    whirl = tuple(_whirl(shapes[:, j].reshape(n_nodes, 4), ell) for j in range(lam.size))
+    nodes = _nodes(layout, shapes.shape[0])
+    if layout is not None:  # normalised on this layout's translations
+        shapes = _normalise(shapes, nodes)
+    shapes = _circular_pairs(lam, shapes, ell, nodes)
+    whirl = tuple(_whirl(_gather(shapes[:, j], nodes), ell) for j in range(lam.size))
     if speed < 0.0:  # spinning about -z: the whirl sense relative to the spin flips
         flip = {"forward": "backward", "backward": "forward"}
         whirl = tuple(flip.get(k, k) for k in whirl)
-    return Modes(speed, lam, shapes, whirl, length_scale=ell, overdamped=over)
+    return Modes(speed, lam, shapes, whirl, length_scale=ell, overdamped=over, layout=layout)
 
 
 def _complex_modes(
@@ -299,40 +314,70 @@ def oscillatory(lam: NDArray[np.complex128], scale: float) -> NDArray[np.bool_]:
     )
 
 
-def _weighted(shapes: NDArray[np.complex128], ell: float) -> NDArray[np.complex128]:
-    """`shapes` with the rotations (dofs ``4 i + 2``, ``4 i + 3``) multiplied by `ell`."""
+def _nodes(layout: NDArray[np.intp] | None, n_dof: int) -> NDArray[np.intp]:
+    """`layout`, or 4 dofs per node in order."""
+    if layout is None:
+        return np.arange(n_dof - n_dof % 4, dtype=np.intp).reshape(-1, 4)
+    return np.asarray(layout, dtype=np.intp)
+
+
+def _gather(v: NDArray[np.complex128], nodes: NDArray[np.intp]) -> NDArray[np.complex128]:
+    """The values of `v` (dofs on axis 0) per node and direction, zero where absent:
+    shape ``(n_nodes, 4, ...)``."""
+    out = np.where((nodes >= 0).reshape(nodes.shape + (1,) * (v.ndim - 1)), v[nodes], 0.0)
+    return np.asarray(out, dtype=complex)
+
+
+def _weighted(
+    shapes: NDArray[np.complex128], ell: float, layout: NDArray[np.intp] | None = None
+) -> NDArray[np.complex128]:
+    """`shapes` with the rotations (the layout's ``theta_x``, ``theta_y`` dofs; ``4 i + 2``,
+    ``4 i + 3`` by default) multiplied by `ell`."""
     out = shapes.copy()
-    out[2::4] *= ell
-    out[3::4] *= ell
+    if layout is None:
+        out[2::4] *= ell
+        out[3::4] *= ell
+        return out
+    rot = np.asarray(layout)[:, 2:].ravel()
+    out[rot[rot >= 0]] *= ell
     return out
 
 
-def _mac(a: NDArray[np.complex128], b: NDArray[np.complex128], ell: float) -> NDArray[np.float64]:
+def _mac(
+    a: NDArray[np.complex128],
+    b: NDArray[np.complex128],
+    ell: float,
+    layout: NDArray[np.intp] | None = None,
+) -> NDArray[np.float64]:
     """``|a_i^H b_j|^2 / (|a_i|^2 |b_j|^2)`` for every pair of columns, rotations weighted by
     `ell` (clipped to 1 against round-off)."""
-    a, b = _weighted(a, ell), _weighted(b, ell)
+    a, b = _weighted(a, ell, layout), _weighted(b, ell, layout)
     num = np.abs(a.conj().T @ b) ** 2
     den = np.outer(np.sum(np.abs(a) ** 2, axis=0), np.sum(np.abs(b) ** 2, axis=0))
     return np.minimum(num / den, 1.0)
 
 
 def _mac_columns(
-    a: NDArray[np.complex128], b: NDArray[np.complex128], ell: float
+    a: NDArray[np.complex128],
+    b: NDArray[np.complex128],
+    ell: float,
+    layout: NDArray[np.intp] | None = None,
 ) -> NDArray[np.float64]:
     """:func:`_mac` of the pairs of columns ``(a_j, b_j)`` only."""
-    a, b = _weighted(a, ell), _weighted(b, ell)
+    a, b = _weighted(a, ell, layout), _weighted(b, ell, layout)
     num = np.abs(np.sum(a.conj() * b, axis=0)) ** 2
     den = np.sum(np.abs(a) ** 2, axis=0) * np.sum(np.abs(b) ** 2, axis=0)
     return np.minimum(num / den, 1.0)
 
 
 def _orbit_forms(
-    v: NDArray[np.complex128], ell: float
+    v: NDArray[np.complex128], ell: float, nodes: NDArray[np.intp]
 ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
     """Hermitian forms ``(H, N)`` on the columns of `v`: the signed orbit area
     ``sum_nodes -Im(conj(X) Y) + ell^2 Im(conj(Theta_y) Theta_x)`` and the amplitude
     ``sum |X|^2 + |Y|^2 + ell^2 (|Theta_x|^2 + |Theta_y|^2)`` (see :func:`_whirl`)."""
-    x, y, tx, ty = v[0::4], v[1::4], v[2::4], v[3::4]
+    g = _gather(v, nodes)
+    x, y, tx, ty = g[:, 0], g[:, 1], g[:, 2], g[:, 3]
     h = 0.5j * (x.conj().T @ y - y.conj().T @ x) + 0.5j * ell**2 * (
         ty.conj().T @ tx - tx.conj().T @ ty
     )
@@ -341,7 +386,10 @@ def _orbit_forms(
 
 
 def _circular_pairs(
-    lam: NDArray[np.complex128], shapes: NDArray[np.complex128], ell: float
+    lam: NDArray[np.complex128],
+    shapes: NDArray[np.complex128],
+    ell: float,
+    nodes: NDArray[np.intp],
 ) -> NDArray[np.complex128]:
     """Within each cluster of equal eigenvalues (an axisymmetric rotor's pairs), choose the
     basis that extremises the orbit area: circular backward and forward orbits, not an
@@ -356,19 +404,26 @@ def _circular_pairs(
             j += 1
         if j > i:
             v = out[:, i : j + 1]
-            h, g = _orbit_forms(v, ell)
+            h, g = _orbit_forms(v, ell, nodes)
             _, c = scipy.linalg.eigh(h, g)
-            out[:, i : j + 1] = _normalise(v @ c)
+            out[:, i : j + 1] = _normalise(v @ c, nodes)
         i = j + 1
     return out
 
 
-def _normalise(vec: NDArray[np.complex128]) -> NDArray[np.complex128]:
+def _normalise(
+    vec: NDArray[np.complex128], nodes: NDArray[np.intp] | None = None
+) -> NDArray[np.complex128]:
     """Scale each column so that its translation of largest magnitude is 1 (all dofs if no
-    translation moves)."""
+    translation moves); translations: the `nodes` layout's x and y (``4 i``, ``4 i + 1``
+    by default)."""
     n = vec.shape[0]
     trans = np.zeros(n, dtype=bool)
-    trans[0::4] = trans[1::4] = True
+    if nodes is None:
+        trans[0::4] = trans[1::4] = True
+    else:
+        t = np.asarray(nodes)[:, :2].ravel()
+        trans[t[t >= 0]] = True
     out = vec.copy()
     for j in range(vec.shape[1]):
         v = vec[:, j]

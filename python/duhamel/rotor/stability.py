@@ -182,10 +182,7 @@ def _first_forward(modes: Any) -> int:
 
 def _follow(modes: Any, shape: NDArray[np.complex128]) -> int:
     """Index of the mode of `modes` whose shape is closest (MAC) to `shape`."""
-    from duhamel.rotor.modes import Modes
-
-    ref = Modes(modes.speed, np.zeros(1, complex), shape[:, None], ("",), modes.length_scale)
-    return int(np.argmax(modes.mac(ref)[:, 0]))
+    return int(np.argmax(modes.mac_with(shape)))
 
 
 def level1_stability(

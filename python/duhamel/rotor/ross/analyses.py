@@ -17,7 +17,6 @@ from duhamel.rotor._analyses import RotorAnalyses
 from duhamel.rotor._speed import constant_speed
 from duhamel.rotor.assembly import RotorMatrices
 from duhamel.rotor.critical_map import CriticalSpeedMap
-from duhamel.rotor.modes import Modes
 from duhamel.rotor.ross.dofs import COUPLING_RTOL, RossDofs
 
 __all__ = ["RossBearingCurve", "RossRotor"]
@@ -181,24 +180,39 @@ class RossRotor(RotorAnalyses):
             return self._fixed
         return self._at(w)
 
-    def _check_layout(self, what: str) -> None:
+    def _regular(self) -> bool:
         labels = self.dofs.labels
-        regular = len(labels) % 4 == 0 and all(
+        return len(labels) % 4 == 0 and all(
             labels[4 * k + d] == f"{name}_{labels[4 * k].split('_')[1]}"
             for k in range(len(labels) // 4)
             for d, name in enumerate(("x", "y", "alpha", "beta"))
         )
-        if not regular:
+
+    @property
+    def layout(self) -> NDArray[np.intp] | None:  # type: ignore[override]
+        """Per ROSS node (in the order its dofs come) the System dofs of ``(x, y, alpha,
+        beta)``, -1 where it has none (point masses and supports: x and y only); None when
+        every node has all four in order."""
+        if self._regular():
+            return None
+        nodes: dict[str, list[int]] = {}
+        for i, label in enumerate(self.dofs.labels):
+            name, _, node = label.rpartition("_")
+            row = nodes.setdefault(node, [-1, -1, -1, -1])
+            row[("x", "y", "alpha", "beta").index(name)] = i
+        return np.array(list(nodes.values()), dtype=np.intp)
+
+    def _check_layout(self, what: str) -> None:
+        if not self._regular():
             raise ValueError(
                 f"{what} need (x, y, alpha, beta) at every node; this ROSS model has nodes "
                 "with only x and y (point masses): use its matrices directly"
             )
 
-    def modes(self, speed: float = 0.0, n: int | None = None) -> Modes:
-        """:meth:`Rotor.modes <duhamel.rotor.Rotor.modes>` (needs 4 dofs at every node;
-        models with 2-dof point-mass nodes are refused)."""
-        self._check_layout("modes")
-        return super().modes(speed, n)
+    def plot_mode(self, speed: float, j: int, **kwargs: Any) -> Any:
+        """:meth:`Rotor.plot_mode <duhamel.rotor.Rotor.plot_mode>` (4 dofs at every node)."""
+        self._check_layout("mode plots")
+        return super().plot_mode(speed, j, **kwargs)
 
     def _structure_stiffness(self) -> NDArray[np.float64]:
         """ROSS's stiffness without its bearings and seals (``K0``, else ``K(0)`` minus each
