@@ -65,11 +65,16 @@ class RossModel(_RossModelFields):
         ``duhamel.elements.Contact(dofs(n, "x"), dofs(n, "y"), ...)`` (or ``Cubic``) to
         :attr:`system` directly.
 
+        Along a run-up a bearing whose coefficients depend on the frequency follows the
+        speed as a table element (:mod:`duhamel.rotor.ross.runup`); swapped, that element is
+        cancelled by its exact negative, and the journal's element subtracts ROSS's bearing
+        at the initial speed, which the background carries: the model sees the film force
+        alone there, alongside the other bearings that follow the speed.
+
         Raises
         ------
         ValueError
-            Without a ROSS bearing at the node, or along a run-up when its coefficients
-            depend on the frequency (they follow the speed there, not a fixed ``K``).
+            Without a ROSS bearing at the node, or for a magnetic bearing there.
 
         Examples
         --------
@@ -97,23 +102,20 @@ class RossModel(_RossModelFields):
         if not found:
             raise ValueError(f"the ROSS model has no bearing at node {journal.node} to replace")
         k0, c0 = np.zeros((2, 2)), np.zeros((2, 2))
+        dx, dy = self.dofs(journal.node, "x"), self.dofs(journal.node, "y")
         for b in found:
             varies = np.ndim(getattr(b, "frequency", None)) == 1 and len(b.frequency) > 1
             if varies and isinstance(self._speed, SpeedLaw):
-                raise ValueError(
-                    f"the ROSS bearing at node {journal.node} has frequency-dependent "
-                    "coefficients, which follow the run-up: build the ROSS rotor without it "
-                    "and add the journal element alone"
-                )
+                # along a run-up the bearing follows the speed as a table element: cancel it
+                from duhamel.rotor.ross.runup import cancelling
+
+                self.system.add(cancelling(self.system.elements, dx, dy))
             for m, kind in ((k0, "k"), (c0, "c")):
                 for (i, j), a in zip(
                     ((0, 0), (0, 1), (1, 0), (1, 1)), ("xx", "xy", "yx", "yy"), strict=True
                 ):
                     m[i, j] += float(getattr(b, f"{kind}{a}_interpolated")(self._frequency))
-        element = journal.element(
-            self.dofs(journal.node, "x"), self.dofs(journal.node, "y"), self._speed,
-            k0=k0, c0=c0,
-        )  # fmt: skip
+        element = journal.element(dx, dy, self._speed, k0=k0, c0=c0)
         self.system.add(element)
         return element
 
