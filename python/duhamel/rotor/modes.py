@@ -51,9 +51,11 @@ class Modes:
     whirl : tuple of str
         ``"forward"`` (every moving node orbits in the sense of the spin: from +x towards +y
         for ``speed >= 0``), ``"backward"``, ``"mixed"`` (nodes disagree) or ``"planar"``
-        (straight-line orbits). Within a pair of equal eigenvalues (an axisymmetric rotor,
-        or any rotor at zero speed with isotropic bearings) the shapes are chosen as the
-        backward and the forward circular orbits.
+        (straight-line orbits); ``"torsional"`` or ``"axial"`` for the modes of a model
+        with those dofs (``from_ross(..., dofs="all")``) that hardly move laterally.
+        Within a pair of equal eigenvalues (an axisymmetric rotor, or any rotor at zero
+        speed with isotropic bearings) the shapes are chosen as the backward and the
+        forward circular orbits.
     length_scale : float
         Length (m) that weights the rotations against the translations in :meth:`mac` and in
         the whirl (the rotor's mean element length; 1 by default).
@@ -70,8 +72,8 @@ class Modes:
     whirl: tuple[str, ...]
     length_scale: float = 1.0
     overdamped: NDArray[np.complex128] = field(default_factory=lambda: np.zeros(0, dtype=complex))
-    #: Per node the dofs ``(x, y, theta_x, theta_y)`` (-1 where a node has none: a point
-    #: mass's tilts); None: 4 per node in order.
+    #: Per node the dofs ``(x, y, theta_x, theta_y)`` and optionally ``(z, theta)`` (-1
+    #: where a node has none: a point mass's tilts); None: 4 per node in order.
     layout: NDArray[np.intp] | None = None
 
     @property
@@ -237,11 +239,12 @@ def modes_of(
             raise ValueError(f"`n` must be a positive integer, got {n!r}")
         lam, shapes = lam[:n], shapes[:, :n]
     ell = length_scale
-    nodes = _nodes(layout, shapes.shape[0])
+    every = _nodes(layout, shapes.shape[0])
+    nodes = every[:, :4]
     if layout is not None:  # normalised on this layout's translations
         shapes = _normalise(shapes, nodes)
     shapes = _circular_pairs(lam, shapes, ell, nodes)
-    whirl = tuple(_whirl(_gather(shapes[:, j], nodes), ell) for j in range(lam.size))
+    whirl = tuple(_kind(shapes[:, j], every, ell) for j in range(lam.size))
     if speed < 0.0:  # spinning about -z: the whirl sense relative to the spin flips
         flip = {"forward": "backward", "backward": "forward"}
         whirl = tuple(flip.get(k, k) for k in whirl)
@@ -314,6 +317,20 @@ def oscillatory(lam: NDArray[np.complex128], scale: float) -> NDArray[np.bool_]:
     )
 
 
+def _kind(shape: NDArray[np.complex128], every: NDArray[np.intp], ell: float) -> str:
+    """The whirl of a lateral mode (:func:`_whirl`); ``"axial"`` or ``"torsional"`` for a
+    mode of a layout with axial and torsional dofs (columns ``z``, ``theta``) whose lateral
+    motion is below a millionth of the whole."""
+    g = _gather(shape, every)
+    if every.shape[1] > 4:
+        lateral = float(np.sum(np.abs(g[:, :2]) ** 2) + ell**2 * np.sum(np.abs(g[:, 2:4]) ** 2))
+        axial = float(np.sum(np.abs(g[:, 4]) ** 2))
+        torsion = float(ell**2 * np.sum(np.abs(g[:, 5]) ** 2)) if every.shape[1] > 5 else 0.0
+        if lateral <= 1e-6 * (lateral + axial + torsion):
+            return "torsional" if torsion >= axial else "axial"
+    return _whirl(g[:, :4], ell)
+
+
 def _nodes(layout: NDArray[np.intp] | None, n_dof: int) -> NDArray[np.intp]:
     """`layout`, or 4 dofs per node in order."""
     if layout is None:
@@ -338,7 +355,8 @@ def _weighted(
         out[2::4] *= ell
         out[3::4] *= ell
         return out
-    rot = np.asarray(layout)[:, 2:].ravel()
+    cols = [c for c in (2, 3, 5) if c < np.shape(layout)[1]]  # theta_x, theta_y, theta
+    rot = np.asarray(layout)[:, cols].ravel()
     out[rot[rot >= 0]] *= ell
     return out
 

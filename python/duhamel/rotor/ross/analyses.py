@@ -191,16 +191,17 @@ class RossRotor(RotorAnalyses):
     @property
     def layout(self) -> NDArray[np.intp] | None:  # type: ignore[override]
         """Per ROSS node (in the order its dofs come) the System dofs of ``(x, y, alpha,
-        beta)``, -1 where it has none (point masses and supports: x and y only); None when
-        every node has all four in order."""
+        beta)`` and, with ``dofs="all"``, ``(z, theta)``; -1 where it has none (point masses
+        and supports: x and y only); None when every node has all four in order."""
         if self._regular():
             return None
+        names = ("x", "y", "alpha", "beta", "z", "theta")
         nodes: dict[str, list[int]] = {}
         for i, label in enumerate(self.dofs.labels):
             name, _, node = label.rpartition("_")
-            row = nodes.setdefault(node, [-1, -1, -1, -1])
-            row[("x", "y", "alpha", "beta").index(name)] = i
-        return np.array(list(nodes.values()), dtype=np.intp)
+            nodes.setdefault(node, [-1] * 6)[names.index(name)] = i
+        out = np.array(list(nodes.values()), dtype=np.intp)
+        return out if np.any(out[:, 4:] >= 0) else out[:, :4]
 
     def _check_layout(self, what: str) -> None:
         if not self._regular():

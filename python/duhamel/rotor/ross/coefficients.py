@@ -35,19 +35,21 @@ class Split:
     ones; its ``m..``, ``k..``, ``c..`` interpolants called directly, as its ``M``, ``K``,
     ``C`` call them, without ROSS's unit decorators)."""
 
-    def __init__(self, base: dict[str, NDArray], parts: list[tuple[Any, list[int]]]):
+    def __init__(self, base: dict[str, NDArray], parts: list[tuple[Any, list[int], int]]):
         self.base = base
         self.parts = parts
 
     def at(self, w: float) -> dict[str, NDArray[np.float64]]:
-        """The lateral matrices at frequency `w`."""
+        """The matrices at frequency `w`."""
         out = {name: a.copy() for name, a in self.base.items()}
-        for b, pos in self.parts:
+        for b, pos, z in self.parts:
             cell = np.ix_(pos, pos)
             for name, p in (("M", "m"), ("K", "k"), ("C", "c")):
                 out[name][cell] += [
                     [float(getattr(b, f"{p}{r}{c}_interpolated")(w)) for c in "xy"] for r in "xy"
                 ]
+                if z >= 0:  # the axial coefficient, when the model keeps z
+                    out[name][z, z] += float(getattr(b, f"{p}zz_interpolated")(w))
         return out
 
 
@@ -79,7 +81,8 @@ def split(
             if getattr(b, "n_link", None) is not None:
                 return None
             names = {k.split("_")[0]: int(g) for k, g in b.dof_global_index.items()}
-            parts.append((b, [where[names["x"]], where[names["y"]]]))
+            z = where.get(names["z"], -1) if "z" in names else -1
+            parts.append((b, [where[names["x"]], where[names["y"]]], z))
         dropped = np.setdiff1d(np.arange(full["M"].shape[0]), keep)
         for a in full.values():
             if np.any(a[np.ix_(keep, dropped)]) or np.any(a[np.ix_(dropped, keep)]):

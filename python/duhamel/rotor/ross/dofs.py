@@ -81,15 +81,16 @@ class RossDofs:
         if isinstance(node, bool) or not isinstance(node, int | np.integer):
             raise TypeError(f"`node` must be an integer, got {type(node).__name__}")
         name = DUHAMEL_NAMES.get(direction, direction)
-        if name in ("z", "theta"):
+        if name in ("z", "theta") and f"{name}_{int(node)}" not in self._lookup:  # type: ignore[attr-defined]
             raise ValueError(
-                f"`direction` {direction!r} is an axial/torsional dof, which from_ross drops "
-                "(it keeps the lateral dofs x, y, alpha, beta)"
+                f"`direction` {direction!r} is an axial/torsional dof, which this model "
+                "drops (from_ross keeps the lateral dofs x, y, alpha, beta unless "
+                "dofs='all')"
             )
-        if name not in LATERAL:
+        if name not in ROSS_DIRECTIONS:
             raise ValueError(
                 f"`direction` must be one of 'x', 'y', 'alpha' ('theta_x'), 'beta' "
-                f"('theta_y'), got {direction!r}"
+                f"('theta_y'), 'z', 'theta', got {direction!r}"
             )
         label = f"{name}_{int(node)}"
         found = self._lookup.get(label)  # type: ignore[attr-defined]
@@ -214,11 +215,13 @@ def _evaluate(method: Any, frequency: float, speed: float) -> NDArray[np.float64
     return np.asarray(out, dtype=np.float64)
 
 
-def lateral_matrices(rotor: Any, w: float, freq: float) -> tuple[RotorMatrices, RossDofs]:
+def lateral_matrices(
+    rotor: Any, w: float, freq: float, every: bool = False
+) -> tuple[RotorMatrices, RossDofs]:
     """ROSS's lateral ``(M, K, C, G)`` (``K``, ``C`` at `freq`, ROSS >= 3 also at speed `w`;
     without its magnetic bearings, whose closed loops replace them:
     :mod:`duhamel.rotor.ross.magnetic`) in System order, and the dof map; checks as
-    :func:`from_ross` states."""
+    :func:`from_ross` states; `every`: all of ROSS's dofs, axial and torsional too."""
     for name in ("M", "K", "C", "G", "elements"):
         if not hasattr(rotor, name):
             raise TypeError(
@@ -235,8 +238,11 @@ def lateral_matrices(rotor: Any, w: float, freq: float) -> tuple[RotorMatrices, 
             raise ValueError(f"ROSS's `{name}` has shape {a.shape}, `M` has {M.shape}")
 
     labels = _labels(rotor)
-    lateral = sorted(i for i, s in labels.items() if s.split("_")[0] in LATERAL)
-    if len(labels) == n and sorted(labels) == list(range(n)):
+    kept = ROSS_DIRECTIONS if every else LATERAL
+    lateral = sorted(i for i, s in labels.items() if s.split("_")[0] in kept)
+    if every and len(labels) == n and sorted(labels) == list(range(n)):
+        ross_index, n_ross = np.arange(n, dtype=np.intp), n
+    elif len(labels) == n and sorted(labels) == list(range(n)):
         keep = np.asarray(lateral, dtype=np.intp)
         dropped = np.setdiff1d(np.arange(n), keep)
         for name, a in (("M", M), ("K", K), ("C", C), ("G", G)):

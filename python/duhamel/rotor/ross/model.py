@@ -220,6 +220,7 @@ def from_ross(
     *,
     frequency: float | None = None,
     sparse: bool = False,
+    dofs: str = "lateral",
 ) -> RossModel:
     """A duhamel :class:`~duhamel.System` from a ROSS ``Rotor`` at constant `speed`.
 
@@ -264,6 +265,12 @@ def from_ross(
         coefficients are evaluated; default `speed`, as ROSS's ``run_time_response``.
     sparse : bool
         Keyword only. Store the matrices as ``scipy.sparse`` CSR (large models).
+    dofs : {"lateral", "all"}
+        Keyword only. ``"all"``: keep ROSS's axial ``z`` and torsional ``theta`` dofs too (all
+        6 per shaft node, in ROSS's order): axial and torsional modes (labelled
+        ``"axial"``, ``"torsional"`` in :attr:`Modes.whirl`), torque and axial loads
+        (``model.dofs(node, "theta")``), drive-train transients. ROSS's constant-speed
+        matrices do not couple them to the lateral ones.
 
     Returns
     -------
@@ -324,7 +331,9 @@ def from_ross(
             "coefficients follow the speed"
         )
     freq = w0 if frequency is None else finite_float(frequency, "frequency")
-    matrices, dofs = lateral_matrices(rotor, w0, freq)
+    if dofs not in ("lateral", "all"):
+        raise ValueError(f"`dofs` must be 'lateral' or 'all', got {dofs!r}")
+    matrices, dofs = lateral_matrices(rotor, w0, freq, every=dofs == "all")
     M, K, C, G = matrices
     names = dofs.labels
 
