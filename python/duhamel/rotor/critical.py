@@ -164,6 +164,10 @@ class CriticalSpeeds:
         """Number of critical speeds listed."""
         return int(self._speeds.size)
 
+    def __repr__(self) -> str:
+        speeds = ", ".join(f"{w:.6g}" for w in self._speeds)
+        return f"CriticalSpeeds([{speeds}], heavily_damped={len(self.heavily_damped)})"
+
     def __array__(self, dtype: Any = None, copy: Any = None) -> NDArray[Any]:
         return np.array(self._speeds, dtype=dtype)
 
