@@ -2444,6 +2444,7 @@ def test_critical_speeds_on_any_grid(grid, whirl, harmonic):
     found = contract(lambda: rotor.critical_speeds(grid, whirl=whirl, harmonic=harmonic),
                      ("speeds", "whirl", "harmonic"))  # fmt: skip
     if found is not None:
+        found = np.asarray(found)  # a CriticalSpeeds: as an array, its speeds
         assert np.all(np.isfinite(found)) and np.all(found >= 0), found
         h = float(harmonic)
         for w in found[(found > 0) & (found < 1e6)]:

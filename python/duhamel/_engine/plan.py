@@ -26,6 +26,7 @@ from duhamel._engine.specs import ScaledSpec, load, speed_law
 from duhamel._engine.specs import elements as core_elements
 from duhamel._engine.specs import mass as core_mass
 from duhamel.couplings import LinearCoupling
+from duhamel.feedback import Feedback
 from duhamel.integrators import Semianalytic
 from duhamel.loads import Callable
 from duhamel.system import ModalBasis, System
@@ -248,7 +249,11 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
     couplings = _couplings(system, basis)
     route = "pseudo-force"
     modes = None
-    if coupled and integrator.coupling != "pseudo-force":
+    states = _states(system, basis)
+    if states is not None:
+        modes = _with_feedback(system, basis, integrator, couplings, states)
+        route, resolve = "first-order", correction
+    elif coupled and integrator.coupling != "pseudo-force":
         modes = _first_order(system, basis, integrator, couplings, extra)
         if modes is not None:
             route = "first-order"
@@ -286,6 +291,8 @@ def passive(system: System, couplings: Couplings, basis: ModalBasis) -> bool:
     with skew-symmetric (gyroscopic) damping. Then the growth guard's bound holds."""
     if system.mass_law is not None or bool(np.any(np.asarray(basis.c) < 0.0)):
         return False
+    if any(isinstance(e, Feedback) for e in system.elements):
+        return False  # a controller supplies energy
     if not all(e._passive() for e in system.elements if not isinstance(e, LinearCoupling)):
         return False
     if not _semidefinite(couplings.k, symmetric=True):
@@ -300,6 +307,60 @@ def passive(system: System, couplings: Couplings, basis: ModalBasis) -> bool:
         ).max(initial=0.0):
             return False
     return True
+
+
+def _states(system: System, basis: ModalBasis) -> Any:
+    """The system's feedback states in modal form (``coupled.States``), or None."""
+    parts = [e.modal_states(basis.phi) for e in system.elements if isinstance(e, Feedback)]
+    if not parts:
+        return None
+    import scipy.linalg
+
+    A = scipy.linalg.block_diag(*(a for a, _, _ in parts))
+    B = np.concatenate([b for _, b, _ in parts], axis=0)
+    F = np.concatenate([f for _, _, f in parts], axis=1)
+    return A, B, F
+
+
+def _with_feedback(
+    system: System, basis: ModalBasis, integrator: Semianalytic, couplings: Couplings, states: Any
+) -> FirstOrderModes:
+    """The first-order modes of the closed loop (modal coordinates and feedback states):
+    the only route that integrates feedback states; a ValueError says why it cannot."""
+    nonlinear = any(not isinstance(e, LinearCoupling) for e in system.elements)
+    why = None
+    if integrator.coupling == "pseudo-force":
+        why = "coupling='pseudo-force' cannot carry them (use coupling='auto' or 'exact')"
+    elif system.mass_law is not None:
+        why = "a mass law is not supported with them"
+    elif couplings.scaled:
+        why = (
+            "couplings scaled by a time-varying speed law (a run-up) are not supported with "
+            "them on this route"
+        )
+    elif nonlinear and (integrator.scheme, integrator.quadrature) != ("b", "trapezoid"):
+        why = "nonlinear elements need scheme='b' and quadrature='trapezoid' with them"
+    if why is not None:
+        raise ValueError(
+            f"the system has feedback states (duhamel.feedback.Feedback: controllers), which "
+            f"only the exact first-order route integrates: {why}"
+        )
+    try:
+        modes = first_order_modes(basis.omega2, basis.c, couplings.k, couplings.c, states)
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        raise ValueError(
+            f"the first-order modes of the system with its feedback states cannot be computed "
+            f"({type(exc).__name__}: {exc})"
+        ) from None
+    if not modes.condition <= CONDITION_LIMIT:
+        raise ValueError(
+            f"the system with its feedback states (controllers) is (nearly) defective: its "
+            f"first-order eigenvector matrix has condition number {modes.condition:.3g} > "
+            f"{CONDITION_LIMIT:g} (its modes would lose digits); a closed loop with a "
+            "repeated eigenvalue (a rigid-body mode the feedback does not hold) cannot be "
+            "integrated on its modes"
+        )
+    return modes
 
 
 def _first_order(

@@ -10,6 +10,7 @@ import numpy as np
 
 from duhamel._engine.direct import damping_matrix, physical_matrices
 from duhamel.couplings import LinearCoupling
+from duhamel.feedback import Feedback
 from duhamel.loads import BaseAcceleration
 from duhamel.results.forces import StructureModel
 
@@ -50,6 +51,11 @@ def structure_model(
             mphi = np.asarray(system.M @ basis.phi)
             c = (mphi * basis.c) @ mphi.T
         for element in elements:
+            if isinstance(element, Feedback):
+                raise ValueError(
+                    "structural outputs (base shear, energy) need the forces of the model's "
+                    "matrices; this system has feedback states (controllers) that push too"
+                )
             if isinstance(element, LinearCoupling):
                 factor = element.constant_factor()
                 if factor is None:

@@ -5,7 +5,6 @@ cycle is measured as a prototype test is (ASCE 7-22 section 17.8.5)."""
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -70,56 +69,22 @@ def cycle(displacement: float, cycles: int, points: int) -> NDArray[np.float64]:
 def _local_axes(element: Any) -> int:
     """How many deformation components the element takes (1 or 2: a bidirectional
     bearing), or TypeError for an element without a hysteresis loop to measure."""
-    if getattr(element, "dof_z", None) is not None:
+    from duhamel.elements import Element
+
+    if not isinstance(element, Element):
+        raise TypeError(
+            "`element` must be an isolator or hysteretic device of duhamel.elements (a "
+            f"friction pendulum, lead-rubber bearing, Bilinear, BoucWen ...), got "
+            f"{type(element).__name__}"
+        )
+    dofs = getattr(element, "dofs", None)
+    if dofs is not None and len(dofs) > 2:
         raise TypeError(
             "`element`: a friction pendulum with its vertical dof has a normal force from the "
-            "model; measure the same bearing without `dof_z` (its `weight` the axial load)"
+            "model; measure the same bearing on its horizontal dofs (its `weight` the axial "
+            "load)"
         )
-    if hasattr(element, "dof_x"):
-        return 1 if getattr(element, "dof_y", None) is None else 2
-    if hasattr(element, "i") and hasattr(element, "j"):
-        return 1
-    raise TypeError(
-        f"`element` must be an isolator or hysteretic device of duhamel.elements (a friction "
-        f"pendulum, lead-rubber bearing, Bilinear, BoucWen ...), got {type(element).__name__}"
-    )
-
-
-def _initial_stiffness(element: Any) -> float:
-    """The largest tangent the element can show, for the fallback driver's spring."""
-    weight = getattr(element, "weight", None)
-    uy = getattr(element, "yield_displacement", None)
-    if weight is not None and uy is not None:
-        mu = np.atleast_1d(np.asarray(getattr(element, "mu", 0.0), dtype=np.float64))
-        radius = np.atleast_1d(np.asarray(getattr(element, "radius", np.inf), dtype=np.float64))
-        return float(mu.max() * weight / uy + weight / radius.min())
-    return float(abs(getattr(element, "k", 1.0)))
-
-
-def _drive_fallback(
-    element: Any, deformation: NDArray[np.float64]
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Stand-in for ``duhamel.elements.drive`` until it lands (issue 35): the element (moved
-    onto dofs 0.. to the ground) on massless dofs pulled through springs ``kd`` a million
-    times its stiffest tangent, solved quasi-statically point by point (Newmark's Newton on
-    the massless dofs; each step commits). Returns the forces and the deformations reached,
-    which lag the prescribed ones by ``F / kd`` (1e-6 of the elastic deformation)."""
-    import duhamel
-
-    u = np.asarray(deformation, dtype=np.float64).reshape(len(deformation), -1)
-    n, m = u.shape
-    if hasattr(element, "dof_x"):
-        local = dataclasses.replace(element, dof_x=0, dof_y=None if m == 1 else 1)
-    else:
-        local = dataclasses.replace(element, i=0, j=None)
-    kd = 1e6 * _initial_stiffness(element)
-    s = duhamel.System(np.diag([0.0] * m + [1.0]), np.diag([kd] * m + [1.0])).add(local)
-    t = np.arange(n, dtype=np.float64)
-    for k in range(m):
-        s.add_load(duhamel.loads.Tabulated(k, t, kd * u[:, k], hold=True))
-    sol = duhamel.solve(s, duhamel.Newmark(tol=1e-14), t_end=t[-1], dt=1.0)
-    x = sol.x[:, :m]
-    return kd * (u - x), x
+    return len(element._dofs) if dofs is not None else 1
 
 
 #: Parts an increment holding a kink of the loop is split into.
@@ -173,14 +138,10 @@ def _drive(
     element: Any, deformation: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The element's forces along `deformation` (n,) or (n, n_local), committed point by
-    point, and the deformations they are at: :func:`duhamel.elements.drive` (exactly the
-    ones given), or the fallback while it is not there."""
-    from duhamel import elements
+    point (:func:`duhamel.elements.drive`), and the deformations they are at."""
+    from duhamel.elements import drive
 
-    drive = getattr(elements, "drive", None)
-    if drive is None:
-        return _drive_fallback(element, deformation)
-    return np.asarray(drive(element, deformation), dtype=np.float64), deformation
+    return np.asarray(drive(element, deformation).force, dtype=np.float64), deformation
 
 
 def effective_properties(

@@ -65,10 +65,7 @@ def _available(elements: Any) -> str:
     """The numeric properties of `elements` that factors can scale, per class, for a message."""
     by_class: dict[str, set[str]] = {}
     for element in elements:
-        if dataclasses.is_dataclass(element):
-            names = [field.name for field in dataclasses.fields(element)]
-        else:
-            names = [n for n in dir(element) if not n.startswith("_")]
+        names = list(_parameters(element))
         numeric = by_class.setdefault(type(element).__name__, set())
         for n in names:
             value = getattr(element, n, None)

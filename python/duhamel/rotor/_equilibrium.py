@@ -37,11 +37,12 @@ def split_journals(bearings: Any) -> tuple[list[Any], tuple[Any, ...]]:
 
 
 def check_journal_nodes(journals: Sequence[Any], n_nodes: int) -> None:
-    """Every journal bearing on a node of the rotor."""
+    """Every journal (or magnetic) bearing on a node of the rotor."""
     for i, b in enumerate(journals):
         if b.node >= n_nodes:
+            kind = "journal" if isinstance(b, ShortJournalBearing) else "magnetic"
             raise ValueError(
-                f"the journal bearing {i} is at node {b.node}, but the rotor has nodes "
+                f"the {kind} bearing {i} is at node {b.node}, but the rotor has nodes "
                 f"0..{n_nodes - 1}"
             )
 

@@ -44,6 +44,7 @@ from duhamel.rotor.disk import Disk
 from duhamel.rotor.dofs import DIRECTIONS, dof_index
 from duhamel.rotor.journal import ShortJournalBearing
 from duhamel.rotor.loads import Gravity, RotorLoad
+from duhamel.rotor.magnetic import split_magnetic
 from duhamel.rotor.modes import Modes
 from duhamel.rotor.shaft import Shaft
 from duhamel.rotor.transient import (
@@ -71,7 +72,8 @@ class Rotor(RotorAnalyses):
     bearings : sequence of Bearing
         Bearings at nodes (several at a node add up), with constant coefficients or
         coefficients tabulated against the spin speed (``Bearing(..., speeds=...)``), which
-        every method that takes a speed evaluates there.
+        every method that takes a speed evaluates there; also :class:`ShortJournalBearing`
+        and :class:`MagneticBearing` (closed loops with their controllers' states).
     zeta : float or array_like, optional
         Keyword only. Modal damping ratio of every mode of the symmetric background
         ``(K_sym, M)`` (one value, or one per mode: ``n_dof`` values), as
@@ -117,8 +119,9 @@ class Rotor(RotorAnalyses):
         #: The nonlinear :class:`ShortJournalBearing` s given among `bearings`.
         self.journals: tuple[ShortJournalBearing, ...]
         linear, self.journals = split_journals(bearings)
+        linear, self.magnetic = split_magnetic(linear)
         self.shafts, self.disks, self.bearings = checked_components(shafts, disks, linear)
-        check_journal_nodes(self.journals, self.n_nodes)
+        check_journal_nodes((*self.journals, *self.magnetic), self.n_nodes)
         self._zeta, self._rayleigh = damping_spec(zeta, rayleigh, self.n_dof)
 
     # ------------------------------------------------------------------ layout
@@ -176,6 +179,7 @@ class Rotor(RotorAnalyses):
             f"Rotor(nodes={self.n_nodes}, n_dof={self.n_dof}, shafts={len(self.shafts)}, "
             f"disks={len(self.disks)}, bearings={len(self.bearings)}"
             + (f", journals={len(self.journals)}" if self.journals else "")
+            + (f", magnetic={len(self.magnetic)}" if self.magnetic else "")
             + ")"
         )
 
@@ -475,7 +479,7 @@ class Rotor(RotorAnalyses):
             rayleigh=self._rayleigh,
             conv=conv,
         )
-        add_couplings(system, a.G, w, k_skew, c_skew, conv)
+        add_couplings(system, a.G, w, k_skew, c_skew, conv, self.magnetic, self.dof)
         for element in self.nonlinear_elements(w_const):
             system.add(element)
         for part in journals:

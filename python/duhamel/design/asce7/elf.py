@@ -154,14 +154,10 @@ def _isolator_sets(model: Any, lambdas: Mapping[str, Any] | None) -> dict[str, l
 
 def _key(element: Any) -> str:
     """Elements that differ only in their dofs share a loop."""
-    try:
-        if hasattr(element, "dof_x"):
-            element = dataclasses.replace(element, dof_x=0)
-        elif hasattr(element, "i"):
-            element = dataclasses.replace(element, i=0, j=None)
-    except TypeError:
-        pass
-    return repr(element)
+    params = dict(getattr(element, "parameters", {}) or {})
+    for where in ("i", "j", "dofs"):
+        params.pop(where, None)
+    return f"{type(element).__name__}{sorted(params.items())!r}"
 
 
 class _Loops:

@@ -14,11 +14,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel.rotor._analyses import RotorAnalyses
-from duhamel.rotor._ross_matrices import COUPLING_RTOL, RossDofs
 from duhamel.rotor._speed import constant_speed
 from duhamel.rotor.assembly import RotorMatrices
 from duhamel.rotor.critical_map import CriticalSpeedMap
-from duhamel.rotor.modes import Modes
+from duhamel.rotor.ross.dofs import COUPLING_RTOL, RossDofs
 
 __all__ = ["RossBearingCurve", "RossRotor"]
 
@@ -99,6 +98,12 @@ class RossRotor(RotorAnalyses):
         self._speed_kw = {
             name: "speed" in _parameters(getattr(source, name, None)) for name in ("M", "K", "C")
         }
+        from duhamel.rotor.ross.magnetic import is_magnetic, magnetic_bearing
+
+        #: ROSS's magnetic bearings as closed loops (:mod:`duhamel.rotor.ross.magnetic`).
+        self.magnetic = tuple(
+            magnetic_bearing(b) for b in getattr(source, "bearing_elements", ()) if is_magnetic(b)
+        )
 
     @property
     def n_dof(self) -> int:  # type: ignore[override]
@@ -119,14 +124,43 @@ class RossRotor(RotorAnalyses):
         """System dof of ROSS node `node` (:meth:`RossDofs.index`)."""
         return self.dofs.index(node, direction)
 
+    def _split(self) -> Any:
+        """ROSS's matrices as constant parts plus the bearings' curves
+        (:mod:`duhamel.rotor.ross.coefficients`), made on first use; None: read ROSS."""
+        if not hasattr(self, "_split_made"):
+            from duhamel.rotor.ross.coefficients import split
+            from duhamel.rotor.ross.magnetic import is_magnetic
+
+            made = None
+            if not any(self._speed_kw.values()):
+                elements = list(getattr(self.source, "bearing_elements", ()))
+                made = split(
+                    self.source,
+                    self.dofs.ross_index,
+                    [b for b in elements if not is_magnetic(b)],
+                    [b for b in elements if is_magnetic(b)],
+                )
+            self._split_made = made
+        return self._split_made
+
     def _read(self, w: float) -> RotorMatrices:
         """ROSS's ``M``, ``K``, ``C`` at ``frequency = speed = w`` (``G`` from from_ross),
         the lateral block, with from_ross's check that nothing couples it to the rest."""
+        fast = self._split()
+        if fast is not None:
+            at = fast.at(w)
+            return RotorMatrices((at["M"] + at["M"].T) / 2.0, at["K"], at["C"], self._fixed.G)
         keep, cross, back = self._blocks
+        from duhamel.rotor.ross.magnetic import without_magnetic
+
         out = []
+        full = {}
         for name in ("M", "K", "C"):
             method = getattr(self.source, name)
-            a = np.asarray(method(w, speed=w) if self._speed_kw[name] else method(w), dtype=float)
+            full[name] = method(w, speed=w) if self._speed_kw[name] else method(w)
+        full["K"], full["C"] = without_magnetic(self.source, full["K"], full["C"], w)
+        for name in ("M", "K", "C"):
+            a = np.asarray(full[name], dtype=float)
             if a.shape != (self.dofs.n_ross, self.dofs.n_ross):
                 raise ValueError(f"ROSS's `{name}` at {w:g} rad/s has shape {a.shape}")
             c = max(np.abs(a[cross]).max(initial=0.0), np.abs(a[back]).max(initial=0.0))
@@ -146,24 +180,40 @@ class RossRotor(RotorAnalyses):
             return self._fixed
         return self._at(w)
 
-    def _check_layout(self, what: str) -> None:
+    def _regular(self) -> bool:
         labels = self.dofs.labels
-        regular = len(labels) % 4 == 0 and all(
+        return len(labels) % 4 == 0 and all(
             labels[4 * k + d] == f"{name}_{labels[4 * k].split('_')[1]}"
             for k in range(len(labels) // 4)
             for d, name in enumerate(("x", "y", "alpha", "beta"))
         )
-        if not regular:
+
+    @property
+    def layout(self) -> NDArray[np.intp] | None:  # type: ignore[override]
+        """Per ROSS node (in the order its dofs come) the System dofs of ``(x, y, alpha,
+        beta)`` and, with ``dofs="all"``, ``(z, theta)``; -1 where it has none (point masses
+        and supports: x and y only); None when every node has all four in order."""
+        if self._regular():
+            return None
+        names = ("x", "y", "alpha", "beta", "z", "theta")
+        nodes: dict[str, list[int]] = {}
+        for i, label in enumerate(self.dofs.labels):
+            name, _, node = label.rpartition("_")
+            nodes.setdefault(node, [-1] * 6)[names.index(name)] = i
+        out = np.array(list(nodes.values()), dtype=np.intp)
+        return out if np.any(out[:, 4:] >= 0) else out[:, :4]
+
+    def _check_layout(self, what: str) -> None:
+        if not self._regular():
             raise ValueError(
                 f"{what} need (x, y, alpha, beta) at every node; this ROSS model has nodes "
                 "with only x and y (point masses): use its matrices directly"
             )
 
-    def modes(self, speed: float = 0.0, n: int | None = None) -> Modes:
-        """:meth:`Rotor.modes <duhamel.rotor.Rotor.modes>` (needs 4 dofs at every node;
-        models with 2-dof point-mass nodes are refused)."""
-        self._check_layout("modes")
-        return super().modes(speed, n)
+    def plot_mode(self, speed: float, j: int, **kwargs: Any) -> Any:
+        """:meth:`Rotor.plot_mode <duhamel.rotor.Rotor.plot_mode>` (4 dofs at every node)."""
+        self._check_layout("mode plots")
+        return super().plot_mode(speed, j, **kwargs)
 
     def _structure_stiffness(self) -> NDArray[np.float64]:
         """ROSS's stiffness without its bearings and seals (``K0``, else ``K(0)`` minus each

@@ -1,5 +1,5 @@
-"""ROSS's lateral matrices and dof map (the part of :mod:`duhamel.rotor.ross` that
-:mod:`duhamel.rotor.ross_rotor` also uses): :class:`RossDofs` and :func:`lateral_matrices`."""
+"""ROSS's lateral matrices and dof map: :class:`RossDofs` and :func:`lateral_matrices`
+(used by :mod:`duhamel.rotor.ross.model` and :mod:`duhamel.rotor.ross.analyses`)."""
 
 from __future__ import annotations
 
@@ -81,15 +81,16 @@ class RossDofs:
         if isinstance(node, bool) or not isinstance(node, int | np.integer):
             raise TypeError(f"`node` must be an integer, got {type(node).__name__}")
         name = DUHAMEL_NAMES.get(direction, direction)
-        if name in ("z", "theta"):
+        if name in ("z", "theta") and f"{name}_{int(node)}" not in self._lookup:  # type: ignore[attr-defined]
             raise ValueError(
-                f"`direction` {direction!r} is an axial/torsional dof, which from_ross drops "
-                "(it keeps the lateral dofs x, y, alpha, beta)"
+                f"`direction` {direction!r} is an axial/torsional dof, which this model "
+                "drops (from_ross keeps the lateral dofs x, y, alpha, beta unless "
+                "dofs='all')"
             )
-        if name not in LATERAL:
+        if name not in ROSS_DIRECTIONS:
             raise ValueError(
                 f"`direction` must be one of 'x', 'y', 'alpha' ('theta_x'), 'beta' "
-                f"('theta_y'), got {direction!r}"
+                f"('theta_y'), 'z', 'theta', got {direction!r}"
             )
         label = f"{name}_{int(node)}"
         found = self._lookup.get(label)  # type: ignore[attr-defined]
@@ -110,10 +111,11 @@ class RossDofs:
             raise ValueError(f"ROSS dof {ross_dof} is axial or torsional: from_ross drops it")
         return out
 
-    def from_ross(self, values: ArrayLike) -> NDArray[np.float64]:
+    def from_ross(self, values: ArrayLike) -> NDArray[Any]:
         """Select the System's dofs from an array over ROSS's dofs (last axis ``n_ross``),
-        e.g. ROSS's force array ``F`` or a response ``yout``."""
-        a = np.asarray(values, dtype=np.float64)
+        e.g. ROSS's force array ``F`` or a response ``yout`` (complex amplitudes stay
+        complex)."""
+        a = _values(values)
         if a.ndim == 0 or a.shape[-1] != self.n_ross:
             raise ValueError(
                 f"`values` must have ROSS's {self.n_ross} dofs on its last axis, got shape "
@@ -121,16 +123,26 @@ class RossDofs:
             )
         return a[..., self.ross_index]
 
-    def to_ross(self, values: ArrayLike) -> NDArray[np.float64]:
+    def to_ross(self, values: ArrayLike) -> NDArray[Any]:
         """Spread an array over the System's dofs (last axis ``n_dof``) onto ROSS's dofs,
-        zero on the dropped axial and torsional dofs (e.g. ``sol.x`` beside ROSS's ``yout``)."""
-        a = np.asarray(values, dtype=np.float64)
+        zero on the dropped axial and torsional dofs (e.g. ``sol.x`` beside ROSS's ``yout``).
+        Complex values (an unbalance response's amplitudes, mode shapes) stay complex.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.rotor.ross import RossDofs
+        >>> dofs = RossDofs(np.array([0, 1, 3, 4]), ("x_0", "y_0", "alpha_0", "beta_0"), 6)
+        >>> dofs.to_ross(np.array([1.0, 1j, 0.0, 2.0])).tolist()
+        [(1+0j), 1j, 0j, 0j, (2+0j), 0j]
+        """
+        a = _values(values)
         if a.ndim == 0 or a.shape[-1] != self.n_dof:
             raise ValueError(
                 f"`values` must have the System's {self.n_dof} dofs on its last axis, got "
                 f"shape {a.shape}"
             )
-        out = np.zeros((*a.shape[:-1], self.n_ross))
+        out = np.zeros((*a.shape[:-1], self.n_ross), dtype=a.dtype)
         out[..., self.ross_index] = a
         return out
 
@@ -172,6 +184,14 @@ class RossDofs:
         return UnbalanceLoad(self.index(node, "x"), self.index(node, "y"), m_e, speed, phase)
 
 
+def _values(values: ArrayLike) -> NDArray[Any]:
+    """`values` as float64, or complex128 when complex (never dropping an imaginary part)."""
+    a = np.asarray(values)
+    if np.iscomplexobj(a):
+        return a.astype(np.complex128)
+    return np.asarray(a, dtype=np.float64)
+
+
 def _labels(rotor: Any) -> dict[int, str]:
     """ROSS global dof index -> name (``"x_3"``), from every element's ``dof_global_index``."""
     out: dict[int, str] = {}
@@ -195,17 +215,22 @@ def _evaluate(method: Any, frequency: float, speed: float) -> NDArray[np.float64
     return np.asarray(out, dtype=np.float64)
 
 
-def lateral_matrices(rotor: Any, w: float, freq: float) -> tuple[RotorMatrices, RossDofs]:
-    """ROSS's lateral ``(M, K, C, G)`` (``K``, ``C`` at `freq`, ROSS >= 3 also at speed `w`)
-    in System order, and the dof map; checks as :func:`from_ross` states."""
+def lateral_matrices(
+    rotor: Any, w: float, freq: float, every: bool = False
+) -> tuple[RotorMatrices, RossDofs]:
+    """ROSS's lateral ``(M, K, C, G)`` (``K``, ``C`` at `freq`, ROSS >= 3 also at speed `w`;
+    without its magnetic bearings, whose closed loops replace them:
+    :mod:`duhamel.rotor.ross.magnetic`) in System order, and the dof map; checks as
+    :func:`from_ross` states; `every`: all of ROSS's dofs, axial and torsional too."""
     for name in ("M", "K", "C", "G", "elements"):
         if not hasattr(rotor, name):
             raise TypeError(
                 f"`rotor` must be a ROSS Rotor (it has no `{name}`), got {type(rotor).__name__}"
             )
+    from duhamel.rotor.ross.magnetic import without_magnetic
+
     M = _evaluate(rotor.M, freq, w)
-    K = _evaluate(rotor.K, freq, w)
-    C = _evaluate(rotor.C, freq, w)
+    K, C = without_magnetic(rotor, _evaluate(rotor.K, freq, w), _evaluate(rotor.C, freq, w), freq)
     G = np.asarray(rotor.G(), dtype=np.float64)
     n = M.shape[0]
     for name, a in (("M", M), ("K", K), ("C", C), ("G", G)):
@@ -213,8 +238,11 @@ def lateral_matrices(rotor: Any, w: float, freq: float) -> tuple[RotorMatrices, 
             raise ValueError(f"ROSS's `{name}` has shape {a.shape}, `M` has {M.shape}")
 
     labels = _labels(rotor)
-    lateral = sorted(i for i, s in labels.items() if s.split("_")[0] in LATERAL)
-    if len(labels) == n and sorted(labels) == list(range(n)):
+    kept = ROSS_DIRECTIONS if every else LATERAL
+    lateral = sorted(i for i, s in labels.items() if s.split("_")[0] in kept)
+    if every and len(labels) == n and sorted(labels) == list(range(n)):
+        ross_index, n_ross = np.arange(n, dtype=np.intp), n
+    elif len(labels) == n and sorted(labels) == list(range(n)):
         keep = np.asarray(lateral, dtype=np.intp)
         dropped = np.setdiff1d(np.arange(n), keep)
         for name, a in (("M", M), ("K", K), ("C", C), ("G", G)):

@@ -18,9 +18,9 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from duhamel._engine.validate import finite_float
-from duhamel.rotor._ross_matrices import RossDofs, lateral_matrices
 from duhamel.rotor._speed import speed_or_law
 from duhamel.rotor.assembly import RotorMatrices
+from duhamel.rotor.ross.dofs import RossDofs, lateral_matrices
 from duhamel.rotor.transient import add_couplings, nonzero, storage
 from duhamel.speed import SpeedLaw
 from duhamel.system import System
@@ -65,11 +65,16 @@ class RossModel(_RossModelFields):
         ``duhamel.elements.Contact(dofs(n, "x"), dofs(n, "y"), ...)`` (or ``Cubic``) to
         :attr:`system` directly.
 
+        Along a run-up a bearing whose coefficients depend on the frequency follows the
+        speed as a table element (:mod:`duhamel.rotor.ross.runup`); swapped, that element is
+        cancelled by its exact negative, and the journal's element subtracts ROSS's bearing
+        at the initial speed, which the background carries: the model sees the film force
+        alone there, alongside the other bearings that follow the speed.
+
         Raises
         ------
         ValueError
-            Without a ROSS bearing at the node, or along a run-up when its coefficients
-            depend on the frequency (they follow the speed there, not a fixed ``K``).
+            Without a ROSS bearing at the node, or for a magnetic bearing there.
 
         Examples
         --------
@@ -84,40 +89,44 @@ class RossModel(_RossModelFields):
             raise TypeError(
                 f"`journal` must be a ShortJournalBearing, got {type(journal).__name__}"
             )
+        from duhamel.rotor.ross.magnetic import is_magnetic
+
         found = [
             b for b in getattr(self._source, "bearing_elements", ()) if int(b.n) == journal.node
         ]
+        if any(is_magnetic(b) for b in found):
+            raise ValueError(
+                f"the ROSS bearing at node {journal.node} is a magnetic bearing (a closed loop "
+                "with its controller): it is not swapped for a journal"
+            )
         if not found:
             raise ValueError(f"the ROSS model has no bearing at node {journal.node} to replace")
         k0, c0 = np.zeros((2, 2)), np.zeros((2, 2))
+        dx, dy = self.dofs(journal.node, "x"), self.dofs(journal.node, "y")
         for b in found:
             varies = np.ndim(getattr(b, "frequency", None)) == 1 and len(b.frequency) > 1
             if varies and isinstance(self._speed, SpeedLaw):
-                raise ValueError(
-                    f"the ROSS bearing at node {journal.node} has frequency-dependent "
-                    "coefficients, which follow the run-up: build the ROSS rotor without it "
-                    "and add the journal element alone"
-                )
+                # along a run-up the bearing follows the speed as a table element: cancel it
+                from duhamel.rotor.ross.runup import cancelling
+
+                self.system.add(cancelling(self.system.elements, dx, dy))
             for m, kind in ((k0, "k"), (c0, "c")):
                 for (i, j), a in zip(
                     ((0, 0), (0, 1), (1, 0), (1, 1)), ("xx", "xy", "yx", "yy"), strict=True
                 ):
                     m[i, j] += float(getattr(b, f"{kind}{a}_interpolated")(self._frequency))
-        element = journal.element(
-            self.dofs(journal.node, "x"), self.dofs(journal.node, "y"), self._speed,
-            k0=k0, c0=c0,
-        )  # fmt: skip
+        element = journal.element(dx, dy, self._speed, k0=k0, c0=c0)
         self.system.add(element)
         return element
 
     @property
     def rotor(self) -> Any:
-        """The ROSS model as a :class:`~duhamel.rotor.ross_rotor.RossRotor`: what a native
+        """The ROSS model as a :class:`~duhamel.rotor.ross.analyses.RossRotor`: what a native
         :class:`~duhamel.rotor.Rotor` offers at constant speed (``modes``, ``campbell``,
         ``critical_speeds``, ``frequency_response``, ``unbalance_response``,
         ``level1_stability``, ``critical_speed_map``...), with ROSS's ``K`` and ``C``
         re-evaluated at each speed (``frequency = speed``, as ROSS's own analyses)."""
-        from duhamel.rotor.ross_rotor import RossRotor
+        from duhamel.rotor.ross.analyses import RossRotor
 
         return RossRotor(self._source, self.dofs, self.matrices)
 
@@ -196,6 +205,12 @@ class RossModel(_RossModelFields):
         re-evaluates them at each speed), unbalances at ROSS nodes."""
         from duhamel.rotor.unbalance import unbalance_response
 
+        magnetic = self.rotor.magnetic
+        if magnetic:  # their dynamic stiffness at each speed (:mod:`duhamel.rotor._amb_linear`)
+            from duhamel.rotor._amb_linear import amb_axes, with_bearings_at
+
+            at = with_bearings_at(lambda w: self.matrices, amb_axes(magnetic, self.dofs))
+            return unbalance_response(at, speeds, unbalances, dof=self.dofs)
         return unbalance_response(self.matrices, speeds, unbalances, dof=self.dofs)
 
 
@@ -205,6 +220,7 @@ def from_ross(
     *,
     frequency: float | None = None,
     sparse: bool = False,
+    dofs: str = "lateral",
 ) -> RossModel:
     """A duhamel :class:`~duhamel.System` from a ROSS ``Rotor`` at constant `speed`.
 
@@ -241,7 +257,7 @@ def from_ross(
         background takes ROSS's matrices at the initial speed, the gyroscopic coupling is
         scaled by ``omega(t)``, and every frequency-dependent bearing and seal follows the
         speed (ROSS's coefficient curves sampled over the range of the law, PCHIP between
-        the samples: :mod:`duhamel.rotor._ross_runup`). ROSS's angular-acceleration
+        the samples: :mod:`duhamel.rotor.ross.runup`). ROSS's angular-acceleration
         stiffness ``Ksdt`` of a run-up is not added (:meth:`RossModel.acceleration_stiffness`
         gives it).
     frequency : float, optional
@@ -249,6 +265,12 @@ def from_ross(
         coefficients are evaluated; default `speed`, as ROSS's ``run_time_response``.
     sparse : bool
         Keyword only. Store the matrices as ``scipy.sparse`` CSR (large models).
+    dofs : {"lateral", "all"}
+        Keyword only. ``"all"``: keep ROSS's axial ``z`` and torsional ``theta`` dofs too (all
+        6 per shaft node, in ROSS's order): axial and torsional modes (labelled
+        ``"axial"``, ``"torsional"`` in :attr:`Modes.whirl`), torque and axial loads
+        (``model.dofs(node, "theta")``), drive-train transients. ROSS's constant-speed
+        matrices do not couple them to the lateral ones.
 
     Returns
     -------
@@ -309,7 +331,9 @@ def from_ross(
             "coefficients follow the speed"
         )
     freq = w0 if frequency is None else finite_float(frequency, "frequency")
-    matrices, dofs = lateral_matrices(rotor, w0, freq)
+    if dofs not in ("lateral", "all"):
+        raise ValueError(f"`dofs` must be 'lateral' or 'all', got {dofs!r}")
+    matrices, dofs = lateral_matrices(rotor, w0, freq, every=dofs == "all")
     M, K, C, G = matrices
     names = dofs.labels
 
@@ -320,9 +344,14 @@ def from_ross(
         system = System(conv(M), conv(k_sym), conv(c_sym))
     else:
         system = System(conv(M), conv(k_sym))
-    add_couplings(system, G, w, k_skew, c_skew, conv)
+    from duhamel.rotor.ross.magnetic import is_magnetic, magnetic_bearing
+
+    magnetic = [
+        magnetic_bearing(b) for b in getattr(rotor, "bearing_elements", ()) if is_magnetic(b)
+    ]
+    add_couplings(system, G, w, k_skew, c_skew, conv, magnetic, dofs)
     if law is not None:
-        from duhamel.rotor._ross_runup import ross_speed_tables
+        from duhamel.rotor.ross.runup import ross_speed_tables
 
         for element in ross_speed_tables(rotor, dofs, law, w0):
             system.add(element)

@@ -16,11 +16,11 @@ from typing import Any
 
 import numpy as np
 
-from duhamel.rotor._ross_matrices import RossDofs
 from duhamel.rotor.bearing import Bearing, _speed_table
 from duhamel.rotor.dofs import node_index
+from duhamel.rotor.ross.dofs import RossDofs
 
-__all__ = ["TABLE_POINTS", "ross_speed_tables"]
+__all__ = ["TABLE_POINTS", "cancelling", "ross_speed_tables"]
 
 #: Samples of ROSS's coefficient curves over the range of a run-up.
 TABLE_POINTS = 201
@@ -58,8 +58,10 @@ def ross_speed_tables(rotor: Any, dofs: RossDofs, law: Any, w0: float) -> list[A
     lo, hi = float(reach.min()), float(reach.max())
     speeds = np.linspace(lo, hi, TABLE_POINTS)
     out = []
+    from duhamel.rotor.ross.magnetic import is_magnetic
+
     for element in getattr(rotor, "bearing_elements", ()):
-        if not _varies(element):
+        if not _varies(element) or is_magnetic(element):  # a closed loop, not a table
             continue
         if getattr(element, "n_link", None) is not None:
             raise ValueError(
@@ -90,3 +92,27 @@ def ross_speed_tables(rotor: Any, dofs: RossDofs, law: Any, w0: float) -> list[A
             )
         )
     return out
+
+
+def cancelling(elements: list[Any], dof_x: int, dof_y: int) -> Any:
+    """The exact negative of the speed-table element on ``(dof_x, dof_y)`` among
+    `elements` (the same table and law, every coefficient negated: their forces cancel bit
+    for bit), to take a swapped bearing out of a run-up."""
+    from duhamel.rotor._speed_table import SpeedTableElement
+
+    found = [
+        e
+        for e in elements
+        if isinstance(e, SpeedTableElement) and (e.dof_x, e.dof_y) == (dof_x, dof_y)
+    ]
+    if len(found) != 1:
+        raise ValueError(
+            f"the run-up has {len(found)} speed tables at dofs ({dof_x}, {dof_y}) to cancel"
+        )
+    e = found[0]
+    b = e.bearing
+    negated = RossTable(
+        b.node, speeds=list(b.speeds), **{n: [-v for v in getattr(b, n)] for n in _NAMES}
+    )
+    flip = lambda m: tuple(tuple(-v for v in row) for row in m)  # noqa: E731
+    return SpeedTableElement(dof_x, dof_y, negated, e.law, flip(e.k0), flip(e.c0))
