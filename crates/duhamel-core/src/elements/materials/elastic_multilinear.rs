@@ -36,7 +36,7 @@ impl ElasticMultiLinear {
             m.work[k] =
                 m.work[k - 1] + 0.5 * (stress[k] + stress[k - 1]) * (strain[k] - strain[k - 1]);
         }
-        m.work0 = m.from_first(0.0);
+        m.work0 = m.integral_from_first(0.0);
         Ok(m)
     }
 
@@ -64,7 +64,7 @@ impl ElasticMultiLinear {
     }
 
     /// `int_(strain[0])^u F` (the trapezoid is exact on a linear piece).
-    fn from_first(&self, u: f64) -> f64 {
+    fn integral_from_first(&self, u: f64) -> f64 {
         let i = self.interval(u);
         let (e1, s1) = (self.strain[i], self.stress[i]);
         let k = (self.stress[i + 1] - s1) / (self.strain[i + 1] - e1);
@@ -73,7 +73,7 @@ impl ElasticMultiLinear {
 
     /// The potential `W(u) = int_0^u F`.
     fn potential(&self, u: f64) -> f64 {
-        self.from_first(u) - self.work0
+        self.integral_from_first(u) - self.work0
     }
 }
 

@@ -9,9 +9,13 @@
 //! `1e12`, likewise its stiffness of a flexibility sum), `de_i = (T - s_i + dT)/k_i`, except
 //! that the most flexible part takes what compatibility leaves (exact on a plateau, where
 //! its tangent is 0 and the force is fixed by it). Converged when every `|T - s_i| <= tol S`
-//! (`S` the largest of `|T|`, the `|s_i|` and the `|k_i e_i|`) and `|u - sum_i e_i| <= tol U` (`U` the
-//! largest of `|u|` and the `|e_i|`); the tangent is then the series tangent at the
-//! converged parts, exact. Not converged within `max_iter` iterations: an error.
+//! (`S` the largest of `|T|`, the `|s_i|`, the `|k_i e_i|` and the committed forces) and
+//! `|u - sum_i e_i| <= tol U` (`U` the largest of `|u|` and the `|e_i|`) — or, the
+//! compatibility met, when the unbalance stalls within `1e-6 S` (it did not halve in an
+//! iteration, after three: the round-off of a part's force, e.g. OpenSees' formulas that
+//! subtract stresses of points far from the deformation); the tangent is then the series
+//! tangent at the converged parts, exact. Not converged within `max_iter` iterations: an
+//! error.
 //!
 //! One deliberate difference: OpenSees' `SeriesMaterial` keeps the force fixed at the
 //! predictor inside its loop and corrects it once after (default `maxIter = 1`), so driven
@@ -118,22 +122,34 @@ impl Material for Series {
         let mut stress = c[1] + c[2] * (u - c[0]);
         let mut flex = vec![0.0; n];
         let mut change = vec![0.0; n];
+        // the force scale of the step: the committed forces too (a step from rest is tiny)
+        let mut scale = stress.abs().max(c[1].abs());
+        for i in 0..n {
+            scale = scale.max(c[HEAD + 3 * i + 1].abs());
+        }
+        let mut previous = f64::INFINITY;
         for iteration in 0..=self.max_iter {
             // the force unbalances and the compatibility residual
             let (mut unbalance, mut gap) = (0.0_f64, u);
-            let (mut u_ref, mut s_ref) = (u.abs(), stress.abs());
-            for i in 0..n {
+            let (mut u_ref, mut s_ref) = (u.abs(), stress.abs().max(scale));
+            for (i, f) in flex.iter_mut().enumerate() {
                 let j = HEAD + 3 * i;
                 unbalance = unbalance.max((stress - t[j + 1]).abs());
                 gap -= t[j];
                 u_ref = u_ref.max(t[j].abs());
                 s_ref = s_ref.max(t[j + 1].abs()).max((t[j + 2] * t[j]).abs());
-                flex[i] = inverse(t[j + 2]);
+                *f = inverse(t[j + 2]);
             }
             if !(unbalance.is_finite() && gap.is_finite()) {
                 break;
             }
-            if unbalance <= self.tol * s_ref && gap.abs() <= self.tol * u_ref {
+            let compatible = gap.abs() <= self.tol * u_ref;
+            // converged, or stalled at the parts' round-off (no halving of the unbalance
+            // after three iterations, within 1e-6 of the forces)
+            let stalled =
+                iteration >= 3 && unbalance >= 0.5 * previous && unbalance <= 1e-6 * s_ref;
+            previous = unbalance;
+            if compatible && (unbalance <= self.tol * s_ref || stalled) {
                 let tangent = inverse(flex.iter().sum());
                 t[0] = u;
                 t[1] = stress;

@@ -15,9 +15,11 @@
 //!    `F = 0` runs back up the same line to its start and on along the branch it left;
 //! 4. past `F = 0`: a line from the zero crossing towards the peak `(u_m, F(u_m))` of the
 //!    other side (its yield point if it has not yielded), then on along its backbone; when
-//!    that line would be steeper than the unloading line (or the crossing is beyond the
-//!    peak), the unloading line continues instead until it meets the backbone beyond the
-//!    peak (the reloading stiffness never exceeds the unloading stiffness);
+//!    that line would be steeper than the unloading stiffness `k_u` of that side (or the
+//!    crossing is beyond the peak), a line of slope `k_u` from the crossing instead, until it
+//!    meets the backbone beyond the peak (reloading is never stiffer than unloading, the
+//!    rule of OpenSees' `Hysteretic`, which however jumps to the backbone at the peak's
+//!    deformation);
 //! 5. a reversal on a reloading line unloads as in 3 from the reversal point (Otani's
 //!    inner-loop rule of the bilinear Takeda model).
 //!
@@ -129,17 +131,17 @@ impl Takeda {
         b.k0() * (dy / Self::peak(s, side)).powf(self.alpha)
     }
 
-    /// Starts the reloading line from `(u0, 0)` towards `side`, after an unloading of slope
-    /// `k_prev`.
-    fn reload(&self, s: &mut [f64], u0: f64, side: f64, k_prev: f64) {
+    /// Starts the reloading line from `(u0, 0)` towards `side`.
+    fn reload(&self, s: &mut [f64], u0: f64, side: f64) {
         let b = self.backbone(side);
         let xp = Self::peak(s, side);
         let (fp, _) = b.eval(xp);
         let x0 = side * u0;
-        let (k, xend) = if xp > x0 && fp / (xp - x0) <= k_prev {
+        let ku = self.unloading(s, side);
+        let (k, xend) = if xp > x0 && fp / (xp - x0) <= ku {
             (fp / (xp - x0), xp)
         } else {
-            (k_prev, b.meet(k_prev, x0, xp.max(x0)))
+            (ku, b.meet(ku, x0, xp.max(x0)))
         };
         s[U0] = u0;
         s[KL] = k;
@@ -235,7 +237,7 @@ impl Material for Takeda {
                 } else if us * u >= us * u0 {
                     result = Some((fr + ku * (u - ur), ku));
                 } else {
-                    self.reload(s, u0, -us, ku);
+                    self.reload(s, u0, -us);
                     continue;
                 }
             } else {

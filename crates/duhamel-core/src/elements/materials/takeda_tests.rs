@@ -51,8 +51,7 @@ fn unloading_slope_and_peak_orientation_are_takedas() {
     let (_, out) = drive(&m, &us);
     let f_at = |k: usize| out[k].0;
     // unloading from D: F = F_D - k_u (D - u) while F > 0
-    for k in 400..1200 {
-        let u = us[k];
+    for (k, &u) in us.iter().enumerate().take(1200).skip(400) {
         if u > u0 {
             assert!((f_at(k) - (fd - ku * (d - u))).abs() <= 1e-10 * fd, "{u}");
         } else if u > -DY {
@@ -68,8 +67,7 @@ fn unloading_slope_and_peak_orientation_are_takedas() {
         }
     }
     // reloading from -D: towards (D, F_D) from the zero crossing -u0
-    for k in 1200..2000 {
-        let u = us[k];
+    for (k, &u) in us.iter().enumerate().take(2000).skip(1200) {
         if u < -u0 {
             assert!((f_at(k) - (-fd + ku * (u + d))).abs() <= 1e-10 * fd);
         } else {
@@ -155,7 +153,7 @@ fn a_reversal_on_a_reloading_line_unloads_with_that_sides_stiffness() {
 #[test]
 fn force_is_continuous_within_the_envelope_and_the_tangent_exact() {
     // alpha = 1 with strong hardening makes reloading lines steeper than the unloading:
-    // the unloading line then continues to the backbone
+    // the reloading then runs at the unloading stiffness to the backbone
     let hard = Takeda::new(&[DY, 0.05, 0.2], &[FY, 400.0, 500.0], None, 1.0).unwrap();
     let asym = Takeda::new(
         &[DY, 0.1],
