@@ -679,6 +679,14 @@ def bilinear_peak(
 ) -> float:
     """Peak displacement at the samples of one bilinear oscillator."""
 
+def drive_material(kind: str, params: dict[str, object], deformation: Array) -> tuple[Array, Array]:
+    """The uniaxial material ``kind`` (``"Steel02"``, ``"MultiLinear"``,
+    ``"ElasticMultiLinear"``, ``"Takeda"``, ``"MinMax"``, ``"Parallel"``, ``"Series"``) with
+    the parameters ``params`` (OpenSees' names; a composite's parts are nested dicts with a
+    ``"kind"``), driven from its virgin state through the points of ``deformation`` with a
+    commit after each (OpenSees' ``setStrain``): the force and the tangent after each point.
+    A narrow checking hook until the materials are elements of their own."""
+
 def _panic_for_tests(kind: str) -> None:
     """Test only: panics on purpose (``kind`` "here", "detached" with the GIL released,
     "rayon" in a rayon worker, "thread" in a scoped thread), to check that a panic comes out

@@ -1,6 +1,6 @@
 //! Uniaxial materials: force-deformation laws with committed and trial internal variables,
 //! as OpenSees' `UniaxialMaterial` (`setTrialStrain` / `commitState`), and the element that
-//! puts one between two dofs (or a dof and the ground), [`Uniaxial`].
+//! puts one between two dofs (or a dof and the ground), [`uniaxial::Uniaxial`].
 //!
 //! A material sees the deformation `u = x_i - x_j` (and its rate) and returns the force and
 //! its consistent tangent `dF/du`. Its internal variables follow OpenSees' vocabulary:
@@ -12,8 +12,20 @@
 //!
 //! One file per material; wrappers (`MinMax`, `Parallel`, `Series`) hold other materials.
 
+// The materials are public modules, not re-exported here: each uses this module's trait,
+// and a re-export would make this module depend on them (an import cycle).
+pub mod elastic_multilinear;
 mod material;
-mod uniaxial;
+pub mod minmax;
+pub mod multilinear;
+pub mod parallel;
+mod points;
+pub mod series;
+pub mod steel02;
+pub mod takeda;
+pub mod uniaxial;
 
 pub use material::Material;
-pub use uniaxial::Uniaxial;
+
+#[cfg(test)]
+pub(crate) mod testing;
