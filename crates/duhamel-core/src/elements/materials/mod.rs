@@ -12,8 +12,21 @@
 //!
 //! One file per material; wrappers (`MinMax`, `Parallel`, `Series`) hold other materials.
 
+mod hysteretic;
+mod imk;
+mod imk_bilin;
+mod imk_bilin_backbone;
+mod imk_envelope;
+mod imk_update;
+mod pinching4;
+mod pinching4_paths;
+mod state;
 mod uniaxial;
 
+pub use hysteretic::{Hysteretic, HystereticParams};
+pub use imk::{ModImkParams, ModImkPeakOriented};
+pub use imk_bilin::{ImkBilin, ImkBilinParams};
+pub use pinching4::{Pinching4, Pinching4Damage, Pinching4Params};
 pub use uniaxial::Uniaxial;
 
 use crate::error::CoreError;
