@@ -577,6 +577,14 @@ def bilinear_peak(
 ) -> float:
     """Peak displacement at the samples of one bilinear oscillator."""
 
+def drive_material(
+    kind: str, params: dict[str, float | str], deformation: Array
+) -> tuple[Array, Array]:
+    """Drives the uniaxial material ``kind`` (``"ModIMKPeakOriented"``, ``"IMKBilin"``,
+    ``"Hysteretic"``, ``"Pinching4"``) with the parameters ``params`` (OpenSees' vocabulary)
+    from its virgin state through the deformations ``deformation``, committing after each
+    (OpenSees' ``testUniaxialMaterial``/``setStrain``): ``(force, tangent)``."""
+
 def _panic_for_tests(kind: str) -> None:
     """Test only: panics on purpose (``kind`` "here", "detached" with the GIL released,
     "rayon" in a rayon worker, "thread" in a scoped thread), to check that a panic comes out

@@ -12,6 +12,8 @@
 //!
 //! One file per material; wrappers (`MinMax`, `Parallel`, `Series`) hold other materials.
 
+#[cfg(test)]
+mod deterioration_tests;
 mod hysteretic;
 mod imk;
 mod imk_bilin;
@@ -19,6 +21,7 @@ mod imk_bilin_backbone;
 mod imk_envelope;
 mod imk_update;
 mod pinching4;
+mod pinching4_damage;
 mod pinching4_paths;
 mod state;
 mod uniaxial;
