@@ -255,6 +255,9 @@ pub(crate) fn build(kind: &str, params: &Bound<'_, PyDict>) -> PyResult<Box<dyn 
     Ok(material)
 }
 
+/// The forces and tangents returned by [`drive_material`].
+type ForceTangent<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+
 /// Drives the material `kind` (parameters `params`) from its virgin state through the
 /// deformations `deformation`, committing after each: `(force, tangent)` arrays.
 #[pyfunction]
@@ -263,7 +266,7 @@ pub(crate) fn drive_material<'py>(
     kind: &str,
     params: &Bound<'py, PyDict>,
     deformation: &Bound<'py, PyAny>,
-) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+) -> PyResult<ForceTangent<'py>> {
     guarded(|| {
         let material = build(kind, params)?;
         let u = f64_array1(deformation, "deformation")?;

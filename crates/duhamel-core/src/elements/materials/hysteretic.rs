@@ -1,10 +1,12 @@
 //! `Hysteretic`: a bilinear or trilinear envelope with pinching of force and deformation,
 //! damage from ductility and dissipated energy, and unloading stiffness degraded with
-//! ductility — OpenSees' `HystereticMaterial` (Filippou & Spacone's hysteretic model, after
-//! Park, Reinhorn & Kunnath's three-parameter rules), whose state determination this follows
-//! line for line, `commitState` included (docs/materials.md, "Hysteretic").
+//! ductility — OpenSees' `HystereticMaterial` (written by M. H. Scott), whose state
+//! determination this follows line for line, `commitState` included (docs/materials.md,
+//! "Hysteretic").
 //!
 //! Flat branches report OpenSees' `1e-9 E` tangents (the force there is constant).
+
+use std::cmp::Ordering;
 
 use super::state::{material_state, require};
 use super::Material;
@@ -250,7 +252,9 @@ impl Hysteretic {
         if peak * sign > INF_STRAIN {
             peak = sign * INF_STRAIN;
         }
-        if !(peak * sign > this.r[0] * sign) {
+        // OpenSees: `(TrotMax > rot1p) ? TrotMax : rot1p` (a NaN peak becomes rot1p)
+        let beyond = (peak * sign).partial_cmp(&(this.r[0] * sign)) == Some(Ordering::Greater);
+        if !beyond {
             peak = this.r[0];
         }
         let maxmom = this.stress(peak, sign);
