@@ -5,8 +5,9 @@
 //! against central differences of the force at fixed committed variables.
 
 use super::hysteretic::HystState;
-use super::imk::{ImkState, ModImkParams, ModImkPeakOriented};
+use super::imk::ModImkPeakOriented;
 use super::imk_bilin::{BilinState, ImkBilin, ImkBilinParams};
+use super::imk_params::{ImkState, ModImkParams};
 use super::{Hysteretic, HystereticParams, Material, Pinching4, Pinching4Damage, Pinching4Params};
 use crate::error::CoreError;
 

@@ -200,7 +200,21 @@ impl ImkBilin {
             fail_s = fs;
             fail_c = fc;
             s.eng_dspt = s.eng_acml;
-            bilin_update(self, s, du > 0.0, (beta_s, beta_c), (ui_1, fi_1));
+            let side = usize::from(du <= 0.0);
+            let dmg = if du > 0.0 {
+                self.p.d_plus
+            } else {
+                self.p.d_neg
+            };
+            let b = bilin_update(
+                self.backbones(s)[side],
+                self.init[side],
+                (ke, s.kunload, dmg),
+                du > 0.0,
+                (beta_s, beta_c),
+                (ui_1, fi_1),
+            );
+            set_backbone(s, side, &b);
         }
         let b = self.backbones(s);
         if du > 0.0 {
@@ -278,6 +292,17 @@ impl ImkBilin {
                 kpc: s.neg_kpc,
             },
         ]
+    }
+}
+
+/// Stores the side `side` (0 positive, 1 negative) of the backbone in the state.
+fn set_backbone(s: &mut BilinState, side: usize, b: &Backbone) {
+    if side == 0 {
+        (s.pos_uy, s.pos_fy, s.pos_ucap, s.pos_fcap) = (b.uy, b.fy, b.ucap, b.fcap);
+        (s.pos_fres, s.pos_kp, s.pos_kpc) = (b.fres, b.kp, b.kpc);
+    } else {
+        (s.neg_uy, s.neg_fy, s.neg_ucap, s.neg_fcap) = (b.uy, b.fy, b.ucap, b.fcap);
+        (s.neg_fres, s.neg_kp, s.neg_kpc) = (b.fres, b.kp, b.kpc);
     }
 }
 

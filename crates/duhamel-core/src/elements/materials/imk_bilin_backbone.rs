@@ -4,8 +4,6 @@
 //! hardening slope capped so that the branch from the last reversal does not pass below the
 //! residual — OpenSees' `IMKBilin` "UPDATE BACKBONE CURVE" block.
 
-use super::imk_bilin::{BilinState, ImkBilin};
-
 /// One side of the backbone (signed values on the negative side; `kp > 0`, `kpc <= 0` on both).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Backbone {
@@ -44,21 +42,17 @@ impl Backbone {
     }
 }
 
-/// Deteriorates the side being loaded (`positive`) with `(beta_s, beta_c)`, the last
-/// reversal at `(ui_1, fi_1)`.
+/// The side `b` deteriorated with `(beta_s, beta_c)` at rate `dmg` (`init` its initial
+/// values, `ke` the elastic stiffness, `kunload` the unloading stiffness, the last reversal
+/// at `(ui_1, fi_1)`; `positive`: the positive side).
 pub(crate) fn bilin_update(
-    m: &ImkBilin,
-    s: &mut BilinState,
+    side: Backbone,
+    init: Backbone,
+    (ke, kunload, dmg): (f64, f64, f64),
     positive: bool,
     (beta_s, beta_c): (f64, f64),
     (ui_1, fi_1): (f64, f64),
-) {
-    let ke = m.p.ke;
-    let (side, init, dmg) = if positive {
-        (m.backbones(s)[0], m.init[0], m.p.d_plus)
-    } else {
-        (m.backbones(s)[1], m.init[1], m.p.d_neg)
-    };
+) -> Backbone {
     let mut b = side;
     let mut fcap_proj = b.fcap - b.kpc * b.ucap;
     b.fy *= 1.0 - beta_s * dmg;
@@ -82,7 +76,7 @@ pub(crate) fn bilin_update(
         (fcap_proj - fy_proj) / (b.kp - b.kpc)
     };
     b.fcap = fy_proj + b.kp * b.ucap;
-    let candidate = (b.fcap - b.fres) / (b.ucap - ui_1 - (b.fres - fi_1) / s.kunload);
+    let candidate = (b.fcap - b.fres) / (b.ucap - ui_1 - (b.fres - fi_1) / kunload);
     let cap_below = if positive {
         b.fcap < b.fres
     } else {
@@ -98,11 +92,5 @@ pub(crate) fn bilin_update(
     } else if candidate > 0.0 && b.kp > candidate {
         b.kp = candidate;
     }
-    if positive {
-        (s.pos_uy, s.pos_fy, s.pos_ucap, s.pos_fcap) = (b.uy, b.fy, b.ucap, b.fcap);
-        (s.pos_fres, s.pos_kp, s.pos_kpc) = (b.fres, b.kp, b.kpc);
-    } else {
-        (s.neg_uy, s.neg_fy, s.neg_ucap, s.neg_fcap) = (b.uy, b.fy, b.ucap, b.fcap);
-        (s.neg_fres, s.neg_kp, s.neg_kpc) = (b.fres, b.kp, b.kpc);
-    }
+    b
 }

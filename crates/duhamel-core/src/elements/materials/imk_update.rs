@@ -4,13 +4,12 @@
 //! `beta_i = (E_i / (E_t - sum_j E_j))^c` (Ibarra, Medina & Krawinkler 2005, eq. 4), applied
 //! to the side being loaded as `(1 - beta D)` — OpenSees' `flagdeg == 1` block.
 
-use super::imk::{energy_ratio, ImkState, ModImkPeakOriented};
 use super::imk_envelope::Side;
+use super::imk_params::{energy_ratio, ImkState, ModImkParams};
 
 /// The three deterioration parameters `(beta_s, beta_a, beta_c)` of the half cycle just
 /// closed, as OpenSees computes them (the first capacity exceeded takes the whole step).
-fn betas(m: &ModImkPeakOriented, s: &ImkState) -> (f64, f64, f64) {
-    let p = &m.p;
+fn betas(p: &ModImkParams, s: &ImkState) -> (f64, f64, f64) {
     let (mut bs, mut ba, mut bc) = (0.0, 0.0, 0.0);
     if s.enrgtot >= s.enrgts && s.enrgts != 0.0 {
         bs = 1.0;
@@ -45,10 +44,9 @@ fn member(r: f64, n: f64) -> f64 {
 }
 
 /// Deteriorates the side that the half cycle loaded (`delta_d < 0`: negative).
-pub(crate) fn deteriorate(m: &ModImkPeakOriented, s: &mut ImkState, delta_d: f64) {
-    let p = &m.p;
+pub(crate) fn deteriorate(p: &ModImkParams, s: &mut ImkState, delta_d: f64) {
     let (n, k0, ke) = (p.n_factor, p.k0, s.ke);
-    let (bs, ba, bc) = betas(m, s);
+    let (bs, ba, bc) = betas(p, s);
     s.ekexcurs = s.ekunload;
     s.enrgc = 0.0;
     if delta_d < 0.0 {

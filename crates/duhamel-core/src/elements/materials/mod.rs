@@ -19,17 +19,20 @@ mod imk;
 mod imk_bilin;
 mod imk_bilin_backbone;
 mod imk_envelope;
+mod imk_params;
 mod imk_update;
 mod pinching4;
 mod pinching4_damage;
 mod pinching4_paths;
+mod pinching4_state;
 mod state;
 mod uniaxial;
 
 pub use hysteretic::{Hysteretic, HystereticParams};
-pub use imk::{ModImkParams, ModImkPeakOriented};
+pub use imk::ModImkPeakOriented;
 pub use imk_bilin::{ImkBilin, ImkBilinParams};
-pub use pinching4::{Pinching4, Pinching4Damage, Pinching4Params};
+pub use imk_params::ModImkParams;
+pub use pinching4_state::{Pinching4, Pinching4Damage, Pinching4Params};
 pub use uniaxial::Uniaxial;
 
 use crate::error::CoreError;
