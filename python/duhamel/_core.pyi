@@ -681,8 +681,9 @@ def bilinear_peak(
 
 def drive_material(kind: str, params: dict[str, object], deformation: Array) -> tuple[Array, Array]:
     """The uniaxial material ``kind`` (``"Steel02"``, ``"MultiLinear"``,
-    ``"ElasticMultiLinear"``, ``"Takeda"``, ``"MinMax"``, ``"Parallel"``, ``"Series"``) with
-    the parameters ``params`` (OpenSees' names; a composite's parts are nested dicts with a
+    ``"ElasticMultiLinear"``, ``"Takeda"``, ``"MinMax"``, ``"Parallel"``, ``"Series"``,
+    ``"ModIMKPeakOriented"``, ``"IMKBilin"``, ``"Hysteretic"``, ``"Pinching4"``) with the
+    parameters ``params`` (OpenSees' names; a composite's parts are nested dicts with a
     ``"kind"``), driven from its virgin state through the points of ``deformation`` with a
     commit after each (OpenSees' ``setStrain``): the force and the tangent after each point.
     A narrow checking hook until the materials are elements of their own."""

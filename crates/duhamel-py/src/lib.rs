@@ -29,6 +29,7 @@ mod history;
 mod loads;
 mod mass;
 mod materials;
+mod materials_deteriorating;
 mod model;
 mod problem;
 mod pseudo;

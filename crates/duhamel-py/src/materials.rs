@@ -27,7 +27,7 @@ use crate::guard::guarded;
 type ForceTangent<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
 
 /// The material kinds [`build`] knows.
-const KINDS: &[&str] = &[
+pub(crate) const KINDS: &[&str] = &[
     "Steel02",
     "MultiLinear",
     "ElasticMultiLinear",
@@ -230,12 +230,7 @@ fn build_at(kind: &str, params: &Bound<'_, PyDict>, path: &str) -> PyResult<Box<
                 &p,
             )?
         }
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "`kind` must be one of {}, got {kind:?}",
-                KINDS.join(", ")
-            )))
-        }
+        _ => return crate::materials_deteriorating::build(kind, params),
     };
     p.finish()?;
     Ok(material)

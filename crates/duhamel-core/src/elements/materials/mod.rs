@@ -12,20 +12,39 @@
 //!
 //! One file per material; wrappers (`MinMax`, `Parallel`, `Series`) hold other materials.
 
-// The materials are public modules, not re-exported here: each uses this module's trait,
-// and a re-export would make this module depend on them (an import cycle).
+// The materials of the first set are public modules, not re-exported here: each uses this
+// module's trait, and a re-export would make this module depend on them (an import cycle).
+#[cfg(test)]
+mod deterioration_tests;
 pub mod elastic_multilinear;
+mod hysteretic;
+mod imk;
+mod imk_bilin;
+mod imk_bilin_backbone;
+mod imk_envelope;
+mod imk_params;
+mod imk_update;
 mod material;
 pub mod minmax;
 pub mod multilinear;
 pub mod parallel;
+mod pinching4;
+mod pinching4_damage;
+mod pinching4_paths;
+mod pinching4_state;
 mod points;
 pub mod series;
+mod state;
 pub mod steel02;
 pub mod takeda;
 pub mod uniaxial;
 
+pub use hysteretic::{Hysteretic, HystereticParams};
+pub use imk::ModImkPeakOriented;
+pub use imk_bilin::{ImkBilin, ImkBilinParams};
+pub use imk_params::ModImkParams;
 pub use material::Material;
+pub use pinching4_state::{Pinching4, Pinching4Damage, Pinching4Params};
 
 #[cfg(test)]
 pub(crate) mod testing;
