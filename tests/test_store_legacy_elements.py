@@ -87,7 +87,7 @@ def test_a_previous_release_store_rebuilds_the_same_run_elements() -> None:
 
 def test_a_record_of_an_unknown_class_cannot_be_continued() -> None:
     model = capture(_frame(), duhamel.Semianalytic(linear_parts="background"), None, None)
-    model.devices = [{"class": "NoSuchElement", "fields": {}}] + LEGACY_DEVICES[1:]
+    model.devices = [{"class": "NoSuchElement", "fields": {}}, *LEGACY_DEVICES[1:]]
     model.elements = list(LEGACY_SPECS)
     from duhamel.store._codec import StoreError
 

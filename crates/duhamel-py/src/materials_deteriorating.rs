@@ -8,14 +8,11 @@ use duhamel_core::elements::materials::{
     Hysteretic, HystereticParams, ImkBilin, ImkBilinParams, Material, ModImkParams,
     ModImkPeakOriented, Pinching4, Pinching4Damage, Pinching4Params,
 };
-use numpy::PyArray1;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::f64_array1;
 use crate::error::core_err;
-use crate::guard::guarded;
 
 /// The parameters of one material: reads each by name, then refuses names never read.
 struct Params<'a, 'py> {
