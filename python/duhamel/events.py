@@ -73,6 +73,8 @@ class Event:
             raise TypeError(f"`terminal` must be True or False, got {terminal!r}")
         if name is not None and not isinstance(name, str):
             raise TypeError(f"`name` must be a string, got {type(name).__name__}")
+        if not isinstance(vectorized, bool | np.bool_):
+            raise TypeError(f"`vectorized` must be True or False, got {vectorized!r}")
         self.fn = fn
         self.direction = int(direction)
         self.terminal = bool(terminal)
@@ -88,23 +90,34 @@ class Event:
     def _bind(self, sol: Any) -> None:
         """Checks the event against a solution's saved dofs (built-ins)."""
 
+    def _returned(self, value: Any, shape: tuple[int, ...]) -> NDArray[np.float64]:
+        """What `fn` returned as real numbers of `shape` (``()``: one number), or a
+        ValueError naming the event and what it returned."""
+        label = "an event" if self.name is None else f"event {self.name!r}"
+        try:
+            g = np.asarray(value, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"{label}: `fn` must return real numbers, got {type(value).__name__}"
+            ) from None
+        if g.shape != shape and not (shape == () and g.size == 1):
+            what = "one number (a float) per state" if shape == () else f"shape {shape}"
+            raise ValueError(f"{label}: `fn` must return {what}, got shape {g.shape}")
+        return g.reshape(shape)
+
     def _values(self, t: NDArray, x: NDArray, v: NDArray, sol: Any) -> NDArray[np.float64]:
         """The event function on every row."""
         if self.vectorized:
-            g = np.asarray(self.fn(t, x, v), dtype=np.float64)
-            if g.shape != t.shape:
-                raise ValueError(
-                    f"event {self.name!r}: a vectorized `fn` must return shape {t.shape}, got "
-                    f"{g.shape}"
-                )
-            return g
-        return np.array([float(self.fn(t[k], x[k], v[k])) for k in range(t.size)])
+            return self._returned(self.fn(t, x, v), t.shape)
+        return np.array(
+            [float(self._returned(self.fn(t[k], x[k], v[k]), ())) for k in range(t.size)]
+        )
 
     def _value(self, t: float, x: NDArray, v: NDArray, sol: Any, n: int, s: float) -> float:
         """The event function at one state inside step `n` (at the fraction `s`)."""
         if self.vectorized:
             return float(self._values(np.array([t]), x[None, :], v[None, :], sol)[0])
-        return float(self.fn(t, x, v))
+        return float(self._returned(self.fn(t, x, v), ()))
 
 
 def _column(sol: Any, dof: int, name: str) -> int:
@@ -252,6 +265,12 @@ def drift(
     True
     """
     j = None if j is None else _dof(j, "j")
+    if j is not None and j == _dof(i, "i"):
+        raise ValueError(
+            f"`j` must differ from `i` (both are {j}): the drift of a dof against itself is "
+            "always 0; pass the dof of the floor below, or j=None for the drift against the "
+            "support"
+        )
     ev = _Drift(_dof(i, "i"), j, finite_float(limit, "limit"), positive_float(height, "height"),
                 **_options(direction, terminal, name))  # fmt: skip
     ev.name = name if name is not None else f"drift({i}, {j}) = {limit:g}"

@@ -17,12 +17,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._engine.validate import positive_int
+from duhamel._engine.validate import finite_float, positive_float, positive_int
 from duhamel.ensemble.statistics import statistics
 from duhamel.ensemble.zarr import ZarrWriter, stack
 from duhamel.errors import SolverError
 from duhamel.modal import ModalBasis
-from duhamel.prepared import Prepared, prepare
+from duhamel.prepared import Prepared, _steps, prepare
 from duhamel.results.solution import Solution
 
 __all__ = ["Ensemble", "solve_many"]
@@ -153,8 +153,20 @@ _KEPT = 8
 _LOCK = threading.Lock()
 
 
+def _check_model(made: Any) -> None:
+    """TypeError unless `made` (what `make_system` returned) is a System or a Prepared."""
+    from duhamel.system import System
+
+    if not isinstance(made, System | Prepared):
+        raise TypeError(
+            "`make_system` must return a duhamel.System, a (System, options) pair or a "
+            f"duhamel.Prepared, got {type(made).__name__}"
+        )
+
+
 def _prepared(system: Any, integrator: Any, dt: float, basis: ModalBasis | None) -> Prepared:
     """The Prepared of `system` (one thread per run), made once per unchanged system."""
+    _check_model(system)
     if isinstance(system, Prepared):
         if system.dt != dt or system.integrator != integrator:
             raise ValueError(
@@ -189,6 +201,7 @@ def _shared_basis(basis: Any, make_system: Callable, ps: list, integrator: Any) 
         made = make_system(ps[0])
         if isinstance(made, tuple) and len(made) == 2 and isinstance(made[1], dict):
             made = made[0]  # (system, per-run options)
+        _check_model(made)
         if isinstance(made, Prepared):
             made = made.system
         return made.modal(modes)
@@ -322,6 +335,13 @@ def solve_many(
         chunk_size = positive_int(chunk_size, "chunk_size")
     if workers is not None:
         workers = positive_int(workers, "workers", MAX_WORKERS)
+    # the study's grid, checked as solve checks it, also when there are no cases
+    _steps(t_end, positive_float(dt, "dt"), finite_float(solve_options.get("t0", 0.0), "t0"))
+    if isinstance(params, str | bytes) or not isinstance(params, Iterable):
+        raise TypeError(
+            "`params` must be an iterable of the cases' parameters (a list: records, scale "
+            f"factors, dicts ...), got {type(params).__name__}"
+        )
     ps = list(params)
     options = {"t_end": t_end, "dt": dt, **solve_options}
     job = _Job(make_system, integrator, reduce, options, on_error == "keep")

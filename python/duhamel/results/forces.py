@@ -10,6 +10,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel._engine.validate import as_float_array
+
 __all__ = ["StructureModel", "base_shear", "columns", "floor_groups"]
 
 
@@ -156,8 +158,14 @@ def base_shear(
     if direction is None:
         r = model.default_direction()
     else:
-        r = np.asarray(direction, dtype=np.float64)
-        if r.shape != (n,) or not np.all(np.isfinite(r)):
+        if isinstance(direction, str):  # a label ('x') names no dofs: the vector does
+            raise TypeError(
+                f"`direction` must be an influence vector over the {n} dofs of the model "
+                f"(ones on the dofs along the direction), or None for the BaseAcceleration "
+                f"loads' direction, got the string {direction!r}"
+            )
+        r = as_float_array(direction, "direction")
+        if r.shape != (n,):
             raise ValueError(
                 f"`direction` must be a finite vector over the {n} dofs of the model, got "
                 f"shape {r.shape}"
@@ -165,6 +173,10 @@ def base_shear(
     if storeys is None:
         return _shear(sol, model, r)
     groups = floor_groups(storeys, "storeys")
+    for group in groups:
+        for d in group:
+            if not 0 <= d < n:
+                raise ValueError(f"`storeys`: dof {d} is not a dof of the model (0 to {n - 1})")
     out = []
     for s in range(len(groups)):
         above = np.zeros(n, dtype=bool)
