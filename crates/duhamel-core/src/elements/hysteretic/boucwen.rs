@@ -305,6 +305,10 @@ impl BoucWen {
                     crossed = true;
                     break;
                 }
+                if next == w && m > MAX_SUBSTEPS {
+                    // h g(w) rounds away: w never moves again, so never within the bound
+                    return Err(beyond(m));
+                }
                 w = next;
                 rest -= h;
             }
