@@ -95,11 +95,12 @@ class Event:
         ValueError naming the event and what it returned."""
         label = "an event" if self.name is None else f"event {self.name!r}"
         try:
-            g = np.asarray(value, dtype=np.float64)
-        except (TypeError, ValueError):
-            raise ValueError(
-                f"{label}: `fn` must return real numbers, got {type(value).__name__}"
-            ) from None
+            g = np.asarray(value)
+        except (TypeError, ValueError):  # a ragged sequence
+            g = np.asarray(None)
+        if g.dtype.kind not in "fiu":  # None, a string, a bool, complex numbers
+            raise ValueError(f"{label}: `fn` must return real numbers, got {type(value).__name__}")
+        g = np.asarray(g, dtype=np.float64)
         if g.shape != shape and not (shape == () and g.size == 1):
             what = "one number (a float) per state" if shape == () else f"shape {shape}"
             raise ValueError(f"{label}: `fn` must return {what}, got shape {g.shape}")
