@@ -67,7 +67,11 @@ class Event:
     ) -> None:
         if not callable(fn):
             raise TypeError(f"`fn` must be callable (t, x, v) -> float, got {type(fn).__name__}")
-        if direction not in (0, 1, -1) or isinstance(direction, bool):
+        if (
+            isinstance(direction, bool)
+            or not isinstance(direction, int | np.integer)
+            or direction not in (0, 1, -1)
+        ):
             raise ValueError(f"`direction` must be 0, 1 or -1, got {direction!r}")
         if not isinstance(terminal, bool | np.bool_):
             raise TypeError(f"`terminal` must be True or False, got {terminal!r}")
@@ -90,6 +94,16 @@ class Event:
     def _bind(self, sol: Any) -> None:
         """Checks the event against a solution's saved dofs (built-ins)."""
 
+    def _called(self, *args: Any) -> Any:
+        """``fn(*args)``; an exception of the user's function goes on as it is, with a note
+        naming the event."""
+        try:
+            return self.fn(*args)
+        except Exception as exc:
+            label = "an event" if self.name is None else f"event {self.name!r}"
+            exc.add_note(f"raised by the `fn` of {label}, called as fn(t, x, v)")
+            raise
+
     def _returned(self, value: Any, shape: tuple[int, ...]) -> NDArray[np.float64]:
         """What `fn` returned as real numbers of `shape` (``()``: one number), or a
         ValueError naming the event and what it returned."""
@@ -109,16 +123,16 @@ class Event:
     def _values(self, t: NDArray, x: NDArray, v: NDArray, sol: Any) -> NDArray[np.float64]:
         """The event function on every row."""
         if self.vectorized:
-            return self._returned(self.fn(t, x, v), t.shape)
+            return self._returned(self._called(t, x, v), t.shape)
         return np.array(
-            [float(self._returned(self.fn(t[k], x[k], v[k]), ())) for k in range(t.size)]
+            [float(self._returned(self._called(t[k], x[k], v[k]), ())) for k in range(t.size)]
         )
 
     def _value(self, t: float, x: NDArray, v: NDArray, sol: Any, n: int, s: float) -> float:
         """The event function at one state inside step `n` (at the fraction `s`)."""
         if self.vectorized:
             return float(self._values(np.array([t]), x[None, :], v[None, :], sol)[0])
-        return float(self._returned(self.fn(t, x, v), ()))
+        return float(self._returned(self._called(t, x, v), ()))
 
 
 def _column(sol: Any, dof: int, name: str) -> int:
@@ -302,7 +316,7 @@ def element(
     >>> bool(abs(sol.events[0].time - 2 * np.pi / 3) < 1e-4)    # cos t = -0.5
     True
     """
-    if quantity not in ("deformation", "force"):
+    if not isinstance(quantity, str) or quantity not in ("deformation", "force"):
         raise ValueError(f"`quantity` must be 'deformation' or 'force', got {quantity!r}")
     if isinstance(k, bool) or not isinstance(k, int | np.integer) or k < 0:
         raise ValueError(f"`k` must be an element index (an int >= 0), got {k!r}")

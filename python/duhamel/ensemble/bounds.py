@@ -104,6 +104,10 @@ def property_bounds(system: Any, lambdas: Mapping[str, Any]) -> dict[str, Any]:
     >>> round(models["lower"].elements[0].mu, 4), round(models["upper"].elements[0].mu, 4)
     (0.04, 0.065)
     """
+    from duhamel.system import System
+
+    if not isinstance(system, System):
+        raise TypeError(f"`system` must be a duhamel.System, got {type(system).__name__}")
     factors = _factors(lambdas)
     known = set()
     for element in system.elements:

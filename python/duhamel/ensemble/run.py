@@ -192,7 +192,7 @@ def _shared_basis(basis: Any, make_system: Callable, ps: list, integrator: Any) 
     """The ModalBasis every run uses, or None (each run computes its own)."""
     if basis is None or isinstance(basis, ModalBasis):
         return basis
-    if basis != "first":
+    if not isinstance(basis, str) or basis != "first":
         raise ValueError(f"`basis` must be None, 'first' or a duhamel.ModalBasis, got {basis!r}")
     if not ps:
         return None
@@ -327,7 +327,7 @@ def solve_many(
         raise TypeError(f"`reduce` must be callable, got {type(reduce).__name__}")
     if "threads" in solve_options:
         raise ValueError("`threads` is set per run by solve_many (1); use `workers`")
-    if on_error not in ("raise", "keep"):
+    if not isinstance(on_error, str) or on_error not in ("raise", "keep"):
         raise ValueError(f"`on_error` must be 'raise' or 'keep', got {on_error!r}")
     if to_zarr is not None and on_error == "keep":
         raise ValueError("`to_zarr` stores complete studies: use on_error='raise' with it")
@@ -337,12 +337,15 @@ def solve_many(
         workers = positive_int(workers, "workers", MAX_WORKERS)
     # the study's grid, checked as solve checks it, also when there are no cases
     _steps(t_end, positive_float(dt, "dt"), finite_float(solve_options.get("t0", 0.0), "t0"))
-    if isinstance(params, str | bytes) or not isinstance(params, Iterable):
+    try:
+        if isinstance(params, str | bytes):
+            raise TypeError
+        ps = list(params)
+    except TypeError:  # None, a number, a 0-d array
         raise TypeError(
             "`params` must be an iterable of the cases' parameters (a list: records, scale "
             f"factors, dicts ...), got {type(params).__name__}"
-        )
-    ps = list(params)
+        ) from None
     options = {"t_end": t_end, "dt": dt, **solve_options}
     job = _Job(make_system, integrator, reduce, options, on_error == "keep")
     started = time.perf_counter()

@@ -45,6 +45,8 @@ class GroundMotionPair:
     name: str = ""
 
     def __post_init__(self) -> None:
+        if not isinstance(self.name, str):
+            raise TypeError(f"`name` must be a string, got {type(self.name).__name__}")
         for label, m in (("first", self.first), ("second", self.second)):
             if not isinstance(m, GroundMotion):
                 raise TypeError(f"`{label}` must be a GroundMotion, got {type(m).__name__}")

@@ -110,9 +110,8 @@ def baseline_corrected(gm: GroundMotion, order: int = 3, zero_end: bool = True) 
     return _new(gm, gm.a - basis @ c, dt, step)
 
 
-def _butter(low: float | None, high: float | None, order: int, dt: float) -> Any:
-    from scipy.signal import butter
-
+def _corners(low: float | None, high: float | None, dt: float) -> None:
+    """The corner frequencies (Hz) within (0, Nyquist), `low` below `high`, one at least."""
     nyq = 0.5 / dt
     for name, f in (("low", low), ("high", high)):
         if f is not None and not (0.0 < f < nyq):
@@ -124,6 +123,12 @@ def _butter(low: float | None, high: float | None, order: int, dt: float) -> Any
         raise ValueError(f"`low` ({low:g} Hz) must be below `high` ({high:g} Hz)")
     if low is None and high is None:
         raise ValueError("pass `low` (high-pass corner), `high` (low-pass corner) or both, in Hz")
+
+
+def _butter(low: float | None, high: float | None, order: int, dt: float) -> Any:
+    from scipy.signal import butter
+
+    _corners(low, high, dt)
     if low is not None and high is not None:
         return butter(order, [low, high], "bandpass", fs=1.0 / dt, output="sos")
     if low is not None:
@@ -167,7 +172,7 @@ def filtered(
     high = None if high is None else positive_float(high, "high")
     zero_phase = flag(zero_phase, "zero_phase")
     keep_padding = flag(keep_padding, "keep_padding")
-    _butter(low, high, order, gm.dt)  # the corners checked before the pads are sized
+    _corners(low, high, gm.dt)  # checked before the pads are sized, the filter designed
     pad = filter_pad(low, high, order, gm.dt, gm.a.size)
     sos = _butter(low, high, order, gm.dt)
     x = np.pad(gm.a, (pad, pad))

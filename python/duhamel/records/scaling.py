@@ -158,6 +158,15 @@ def record_spectra(
 def _records(records_or_pairs: Any) -> list[Record]:
     if isinstance(records_or_pairs, GroundMotion | GroundMotionPair):
         return [records_or_pairs]
+    if (
+        isinstance(records_or_pairs, str | bytes)
+        or not isinstance(records_or_pairs, Sequence | np.ndarray)
+        or np.ndim(records_or_pairs) == 0
+    ):
+        raise TypeError(
+            "`records_or_pairs` must be a GroundMotion, a GroundMotionPair or a sequence of "
+            f"them, got {type(records_or_pairs).__name__}"
+        )
     items = list(records_or_pairs)
     if not items:
         raise ValueError("`records_or_pairs` is empty")

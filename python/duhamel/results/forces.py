@@ -93,11 +93,26 @@ def columns(dofs: NDArray[np.int64], wanted: Sequence[int], name: str) -> list[i
     return out
 
 
+def dof_sequence(value: Any, name: str) -> list[Any]:
+    """`value` as a list (its items checked by the caller), or a TypeError naming `name`
+    when it is no sequence (a number, a string, None)."""
+    if (
+        isinstance(value, str | bytes)
+        or not isinstance(value, Sequence | np.ndarray)
+        or (isinstance(value, np.ndarray) and value.ndim == 0)
+    ):
+        raise TypeError(f"`{name}` must be a sequence of dof indices, got {type(value).__name__}")
+    return list(np.asarray(value).ravel()) if isinstance(value, np.ndarray) else list(value)
+
+
 def floor_groups(floors: Sequence[Any], name: str = "floors") -> list[list[int]]:
     """`floors` (each a dof or a sequence of dofs: one per column line) as lists of ints."""
     groups = []
-    for f in floors:
-        group = [f] if np.ndim(f) == 0 else list(np.asarray(f).ravel())
+    for f in dof_sequence(floors, name):
+        try:
+            group = [f] if np.ndim(f) == 0 else list(np.asarray(f).ravel())
+        except ValueError:  # a ragged sequence
+            raise TypeError(f"`{name}` must contain dofs or sequences of dofs, got {f!r}") from None
         if not group:
             raise ValueError(f"`{name}`: a floor lists no dof")
         for d in group:
@@ -171,7 +186,7 @@ def base_shear(
                 f"shape {r.shape}"
             )
     if storeys is None:
-        return _shear(sol, model, r)
+        return _finite(_shear(sol, model, r))
     groups = floor_groups(storeys, "storeys")
     for group in groups:
         for d in group:
@@ -183,7 +198,17 @@ def base_shear(
         for group in groups[s:]:
             above[group] = True
         out.append(_shear(sol, model, np.where(above, r, 0.0)))
-    return np.stack(out, axis=1)
+    return _finite(np.stack(out, axis=1))
+
+
+def _finite(shear: NDArray[np.float64]) -> NDArray[np.float64]:
+    """`shear` if finite, else a ValueError: the forces along `direction` overflow."""
+    if not np.all(np.isfinite(shear)):
+        raise ValueError(
+            "the forces along `direction` overflow the double range: scale the influence "
+            "vector (ones on the dofs along the direction)"
+        )
+    return shear
 
 
 def _from_equilibrium(

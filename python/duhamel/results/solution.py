@@ -467,7 +467,7 @@ class Solution(StructuralOutputs):
             import matplotlib.pyplot as plt
         except ImportError as exc:  # pragma: no cover - depends on the install
             raise ImportError("plotting needs matplotlib: pip install 'duhamel[plot]'") from exc
-        if quantity not in ("x", "v", "a"):
+        if not isinstance(quantity, str) or quantity not in ("x", "v", "a"):
             raise ValueError(f"`quantity` must be 'x', 'v' or 'a', got {quantity!r}")
         data = getattr(self, quantity)
         wanted = list(self.dofs[:4]) if dofs is None else list(np.atleast_1d(dofs))

@@ -326,9 +326,14 @@ def eurocode8(
     ag = _positive(ag, "ag")
     importance = _positive(importance, "importance")
     xi = _ratio(damping, "damping")
-    if isinstance(spectrum_type, bool) or spectrum_type not in EC8_GROUND:
+    if (
+        isinstance(spectrum_type, bool)
+        or not isinstance(spectrum_type, int | np.integer)
+        or int(spectrum_type) not in EC8_GROUND
+    ):
         raise ValueError(f"`spectrum_type` must be 1 or 2, got {spectrum_type!r}")
     key = str(ground_type).strip().upper()
+    spectrum_type = int(spectrum_type)
     if key not in EC8_GROUND[spectrum_type]:
         raise ValueError(
             f"`ground_type` must be one of 'A'..'E' (S1 and S2 need a site study), got "
