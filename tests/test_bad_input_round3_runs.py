@@ -120,7 +120,7 @@ def test_base_shear_refuses_storeys_beyond_the_model(shear_building):
         ("x", TypeError, "the string 'x'"),
         (["1", "1"], TypeError, "real numbers"),
         ([1.0], ValueError, "over the 2 dofs"),
-        ([1.0, float("nan")], ValueError, "NaN or inf"),
+        ([1.0, float("nan")], ValueError, "finite vector"),
     ],
 )
 def test_base_shear_direction_is_refused_by_name(shear_building, direction, kind, said):

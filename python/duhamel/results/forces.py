@@ -10,9 +10,25 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._engine.validate import as_float_array
+__all__ = ["StructureModel", "base_shear", "columns", "floor_groups", "real_array"]
 
-__all__ = ["StructureModel", "base_shear", "columns", "floor_groups"]
+#: The array kinds that are no real numbers, by name (for the messages).
+_KINDS = {"b": "bool", "c": "complex", "O": "object", "U": "string", "S": "bytes"}
+
+
+def real_array(value: Any, name: str) -> NDArray[np.float64]:
+    """`value` as a float64 array (NaN and inf kept: the caller checks them), or a
+    TypeError naming `name` for strings, bools, complex and object data, a ValueError for a
+    ragged sequence: the check of the results' own array parameters (this package sits
+    below ``duhamel._engine`` and does not import its validation)."""
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"`{name}` could not be converted to an array: {exc}") from None
+    if arr.dtype.kind not in "fiu":
+        kind = _KINDS.get(arr.dtype.kind, str(arr.dtype))
+        raise TypeError(f"`{name}` must contain real numbers, got dtype {kind}")
+    return arr.astype(np.float64)
 
 
 @dataclass(frozen=True, eq=False)
@@ -179,8 +195,8 @@ def base_shear(
                 f"(ones on the dofs along the direction), or None for the BaseAcceleration "
                 f"loads' direction, got the string {direction!r}"
             )
-        r = as_float_array(direction, "direction")
-        if r.shape != (n,):
+        r = real_array(direction, "direction")
+        if r.shape != (n,) or not np.all(np.isfinite(r)):
             raise ValueError(
                 f"`direction` must be a finite vector over the {n} dofs of the model, got "
                 f"shape {r.shape}"

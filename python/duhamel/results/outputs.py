@@ -10,9 +10,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._engine.validate import as_float_array
 from duhamel.results.energy import Energy, energy_balance, energy_from_run
-from duhamel.results.forces import StructureModel, base_shear, columns, dof_sequence
+from duhamel.results.forces import (
+    StructureModel,
+    base_shear,
+    columns,
+    dof_sequence,
+    real_array,
+)
 from duhamel.results.peaks import Peaks, peak_table
 
 __all__ = ["StructuralOutputs"]
@@ -112,8 +117,8 @@ class StructuralOutputs:
         if steps.size == 0 or np.any(np.abs(steps - steps.mean()) > 1e-9 * steps.mean()):
             raise ValueError("floor spectra need at least two equally spaced saved instants")
         dt = float((self.t[-1] - self.t[0]) / (self.t.size - 1))
-        p = np.atleast_1d(as_float_array(periods, "periods", finite=False))
-        z = np.atleast_1d(as_float_array(damping, "damping", finite=False))
+        p = np.atleast_1d(real_array(periods, "periods"))
+        z = np.atleast_1d(real_array(damping, "damping"))
         if p.ndim != 1 or p.size == 0 or not np.all(np.isfinite(p)) or np.any(p < 0):
             raise ValueError(f"`periods` must be finite periods >= 0, got {periods!r}")
         if z.ndim != 1 or z.size == 0 or not np.all(np.isfinite(z)) or np.any(z < 0):
@@ -168,7 +173,7 @@ class StructuralOutputs:
                     f"got {q!r}"
                 )
         for name, values in extra.items():
-            arr = as_float_array(values, name, finite=False)
+            arr = real_array(values, name)
             arr = arr[:, None] if arr.ndim == 1 else arr
             if arr.ndim != 2 or arr.shape[0] != self.t.size:
                 raise ValueError(

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._engine.validate import as_float_array
+from duhamel.results.forces import real_array
 from duhamel.results.outputs import StructuralOutputs
 from duhamel.results.structural import ElementHistory, drifts
 
@@ -330,7 +330,7 @@ class Solution(StructuralOutputs):
                 "`Solution.at` needs what the run kept for it: run with dense=True (and "
                 "save_every=1)"
             )
-        times = as_float_array(t, "t", finite=False)  # a string is refused, not converted
+        times = real_array(t, "t")  # a string is refused, not converted
         flat = np.atleast_1d(times).ravel()
         lo, hi = float(self._dense.t[0]), self._dense.end
         if flat.size and not (np.all(np.isfinite(flat)) and flat.min() >= lo and flat.max() <= hi):

@@ -10,8 +10,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._engine.validate import as_float_array
-
 __all__ = ["ElementHistory", "drifts", "element_histories"]
 
 
@@ -159,7 +157,9 @@ def drifts(
     out = np.take_along_axis(d, pick[:, :, None], axis=2)[:, :, 0]
     if heights is None:
         return out
-    h = as_float_array(heights, "heights", finite=False)
+    from duhamel.results.forces import real_array
+
+    h = real_array(heights, "heights")
     if h.ndim > 1 or h.size not in (1, len(groups)):
         raise ValueError(
             f"`heights` must be one storey height or one per floor ({len(groups)}), got shape "
