@@ -202,7 +202,7 @@ def time_limit() -> Iterator[None]:
 # The contract
 # --------------------------------------------------------------------------------------------
 
-REASONS = {"nonfinite", "convergence", "callback", "stiffness", "growth"}
+REASONS = {"nonfinite", "convergence", "callback", "stiffness", "growth", "domain"}
 
 
 class _NoInternalError(Exception):
