@@ -2,12 +2,8 @@
 //! of `g`, so that the work per increment does not grow with `n` (see
 //! [`BoucWen::advance_adaptive`]).
 
-use super::{BoucWen, TooManySubsteps, H0};
-
-/// Bound on the substeps of the adaptive integration of one increment (never reached by
-/// an admissible state: about `(len + 80) / H0`, whatever `n`); an increment that reaches
-/// it is refused rather than cut short.
-pub(super) const MAX_ADAPTIVE: usize = 200_000;
+use super::substeps::{TooManySubsteps, MAX_ADAPTIVE};
+use super::{BoucWen, H0};
 
 impl BoucWen {
     /// A bound of the `k`-th roots of the derivatives of `g` at `|w| <= a` for large `n`:
