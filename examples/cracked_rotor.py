@@ -21,7 +21,7 @@ import duhamel
 from duhamel.rotor import BreathingCrack
 from duhamel.speed import LinearRunUp
 
-M, K0, ZETA, G = 1.0, 1e4, 0.02, 9.81
+M, K0, ZETA, G = 1.0, 1e4, 0.02, duhamel.STANDARD_GRAVITY
 DK_XI, DK_ETA = 0.15 * K0, 0.04 * K0
 LAW = LinearRunUp(omega0=15.0, omega1=115.0, t1=40.0)
 DT = 1e-3

@@ -44,7 +44,7 @@ from isolated_building import (
     shear_frame,
 )
 
-G = 9.80665
+G = duhamel.STANDARD_GRAVITY
 DT, DURATION = 0.01, 30.0
 T_M = 2 * np.pi * np.sqrt(RADIUS / G)
 

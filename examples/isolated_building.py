@@ -42,7 +42,7 @@ from duhamel import elements as E
 from duhamel import loads as L
 from duhamel.ensemble import solve_bounds
 
-G = 9.81
+G = duhamel.STANDARD_GRAVITY
 FLOORS, M_FLOOR, K_STOREY, M_MAT, H_STOREY = 10, 4e5, 6e8, 6e5, 3.5
 RADIUS, MU = 2.5, 0.05
 

@@ -29,6 +29,10 @@ import numpy as np
 
 import duhamel
 
+#: The gravity of the OpenSees model's loads (its isolators' strength is 4 % of a weight):
+#: 9.81, not duhamel.STANDARD_GRAVITY, because from_opensees reads the materials from
+#: OpenSees' printout, which keeps six significant digits, and this round weight keeps the
+#: imported Steel01 exact (with 9.80665 its E = 13729310 N/m reads as 13729300).
 G = 9.81
 H, BAY, STOREYS, BAYS = 3.0, 6.0, 3, 2
 M_NODE, M_BASE = 2.0e4, 1.0e4  # kg at each floor node, at each base node

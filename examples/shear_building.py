@@ -17,7 +17,8 @@ import scipy.signal
 
 import duhamel
 
-g, n, m, h = 9.81, 10, 2.0e5, 3.5  # gravity, storeys, floor mass (kg), storey height (m)
+g = duhamel.STANDARD_GRAVITY  # m/s^2
+n, m, h = 10, 2.0e5, 3.5  # storeys, floor mass (kg), storey height (m)
 
 # Storey stiffness tapering from k (ground storey) to k/2 (top), k set for T1 = 1.0 s.
 k_rel = np.linspace(1.0, 0.5, n)

@@ -267,8 +267,12 @@ def test_property_bounds_scale_the_devices_and_run_both() -> None:
     ]
     assert friction[0] <= 0.04 * w * (1 + 1e-12) and friction[0] > 0.039 * w
     assert friction[1] <= 0.065 * w * (1 + 1e-12) and friction[1] > 0.06 * w
-    with pytest.raises(ValueError, match="name no property"):
+    with pytest.raises(ValueError, match="name no property") as refused:
         property_bounds(s, {"mew": (0.8, 1.2)})
+    # the message names what may be scaled (issue 39), numeric properties only
+    assert "FrictionPendulum: delta_mu, mu, pressure_alpha, radius, rate, weight" in str(
+        refused.value
+    )
     with pytest.raises(ValueError, match="lower <= upper"):
         property_bounds(s, {"mu": (1.2, 0.8)})
     with pytest.raises(ValueError, match="places the element"):

@@ -587,10 +587,15 @@ def _sys2():
 
 
 BAD = [
-    ("cubic-dof", lambda: _sys2().add(E.Cubic(5, 1.0)), ValueError, "`dof`"),
-    ("cubic-negative-dof", lambda: _sys2().add(E.Cubic(-1, 1.0)), ValueError, "`dof`"),
-    ("cubic-float-dof", lambda: _sys2().add(E.Cubic(0.5, 1.0)), TypeError, "`dof`"),
-    ("polynomial-dof", lambda: _sys2().add(E.Polynomial(2, [0.0, 1.0])), ValueError, "`dof`"),
+    ("cubic-dof", lambda: _sys2().add(E.Cubic(5, k3=1.0)), ValueError, "`i`"),
+    ("cubic-negative-dof", lambda: _sys2().add(E.Cubic(-1, k3=1.0)), ValueError, "`i`"),
+    ("cubic-float-dof", lambda: _sys2().add(E.Cubic(0.5, k3=1.0)), TypeError, "`i`"),
+    (
+        "polynomial-dof",
+        lambda: _sys2().add(E.Polynomial(2, coefficients=[0.0, 1.0])),
+        ValueError,
+        "`i`",
+    ),
     ("spring-same", lambda: _sys2().add(E.Spring(0, 0)), ValueError, "`j`"),
     ("spring-i", lambda: _sys2().add(E.Spring(3)), ValueError, "`i`"),
     ("spring-j", lambda: _sys2().add(E.Spring(0, 7)), ValueError, "`j`"),
@@ -619,7 +624,12 @@ BAD = [
         "`velocity_smoothing`",
     ),
     ("contact-same-dof", lambda: _sys2().add(E.Contact(0, 0, 1.0, 1.0)), ValueError, "`dof_y`"),
-    ("contact-dof", lambda: _sys2().add(E.Contact(0, 2, 1.0, 1.0)), ValueError, "`dof_y`"),
+    (
+        "contact-dof",
+        lambda: _sys2().add(E.Contact((0, 2), clearance=1.0, stiffness=1.0)),
+        ValueError,
+        "`dofs",
+    ),
     ("callable-fn", lambda: E.Callable(3.0, [0]), TypeError, "`fn`"),
     (
         "callable-jacobian",
@@ -667,7 +677,7 @@ BAD = [
     ("add-None", lambda: _sys2().add(None), TypeError, "`element`"),
     ("add-load-as-element", lambda: _sys2().add(L.Step(0, 1.0)), TypeError, "`element`"),
     ("add_load-element", lambda: _sys2().add_load(E.Cubic(0, 1.0)), TypeError, "`load`"),
-    ("callable-float-dofs", lambda: E.Callable(lambda x, v, t: x, [0.7]), TypeError, "`dofs`"),
+    ("callable-float-dofs", lambda: E.Callable([0.7], lambda x, v, t: x), TypeError, "`dofs"),
 ]
 
 

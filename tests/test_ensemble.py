@@ -269,3 +269,43 @@ def test_ida_collapse_event_against_a_brute_force_scan() -> None:
     assert np.isinf(res.measures).sum() == 4  # both motions collapse at 8 and 11
     with pytest.raises(ValueError, match="collapse"):
         ida(model, motions[:1], [1.0], drift, period=0.5, collapse=events.drift(0, None, 0.1))
+
+
+def test_progress_reports_every_run_and_changes_nothing(capsys) -> None:
+    """``progress`` (issue 39): a function hears ``(done, n_runs)`` once per run in case order;
+    ``progress=True`` (a tqdm bar over the runs) gives the same results; a bad value is
+    refused naming the parameter."""
+    calls: list[tuple[int, int]] = []
+    quiet = solve_many(study, PARAMS, duhamel.Semianalytic(), workers=2, reduce=peak_drift, **KW)
+    heard = solve_many(
+        study,
+        PARAMS,
+        duhamel.Semianalytic(),
+        workers=2,
+        reduce=peak_drift,
+        progress=lambda done, n: calls.append((done, n)),
+        **KW,
+    )
+    assert calls == [(k, len(PARAMS)) for k in range(1, len(PARAMS) + 1)]
+    bar = solve_many(
+        study, PARAMS, duhamel.Semianalytic(), workers=2, reduce=peak_drift, progress=True, **KW
+    )
+    assert heard.results == quiet.results == bar.results
+    with pytest.raises(TypeError, match="`progress`"):
+        solve_many(study, PARAMS, duhamel.Semianalytic(), progress="yes", **KW)
+
+
+def test_progress_bar_shows_on_a_long_study(monkeypatch) -> None:
+    """The bar is tqdm's over the runs (``unit="run"``), shown after a second like solve's."""
+    import tqdm.auto
+
+    made: list[dict] = []
+    real = tqdm.auto.tqdm
+
+    def spy(*args, **kwargs):
+        made.append(kwargs)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(tqdm.auto, "tqdm", spy)
+    solve_many(study, PARAMS[:3], duhamel.Semianalytic(), workers=1, progress=True, **KW)
+    assert made == [{"total": 3, "unit": "run", "delay": 1.0, "leave": False, "desc": "solve_many"}]

@@ -238,7 +238,7 @@ def test_2d_labels_constraints_and_translated_elements() -> None:
         s.dof(frame2d.ground_tag(0), "ux")
     # the isolators: Steel01 -> Bilinear (E, fy, b), the slider -> Bilinear(kInit, mu N)
     (b0,) = s.opensees.elements[900]
-    w = (frame2d.M_BASE + frame2d.STOREYS * frame2d.M_NODE) * G
+    w = (frame2d.M_BASE + frame2d.STOREYS * frame2d.M_NODE) * frame2d.G
     assert (b0.i, b0.j) == (s.dof(base, "ux"), None)
     assert b0.k == pytest.approx(0.04 * w / 0.002, rel=1e-15) and b0.alpha == frame2d.ALPHA_ISO
     (slider,) = s.opensees.elements[950]

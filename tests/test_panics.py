@@ -146,7 +146,7 @@ def test_table_values_at_nan_time_is_nan():
 
 def test_element_stiffness_velocity_of_wrong_length():
     # Used to panic: `v` was indexed at the element's dofs, checked against `x` only.
-    spring = _core.Element.spring(1, None, 1.0, 0.0)
+    spring = _core.Spring(1, None, k=1.0, k3=0.0)
     with pytest.raises(ValueError, match="`v` has length 1, expected 2"):
         _core.element_stiffness([spring], f64(0.0, 0.0), f64(0.0), 0.0)
 
@@ -183,7 +183,7 @@ def test_first_order_elements_with_mode_shapes_of_wrong_length():
     # The coupled route's elements used to read `phi` without checking its length against
     # `n_dof x n_modes` (rows past its end for a caller of the core). The model now checks
     # it when made, on every route.
-    spring = [_core.Element.spring(0, None, 1.0, 1.0)]
+    spring = [_core.Spring(0, None, k=1.0, k3=1.0)]
     corrector = _core.Corrector(spring, np.zeros((4, 4)), 1e-9, 10)
     with pytest.raises(ValueError, match=r"`phi` must have shape \(any, 2\), got \(1, 3\)"):
         modal_model(2, first_order_route(2, 2, corrector), phi=np.array([[1.0, 0.5, 0.25]]))

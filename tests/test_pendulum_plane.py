@@ -130,10 +130,10 @@ def test_velocity_dependent_friction_force_and_checks() -> None:
     with pytest.raises(ValueError, match="`rate`"):
         E.FrictionPendulum(0, mu=0.05, mu_slow=0.02, rate=-1.0)
     bad = duhamel.System(np.eye(2), np.eye(2))
-    with pytest.raises(ValueError, match="`dof_y`"):
-        bad.add(E.FrictionPendulum(0, 0))
-    with pytest.raises(ValueError, match="`dof_x`"):
-        bad.add(E.FrictionPendulum(5))
+    with pytest.raises(ValueError, match="`dof_y`"):  # the second axis, dofs[1]
+        bad.add(E.FrictionPendulum((0, 0), radius=1.0, mu=0.05, weight=1.0))
+    with pytest.raises(ValueError, match="`dofs`"):
+        bad.add(E.FrictionPendulum(5, radius=1.0, mu=0.05, weight=1.0))
 
 
 @pytest.mark.parametrize(

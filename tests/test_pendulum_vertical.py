@@ -130,6 +130,7 @@ def test_normal_force_friction_and_uplift() -> None:
 
 
 def test_vertical_dof_checks() -> None:
+    nominal = {"radius": 1.0, "mu": 0.05, "weight": 1.0}
     with pytest.raises(ValueError, match="`vertical_stiffness`"):
         E.FrictionPendulum(0, dof_z=1)
     # bidirectional with its vertical dof (3-D, built since): the three dofs distinct
@@ -140,10 +141,10 @@ def test_vertical_dof_checks() -> None:
     with pytest.raises(ValueError, match="`vertical_stiffness`"):
         E.FrictionPendulum(0, vertical_stiffness=1.0)
     bad = duhamel.System(np.eye(2), np.eye(2))
-    with pytest.raises(ValueError, match="`dof_z`"):
-        bad.add(E.FrictionPendulum(0, dof_z=0, vertical_stiffness=1.0))
-    with pytest.raises(ValueError, match="`dof_z`"):
-        bad.add(E.FrictionPendulum(0, dof_z=5, vertical_stiffness=1.0))
+    with pytest.raises(ValueError, match="`dof_z` must differ"):
+        bad.add(E.FrictionPendulum((0, None, 0), vertical_stiffness=1.0, **nominal))
+    with pytest.raises(ValueError, match=r"`dofs\[2\]`"):
+        bad.add(E.FrictionPendulum((0, None, 5), vertical_stiffness=1.0, **nominal))
 
 
 @pytest.mark.parametrize("integrator", [duhamel.Semianalytic(), duhamel.Newmark()])

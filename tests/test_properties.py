@@ -2390,7 +2390,9 @@ def test_store_damage_is_detected_or_harmless(data, damage):
         if data.draw(st.booleans(), label="checksum forged"):
             from duhamel.store._integrity import digest
 
-            record["checksum"] = digest(record["grid"], record["model"], group["model"])
+            record["checksum"] = digest(
+                record["grid"], record["model"], group["model"], record.get("store")
+            )
         group.attrs["duhamel"] = json.loads(json.dumps(record))
 
     def call() -> Any:
@@ -2439,6 +2441,7 @@ def test_critical_speeds_on_any_grid(grid, whirl, harmonic):
     found = contract(lambda: rotor.critical_speeds(grid, whirl=whirl, harmonic=harmonic),
                      ("speeds", "whirl", "harmonic"))  # fmt: skip
     if found is not None:
+        found = np.asarray(found)  # a CriticalSpeeds: as an array, its speeds
         assert np.all(np.isfinite(found)) and np.all(found >= 0), found
         h = float(harmonic)
         for w in found[(found > 0) & (found < 1e6)]:

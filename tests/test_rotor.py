@@ -19,6 +19,7 @@ from scipy.optimize import brentq, fsolve
 
 import duhamel
 from duhamel import elements as E
+from duhamel.constants import STANDARD_GRAVITY
 from duhamel.rotor import (
     STEEL,
     Bearing,
@@ -660,10 +661,10 @@ def test_gravity_static_deflection():
     M, K, _, _ = rotor.matrices(SPEED)
     r = np.zeros(rotor.n_dof)
     r[1::4] = 1.0
-    fg = -9.81 * M @ r
+    fg = -STANDARD_GRAVITY * M @ r
     weight = Gravity().vector(rotor)
     assert np.allclose(weight, fg, rtol=1e-14, atol=1e-14 * np.abs(fg).max())
-    assert weight[1::4].sum() == pytest.approx(-9.81 * rotor.mass, rel=1e-14)
+    assert weight[1::4].sum() == pytest.approx(-STANDARD_GRAVITY * rotor.mass, rel=1e-14)
     assert np.all(weight[0::4] == 0.0)
     static = np.linalg.solve(K, fg)
     assert np.abs(rotor.static_deflection() - static).max() <= 1e-12 * np.abs(static).max()

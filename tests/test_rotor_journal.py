@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import duhamel
+from duhamel.constants import STANDARD_GRAVITY
 from duhamel.rotor import Disk, Gravity, Rotor, ShortJournalBearing
 from duhamel.rotor.journal import JournalElement, ocvirk_coefficients
 
@@ -32,11 +33,13 @@ def test_linearisation_at_equilibrium_is_the_closed_form(mass, speed) -> None:
     element = JournalElement(0, 1, D / 2, L, C, MU, speed)
     r, K, Cm = element.evaluate(p)
     # the film carries the weight ...
-    np.testing.assert_allclose(r, [0.0, -mass * 9.81], atol=1e-9 * mass * 9.81)
+    np.testing.assert_allclose(
+        r, [0.0, -mass * STANDARD_GRAVITY], atol=1e-9 * mass * STANDARD_GRAVITY
+    )
     # ... at Ocvirk's eccentricity and attitude angle (tan = pi sqrt(1 - e^2) / (4 e))
     k = MU * speed * (D / 2) * L**3 / C**2
     W = k * eps / (1 - eps**2) ** 2 * np.sqrt(eps**2 + np.pi**2 * (1 - eps**2) / 16)
-    assert W == pytest.approx(mass * 9.81, rel=1e-10)
+    assert W == pytest.approx(mass * STANDARD_GRAVITY, rel=1e-10)
     attitude = np.arctan2(np.pi * np.sqrt(1 - eps**2), 4 * eps)
     load_line = -np.pi / 2  # the journal sits below, rotated with the spin
     assert phi - load_line == pytest.approx(attitude, abs=1e-10)

@@ -163,6 +163,37 @@ def test_checkpoint_every_and_interrupted_resume(tmp_path):
     assert_same(resume(path), ref)
 
 
+@pytest.mark.parametrize("every", [1, 3, -5, 0])
+@pytest.mark.parametrize("integrator", [duhamel.Semianalytic(), duhamel.Newmark()])
+def test_checkpoint_every_without_store_is_refused(every, integrator):
+    """Issue 38: `checkpoint_every` without `store` was accepted and ignored."""
+    s = linear()
+    prepared = duhamel.prepare(s, integrator, dt=0.01)
+    for run in (
+        lambda: duhamel.solve(s, integrator, t_end=1.0, dt=0.01, checkpoint_every=every),
+        lambda: prepared.run(t_end=1.0, checkpoint_every=every),
+        lambda: prepared.run(t_end=1.0, checkpoint_every=every, t_eval=[0.5]),
+    ):
+        with pytest.raises(ValueError, match="`checkpoint_every`"):
+            run()
+
+
+@pytest.mark.parametrize("every", [-5, 0, 2**70])
+def test_checkpoint_every_with_store_must_be_a_positive_integer(tmp_path, every):
+    p = duhamel.prepare(linear(), duhamel.Semianalytic(), dt=0.01)
+    for run in (
+        lambda: p.run(t_end=1.0, store=tmp_path / "a.zarr", checkpoint_every=every),
+        lambda: duhamel.solve(linear(), duhamel.Semianalytic(), t_end=1.0, dt=0.01,
+                              store=tmp_path / "b.zarr", checkpoint_every=every),
+    ):  # fmt: skip
+        with pytest.raises(ValueError, match="`checkpoint_every`"):
+            run()
+    for bad in (1.5, "2", True):
+        with pytest.raises(TypeError, match="`checkpoint_every`"):
+            p.run(t_end=1.0, store=tmp_path / "c.zarr", checkpoint_every=bad)
+    assert not any(tmp_path.iterdir())  # refused before any store is created
+
+
 KILLED = """
 import sys, duhamel
 sys.path.insert(0, {tests!r})

@@ -32,6 +32,7 @@ STUB = Path(_core.__file__).with_name("_core.pyi")
 IGNORED_DUNDERS = frozenset(
     {
         "__doc__",
+        "__signature__",
         "__module__",
         "__repr__",
         "__str__",
@@ -397,7 +398,7 @@ def test_stub_is_fully_and_soundly_annotated() -> None:
 
 
 @pytest.mark.parametrize(
-    "entry", ["Element.callable", "bilinear_peak", "RunResult.t", "ModalModel.run", "Grid.__new__"]
+    "entry", ["Element.replace", "bilinear_peak", "RunResult.t", "ModalModel.run", "Grid.__new__"]
 )
 def test_the_comparison_sees_a_difference(entry: str) -> None:
     """The check itself: a stub with one parameter, method, property or constructor taken

@@ -259,13 +259,7 @@ def test_input_is_checked() -> None:
     with pytest.raises(TypeError):
         E.TripleFrictionPendulum(0, 1, (0.02, 0.06, 0.1))  # the surfaces are keywords
     s = duhamel.System(np.eye(2), np.eye(2))
-    with pytest.raises(ValueError, match="`dof_y`"):
-        s.add(E.TripleFrictionPendulum(0, 0, **ok))
-    with pytest.raises(ValueError, match="`dof_x`"):
+    with pytest.raises(ValueError, match="`dof_y`"):  # the second axis, dofs[1]
+        s.add(E.TripleFrictionPendulum((0, 0), **ok))
+    with pytest.raises(ValueError, match="`dofs`"):
         s.add(E.TripleFrictionPendulum(4, **ok))
-    # the core checks too (the same rules), naming the parameter
-    from duhamel import _core
-
-    args = (0, 1, (0.02, 0.06, 0.1), (2.0, 1.0, 3.0), CAPACITY, 1.0, 1e-4)
-    with pytest.raises(ValueError, match="`radius`"):
-        _core.Element.device("triple_friction_pendulum", args)

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 from duhamel import elements, events, loads, mass, oscillator, speed
 from duhamel._core import __version__
+from duhamel.constants import STANDARD_GRAVITY
 from duhamel.damping import Rayleigh
 from duhamel.errors import DampingWarning, DuhamelError, InternalError, SolverError
 from duhamel.events import Event
@@ -39,11 +40,12 @@ from duhamel.store import resume
 from duhamel.system import ModalBasis, System
 
 if TYPE_CHECKING:
-    from duhamel import analysis, ensemble, exact, opensees, records, rotor, spectra
+    from duhamel import analysis, design, ensemble, exact, opensees, records, rotor, spectra
     from duhamel import paper as paper  # lazy too, but not in __all__ (`import *` skips it)
 
 __all__ = [
     "HHT",
+    "STANDARD_GRAVITY",
     "CentralDifference",
     "CubicHermite",
     "DampingWarning",
@@ -64,6 +66,7 @@ __all__ = [
     "System",
     "__version__",
     "analysis",
+    "design",
     "elements",
     "ensemble",
     "events",
@@ -84,7 +87,7 @@ __all__ = [
 #: Subpackages imported on first access (PEP 562), so that ``import duhamel`` stays light:
 #: they pull in scipy.optimize, scipy.special, scipy.signal ... which most runs never need.
 _LAZY = frozenset(
-    {"analysis", "ensemble", "exact", "opensees", "paper", "records", "rotor", "spectra"}
+    {"analysis", "design", "ensemble", "exact", "opensees", "paper", "records", "rotor", "spectra"}
 )
 
 

@@ -42,6 +42,8 @@ class SpeedLaw:
     def constant(omega: float) -> SpeedLaw: ...
     @staticmethod
     def run_up(omega0: float, omega1: float, t1: float) -> SpeedLaw: ...
+    def _to_value(self) -> str:
+        """The law as JSON text."""
     def evaluate(self, t: Array) -> tuple[Array, Array, Array]:
         """``(omega, omega', theta)`` at the times `t`."""
 
@@ -95,130 +97,230 @@ ElementFunction = Callable[..., ArrayLike | tuple[ArrayLike, ArrayLike]]
 #: Its Jacobian ``(dr/dx, dr/dv)`` at ``(x, v, t)`` (and ``state``).
 ElementJacobian = Callable[..., tuple[ArrayLike, ArrayLike]]
 
-@final
-class Element:
-    """A force element of ``duhamel.elements``, checked when made. Two-node elements act
-    on ``x_i - x_j`` (``j`` None: to ground)."""
+#: Where an element acts: a dof index or a dof label (a name, or a ``(node, component)`` pair).
+Dof = int | str | tuple[int, str]
+#: A device's dofs: one, or a tuple of them (None for an absent axis).
+Dofs = Dof | Sequence[Dof | None]
+Matrix2 = Sequence[Sequence[float]] | NDArray[np.float64]
 
+class Element:
+    """Base class of the force elements of ``duhamel.elements``: each built-in element is
+    defined once in the core (``crates/duhamel-core/src/elements/registry.rs``) and is a
+    subclass made from that definition; parameters are attributes."""
+
+    def __getattribute__(self, name: str, /) -> object: ...
+    def __eq__(self, value: object, /) -> bool: ...
+    def __ne__(self, value: object, /) -> bool: ...
+    def __lt__(self, value: object, /) -> bool: ...
+    def __le__(self, value: object, /) -> bool: ...
+    def __gt__(self, value: object, /) -> bool: ...
+    def __ge__(self, value: object, /) -> bool: ...
+    def __reduce__(self) -> tuple[object, ...]: ...
     @property
-    def dofs(self) -> list[int]:
-        """The global dofs the element acts on, in its local order."""
-    @staticmethod
-    def polynomial(dof: int, coefficients: Array) -> Element: ...
-    @staticmethod
-    def spring(i: int, j: int | None, k: float, k3: float) -> Element: ...
-    @staticmethod
-    def damper(i: int, j: int | None, c: float) -> Element: ...
-    @staticmethod
-    def contact(
-        dof_x: int,
-        dof_y: int,
+    def parameters(self) -> dict[str, object]:
+        """The parameters as given (dof labels kept), in signature order."""
+    def replace(self, **changes: object) -> Self: ...
+    def __replace__(self, **changes: object) -> Self: ...
+    def evaluate(
+        self, position: ArrayLike, velocity: ArrayLike | None = None, t: float = 0.0
+    ) -> tuple[Array, NDArray[np.float64], NDArray[np.float64]]:
+        """``(r, dr/dx, dr/dx')`` of a path-independent element at a local state."""
+    @property
+    def _path_dependent(self) -> bool: ...
+    @property
+    def _dofs(self) -> list[int]: ...
+    @property
+    def _labelled(self) -> bool: ...
+    def _resolved(self, resolve: Callable[[object, str], int]) -> Self: ...
+    def _validate(self, system: object) -> None: ...
+    def _passive(self) -> bool: ...
+    def _linear(self) -> tuple[list[int], NDArray[np.float64]] | None: ...
+    def _tangent_bound(self) -> tuple[float, float] | None: ...
+    def _directions(self) -> list[tuple[int, int | None]]: ...
+    def _remainder(self, c0: Array | None = None) -> Element: ...
+    def _stored_energy(
+        self, u: Sequence[Sequence[float]], f: Sequence[Sequence[float]]
+    ) -> list[float]: ...
+    def _linear_matrices(self) -> tuple[list[int], NDArray[np.float64], NDArray[np.float64]]: ...
+    def _to_value(self) -> str: ...
+    @classmethod
+    def _from_value(cls, text: str) -> Element: ...
+
+@final
+class Bilinear(Element):
+    def __new__(
+        cls, i: Dof, j: Dof | None = None, *, k: float, fy: float, alpha: float
+    ) -> Self: ...
+
+@final
+class BoucWen(Element):
+    def __new__(
+        cls,
+        i: Dof,
+        j: Dof | None = None,
+        *,
+        k: float,
+        fy: float,
+        alpha: float,
+        n: float = 1.0,
+        beta: float = 0.5,
+        gamma: float = 0.5,
+    ) -> Self: ...
+
+@final
+class BreathingCrack(Element):
+    def __new__(
+        cls,
+        dofs: Dofs,
+        *,
+        dk_xi: float,
+        dk_eta: float = 0.0,
+        breathing: Literal["cosine", "switching"] = "cosine",
+        speed: float | object = 0.0,
+        phase: float = 0.0,
+    ) -> Self: ...
+
+@final
+class Callable(Element):
+    def __new__(
+        cls,
+        dofs: Dofs,
+        fn: ElementFunction,
+        jacobian: ElementJacobian | None = None,
+        state: Sequence[float] | None = None,
+    ) -> Self: ...
+
+@final
+class Contact(Element):
+    def __new__(
+        cls,
+        dofs: Dofs,
+        *,
         clearance: float,
         stiffness: float,
-        friction: float,
-        smoothing: float,
-        velocity_smoothing: float,
-    ) -> Element: ...
-    @staticmethod
-    def journal_bearing(
-        dofs: tuple[int, int],
+        friction: float = 0.0,
+        smoothing: float | None = None,
+        velocity_smoothing: float | None = None,
+    ) -> Self: ...
+
+@final
+class Cubic(Element):
+    def __new__(cls, i: Dof, *, k3: float) -> Self: ...
+
+@final
+class Damper(Element):
+    def __new__(cls, i: Dof, j: Dof | None = None, *, c: float) -> Self: ...
+
+@final
+class FrictionPendulum(Element):
+    def __new__(
+        cls,
+        dofs: Dofs,
+        *,
+        radius: float,
+        mu: float,
+        weight: float,
+        yield_displacement: float = 0.00025,
+        mu_slow: float | None = None,
+        rate: float = 0.0,
+        vertical_stiffness: float | None = None,
+        contact_area: float | None = None,
+        delta_mu: float = 0.0,
+        pressure_alpha: float = 0.0,
+    ) -> Self: ...
+
+@final
+class Gap(Element):
+    def __new__(cls, i: Dof, j: Dof | None = None, *, gap: float, k: float) -> Self: ...
+
+@final
+class JournalElement(Element):
+    def __new__(
+        cls,
+        dofs: Dofs,
+        *,
         radius: float,
         length: float,
         clearance: float,
         viscosity: float,
-        law: SpeedLaw,
-    ) -> Element:
-        """On the journal's dofs ``(x, y)``."""
-    @staticmethod
-    def breathing_crack(
-        dof_x: int,
-        dof_y: int,
-        dk_xi: float,
-        dk_eta: float,
-        breathing: str,
-        phase: float,
-        law: SpeedLaw,
-    ) -> Element:
-        """A breathing crack's stiffness loss in the rotating frame."""
-    @staticmethod
-    def speed_table(
-        dof_x: int,
-        dof_y: int,
-        speeds: Sequence[float],
-        values: Sequence[Sequence[float]],
-        slopes: Sequence[Sequence[float]] | None,
-        law: SpeedLaw,
-    ) -> Element: ...
-    def evaluate(
-        self, x: Array, v: Array, t: float
-    ) -> tuple[list[float], list[float], list[float]]:
-        """``(r, dr/dx, dr/dx')`` (row-major) of a path-independent element."""
-    @staticmethod
-    def bilinear(i: int, j: int | None, k: float, fy: float, alpha: float) -> Element: ...
-    @staticmethod
-    def device(kind: str, args: tuple) -> Element:
-        """A device of the binding's ``devices.rs``: ``"triple_friction_pendulum"`` with
-        ``(dof_x, dof_y, mu, radius, displacement_capacity, weight, yield_displacement)``
-        (``dof_y`` None: uniaxial; the three middle ones each three floats)."""
-    @staticmethod
-    def bouc_wen(
-        i: int,
-        j: int | None,
+        speed: float | object = 0.0,
+        k0: Matrix2 | None = None,
+        c0: Matrix2 | None = None,
+    ) -> Self: ...
+
+@final
+class LeadRubberBearing(Element):
+    def __new__(
+        cls,
+        dofs: Dofs,
+        *,
         k: float,
         fy: float,
         alpha: float,
-        shape: tuple[float, float, float],
-    ) -> Element:
-        """The loop's `shape` is ``(n, beta, gamma)``."""
-    @staticmethod
-    def friction_pendulum(
-        dof_x: int,
-        dof_y: int | None,
-        radius: float,
-        mu: float,
+        eta: float = 1.0,
+        beta: float = 0.5,
+        gamma: float = 0.5,
+    ) -> Self: ...
+
+@final
+class Polynomial(Element):
+    def __new__(cls, i: Dof, *, coefficients: Sequence[float]) -> Self: ...
+
+@final
+class SpeedTableBearing(Element):
+    def __new__(
+        cls,
+        dofs: Dofs,
+        *,
+        speeds: Sequence[float],
+        values: Sequence[Sequence[float]],
+        slopes: Sequence[Sequence[float]] | None = None,
+        speed: float | object,
+        k0: Matrix2,
+        c0: Matrix2,
+    ) -> Self: ...
+
+@final
+class Spring(Element):
+    def __new__(cls, i: Dof, j: Dof | None = None, *, k: float, k3: float = 0.0) -> Self: ...
+
+@final
+class TripleFrictionPendulum(Element):
+    def __new__(
+        cls,
+        dofs: Dofs,
+        *,
+        mu: Sequence[float],
+        radius: Sequence[float],
+        displacement_capacity: Sequence[float],
         weight: float,
-        yield_displacement: float,
-        velocity: tuple[float, float] | None = None,
-    ) -> Element:
-        """Uniaxial when `dof_y` is None; `velocity` = ``(mu_slow, rate)``."""
-    @staticmethod
-    def lead_rubber(
-        dof_x: int,
-        dof_y: int | None,
-        strength: tuple[float, float, float],
-        shape: tuple[float, float, float],
-    ) -> Element:
-        """``strength = (k, fy, alpha)``, ``shape = (eta, beta, gamma)``."""
-    @staticmethod
-    def viscous_damper(i: int, j: int | None, c: float, exponent: float, v0: float) -> Element: ...
-    @staticmethod
-    def friction_pendulum_axial(
-        dofs: list[int],
-        radius: float,
-        mu: float,
-        nominal: tuple[float, float],
-        kv: float,
-        velocity: tuple[float, float] | None = None,
-        pressure: tuple[float, float, float] | None = None,
-    ) -> Element:
-        """`dofs` = ``(dof_x, [dof_y,] dof_z)``; `velocity` = ``(mu_slow, rate)``, `pressure` =
-        ``(area, delta_mu, alpha)``."""
-    @staticmethod
-    def maxwell_damper(
-        i: int, j: int | None, law: tuple[float, float, float], kb: float
-    ) -> Element: ...
-    @staticmethod
-    def shifted(inner: Element, k0: Array, c0: Array) -> Element:
-        """`inner` minus ``k0 x + c0 v`` (row-major ``n x n`` at its ``n`` dofs)."""
-    @staticmethod
-    def gap(i: int, j: int | None, gap: float, k: float) -> Element: ...
-    @staticmethod
-    def callable(
-        dofs: Sequence[int],
-        func: ElementFunction,
-        jacobian: ElementJacobian | None = None,
-        state: Sequence[float] | None = None,
-    ) -> Element: ...
+        yield_displacement: float = 0.00025,
+    ) -> Self: ...
+
+@final
+class ViscousDamper(Element):
+    def __new__(
+        cls,
+        i: Dof,
+        j: Dof | None = None,
+        *,
+        c: float,
+        exponent: float = 1.0,
+        v0: float = 0.0001,
+        brace_stiffness: float | None = None,
+    ) -> Self: ...
+
+def _element(cls: type[Element], params: dict[str, object]) -> Element:
+    """The element of class `cls` with `params` (pickling)."""
+
+def _shifted(inner: Element, k0: Sequence[float], c0: Sequence[float]) -> Element:
+    """`inner` minus ``k0 x + c0 v`` (row-major ``n x n`` at its ``n`` dofs)."""
+
+def element_names() -> list[tuple[str, str]]:
+    """The built-in elements' names and signatures."""
+
+def drive_element(element: Element, x: Array, v: Array, t: Array) -> tuple[Array, Array, Array]:
+    """Forces and tangents of `element` driven through local states, committed after each."""
 
 @final
 class Load:
@@ -576,6 +678,15 @@ def bilinear_peak(
     acc: Array, dt: float, omega: float, zeta: float, alpha: float, uy: float
 ) -> float:
     """Peak displacement at the samples of one bilinear oscillator."""
+
+def drive_material(kind: str, params: dict[str, object], deformation: Array) -> tuple[Array, Array]:
+    """The uniaxial material ``kind`` (``"Steel02"``, ``"MultiLinear"``,
+    ``"ElasticMultiLinear"``, ``"Takeda"``, ``"MinMax"``, ``"Parallel"``, ``"Series"``,
+    ``"ModIMKPeakOriented"``, ``"IMKBilin"``, ``"Hysteretic"``, ``"Pinching4"``) with the
+    parameters ``params`` (OpenSees' names; a composite's parts are nested dicts with a
+    ``"kind"``), driven from its virgin state through the points of ``deformation`` with a
+    commit after each (OpenSees' ``setStrain``): the force and the tangent after each point.
+    A narrow checking hook until the materials are elements of their own."""
 
 def _panic_for_tests(kind: str) -> None:
     """Test only: panics on purpose (``kind`` "here", "detached" with the GIL released,

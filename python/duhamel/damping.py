@@ -155,35 +155,56 @@ class DampingSummary:
     background : str
         The modes a ``zeta`` is given on: ``"K"`` (``linear_parts="auto"`` with ``zeta``, or
         ``"pseudo-force"``) or ``"K + elements"`` (``"background"``, FNA's convention).
+    massless : str
+        What happens to damping at the massless dofs (empty without them): none reaches
+        them (they are static), or it does and they are first-order coordinates with the
+        time constants stated (docs/basis.md, "Massless dofs"); the ratios `zeta` are then
+        those of the modes coupled with them.
     """
 
     omega: NDArray[np.float64]
     zeta: NDArray[np.float64]
     classical: bool
     background: str
+    massless: str = ""
 
     def __str__(self) -> str:
         lines = [
             f"modes of {self.background}; damping "
             + ("classical" if self.classical else "non-classical"),
-            f"{'mode':>4} {'omega (rad/s)':>14} {'T (s)':>10} {'zeta':>8}",
         ]
+        if self.massless:
+            lines.append(self.massless)
+        lines.append(f"{'mode':>4} {'omega (rad/s)':>14} {'T (s)':>10} {'zeta':>8}")
         for i, (w, z) in enumerate(zip(self.omega, self.zeta, strict=True)):
             period = 2 * np.pi / w if w > 0 else np.inf
             lines.append(f"{i:>4} {w:>14.6g} {period:>10.4g} {z:>8.4f}")
         return "\n".join(lines)
 
 
-def _ratios(omega: NDArray[np.float64], Cq: NDArray[np.float64]) -> tuple[NDArray, bool]:
+def _ratios(
+    omega: NDArray[np.float64], Cq: NDArray[np.float64], massless: tuple[Any, ...] | None = None
+) -> tuple[NDArray, bool]:
     """Damping ratios of ``q'' + Cq q' + diag(omega^2) q = 0`` per mode (each undamped mode
     paired with the first-order eigenvalue nearest its frequency), and whether `Cq` is
-    diagonal (classical)."""
+    diagonal (classical). `massless`: ``(phi, C, Z, tau, s)``, the massless dofs `s`' first-
+    order coordinates ``tau w' + w + Z^T C_s^T phi q' = 0`` coupled to the modes (their own
+    real eigenvalues are not paired with a mode unless nearest)."""
     n = omega.size
     off = Cq - np.diag(np.diag(Cq))
     scale = max(float(np.abs(np.diag(Cq)).max(initial=0.0)), 1e-300)
-    if not np.any(np.abs(off) > 1e-8 * scale):
+    if massless is None and not np.any(np.abs(off) > 1e-8 * scale):
         return np.divide(np.diag(Cq), 2 * omega, out=np.zeros(n), where=omega > 0), True
     A = np.block([[np.zeros((n, n)), np.eye(n)], [-np.diag(omega**2), -Cq]])
+    if massless is not None:  # the state (q, q', w) of the relaxing directions
+        phi, C, Z, tau, s = massless
+        keep = tau > 0.0
+        Dqw = np.asarray(phi.T @ np.asarray(C[:, s] @ Z[:, keep]))
+        Ti = np.diag(1.0 / tau[keep])
+        k = Ti.shape[0]
+        rw = np.hstack([np.zeros((k, n)), -Ti @ Dqw.T, -Ti])
+        rv = np.hstack([-np.diag(omega**2), -Cq, np.zeros((n, k))]) - Dqw @ rw
+        A = np.vstack([np.hstack([np.zeros((n, n)), np.eye(n), np.zeros((n, k))]), rv, rw])
     lam = np.linalg.eigvals(A)
     lam = lam[np.imag(lam) >= 0]  # one of each conjugate pair (and the real ones)
     out, used = np.zeros(n), np.zeros(lam.size, bool)
@@ -204,7 +225,7 @@ def damping_summary(system: Any, linear_parts: str = "auto") -> DampingSummary:
     diagonal there. ``zeta`` defines the damping on the modes of the background the run
     integrates (``K``, or ``K`` plus the elements' linear parts, as
     :mod:`duhamel._engine.background` chooses), which need not be those modes."""
-    from duhamel.elements.basic import LinearCoupling
+    from duhamel.couplings import LinearCoupling
 
     parts = [e._linear() for e in system.elements if not isinstance(e, LinearCoupling)]
     law = system.mass_law
@@ -234,8 +255,45 @@ def damping_summary(system: Any, linear_parts: str = "auto") -> DampingSummary:
         Cq = (overlap * np.asarray(damped.c)) @ overlap.T
     else:
         Cq = np.zeros((omega.size, omega.size))
-    zeta, classical = _ratios(omega, (Cq + Cq.T) / 2)
-    return DampingSummary(omega, zeta, classical, name)
+    text, relax = _massless(linear, system)
+    if relax is None:
+        zeta, classical = _ratios(omega, (Cq + Cq.T) / 2)
+    else:
+        zeta, classical = _ratios(omega, (Cq + Cq.T) / 2, (phi, *relax))[0], False
+    return DampingSummary(omega, zeta, classical, name, text)
+
+
+def _massless(linear: Any, system: Any) -> tuple[str, tuple[Any, ...] | None]:
+    """What the summary says about damping at the massless dofs of `linear` (the structure
+    with the elements' linear parts; `system`'s damping), and for a damping matrix coupling
+    them to the modes ``(C, Z, tau)`` (:func:`duhamel._engine.massless.matrix_relaxation`)."""
+    from duhamel._engine.massless import massless_damping, matrix_relaxation
+
+    how = massless_damping(linear)
+    if how is None:
+        return "", None
+    n = linear.massless_dofs.size
+    if how.kind == "undamped":
+        return (
+            f"massless dofs: {n}, no damping reaches them: static (the static relation of "
+            "K at every instant, elements' forces included)",
+            None,
+        )
+    if how.kind == "rayleigh":
+        return (
+            f"massless dofs: {n}, damped by beta K: first-order, each relaxing with the time "
+            f"constant beta = {how.tau[0]:.4g} s (uncoupled from the modes)",
+            None,
+        )
+    tau, Z = matrix_relaxation(linear)
+    damped = tau[tau > 0.0]
+    text = (
+        f"massless dofs: {n}, damped by C: first-order coordinates with time constants "
+        f"{damped.min():.4g} .. {damped.max():.4g} s, coupled to the modes"
+    )
+    if damped.size < tau.size:
+        text += f"; {tau.size - damped.size} directions without damping static"
+    return text, (system.C, Z, tau, linear._condensation.s)
 
 
 def damping_spec(C: Any, zeta: Any, rayleigh: Any, M: Any, K: Any) -> tuple[Any, Any, Any, str]:

@@ -17,11 +17,12 @@ import scipy.signal
 from numpy.typing import NDArray
 
 import duhamel
+from duhamel.constants import STANDARD_GRAVITY
 
 __all__ = ["DemoResult", "G", "plot_demo", "run_demo", "shear_building", "synthetic_record"]
 
-#: Standard gravity (m/s^2).
-G = 9.81
+#: Standard gravity (m/s^2): :data:`duhamel.constants.STANDARD_GRAVITY`.
+G = STANDARD_GRAVITY
 
 
 def shear_building(

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from duhamel._engine import modal
+from duhamel._engine import modal, run_inputs
 from duhamel._engine.direct_run import DirectSetup, prepare_direct
 from duhamel._engine.energy_run import check_energy
 from duhamel._engine.labels import resolve_list
@@ -207,7 +207,7 @@ class Prepared:
         store : str, os.PathLike or duhamel.store.Store, optional
             Stream the run to a new zarr store (see :func:`duhamel.solve`).
         checkpoint_every : int, optional
-            With `store`: a checkpoint every this many segments (default 1).
+            With `store` (refused without it): a checkpoint every this many segments (default 1).
         progress : bool or callable, optional
             A progress bar (``True``) or a function ``(step, n_steps, t)``.
         events, t_eval, dense, energy
@@ -265,6 +265,7 @@ class Prepared:
         n_steps = _steps(t_end, dt, t0)
         # A stride beyond the run keeps its first and last instants, as the run's length does.
         save_every = min(positive_int(save_every, "save_every", maximum=2**64), n_steps)
+        checkpoint_every = run_inputs.checked_checkpoint_every(checkpoint_every, store)
         system = self.system
         dofs = resolve_list(system, dofs, "dofs")  # labels as indices
         out_dofs = None if dofs is None else dof_list(dofs, "dofs", system.n_dof)
@@ -432,7 +433,7 @@ def solve(
         :func:`duhamel.resume` continues from after a crash; the returned Solution reads its
         arrays from the store. Semi-analytic integrator only; needs ``duhamel[store]``.
     checkpoint_every : int, optional
-        With `store`: write a checkpoint every this many segments (default 1).
+        With `store` (refused without it): a checkpoint every this many segments (default 1).
     events : list of duhamel.Event, optional
         Zero crossings located inside their step (``sol.events``); a terminal one ends the
         run at its instant (docs/events.md).

@@ -39,6 +39,10 @@ class SpeedLaw:
         """The speed when it does not change with time, else None."""
         raise NotImplementedError
 
+    def _to_value(self) -> str:
+        """The law as the core's data (JSON text): how an element's speed parameter holds it."""
+        return str(speed_law(self._spec())._to_value())
+
     def _eval(self, t: ArrayLike, which: int) -> Any:
         ts = np.asarray(t, dtype=np.float64)
         flat = np.ascontiguousarray(np.atleast_1d(ts).ravel())

@@ -9,11 +9,12 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from duhamel._core import Element
 from duhamel._engine import shared
 from duhamel._engine.basis import check_supplied, modal_basis
 from duhamel._engine.eigen import Modes
 from duhamel._engine.geometric import softened
-from duhamel._engine.labels import Labels, resolve_fields
+from duhamel._engine.labels import Labels, resolve, resolve_fields
 from duhamel._engine.massless import Condensation
 from duhamel._engine.validate import (
     as_square_matrix,
@@ -24,8 +25,8 @@ from duhamel._engine.validate import (
     mode_count,
     positive_float,
 )
+from duhamel.couplings import LinearCoupling
 from duhamel.damping import DampingSummary, Rayleigh, damping_spec, damping_summary
-from duhamel.elements.base import Element
 from duhamel.elements.geometric import PDelta
 from duhamel.loads import Load
 from duhamel.mass import MassLaw, _Attached
@@ -280,16 +281,19 @@ class System:
         Examples
         --------
         >>> import numpy as np, duhamel
-        >>> duffing = duhamel.System(np.eye(1), np.eye(1)).add(duhamel.elements.Cubic(0, 4.0))
+        >>> duffing = duhamel.System(np.eye(1), np.eye(1)).add(duhamel.elements.Cubic(0, k3=4.0))
         >>> len(duffing.elements)
         1
         """
-        element = resolve_fields(self, element)  # labels as dof indices
+        if isinstance(element, Element):  # labels as dof indices
+            element = element._resolved(lambda label, name: resolve(self, label, name))
+        else:
+            element = resolve_fields(self, element)
         if isinstance(element, PDelta):  # linear: part of the stiffness, exactly
             self.add_geometric_stiffness(element.matrix(self.n_dof))
             self.geometric.append(element)
             return self
-        if not isinstance(element, Element):
+        if not isinstance(element, Element | LinearCoupling):
             raise TypeError(
                 f"`element` must be a duhamel.elements element, got {type(element).__name__}"
             )

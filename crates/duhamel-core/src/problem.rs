@@ -14,7 +14,9 @@ pub const MAX_THREADS: usize = 1024;
 /// the time grid `t0 + n dt`, `n = 0..=n_steps`.
 #[derive(Debug, Clone)]
 pub struct ModalProblem<'a> {
-    /// Modal stiffness `omega^2` per unit modal mass, one per mode (>= 0).
+    /// Modal stiffness `omega^2` per unit modal mass, one per mode (>= 0); `+inf` marks a
+    /// coordinate without mass (a massless dof's, unit stiffness: `c q' + q = p`, its `c` a
+    /// time constant; [`crate::kernel::relaxation`]).
     pub k: &'a [f64],
     /// Modal damping `2 zeta omega` per unit modal mass, one per mode.
     pub c: &'a [f64],
@@ -102,8 +104,15 @@ impl ModalProblem<'_> {
                 });
             }
         }
-        if self.k.iter().any(|&k| !(k.is_finite() && k >= 0.0)) {
-            return bad("omega2", "must be finite and >= 0");
+        if self
+            .k
+            .iter()
+            .any(|&k| !(k >= 0.0 && (k.is_finite() || k == f64::INFINITY)))
+        {
+            return bad(
+                "omega2",
+                "must be finite and >= 0 (or +inf: a coordinate without mass)",
+            );
         }
         let all = self.c.iter().chain(self.q0).chain(self.v0);
         if all.clone().any(|x| !x.is_finite()) {

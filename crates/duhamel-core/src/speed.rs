@@ -30,7 +30,9 @@ impl<M: ?Sized> Clone for ScaledCoupling<'_, M> {
 
 impl<M: ?Sized> Copy for ScaledCoupling<'_, M> {}
 
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Serialised as a number (a constant speed) or `{"omega0", "omega1", "t1"}` (a run-up).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(untagged)]
 pub enum SpeedLaw {
     /// `omega(t) = omega`.
     Constant(f64),

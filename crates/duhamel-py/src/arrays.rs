@@ -77,3 +77,27 @@ pub(crate) fn index_vec(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<usiz
         })
         .collect()
 }
+
+/// A dof index (any Python or numpy integer, not a bool) `>= 0`, or an error naming `name`.
+pub(crate) fn dof_index(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<usize> {
+    let integral = obj.is_instance_of::<pyo3::types::PyInt>()
+        || (obj.hasattr("__index__")? && !obj.hasattr("__float__")?)
+        || obj
+            .getattr("dtype")
+            .and_then(|d| d.getattr("kind"))
+            .and_then(|k| k.extract::<String>())
+            .is_ok_and(|k| k == "i" || k == "u");
+    if obj.is_instance_of::<pyo3::types::PyBool>() || !integral {
+        return Err(PyTypeError::new_err(format!(
+            "`{name}` must be an integer dof index or a dof label, got {}",
+            obj.get_type().name()?
+        )));
+    }
+    let value: i64 = obj.call_method0("__index__")?.extract()?;
+    usize::try_from(value).map_err(|_| {
+        PyValueError::new_err(format!(
+            "`{name}` must be a degree-of-freedom index (negative indices are not allowed), \
+             got {value}"
+        ))
+    })
+}

@@ -12,7 +12,7 @@ use pyo3::prelude::*;
 use crate::arrays::{matrix_of, vec_of};
 use crate::driver::run;
 use crate::element_build;
-use crate::elements::ElementSpec;
+use crate::element_type::Element as ElementSpec;
 use crate::history::RunResult;
 use crate::loads::PyForcing;
 use crate::problem::RunSpec;

@@ -13,7 +13,7 @@ use pyo3::types::PyTuple;
 use crate::arrays::{index_vec, vec_of};
 use crate::driver::run as run_with;
 use crate::element_build;
-use crate::elements::ElementSpec;
+use crate::element_type::Element as ElementSpec;
 use crate::error::core_err;
 use crate::guard::guarded;
 use crate::history::RunResult;

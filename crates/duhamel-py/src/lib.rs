@@ -9,24 +9,33 @@
 //! the fields of the core's error; input errors raise `ValueError`/`TypeError` naming the
 //! parameter ([`error`]). A panic (a bug) raises `duhamel.errors.InternalError` ([`guard`]).
 
+mod arguments;
 mod arrays;
 mod background;
 mod callable;
-mod devices;
+mod callable_class;
+mod definitions;
 mod direct;
+mod drive;
 mod driver;
 mod element_build;
-mod elements;
+mod element_classes;
+mod element_dofs;
+mod element_make;
+mod element_type;
 mod error;
 mod guard;
 mod history;
 mod loads;
 mod mass;
+mod materials;
+mod materials_deteriorating;
 mod model;
 mod problem;
 mod pseudo;
 mod spectra;
 mod speed;
+mod values;
 
 use duhamel_core::Transfer;
 use numpy::{PyArray1, PyArray3, PyArrayMethods};
@@ -157,11 +166,18 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(spectra::rotd_peaks, m)?)?;
     m.add_function(wrap_pyfunction!(spectra::ductility_spectrum, m)?)?;
     m.add_function(wrap_pyfunction!(spectra::bilinear_peak, m)?)?;
+    m.add_function(wrap_pyfunction!(materials::drive_material, m)?)?;
     m.add_function(wrap_pyfunction!(guard::_panic_for_tests, m)?)?;
     m.add_class::<speed::SpeedLaw>()?;
     m.add_class::<loads::TimeFunction>()?;
     m.add_class::<mass::MassLaw>()?;
-    m.add_class::<elements::ElementSpec>()?;
+    m.add_class::<element_type::Element>()?;
+    element_classes::add_classes(m)?;
+    m.add_class::<callable_class::Callable>()?;
+    m.add_function(wrap_pyfunction!(element_classes::_element, m)?)?;
+    m.add_function(wrap_pyfunction!(element_classes::_shifted, m)?)?;
+    m.add_function(wrap_pyfunction!(element_classes::element_names, m)?)?;
+    m.add_function(wrap_pyfunction!(drive::drive_element, m)?)?;
     m.add_class::<problem::EnergySpec>()?;
     m.add_class::<direct::Matrix>()?;
     m.add_class::<direct::Method>()?;

@@ -13,7 +13,7 @@ use pyo3::prelude::*;
 use crate::direct::{Matrix, ScaledCoupling};
 use crate::driver::run as drive;
 use crate::element_build;
-use crate::elements::ElementSpec;
+use crate::element_type::Element as ElementSpec;
 use crate::history::RunResult;
 use crate::loads::PyForcing;
 use crate::mass::Mass;

@@ -52,6 +52,12 @@ impl SpeedLaw {
         )
     }
 
+    /// The law as JSON text (a number, or `{"omega0", "omega1", "t1"}`).
+    fn _to_value(&self) -> PyResult<String> {
+        serde_json::to_string(&self.0)
+            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
+    }
+
     fn __repr__(&self) -> String {
         format!("{:?}", self.0)
     }

@@ -25,8 +25,7 @@ from numpy.typing import NDArray
 
 from duhamel._engine.protocols import Model
 from duhamel._engine.validate import issparse
-from duhamel.elements.base import Element
-from duhamel.elements.basic import LinearCoupling
+from duhamel.couplings import LinearCoupling
 from duhamel.system import System
 
 __all__ = ["Background", "LinearPart", "background"]
@@ -46,11 +45,14 @@ class LinearPart:
 
 
 @dataclass(frozen=True, eq=False)
-class _Remainder(Element):
-    """An element without its linear part (what the run's pseudo-force evaluates)."""
+class _Remainder:
+    """An element without its linear part: `core` is what the run's pseudo-force evaluates,
+    `element` the model's element it came from."""
 
     element: Any
-    spec: tuple
+    core: Any
+    #: The damping ``c0`` taken out with the linear part (local, flat), or None.
+    c0: Any = None
 
     @property
     def _path_dependent(self) -> bool:  # type: ignore[override]
@@ -67,8 +69,15 @@ class _Remainder(Element):
         k0 = 0.0 if linear is None else float(np.linalg.norm(linear[1], 2))
         return inner[0] + k0, inner[1]
 
-    def _spec(self) -> tuple:
-        return self.spec
+    @property
+    def _dofs(self) -> list[int]:
+        return list(self.element._dofs)
+
+    def _passive(self) -> bool:
+        return bool(self.element._passive())
+
+    def _stored_energy(self, u: Any, f: Any) -> Any:
+        return self.element._stored_energy(u, f)
 
     def _directions(self) -> list[tuple[int, int | None]]:
         return self.element._directions()
@@ -154,9 +163,7 @@ def _derive(
             continue
         dofs, k0 = part
         c0 = beta * k0
-        spec = element._remainder_spec()
-        if beta != 0.0:
-            spec = (*spec[:3], c0) if spec[0] == "shifted" else ("shifted", spec, 0.0 * k0, c0)
-        derived.elements.append(_Remainder(element, spec))
+        damping = np.ascontiguousarray(c0, dtype=np.float64).ravel() if beta != 0.0 else None
+        derived.elements.append(_Remainder(element, element._remainder(damping), damping))
         linear.append(LinearPart(dofs, k0, c0))
     return derived, tuple(linear)

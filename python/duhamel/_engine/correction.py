@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 
 from duhamel._engine.eigen import SHIFT_RTOL
 from duhamel._engine.validate import issparse
-from duhamel.elements.basic import LinearCoupling
+from duhamel.couplings import LinearCoupling
 from duhamel.loads import Callable
 from duhamel.modal import ModalBasis, damped
 from duhamel.system import System
@@ -107,6 +107,9 @@ def _static(system: System, basis: ModalBasis, f: Array) -> Array:
             if not np.all(np.isfinite(step)):
                 break  # keep the last finite iterate
             x = step
+    c = system._condensation
+    if c is not None:  # K^-1 f = T K_c^-1 T^T f + E K_ss^-1 f_s: the condensed part only
+        x[c.s] -= c.solve_ss(f[c.s])  # (the massless part is the massless coordinates')
     return x
 
 
@@ -206,7 +209,7 @@ def enriched(system: System, basis: ModalBasis) -> tuple[ModalBasis, Array]:
     if key in cache:
         return cache[key]
     n = basis.n_modes
-    if f.shape[1] == 0 or n == system.n_dof:
+    if f.shape[1] == 0 or n == system.n_mass:
         return basis, np.zeros(0)
     try:
         y = _m_orthonormal(system, basis.phi, _static(system, basis, f))

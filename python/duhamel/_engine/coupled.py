@@ -61,14 +61,20 @@ class FirstOrderModes:
     condition: float
 
     @property
+    def n_states(self) -> int:
+        """Feedback states beyond ``(sigma q, q')`` (``duhamel.feedback.Feedback``)."""
+        return int(self.inverse.shape[1] - 2 * self.sigma.size)
+
+    @property
     def gain(self) -> NDArray[np.complex128]:
         """Rows of ``V^-1 B``, shape (r, m): the drive of each first-order coordinate by the
-        modal loads (``B = [[0], [I]]``: the velocity columns of ``V^-1``)."""
-        return self.inverse[:, self.sigma.size :]
+        modal loads (``B = [[0], [I], [0]]``: the velocity columns of ``V^-1``)."""
+        m = self.sigma.size
+        return self.inverse[:, m : 2 * m]
 
     def initial(self, q0: NDArray[np.float64], v0: NDArray[np.float64]) -> NDArray[np.complex128]:
-        """First-order coordinates of the modal state ``(q0, v0)``."""
-        return self.inverse @ np.concatenate([self.sigma * q0, v0])
+        """First-order coordinates of the modal state ``(q0, v0)`` (feedback states zero)."""
+        return self.inverse @ np.concatenate([self.sigma * q0, v0, np.zeros(self.n_states)])
 
 
 #: First-order modes kept per process, by a digest of their inputs (at most this many): a
@@ -91,21 +97,28 @@ def _digest(*arrays: NDArray[np.float64] | None) -> bytes:
     return h.digest()
 
 
+#: Feedback states in modal form: ``(A, B Phi, Phi^T F)`` of ``z' = A z + B x`` pushing the
+#: dofs with ``-F z`` (``duhamel.feedback.Feedback.modal_states``).
+States = tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]
+
+
 def first_order_modes(
     omega2: NDArray[np.float64],
     c: NDArray[np.float64],
     coupling_k: NDArray[np.float64] | None,
     coupling_c: NDArray[np.float64] | None,
+    states: States | None = None,
 ) -> FirstOrderModes:
-    """Eigen-decomposition of the coupled modal system (see the module docstring), taken
-    from an earlier identical system's when there is one (:data:`KEPT`)."""
-    key = _digest(omega2, c, coupling_k, coupling_c)
+    """Eigen-decomposition of the coupled modal system (see the module docstring), with the
+    feedback `states` when given, taken from an earlier identical system's when there is
+    one (:data:`KEPT`)."""
+    key = _digest(omega2, c, coupling_k, coupling_c, *(states or ()))
     with _LOCK:
         known = _KNOWN.get(key)
         if known is not None:
             _KNOWN.move_to_end(key)
             return known
-    modes = _decompose(omega2, c, coupling_k, coupling_c)
+    modes = _decompose(omega2, c, coupling_k, coupling_c, states)
     with _LOCK:
         _KNOWN[key] = modes
         while len(_KNOWN) > KEPT:
@@ -118,8 +131,12 @@ def _decompose(
     c: NDArray[np.float64],
     coupling_k: NDArray[np.float64] | None,
     coupling_c: NDArray[np.float64] | None,
+    states: States | None = None,
 ) -> FirstOrderModes:
-    """Eigen-decomposition of the coupled modal system (see the module docstring).
+    """Eigen-decomposition of the coupled modal system (see the module docstring), extended
+    by feedback `states` ``z``: the state ``(sigma q, q', z)`` with ``z' = A z + (B Phi)
+    diag(1/sigma) (sigma q)`` and ``-(Phi^T F) z`` in the velocity rows; `back` maps to
+    ``(q, q')`` only, and the loads drive the velocity rows.
 
     The condition number is returned, not judged: the caller decides whether the
     decomposition is accurate enough (:data:`CONDITION_LIMIT`). A defective system (a
@@ -137,8 +154,21 @@ def _decompose(
     if coupling_c is not None:
         D = D + coupling_c
     A = np.block([[np.zeros((m, m)), np.diag(sigma)], [-S / sigma, -D]])
+    if states is not None:
+        Az, Bz, Fz = states
+        nz = Az.shape[0]
+        A = np.block(
+            [
+                [A, np.concatenate([np.zeros((m, nz)), -Fz])],
+                [np.concatenate([Bz / sigma, np.zeros((nz, m))], axis=1), Az],
+            ]
+        )
     import scipy.linalg
 
+    scale = None
+    if states is not None:  # the feedback states' own units: balanced (V = T V_b)
+        _, (scale, _) = scipy.linalg.matrix_balance(A, permute=False, separate=True)
+        A = A * scale[None, :] / scale[:, None]
     lam, V = scipy.linalg.eig(A, check_finite=False)
     try:
         with warnings.catch_warnings():
@@ -149,13 +179,15 @@ def _decompose(
         W = np.full_like(V, np.nan)
     finite = bool(np.all(np.isfinite(W)))
     condition = float(np.linalg.norm(V, 1) * np.linalg.norm(W, 1)) if finite else float("inf")
+    if scale is not None:
+        V, W = V * scale[:, None], W / scale[None, :]
     upper = lam.imag > 0.0
     real = lam.imag == 0.0
     if int(upper.sum()) != int((lam.imag < 0.0).sum()):  # pragma: no cover - LAPACK pairs
         condition = float("inf")
     keep = np.flatnonzero(upper | real)
     weight = np.where(real[keep], 1.0, 2.0)
-    Vk = V[:, keep] * weight
+    Vk = V[: 2 * m, keep] * weight
     back = np.concatenate([Vk.real.T, -Vk.imag.T])
     back[:, :m] /= sigma
     Wk = W[keep, :]

@@ -12,7 +12,8 @@ from duhamel._engine.eigen import DENSE_EIGH_ARRAYS
 from duhamel._engine.memory import check_fits
 from duhamel._engine.run import callback_error
 from duhamel._engine.validate import issparse
-from duhamel.elements.basic import LinearCoupling
+from duhamel.couplings import LinearCoupling
+from duhamel.feedback import Feedback
 from duhamel.results.solution import Solution, SolveStats
 from duhamel.system import System
 
@@ -88,6 +89,11 @@ def physical_matrices(system: System) -> dict[str, Any]:
     kc = None
     scaled = []
     for element in system.elements:
+        if isinstance(element, Feedback):
+            raise ValueError(
+                "the system has feedback states (duhamel.feedback.Feedback: controllers): the "
+                "direct integrators step second-order equations only; use duhamel.Semianalytic()"
+            )
         if isinstance(element, LinearCoupling):
             factor = element.constant_factor()
             if factor is None:

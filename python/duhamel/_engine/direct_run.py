@@ -17,8 +17,9 @@ from duhamel._engine.energy_run import direct_energy_model, energy_spec
 from duhamel._engine.plan import mass, modal_loads
 from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
 from duhamel._engine.specs import elements as core_elements
+from duhamel._engine.specs import elements as run_elements
 from duhamel._engine.structure import structure_model
-from duhamel._engine.validate import as_float_array
+from duhamel._engine.validate import as_float_array, issparse
 from duhamel.integrators import CentralDifference, CubicHermite, DirectIntegrator
 from duhamel.results.solution import Solution, SolveStats
 from duhamel.system import System
@@ -67,7 +68,7 @@ class DirectSetup:
             span = (t0, t0 + n_steps * dt)
             _check_central(system, self.mats, self.elements, x0, v0, dt, span)
         if a0 is None and system._condensation is not None:
-            a0 = _massless_a0(self, x0, v0, t0, loads)
+            v0, a0 = _massless_start(self, x0, v0, t0, dt, loads)
         em = None
         if energy:
             run_loads = system.loads if loads is None else loads
@@ -130,14 +131,26 @@ class DirectSetup:
         return solution
 
 
-def _massless_a0(
-    setup: DirectSetup, x0: NDArray, v0: NDArray, t0: float, loads: list[Any] | None
-) -> NDArray[np.float64]:
-    """The initial acceleration of a model with massless dofs, which the equation of motion
-    does not give (``M`` is singular): ``M_mm a_m = (f - C v0 - K x0)_m`` on the dofs with
-    mass and the static relation differentiated twice, ``a_s = -K_ss^-1 K_sm a_m``, on the
-    massless ones. Elements' forces at the initial state are taken as zero, so a start from
-    a displaced state with elements is refused."""
+def _massless_start(
+    setup: DirectSetup, x0: NDArray, v0: NDArray, t0: float, dt: float, loads: list[Any] | None
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The initial velocity and acceleration of a model with massless dofs, which the
+    equation of motion does not leave free (``M`` is singular).
+
+    * Velocities at the massless dofs the damping reaches: they obey a first-order equation,
+      so their velocity is that equation's at the initial state (the ``v0`` given there is
+      replaced): with ``C_ss Z = K_ss Z diag(tau)``, ``Z^T K_ss Z = I`` and ``v_s = Z u``,
+      ``u_i = z_i^T (f_s - K_s x0 - C_sm v_m) / tau_i`` where ``tau_i > 0`` and the static
+      relation differentiated once, ``u_i = z_i^T (f_s' - K_sm v_m)``, where ``tau_i = 0``
+      (``f'`` a central difference over ``1e-3 dt``). A start inconsistent there would cost
+      the trapezoidal rule an error of the order of ``dt`` on those dofs.
+    * Accelerations: ``M_mm a_m = (f - C v0 - K x0)_m`` on the dofs with mass and the static
+      relation differentiated twice, ``a_s = -K_ss^-1 K_sm a_m``, on the massless ones.
+
+    Elements' forces at the initial state are taken as zero, so a start from a displaced
+    state with elements is refused."""
+    from duhamel._engine.massless import matrix_relaxation
+
     system = setup.system
     c = system._condensation
     if system.elements and (np.any(x0) or np.any(v0)):
@@ -145,11 +158,30 @@ def _massless_a0(
             "`x0`/`v0`: a model with massless dofs and elements starts a direct integrator "
             "from rest only (its initial acceleration is taken from the linear part)"
         )
-    f = np.zeros(system.n_dof)
-    for load in system.loads if loads is None else loads:
-        f += np.asarray(load.evaluate(system, np.array([t0]))).reshape(-1)
-    r = f - np.asarray(system.K @ x0)
+    run_loads = system.loads if loads is None else loads
+
+    def force(t: float) -> NDArray[np.float64]:
+        f = np.zeros(system.n_dof)
+        for load in run_loads:
+            f += np.asarray(load.evaluate(system, np.array([t]))).reshape(-1)
+        return f
+
+    f = force(t0)
     C = setup.mats["c"]
+    at_massless = None if C is None else (C[:, c.s] if issparse(C) else np.asarray(C)[:, c.s])
+    if at_massless is not None and abs(at_massless).max() > 0.0:
+        s, m = c.s, c.m
+        h = 1e-3 * dt
+        df = (force(t0 + h) - force(t0 - h)) / (2 * h)
+        tau, Z = matrix_relaxation(_Physical(system, C))
+        Kx = np.asarray(system.K @ x0)
+        Cv = np.asarray(C[s][:, m] @ v0[m]) if issparse(C) else np.asarray(C)[np.ix_(s, m)] @ v0[m]
+        K_sm_v = np.asarray(c._K_sm @ v0[m])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            u = np.where(tau > 0.0, Z.T @ (f[s] - Kx[s] - Cv) / tau, Z.T @ (df[s] - K_sm_v))
+        v0 = v0.copy()
+        v0[s] = Z @ u
+    r = f - np.asarray(system.K @ x0)
     if C is not None:
         r -= np.asarray(C @ v0)
     M = system.M
@@ -157,7 +189,19 @@ def _massless_a0(
     M_mm = M[m][:, m].toarray() if hasattr(M, "toarray") else np.asarray(M)[np.ix_(m, m)]
     a = np.zeros(system.n_dof)
     a[m] = np.linalg.solve(M_mm, r[m])
-    return c.expand(a[m])
+    return v0, c.expand(a[m])
+
+
+class _Physical:
+    """A system's condensation and K with the direct integrators' physical damping matrix
+    (what :func:`duhamel._engine.massless.matrix_relaxation` reads)."""
+
+    damping = "matrix"
+
+    def __init__(self, system: System, C: Any) -> None:
+        self._condensation = system._condensation
+        self.K = system.K
+        self.C = C
 
 
 def prepare_direct(system: System, integrator: DirectIntegrator) -> DirectSetup:
@@ -173,9 +217,7 @@ def prepare_direct(system: System, integrator: DirectIntegrator) -> DirectSetup:
             f"{int(system.massless_dofs[0])}); use Newmark(), HHT() or GeneralizedAlpha(), or "
             "duhamel.Semianalytic(), which condense them exactly"
         )
-    hysteretic = [
-        e for e in system.elements if e._path_dependent or getattr(e, "state", None) is not None
-    ]
+    hysteretic = [e for e in run_elements(system.elements) if e._path_dependent]
     if hysteretic and not getattr(integrator, "_commits_state", False):
         raise ValueError(
             f"`integrator`: {type(integrator).__name__} does not yet commit the internal "

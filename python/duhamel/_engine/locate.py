@@ -139,7 +139,7 @@ def _cut_modal(modal: ModalHistory | None, rows: int, row: dict[str, NDArray] | 
         if row is not None:
             q, v = row["q"], row["v"]
         else:
-            q, v, _ = hermite(modal.q, modal.v, modal.a, n, s, h)
+            q, v, _ = hermite(modal.q, modal.v, _accelerations(modal, n, h), n, s, h)
         q = np.vstack([modal.q[:rows], q[None, :]])
         v = np.vstack([modal.v[:rows], v[None, :]])
         first_new = None
@@ -151,6 +151,19 @@ def _cut_modal(modal: ModalHistory | None, rows: int, row: dict[str, NDArray] | 
         take("forcing", modal.forcing), take("pseudo", modal.pseudo),
         first_order=first_new, coupling=modal._coupling,
     )  # fmt: skip
+
+
+def _accelerations(modal: ModalHistory, n: int, h: float) -> NDArray:
+    """The modal accelerations of rows `n`, `n + 1` for the Hermite interpolation; those of
+    the massless dofs' coordinates (``omega = inf``, no inertia) are not formed: their
+    velocity's secant over the step (``v`` linear there)."""
+    massless = np.isinf(modal.omega)
+    if not np.any(massless):
+        return modal.a
+    with np.errstate(invalid="ignore", over="ignore"):
+        acc = modal.a[: n + 2].copy()
+    acc[n : n + 2, massless] = ((modal.v[n + 1] - modal.v[n]) / h)[massless]
+    return acc
 
 
 def _slice_modal(modal: ModalHistory | None, rows: int) -> ModalHistory | None:

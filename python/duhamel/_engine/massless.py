@@ -18,6 +18,7 @@ A massless part whose stiffness ``K_ss`` is singular is a mechanism: refused, na
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -25,7 +26,13 @@ from numpy.typing import NDArray
 
 from duhamel._engine.validate import SINGULAR_PIVOT_RTOL, issparse
 
-__all__ = ["QUASI_STATIC_RATIO", "Condensation", "load_terms", "massless_dofs", "quasi_static"]
+__all__ = [
+    "Condensation",
+    "MasslessDamping",
+    "load_terms",
+    "massless_damping",
+    "massless_dofs",
+]
 
 Array = NDArray[np.float64]
 
@@ -155,6 +162,90 @@ class Condensation:
         return out
 
 
+@dataclass(frozen=True)
+class MasslessDamping:
+    """How the damping of a run's background reaches its massless dofs ``s``
+    (:func:`massless_damping`; docs/basis.md, "Massless dofs").
+
+    Attributes
+    ----------
+    kind : {"undamped", "rayleigh", "matrix"}
+        ``"undamped"``: no damping there (``zeta``, none, or a ``C`` whose massless rows are
+        zero): the massless dofs are quasi-static. ``"rayleigh"``: ``beta K`` there
+        (``C_ss = beta K_ss``, ``Phi^T C E = 0``): every massless direction relaxes with the
+        time constant ``beta``, uncoupled. ``"matrix"``: a damping matrix with entries
+        there: first-order coordinates with the time constants of ``(C_ss, K_ss)``,
+        coupled to the modes by ``Phi^T C E``.
+    tau : ndarray
+        The time constants: ``beta`` (rayleigh), the generalized eigenvalues of
+        ``(C_ss, K_ss)`` (matrix, ascending), empty (undamped).
+    """
+
+    kind: str
+    tau: Array
+
+
+def massless_damping(system: Any) -> MasslessDamping | None:
+    """How the damping of `system` (a run's background: its ``K`` with the elements' linear
+    parts under FNA) reaches its massless dofs; None without massless dofs. The matrix case
+    solves the generalized eigenproblem ``C_ss z = tau K_ss z`` (dense: refused above
+    :data:`MAX_MATRIX_MASSLESS` massless dofs)."""
+    c = system._condensation
+    if c is None:
+        return None
+    kind = system.damping
+    if kind == "rayleigh":
+        beta = float(system.rayleigh[1])
+        if beta == 0.0:
+            return MasslessDamping("undamped", np.zeros(0))
+        return MasslessDamping("rayleigh", np.full(c.s.size, beta))
+    if kind != "matrix":
+        return MasslessDamping("undamped", np.zeros(0))
+    C = system.C
+    cols = C[:, c.s] if issparse(C) else np.asarray(C)[:, c.s]
+    if not (abs(cols).max() if cols.size else 0.0) > 0.0:
+        return MasslessDamping("undamped", np.zeros(0))
+    tau, _ = matrix_relaxation(system)
+    return MasslessDamping("matrix", tau)
+
+
+#: Most massless dofs a damping matrix with entries at them is analysed for (a dense
+#: generalized eigenproblem of that size: their first-order coordinates).
+MAX_MATRIX_MASSLESS = 3000
+
+
+def matrix_relaxation(system: Any) -> tuple[Array, Array]:
+    """``(tau, Z)``: ``C_ss Z = K_ss Z diag(tau)``, ``Z^T K_ss Z = I`` (dense), the time
+    constants of the massless dofs of `system` under its damping matrix; values below
+    ``1e-12`` of the largest are exactly 0 (those directions carry no damping). Refuses
+    more than :data:`MAX_MATRIX_MASSLESS` massless dofs and a ``C`` negative there."""
+    import scipy.linalg
+
+    c = system._condensation
+    s = c.s
+    if s.size > MAX_MATRIX_MASSLESS:
+        raise ValueError(
+            f"the damping matrix `C` acts on {s.size} massless dofs (more than "
+            f"{MAX_MATRIX_MASSLESS}): their first-order coordinates need a dense "
+            "eigenproblem of that size; damp with `zeta` or `rayleigh`, give those dofs "
+            "mass, or run duhamel.Newmark()"
+        )
+    C = system.C
+    C_ss = C[s][:, s].toarray() if issparse(C) else np.asarray(C)[np.ix_(s, s)]
+    K_ss = c._K_ss.toarray() if c.sparse else np.asarray(c._K_ss)
+    tau, Z = scipy.linalg.eigh((C_ss + C_ss.T) / 2, (K_ss + K_ss.T) / 2, check_finite=False)
+    top = float(np.abs(tau).max(initial=0.0))
+    if tau.size and tau[0] < -1e-10 * top:
+        d = int(s[np.argmax(np.abs(Z[:, 0]))])
+        raise ValueError(
+            f"the damping matrix `C` is negative at the massless dofs (a direction around "
+            f"dof {d} has the time constant {tau[0]:.3g} s): a massless dof with negative "
+            "damping has no stable motion; check `C`"
+        )
+    tau = np.where(tau <= 1e-12 * top, 0.0, tau)
+    return tau, Z
+
+
 def load_terms(
     system: Any,
     loads: Any,
@@ -167,8 +258,8 @@ def load_terms(
     f_s(t)`` (no mode carries it), at the saved instants `t` and output `dofs`: ``(x, v, a)``
     terms to add, or None when no load acts on a massless dof. The velocity and acceleration
     terms are central differences of the loads over ``h = 1e-3 dt``. `carried`: the
-    K-orthonormal static vectors the run's quasi-static coordinates already carry
-    (:func:`quasi_static`), whose part is left out."""
+    K-orthonormal vectors the run's massless coordinates already carry
+    (:func:`duhamel._engine.relaxation.massless_coordinates`), whose part is left out."""
     c = system._condensation
     if c is None or not loads:
         return None
@@ -199,7 +290,7 @@ def load_terms(
         return None
     h = 1e-3 * dt
 
-    def static(f: Array) -> Array:  # the part the quasi-static coordinates do not carry
+    def static(f: Array) -> Array:  # the part the massless coordinates do not carry
         out = c.static(f)
         if carried is not None and carried.shape[1]:
             out -= (f @ carried) @ carried.T
@@ -210,69 +301,3 @@ def load_terms(
     v = static((fp - fm) / (2 * h))
     a = static((fp - 2 * f0 + fm) / (h * h))
     return x, v, a
-
-
-#: A quasi-static coordinate's circular frequency, relative to the highest mode's: its
-#: static response is reached to about ``(omega_max / omega_f)`` (critically damped).
-QUASI_STATIC_RATIO = 1e6
-
-
-def quasi_static(system: Any, basis: Any) -> tuple[Any, Array, Array]:
-    """`basis` with quasi-static coordinates for the elements acting on massless dofs.
-
-    For each element direction ``d`` (a unit force along its deformation) the response of
-    the massless dofs with the dofs with mass held, ``psi = (0, K_ss^-1 d_s)``, is in no mode:
-    it is the part of an element force's static response no mode carries. These vectors are
-    K-orthonormalised (``psi^T K psi = I``; they are K-orthogonal to every mode and carry no
-    mass) and appended as coordinates ``psi omega_f`` with a fictitious unit modal mass at
-    ``omega_f = QUASI_STATIC_RATIO * omega_max``, critically damped and undamped otherwise
-    (the massless dofs stay quasi-static: the damping acts on the condensed model). Each
-    then follows its static response ``psi^T (f - r) / omega_f`` within about
-    ``omega / omega_f`` of it, so ``psi omega_f y = psi psi^T (f - r)``: the elements' step
-    equation includes the static relation. Returns ``(basis, omega_f values, psi_hat)``;
-    `psi_hat` (``psi``, K-orthonormal) also tells :func:`load_terms` what part of a load's
-    static response the coordinates already carry."""
-    from duhamel.elements.basic import LinearCoupling
-    from duhamel.modal import ModalBasis, frozen
-
-    c = system._condensation
-    n = system.n_dof
-    cols = []
-    for element in system.elements:
-        if isinstance(element, LinearCoupling):
-            continue
-        for i, j in element._directions():
-            d = np.zeros(n)
-            d[i] = 1.0
-            if j is not None:
-                d[j] = -1.0
-            if np.any(d[c.s]):
-                cols.append(d[c.s])
-    if not cols:
-        return basis, np.zeros(0), np.zeros((n, 0))
-    ys = c.solve_ss(np.stack(cols, axis=1))
-    K_ss = c._K_ss.toarray() if c.sparse else c._K_ss
-    g = ys.T @ K_ss @ ys
-    w, u = np.linalg.eigh((g + g.T) / 2)
-    keep = w > 1e-10 * w.max()
-    psi_s = ys @ (u[:, keep] / np.sqrt(w[keep]))
-    psi = np.zeros((n, psi_s.shape[1]))
-    psi[c.s] = psi_s
-    wmax = float(np.max(basis.omega)) if basis.n_modes else 1.0
-    wf = QUASI_STATIC_RATIO * max(wmax, 1e-300)
-    k = psi.shape[1]
-    omega = np.concatenate([np.asarray(basis.omega), np.full(k, wf)])
-    coupling = basis.c_coupling
-    if coupling is not None:
-        coupling = frozen(np.pad(np.asarray(coupling), ((0, k), (0, k))))
-    extended = ModalBasis(
-        phi=frozen(np.ascontiguousarray(np.hstack([np.asarray(basis.phi), psi * wf]))),
-        omega2=frozen(omega * omega),
-        omega=frozen(omega),
-        c=frozen(np.concatenate([np.asarray(basis.c), np.full(k, 2.0 * wf)])),
-        zeta=frozen(np.concatenate([np.asarray(basis.zeta), np.ones(k)])),
-        c_coupling=coupling,
-        mass=basis.mass,
-        labels=basis.labels,
-    )
-    return extended, np.full(k, wf), psi

@@ -31,10 +31,11 @@ from duhamel._engine.energy_run import (
 from duhamel._engine.massless import load_terms
 from duhamel._engine.output import check_memory, physical
 from duhamel._engine.plan import Plan, mass, modal_loads, plan
+from duhamel._engine.relaxation import check_loads, check_state
 from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
 from duhamel._engine.structure import structure_model
 from duhamel._engine.validate import as_float_array
-from duhamel.elements.basic import LinearCoupling
+from duhamel.couplings import LinearCoupling
 from duhamel.errors import SolverError
 from duhamel.integrators import Semianalytic
 from duhamel.loads import support_terms
@@ -104,7 +105,16 @@ class ModalSetup:
         system = self.system
         x = as_float_array(value, name, ndim=1, shape=(system.n_dof,))
         phi = self.route.basis.phi
-        return np.ascontiguousarray(phi.T @ np.asarray(system.M @ x, dtype=np.float64))
+        extra = self.route.massless
+        if extra is None:
+            return np.ascontiguousarray(phi.T @ np.asarray(system.M @ x, dtype=np.float64))
+        # the massless dofs' coordinates hold no mass: psi^T K_b x (their K-orthonormal part)
+        check_state(extra, x, name)
+        m = phi.shape[1] - extra.initial.shape[0]
+        q = np.empty(phi.shape[1])
+        q[:m] = phi[:, :m].T @ np.asarray(system.M @ x, dtype=np.float64)
+        q[m:] = extra.initial @ x
+        return q
 
     def outputs(self, dofs: NDArray[np.int64] | None, n_loads: int) -> Outputs:
         """The output maps of `dofs` (None: all), made once per choice of dofs."""
@@ -170,6 +180,7 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
     if opts.loads is None:
         loads, fns, patterns, base = None, prep.fns, prep.patterns, None
     else:
+        check_loads(route.massless, system, opts.loads)
         loads, fns = modal_loads(opts.loads, system, route.basis.phi)
         patterns = (
             np.stack([s.pattern for s in loads], axis=1) if loads else np.zeros((prep.n_modes, 0))

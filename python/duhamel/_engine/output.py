@@ -2,7 +2,8 @@
 
 Displacements and velocities of the output dofs come with the run (mapped by the engine
 during a first-order run, one matrix product each otherwise); accelerations are computed on
-first access from the modal equations, ``a = Phi_out (p + pseudo - D q' - S q)``.
+first access from the modal equations, ``a = Phi_out (p + pseudo - D q' - S q)`` (the
+coordinates of massless dofs, without inertia, contribute none: docs/basis.md).
 """
 
 from __future__ import annotations
@@ -174,8 +175,13 @@ def _assemble(
     def acceleration() -> NDArray:
         """``Phi_out (p + pseudo - S q - D q')``: the modal accelerations first, then one
         product with the mode shapes (whose scale may be far from that of ``S``)."""
+        massless = np.isinf(basis.omega2)  # coordinates of massless dofs: no inertia
         if first_order is None:
-            a = -(modal.q * basis.omega2) - modal.v * basis.c
+            if np.any(massless):  # their modal acceleration is not formed: 0
+                k, c = np.where(massless, 0.0, basis.omega2), np.where(massless, 0.0, basis.c)
+                a = -(modal.q * k) - modal.v * c
+            else:
+                a = -(modal.q * basis.omega2) - modal.v * basis.c
         else:
             eta, back = first_order
             m = basis.n_modes
@@ -188,6 +194,8 @@ def _assemble(
         for extra in (forcing, pseudo):
             if extra is not None:
                 a += extra
+        if np.any(massless):
+            a[:, massless] = 0.0
         return rows_product(a, phi_out.T)
 
     return x, v, acceleration, modal

@@ -21,11 +21,12 @@ from numpy.typing import NDArray
 from duhamel._engine.background import background
 from duhamel._engine.correction import enriched, resolved
 from duhamel._engine.coupled import CONDITION_LIMIT, FirstOrderModes, first_order_modes
-from duhamel._engine.massless import quasi_static
+from duhamel._engine.relaxation import Massless, massless_coordinates
 from duhamel._engine.specs import ScaledSpec, load, speed_law
 from duhamel._engine.specs import elements as core_elements
 from duhamel._engine.specs import mass as core_mass
-from duhamel.elements.basic import LinearCoupling
+from duhamel.couplings import LinearCoupling
+from duhamel.feedback import Feedback
 from duhamel.integrators import Semianalytic
 from duhamel.loads import Callable
 from duhamel.system import ModalBasis, System
@@ -68,15 +69,16 @@ class Plan:
     correction : ndarray
         The circular frequencies of the static-correction coordinates that carry nonlinear
         elements as pseudo-forces (empty without them): a run resolves them in time
-        (``duhamel._engine.correction.substeps``), and of the quasi-static coordinates of
-        elements at massless dofs.
+        (``duhamel._engine.correction.substeps``).
     resolve : ndarray
-        Those of `correction` a run resolves in time: the quasi-static ones and the
-        static-correction coordinates the elements' tangent can make unstable
-        (``duhamel._engine.correction.resolved``; all of them on the first-order route).
+        Those of `correction` a run resolves in time: the static-correction coordinates the
+        elements' tangent can make unstable (``duhamel._engine.correction.resolved``; all of
+        them on the first-order route).
     carried : ndarray or None
-        The K-orthonormal static vectors of those quasi-static coordinates
-        (``duhamel._engine.massless.quasi_static``).
+        The K-orthonormal vectors of the massless dofs' coordinates (`massless`).
+    massless : Massless or None
+        The coordinates of the massless dofs (quasi-static, or first-order where damping
+        reaches them; ``duhamel._engine.relaxation.massless_coordinates``), None without.
     passive : bool
         Whether everything beyond the background only stores or dissipates energy (passive
         elements, symmetric positive semi-definite couplings, gyroscopic terms; no mass
@@ -95,6 +97,7 @@ class Plan:
     carried: NDArray[np.float64] | None = field(default=None, compare=False)
     passive: bool = False
     resolve: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0), compare=False)
+    massless: Massless | None = field(default=None, compare=False)
 
 
 def modal_loads(
@@ -164,8 +167,8 @@ def mass(system: System, integrator: Any) -> Any:
 
 def _check_massless_elements(system: System) -> None:
     """Refuses linear couplings acting on massless dofs on the modal route (their
-    stiffness would not be condensed); force elements there get quasi-static coordinates
-    (:func:`duhamel._engine.massless.quasi_static`)."""
+    stiffness would not be condensed); force elements there get coordinates of their own
+    (:func:`duhamel._engine.relaxation.massless_coordinates`)."""
     if system._condensation is None or not system.elements:
         return
     massless = set(system.massless_dofs.tolist())
@@ -222,10 +225,15 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         correction = np.zeros(0)  # the linear steps are exact at any dt
     resolve = resolved(system, basis, correction)
     carried = np.zeros((system.n_dof, 0))
-    if system._condensation is not None and system.elements:
-        basis, quasi, carried = quasi_static(system, basis)
-        correction = np.concatenate([correction, quasi])
-        resolve = np.concatenate([resolve, quasi])
+    extra = massless_coordinates(system, basis)
+    if extra is not None:  # massless dofs off their static relation: static or first-order
+        basis, carried = extra.basis, extra.carried
+        if system.mass_law is not None:
+            raise ValueError(
+                "a mass law on a model with elements or damping at massless dofs is not "
+                "integrated by Semianalytic (their coordinates carry no mass); run it with "
+                "duhamel.Newmark()"
+            )
     if integrator.modes is not None:
         _warn_missing_mass(system, basis)
     elements = core_elements(system.elements)
@@ -234,12 +242,19 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         isinstance(e, LinearCoupling) for e in system.elements
     )
     if not has_elements and basis.c_coupling is None and system.mass_law is None:
-        return Plan("uncoupled", basis, Couplings(None, None, []), None, None, elements, bg.linear)
+        return Plan(
+            "uncoupled", basis, Couplings(None, None, []), None, None, elements, bg.linear,
+            correction, carried, massless=extra,
+        )  # fmt: skip
     couplings = _couplings(system, basis)
     route = "pseudo-force"
     modes = None
-    if coupled and integrator.coupling != "pseudo-force":
-        modes = _first_order(system, basis, integrator, couplings)
+    states = _states(system, basis)
+    if states is not None:
+        modes = _with_feedback(system, basis, integrator, couplings, states)
+        route, resolve = "first-order", correction
+    elif coupled and integrator.coupling != "pseudo-force":
+        modes = _first_order(system, basis, integrator, couplings, extra)
         if modes is not None:
             route = "first-order"
             # the one-oscillator measurement behind `resolved` is of the undamped modes'
@@ -249,7 +264,7 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
     quiet = passive(system, couplings, basis)
     return Plan(
         route, basis, couplings, modes, coupling, elements, bg.linear, correction, carried, quiet,
-        resolve,
+        resolve, extra,
     )  # fmt: skip
 
 
@@ -276,6 +291,8 @@ def passive(system: System, couplings: Couplings, basis: ModalBasis) -> bool:
     with skew-symmetric (gyroscopic) damping. Then the growth guard's bound holds."""
     if system.mass_law is not None or bool(np.any(np.asarray(basis.c) < 0.0)):
         return False
+    if any(isinstance(e, Feedback) for e in system.elements):
+        return False  # a controller supplies energy
     if not all(e._passive() for e in system.elements if not isinstance(e, LinearCoupling)):
         return False
     if not _semidefinite(couplings.k, symmetric=True):
@@ -292,14 +309,77 @@ def passive(system: System, couplings: Couplings, basis: ModalBasis) -> bool:
     return True
 
 
+def _states(system: System, basis: ModalBasis) -> Any:
+    """The system's feedback states in modal form (``coupled.States``), or None."""
+    parts = [e.modal_states(basis.phi) for e in system.elements if isinstance(e, Feedback)]
+    if not parts:
+        return None
+    import scipy.linalg
+
+    A = scipy.linalg.block_diag(*(a for a, _, _ in parts))
+    B = np.concatenate([b for _, b, _ in parts], axis=0)
+    F = np.concatenate([f for _, _, f in parts], axis=1)
+    return A, B, F
+
+
+def _with_feedback(
+    system: System, basis: ModalBasis, integrator: Semianalytic, couplings: Couplings, states: Any
+) -> FirstOrderModes:
+    """The first-order modes of the closed loop (modal coordinates and feedback states):
+    the only route that integrates feedback states; a ValueError says why it cannot."""
+    nonlinear = any(not isinstance(e, LinearCoupling) for e in system.elements)
+    why = None
+    if integrator.coupling == "pseudo-force":
+        why = "coupling='pseudo-force' cannot carry them (use coupling='auto' or 'exact')"
+    elif system.mass_law is not None:
+        why = "a mass law is not supported with them"
+    elif couplings.scaled:
+        why = (
+            "couplings scaled by a time-varying speed law (a run-up) are not supported with "
+            "them on this route"
+        )
+    elif nonlinear and (integrator.scheme, integrator.quadrature) != ("b", "trapezoid"):
+        why = "nonlinear elements need scheme='b' and quadrature='trapezoid' with them"
+    if why is not None:
+        raise ValueError(
+            f"the system has feedback states (duhamel.feedback.Feedback: controllers), which "
+            f"only the exact first-order route integrates: {why}"
+        )
+    try:
+        modes = first_order_modes(basis.omega2, basis.c, couplings.k, couplings.c, states)
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        raise ValueError(
+            f"the first-order modes of the system with its feedback states cannot be computed "
+            f"({type(exc).__name__}: {exc})"
+        ) from None
+    if not modes.condition <= CONDITION_LIMIT:
+        raise ValueError(
+            f"the system with its feedback states (controllers) is (nearly) defective: its "
+            f"first-order eigenvector matrix has condition number {modes.condition:.3g} > "
+            f"{CONDITION_LIMIT:g} (its modes would lose digits); a closed loop with a "
+            "repeated eigenvalue (a rigid-body mode the feedback does not hold) cannot be "
+            "integrated on its modes"
+        )
+    return modes
+
+
 def _first_order(
-    system: System, basis: ModalBasis, integrator: Semianalytic, couplings: Couplings
+    system: System,
+    basis: ModalBasis,
+    integrator: Semianalytic,
+    couplings: Couplings,
+    extra: Massless | None = None,
 ) -> FirstOrderModes | None:
     """The first-order modes for the exact coupled route, or None for the pseudo-force
     route."""
     nonlinear = any(not isinstance(e, LinearCoupling) for e in system.elements)
     why = None
-    if system.mass_law is not None or couplings.scaled:
+    if extra is not None:
+        why = (
+            "is not taken with coordinates of massless dofs (static or first-order, without "
+            "mass): their couplings with the modes enter as pseudo-forces"
+        )
+    elif system.mass_law is not None or couplings.scaled:
         why = (
             "needs constant couplings and mass: no mass law, no coupling scaled by a "
             "time-varying speed law"

@@ -8,16 +8,18 @@ from typing import Any
 import numpy as np
 
 from duhamel._engine.labels import resolve_fields
+from duhamel._engine.validate import positive_int
 from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import Load
 from duhamel.system import System
 
-__all__ = ["checked_loads", "checked_models", "massless_store_check"]
+__all__ = ["checked_checkpoint_every", "checked_loads", "checked_models", "massless_store_check"]
 
 
 def massless_store_check(system: System) -> None:
-    """Refuses a streamed run of a model whose massless dofs carry loads or elements: the
-    store does not yet add their static part (in-memory runs do)."""
+    """Refuses a streamed run of a model whose massless dofs carry loads or elements, or
+    that a damping matrix reaches: the store does not yet add their static part or give
+    their coordinates an initial state (in-memory runs do)."""
     c = system._condensation
     if c is None:
         return
@@ -32,6 +34,29 @@ def massless_store_check(system: System) -> None:
             "`store`: a streamed run does not yet support loads or elements at massless dofs "
             f"(dofs {c.s.tolist()[:8]}...); run without `store`"
         )
+    from duhamel._engine.massless import massless_damping
+
+    how = massless_damping(system)
+    if how is not None and how.kind == "matrix":
+        raise ValueError(
+            "`store`: a streamed run does not yet support a damping matrix `C` that reaches "
+            f"massless dofs (dofs {c.s.tolist()[:8]}...: their first-order coordinates); run "
+            "without `store`"
+        )
+
+
+def checked_checkpoint_every(value: Any, store: Any) -> int | None:
+    """`checkpoint_every` as a positive int (None: the default), refused without `store`
+    (there is nothing to checkpoint into: the value would be ignored)."""
+    if value is None:
+        return None
+    out = positive_int(value, "checkpoint_every")
+    if store is None:
+        raise ValueError(
+            f"`checkpoint_every` = {out} needs `store` (checkpoints are written into a "
+            "streamed run's store); pass `store=` or leave `checkpoint_every` out"
+        )
+    return out
 
 
 def checked_loads(loads: Any, system: System) -> list[Load]:

@@ -1,6 +1,6 @@
 """The one place where the model's own descriptions become the core's typed values.
 
-Loads, elements, mass and speed laws describe themselves with small private tuples
+Loads, mass and speed laws describe themselves with small private tuples
 (``_time()``, ``_spec()``); the functions here turn them into the classes of
 :mod:`duhamel._core` (``TimeFunction``, ``SpeedLaw``, ``MassLaw``, ``Element``), which the
 core checks once, when they are made. Imports only numpy and the core, so every model module
@@ -18,7 +18,6 @@ from duhamel import _core
 
 __all__ = [
     "ScaledSpec",
-    "element",
     "elements",
     "load",
     "mass",
@@ -95,72 +94,14 @@ def mass_law(spec: tuple[str, tuple]) -> Any:
     raise ValueError(f"unknown mass law {kind!r}")
 
 
-def element(spec: tuple) -> Any:
-    """An element's ``_spec()`` as a core element."""
-    kind, *args = spec
-    if kind == "polynomial":
-        dof, coefficients = args
-        return _core.Element.polynomial(int(dof), np.ascontiguousarray(coefficients, dtype=float))
-    if kind == "spring":
-        return _core.Element.spring(*args)
-    if kind == "damper":
-        return _core.Element.damper(*args)
-    if kind == "contact":
-        return _core.Element.contact(*args)
-    if kind == "speed_table":
-        *table, law = args
-        return _core.Element.speed_table(*table, speed_law(law))
-    if kind == "journal":
-        dof_x, dof_y, *geometry, law = args
-        return _core.Element.journal_bearing((dof_x, dof_y), *geometry, speed_law(law))
-    if kind == "crack":
-        *crack, law = args
-        return _core.Element.breathing_crack(*crack, speed_law(law))
-    if kind == "bilinear":
-        return _core.Element.bilinear(*args)
-    if kind == "device":
-        return _core.Element.device(*args)
-    if kind == "bouc_wen":
-        i, j, k, fy, alpha, *shape = args
-        return _core.Element.bouc_wen(i, j, k, fy, alpha, tuple(shape))
-    if kind == "friction_pendulum":
-        dof_x, dof_y, radius, mu, weight, yd, *rest = args
-        slow, rate = (rest[0], rest[1]) if len(rest) == 2 else (None, 0.0)
-        velocity = None if slow is None or not rate else (float(slow), float(rate))
-        y = None if dof_y is None else int(dof_y)
-        return _core.Element.friction_pendulum(int(dof_x), y, radius, mu, weight, yd, velocity)
-    if kind == "lead_rubber":
-        dof_x, dof_y, strength, shape = args
-        y = None if dof_y is None else int(dof_y)
-        return _core.Element.lead_rubber(
-            int(dof_x), y, tuple(map(float, strength)), tuple(map(float, shape))
-        )
-    if kind == "viscous_damper":
-        return _core.Element.viscous_damper(*args)
-    if kind == "friction_pendulum_axial":
-        dofs, radius, mu, weight, yd, kv, velocity, pressure = args
-        return _core.Element.friction_pendulum_axial(
-            list(dofs), radius, mu, (weight, yd), kv, velocity, pressure
-        )
-    if kind == "maxwell_damper":
-        i, j, c, exponent, v0, kb = args
-        return _core.Element.maxwell_damper(i, j, (c, exponent, v0), kb)
-    if kind == "gap":
-        return _core.Element.gap(*args)
-    if kind == "shifted":
-        inner, k0, c0 = args
-        return _core.Element.shifted(
-            element(inner),
-            np.ascontiguousarray(k0, float).ravel(),
-            np.ascontiguousarray(c0, float).ravel(),
-        )
-    if kind == "callable":
-        dofs, fn, jacobian, *state = args
-        return _core.Element.callable(list(dofs), fn, jacobian, state[0] if state else None)
-    raise ValueError(f"unknown element kind {kind!r}")
-
-
 def elements(items: Any) -> list[Any]:
-    """The core elements of a model's elements, couplings left out (a ``LinearCoupling`` is
-    a coupling of the background or a pseudo-force of its own, never an element)."""
-    return [element(spec) for spec in (e._spec() for e in items) if spec[0] != "coupling"]
+    """The core elements a run evaluates: a model's elements (``duhamel.elements`` classes,
+    defined in the core), the remainder of one whose linear part went into the background
+    (its ``core`` element), couplings left out (a ``LinearCoupling`` is a coupling of the
+    background or a pseudo-force of its own, never an element)."""
+    out = []
+    for item in items:
+        core = getattr(item, "core", item)
+        if isinstance(core, _core.Element):
+            out.append(core)
+    return out

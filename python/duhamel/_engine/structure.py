@@ -9,8 +9,8 @@ from typing import Any
 import numpy as np
 
 from duhamel._engine.direct import damping_matrix, physical_matrices
-from duhamel._engine.specs import element as core_element
-from duhamel.elements.basic import LinearCoupling
+from duhamel.couplings import LinearCoupling
+from duhamel.feedback import Feedback
 from duhamel.loads import BaseAcceleration
 from duhamel.results.forces import StructureModel
 
@@ -51,6 +51,11 @@ def structure_model(
             mphi = np.asarray(system.M @ basis.phi)
             c = (mphi * basis.c) @ mphi.T
         for element in elements:
+            if isinstance(element, Feedback):
+                raise ValueError(
+                    "structural outputs (base shear, energy) need the forces of the model's "
+                    "matrices; this system has feedback states (controllers) that push too"
+                )
             if isinstance(element, LinearCoupling):
                 factor = element.constant_factor()
                 if factor is None:
@@ -64,7 +69,7 @@ def structure_model(
                     c = factor * element.C if c is None else c + factor * element.C
     alpha = float(system.rayleigh[0]) if system.damping == "rayleigh" else 0.0
     forces = tuple(
-        (e, np.asarray(core_element(e._spec()).dofs, dtype=np.int64))
+        (e, np.asarray(e._dofs, dtype=np.int64))
         for e in elements
         if not isinstance(e, LinearCoupling)
     )

@@ -45,18 +45,11 @@ def _nonlinear_reason(element: Any) -> str | None:
         if element.constant_factor() is None:
             return "has a time-varying scale (a speed law): the coefficients are not constant"
         return None
-    if isinstance(element, el.Damper):
-        return None
-    if isinstance(element, el.Spring | el.Cubic):
-        return None if element.k3 == 0.0 else "is nonlinear (k3 != 0)"
-    if isinstance(element, el.Polynomial):
-        c = element.coefficients
-        if any(v != 0.0 for v in c[2:]):
-            return "is nonlinear (a coefficient of degree >= 2 is non-zero)"
-        if c and c[0] != 0.0:
-            return "applies a constant force (coefficient of degree 0), which is not linear"
-        return None
-    return "is not one of the linear elements (Damper, LinearCoupling, Spring/Cubic/Polynomial)"
+    try:
+        element._linear_matrices()
+    except ValueError as exc:
+        return str(exc)
+    return None
 
 
 def unloaded(system: System) -> System:
@@ -126,7 +119,6 @@ def modal_model(system: System, modes: int | None = None) -> ModalModel:
     """The :class:`ModalModel` of a linear `system` on ``system.modal(modes)``."""
     basis = system.modal(modes)
     phi = np.asarray(basis.phi)
-    m = phi.shape[1]
     k_q = np.diag(np.asarray(basis.omega2, dtype=np.float64)).copy()
     c_q = np.diag(np.asarray(basis.c, dtype=np.float64)).copy()
     if basis.c_coupling is not None:
@@ -140,16 +132,9 @@ def modal_model(system: System, modes: int | None = None) -> ModalModel:
             if cc is not None:
                 c_q += factor * cc
             continue
-        if isinstance(element, el.Polynomial):
-            coeffs = element.coefficients
-            if len(coeffs) > 1:
-                k_q += coeffs[1] * np.outer(phi[element.dof], phi[element.dof])
-            continue
-        if isinstance(element, el.Cubic):
-            continue  # k3 == 0 (checked): no force
-        d = phi[element.i] - (phi[element.j] if element.j is not None else np.zeros(m))
-        value = element.k if isinstance(element, el.Spring) else element.c
-        target = k_q if isinstance(element, el.Spring) else c_q
-        target += value * np.outer(d, d)
+        dofs, k_e, c_e = element._linear_matrices()  # linear: checked by check_system
+        local = phi[np.asarray(dofs)]
+        k_q += local.T @ k_e @ local
+        c_q += local.T @ c_e @ local
     phi_t_m = np.asarray(system.M @ phi, dtype=np.float64).T  # M is symmetric
     return ModalModel(phi=phi, phi_t_m=np.ascontiguousarray(phi_t_m), k_q=k_q, c_q=c_q)

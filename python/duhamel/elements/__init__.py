@@ -1,43 +1,47 @@
 """Force elements: restoring forces ``r(x, x', t)`` on the left-hand side,
 ``M x'' + C x' + K x + r(x, x', t) = f(t)``, added with :meth:`duhamel.System.add`.
 
-Every element except :class:`Callable` is evaluated in Rust with analytic tangents. The
-integrator treats the element forces as modal pseudo-forces; :class:`LinearCoupling` is
-projected on the modes once. The hysteretic and device elements of earthquake engineering
-(:class:`Bilinear`, :class:`BoucWen`, :class:`FrictionPendulum`,
-:class:`LeadRubberBearing`, :class:`ViscousDamper`, :class:`Gap`) are defined in
-:mod:`.devices` (the triple friction pendulum :class:`TripleFrictionPendulum` in
-:mod:`.triple`), the others in :mod:`.basic`, their base class in :mod:`.base`; all are
-exported here. :class:`PDelta` (in :mod:`.geometric`) is no force element: it is linear,
-and :meth:`duhamel.System.add` takes it into the stiffness.
+Every element except :class:`Callable` is defined once, in Rust (its parameters, checks,
+force and tangents, internal variables), and evaluated there with analytic tangents; the
+classes here are those definitions. Where an element acts comes first: the dofs of a
+deformation ``x_i - x_j`` as ``i, j`` (``j=None``: to the ground), or the dofs of a device
+on several as one tuple ``dofs``; indices or dof labels. Physical parameters are
+keyword-only (docs/models.md). :class:`PDelta` is no force element: it is linear, and
+:meth:`duhamel.System.add` takes it into the stiffness. :class:`LinearCoupling`
+(:mod:`duhamel.couplings`) is a coupling of the background, kept by a system apart from its
+elements (:attr:`duhamel.System.couplings`). :func:`drive` drives an element through a
+deformation history (a material test).
 """
 
 from __future__ import annotations
 
-from duhamel.elements.base import Element
-from duhamel.elements.basic import (
+from duhamel._core import (
+    Bilinear,
+    BoucWen,
+    BreathingCrack,
     Callable,
     Contact,
     Cubic,
     Damper,
-    LinearCoupling,
-    Polynomial,
-    Spring,
-)
-from duhamel.elements.devices import (
-    Bilinear,
-    BoucWen,
+    Element,
     FrictionPendulum,
     Gap,
+    JournalElement,
     LeadRubberBearing,
+    Polynomial,
+    SpeedTableBearing,
+    Spring,
+    TripleFrictionPendulum,
     ViscousDamper,
 )
+from duhamel.couplings import LinearCoupling
+from duhamel.elements.drive import Hysteresis, drive
 from duhamel.elements.geometric import PDelta
-from duhamel.elements.triple import TripleFrictionPendulum
 
 __all__ = [
     "Bilinear",
     "BoucWen",
+    "BreathingCrack",
     "Callable",
     "Contact",
     "Cubic",
@@ -45,11 +49,15 @@ __all__ = [
     "Element",
     "FrictionPendulum",
     "Gap",
+    "Hysteresis",
+    "JournalElement",
     "LeadRubberBearing",
     "LinearCoupling",
     "PDelta",
     "Polynomial",
+    "SpeedTableBearing",
     "Spring",
     "TripleFrictionPendulum",
     "ViscousDamper",
+    "drive",
 ]

@@ -4,7 +4,6 @@ and both runs through :func:`~duhamel.ensemble.solve_many`."""
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -54,22 +53,40 @@ def _factors(lambdas: Mapping[str, Any]) -> dict[str, tuple[float, float]]:
     return out
 
 
+def _parameters(element: Any) -> dict[str, Any]:
+    """An element's parameters by name (none for a coupling or a Python element's function)."""
+    return dict(getattr(element, "parameters", {}) or {})
+
+
 def _modified(element: Any, factors: dict[str, tuple[float, float]], which: int) -> Any:
     """`element` with its properties scaled (`which`: 0 lower, 1 upper)."""
-    if not dataclasses.is_dataclass(element):
-        return element
     name = type(element).__name__
     changes = {}
-    for field in dataclasses.fields(element):
-        key = f"{name}.{field.name}"
-        pair = factors.get(key, factors.get(field.name))
-        value = getattr(element, field.name)
-        if pair is None or field.name in _PLACEMENT or value is None:
+    for field, value in _parameters(element).items():
+        key = f"{name}.{field}"
+        pair = factors.get(key, factors.get(field))
+        if pair is None or field in _PLACEMENT or value is None:
             continue
         if isinstance(value, bool) or not isinstance(value, int | float):
             continue
-        changes[field.name] = pair[which] * float(value)
-    return dataclasses.replace(element, **changes) if changes else element
+        changes[field] = pair[which] * float(value)
+    return element.replace(**changes) if changes else element
+
+
+def _available(elements: Any) -> str:
+    """The numeric properties of `elements` that factors can scale, per class, for a message."""
+    by_class: dict[str, set[str]] = {}
+    for element in elements:
+        names = list(_parameters(element))
+        numeric = by_class.setdefault(type(element).__name__, set())
+        for n in names:
+            value = getattr(element, n, None)
+            if n not in _PLACEMENT and isinstance(value, int | float):
+                if not isinstance(value, bool):
+                    numeric.add(n)
+    if not by_class:
+        return "the system has no elements"
+    return "; ".join(f"{c}: {', '.join(sorted(n)) or 'none'}" for c, n in sorted(by_class.items()))
 
 
 def property_bounds(system: Any, lambdas: Mapping[str, Any]) -> dict[str, Any]:
@@ -111,12 +128,14 @@ def property_bounds(system: Any, lambdas: Mapping[str, Any]) -> dict[str, Any]:
     factors = _factors(lambdas)
     known = set()
     for element in system.elements:
-        if dataclasses.is_dataclass(element):
-            for field in dataclasses.fields(element):
-                known |= {field.name, f"{type(element).__name__}.{field.name}"}
+        for field in _parameters(element):
+            known |= {field, f"{type(element).__name__}.{field}"}
     unknown = sorted(set(factors) - known)
     if unknown:
-        raise ValueError(f"`lambdas`: {unknown} name no property of the system's elements")
+        raise ValueError(
+            f"`lambdas`: {unknown} name no property of the system's elements; the properties "
+            f"available are {_available(system.elements)} (a bare name, or 'Class.name')"
+        )
     out = {}
     for which, name in enumerate(BOUNDS):
         other = system._with_stiffness(system.K)

@@ -233,6 +233,27 @@ def _dask(job: _Job, ps: list, client: Any, size: int, basis: Any) -> Iterator[A
         yield from chunk
 
 
+def _counted(
+    stream: Iterator[Any], n: int, progress: bool | Callable[[int, int], Any] | None
+) -> Iterator[Any]:
+    """`stream`, reporting each result: a tqdm bar over the runs (``progress=True``, shown
+    for studies lasting more than a second), or ``progress(done, n_runs)``."""
+    if progress is None or progress is False:
+        yield from stream
+        return
+    if progress is True:
+        from tqdm.auto import tqdm
+
+        with tqdm(total=n, unit="run", delay=1.0, leave=False, desc="solve_many") as bar:
+            for result in stream:
+                bar.update(1)
+                yield result
+        return
+    for done, result in enumerate(stream, start=1):
+        progress(done, n)
+        yield result
+
+
 def solve_many(
     make_system: Callable[[Any], Any],
     params: Iterable[Any],
@@ -247,6 +268,7 @@ def solve_many(
     on_error: str = "raise",
     basis: ModalBasis | str | None = None,
     to_zarr: str | Path | None = None,
+    progress: bool | Callable[[int, int], Any] | None = None,
     **solve_options: Any,
 ) -> Ensemble:
     """Run ``solve(make_system(p), integrator, t_end=t_end, dt=dt, **solve_options)`` for
@@ -295,6 +317,11 @@ def solve_many(
         that no more than a few blocks are ever in memory; ``results`` is then empty and
         :meth:`Ensemble.to_xarray` opens the store. Needs xarray and zarr; not with
         ``on_error='keep'``.
+    progress : bool or callable, optional
+        ``True`` shows a tqdm progress bar over the runs (runs done, rate, ETA) for studies
+        lasting more than about a second, as ``duhamel.solve(progress=True)`` does over the
+        steps of one run; a function is called as ``progress(done, n_runs)`` as the results
+        arrive (in case order). The runs themselves report nothing.
     **solve_options
         Passed to :func:`duhamel.solve` (``x0``, ``v0``, ``save_every``, ``dofs``...); each run
         uses one thread (``threads=1``): the parallelism is across runs.
@@ -327,6 +354,10 @@ def solve_many(
         raise TypeError(f"`reduce` must be callable, got {type(reduce).__name__}")
     if "threads" in solve_options:
         raise ValueError("`threads` is set per run by solve_many (1); use `workers`")
+    if not (progress is None or isinstance(progress, bool) or callable(progress)):
+        raise TypeError(
+            f"`progress` must be a bool or a function (done, n_runs), got {type(progress).__name__}"
+        )
     if not isinstance(on_error, str) or on_error not in ("raise", "keep"):
         raise ValueError(f"`on_error` must be 'raise' or 'keep', got {on_error!r}")
     if to_zarr is not None and on_error == "keep":
@@ -360,6 +391,7 @@ def solve_many(
         size = int(chunk_size) if chunk_size else max(1, math.ceil(len(ps) / (4 * threads)))
         stream = _dask(job, ps, client, size, shared)
         stats = {"where": "dask", "workers": threads, "chunk_size": size}
+    stream = _counted(stream, len(ps), progress)
     results: list[Any] = []
     store = None
     if to_zarr is None:

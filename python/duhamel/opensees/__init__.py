@@ -77,7 +77,60 @@ def _openseespy() -> Any:
     return ops
 
 
-def from_opensees(*, nonlinear: Literal["translate", "linearize"] = "translate") -> System:
+def _rayleigh_check(damped: dict[int, Any], rayleigh: Any) -> list[str]:
+    """Refuses Rayleigh damping on translated (nonlinear) elements unless it is proportional
+    to their initial stiffness (`rayleigh`'s ``betaK0``: a linear dashpot, kept in ``C``);
+    returns the notes of those kept."""
+    if not damped:
+        return []
+    tag, d = next(iter(damped.items()))
+    name = f"OpenSees element {tag} ({d.kind}, {d.what})"
+    if rayleigh is None:
+        raise ValueError(
+            f"{name} carries Rayleigh damping (defined with '-doRayleigh'): OpenSees makes "
+            "its stiffness-proportional part follow the element's initial stiffness "
+            "(rayleigh's betaK0), current tangent (betaK) or last committed tangent "
+            "(betaKc), which the import cannot read back from OpenSees; pass the factors "
+            "given to ops.rayleigh as `rayleigh=(alphaM, betaK, betaK0, betaKc)`, or define "
+            "the element without '-doRayleigh' (zeroLength's default)"
+        )
+    from duhamel._engine.validate import as_float_array
+
+    _, beta_k, beta_k0, beta_kc = as_float_array(rayleigh, "rayleigh", shape=(4,)).tolist()
+    for value, key, tangent in (
+        (beta_k, "betaK", "current tangent (it changes as the element yields)"),
+        (beta_kc, "betaKc", "last committed tangent (its tangent at the start of each "
+         "of OpenSees' steps, a damping that also depends on the step)"),
+    ):  # fmt: skip
+        if value != 0.0:
+            raise ValueError(
+                f"`rayleigh`: {key} = {value:g} damps {name} in proportion to its {tangent}: "
+                "a state-dependent damping that duhamel's elements do not model; damp it on "
+                "its initial stiffness (betaK0, a linear dashpot duhamel keeps exactly) or "
+                "define it without '-doRayleigh'"
+            )
+    notes = []
+    for tag, d in damped.items():
+        for k0, c in d.directions:
+            want = beta_k0 * k0
+            if np.isfinite(c) and abs(c - want) > 1e-8 * max(abs(c), abs(want)):
+                raise ValueError(
+                    f"`rayleigh`: OpenSees element {tag} ({d.kind}) is damped with "
+                    f"{c:.6g} at import, betaK0 times its stiffness is {want:.6g}: these are "
+                    "not the factors OpenSees used for it (a region with others?)"
+                )
+        notes.append(
+            f"element {tag}: OpenSees' Rayleigh damping on its initial stiffness (betaK0 = "
+            f"{beta_k0:g}) kept in C as a linear dashpot"
+        )
+    return notes
+
+
+def from_opensees(
+    *,
+    nonlinear: Literal["translate", "linearize"] = "translate",
+    rayleigh: tuple[float, float, float, float] | None = None,
+) -> System:
     """The model defined in the running openseespy session as a labelled :class:`System`.
 
     ``M``, ``K`` and, when ``rayleigh`` or element damping is defined, ``C`` are formed by
@@ -106,6 +159,15 @@ def from_opensees(*, nonlinear: Literal["translate", "linearize"] = "translate")
         What to do with an element without a duhamel counterpart: refuse the model naming
         its tag and type (``"translate"``), or keep it at its tangent stiffness at import
         with a warning (``"linearize"``).
+    rayleigh : (float, float, float, float), optional
+        The factors ``(alphaM, betaK, betaK0, betaKc)`` given to OpenSees' ``rayleigh``, needed
+        only when a translated element carries Rayleigh damping (a ``zeroLength`` or bearing
+        defined with ``-doRayleigh``): on its initial stiffness (``betaK0``) that damping is a
+        linear dashpot, kept exactly in ``C``; on its current or last committed tangent
+        (``betaK``, ``betaKc``) it changes with the element's state, which duhamel does not
+        model: refused. OpenSees does not let the import read these factors back. The
+        elastic elements' Rayleigh damping is the same for every variant (their tangent is
+        constant) and needs nothing.
 
     Returns
     -------
@@ -149,6 +211,7 @@ def from_opensees(*, nonlinear: Literal["translate", "linearize"] = "translate")
     M, C, K, equations = matrices(ops)
     dmap = dof_map(ops, M.shape[0], equations, pr.constraints)
     tr = translate(ops, pr, dmap, nonlinear)
+    tr.notes.extend(_rayleigh_check(tr.damped, rayleigh))
     K = K.copy()
     for dofs, k in tr.removed:
         left = K[np.ix_(dofs, dofs)] - k

@@ -24,7 +24,7 @@ from duhamel.elements import (
 )
 from duhamel.opensees._read import DofMap, Printout, components
 
-__all__ = ["Translation", "translate"]
+__all__ = ["Damped", "Translation", "translate"]
 
 #: Element classes that are linear at fixed geometry (their tangent at import is exact).
 LINEAR = {
@@ -63,14 +63,28 @@ class Untranslatable(Exception):
 
 
 @dataclass
+class Damped:
+    """A translated element that OpenSees damps with its Rayleigh factors (``zeroLength``
+    ``-doRayleigh 1``, a bearing's ``-doRayleigh``): its type, its materials (or `None` for a
+    bearing) and, per translated direction, its tangent at import and the damping OpenSees
+    gives it there (``nan`` where it cannot be read)."""
+
+    kind: str
+    what: str
+    directions: list[tuple[float, float]]
+
+
+@dataclass
 class Translation:
     """The translated elements, by OpenSees tag; the stiffness to take out of K (each
-    ``(dofs, k)``); the elements kept linear; notes for the user."""
+    ``(dofs, k)``); the elements kept linear; notes for the user; the translated elements
+    OpenSees damps with its Rayleigh factors, by tag."""
 
     elements: dict[int, list[Element]] = field(default_factory=dict)
     removed: list[tuple[tuple[int, ...], NDArray[np.float64]]] = field(default_factory=list)
     linearized: dict[int, str] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
+    damped: dict[int, Damped] = field(default_factory=dict)
 
 
 def _eq(dmap: DofMap, node: int, comp: str, index: dict) -> int | None:
@@ -163,7 +177,28 @@ def _material(mat: dict[str, Any], i: int | None, j: int | None, sign: float) ->
     raise Untranslatable(f"material {mat.get('name')} of type {kind}")
 
 
-Made = tuple[list[Element], list[tuple[tuple[int, ...], NDArray[np.float64]]], list[str]]
+#: What translating one element gives: its duhamel elements, the stiffness to take out of K,
+#: notes, and its Rayleigh damping when OpenSees gives it one (None: none).
+Made = tuple[
+    list[Element], list[tuple[tuple[int, ...], NDArray[np.float64]]], list[str], Damped | None
+]
+
+
+def _rayleigh_forces(ops: Any, tag: int, node: int, response: str) -> NDArray[np.float64]:
+    """The element's Rayleigh damping force (`response`: its name) under a unit trial
+    velocity of every dof of its node `node` (the other node at rest): the damping OpenSees
+    gives it, read without changing the model (the trial velocities are set back)."""
+    nodes = [int(v) for v in ops.eleNodes(tag)]
+    saved = {n: [float(v) for v in ops.nodeVel(n)] for n in nodes}
+    try:
+        for n in nodes:
+            for d, _ in enumerate(saved[n]):
+                ops.setNodeVel(n, d + 1, 1.0 if n == node else 0.0)
+        return np.array(_resp(ops, tag, response), dtype=np.float64)
+    finally:
+        for n in nodes:
+            for d, v in enumerate(saved[n]):
+                ops.setNodeVel(n, d + 1, v)
 
 
 def _zero_length(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx: dict) -> Made:
@@ -173,6 +208,8 @@ def _zero_length(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx:
     comps = components(ndm, len(ops.nodeDisp(nj)))
     made: list[Element] = []
     removed = []
+    damping: list[tuple[float, float]] = []
+    rayleigh: NDArray[np.float64] | None = None
     for k, (mtag, dname) in enumerate(zip(ele["materials"], ele["dof"], strict=True)):
         mat = pr.materials.get(int(mtag))
         if mat is None:
@@ -204,7 +241,17 @@ def _zero_length(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx:
         if tangent != 0.0:
             removed.append(_pair(i, j, tangent))
         made.append(element)
-    return made, removed, []
+        if rayleigh is None:  # zero unless the element was defined with -doRayleigh 1
+            rayleigh = _rayleigh_forces(ops, tag, nj, "rayleighForces")
+        half = rayleigh.size // 2
+        damping.append((tangent, abs(float(rayleigh[half + comps.index(comp)]))))
+    damped = None
+    if made and any(c != 0.0 for _, c in damping):
+        what = ", ".join(
+            f"{pr.materials[int(m)].get('type')} material {m}" for m in ele["materials"]
+        )
+        damped = Damped("ZeroLength", what, damping)
+    return made, removed, [], damped
 
 
 def _slider(ops: Any, tag: int, ele: dict, dmap: DofMap, idx: dict) -> Made:
@@ -234,7 +281,7 @@ def _slider(ops: Any, tag: int, ele: dict, dmap: DofMap, idx: dict) -> Made:
     if len(shear) == 1:
         i, j = pairs[0]
         if i is None and j is None:
-            return [], [], []
+            return [], [], [], None
         a, b = (j, i) if j is not None else (i, j)
         alpha = k2 / k0  # post-sliding over initial stiffness: (1 - alpha) fy = mu N
         made = [Bilinear(a, b, k=k0, fy=mu * weight / (1.0 - alpha), alpha=alpha)]
@@ -243,11 +290,10 @@ def _slider(ops: Any, tag: int, ele: dict, dmap: DofMap, idx: dict) -> Made:
             raise Untranslatable("3-D bearing between two free nodes (duhamel's is to ground)")
         dofs = [j if i is None else i for i, j in pairs]
         if any(d is None for d in dofs):
-            return [], [], []
+            return [], [], [], None
         made = [
             FrictionPendulum(
-                dofs[0],
-                dofs[1],
+                (dofs[0], dofs[1]),
                 radius=min(radius, FLAT_RADIUS),
                 mu=mu,
                 weight=weight,
@@ -259,7 +305,10 @@ def _slider(ops: Any, tag: int, ele: dict, dmap: DofMap, idx: dict) -> Made:
         f"element {tag}: friction taken as Coulomb with mu = {mu:g} (its value at import) "
         f"under the axial load at import {weight:g}"
     )
-    return made, removed, [note]
+    damped = None
+    if int(float(ele.get("addRayleigh", 0))) == 1:  # -doRayleigh: its damping not read
+        damped = Damped("bearing", "its kInit", [(k0, math.nan)] * len(removed))
+    return made, removed, [note], damped
 
 
 def _triple(ops: Any, tag: int, ele: dict, dmap: DofMap, idx: dict) -> Made:
@@ -281,11 +330,11 @@ def _triple(ops: Any, tag: int, ele: dict, dmap: DofMap, idx: dict) -> Made:
     dofs = [j if i is None else i for i, j in pairs]  # the force is odd in the deformation
     free = [d for d in dofs if d is not None]
     if not free:
-        return [], [], []
+        return [], [], [], None
     uy = float(ele["uy"])
     made: list[Element] = [
         TripleFrictionPendulum(
-            *free,
+            tuple(free),
             mu=mu,  # type: ignore[arg-type]
             radius=(float(ele["L1"]), float(ele["L2"]), float(ele["L3"])),
             displacement_capacity=(float(ele["d1"]), float(ele["d2"]), float(ele["d3"])),
@@ -299,7 +348,7 @@ def _triple(ops: Any, tag: int, ele: dict, dmap: DofMap, idx: dict) -> Made:
         f"element {tag}: friction taken as Coulomb with mu = {mu} (the values at import) "
         f"under the axial load at import {weight:g}"
     )
-    return made, removed, [note]
+    return made, removed, [note], None
 
 
 def translate(ops: Any, pr: Printout, dmap: DofMap, nonlinear: str) -> Translation:
@@ -317,17 +366,19 @@ def translate(ops: Any, pr: Printout, dmap: DofMap, nonlinear: str) -> Translati
                 if any(word in name for word in NONLINEAR_GEOMETRY):
                     raise Untranslatable(f"geometric transformation {name} (large displacements)")
             elif kind == "ZeroLength":
-                made, removed, notes = _zero_length(ops, tag, ele, pr, dmap, idx)
+                made, removed, notes, damped = _zero_length(ops, tag, ele, pr, dmap, idx)
             elif kind in SLIDERS:
-                made, removed, notes = _slider(ops, tag, ele, dmap, idx)
+                made, removed, notes, damped = _slider(ops, tag, ele, dmap, idx)
             elif kind == "TripleFrictionPendulum":
-                made, removed, notes = _triple(ops, tag, ele, dmap, idx)
+                made, removed, notes, damped = _triple(ops, tag, ele, dmap, idx)
             else:
                 raise Untranslatable("no duhamel counterpart")
             if kind not in LINEAR and made:
                 out.elements[tag] = made
                 out.removed.extend(removed)
                 out.notes.extend(notes)
+                if damped is not None:
+                    out.damped[tag] = damped
         except (Untranslatable, KeyError, ValueError) as exc:
             what = f"element {tag} ({kind}): {exc}"
             if nonlinear != "linearize":

@@ -163,7 +163,7 @@ def static_scale(rotor: R.Rotor | None = None) -> Array:
     --------
     >>> from duhamel.paper.rotor import static_scale
     >>> [round(1e6 * float(s), 2) for s in static_scale()]  # micrometres, nodes 0..4
-    [7.2, 107.9, 105.77, 11.54, 54.22]
+    [7.2, 107.86, 105.74, 11.54, 54.2]
     """
     rotor = paper_rotor(0.0) if rotor is None else rotor
     return np.abs(rotor.static_deflection()[1::4])

@@ -3,10 +3,12 @@ canonical names; re-exported by :mod:`duhamel.records.motion`."""
 
 from __future__ import annotations
 
+from duhamel.constants import STANDARD_GRAVITY
+
 __all__ = ["UNITS", "G"]
 
-#: Standard gravity, m/s^2.
-G = 9.80665
+#: Standard gravity, m/s^2 (:data:`duhamel.constants.STANDARD_GRAVITY`).
+G = STANDARD_GRAVITY
 
 #: Acceleration units understood by the readers, with their factor to m/s^2.
 UNITS: dict[str, float] = {

@@ -117,38 +117,12 @@ def _quad(matrix: Any, x: NDArray[np.float64]) -> NDArray[np.float64]:
 def stored_energy(element: Any, u: NDArray[np.float64], f: NDArray[np.float64]) -> NDArray:
     """An element's recoverable energy from its local displacements `u` and forces `f`
     (shape (n_t, n_local)); zeros where the element defines none."""
-    kind = type(element).__name__
-    if kind == "Bilinear":
-        return f[:, 0] ** 2 / (2.0 * element.k)
-    if kind == "LeadRubberBearing":
-        hyst = f - element.alpha * element.k * u
-        soft = (1.0 - element.alpha) * element.k
-        elastic = 0.5 * element.alpha * element.k * (u**2).sum(axis=1)
-        return elastic + ((hyst**2).sum(axis=1) / (2 * soft) if soft > 0 else 0.0)
-    if kind == "BoucWen":
-        ue = u[:, 0] - (u[:, 1] if u.shape[1] == 2 else 0.0)
-        hyst = f[:, 0] - element.alpha * element.k * ue
-        soft = (1.0 - element.alpha) * element.k
-        return 0.5 * element.alpha * element.k * ue**2 + (hyst**2 / (2 * soft) if soft > 0 else 0)
-    if kind == "ViscousDamper" and element.brace_stiffness is not None:
-        return f[:, 0] ** 2 / (2.0 * element.brace_stiffness)
-    if kind == "Spring":
-        ue = u[:, 0] - (u[:, 1] if u.shape[1] == 2 else 0.0)
-        return 0.5 * element.k * ue**2 + 0.25 * element.k3 * ue**4
-    if kind == "FrictionPendulum" and element.dof_z is not None:
-        # the axial spring's energy and the pendulum's N u^2 / (2 R) at the current axial
-        # force (approximate: the coupled model has no separable potential)
-        axial = -f[:, 1]
-        return axial**2 / (2.0 * element.vertical_stiffness) + axial * u[:, 0] ** 2 / (
-            2.0 * element.radius
-        )
-    if kind == "FrictionPendulum":
-        kr = element.weight / element.radius
-        friction = f - kr * u
-        ki = element.mu * element.weight / element.yield_displacement
-        stick = (friction**2).sum(axis=1) / (2 * ki) if element.mu > 0 else 0.0
-        return 0.5 * kr * (u**2).sum(axis=1) + stick
-    return np.zeros(u.shape[0])
+    method = getattr(element, "_stored_energy", None)
+    if method is None:
+        return np.zeros(u.shape[0])
+    u2 = np.asarray(u, dtype=np.float64).reshape(u.shape[0], -1)
+    f2 = np.asarray(f, dtype=np.float64).reshape(u2.shape)
+    return np.asarray(method(u2.tolist(), f2.tolist()), dtype=np.float64)
 
 
 def energy_balance(sol: Any, model: Any) -> Energy:

@@ -51,8 +51,7 @@ from duhamel.rotor.misalignment import CouplingMisalignment
 from duhamel.rotor.model import Rotor
 from duhamel.rotor.modes import Modes
 from duhamel.rotor.plot import plot_campbell, plot_orbit
-from duhamel.rotor.ross import RossDofs, RossModel, from_ross
-from duhamel.rotor.ross_rotor import RossRotor
+from duhamel.rotor.ross import RossDofs, RossModel, RossRotor, from_ross
 from duhamel.rotor.shaft import Shaft, cowper_shear_coefficient
 from duhamel.rotor.stability import Level1Stability, Stage, anticipated_cross_coupling
 from duhamel.rotor.unbalance import Peak, UnbalanceResponse, unbalance_response

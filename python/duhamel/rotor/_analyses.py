@@ -1,5 +1,8 @@
-"""The rotor's analyses at constant speed: complex modes, natural frequencies and the
-Campbell diagram (a mixin of :class:`~duhamel.rotor.Rotor`, which owns the model)."""
+"""The rotor's analyses at constant speed (a mixin of :class:`~duhamel.rotor.Rotor`, which
+owns the model): frequency and unbalance responses, the closed loop with magnetic bearings,
+static equilibrium; the eigenvalue analyses (modes, Campbell diagram, critical speeds, Level
+I stability) in :mod:`duhamel.rotor._eigen_analyses`. Magnetic bearings among the model's
+bearings (``magnetic``) enter every analysis exactly (:mod:`duhamel.rotor._amb_linear`)."""
 
 from __future__ import annotations
 
@@ -9,10 +12,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel.rotor._crossings import critical_speeds
+from duhamel.constants import STANDARD_GRAVITY
+from duhamel.rotor._eigen_analyses import EigenAnalyses
 from duhamel.rotor._plot_response import plot_mode_shape
 from duhamel.rotor._speed import constant_speed
-from duhamel.rotor.campbell import Campbell, campbell
 from duhamel.rotor.frequency import (
     DofSpec,
     FrequencyResponse,
@@ -21,14 +24,12 @@ from duhamel.rotor.frequency import (
     frequency_response_map,
     resolve_dofs,
 )
-from duhamel.rotor.modes import Modes, complex_modes
-from duhamel.rotor.stability import Level1Stability, level1_stability
 from duhamel.rotor.unbalance import UnbalanceResponse, unbalance_response
 
 __all__ = ["RotorAnalyses"]
 
 
-class RotorAnalyses:
+class RotorAnalyses(EigenAnalyses):
     """Analyses of a rotor model: needs ``matrices(speed)`` and ``shafts``."""
 
     shafts: tuple[Any, ...]
@@ -39,9 +40,17 @@ class RotorAnalyses:
     journals: tuple[Any, ...]
     dof_labels: tuple[str, ...]
     n_dof: int
+    #: The active magnetic bearings (closed loops with their controllers).
+    magnetic: tuple[Any, ...] = ()
 
     def _matrices_source(self) -> Any:
-        """The matrices, or ``speed -> matrices`` when they depend on the speed."""
+        """The matrices, or ``speed -> matrices`` when they depend on the speed (with
+        magnetic bearings: their dynamic stiffness at an excitation frequency equal to the
+        speed, as an unbalance response needs)."""
+        if self.magnetic:
+            from duhamel.rotor._amb_linear import amb_axes, with_bearings_at
+
+            return with_bearings_at(self.matrices, amb_axes(self.magnetic, self.dof))
         if self.has_speed_dependent_bearings or self.journals:
             return self.matrices  # the coefficients (linearisations) of each speed
         return self.matrices(0.0)
@@ -94,13 +103,17 @@ class RotorAnalyses:
         >>> frf.response.shape
         (60, 1, 2)
         """
+        ins, outs = self._dofs(inputs, "inputs"), self._dofs(outputs, "outputs")
+        if self.magnetic and not isinstance(speed, str):
+            from duhamel.rotor._amb_linear import amb_axes, loop_frequency_response
+
+            axes = amb_axes(self.magnetic, self.dof)
+            w = constant_speed(speed)
+            return loop_frequency_response(
+                self.matrices(w), axes, w, frequencies, ins, outs, labels=self.dof_labels
+            )
         return frequency_response(
-            self._matrices_source(),
-            speed,
-            frequencies,
-            self._dofs(inputs, "inputs"),
-            self._dofs(outputs, "outputs"),
-            labels=self.dof_labels,
+            self._matrices_source(), speed, frequencies, ins, outs, labels=self.dof_labels
         )
 
     def frequency_response_map(
@@ -125,6 +138,14 @@ class RotorAnalyses:
         >>> fmap.response.shape
         (2, 30, 1, 1)
         """
+        if self.magnetic:
+            from duhamel.rotor._amb_linear import stacked
+
+            parts = [
+                self.frequency_response(float(v), frequencies, inputs, outputs)
+                for v in np.atleast_1d(np.asarray(speeds, dtype=float))
+            ]
+            return stacked(speeds, parts)
         return frequency_response_map(
             self._matrices_source(),
             speeds,
@@ -173,82 +194,10 @@ class RotorAnalyses:
         """
         return unbalance_response(self._matrices_source(), speeds, unbalances, dof=self.dof)
 
-    def level1_stability(
-        self,
-        speed: float,
-        *,
-        location: int | Sequence[int],
-        q_range: ArrayLike | None = None,
-        q_a: float | None = None,
-    ) -> Level1Stability:
-        """API 684 / API 617 Level I stability screening at `speed` (rad/s).
-
-        A cross-coupled stiffness ``k_xy = q``, ``k_yx = -q`` (split equally among the
-        nodes of `location`) is added to ``K``; at each ``q`` of `q_range` the complex modes
-        (:meth:`modes`) give the log decrement of the first forward mode (the lowest one not
-        in backward whirl). The threshold ``Q_0`` where it reaches zero is refined on the
-        eigenproblem by Brent's method.
-
-        Parameters
-        ----------
-        speed : float
-            Spin speed (rad/s): the maximum continuous speed in API 617.
-        location : int or sequence of int
-            Keyword only. Node(s): mid-span for a between-bearing rotor, the impellers
-            (their centre) for an overhung one.
-        q_range : array_like, optional
-            Keyword only. Increasing applied cross-couplings (N/m), from 0 or more; default
-            31 values from 0 to the largest direct bearing stiffness ``K[x, x]`` at the
-            location's node.
-        q_a : float, optional
-            Keyword only. The anticipated cross-coupling ``Q_A`` (N/m), e.g. from
-            :func:`duhamel.rotor.stability.anticipated_cross_coupling`.
-
-        Returns
-        -------
-        Level1Stability
-            ``q``, ``log_dec``, ``threshold``, ``q_a``, ``ratio``, ``requires_level2``,
-            :meth:`~Level1Stability.plot`.
-
-        Examples
-        --------
-        >>> import numpy as np
-        >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft
-        >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
-        ...               [Bearing(0, 1e7, 1e7, cxx=1e4, cyy=1e4),
-        ...                Bearing(4, 1e7, 1e7, cxx=1e4, cyy=1e4)])
-        >>> res = rotor.level1_stability(600.0, location=2, q_range=np.linspace(0, 4e5, 9),
-        ...                              q_a=5e4)
-        >>> bool(res.log_dec[0] > 0 > res.log_dec[-1]), round(res.threshold)
-        (True, 102033)
-        >>> round(res.ratio, 2), round(res.log_dec_at_q_a, 3), res.requires_level2
-        (2.04, 0.061, True)
-        """
-        w = constant_speed(speed)
-        nodes = (location,) if isinstance(location, int | np.integer) else tuple(location)
-        if not nodes:
-            raise ValueError("`location` is empty")
-        xs = [self.dof(int(n), "x") for n in nodes]
-        ys = [self.dof(int(n), "y") for n in nodes]
-        M, K, C, G = self.matrices(w)
-        if q_range is None:
-            q_range = np.linspace(0.0, float(np.max(np.diag(K)[xs])), 31)
-        lengths = [s.L for s in self.shafts]
-        ell = float(np.mean(lengths)) if lengths else 1.0
-        D = C + w * G
-
-        def modes_with(q: float) -> Modes:
-            Kq = np.array(K, dtype=float)
-            Kq[xs, ys] += q / len(nodes)
-            Kq[ys, xs] -= q / len(nodes)
-            return complex_modes(M, D, Kq, speed=w, length_scale=ell)
-
-        location_nodes = tuple(int(n) for n in nodes)
-        return level1_stability(modes_with, w, location_nodes, q_range, q_a)  # type: ignore[arg-type]
-
-    def closed_loop(self, speed: float, magnetic_bearings: Sequence[Any]) -> Any:
-        """The rotor at constant `speed` with active magnetic bearings (on top of its
-        bearings) and their controllers as one linear first-order system
+    def closed_loop(self, speed: float, magnetic_bearings: Sequence[Any] = ()) -> Any:
+        """The rotor at constant `speed` with active magnetic bearings (its own, :attr:`magnetic`,
+        and `magnetic_bearings` on top of its bearings) and their controllers as one linear
+        first-order system
         (:class:`duhamel.rotor.magnetic.ClosedLoop`): closed-loop eigenvalues and stability,
         receptances, the sensitivity function and its peak, exact transients.
 
@@ -267,9 +216,10 @@ class RotorAnalyses:
         from duhamel.rotor.magnetic import closed_loop
 
         w = constant_speed(speed)
-        return closed_loop(self.matrices(w), magnetic_bearings, w, dof=self.dof)
+        every = (*self.magnetic, *magnetic_bearings)
+        return closed_loop(self.matrices(w), every, w, dof=self.dof)
 
-    def static_equilibrium(self, speed: float, g: float = 9.81) -> NDArray[np.float64]:
+    def static_equilibrium(self, speed: float, g: float = STANDARD_GRAVITY) -> NDArray[np.float64]:
         """The static state under the rotor's own weight (along ``-y``) at spin `speed`:
         the linear structure and bearings and the journal bearings' film forces (at rest)
         in balance, found by Newton's method on their exact tangents (backtracking keeps
@@ -296,157 +246,3 @@ class RotorAnalyses:
         """Mode `j` at `speed` along the axis (:func:`duhamel.rotor.plot_mode_shape`:
         ``kind='3d'`` orbits or ``'2d'`` major semi-axis); returns the Axes."""
         return plot_mode_shape(self.nodes_z, self.modes(speed), j, **kwargs)
-
-    # ------------------------------------------------------------------ eigenvalues
-    def modes(self, speed: float = 0.0, n: int | None = None) -> Modes:
-        """Complex modes at constant `speed` from the first-order eigenproblem.
-
-        ``(lambda^2 M + lambda (C + speed G) + K) u = 0`` with the full ``K`` and ``C`` (all
-        bearing terms), linearised as ``[[0, s I], [-K/s, -(C + speed G)]] z = lambda
-        [[I, 0], [0, M]] z`` (``s`` a frequency scale) and solved by the QZ algorithm, so
-        that massless degrees of freedom (``rho = 0`` shafts, Jeffcott models) are allowed:
-        they give infinite eigenvalues, which are dropped. Only oscillatory modes are kept
-        (``Im(lambda) > 1e-6 max|lambda|``: rigid-body and overdamped modes are left out).
-
-        Parameters
-        ----------
-        speed : float
-            Spin speed (rad/s); speed-dependent bearings take their coefficients there.
-        n : int, optional
-            Keep the lowest `n` modes (default: all oscillatory ones).
-
-        Returns
-        -------
-        Modes
-        """
-        w = constant_speed(speed)
-        M, K, C, G = self.matrices(w)
-        lengths = [s.L for s in self.shafts]
-        ell = float(np.mean(lengths)) if lengths else 1.0
-        return complex_modes(M, C + w * G, K, speed=w, n=n, length_scale=ell)
-
-    def natural_frequencies(self, speed: float = 0.0, n: int | None = None) -> NDArray[np.float64]:
-        """Damped natural frequencies (rad/s, ascending) at constant `speed`:
-        ``Im(lambda)`` of :meth:`modes`."""
-        return self.modes(speed, n).frequencies
-
-    def campbell(
-        self, speeds: ArrayLike, n_modes: int | None = None, *, track: bool = True
-    ) -> Campbell:
-        """Damped natural frequencies at each of `speeds` (rad/s), modes tracked by shape.
-
-        With ``track=True`` (the default) the modes at each speed are matched to those at the
-        next lower speed by their shapes: the cost ``1 - MAC`` (:meth:`Modes.mac`: rotations
-        weighted by the mean element length) of every pair is minimised over one-to-one
-        assignments (``scipy.optimize.linear_sum_assignment``; the relative eigenvalue
-        distance, weighted ``1e-6``, only breaks ties). Column ``j`` then follows one branch
-        through crossings: where a forward whirl branch crosses a backward one, the columns
-        do not swap. All oscillatory modes are tracked; `n_modes` then selects what is shown.
-        With ``track=False``, column ``j`` is the ``j``-th lowest frequency at each speed.
-
-        Parameters
-        ----------
-        speeds : array_like
-            Spin speeds (rad/s), in any order: the tracking walks them in ascending order and
-            the rows come back in the order given (repeated speeds are allowed). Across zero
-            speed a branch keeps its orbit sense, so its whirl label (relative to the spin)
-            changes from backward to forward there.
-        n_modes : int, optional
-            Show the lowest `n_modes` modes at each speed (default: all oscillatory modes).
-            Untracked: ``n_modes`` columns. Tracked: one column per branch that is among the
-            lowest ``n_modes`` at some speed, NaN where it is not (so a branch may enter or
-            leave the window where it crosses the ``n_modes``-th mode, and there may be more
-            than ``n_modes`` columns); every row shows the same frequencies as untracked.
-        track : bool
-            Keyword only. Track modes through crossings (default), or sort them by
-            frequency at each speed (the behaviour before tracking existed).
-
-        Returns
-        -------
-        Campbell
-            Tracked columns are ordered by where their branch enters: first the branches at
-            the lowest speed, ascending, then branches that appear (modes that become
-            oscillatory, or enter the ``n_modes`` window) at higher speeds. A mode that stops
-            being oscillatory ends its branch (NaN from there); ``Campbell.mac`` flags poorly
-            resolved crossings.
-
-        Examples
-        --------
-        A disk at mid-span: the backward whirl of the tilt mode falls through the forward
-        whirl of the translational mode near 4000 rad/s.
-
-        >>> import numpy as np
-        >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft
-        >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
-        ...               [Bearing(0, 1e7, 1e7), Bearing(4, 1e7, 1e7)])
-        >>> speeds = np.linspace(0.0, 5000.0, 26)
-        >>> tracked = rotor.campbell(speeds, n_modes=4)
-        >>> tracked.frequencies.shape
-        (26, 4)
-        >>> [np.unique(tracked.whirl[:, j]).tolist() for j in range(4)]
-        [['backward'], ['forward'], ['backward'], ['forward']]
-        >>> np.round(tracked.frequencies[-1], 1).tolist()    # at 5000 rad/s
-        [263.9, 266.1, 216.1, 2167.8]
-        >>> untracked = rotor.campbell(speeds, n_modes=4, track=False)
-        >>> np.unique(untracked.whirl[1:, 1]).tolist()       # the second lowest: two branches
-        ['backward', 'forward']
-        >>> round(float(np.nanmin(tracked.mac)), 3)          # every matched pair
-        0.993
-        """
-        return campbell(self.modes, speeds, n_modes, track=track)
-
-    def plot_campbell(
-        self,
-        speeds: ArrayLike,
-        n_modes: int | None = None,
-        *,
-        track: bool = True,
-        **kwargs: Any,
-    ) -> Any:
-        """:meth:`campbell` then :func:`duhamel.rotor.plot_campbell`; returns the Axes."""
-        return self.campbell(speeds, n_modes, track=track).plot(**kwargs)
-
-    def critical_speeds(
-        self,
-        speeds: ArrayLike,
-        *,
-        harmonic: float = 1.0,
-        whirl: str | None = "forward",
-        n_modes: int | None = None,
-    ) -> NDArray[np.float64]:
-        """Critical speeds: where a damped natural frequency equals `harmonic` times the spin
-        speed (the crossings of the Campbell diagram with the excitation line).
-
-        The tracked :meth:`campbell` on `speeds` brackets each crossing; each is then refined
-        on the eigenproblem itself (Brent's method to 1e-12 relative, following the branch by
-        its shape), so the result does not depend on the grid once the grid separates the
-        crossings.
-
-        Parameters
-        ----------
-        speeds : array_like
-            Spin speeds (rad/s) spanning the range searched.
-        harmonic : float
-            Keyword only. Excitation order (1: unbalance, synchronous).
-        whirl : {'forward', 'backward'} or None
-            Keyword only. Only branches of this whirl (default forward, which unbalance
-            excites in an isotropic rotor); None: all.
-        n_modes : int, optional
-            Keyword only. Branches among the lowest `n_modes` modes.
-
-        Returns
-        -------
-        ndarray
-            Critical speeds (rad/s), ascending.
-
-        Examples
-        --------
-        >>> import numpy as np
-        >>> from duhamel.rotor import STEEL, Bearing, Disk, Rotor, Shaft
-        >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 30.0, 0.6, 0.3)],
-        ...               [Bearing(0, 1e7, 1e7, cxx=500.0, cyy=500.0),
-        ...                Bearing(4, 1e7, 1e7, cxx=500.0, cyy=500.0)])
-        >>> np.round(rotor.critical_speeds(np.linspace(0.0, 1000.0, 21)), 3).tolist()
-        [265.035]
-        """
-        return critical_speeds(self, speeds, harmonic, whirl, n_modes)

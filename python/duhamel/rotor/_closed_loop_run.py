@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel import _core
+from duhamel._core import Element
 from duhamel._engine import specs
 from duhamel._engine.run import raise_failure
 from duhamel._engine.validate import positive_float, positive_int
@@ -53,7 +54,7 @@ def transient_with_elements(
     max_iter = positive_int(max_iter, "max_iter")
     n = B_f.shape[1]
     for e in elements:
-        if not hasattr(e, "_spec"):
+        if not isinstance(e, Element):
             raise TypeError(f"`elements` must hold duhamel elements, got {type(e).__name__}")
     core_elements = specs.elements(elements)
     _, (scale, _) = scipy.linalg.matrix_balance(A, permute=False, separate=True)

@@ -1,29 +1,42 @@
 """Critical speeds: the crossings of a rotor's Campbell diagram with an excitation line,
-bracketed on a grid and refined on the eigenproblem (:meth:`RotorAnalyses.critical_speeds`)."""
+bracketed on a grid and refined on the eigenproblem (:meth:`RotorAnalyses.critical_speeds`;
+what is reported of each, :mod:`duhamel.rotor.critical`)."""
 
 from __future__ import annotations
 
 import itertools
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._engine.validate import as_float_array, positive_float
-from duhamel.rotor.modes import Modes
 
-__all__ = ["critical_speeds"]
+__all__ = ["Crossing", "crossings"]
 
 
-def critical_speeds(
+class Crossing(NamedTuple):
+    """A crossing of a Campbell branch with the excitation line: the speed, and the mode
+    there (eigenvalue, whirl, shape)."""
+
+    speed: float
+    eigenvalue: complex
+    whirl: str
+    shape: NDArray[np.complex128]
+
+
+def crossings(
     analyses: Any,
     speeds: ArrayLike,
     harmonic: float,
     whirl: str | None,
     n_modes: int | None,
-) -> NDArray[np.float64]:
+    window: int | None = None,
+) -> list[Crossing]:
     """The critical speeds of `analyses` (a rotor with ``campbell`` and ``modes``) on the
-    grid `speeds`: see :meth:`duhamel.rotor.Rotor.critical_speeds`."""
+    grid `speeds`, ascending, each with its mode: see
+    :meth:`duhamel.rotor.Rotor.critical_speeds`; `window`: the modes taken at each speed
+    (the lowest `window`; None: all)."""
     from scipy.optimize import brentq
 
     if whirl not in ("forward", "backward", None):
@@ -51,20 +64,42 @@ def critical_speeds(
             ):
                 continue
             a, b = float(ws[p]), float(ws[p + 1])
-            here = analyses.modes(a)
-            ref = here.shapes[:, int(np.argmin(np.abs(here.frequencies - freq[p, j])))]
+            here = analyses.modes(a, window)
+            # the branch's mode there: nearest in frequency, of the branch's whirl within a
+            # degenerate pair (equal frequencies, forward and backward)
+            gap = np.abs(here.frequencies - freq[p, j])
+            other = np.asarray(here.whirl) != diagram.whirl[p, j]
+            ref = here.shapes[:, int(np.lexsort((other, gap))[0])]
 
             def branch(w: float, ref: NDArray = ref, f0: float = freq[p, j]) -> float:
-                m = analyses.modes(w)
-                mac = m.mac(Modes(w, np.zeros(1, complex), ref[:, None], ("",), m.length_scale))
-                score = mac[:, 0] - 1e-9 * np.abs(m.frequencies - f0) / max(abs(f0), 1.0)
+                m = analyses.modes(w, window)
+                score = m.mac_with(ref) - 1e-9 * np.abs(m.frequencies - f0) / max(abs(f0), 1.0)
                 return float(m.frequencies[int(np.argmax(score))]) - h * w
 
             if g[p] == 0.0:
-                found.append(a)
+                root = a
             elif g[p + 1] != 0.0:
-                found.append(_crossing(brentq, branch, a, b))
-    return np.unique(np.asarray(found, dtype=float))
+                root = _crossing(brentq, branch, a, b)
+            else:
+                continue
+            found.append(_mode_at(analyses, root, ref, float(freq[p, j]), window))
+    out: list[Crossing] = []
+    for c in sorted(found, key=lambda c: (c.speed, c.whirl != "forward")):
+        if not out or c.speed != out[-1].speed:  # two branches at one speed (a degenerate
+            # pair): listed once, as the forward one that unbalance excites
+            out.append(c)
+    return out
+
+
+def _mode_at(
+    analyses: Any, w: float, ref: NDArray[np.complex128], f0: float, window: int | None
+) -> Crossing:
+    """The mode at speed `w` of the branch whose shape is `ref` (as the refinement follows
+    it)."""
+    m = analyses.modes(w, window)
+    score = m.mac_with(ref) - 1e-9 * np.abs(m.frequencies - f0) / max(abs(f0), 1.0)
+    j = int(np.argmax(score))
+    return Crossing(float(w), complex(m.eigenvalues[j]), m.whirl[j], m.shapes[:, j])
 
 
 def _refined(speeds: NDArray, frequencies: NDArray, harmonic: float) -> NDArray:

@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel.constants import STANDARD_GRAVITY
 from duhamel.rotor.journal import ShortJournalBearing
 
 __all__ = [
@@ -36,11 +37,12 @@ def split_journals(bearings: Any) -> tuple[list[Any], tuple[Any, ...]]:
 
 
 def check_journal_nodes(journals: Sequence[Any], n_nodes: int) -> None:
-    """Every journal bearing on a node of the rotor."""
+    """Every journal (or magnetic) bearing on a node of the rotor."""
     for i, b in enumerate(journals):
         if b.node >= n_nodes:
+            kind = "journal" if isinstance(b, ShortJournalBearing) else "magnetic"
             raise ValueError(
-                f"the journal bearing {i} is at node {b.node}, but the rotor has nodes "
+                f"the {kind} bearing {i} is at node {b.node}, but the rotor has nodes "
                 f"0..{n_nodes - 1}"
             )
 
@@ -68,7 +70,9 @@ def _inside(rotor: Any, x: NDArray[np.float64], margin: float = 0.999) -> bool:
     )
 
 
-def static_equilibrium(rotor: Any, speed: float, g: float = 9.81) -> NDArray[np.float64]:
+def static_equilibrium(
+    rotor: Any, speed: float, g: float = STANDARD_GRAVITY
+) -> NDArray[np.float64]:
     """The state where the linear structure, the linear bearings and the journals' film
     forces (at rest, spinning at `speed`) carry the weight (along ``-y``)."""
     from duhamel.rotor.loads import Gravity

@@ -6,12 +6,11 @@ the initial speed, which the background carries."""
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from duhamel.elements.base import Element, TwoAxis
+from duhamel._core import SpeedTableBearing
 from duhamel.rotor.bearing import Bearing, TableRangeWarning
 
 __all__ = ["SpeedTableElement", "speed_table_elements"]
@@ -19,54 +18,37 @@ __all__ = ["SpeedTableElement", "speed_table_elements"]
 _NAMES = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
 
 
-@dataclass(frozen=True)
-class SpeedTableElement(TwoAxis, Element):
+def SpeedTableElement(  # the element of that name, from a rotor bearing
+    dof_x: int, dof_y: int, bearing: Bearing, law: Any, k0: Any, c0: Any
+) -> SpeedTableBearing:
     """A :class:`Bearing` with tabulated coefficients on the dofs ``(dof_x, dof_y)`` at the
-    speed law `law`, minus ``k0 x + c0 x'`` (its matrices at the initial speed, 2 x 2)."""
+    speed law `law`, minus ``k0 x + c0 x'`` (its matrices at the initial speed, 2 x 2): a
+    :class:`duhamel.elements.SpeedTableBearing` with the bearing's tables and their PCHIP
+    slopes (or none: linear interpolation)."""
+    from scipy.interpolate import PchipInterpolator
 
-    dof_x: int
-    dof_y: int
-    bearing: Bearing
-    law: Any
-    k0: tuple[tuple[float, ...], ...]
-    c0: tuple[tuple[float, ...], ...]
-
-    def _tangent_bound(self) -> tuple[float, float] | None:
-        # PCHIP and linear interpolation stay within each entry's tabulated values: the
-        # entrywise largest difference bounds the Frobenius norm at any speed.
-        out = []
-        for names, ref in ((("kxx", "kxy", "kyx", "kyy"), self.k0),
-                           (("cxx", "cxy", "cyx", "cyy"), self.c0)):  # fmt: skip
-            r = np.asarray(ref, dtype=np.float64).ravel()
-            worst = [
-                np.abs(np.asarray(getattr(self.bearing, name), dtype=np.float64) - r[i]).max()
-                for i, name in enumerate(names)
-            ]
-            out.append(float(np.sqrt(np.sum(np.square(worst)))))
-        return out[0], out[1]
-
-    def _spec(self) -> tuple:
-        from scipy.interpolate import PchipInterpolator
-
-        b = self.bearing
-        speeds = np.asarray(b.speeds, dtype=float)
-        values, slopes = [], []
-        for name in _NAMES:
-            v = getattr(b, name)
-            table = np.asarray(v, float) if isinstance(v, tuple) else np.full(speeds.size, float(v))
-            values.append(table.tolist())
-            if speeds.size > 1 and isinstance(v, tuple):
-                slopes.append(PchipInterpolator(speeds, table).derivative()(speeds).tolist())
-            else:
-                slopes.append([0.0] * speeds.size)
-        table_spec = (
-            "speed_table", int(self.dof_x), int(self.dof_y), speeds.tolist(), values,
-            slopes if b.interpolation == "pchip" else None, self.law._spec(),
-        )  # fmt: skip
-        return ("shifted", table_spec, np.array(self.k0), np.array(self.c0))
+    speeds = np.asarray(bearing.speeds, dtype=float)
+    values, slopes = [], []
+    for name in _NAMES:
+        v = getattr(bearing, name)
+        table = np.asarray(v, float) if isinstance(v, tuple) else np.full(speeds.size, float(v))
+        values.append(table.tolist())
+        if speeds.size > 1 and isinstance(v, tuple):
+            slopes.append(PchipInterpolator(speeds, table).derivative()(speeds).tolist())
+        else:
+            slopes.append([0.0] * speeds.size)
+    return SpeedTableBearing(
+        (int(dof_x), int(dof_y)),
+        speeds=speeds.tolist(),
+        values=values,
+        slopes=slopes if bearing.interpolation == "pchip" else None,
+        speed=law,
+        k0=np.asarray(k0, dtype=float),
+        c0=np.asarray(c0, dtype=float),
+    )
 
 
-def speed_table_elements(rotor: Any, law: Any, w0: float) -> list[SpeedTableElement]:
+def speed_table_elements(rotor: Any, law: Any, w0: float) -> list[SpeedTableBearing]:
     """The speed-dependent bearings of `rotor` as elements along the speed law `law` (its
     initial speed `w0`, where the background takes their coefficients), with a
     :class:`TableRangeWarning` when the law leaves a bearing's table."""

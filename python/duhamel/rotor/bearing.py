@@ -155,8 +155,8 @@ class Bearing:
       ``i = x, y``: a ``Cubic(dof, k3 = k_ii beta / x_stat^2)`` on each translation.
       ``x_stat`` (m) is a reference deflection; with ``x_stat=None`` the rotor uses the
       magnitude of the bearing's vertical static deflection under its own weight in the linear
-      model (``g = 9.81`` m/s^2, weight along ``-y``), as the paper does. With speed-dependent
-      ``kxx``, ``kyy``, ``k_ii`` is taken at the speed of the analysis.
+      model (standard gravity 9.80665 m/s^2, weight along ``-y``), as the paper does. With
+      speed-dependent ``kxx``, ``kyy``, ``k_ii`` is taken at the speed of the analysis.
     * ``contact = (clearance, stiffness[, friction])``: a radial rub
       (:class:`duhamel.elements.Contact`) of the node against a stator with that radial
       clearance (m), contact stiffness (N/m) and Coulomb friction coefficient.
@@ -371,7 +371,7 @@ class Bearing:
             ``Cubic`` elements on x and y (when ``beta != 0``) and a ``Contact`` (when
             `contact` is given).
         """
-        from duhamel.elements.basic import Contact, Cubic
+        from duhamel.elements import Contact, Cubic
 
         out: list[Any] = []
         if self.beta != 0.0:
@@ -396,10 +396,12 @@ class Bearing:
                         "is beyond the double range: check `x_stat` (the static deflection, "
                         "in m) and `beta`"
                     )
-                out.append(Cubic(dof, float(k3)))
+                out.append(Cubic(dof, k3=float(k3)))
         if self.contact is not None:
             clearance, stiffness, friction = self.contact
-            out.append(Contact(dof_x, dof_y, clearance, stiffness, friction))
+            out.append(
+                Contact((dof_x, dof_y), clearance=clearance, stiffness=stiffness, friction=friction)
+            )
         return out
 
     # ------------------------------------------------------------------ as a rotor component

@@ -71,7 +71,12 @@ class Campbell:
 
 
 def campbell(
-    modes_at: ModesAt, speeds: ArrayLike, n_modes: int | None = None, *, track: bool = True
+    modes_at: ModesAt,
+    speeds: ArrayLike,
+    n_modes: int | None = None,
+    *,
+    track: bool = True,
+    window: int | None = None,
 ) -> Campbell:
     """The Campbell diagram of the modes `modes_at` gives at each of `speeds` (rad/s).
 
@@ -88,6 +93,10 @@ def campbell(
         Show the lowest `n_modes` modes at each speed (default: all oscillatory modes).
     track : bool
         Keyword only. Track modes through crossings (default) or sort them by frequency.
+    window : int, optional
+        Keyword only. Track among the lowest `window` modes at each speed (default: all
+        oscillatory modes; large models take a window so that their modes come from the
+        shift-invert path, :mod:`duhamel.rotor._sparse_modes`).
 
     Returns
     -------
@@ -113,7 +122,7 @@ def campbell(
         raise TypeError(f"`track` must be a bool, got {type(track).__name__}")
     order = np.argsort(ws, kind="stable")  # the path the tracking walks
     if track:
-        return _tracked(modes_at, ws, order, n_modes)
+        return _tracked(modes_at, ws, order, n_modes, window)
     found = [modes_at(float(w), n_modes) for w in ws]
     m = max((f.n_modes for f in found), default=0) if n_modes is None else int(n_modes)
     freq = np.full((ws.size, m), np.nan)
@@ -128,16 +137,22 @@ def campbell(
     for p in range(1, ws.size):
         prev, cur = found[order[p - 1]], found[order[p]]
         k = min(prev.n_modes, cur.n_modes, m)
-        mac[order[p], :k] = _mac_columns(prev.shapes[:, :k], cur.shapes[:, :k], cur.length_scale)
+        mac[order[p], :k] = _mac_columns(
+            prev.shapes[:, :k], cur.shapes[:, :k], cur.length_scale, cur.layout
+        )
     return Campbell(ws, freq, zeta, whirl, mac=mac, tracked=False)
 
 
 def _tracked(
-    modes_at: ModesAt, ws: NDArray[np.float64], order: NDArray[np.intp], n_modes: int | None
+    modes_at: ModesAt,
+    ws: NDArray[np.float64],
+    order: NDArray[np.intp],
+    n_modes: int | None,
+    window: int | None = None,
 ) -> Campbell:
     from scipy.optimize import linear_sum_assignment  # 0.4 s to import: only when tracking
 
-    path = [modes_at(float(ws[i]), None) for i in order]
+    path = [modes_at(float(ws[i]), window) for i in order]
     # branch[p][k]: the branch of mode k at the p-th lowest speed; pair[p][k]: its MAC
     # with its predecessor on the branch (NaN for a branch that starts there)
     branch: list[NDArray[np.intp]] = []

@@ -191,6 +191,11 @@ def critical_speed_map(
         ws = np.linspace(0.0, 1.2 * float(table[-1, -1]), 241)
     else:
         ws = as_float_array(speeds, "speeds", ndim=1)
+        if ws.size < 2 or np.any(ws < 0.0) or np.any(np.diff(ws) <= 0.0):
+            raise ValueError(
+                "`speeds` must be at least two increasing speeds >= 0 (rad/s), the bearings' "
+                f"curves and where their intersections are searched; got {ws.size} values"
+            )
     curves = []
     with warnings.catch_warnings():  # the curves hold a table's end values beyond it
         warnings.simplefilter("ignore", TableRangeWarning)

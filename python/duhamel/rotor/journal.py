@@ -17,108 +17,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._engine.validate import as_float_array, finite_float
-from duhamel.elements.base import Element, TwoAxis, positive
+from duhamel._core import JournalElement
+from duhamel._engine.validate import positive_float as positive
 from duhamel.rotor.dofs import node_index
-from duhamel.speed import ConstantSpeed, SpeedLaw
 
 __all__ = ["JournalElement", "ShortJournalBearing", "ocvirk_coefficients"]
-
-
-def _law(speed: Any) -> SpeedLaw:
-    if isinstance(speed, SpeedLaw):
-        return speed
-    return ConstantSpeed(finite_float(speed, "speed"))
-
-
-@dataclass(frozen=True)
-class JournalElement(TwoAxis, Element):
-    """Short journal bearing on the dofs ``(dof_x, dof_y)`` of a journal spinning at `speed`
-    (rad/s, or a :mod:`duhamel.speed` law for a run-up); `radius`, `length`, radial
-    `clearance` (m) and dynamic `viscosity` (Pa s). A journal at or beyond the clearance stops
-    the run with an error (the film force is singular at the wall). With `k0`, `c0` (2 x 2),
-    the element is the film force minus ``k0 x + c0 x'`` (a linear part carried by the
-    background instead); :meth:`evaluate` always gives the whole film force.
-
-    Examples
-    --------
-    >>> from duhamel.rotor.journal import JournalElement
-    >>> e = JournalElement(0, 1, radius=0.025, length=0.02, clearance=5e-5, viscosity=0.02,
-    ...                    speed=300.0)
-    >>> r, K, C = e.evaluate([2e-5, -1e-5], [0.0, 0.0])
-    >>> K.shape, bool(r[0] > 0)
-    ((2, 2), True)
-    """
-
-    dof_x: int
-    dof_y: int
-    radius: float
-    length: float
-    clearance: float
-    viscosity: float
-    speed: Any = 0.0
-    k0: Any = None
-    c0: Any = None
-
-    def __post_init__(self) -> None:
-        for name in ("radius", "length", "clearance", "viscosity"):
-            object.__setattr__(self, name, positive(getattr(self, name), name))
-        object.__setattr__(self, "speed", _law(self.speed))
-        for name in ("k0", "c0"):
-            value = getattr(self, name)
-            if value is not None:
-                arr = np.asarray(value, dtype=float)
-                if arr.shape != (2, 2) or not np.all(np.isfinite(arr)):
-                    raise ValueError(f"`{name}` must be a finite 2 x 2 matrix, got {value!r}")
-                object.__setattr__(self, name, tuple(map(tuple, arr.tolist())))
-
-    def _spec(self) -> tuple:
-        film = (
-            "journal", int(self.dof_x), int(self.dof_y), float(self.radius), float(self.length),
-            float(self.clearance), float(self.viscosity), self.speed._spec(),
-        )  # fmt: skip
-        if self.k0 is None and self.c0 is None:
-            return film
-        k0 = np.zeros((2, 2)) if self.k0 is None else np.array(self.k0)
-        c0 = np.zeros((2, 2)) if self.c0 is None else np.array(self.c0)
-        return ("shifted", film, k0, c0)
-
-    def _film(self) -> JournalElement:
-        """This element without a linear part taken off."""
-        return JournalElement(
-            self.dof_x, self.dof_y, self.radius, self.length, self.clearance, self.viscosity,
-            self.speed,
-        )  # fmt: skip
-
-    def evaluate(
-        self, position: ArrayLike, velocity: ArrayLike = (0.0, 0.0), t: float = 0.0
-    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        """The restoring force ``r`` (N) at the journal's `position` (m) and `velocity` (m/s)
-        at time `t`, and its exact tangents ``dr/dx`` (N/m), ``dr/dx'`` (N s/m): the
-        bearing's stiffness and damping coefficients at that state."""
-        from duhamel._engine.specs import element
-
-        x = as_float_array(position, "position", shape=(2,))
-        v = as_float_array(velocity, "velocity", shape=(2,))
-        t = finite_float(t, "t")
-        ratio = float(np.hypot(x[0], x[1])) / self.clearance
-        if not ratio < 1.0:
-            raise ValueError(
-                f"`position` {x.tolist()} is at or beyond the wall (eccentricity ratio "
-                f"{ratio:.6g} of the clearance {self.clearance:g} m): the film force is "
-                "singular there"
-            )
-        with np.errstate(all="ignore"):
-            r, kx, cv = element(self._film()._spec()).evaluate(x, v, t)
-        out = np.asarray(r), np.asarray(kx).reshape(2, 2), np.asarray(cv).reshape(2, 2)
-        if not all(np.all(np.isfinite(a)) for a in out):
-            raise ValueError(
-                f"the film force or its tangents overflow the double range for this geometry "
-                f"(`radius` {self.radius:g}, `length` {self.length:g}, `clearance` "
-                f"{self.clearance:g} m, `viscosity` {self.viscosity:g} Pa s): their scale "
-                "radius viscosity length^3 / clearance^3 is beyond any physical bearing"
-            )
-        return out
 
 
 def ocvirk_coefficients(
@@ -138,7 +41,9 @@ def ocvirk_coefficients(
     >>> import numpy as np
     >>> from duhamel.rotor.journal import JournalElement, ocvirk_coefficients
     >>> r, K, C = ocvirk_coefficients(0.5, 300.0, 0.025, 0.02, 5e-5, 0.02)
-    >>> r2, K2, C2 = JournalElement(0, 1, 0.025, 0.02, 5e-5, 0.02, 300.0).evaluate([2.5e-5, 0])
+    >>> e = JournalElement((0, 1), radius=0.025, length=0.02, clearance=5e-5, viscosity=0.02,
+    ...                    speed=300.0)
+    >>> r2, K2, C2 = e.evaluate([2.5e-5, 0])
     >>> bool(np.allclose(K, K2, rtol=1e-10) and np.allclose(C, C2, rtol=1e-10))
     True
     """
@@ -220,8 +125,8 @@ class ShortJournalBearing:
         """The force element on the global dofs of the node's ``x`` and ``y``, the journal
         spinning at `speed` (rad/s or a speed law), minus ``k0 x + c0 x'`` if given."""
         return JournalElement(
-            dof_x, dof_y, self.radius, self.length, self.clearance, self.viscosity, speed,
-            k0, c0,
+            (dof_x, dof_y), radius=self.radius, length=self.length, clearance=self.clearance,
+            viscosity=self.viscosity, speed=speed, k0=k0, c0=c0,
         )  # fmt: skip
 
     def coefficients(

@@ -16,6 +16,7 @@ from numpy.typing import NDArray
 
 from duhamel._engine.protocols import Model
 from duhamel._engine.validate import as_float_array, finite_float, positive_float
+from duhamel.constants import STANDARD_GRAVITY
 from duhamel.loads import Load, Step
 from duhamel.loads import Unbalance as UnbalanceLoad
 from duhamel.rotor._protocols import RotorModel
@@ -176,11 +177,11 @@ class Gravity(RotorLoad):
     >>> from duhamel.rotor import STEEL, Gravity, Rotor, Shaft
     >>> rotor = Rotor([Shaft(1.0, 0.05, material=STEEL)])
     >>> weight = Gravity().vector(rotor)
-    >>> round(float(weight.sum()), 3), round(-rotor.mass * 9.81, 3)
-    (-150.435, -150.435)
+    >>> round(float(weight.sum()), 3), round(-rotor.mass * 9.80665, 3)
+    (-150.384, -150.384)
     """
 
-    g: float = 9.81
+    g: float = STANDARD_GRAVITY
     direction: tuple[float, float] = (0.0, -1.0)
     t0: float = 0.0
 

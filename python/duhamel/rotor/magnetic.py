@@ -33,7 +33,20 @@ from numpy.typing import ArrayLike, NDArray
 from duhamel._engine.validate import as_float_array, finite_float, nonneg_float, positive_float
 from duhamel.rotor.controllers import PID, ControllerBlock, Series
 
-__all__ = ["PID", "ClosedLoop", "MagneticBearing", "closed_loop"]
+__all__ = [
+    "PID",
+    "ClosedLoop",
+    "MagneticBearing",
+    "MarginalWarning",
+    "closed_loop",
+    "feedback",
+    "split_magnetic",
+]
+
+
+class MarginalWarning(UserWarning):
+    """A closed loop is marginally stable (eigenvalues on the imaginary axis to round-off):
+    its harmonic responses are computed, and said to be of a marginal loop."""
 
 
 @dataclass(frozen=True)
@@ -86,6 +99,34 @@ class MagneticBearing:
         object.__setattr__(self, "controller", c)
 
 
+def feedback(bearings: Sequence[MagneticBearing], dof: Callable, n_dof: int) -> Any:
+    """The bearings' closed loops as a :class:`duhamel.feedback.Feedback` on a System of
+    `n_dof` dofs: per axis (dof ``j``) the direct feedback ``k_i D_c - k_s`` in ``K_d`` and
+    the controller's states ``z' = A_c z + B_c x_j`` pushing with ``k_i C_c z``."""
+    from duhamel.feedback import Feedback
+
+    axes = [(int(dof(b.node, a)), b) for b in bearings for a in ("x", "y")]
+    blocks = [b.controller.state_space() for _, b in axes]
+    nz = int(sum(a.shape[0] for a, _, _, _ in blocks))
+    Kd = np.zeros((n_dof, n_dof))
+    A, B, F = np.zeros((nz, nz)), np.zeros((nz, n_dof)), np.zeros((n_dof, nz))
+    row = 0
+    for (j, b), (Ac, Bc, Cc, Dc) in zip(axes, blocks, strict=True):
+        z = slice(row, row + Ac.shape[0])
+        Kd[j, j] += b.k_i * Dc - b.k_s
+        A[z, z], B[z, j], F[j, z] = Ac, Bc, b.k_i * Cc
+        row += Ac.shape[0]
+    if nz == 0:  # static controllers only: one inert state keeps the form
+        A, B, F = -np.ones((1, 1)), np.zeros((1, n_dof)), np.zeros((n_dof, 1))
+    return Feedback(K=Kd, A=A, B=B, F=F)
+
+
+def split_magnetic(items: Sequence[Any]) -> tuple[list[Any], tuple[MagneticBearing, ...]]:
+    """`items` as the other bearings and the magnetic ones."""
+    magnetic = tuple(b for b in items if isinstance(b, MagneticBearing))
+    return [b for b in items if not isinstance(b, MagneticBearing)], magnetic
+
+
 @dataclass(frozen=True, eq=False)
 class ClosedLoop:
     """The rotor with its magnetic bearings' controllers: ``s' = A s + B f``.
@@ -107,19 +148,36 @@ class ClosedLoop:
     _E: NDArray[np.float64]  # disturbance input of each axis (the measured-signal channel)
 
     @cached_property
+    def _spectrum(self) -> Any:
+        from duhamel.rotor._roundoff import spectrum
+
+        return spectrum(self.A)
+
+    @cached_property
     def eigenvalues(self) -> NDArray[np.complex128]:
         """Closed-loop eigenvalues, sorted by imaginary then real part."""
-        import scipy.linalg
-
-        lam = scipy.linalg.eigvals(self.A)
+        lam = self._spectrum.eigenvalues
         return lam[np.lexsort((lam.real, lam.imag))]
 
     @property
+    def stability(self) -> str:
+        """``"stable"``, ``"marginal"`` or ``"unstable"``, each eigenvalue's real part judged
+        against the round-off the eigensolver can make in it
+        (:mod:`duhamel.rotor._roundoff`): a loop whose bearings hold a rigid-body mode with
+        zero net stiffness (ROSS's ``rotor_amb_example``: ``k_i k_p = -k_s``) is marginal,
+        not unstable."""
+        return str(self._spectrum.verdict)
+
+    @property
+    def stability_note(self) -> str:
+        """:attr:`stability` in a sentence, with the eigenvalues behind it."""
+        return str(self._spectrum.describe())
+
+    @property
     def stable(self) -> bool:
-        """Whether every eigenvalue has a negative real part (beyond 1e-9 of the largest
-        ``|lambda|``: a rigid-body mode the bearings do not hold is not stable)."""
-        lam = self.eigenvalues
-        return bool(np.all(lam.real < -1e-9 * np.abs(lam).max()))
+        """Whether every eigenvalue decays beyond round-off (:attr:`stability` is
+        ``"stable"``; a marginal loop is not)."""
+        return self.stability == "stable"
 
     def force_input(self, dofs: Sequence[int]) -> NDArray[np.float64]:
         """``B`` for unit forces on `dofs`: ``M^-1`` columns in the velocity rows."""
@@ -137,11 +195,19 @@ class ClosedLoop:
 
     def _response(self, frequencies: ArrayLike, B: NDArray, rows: list[int]) -> NDArray:
         ws = as_float_array(frequencies, "frequencies", ndim=1)
-        if not self.stable:
-            grow = float(np.max(self.eigenvalues.real))
+        if self.stability == "unstable":
             raise ValueError(
-                f"the closed loop is unstable (an eigenvalue with real part {grow:.4g} 1/s): "
-                "its frequency response and sensitivity are no steady state; see `eigenvalues`"
+                f"the closed loop is {self.stability_note}; its frequency response and "
+                "sensitivity are no steady state; see `eigenvalues`"
+            )
+        if self.stability == "marginal":
+            import warnings
+
+            warnings.warn(
+                f"the closed loop is {self.stability_note}: the harmonic response is that of "
+                "the decaying and oscillating modes",
+                MarginalWarning,
+                stacklevel=3,
             )
         n = self.A.shape[0]
         out = np.empty((ws.size, len(rows), B.shape[1]), dtype=complex)

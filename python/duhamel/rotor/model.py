@@ -21,8 +21,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from duhamel._core import Element
 from duhamel._engine.validate import finite_float
-from duhamel.elements.base import Element
+from duhamel.constants import STANDARD_GRAVITY
 from duhamel.loads import Load
 from duhamel.rotor._analyses import RotorAnalyses
 from duhamel.rotor._equilibrium import (
@@ -43,6 +44,7 @@ from duhamel.rotor.disk import Disk
 from duhamel.rotor.dofs import DIRECTIONS, dof_index
 from duhamel.rotor.journal import ShortJournalBearing
 from duhamel.rotor.loads import Gravity, RotorLoad
+from duhamel.rotor.magnetic import split_magnetic
 from duhamel.rotor.modes import Modes
 from duhamel.rotor.shaft import Shaft
 from duhamel.rotor.transient import (
@@ -70,7 +72,8 @@ class Rotor(RotorAnalyses):
     bearings : sequence of Bearing
         Bearings at nodes (several at a node add up), with constant coefficients or
         coefficients tabulated against the spin speed (``Bearing(..., speeds=...)``), which
-        every method that takes a speed evaluates there.
+        every method that takes a speed evaluates there; also :class:`ShortJournalBearing`
+        and :class:`MagneticBearing` (closed loops with their controllers' states).
     zeta : float or array_like, optional
         Keyword only. Modal damping ratio of every mode of the symmetric background
         ``(K_sym, M)`` (one value, or one per mode: ``n_dof`` values), as
@@ -116,8 +119,9 @@ class Rotor(RotorAnalyses):
         #: The nonlinear :class:`ShortJournalBearing` s given among `bearings`.
         self.journals: tuple[ShortJournalBearing, ...]
         linear, self.journals = split_journals(bearings)
+        linear, self.magnetic = split_magnetic(linear)
         self.shafts, self.disks, self.bearings = checked_components(shafts, disks, linear)
-        check_journal_nodes(self.journals, self.n_nodes)
+        check_journal_nodes((*self.journals, *self.magnetic), self.n_nodes)
         self._zeta, self._rayleigh = damping_spec(zeta, rayleigh, self.n_dof)
 
     # ------------------------------------------------------------------ layout
@@ -175,6 +179,7 @@ class Rotor(RotorAnalyses):
             f"Rotor(nodes={self.n_nodes}, n_dof={self.n_dof}, shafts={len(self.shafts)}, "
             f"disks={len(self.disks)}, bearings={len(self.bearings)}"
             + (f", journals={len(self.journals)}" if self.journals else "")
+            + (f", magnetic={len(self.magnetic)}" if self.magnetic else "")
             + ")"
         )
 
@@ -272,7 +277,9 @@ class Rotor(RotorAnalyses):
         C = self.structural_damping(w) + cb
         return RotorMatrices(a.M.copy(), K, C, a.G.copy())
 
-    def static_deflection(self, g: float = 9.81, *, speed: float = 0.0) -> NDArray[np.float64]:
+    def static_deflection(
+        self, g: float = STANDARD_GRAVITY, *, speed: float = 0.0
+    ) -> NDArray[np.float64]:
         """Linear static deflection under the rotor's own weight (along ``-y``), ``K^-1 f_g``,
         with the full linear stiffness (nonlinear bearing parts left out) at spin speed
         `speed` (rad/s, keyword only; it matters only with speed-dependent bearings).
@@ -283,14 +290,14 @@ class Rotor(RotorAnalyses):
         >>> rotor = Rotor([Shaft(1.0, 0.05, material=STEEL)],
         ...               bearings=[Bearing(0, 1e6, 1e6), Bearing(1, 1e6, 1e6)])
         >>> round(float(rotor.static_deflection()[1]) * 1e6, 3)   # at a bearing: -m g / (2 k)
-        -75.218
+        -75.192
 
         Bearings twice as stiff at 1000 rad/s as at rest:
 
         >>> fluid = [Bearing(n, [1e6, 2e6], [1e6, 2e6], speeds=[0, 1000]) for n in (0, 1)]
         >>> rotor = Rotor([Shaft(1.0, 0.05, material=STEEL)], bearings=fluid)
         >>> round(float(rotor.static_deflection(speed=1000.0)[1]) * 1e6, 3)
-        -37.609
+        -37.596
         """
         import scipy.linalg
 
@@ -472,7 +479,7 @@ class Rotor(RotorAnalyses):
             rayleigh=self._rayleigh,
             conv=conv,
         )
-        add_couplings(system, a.G, w, k_skew, c_skew, conv)
+        add_couplings(system, a.G, w, k_skew, c_skew, conv, self.magnetic, self.dof)
         for element in self.nonlinear_elements(w_const):
             system.add(element)
         for part in journals:
@@ -486,9 +493,10 @@ class Rotor(RotorAnalyses):
         """The bearings' nonlinear parts as :mod:`duhamel.elements` (global dofs).
 
         A cubic law without its own ``x_stat`` uses the magnitude of the bearing's vertical
-        deflection in :meth:`static_deflection` (``g = 9.81``). `speed` (rad/s) is where
-        speed-dependent bearings are evaluated (the static deflection, and ``kxx``, ``kyy`` of
-        a cubic law); it does not matter otherwise.
+        deflection in :meth:`static_deflection` (at standard gravity,
+        :data:`duhamel.constants.STANDARD_GRAVITY`). `speed` (rad/s) is where speed-dependent
+        bearings are evaluated (the static deflection, and ``kxx``, ``kyy`` of a cubic law);
+        it does not matter otherwise.
         """
         w = constant_speed(speed)
         return bearing_elements(self.bearings, self.dof, lambda: self.static_deflection(speed=w), w)

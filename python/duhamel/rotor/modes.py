@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["Modes", "complex_modes"]
+__all__ = ["Modes", "complex_modes", "modes_of", "split_eigenvalues"]
 
 #: Eigenvalues with ``Im(lambda) <= ZERO_FREQUENCY_RTOL * max|lambda|`` are not oscillatory:
 #: rigid-body modes (whose defective zero eigenvalues come out of the eigensolver as pairs of
@@ -51,9 +51,11 @@ class Modes:
     whirl : tuple of str
         ``"forward"`` (every moving node orbits in the sense of the spin: from +x towards +y
         for ``speed >= 0``), ``"backward"``, ``"mixed"`` (nodes disagree) or ``"planar"``
-        (straight-line orbits). Within a pair of equal eigenvalues (an axisymmetric rotor,
-        or any rotor at zero speed with isotropic bearings) the shapes are chosen as the
-        backward and the forward circular orbits.
+        (straight-line orbits); ``"torsional"`` or ``"axial"`` for the modes of a model
+        with those dofs (``from_ross(..., dofs="all")``) that hardly move laterally.
+        Within a pair of equal eigenvalues (an axisymmetric rotor, or any rotor at zero
+        speed with isotropic bearings) the shapes are chosen as the backward and the
+        forward circular orbits.
     length_scale : float
         Length (m) that weights the rotations against the translations in :meth:`mac` and in
         the whirl (the rotor's mean element length; 1 by default).
@@ -70,6 +72,9 @@ class Modes:
     whirl: tuple[str, ...]
     length_scale: float = 1.0
     overdamped: NDArray[np.complex128] = field(default_factory=lambda: np.zeros(0, dtype=complex))
+    #: Per node the dofs ``(x, y, theta_x, theta_y)`` and optionally ``(z, theta)`` (-1
+    #: where a node has none: a point mass's tilts); None: 4 per node in order.
+    layout: NDArray[np.intp] | None = None
 
     @property
     def n_modes(self) -> int:
@@ -152,7 +157,12 @@ class Modes:
                 f"`other` has {other.shapes.shape[0]} degrees of freedom, these modes "
                 f"{self.shapes.shape[0]}"
             )
-        return _mac(self.shapes, other.shapes, self.length_scale)
+        return _mac(self.shapes, other.shapes, self.length_scale, self.layout)
+
+    def mac_with(self, shape: NDArray[np.complex128]) -> NDArray[np.float64]:
+        """:meth:`mac` of each mode with one `shape` (a column over the same dofs)."""
+        one = np.asarray(shape, dtype=complex).reshape(-1, 1)
+        return _mac(self.shapes, one, self.length_scale, self.layout)[:, 0]
 
 
 def complex_modes(
@@ -163,6 +173,7 @@ def complex_modes(
     speed: float,
     n: int | None = None,
     length_scale: float = 1.0,
+    layout: NDArray[np.intp] | None = None,
 ) -> Modes:
     """The oscillatory modes of ``lambda^2 M + lambda D + K`` (``D = C + speed G``), the
     lowest `n` (all by default), with circular pairs and their whirl sense.
@@ -178,6 +189,9 @@ def complex_modes(
         Keyword only. Keep the lowest `n` modes.
     length_scale : float
         Keyword only. Weight of the rotations in the MAC and whirl (m).
+    layout : ndarray of int, shape (n_nodes, 4), optional
+        Keyword only. Per node its dofs ``(x, y, theta_x, theta_y)``, -1 for none (a point
+        mass's tilts); default 4 per node in order.
 
     Returns
     -------
@@ -194,19 +208,47 @@ def complex_modes(
     >>> modes.frequencies.tolist(), modes.whirl
     ([2.0, 2.0], ('backward', 'forward'))
     """
-    lam, shapes, over = _complex_modes(M, D, K)
+    from duhamel.rotor._sparse_modes import lowest_modes, sparse_worth
+
+    found = None
+    if sparse_worth(M.shape[0], n):  # a few modes of a large model: shift-invert
+        near = lowest_modes(M, D, K, int(n), oscillatory)  # type: ignore[arg-type]
+        if near is not None:
+            lam, vec, scale = near
+            found = split_eigenvalues(lam, vec, scale)
+    if found is None:
+        found = _complex_modes(M, D, K)
+    return modes_of(*found, speed=speed, n=n, length_scale=length_scale, layout=layout)
+
+
+def modes_of(
+    lam: NDArray[np.complex128],
+    shapes: NDArray[np.complex128],
+    over: NDArray[np.complex128],
+    *,
+    speed: float,
+    n: int | None = None,
+    length_scale: float = 1.0,
+    layout: NDArray[np.intp] | None = None,
+) -> Modes:
+    """:class:`Modes` of oscillatory eigenpairs (ascending, as :func:`_complex_modes` gives
+    them) and the other finite eigenvalues `over`: the lowest `n`, shapes normalised on the
+    translations of `layout`, circular pairs, whirl senses."""
     if n is not None:
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
             raise ValueError(f"`n` must be a positive integer, got {n!r}")
         lam, shapes = lam[:n], shapes[:, :n]
     ell = length_scale
-    shapes = _circular_pairs(lam, shapes, ell)
-    n_nodes = M.shape[0] // 4
-    whirl = tuple(_whirl(shapes[:, j].reshape(n_nodes, 4), ell) for j in range(lam.size))
+    every = _nodes(layout, shapes.shape[0])
+    nodes = every[:, :4]
+    if layout is not None:  # normalised on this layout's translations
+        shapes = _normalise(shapes, nodes)
+    shapes = _circular_pairs(lam, shapes, ell, nodes)
+    whirl = tuple(_kind(shapes[:, j], every, ell) for j in range(lam.size))
     if speed < 0.0:  # spinning about -z: the whirl sense relative to the spin flips
         flip = {"forward": "backward", "backward": "forward"}
         whirl = tuple(flip.get(k, k) for k in whirl)
-    return Modes(speed, lam, shapes, whirl, length_scale=ell, overdamped=over)
+    return Modes(speed, lam, shapes, whirl, length_scale=ell, overdamped=over, layout=layout)
 
 
 def _complex_modes(
@@ -239,13 +281,25 @@ def _complex_modes(
     A = np.block([[zero, s * eye], [-K / s, -D]])
     B = np.block([[eye, zero], [zero, M]])
     lam, vec = scipy.linalg.eig(A, B, check_finite=False)
+    return split_eigenvalues(lam, vec[:n] / s)
+
+
+def split_eigenvalues(
+    lam: NDArray[np.complex128], vec: NDArray[np.complex128], scale: float | None = None
+) -> tuple[NDArray[np.complex128], NDArray[np.complex128], NDArray[np.complex128]]:
+    """The finite eigenvalues `lam` (shapes `vec`, the dofs' rows) as the oscillatory
+    eigenpairs with ``Im(lambda) > 0``, ascending and normalised, and the other finite
+    eigenvalues (overdamped and rigid-body, slowest first); `scale` the largest ``|lambda|``
+    of the problem (default: of `lam`), the rigid-body test's reference."""
+    n = vec.shape[0]
     finite = np.isfinite(lam)
-    lam, vec = lam[finite], vec[:n, finite] / s
+    lam, vec = lam[finite], vec[:, finite]
     if lam.size == 0:
         empty = np.zeros(0, dtype=complex)
         return empty, np.zeros((n, 0), dtype=complex), empty
-    keep = oscillatory(lam, float(np.max(np.abs(lam))))
-    other = ~keep & ~oscillatory(lam.conj(), float(np.max(np.abs(lam))))
+    top = float(np.max(np.abs(lam))) if scale is None else float(scale)
+    keep = oscillatory(lam, top)
+    other = ~keep & ~oscillatory(lam.conj(), top)
     over = lam[other]
     over = over[np.lexsort((over.imag, -over.real))]
     lam, vec = lam[keep], vec[:, keep]
@@ -263,40 +317,85 @@ def oscillatory(lam: NDArray[np.complex128], scale: float) -> NDArray[np.bool_]:
     )
 
 
-def _weighted(shapes: NDArray[np.complex128], ell: float) -> NDArray[np.complex128]:
-    """`shapes` with the rotations (dofs ``4 i + 2``, ``4 i + 3``) multiplied by `ell`."""
+def _kind(shape: NDArray[np.complex128], every: NDArray[np.intp], ell: float) -> str:
+    """The whirl of a lateral mode (:func:`_whirl`); ``"axial"`` or ``"torsional"`` for a
+    mode of a layout with axial and torsional dofs (columns ``z``, ``theta``) whose lateral
+    motion is below a millionth of the whole."""
+    g = _gather(shape, every)
+    if every.shape[1] > 4:
+        lateral = float(np.sum(np.abs(g[:, :2]) ** 2) + ell**2 * np.sum(np.abs(g[:, 2:4]) ** 2))
+        axial = float(np.sum(np.abs(g[:, 4]) ** 2))
+        torsion = float(ell**2 * np.sum(np.abs(g[:, 5]) ** 2)) if every.shape[1] > 5 else 0.0
+        if lateral <= 1e-6 * (lateral + axial + torsion):
+            return "torsional" if torsion >= axial else "axial"
+    return _whirl(g[:, :4], ell)
+
+
+def _nodes(layout: NDArray[np.intp] | None, n_dof: int) -> NDArray[np.intp]:
+    """`layout`, or 4 dofs per node in order."""
+    if layout is None:
+        return np.arange(n_dof - n_dof % 4, dtype=np.intp).reshape(-1, 4)
+    return np.asarray(layout, dtype=np.intp)
+
+
+def _gather(v: NDArray[np.complex128], nodes: NDArray[np.intp]) -> NDArray[np.complex128]:
+    """The values of `v` (dofs on axis 0) per node and direction, zero where absent:
+    shape ``(n_nodes, 4, ...)``."""
+    out = np.where((nodes >= 0).reshape(nodes.shape + (1,) * (v.ndim - 1)), v[nodes], 0.0)
+    return np.asarray(out, dtype=complex)
+
+
+def _weighted(
+    shapes: NDArray[np.complex128], ell: float, layout: NDArray[np.intp] | None = None
+) -> NDArray[np.complex128]:
+    """`shapes` with the rotations (the layout's ``theta_x``, ``theta_y`` dofs; ``4 i + 2``,
+    ``4 i + 3`` by default) multiplied by `ell`."""
     out = shapes.copy()
-    out[2::4] *= ell
-    out[3::4] *= ell
+    if layout is None:
+        out[2::4] *= ell
+        out[3::4] *= ell
+        return out
+    cols = [c for c in (2, 3, 5) if c < np.shape(layout)[1]]  # theta_x, theta_y, theta
+    rot = np.asarray(layout)[:, cols].ravel()
+    out[rot[rot >= 0]] *= ell
     return out
 
 
-def _mac(a: NDArray[np.complex128], b: NDArray[np.complex128], ell: float) -> NDArray[np.float64]:
+def _mac(
+    a: NDArray[np.complex128],
+    b: NDArray[np.complex128],
+    ell: float,
+    layout: NDArray[np.intp] | None = None,
+) -> NDArray[np.float64]:
     """``|a_i^H b_j|^2 / (|a_i|^2 |b_j|^2)`` for every pair of columns, rotations weighted by
     `ell` (clipped to 1 against round-off)."""
-    a, b = _weighted(a, ell), _weighted(b, ell)
+    a, b = _weighted(a, ell, layout), _weighted(b, ell, layout)
     num = np.abs(a.conj().T @ b) ** 2
     den = np.outer(np.sum(np.abs(a) ** 2, axis=0), np.sum(np.abs(b) ** 2, axis=0))
     return np.minimum(num / den, 1.0)
 
 
 def _mac_columns(
-    a: NDArray[np.complex128], b: NDArray[np.complex128], ell: float
+    a: NDArray[np.complex128],
+    b: NDArray[np.complex128],
+    ell: float,
+    layout: NDArray[np.intp] | None = None,
 ) -> NDArray[np.float64]:
     """:func:`_mac` of the pairs of columns ``(a_j, b_j)`` only."""
-    a, b = _weighted(a, ell), _weighted(b, ell)
+    a, b = _weighted(a, ell, layout), _weighted(b, ell, layout)
     num = np.abs(np.sum(a.conj() * b, axis=0)) ** 2
     den = np.sum(np.abs(a) ** 2, axis=0) * np.sum(np.abs(b) ** 2, axis=0)
     return np.minimum(num / den, 1.0)
 
 
 def _orbit_forms(
-    v: NDArray[np.complex128], ell: float
+    v: NDArray[np.complex128], ell: float, nodes: NDArray[np.intp]
 ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
     """Hermitian forms ``(H, N)`` on the columns of `v`: the signed orbit area
     ``sum_nodes -Im(conj(X) Y) + ell^2 Im(conj(Theta_y) Theta_x)`` and the amplitude
     ``sum |X|^2 + |Y|^2 + ell^2 (|Theta_x|^2 + |Theta_y|^2)`` (see :func:`_whirl`)."""
-    x, y, tx, ty = v[0::4], v[1::4], v[2::4], v[3::4]
+    g = _gather(v, nodes)
+    x, y, tx, ty = g[:, 0], g[:, 1], g[:, 2], g[:, 3]
     h = 0.5j * (x.conj().T @ y - y.conj().T @ x) + 0.5j * ell**2 * (
         ty.conj().T @ tx - tx.conj().T @ ty
     )
@@ -305,7 +404,10 @@ def _orbit_forms(
 
 
 def _circular_pairs(
-    lam: NDArray[np.complex128], shapes: NDArray[np.complex128], ell: float
+    lam: NDArray[np.complex128],
+    shapes: NDArray[np.complex128],
+    ell: float,
+    nodes: NDArray[np.intp],
 ) -> NDArray[np.complex128]:
     """Within each cluster of equal eigenvalues (an axisymmetric rotor's pairs), choose the
     basis that extremises the orbit area: circular backward and forward orbits, not an
@@ -320,19 +422,26 @@ def _circular_pairs(
             j += 1
         if j > i:
             v = out[:, i : j + 1]
-            h, g = _orbit_forms(v, ell)
+            h, g = _orbit_forms(v, ell, nodes)
             _, c = scipy.linalg.eigh(h, g)
-            out[:, i : j + 1] = _normalise(v @ c)
+            out[:, i : j + 1] = _normalise(v @ c, nodes)
         i = j + 1
     return out
 
 
-def _normalise(vec: NDArray[np.complex128]) -> NDArray[np.complex128]:
+def _normalise(
+    vec: NDArray[np.complex128], nodes: NDArray[np.intp] | None = None
+) -> NDArray[np.complex128]:
     """Scale each column so that its translation of largest magnitude is 1 (all dofs if no
-    translation moves)."""
+    translation moves); translations: the `nodes` layout's x and y (``4 i``, ``4 i + 1``
+    by default)."""
     n = vec.shape[0]
     trans = np.zeros(n, dtype=bool)
-    trans[0::4] = trans[1::4] = True
+    if nodes is None:
+        trans[0::4] = trans[1::4] = True
+    else:
+        t = np.asarray(nodes)[:, :2].ravel()
+        trans[t[t >= 0]] = True
     out = vec.copy()
     for j in range(vec.shape[1]):
         v = vec[:, j]

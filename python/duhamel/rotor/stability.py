@@ -27,7 +27,19 @@ from numpy.typing import ArrayLike, NDArray
 
 from duhamel._engine.validate import as_float_array, finite_float, positive_float
 
-__all__ = ["Level1Stability", "Stage", "anticipated_cross_coupling", "level1_stability"]
+__all__ = [
+    "Level1Stability",
+    "Stage",
+    "ThresholdWarning",
+    "anticipated_cross_coupling",
+    "level1_stability",
+]
+
+
+class ThresholdWarning(UserWarning):
+    """Level I: the log decrement does not reach zero within `q_range`, so the stability
+    threshold ``Q_0`` (and ``Q_0 / Q_A``) is not known (NaN): extend `q_range`."""
+
 
 #: API 617 / 684 Level I: Level II is required when ``Q_0 / Q_A < 2`` or when the log
 #: decrement at ``Q_A`` is below 0.1.
@@ -170,10 +182,7 @@ def _first_forward(modes: Any) -> int:
 
 def _follow(modes: Any, shape: NDArray[np.complex128]) -> int:
     """Index of the mode of `modes` whose shape is closest (MAC) to `shape`."""
-    from duhamel.rotor.modes import Modes
-
-    ref = Modes(modes.speed, np.zeros(1, complex), shape[:, None], ("",), modes.length_scale)
-    return int(np.argmax(modes.mac(ref)[:, 0]))
+    return int(np.argmax(modes.mac_with(shape)))
 
 
 def level1_stability(
@@ -192,6 +201,7 @@ def level1_stability(
     qs = as_float_array(q_range, "q_range", ndim=1)
     if qs.size < 2 or np.any(np.diff(qs) <= 0.0) or qs[0] < 0.0:
         raise ValueError("`q_range` must be at least two increasing stiffnesses >= 0 (N/m)")
+    qa = np.nan if q_a is None else positive_float(q_a, "q_a")
     shapes = []
     dec = np.empty(qs.size)
     freq = np.empty(qs.size)
@@ -217,7 +227,16 @@ def level1_stability(
         threshold = float(
             brentq(along, a, b, args=(shapes[c],), xtol=1e-12 * max(b, 1.0), rtol=1e-14)
         )
-    qa = np.nan if q_a is None else finite_float(q_a, "q_a")
+    if not np.isfinite(threshold):
+        import warnings
+
+        warnings.warn(
+            f"Level I at {speed:g} rad/s: the log decrement of the first forward mode stays "
+            f"positive up to q = {qs[-1]:.4g} N/m (last value {dec[-1]:.4g}); the threshold "
+            "Q_0 is not within `q_range` (NaN): extend `q_range`",
+            ThresholdWarning,
+            stacklevel=3,
+        )
     at_qa = np.nan
     if np.isfinite(qa):  # followed from the nearest q of the range
         at_qa = along(qa, shapes[int(np.argmin(np.abs(qs - qa)))])

@@ -13,8 +13,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel.elements.base import Element
-from duhamel.elements.basic import LinearCoupling
+from duhamel._core import Element
+from duhamel.couplings import LinearCoupling
 from duhamel.loads import Load
 from duhamel.rotor._protocols import RotorModel
 from duhamel.rotor.bearing import Bearing
@@ -101,7 +101,8 @@ def bearing_elements(
     >>> from duhamel.rotor import Bearing
     >>> from duhamel.rotor.transient import bearing_elements
     >>> b = Bearing(1, 1e6, 1e6, contact=(1e-4, 1e8))
-    >>> [type(e).__name__ for e in bearing_elements([b], lambda n, d: 4 * n, None, 0.0)]
+    >>> dof = lambda n, d: 4 * n + (d == "y")
+    >>> [type(e).__name__ for e in bearing_elements([b], dof, None, 0.0)]
     ['Contact']
     """
     out: list[Element] = []
@@ -129,12 +130,17 @@ def add_couplings(
     k_skew: NDArray[np.float64],
     c_skew: NDArray[np.float64],
     conv: Callable[[Any], Any],
+    magnetic: Iterable[Any] = (),
+    dof: Callable[[int, str], int] | None = None,
 ) -> None:
-    """Add the gyroscopic coupling and the skew-symmetric bearing parts to `system`.
+    """Add the gyroscopic coupling, the skew-symmetric bearing parts and the magnetic
+    bearings' closed loops to `system`.
 
     ``LinearCoupling(C=speed G)`` at a constant speed (omitted when zero),
-    ``LinearCoupling(C=G, scale=law)`` along a varying speed law, and
-    ``LinearCoupling(K=k_skew, C=c_skew)`` (omitted when both are zero).
+    ``LinearCoupling(C=G, scale=law)`` along a varying speed law,
+    ``LinearCoupling(K=k_skew, C=c_skew)`` (omitted when both are zero), and the
+    :class:`~duhamel.rotor.MagneticBearing` s of `magnetic` (dofs from `dof`) as one
+    :class:`duhamel.feedback.Feedback` with their controllers' states.
 
     Examples
     --------
@@ -146,7 +152,15 @@ def add_couplings(
     >>> system.elements[0].C.tolist()
     [[0.0, 10.0], [-10.0, 0.0]]
     """
-    if isinstance(speed, SpeedLaw):  # a run-up: the engine scales G by omega(t)
+    bearings = tuple(magnetic)
+    if isinstance(speed, SpeedLaw) and bearings and nonzero(G):
+        # the controllers' states need the exact first-order route, whose couplings are
+        # constant: omega0 G there, the change along the law as an element
+        w0 = float(np.asarray(speed.omega(np.array([0.0])))[0])
+        if w0 != 0.0:
+            system.add(LinearCoupling(C=conv(w0 * G)))
+        system.add(gyroscopic_change(np.asarray(G, dtype=float), speed, w0))
+    elif isinstance(speed, SpeedLaw):  # a run-up: the engine scales G by omega(t)
         if nonzero(G):
             system.add(LinearCoupling(C=conv(G), scale=speed))
     elif nonzero(speed * G):
@@ -158,6 +172,44 @@ def add_couplings(
                 C=conv(c_skew) if nonzero(c_skew) else None,
             )
         )
+    if bearings:
+        from duhamel.rotor.magnetic import feedback
+
+        assert dof is not None
+        system.add(feedback(bearings, dof, system.n_dof))
+
+
+def gyroscopic_change(G: NDArray[np.float64], law: SpeedLaw, w0: float) -> Element:
+    """``(omega(t) - w0) G x'`` along the speed law `law` as a
+    :class:`duhamel.elements.Callable` on the dofs `G` couples (with its exact tangent): the
+    part of a run-up's gyroscopic force beyond the constant ``w0 G`` that a background with
+    feedback states carries (a Python element: such a run cannot be stored).
+
+    Examples
+    --------
+    >>> import numpy as np, duhamel
+    >>> from duhamel.rotor.transient import gyroscopic_change
+    >>> G = np.array([[0.0, 0.5, 0.0], [-0.5, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    >>> e = gyroscopic_change(G, duhamel.speed.LinearRunUp(100.0, 300.0, 1.0), 100.0)
+    >>> e.dofs, e.fn(np.zeros(2), np.array([1.0, 0.0]), 0.5).tolist()
+    ((0, 1), [0.0, -50.0])
+    """
+    from duhamel.elements import Callable as CallableElement
+
+    dofs = np.flatnonzero(np.any(G != 0.0, axis=0) | np.any(G != 0.0, axis=1))
+    Gs = np.ascontiguousarray(G[np.ix_(dofs, dofs)])
+    zero = np.zeros_like(Gs)
+
+    def factor(t: float) -> float:
+        return float(np.asarray(law.omega(np.array([t])))[0]) - w0
+
+    def force(x: NDArray, v: NDArray, t: float) -> NDArray:
+        return factor(t) * (Gs @ v)
+
+    def jacobian(x: NDArray, v: NDArray, t: float) -> tuple[NDArray, NDArray]:
+        return zero, factor(t) * Gs
+
+    return CallableElement(dofs.tolist(), force, jacobian=jacobian)
 
 
 def add_rotor_loads(

@@ -6,12 +6,14 @@ from typing import Any
 
 import numpy as np
 
+from duhamel.constants import STANDARD_GRAVITY
+
 _LABELS = {
     "sd": ("Sd [m]", 1.0),
     "sv": ("Sv [m/s]", 1.0),
-    "sa": ("Sa [g]", 1.0 / 9.80665),
+    "sa": ("Sa [g]", 1.0 / STANDARD_GRAVITY),
     "psv": ("PSV [m/s]", 1.0),
-    "psa": ("PSA [g]", 1.0 / 9.80665),
+    "psa": ("PSA [g]", 1.0 / STANDARD_GRAVITY),
 }
 
 
@@ -55,7 +57,7 @@ def _tripartite_grid(ax: Any, periods: np.ndarray) -> None:
     for e in range(-6, 3):
         sd = 10.0**e
         ax.plot(t, 2 * np.pi * sd / t, color="0.7", lw=0.6, zorder=0)
-        psa = 10.0**e * 9.80665
+        psa = 10.0**e * STANDARD_GRAVITY
         ax.plot(t, psa * t / (2 * np.pi), color="0.7", lw=0.6, ls="--", zorder=0)
     ax.set_ylim(lo, hi)
     ax.set_title("tripartite: solid lines Sd = 10^k m, dashed PSA = 10^k g", fontsize="small")

@@ -16,7 +16,8 @@ class StoredArray(NDArrayOperatorsMixin):
 
     Indexing reads only what it selects (``sol.x[-100:, 0]`` reads the chunks of the last
     100 rows); ``np.asarray(sol.x)`` and arithmetic (``sol.x * 2``, ``sol.x @ m``) read the
-    whole array. Nothing is kept in memory between accesses.
+    whole array. Nothing is kept in memory between accesses. A stored run's arrays read
+    through its store's `guard`, which checks each chunk read (docs/store.md, "Damage").
 
     Attributes
     ----------
@@ -33,8 +34,11 @@ class StoredArray(NDArrayOperatorsMixin):
     ((3, 2), [7.0, 8.0], 54.0)
     """
 
-    def __init__(self, array: Any, rows: int, columns: slice | None = None) -> None:
+    def __init__(
+        self, array: Any, rows: int, columns: slice | None = None, guard: Any = None
+    ) -> None:
         self._array = array
+        self._guard = guard
         self._rows = int(rows)
         self._columns = columns
         shape = list(array.shape)
@@ -58,10 +62,19 @@ class StoredArray(NDArrayOperatorsMixin):
     def __repr__(self) -> str:
         return f"StoredArray(shape={self.shape}, dtype={self.dtype})"
 
+    def _rows_of(self, start: int, stop: int) -> NDArray:
+        """Rows ``start:stop`` (the selected columns), read through the store's guard (its
+        chunks checked, docs/store.md) when it has one."""
+
+        def read() -> NDArray:
+            if self._columns is None:
+                return np.asarray(self._array[start:stop])
+            return np.asarray(self._array[start:stop, self._columns])
+
+        return read() if self._guard is None else self._guard(start, stop, read)
+
     def _read(self) -> NDArray:
-        if self._columns is None:
-            return np.asarray(self._array[: self._rows])
-        return np.asarray(self._array[: self._rows, self._columns])
+        return self._rows_of(0, self._rows)
 
     def __array__(self, dtype: Any = None, copy: bool | None = None) -> NDArray:
         out = self._read()
@@ -88,22 +101,14 @@ class StoredArray(NDArrayOperatorsMixin):
             and not any(k is Ellipsis or k is None for k in key)
         ):
             start, stop, _ = first.indices(self._rows)
-            stop = max(start, stop)
-            if self._columns is None:
-                block = np.asarray(self._array[start:stop])
-            else:
-                block = np.asarray(self._array[start:stop, self._columns])
+            block = self._rows_of(start, max(start, stop))
             return block[(slice(None), *rest)]
         if isinstance(first, int | np.integer) and not any(k is Ellipsis or k is None for k in key):
             i = int(first)
             if not -self._rows <= i < self._rows:
                 raise IndexError(f"index {i} is out of bounds for {self._rows} rows")
             i %= self._rows
-            row = np.asarray(
-                self._array[i : i + 1]
-                if self._columns is None
-                else self._array[i : i + 1, self._columns]
-            )[0]
+            row = self._rows_of(i, i + 1)[0]
             return row[rest] if rest else row
         return self._read()[key]
 

@@ -39,25 +39,31 @@ def _columns(result: Any, x: NDArray, v: NDArray, a: NDArray, modal: bool) -> di
 
 def _write(
     data: Any, grid: dict, arrays: dict[str, NDArray], start: int, keep: int, widths: Any
-) -> None:
+) -> dict[str, Any]:
     """Rows ``start:start+keep`` of every array (created on first use; the element arrays
-    carry the elements' `widths`)."""
+    carry the elements' `widths`); returns the zarr arrays written, by name."""
     total, chunk = grid["rows"], grid["chunk_rows"]
+    present = set(data.array_keys())
+    out = {}
     for name, value in arrays.items():
         value = np.asarray(value)
         shape = (total, *value.shape[1:])
-        if name not in data or data[name].shape != shape:
-            data.create_array(
+        target = data[name] if name in present else None
+        if target is None or target.shape != shape:
+            target = data.create_array(
                 name,
                 shape=shape,
                 dtype="f8",
                 chunks=(chunk, *(max(1, k) for k in value.shape[1:])),
                 fill_value=np.nan,
                 compressors=[_crc32c()],  # per chunk: a changed or cut chunk is refused
+                chunk_key_encoding={"name": "default", "separator": "/"},  # as _ledger reads
                 overwrite=True,
                 attributes={"widths": [int(w) for w in widths]}
                 if name.startswith("element_") and widths is not None
                 else None,
             )
         if keep:
-            data[name][start : start + keep] = value[:keep]
+            target[start : start + keep] = value[:keep]
+        out[name] = target
+    return out

@@ -9,6 +9,7 @@ those values. zarr itself is imported by the callers (:mod:`duhamel.store._run`)
 
 from __future__ import annotations
 
+import hashlib
 import json
 import struct
 import zlib
@@ -99,9 +100,14 @@ def dumps(value: Any) -> str:
     return json.dumps(value, allow_nan=True, separators=(",", ":"))
 
 
-#: Record layout: magic, then the unsigned counts, the wall time, the state lengths.
+#: Record layouts: magic, then the unsigned counts, the wall time, the state lengths; format 3
+#: adds the carry's length, the store's identity and the chain of the rows it commits, and
+#: seals the record with a digest keyed by the identity before its CRC-32.
 _MAGIC = b"DUHCKPT1"
 _HEAD = struct.Struct("<8s8Qd2Q")
+_MAGIC2 = b"DUHCKPT2"
+_HEAD2 = struct.Struct("<8s8Qd3Q16s16s")
+_SEAL = 16
 _NO_STATE = 2**64 - 1
 
 
@@ -109,7 +115,13 @@ _NO_STATE = 2**64 - 1
 class Checkpoint:
     """Where a run stands: `step` (grid point) with `rows` saved rows committed before it,
     the modal end state (``q | v``, or ``Re eta | Im eta``), the elements' committed
-    variables (None without hysteretic elements) and the counts of the work done so far."""
+    variables (None without hysteretic elements) and the counts of the work done so far.
+
+    Format 3 ties it to its store: `store` (the store's identity, 16 bytes), `chain` (the
+    digest of the manifest rows of the chunks holding its `rows`), `carry` (the energy
+    integrals' totals, None without ``energy``); `sealed` says whether the record's seal
+    (a digest keyed by `store`) matches: False for a record rewritten by hand with its CRC
+    recomputed. A format-2 record has an empty `store` and `chain`."""
 
     seq: int
     step: int
@@ -122,14 +134,22 @@ class Checkpoint:
     subdivided_steps: int = 0
     subdivision_depth: int = 0
     wall_time: float = 0.0
+    store: bytes = b""
+    chain: bytes = b""
+    carry: NDArray[np.float64] | None = None
+    sealed: bool = True
+
+
+def _seal(body: bytes, key: bytes) -> bytes:
+    return hashlib.blake2b(body, key=key, digest_size=_SEAL, person=b"duhamel-ckpt").digest()
 
 
 def pack(c: Checkpoint) -> NDArray[np.uint8]:
-    """The checkpoint as bytes ending with their CRC-32 (a torn write is detected)."""
+    """The checkpoint as bytes ending with their CRC-32 (a torn write is detected); with a
+    `store` identity the format-3 record, sealed, else the format-2 one."""
     state = np.ascontiguousarray(c.state, dtype="<f8")
     elems = None if c.element_state is None else np.ascontiguousarray(c.element_state, "<f8")
-    head = _HEAD.pack(
-        _MAGIC,
+    counts = (
         c.seq,
         c.step,
         c.rows,
@@ -142,7 +162,15 @@ def pack(c: Checkpoint) -> NDArray[np.uint8]:
         state.size,
         _NO_STATE if elems is None else elems.size,
     )
-    body = head + state.tobytes() + (b"" if elems is None else elems.tobytes())
+    parts = [state.tobytes(), b"" if elems is None else elems.tobytes()]
+    if not c.store:
+        body = _HEAD.pack(_MAGIC, *counts) + b"".join(parts)
+    else:
+        carry = None if c.carry is None else np.ascontiguousarray(c.carry, dtype="<f8")
+        n_carry = _NO_STATE if carry is None else carry.size
+        head = _HEAD2.pack(_MAGIC2, *counts, n_carry, c.store, c.chain)
+        body = head + b"".join(parts) + (b"" if carry is None else carry.tobytes())
+        body += _seal(body, c.store)
     return np.frombuffer(body + struct.pack("<I", zlib.crc32(body)), dtype=np.uint8).copy()
 
 
@@ -152,25 +180,39 @@ def unpack(raw: NDArray[np.uint8]) -> Checkpoint | None:
     if len(data) < _HEAD.size + 4:
         return None
     body, (crc,) = data[:-4], struct.unpack("<I", data[-4:])
-    if zlib.crc32(body) != crc or not body.startswith(_MAGIC):
+    if zlib.crc32(body) != crc:
         return None
-    _magic, seq, step, rows, newton, closed, fact, subd, depth, wall, n_state, n_el = (
-        _HEAD.unpack_from(body)
-    )
-    n_el_real = 0 if n_el == _NO_STATE else n_el
-    if len(body) != _HEAD.size + 8 * (n_state + n_el_real):
+    if body.startswith(_MAGIC):
+        head, store, chain, sealed, n_carry = _HEAD.unpack_from(body), b"", b"", True, _NO_STATE
+        end = len(body)
+    elif body.startswith(_MAGIC2) and len(body) >= _HEAD2.size + _SEAL:
+        head = _HEAD2.unpack_from(body)
+        n_carry, store, chain = head[-3:]
+        head, end = head[:-3], len(body) - _SEAL
+        sealed = _seal(body[:end], store) == body[end:]
+    else:
         return None
-    floats = np.frombuffer(body, dtype="<f8", offset=_HEAD.size).astype(np.float64)
+    _magic, seq, step, rows, newton, closed, fact, subd, depth, wall, n_state, n_el = head
+    size = _HEAD.size if not store else _HEAD2.size
+    lengths = [n_state, 0 if n_el == _NO_STATE else n_el, 0 if n_carry == _NO_STATE else n_carry]
+    if end != size + 8 * sum(lengths):
+        return None
+    floats = np.frombuffer(body[:end], dtype="<f8", offset=size).astype(np.float64)
+    at = np.cumsum([0, *lengths])
     return Checkpoint(
         seq=seq,
         step=step,
         rows=rows,
-        state=floats[:n_state].copy(),
-        element_state=None if n_el == _NO_STATE else floats[n_state:].copy(),
+        state=floats[: at[1]].copy(),
+        element_state=None if n_el == _NO_STATE else floats[at[1] : at[2]].copy(),
         newton_iterations=newton,
         closed_form_steps=closed,
         factorizations=fact,
         subdivided_steps=subd,
         subdivision_depth=depth,
         wall_time=wall,
+        store=store,
+        chain=chain,
+        carry=None if n_carry == _NO_STATE else floats[at[2] : at[3]].copy(),
+        sealed=sealed,
     )

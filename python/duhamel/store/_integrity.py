@@ -26,10 +26,12 @@ def damaged(path: str, what: str) -> StoreError:
     )
 
 
-def digest(grid: dict, model_text: str, model_group: Any) -> int:
-    """CRC-32 of the grid, the model JSON text and every model array (name, dtype, shape,
-    bytes): written in the root record, checked when the store is opened."""
-    crc = zlib.crc32(json.dumps(grid, sort_keys=True, allow_nan=True).encode())
+def digest(grid: dict, model_text: str, model_group: Any, identity: str | None = None) -> int:
+    """CRC-32 of the store's `identity` (format 3), the grid, the model JSON text and every
+    model array (name, dtype, shape, bytes): written in the root record, checked when the
+    store is opened."""
+    crc = 0 if identity is None else zlib.crc32(f"store {identity}|".encode())
+    crc = zlib.crc32(json.dumps(grid, sort_keys=True, allow_nan=True).encode(), crc)
     crc = zlib.crc32(model_text.encode(), crc)
     for name in sorted(model_group.array_keys()):
         a = np.ascontiguousarray(model_group[name][...])
@@ -88,17 +90,19 @@ def check_grid(grid: dict, n_dof: int) -> None:
         raise ValueError("grid 'correction' is not a list of numbers")
 
 
-def fits(c: Checkpoint, grid: dict, width: int) -> bool:
-    """Whether checkpoint `c` is one this grid's run can write (its CRC may be intact and
-    its numbers still forged)."""
+def fits(c: Checkpoint, grid: dict, width: int, slot: int) -> bool:
+    """Whether checkpoint `c` is one this grid's run can write into slot `slot` (its CRC may
+    be intact and its numbers still forged)."""
     n_steps, s = grid["n_steps"], grid["save_every"]
     seg = grid["segment_rows"] * s
     final = c.step == n_steps
     return (
         0 < c.seq < 2**62
+        and c.seq % 2 == slot
         and c.state.size == width
         and bool(np.all(np.isfinite(c.state)))
         and (c.element_state is None or bool(np.all(np.isfinite(c.element_state))))
+        and (c.carry is None or bool(np.all(np.isfinite(c.carry))))
         and 0 < c.step <= n_steps
         and (final or (c.step % seg == 0 and c.rows == c.step // s))
         and (not final or c.rows == grid["rows"])
@@ -117,11 +121,11 @@ def fits(c: Checkpoint, grid: dict, width: int) -> bool:
     )
 
 
-def checked_chunks(path: str, root: Any, grid: dict, rows: int) -> None:
+def checked_chunks(path: str, root: Any, grid: dict, rows: int, ledger: Any = None) -> None:
     """As :func:`_check_chunks`; any other failure to read the data arrays' metadata (a
     damaged ``zarr.json``) is a damaged store too."""
     try:
-        _check_chunks(path, root, grid, rows)
+        _check_chunks(path, root, grid, rows, ledger)
     except StoreError:
         raise
     except Exception as exc:
@@ -130,10 +134,12 @@ def checked_chunks(path: str, root: Any, grid: dict, rows: int) -> None:
         ) from None
 
 
-def _check_chunks(path: str, root: Any, grid: dict, rows: int) -> None:
+def _check_chunks(path: str, root: Any, grid: dict, rows: int, ledger: Any) -> None:
     """Checks that every chunk of every data array holding one of the first `rows` rows is
-    present and reads back with its CRC-32C intact; a StoreError naming the store, the array
-    and the rows otherwise. Reads the committed data once, a chunk at a time."""
+    present, reads back with its CRC-32C intact and (format 3: `ledger`, a
+    :class:`~duhamel.store._ledger.Ledger`) is the chunk the manifest records at its place;
+    a StoreError naming the store, the array and the rows otherwise. Reads the committed
+    data once, a chunk at a time."""
     chunk = grid["chunk_rows"]
     if "data" not in root:
         if rows == 0:
@@ -143,10 +149,13 @@ def _check_chunks(path: str, root: Any, grid: dict, rows: int) -> None:
     for required in ("t", "x", "v", "a"):
         if rows and required not in group:
             raise damaged(path, f"the data array {required!r} is missing")
-    for name in sorted(group.array_keys()):
-        arr = group[name]
+    arrays = {name: group[name] for name in sorted(group.array_keys())}
+    for name, arr in arrays.items():
         if arr.shape[0] != grid["rows"] or arr.chunks[0] != chunk:
             raise damaged(path, f"the data array {name!r} has shape {arr.shape}, not the grid's")
+    if ledger is not None and rows:
+        ledger.load([name for name, arr in arrays.items() if 0 not in arr.shape[1:]])
+    for name, arr in arrays.items():
         if 0 in arr.shape[1:]:
             continue  # no columns (a model without loads): no chunk is ever written
         for i in range(-(-rows // chunk)):
@@ -165,3 +174,5 @@ def _check_chunks(path: str, root: Any, grid: dict, rows: int) -> None:
                 ) from None
             if not np.all(np.isfinite(block)) and name in ("t", "x", "v", "a"):
                 raise damaged(path, f"rows {start}:{stop} of {name!r} hold non-finite values")
+            if ledger is not None:
+                ledger.check(name, arr, i)

@@ -3,8 +3,8 @@ the user's :class:`duhamel.System`, and what its :class:`duhamel.Solution` is bu
 
 Taken from the system exactly as :func:`duhamel.solve` takes it (the route of
 :func:`duhamel._engine.plan.plan`, the loads projected as :func:`~duhamel._engine.plan.
-modal_loads` projects them, the elements' ``_spec()`` tuples), so a stored run steps the same
-numbers as the in-memory one.
+modal_loads` projects them, the elements as their definitions' data), so a stored run steps
+the same numbers as the in-memory one.
 """
 
 from __future__ import annotations
@@ -16,17 +16,20 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from duhamel._core import Callable as PythonElement
+from duhamel._core import Element
 from duhamel._engine import dispatch
 from duhamel._engine.background import LinearPart, background
 from duhamel._engine.coupled import FirstOrderModes
 from duhamel._engine.plan import Couplings, Plan, plan
-from duhamel._engine.specs import ScaledSpec, element, speed_law
+from duhamel._engine.specs import ScaledSpec, speed_law
 from duhamel._engine.specs import load as core_load
 from duhamel._engine.specs import mass as core_mass
 from duhamel._engine.validate import as_float_array
-from duhamel.elements.basic import LinearCoupling
+from duhamel.couplings import LinearCoupling
 from duhamel.integrators import Semianalytic
 from duhamel.loads import BaseAcceleration, Callable
+from duhamel.store._codec import StoreError
 from duhamel.system import System
 
 __all__ = ["Basis", "Model", "Segment", "capture"]
@@ -69,8 +72,11 @@ class Basis:
 @dataclass
 class Model:
     """A modal run as data (see the module docstring); ``loads`` are ``(modal pattern, kind,
-    params)``, ``elements`` the core elements' ``_spec()`` tuples, ``devices`` the force
-    elements as ``{"class", "fields"}`` (for the element histories)."""
+    params)``, ``elements`` the elements a run evaluates (``{"element": data, "remainder":
+    c0}``: an element's definition as data, and when the background took its linear part, the
+    damping taken out with it), ``devices`` the force elements' data (for the element
+    histories). A store written by the previous release holds ``_spec`` tuples and
+    ``{"class", "fields"}`` records instead; both are read (:func:`run_elements`)."""
 
     route: str
     coupling: str | None
@@ -78,14 +84,14 @@ class Model:
     q0: NDArray[np.float64]
     v0: NDArray[np.float64]
     loads: list[tuple[NDArray[np.float64], str, Any]]
-    elements: list[tuple]
+    elements: list[Any]
     integrator: dict[str, Any]
     coupling_k: NDArray[np.float64] | None = None
     coupling_c: NDArray[np.float64] | None = None
     scaled: list[tuple[Any, Any, Any]] = field(default_factory=list)
     mass: dict[str, Any] | None = None
     modes: FirstOrderModes | None = None
-    devices: list[dict[str, Any]] = field(default_factory=list)
+    devices: list[Any] = field(default_factory=list)
     base: list[tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]] = field(
         default_factory=list
     )
@@ -130,7 +136,7 @@ class Model:
             Couplings(self.coupling_k, self.coupling_c, scaled),
             self.modes,
             self.coupling,
-            [element(spec) for spec in self.elements],
+            run_elements(self),
             tuple(None if p is None else LinearPart(tuple(p[0]), p[1], p[2]) for p in self.linear),
             passive=bool(self.passive),
         )
@@ -193,20 +199,9 @@ class Model:
         return core.run(spec, None, segment.outputs, None, segment.report)
 
     def element_objects(self) -> list[Any]:
-        """The force elements, rebuilt from their fields (classes of
-        :mod:`duhamel.elements` only; a stand-in naming the element otherwise)."""
-        from duhamel import elements as catalogue
-
-        out = []
-        for item in self.devices:
-            cls = getattr(catalogue, str(item["class"]), None)
-            try:
-                if not (isinstance(cls, type) and issubclass(cls, catalogue.Element)):
-                    raise TypeError(item["class"])
-                out.append(cls(**item["fields"]))
-            except (TypeError, ValueError):
-                out.append(StoredElement(str(item["class"]), dict(item["fields"])))
-        return out
+        """The force elements, rebuilt from their data (a stand-in naming the element when it
+        cannot be: a record of an unknown class)."""
+        return [_device_object(item) for item in self.devices]
 
     def base_loads(self) -> list[BaseAcceleration]:
         """The support accelerations (for ``Solution.a_absolute``)."""
@@ -250,8 +245,7 @@ def capture(
     for load in system.loads:
         if isinstance(load, Callable):
             raise _refuse("a `duhamel.loads.Callable` load")
-    specs = [e._spec() for e in system.elements]
-    if any(s[0] == "callable" for s in specs):
+    if any(isinstance(e, PythonElement) for e in system.elements):
         raise _refuse("a `duhamel.elements.Callable` element")
     route = plan(system, integrator)
     run = background(system, integrator.linear_parts)  # (cached by plan)
@@ -289,14 +283,16 @@ def capture(
         q0=_initial(x0, "x0", system, phi),
         v0=_initial(v0, "v0", system, phi),
         loads=loads,
-        elements=[s for s in (e._spec() for e in run.system.elements) if s[0] != "coupling"],
+        elements=[
+            _run_element(e) for e in run.system.elements if not isinstance(e, LinearCoupling)
+        ],
         integrator={f.name: getattr(integrator, f.name) for f in dataclasses.fields(integrator)},
         coupling_k=route.couplings.k,
         coupling_c=route.couplings.c,
         scaled=scaled,
         mass=mass,
         modes=route.modes,
-        devices=[_device(e) for e in forces],
+        devices=[e._to_value() for e in forces],
         base=[
             (load.direction_vector, load.t, load.values)
             for load in system.loads
@@ -308,18 +304,66 @@ def capture(
     )
 
 
-def _device(e: Any) -> dict[str, Any]:
-    """An element as ``{"class", "fields"}`` (its dataclass fields), or its class alone."""
-    if not dataclasses.is_dataclass(e):
-        return {"class": type(e).__name__, "fields": {}}
-    fields = {}
-    for f in dataclasses.fields(e):
-        if f.init:
-            value = getattr(e, f.name)
-            if isinstance(value, list | tuple):
-                value = np.asarray(value)
-            plain = value is None or isinstance(value, bool | int | float | str | np.generic)
-            if not (plain or (isinstance(value, np.ndarray) and value.dtype.kind in "biuf")):
-                return {"class": type(e).__name__, "fields": {}}
-            fields[f.name] = value
-    return {"class": type(e).__name__, "fields": fields}
+def _run_element(e: Any) -> dict[str, Any]:
+    """An element a run evaluates as data: its definition, and for the remainder of one whose
+    linear part went into the background, the damping `c0` taken out with it."""
+    original = getattr(e, "element", e)
+    data: dict[str, Any] = {"element": original._to_value()}
+    if original is not e:
+        c0 = getattr(e, "c0", None)
+        data["remainder"] = None if c0 is None else np.asarray(c0, dtype=np.float64)
+    return data
+
+
+def run_elements(model: Model) -> list[Any]:
+    """The core elements of a stored run, rebuilt as the run built them (from a store of the
+    previous release: from its element records and linear parts)."""
+    if model.elements and not isinstance(model.elements[0], dict):
+        return _legacy_elements(model)
+    out = []
+    for item in model.elements:
+        element = Element._from_value(item["element"])
+        if "remainder" in item:
+            c0 = item["remainder"]
+            element = element._remainder(None if c0 is None else np.ravel(c0))
+        out.append(element)
+    return out
+
+
+def _legacy_elements(model: Model) -> list[Any]:
+    """A previous release's store: its force elements from their ``{"class", "fields"}``
+    records, less the linear parts its background took (``Model.linear``)."""
+    out = []
+    for k, item in enumerate(model.devices):
+        element = _device_object(item)
+        if not isinstance(element, Element):
+            raise StoreError(
+                f"the store's element {k} ({item.get('class')!r}) cannot be rebuilt: a store "
+                "of the previous release holding it cannot be continued by this one"
+            )
+        part = model.linear[k] if k < len(model.linear) else None
+        if part is not None:
+            c0 = np.asarray(part[2], dtype=np.float64)
+            element = element._remainder(np.ravel(c0) if np.any(c0 != 0.0) else None)
+        out.append(element)
+    return out
+
+
+def _device_object(item: Any) -> Any:
+    """A force element from its data (or a previous release's ``{"class", "fields"}``
+    record, its old parameter names mapped); a :class:`StoredElement` if it cannot be."""
+    import warnings
+
+    from duhamel import elements as catalogue
+
+    if isinstance(item, str):
+        return Element._from_value(item)
+    cls = getattr(catalogue, str(item["class"]), None)
+    try:
+        if not (isinstance(cls, type) and issubclass(cls, catalogue.Element)):
+            raise TypeError(item["class"])
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", DeprecationWarning)
+            return cls(**item["fields"])
+    except (TypeError, ValueError):
+        return StoredElement(str(item["class"]), dict(item["fields"]))

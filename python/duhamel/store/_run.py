@@ -3,10 +3,10 @@ to resume from (docs/store.md)."""
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import time as _time
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -20,11 +20,12 @@ from duhamel._engine.output import ROW_BLOCK, physical
 from duhamel._engine.plan import plan
 from duhamel._engine.run import Progress, overflow_error, raise_failure, watch
 from duhamel._engine.validate import positive_int
+from duhamel.couplings import LinearCoupling
 from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import support_terms
 from duhamel.results.solution import Solution
 from duhamel.store._arrays import _columns, _write
-from duhamel.store._codec import Checkpoint, StoreError, decode, dumps, encode, pack, unpack
+from duhamel.store._codec import Checkpoint, dumps, encode
 from duhamel.store._energy import (
     Carry,
     energy_record,
@@ -34,20 +35,18 @@ from duhamel.store._energy import (
     spec_of,
     stored_model,
 )
-from duhamel.store._integrity import check_grid, checked_chunks, damaged, digest, fits
+from duhamel.store._integrity import damaged, digest
+from duhamel.store._ledger import Ledger, new_identity
 from duhamel.store._model import Model, Segment, capture
+from duhamel.store._open import FORMAT, KEY, checkpoint, latest, open_store, start, zarr
 from duhamel.store._solution import _shifted, _solution
 from duhamel.system import System
 
 __all__ = ["FORMAT", "SEGMENT_BYTES", "Store", "resume", "run_stored"]
 
-#: The store layout this version writes and reads: 2 adds the root record's checksum and
-#: the CRC-32C of every data chunk, and keeps the checkpoints uncompressed.
-FORMAT = 2
 #: Memory budget of one segment's saved rows (engine history and physical outputs), bytes.
 #: A segment holds a multiple of 1024 saved rows (at least 1024, whatever the budget).
 SEGMENT_BYTES = 32 * 2**20
-_KEY = "duhamel"
 
 
 @dataclass(frozen=True)
@@ -89,16 +88,6 @@ class Store:
         if not isinstance(self.modal, bool):
             raise TypeError(f"`modal` must be True or False, got {self.modal!r}")
         object.__setattr__(self, "segment_bytes", positive_int(self.segment_bytes, "segment_bytes"))
-
-
-def _zarr() -> Any:
-    try:
-        import zarr
-    except ImportError:
-        raise ImportError(
-            "`store`: streaming a run to a store needs zarr: pip install 'duhamel[store]'"
-        ) from None
-    return zarr
 
 
 def _path(store: Any, name: str = "store") -> str:
@@ -155,7 +144,7 @@ def run_stored(
             "outside the engine's checkpoints); solve without `store`"
         )
     every = 1 if checkpoint_every is None else positive_int(checkpoint_every, "checkpoint_every")
-    zarr = _zarr()
+    z = zarr()
     model = capture(system, integrator, x0, v0)
     # As duhamel.solve: static-correction coordinates under nonlinear elements resolved in
     # time (the store holds the internal grid, its saved instants unchanged).
@@ -174,28 +163,31 @@ def run_stored(
             model.route = "pseudo-force"
         grid["energy"] = energy_record(system, model)
     try:
-        group = zarr.open_group(path, mode="w-")
-    except (FileExistsError, zarr.errors.ContainsGroupError, zarr.errors.ContainsArrayError):
+        group = z.open_group(path, mode="w-")
+    except (FileExistsError, z.errors.ContainsGroupError, z.errors.ContainsArrayError):
         raise FileExistsError(
             f"`store`: {path!r} already exists; continue it with duhamel.resume({path!r}) or "
             "delete it first"
         ) from None
     model_group = group.create_group("model")
     text = dumps(encode(model.to_tree(), model_group))
+    identity = new_identity()
     # The record that makes the store a store: written last, after the model it refers to.
-    group.attrs[_KEY] = {
+    group.attrs[KEY] = {
         "format": FORMAT,
         "version": __version__,
+        "store": identity,
         "grid": grid,
         "model": text,
-        "checksum": digest(grid, text, model_group),
+        "checksum": digest(grid, text, model_group, identity),
     }
-    forces = [e for e in system.elements if e._spec()[0] != "coupling"]
+    forces = [e for e in system.elements if not isinstance(e, LinearCoupling)]
     return _proceed(
         group,
         model,
         grid,
-        _start(model),
+        start(model),
+        Ledger(path, group, grid, identity),
         threads,
         progress,
         started,
@@ -233,9 +225,16 @@ def resume(path: str | os.PathLike[str], progress: bool | Progress | None = None
         Not a duhamel store, an unknown format version (format 1 stores of duhamel before
         the data checksums included), or a damaged store: a root record (grid, model)
         whose checksum does not match or whose grid no run can have, a committed data
-        chunk missing, cut short or with a changed byte. The message names the store and
-        what is damaged. A damaged checkpoint slot is not an error: the other slot is used,
-        or the run starts again when neither is intact (docs/store.md, "Damage").
+        chunk missing, cut short, with a changed byte, or not the chunk this store wrote at
+        its place (a chunk of another store, of another array or of another place in this
+        one; a ``data`` folder or manifest of another store), a checkpoint of another store
+        or rewritten (off the grid, or not matching the rows written before it). The
+        message names the store and the chunk or checkpoint slot. A torn checkpoint slot
+        (its CRC broken, as a kill during its write leaves it) is not an error: the other
+        slot is used, or the run starts again when neither is intact (docs/store.md,
+        "Damage"). The returned Solution's arrays check every chunk they read the same way.
+        Format-2 stores are resumed (and continued) as a legacy format, with the checks it
+        allows.
 
     Examples
     --------
@@ -250,105 +249,9 @@ def resume(path: str | os.PathLike[str], progress: bool | Progress | None = None
     """
     started = _time.perf_counter()
     where = _path(path, "path")
-    group, model, grid = _open(where)
-    return _proceed(group, model, grid, _latest(group, model, grid, where), None, progress, started)
-
-
-def _open(path: str) -> tuple[Any, Model, dict]:
-    """The store's group, model and grid; StoreError when it is not a readable store."""
-    zarr = _zarr()
-    if not Path(path).exists():
-        raise FileNotFoundError(f"`path`: no store at {path!r}")
-    try:
-        group = zarr.open_group(path, mode="r+")
-        record = group.attrs.get(_KEY)
-    except Exception as exc:  # zarr raises several types for a damaged or foreign directory
-        raise StoreError(f"`path`: {path!r} is not a readable zarr store ({exc})") from None
-    if not isinstance(record, dict):
-        raise StoreError(
-            f"`path`: {path!r} is not a duhamel store (no '{_KEY}' record: another zarr "
-            "store, or a run killed while its store was being created; solve again)"
-        )
-    if record.get("format") != FORMAT:
-        old = record.get("format") == 1
-        raise StoreError(
-            f"`path`: {path!r} has store format {record.get('format')!r} (written by duhamel "
-            f"{record.get('version')}); this duhamel ({__version__}) reads format {FORMAT}"
-            + (
-                " (format 2 added checksums to the data chunks): resume it with the duhamel "
-                "that wrote it, or solve again"
-                if old
-                else ""
-            )
-        )
-    import json
-
-    try:
-        text, grid = record["model"], record["grid"]
-        if not isinstance(text, str) or not isinstance(grid, dict):
-            raise TypeError("the model text or the grid is not of its type")
-        if digest(grid, text, group["model"]) != record["checksum"]:
-            raise ValueError("the checksum of its grid and model does not match")
-    except Exception as exc:  # a missing field, unreadable model arrays, a changed byte
-        raise damaged(path, f"its root record (grid and model) ({exc})") from None
-    try:
-        tree = decode(json.loads(text), group["model"])
-        model = Model.from_tree(tree)
-        grid = dict(grid)
-        check_grid(grid, model.basis.phi.shape[0])
-        if model.route not in ("uncoupled", "first-order", "pseudo-force"):
-            raise ValueError(f"unknown route {model.route!r}")
-        model.core(model.plan())  # builds the engine's model: its shapes and kinds checked
-        if not np.all(np.isfinite(model.initial_state())):
-            raise ValueError("a non-finite initial state")
-    except Exception as exc:  # a forged record with its checksum written again
-        raise damaged(path, f"its model or grid record ({type(exc).__name__}: {exc})") from None
-    return group, model, grid
-
-
-def _start(model: Model) -> Checkpoint:
-    return Checkpoint(seq=0, step=0, rows=0, state=model.initial_state(), element_state=None)
-
-
-def _latest(group: Any, model: Model, grid: dict, path: str) -> Checkpoint:
-    """The newest intact checkpoint that fits the grid (the start of the run when there is
-    none); a StoreError naming the store when the data it commits is damaged."""
-    found = []
-    for name in ("0", "1"):
-        try:  # a slot that cannot be read is a damaged slot: the other one is used
-            slots = group["checkpoints"]
-            c = unpack(slots[name][...]) if name in slots else None
-        except Exception:
-            c = None
-        if c is not None and fits(c, grid, model.initial_state().size):
-            found.append(c)
-    c = max(found, key=lambda k: k.seq) if found else _start(model)
-    checked_chunks(path, group, grid, c.rows)
-    return c
-
-
-def _checkpoint(group: Any, c: Checkpoint) -> None:
-    """Writes `c` into slot ``seq % 2`` (the other slot keeps the previous one)."""
-    blob = pack(c)
-    try:
-        slots = group.require_group("checkpoints")
-    except Exception:  # its metadata damaged (no slot was readable): made anew
-        slots = group.create_group("checkpoints", overwrite=True)
-    name = str(c.seq % 2)
-    try:
-        fresh = name not in slots or slots[name].shape != blob.shape
-    except Exception:  # a damaged slot (its metadata unreadable): written anew
-        fresh = True
-    if fresh:
-        slots.create_array(
-            name,
-            shape=blob.shape,
-            dtype="u1",
-            chunks=blob.shape,
-            compressors=None,  # the record's own CRC-32 is checked first, nothing to inflate
-            overwrite=True,
-        )
-    slots[name][...] = blob
+    group, model, grid, ledger = open_store(where)
+    at = latest(group, model, grid, where, ledger)
+    return _proceed(group, model, grid, at, ledger, None, progress, started)
 
 
 def _proceed(
@@ -356,6 +259,7 @@ def _proceed(
     model: Model,
     grid: dict,
     at: Checkpoint,
+    ledger: Ledger | None,
     threads: int | None,
     progress: bool | Progress | None,
     started: float,
@@ -363,7 +267,9 @@ def _proceed(
     elements: list[Any] | None = None,
     base: list[Any] | None = None,
 ) -> Solution:
-    """Runs the segments from checkpoint `at` to the end; returns the Solution."""
+    """Runs the segments from checkpoint `at` to the end; returns the Solution. `ledger`
+    records each chunk's digest (format 3; None: a legacy format-2 store, continued as
+    one)."""
     n_steps, s = grid["n_steps"], grid["save_every"]
     seg_steps = grid["segment_rows"] * s
     every = grid["checkpoint_every"]
@@ -378,9 +284,16 @@ def _proceed(
     if "energy" in grid:
         em = stored_model(grid["energy"])
         nb, n_cols = em.base_loads.size, 3 + em.base_loads.size + grid["energy"]["n_elements"]
-        carry = Carry(n_cols, nb) if at.step == 0 else load_carry(group, at.seq, n_cols, nb)
+        if at.step == 0:
+            carry = Carry(n_cols, nb)
+        elif ledger is None:  # format 2: the carry beside the checkpoint
+            carry = load_carry(group, at.seq, n_cols, nb)
+        elif at.carry is not None and at.carry.size == n_cols:
+            carry = Carry(n_cols, nb, at.carry)
+        else:
+            raise damaged(str(ledger.path), "its checkpoint's energy totals do not fit its grid")
         if carry is None:  # the checkpoint's energy is lost: the run starts again
-            at, carry = _start(model), Carry(n_cols, nb)
+            at, carry = start(model), Carry(n_cols, nb)
     step, rows, state, element_state = at.step, at.rows, at.state, at.element_state
     # The growth guard's bounds are carried from segment to segment in memory (a resumed run
     # counts them from the checkpoint it resumes at).
@@ -428,9 +341,13 @@ def _proceed(
             ended = carry
             if em is not None and carry is not None and result.energy is not None:
                 arrays["energy"], ended = segment_energy(result, em, carry)
-            _write(data, grid, arrays, rows, keep, result.element_widths)
+            written = _write(data, grid, arrays, rows, keep, result.element_widths)
+            if ledger is not None and keep:
+                ledger.record(written, rows // grid["chunk_rows"])
             if failed:
-                partial = _solution(group, model, grid, rows + keep, wall, counts, depth, started)
+                partial = _solution(
+                    group, model, grid, rows + keep, wall, counts, depth, started, ledger=ledger
+                )
                 if result.error is None:
                     raise overflow_error(result.t, kept, grid["dt"], grid["t0"], partial)
                 error = _shifted(result.error, step)
@@ -472,10 +389,15 @@ def _proceed(
                     depth,
                     wall,
                 )
-                if carry is not None:
+                if ledger is not None:  # format 3: bound to the store and the rows written
+                    values = None if carry is None else carry.values()
+                    chain = ledger.chain(rows)
+                    c = dataclasses.replace(c, store=ledger.key, chain=chain, carry=values)
+                elif carry is not None:
                     save_carry(group, seq, carry)
-                _checkpoint(group, c)
+                checkpoint(group, c)
                 seq, pending = seq + 1, 0
     return _solution(
-        group, model, grid, rows, wall, counts, depth, started, elements=elements, base=base
-    )
+        group, model, grid, rows, wall, counts, depth, started, elements=elements, base=base,
+        ledger=ledger,
+    )  # fmt: skip

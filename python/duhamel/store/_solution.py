@@ -16,6 +16,7 @@ from duhamel.results.solution import ModalHistory, Solution, SolveStats
 from duhamel.results.structural import ElementHistory
 from duhamel.store._array import StoredArray
 from duhamel.store._energy import stored_model
+from duhamel.store._ledger import Guard, Ledger
 from duhamel.store._model import Model
 
 __all__ = ["_shifted", "_solution"]
@@ -33,13 +34,21 @@ def _solution(
     *,
     elements: list[Any] | None = None,
     base: list[Any] | None = None,
+    ledger: Ledger | None = None,
 ) -> Solution:
-    """The Solution of the first `rows` stored rows, its arrays read from the store."""
+    """The Solution of the first `rows` stored rows, its arrays read from the store through
+    a guard that checks each chunk read (against `ledger`, format 3; its CRC-32C alone for
+    a legacy store, `ledger` None)."""
     data = group["data"]
     dofs = np.asarray(grid["dofs"], dtype=np.int64)
+    path = str(getattr(group.store, "root", group.store))
 
     def read(name: str, columns: slice | None = None) -> Any:
-        return StoredArray(data[name], rows, columns) if name in data else None
+        if name not in data:
+            return None
+        arr = data[name]
+        guard = Guard(path, name, arr, grid["chunk_rows"], ledger)
+        return StoredArray(arr, rows, columns, guard)
 
     t = read("t")
     basis = model.basis
@@ -109,7 +118,7 @@ def _solution(
             "t0": grid["t0"],
             "integrator": model.semianalytic(),
             "labels": model.labels,
-            "store": str(getattr(group.store, "root", group.store)),
+            "store": path,
         },
         elements=histories,
         base=base,

@@ -20,7 +20,7 @@
 //! the inertia at `t_{n+1-am}` and cost an order whenever `am != af` (HHT measured first
 //! order on the decaying-mass pendulum).
 
-use super::assembly::{singular, Factorization, IterationMatrix};
+use super::assembly::{singular, Factorization, IterationMatrix, Matrix};
 use super::lowrank::LowRank;
 use super::model::{Coefs, Model, C, K, KC, M};
 use super::problem::AlphaParams;
@@ -59,6 +59,8 @@ pub(crate) struct Alpha<'a> {
     x1: Vec<f64>,
     v1: Vec<f64>,
     factorizations: usize,
+    /// The massless dofs (zero diagonal of `M`), with `beta > 0` (see [`Stepper::step`]).
+    massless: Vec<usize>,
 }
 
 impl<'a> Alpha<'a> {
@@ -85,6 +87,11 @@ impl<'a> Alpha<'a> {
         model.internal(x0, v0, 0.0, k0, false, &mut fint)?;
         let mut ma = vec![0.0; n];
         p.m.mul_add(1.0, a0, &mut ma);
+        let massless = if par.beta > 0.0 && newton {
+            massless_dofs(p.m)
+        } else {
+            Vec::new()
+        };
         Ok(Alpha {
             par,
             dt: p.dt,
@@ -109,6 +116,7 @@ impl<'a> Alpha<'a> {
             x1: vec![0.0; n],
             v1: vec![0.0; n],
             factorizations: 0,
+            massless,
         })
     }
 
@@ -166,6 +174,33 @@ impl<'a> Alpha<'a> {
     }
 }
 
+/// The dofs whose diagonal entry of `m` is zero (massless).
+fn massless_dofs(m: &Matrix) -> Vec<usize> {
+    let mut diag = vec![0.0; m.n()];
+    match m {
+        Matrix::Dense { n, data } => {
+            for (i, d) in diag.iter_mut().enumerate() {
+                *d = data[i * n + i];
+            }
+        }
+        Matrix::Csr {
+            indptr,
+            indices,
+            data,
+            ..
+        } => {
+            for (i, d) in diag.iter_mut().enumerate() {
+                for k in indptr[i]..indptr[i + 1] {
+                    if indices[k] == i {
+                        *d += data[k];
+                    }
+                }
+            }
+        }
+    }
+    (0..diag.len()).filter(|&i| diag[i] == 0.0).collect()
+}
+
 /// Largest magnitude.
 pub(crate) fn norm(v: &[f64]) -> f64 {
     v.iter().fold(0.0, |m: f64, x| m.max(x.abs()))
@@ -200,6 +235,15 @@ impl Stepper for Alpha<'_> {
                 - af * self.f0[i];
         }
         self.a1.copy_from_slice(a);
+        // Massless dofs: the iteration starts from their displacement at the step's start
+        // (what OpenSees' Newmark predicts for every dof), not from the extrapolation
+        // `x0 + dt v0 + dt^2 a0 / 2`: their velocity and acceleration are no state of an
+        // undamped massless dof (the trapezoidal rule leaves them an undamped alternation
+        // after every kink), and Newton on a bilinear element started beyond its reversal
+        // point cycles between its branches ("the step equation did not converge").
+        for &i in &self.massless {
+            self.a1[i] = (x[i] - self.xt[i]) / (b * h * h);
+        }
         let nonfinite = || CoreError::NonFinite {
             time: t1,
             step: 0,

@@ -1,103 +1,14 @@
-//! The built-in elements the integrators call without dynamic dispatch.
-//!
-//! The elements reach the integrators as `&dyn Element`; a device's force is a few flops,
-//! and two indirect calls per evaluation (the element, and the element inside [`Shifted`],
-//! its linear part taken out) cost about as much and keep the compiler from inlining it.
-//! An [`Evaluation`](super::Evaluation) resolves its element once, at construction, to a
-//! [`Dispatch`]: a built-in element (or one shifted by its linear part) is then called
-//! through a `match`, each arm a direct call to that type's own methods. The arithmetic is
-//! the same functions' (results bit for bit); any other element keeps the dynamic call.
+//! How an evaluation calls its element: a built-in element (the registry's [`Runtime`]) is
+//! called through a `match`, each arm a direct call to that type's own methods, without
+//! dynamic dispatch (a device's force is a few flops: two indirect calls per evaluation —
+//! the element, and the element inside [`Shifted`], its linear part taken out — cost about
+//! as much and keep the compiler from inlining it). The arithmetic is the same functions'
+//! (results bit for bit); any other element keeps the dynamic call.
 
 use super::element::{Element, PathState, Tangent};
-use super::hysteretic::{Bilinear, FrictionPendulum, Gap, ViscousDamper};
-use super::polynomial::Polynomial;
+use super::registry::Runtime;
 use super::shifted::Shifted;
-use super::spring::Spring;
 use crate::error::CoreError;
-
-/// A built-in element by its type (from [`Element::as_any`]).
-#[derive(Clone, Copy)]
-pub(crate) enum Builtin<'e> {
-    Bilinear(&'e Bilinear),
-    Spring(&'e Spring),
-    Gap(&'e Gap),
-    Polynomial(&'e Polynomial),
-    Viscous(&'e ViscousDamper),
-    Pendulum(&'e FrictionPendulum),
-    /// An element with its linear part taken out (resolved one level further down).
-    Shifted(&'e Shifted),
-}
-
-impl<'e> Builtin<'e> {
-    /// The built-in type of `element`, if it is one.
-    fn of(element: &'e dyn Element) -> Option<Self> {
-        let any = element.as_any()?;
-        if let Some(e) = any.downcast_ref::<Bilinear>() {
-            Some(Builtin::Bilinear(e))
-        } else if let Some(e) = any.downcast_ref::<Spring>() {
-            Some(Builtin::Spring(e))
-        } else if let Some(e) = any.downcast_ref::<Gap>() {
-            Some(Builtin::Gap(e))
-        } else if let Some(e) = any.downcast_ref::<Polynomial>() {
-            Some(Builtin::Polynomial(e))
-        } else if let Some(e) = any.downcast_ref::<ViscousDamper>() {
-            Some(Builtin::Viscous(e))
-        } else if let Some(e) = any.downcast_ref::<FrictionPendulum>() {
-            Some(Builtin::Pendulum(e))
-        } else {
-            any.downcast_ref::<Shifted>().map(Builtin::Shifted)
-        }
-    }
-
-    /// What the element's trial variables depend on besides its committed ones and its
-    /// displacements: `(velocity, time)`. A `Bilinear`'s return map reads neither, a
-    /// friction pendulum's the velocity when its coefficient depends on it; the viscous
-    /// damper integrates its internal state over time.
-    fn path_reads(self) -> (bool, bool) {
-        match self {
-            Builtin::Bilinear(_)
-            | Builtin::Spring(_)
-            | Builtin::Gap(_)
-            | Builtin::Polynomial(_) => (false, false),
-            // the friction pendulum's return map reads the velocity only through a
-            // velocity-dependent coefficient; its time only names a failure
-            Builtin::Pendulum(e) => (e.uses_velocity(), false),
-            Builtin::Viscous(_) | Builtin::Shifted(_) => (true, true),
-        }
-    }
-
-    /// Whether the element's force at a committed state is, bit for bit, the force of the
-    /// evaluation whose trial variables were committed there (for the force alone, given
-    /// the same displacements): true of the memoryless `Spring`, `Gap` and `Polynomial`
-    /// and of the `Bilinear`, whose return map from `(u_c, f_c)` at `u_c` meets the trial `f_c + k 0 =
-    /// f_c` on or inside its band and keeps it.
-    fn restarts_exactly(self) -> bool {
-        matches!(
-            self,
-            Builtin::Bilinear(_) | Builtin::Spring(_) | Builtin::Gap(_) | Builtin::Polynomial(_)
-        )
-    }
-
-    /// [`Element::eval_path`] of the element, called directly.
-    #[inline(always)]
-    pub(crate) fn eval_path(
-        self,
-        (x, v, t): (&[f64], &[f64], f64),
-        history: PathState<'_>,
-        r: &mut [f64],
-        tangent: Option<Tangent<'_>>,
-    ) -> Result<(), CoreError> {
-        match self {
-            Builtin::Bilinear(e) => e.eval_path(x, v, t, history, r, tangent),
-            Builtin::Spring(e) => e.eval_path(x, v, t, history, r, tangent),
-            Builtin::Gap(e) => e.eval_path(x, v, t, history, r, tangent),
-            Builtin::Polynomial(e) => e.eval_path(x, v, t, history, r, tangent),
-            Builtin::Viscous(e) => e.eval_path(x, v, t, history, r, tangent),
-            Builtin::Pendulum(e) => e.eval_path(x, v, t, history, r, tangent),
-            Builtin::Shifted(e) => e.eval_path(x, v, t, history, r, tangent),
-        }
-    }
-}
 
 /// How an evaluation calls its element, resolved once.
 #[derive(Clone, Copy)]
@@ -105,39 +16,25 @@ pub(crate) enum Dispatch<'e> {
     /// Through the trait object.
     Dynamic,
     /// A built-in element, directly.
-    Direct(Builtin<'e>),
+    Direct(&'e Runtime),
     /// A built-in element with its linear part taken out, both directly.
-    Shifted(&'e Shifted, Builtin<'e>),
+    Shifted(&'e Shifted, &'e Runtime),
+}
+
+fn runtime(element: &dyn Element) -> Option<&Runtime> {
+    element.as_any()?.downcast_ref::<Runtime>()
 }
 
 impl<'e> Dispatch<'e> {
     /// How to call `element`.
     pub(crate) fn of(element: &'e dyn Element) -> Self {
-        match Builtin::of(element) {
+        if let Some(r) = runtime(element) {
+            return Dispatch::Direct(r);
+        }
+        let shifted = element.as_any().and_then(|a| a.downcast_ref::<Shifted>());
+        match shifted.and_then(|s| runtime(s.inner()).map(|r| (s, r))) {
+            Some((s, inner)) => Dispatch::Shifted(s, inner),
             None => Dispatch::Dynamic,
-            Some(Builtin::Shifted(s)) => match Builtin::of(s.inner()) {
-                Some(Builtin::Shifted(_)) | None => Dispatch::Dynamic,
-                Some(inner) => Dispatch::Shifted(s, inner),
-            },
-            Some(b) => Dispatch::Direct(b),
-        }
-    }
-
-    /// For a built-in element (its arithmetic deterministic and known), what its trial
-    /// variables depend on besides the committed ones and the displacements:
-    /// `Some((velocity, time))`; `None` for any other element (nothing is assumed).
-    pub(crate) fn path_reads(self) -> Option<(bool, bool)> {
-        match self {
-            Dispatch::Dynamic => None,
-            Dispatch::Direct(b) | Dispatch::Shifted(_, b) => Some(b.path_reads()),
-        }
-    }
-
-    /// [`Builtin::restarts_exactly`] of a built-in element (false for any other).
-    pub(crate) fn restarts_exactly(self) -> bool {
-        match self {
-            Dispatch::Dynamic => false,
-            Dispatch::Direct(b) | Dispatch::Shifted(_, b) => b.restarts_exactly(),
         }
     }
 
@@ -153,7 +50,7 @@ impl<'e> Dispatch<'e> {
     ) -> Result<(), CoreError> {
         match self {
             Dispatch::Dynamic => element.eval_path(x, v, t, history, r, tangent),
-            Dispatch::Direct(b) => b.eval_path((x, v, t), history, r, tangent),
+            Dispatch::Direct(b) => b.eval_path(x, v, t, history, r, tangent),
             Dispatch::Shifted(s, inner) => s.eval_path_over(inner, (x, v, t), history, r, tangent),
         }
     }

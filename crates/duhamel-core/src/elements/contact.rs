@@ -29,8 +29,10 @@
 //! stays centred) and `dr/dx = k sigmoid(-g / eps) I`, `dr/dv = 0`. For the usual
 //! `g >> eps` both are zero to round-off anyway.
 
+use super::definition::Definition;
 use super::element::{check, distinct, Element, Tangent};
 use crate::error::CoreError;
+use serde::{Deserialize, Serialize};
 
 /// Below this radius the shaft is taken as exactly centred.
 const RHO_MIN: f64 = 1e-300;
@@ -201,5 +203,91 @@ impl Element for Contact {
 
     fn uses_velocity(&self) -> bool {
         self.friction > 0.0
+    }
+}
+
+/// `duhamel.elements.Contact`: the definition of a [`Contact`].
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactDef {
+    pub dofs: (usize, usize),
+    pub clearance: f64,
+    pub stiffness: f64,
+    #[serde(default)]
+    pub friction: f64,
+    #[serde(default)]
+    pub smoothing: Option<f64>,
+    #[serde(default)]
+    pub velocity_smoothing: Option<f64>,
+}
+
+impl Definition for ContactDef {
+    const NAME: &'static str = "Contact";
+    const SIGNATURE: &'static str =
+        "(dofs, *, clearance, stiffness, friction=0.0, smoothing=None, velocity_smoothing=None)";
+    const DOC: &'static str = r#"Radial rub/impact of a shaft centre ``(x, y)`` in a stator of radial ``clearance``.
+
+Normal force ``stiffness * (rho - clearance)`` beyond the clearance (``rho`` the radial
+displacement), smoothed over ``smoothing`` (a length; None: ``1e-3 * clearance``) so that
+Newton converges; Coulomb friction ``friction * F_n`` opposing the tangential (whirl)
+velocity, smoothed with ``tanh(v_t / velocity_smoothing)`` (None: 1e-3 m/s).
+
+Parameters
+----------
+dofs : pair of int or dof labels
+    The shaft centre's dofs ``(x, y)``.
+clearance : float
+    Radial clearance, >= 0.
+stiffness : float
+    Contact stiffness, > 0.
+friction : float, default 0.0
+    Coulomb friction coefficient, >= 0.
+smoothing, velocity_smoothing : float, optional
+    The lengths of the smoothing of contact and friction.
+
+Examples
+--------
+>>> import duhamel
+>>> rub = duhamel.elements.Contact((0, 1), clearance=2e-4, stiffness=5e7, friction=0.2)
+"#;
+    const LEGACY: &'static [&'static str] = &[
+        "dof_x",
+        "dof_y",
+        "clearance",
+        "stiffness",
+        "friction",
+        "smoothing",
+        "velocity_smoothing",
+    ];
+    type Runtime = Contact;
+
+    fn build(&self) -> Result<Contact, CoreError> {
+        let g = self.clearance;
+        // at least the smallest normal number: a subnormal clearance must not give 0
+        let smoothing = self.smoothing.unwrap_or(if g > 0.0 {
+            (1e-3 * g).max(f64::MIN_POSITIVE)
+        } else {
+            1e-9
+        });
+        let velocity_smoothing = self.velocity_smoothing.unwrap_or(1e-3);
+        let (x, y) = self.dofs;
+        Contact::new(
+            x,
+            y,
+            g,
+            self.stiffness,
+            self.friction,
+            smoothing,
+            velocity_smoothing,
+        )
+    }
+
+    fn rename(old: &str) -> Option<(&'static str, Option<usize>)> {
+        super::hysteretic::rename_axes(old)
+    }
+
+    fn passive(&self) -> bool {
+        // friction at a spinning shaft's surface can drive whirl: passive only without it
+        self.friction == 0.0
     }
 }

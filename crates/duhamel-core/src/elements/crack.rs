@@ -18,12 +18,15 @@
 //! caller's phase says where), closed at `phi = pi`. The cosine crack is linear in the state
 //! with time-periodic coefficients; the switching one piecewise linear.
 
+use super::definition::Definition;
 use super::element::{check, distinct, Element, Tangent};
 use crate::error::CoreError;
 use crate::speed::SpeedLaw;
+use serde::{Deserialize, Serialize};
 
 /// How the crack opens and closes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Breathing {
     /// Open while `xi > 0` (Gasch's hinge model).
     Switching,
@@ -124,6 +127,93 @@ impl Element for BreathingCrack {
 
     fn uses_velocity(&self) -> bool {
         false
+    }
+}
+
+/// `duhamel.rotor.BreathingCrack`: the definition of a [`BreathingCrack`].
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BreathingCrackDef {
+    pub dofs: (usize, usize),
+    pub dk_xi: f64,
+    #[serde(default)]
+    pub dk_eta: f64,
+    #[serde(default = "cosine")]
+    pub breathing: Breathing,
+    #[serde(default = "at_rest")]
+    pub speed: SpeedLaw,
+    #[serde(default)]
+    pub phase: f64,
+}
+
+fn cosine() -> Breathing {
+    Breathing::Cosine
+}
+
+fn at_rest() -> SpeedLaw {
+    SpeedLaw::Constant(0.0)
+}
+
+impl Definition for BreathingCrackDef {
+    const NAME: &'static str = "BreathingCrack";
+    const SIGNATURE: &'static str =
+        "(dofs, *, dk_xi, dk_eta=0.0, breathing='cosine', speed=0.0, phase=0.0)";
+    const DOC: &'static str = r#"A breathing transverse crack on the lateral dofs ``dofs=(x, y)`` of a shaft node: the open
+crack's stiffness losses `dk_xi` (across the crack front) and `dk_eta` (along it), N/m, in the
+frame turning at `speed` (rad/s, or a :mod:`duhamel.speed` law), `phase` the angle (rad) of
+the crack's ``xi`` axis from ``x`` at ``t = 0``, and `breathing` ``"switching"`` (Gasch: open
+while the node's displacement has a positive ``xi`` component) or ``"cosine"`` (Mayes &
+Davies: ``f = (1 + cos(phi)) / 2``, fully open when ``xi`` points along ``+x``... at
+``phi = 0``). The uncracked shaft stays in the model's stiffness; the element is the loss, a
+restoring force ``-f R diag(dk_xi, dk_eta) R^T x``.
+
+Parameters
+----------
+dofs : pair of int or dof labels
+    The node's lateral dofs ``(x, y)``.
+dk_xi, dk_eta : float
+    The open crack's stiffness losses, >= 0.
+breathing : {"cosine", "switching"}
+    How the crack opens and closes.
+speed : float or speed law
+    The rotor's speed (rad/s) or a :mod:`duhamel.speed` law.
+phase : float
+    The angle of the crack's axis at ``t = 0`` (rad).
+
+Examples
+--------
+>>> from duhamel.rotor import BreathingCrack
+>>> crack = BreathingCrack((0, 1), dk_xi=2e4, breathing="cosine", speed=100.0)
+>>> r, K, C = crack.evaluate([1e-3, 0.0], t=0.0)  # fully open, xi along x
+>>> K.tolist()
+[[-20000.0, 0.0], [0.0, 0.0]]
+"#;
+    const LEGACY: &'static [&'static str] = &[
+        "dof_x",
+        "dof_y",
+        "dk_xi",
+        "dk_eta",
+        "breathing",
+        "speed",
+        "phase",
+    ];
+    type Runtime = BreathingCrack;
+
+    fn build(&self) -> Result<BreathingCrack, CoreError> {
+        let (x, y) = self.dofs;
+        BreathingCrack::new(
+            x,
+            y,
+            self.dk_xi,
+            self.dk_eta,
+            self.breathing,
+            self.phase,
+            self.speed,
+        )
+    }
+
+    fn rename(old: &str) -> Option<(&'static str, Option<usize>)> {
+        super::hysteretic::rename_axes(old)
     }
 }
 

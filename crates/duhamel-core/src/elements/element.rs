@@ -91,6 +91,21 @@ pub trait Element: Send + Sync {
         None
     }
 
+    /// For an element whose arithmetic is deterministic and known: what its trial variables
+    /// depend on besides the committed ones and the displacements, `Some((velocity, time))`
+    /// (a commit at the state last evaluated then keeps that evaluation's trial variables);
+    /// None (the default): nothing is assumed.
+    fn path_reads(&self) -> Option<(bool, bool)> {
+        None
+    }
+
+    /// Whether the force at a committed state is, bit for bit, the force of the evaluation
+    /// whose trial variables were committed there (for the force alone, given the same
+    /// displacements). False by default.
+    fn restarts_exactly(&self) -> bool {
+        false
+    }
+
     /// The element as `Any`, for a built-in element: the integrators then resolve its type
     /// once and call it without dynamic dispatch (`elements/builtin.rs`). None (the
     /// default) for any other element.

@@ -26,7 +26,7 @@ pub(crate) struct Evaluation<'a> {
     evaluations: u64,
     with_tangent: bool,
     /// For a built-in hysteretic element: what its trial variables read besides the
-    /// displacements (`(velocity, time)`, see [`Dispatch::path_reads`]), and the state of
+    /// displacements (`(velocity, time)`, see [`Element::path_reads`]), and the state of
     /// its last successful evaluation while the trial variables are still that one's
     /// (`seen`): a commit at the same state then keeps them instead of evaluating again.
     reads: Option<(bool, bool)>,
@@ -57,7 +57,7 @@ impl<'a> Evaluation<'a> {
             committed,
             evaluations: 0,
             with_tangent: false,
-            reads: dispatch.path_reads().filter(|_| ns > 0),
+            reads: element.path_reads().filter(|_| ns > 0),
             seen: false,
             seen_x: vec![0.0; nl],
             seen_v: vec![0.0; nl],
@@ -171,9 +171,9 @@ impl<'a> Evaluation<'a> {
     }
 
     /// Whether the force at the committed state is that of the evaluation committed there,
-    /// whatever the time and velocities ([`Dispatch::restarts_exactly`], velocity-free).
+    /// whatever the time and velocities ([`Element::restarts_exactly`], velocity-free).
     pub fn restarts_exactly(&self) -> bool {
-        self.dispatch.restarts_exactly() && !self.uses_velocity
+        self.element.restarts_exactly() && !self.uses_velocity
     }
 
     /// Whether the element's force depends on the velocities.
@@ -258,7 +258,7 @@ mod tests {
     /// Along a path through yield and reversal: a commit that keeps the trial variables of
     /// the evaluation at the committed state leaves the same committed variables as one
     /// that evaluates again, and the force at a committed state is the force that
-    /// committed it (what `Dispatch::restarts_exactly` says of the `Bilinear`).
+    /// committed it (what `Element::restarts_exactly` says of the `Bilinear`).
     #[test]
     fn kept_commits_and_restarts_are_the_evaluated_ones_bit_for_bit() {
         let element = Bilinear::new(0, None, 2e3, 5.0, 0.05).unwrap();

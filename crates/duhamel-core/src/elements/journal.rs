@@ -32,9 +32,12 @@
 //! Where `a = b = 0` (a centred journal at rest, or pure spin at the centre) the film
 //! carries nothing and the half circle is taken at `beta = 0` for the tangents.
 
+use super::definition::Definition;
 use super::element::{check, distinct, Element, Tangent};
+use super::shifted::Shifted;
 use crate::error::CoreError;
 use crate::speed::SpeedLaw;
+use serde::{Deserialize, Serialize};
 
 /// Panels of the quadrature over the half circle.
 pub const PANELS: usize = 48;
@@ -200,6 +203,110 @@ impl Element for ShortJournalBearing {
 
     fn uses_velocity(&self) -> bool {
         true
+    }
+}
+
+/// `duhamel.rotor.journal.JournalElement`: the definition of a [`ShortJournalBearing`],
+/// with a linear part `k0 x + c0 x'` taken out when given.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JournalElementDef {
+    pub dofs: (usize, usize),
+    pub radius: f64,
+    pub length: f64,
+    pub clearance: f64,
+    pub viscosity: f64,
+    #[serde(default = "at_rest")]
+    pub speed: SpeedLaw,
+    #[serde(default)]
+    pub k0: Option<[[f64; 2]; 2]>,
+    #[serde(default)]
+    pub c0: Option<[[f64; 2]; 2]>,
+}
+
+fn at_rest() -> SpeedLaw {
+    SpeedLaw::Constant(0.0)
+}
+
+crate::element_variants! {
+    /// A journal bearing's film force, whole or less a linear part.
+    pub enum JournalFilm {
+        Whole(ShortJournalBearing),
+        Less(Shifted<ShortJournalBearing>),
+    }
+}
+
+impl Definition for JournalElementDef {
+    const NAME: &'static str = "JournalElement";
+    const SIGNATURE: &'static str =
+        "(dofs, *, radius, length, clearance, viscosity, speed=0.0, k0=None, c0=None)";
+    const DOC: &'static str = r#"A short (Ocvirk) journal bearing as an element on the journal's dofs ``dofs=(x, y)``
+(to the ground): the film force of a plain journal of `radius`, `length`, radial
+`clearance` and oil `viscosity` (Pa s) turning at `speed` (rad/s, or a :mod:`duhamel.speed`
+law), with half-film (Guembel) cavitation, integrated over the film; exact tangents. With
+`k0`, `c0` (2 x 2) the element is the film force minus ``k0 x + c0 x'`` (a linear part
+carried by the background instead); :meth:`evaluate` always gives the element's force.
+
+Parameters
+----------
+dofs : pair of int or dof labels
+    The journal centre's dofs ``(x, y)``.
+radius, length, clearance : float
+    The bearing's geometry (m), > 0.
+viscosity : float
+    Oil viscosity (Pa s), > 0.
+speed : float or speed law
+    The journal's speed (rad/s) or a :mod:`duhamel.speed` law.
+k0, c0 : 2 x 2 matrices, optional
+    A linear part taken out.
+
+Examples
+--------
+>>> from duhamel.rotor.journal import JournalElement
+>>> e = JournalElement((0, 1), radius=0.025, length=0.02, clearance=5e-5, viscosity=0.02,
+...                    speed=300.0)
+>>> r, K, C = e.evaluate([2e-5, -1e-5], [0.0, 0.0])
+>>> K.shape, bool(r[0] > 0)
+((2, 2), True)
+"#;
+    const LEGACY: &'static [&'static str] = &[
+        "dof_x",
+        "dof_y",
+        "radius",
+        "length",
+        "clearance",
+        "viscosity",
+        "speed",
+        "k0",
+        "c0",
+    ];
+    type Runtime = JournalFilm;
+
+    fn build(&self) -> Result<JournalFilm, CoreError> {
+        let (x, y) = self.dofs;
+        let (r, l, c, mu) = (self.radius, self.length, self.clearance, self.viscosity);
+        let film = ShortJournalBearing::new(x, y, r, l, c, mu, self.speed)?;
+        let scale = r * mu * l.powi(3) / c.powi(3);
+        if !(scale.is_finite() && scale < 1e250) {
+            return Err(CoreError::InvalidInput {
+                name: "clearance",
+                problem: format!(
+                    "with `radius` {r:e}, `length` {l:e} and `viscosity` {mu:e}: the film force's \
+                     scale radius viscosity length^3 / clearance^3 = {scale:e} overflows the \
+                     double range, beyond any physical bearing (check `clearance`)"
+                ),
+            });
+        }
+        if self.k0.is_none() && self.c0.is_none() {
+            return Ok(JournalFilm::Whole(film));
+        }
+        let flat = |m: Option<[[f64; 2]; 2]>| m.unwrap_or_default().concat();
+        let shifted = Shifted::new(Box::new(film), flat(self.k0), flat(self.c0))?;
+        Ok(JournalFilm::Less(shifted))
+    }
+
+    fn rename(old: &str) -> Option<(&'static str, Option<usize>)> {
+        super::hysteretic::rename_axes(old)
     }
 }
 

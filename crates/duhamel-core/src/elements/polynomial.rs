@@ -3,8 +3,141 @@
 //! The Duffing hardening/softening spring `r = k3 x^3` is [`Polynomial::cubic`]. The force is
 //! evaluated by Horner's scheme together with its derivative `dr/dx`.
 
+use serde::{Deserialize, Serialize};
+
+use super::definition::Definition;
 use super::element::{Element, Tangent};
 use crate::error::CoreError;
+
+/// `duhamel.elements.Polynomial`: the definition of a [`Polynomial`].
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PolynomialDef {
+    pub i: usize,
+    pub coefficients: Vec<f64>,
+}
+
+/// Renames the single dof of the previous release (`dof`).
+fn rename_dof(old: &str) -> Option<(&'static str, Option<usize>)> {
+    (old == "dof").then_some(("i", None))
+}
+
+impl Definition for PolynomialDef {
+    const NAME: &'static str = "Polynomial";
+    const SIGNATURE: &'static str = "(i, *, coefficients)";
+    const DOC: &'static str = r#"``r = sum_k coefficients[k] x_i^k`` at one degree of freedom.
+
+Parameters
+----------
+i : int or dof label
+    The dof.
+coefficients : sequence of float
+    ``c_0, c_1, ...`` (``c_0`` a constant force).
+
+Examples
+--------
+>>> import duhamel
+>>> softening = duhamel.elements.Polynomial(0, coefficients=[0.0, 0.0, 0.0, -0.5])
+"#;
+    const LEGACY: &'static [&'static str] = &["dof", "coefficients"];
+    type Runtime = Polynomial;
+
+    fn build(&self) -> Result<Polynomial, CoreError> {
+        Polynomial::new(self.i, self.coefficients.clone())
+    }
+
+    fn rename(old: &str) -> Option<(&'static str, Option<usize>)> {
+        rename_dof(old)
+    }
+
+    fn passive(&self) -> bool {
+        // a potential bounded below: odd powers with non-negative coefficients only
+        let c = &self.coefficients;
+        c.iter().step_by(2).all(|&v| v == 0.0) && c.iter().skip(1).step_by(2).all(|&v| v >= 0.0)
+    }
+
+    fn tangent_bound(&self) -> Option<(f64, f64)> {
+        let c = &self.coefficients;
+        (c.len() > 1 && c[2..].iter().all(|&v| v == 0.0)).then(|| (c[1].abs(), 0.0))
+    }
+
+    fn linear_stiffness(&self) -> Option<Vec<f64>> {
+        let k = self.coefficients.get(1).copied().unwrap_or(0.0);
+        (k > 0.0).then(|| vec![k])
+    }
+
+    fn without_linear(&self) -> Option<Self> {
+        let mut coefficients = self.coefficients.clone();
+        if let Some(c1) = coefficients.get_mut(1) {
+            *c1 = 0.0;
+        }
+        Some(PolynomialDef {
+            i: self.i,
+            coefficients,
+        })
+    }
+
+    fn linear(&self) -> Result<(Vec<f64>, Vec<f64>), String> {
+        let c = &self.coefficients;
+        if c.iter().skip(2).any(|&v| v != 0.0) {
+            return Err("is nonlinear (a coefficient of degree >= 2 is non-zero)".into());
+        }
+        if c.first().is_some_and(|&v| v != 0.0) {
+            return Err(
+                "applies a constant force (coefficient of degree 0), which is not linear".into(),
+            );
+        }
+        Ok((vec![c.get(1).copied().unwrap_or(0.0)], vec![0.0]))
+    }
+}
+
+/// `duhamel.elements.Cubic`: the Duffing spring, a [`Polynomial`] `k3 x^3`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CubicDef {
+    pub i: usize,
+    pub k3: f64,
+}
+
+impl Definition for CubicDef {
+    const NAME: &'static str = "Cubic";
+    const SIGNATURE: &'static str = "(i, *, k3)";
+    const DOC: &'static str = r#"Duffing spring to ground, ``r = k3 x_i^3`` (``k3 < 0`` softens).
+
+Parameters
+----------
+i : int or dof label
+    The dof.
+k3 : float
+    Cubic stiffness.
+
+Examples
+--------
+>>> import numpy as np, duhamel
+>>> duffing = duhamel.System(np.eye(1), np.eye(1)).add(duhamel.elements.Cubic(0, k3=4.0))
+"#;
+    const LEGACY: &'static [&'static str] = &["dof", "k3"];
+    type Runtime = Polynomial;
+
+    fn build(&self) -> Result<Polynomial, CoreError> {
+        Polynomial::cubic(self.i, self.k3)
+    }
+
+    fn rename(old: &str) -> Option<(&'static str, Option<usize>)> {
+        rename_dof(old)
+    }
+
+    fn passive(&self) -> bool {
+        self.k3 >= 0.0
+    }
+
+    fn linear(&self) -> Result<(Vec<f64>, Vec<f64>), String> {
+        if self.k3 != 0.0 {
+            return Err("is nonlinear (k3 != 0)".into());
+        }
+        Ok((vec![0.0], vec![0.0]))
+    }
+}
 
 /// Restoring force `r = c_0 + c_1 x + c_2 x^2 + ...` at one dof (`c_0` is a constant force).
 ///
@@ -74,8 +207,12 @@ impl Polynomial {
 }
 
 impl Element for Polynomial {
-    fn as_any(&self) -> Option<&dyn std::any::Any> {
-        Some(self)
+    fn path_reads(&self) -> Option<(bool, bool)> {
+        Some((false, false))
+    }
+
+    fn restarts_exactly(&self) -> bool {
+        true
     }
 
     fn dofs(&self) -> &[usize] {

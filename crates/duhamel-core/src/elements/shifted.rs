@@ -10,17 +10,38 @@ use super::element::{Element, ModalCubic, PathState, Tangent};
 use crate::error::CoreError;
 
 /// `inner`'s force minus `K0 x + C0 x'` at its own dofs (`K0`, `C0` row-major `n x n`).
-pub struct Shifted {
-    inner: Box<dyn Element>,
+pub struct Shifted<E: ?Sized + Element = dyn Element> {
+    inner: Box<E>,
     k0: Vec<f64>,
     c0: Vec<f64>,
     damped: bool,
 }
 
-impl Shifted {
+impl<E: Element + Clone> Clone for Shifted<E> {
+    fn clone(&self) -> Self {
+        Shifted {
+            inner: self.inner.clone(),
+            k0: self.k0.clone(),
+            c0: self.c0.clone(),
+            damped: self.damped,
+        }
+    }
+}
+
+impl<E: Element + std::fmt::Debug> std::fmt::Debug for Shifted<E> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Shifted")
+            .field("inner", &self.inner)
+            .field("k0", &self.k0)
+            .field("c0", &self.c0)
+            .finish()
+    }
+}
+
+impl<E: ?Sized + Element> Shifted<E> {
     /// `inner` minus the local stiffness `k0` and damping `c0` (row-major, `n x n` for the
     /// `n` dofs of `inner`). Errors: wrong sizes (named `"k0"`, `"c0"`), non-finite entries.
-    pub fn new(inner: Box<dyn Element>, k0: Vec<f64>, c0: Vec<f64>) -> Result<Self, CoreError> {
+    pub fn new(inner: Box<E>, k0: Vec<f64>, c0: Vec<f64>) -> Result<Self, CoreError> {
         let n = inner.dofs().len();
         for (name, m) in [("k0", &k0), ("c0", &c0)] {
             if m.len() != n * n {
@@ -46,8 +67,8 @@ impl Shifted {
     }
 
     /// The element whose linear part is taken out.
-    pub fn inner(&self) -> &dyn Element {
-        &*self.inner
+    pub fn inner(&self) -> &E {
+        &self.inner
     }
 
     /// [`Element::eval_path`] with `inner` (this element's own, resolved to its type) called
@@ -55,13 +76,13 @@ impl Shifted {
     #[inline(always)]
     pub(crate) fn eval_path_over(
         &self,
-        inner: super::builtin::Builtin<'_>,
+        inner: &super::registry::Runtime,
         (x, v, t): (&[f64], &[f64], f64),
         history: PathState<'_>,
         r: &mut [f64],
         mut tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
-        inner.eval_path((x, v, t), history, r, again(&mut tangent))?;
+        inner.eval_path(x, v, t, history, r, again(&mut tangent))?;
         self.subtract(x, v, r, tangent);
         Ok(())
     }
@@ -107,9 +128,17 @@ fn again<'b>(tangent: &'b mut Option<Tangent<'_>>) -> Option<Tangent<'b>> {
     })
 }
 
-impl Element for Shifted {
+impl<E: ?Sized + Element + 'static> Element for Shifted<E> {
     fn as_any(&self) -> Option<&dyn std::any::Any> {
         Some(self)
+    }
+
+    fn path_reads(&self) -> Option<(bool, bool)> {
+        self.inner.path_reads()
+    }
+
+    fn restarts_exactly(&self) -> bool {
+        self.inner.restarts_exactly()
     }
 
     fn dofs(&self) -> &[usize] {

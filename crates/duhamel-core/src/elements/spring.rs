@@ -6,8 +6,139 @@
 //! * [`Spring`]: `s = k delta + k3 delta^3` (linear plus Duffing cubic; either sign).
 //! * [`Damper`]: `s = c (v_i - v_j)`, `c >= 0`.
 
+use serde::{Deserialize, Serialize};
+
+use super::definition::{along, deformation, pair_matrix, Definition, Pair};
 use super::element::{Element, Tangent};
 use crate::error::CoreError;
+
+/// `duhamel.elements.Spring`: the definition of a [`Spring`].
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringDef {
+    pub i: usize,
+    #[serde(default)]
+    pub j: Option<usize>,
+    pub k: f64,
+    #[serde(default)]
+    pub k3: f64,
+}
+
+impl Definition for SpringDef {
+    const NAME: &'static str = "Spring";
+    const SIGNATURE: &'static str = "(i, j=None, *, k, k3=0.0)";
+    const DOC: &'static str = r#"Spring ``s = k d + k3 d^3`` on the deformation ``d = x_i - x_j`` (``j=None``: to the
+ground); negative `k` (negative-stiffness springs) and negative `k3` (softening) are allowed.
+
+Parameters
+----------
+i, j : int, dof label or None
+    The dofs of the deformation ``x_i - x_j`` (``j=None``: to the ground).
+k : float
+    Linear stiffness.
+k3 : float, default 0.0
+    Cubic stiffness.
+
+Examples
+--------
+>>> import duhamel
+>>> link = duhamel.elements.Spring(3, 4, k=0.0, k3=2e9)
+"#;
+    const LEGACY: &'static [&'static str] = &["i", "j", "k", "k3"];
+    const LEGACY_DEFAULTS: &'static [(&'static str, &'static str)] = &[("k", "0.0")];
+    type Runtime = Spring;
+
+    fn build(&self) -> Result<Spring, CoreError> {
+        Spring::new(self.i, self.j, self.k, self.k3)
+    }
+
+    fn directions(&self) -> Option<Vec<Pair>> {
+        along(self.i, self.j)
+    }
+
+    fn passive(&self) -> bool {
+        self.k >= 0.0 && self.k3 >= 0.0
+    }
+
+    fn tangent_bound(&self) -> Option<(f64, f64)> {
+        (self.k3 == 0.0).then_some((self.k.abs(), 0.0))
+    }
+
+    fn linear_stiffness(&self) -> Option<Vec<f64>> {
+        (self.k > 0.0).then(|| pair_matrix(self.j, self.k))
+    }
+
+    fn without_linear(&self) -> Option<Self> {
+        Some(SpringDef {
+            k: 0.0,
+            ..self.clone()
+        })
+    }
+
+    fn stored_energy(&self, u: &[f64], _f: &[f64]) -> f64 {
+        let d = deformation(u);
+        0.5 * self.k * d * d + 0.25 * self.k3 * d.powi(4)
+    }
+
+    fn linear(&self) -> Result<(Vec<f64>, Vec<f64>), String> {
+        if self.k3 != 0.0 {
+            return Err("is nonlinear (k3 != 0)".into());
+        }
+        Ok((pair_matrix(self.j, self.k), pair_matrix(self.j, 0.0)))
+    }
+}
+
+/// `duhamel.elements.Damper`: the definition of a [`Damper`].
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DamperDef {
+    pub i: usize,
+    #[serde(default)]
+    pub j: Option<usize>,
+    pub c: f64,
+}
+
+impl Definition for DamperDef {
+    const NAME: &'static str = "Damper";
+    const SIGNATURE: &'static str = "(i, j=None, *, c)";
+    const DOC: &'static str = r#"Linear viscous damper ``c (v_i - v_j)`` (``j=None``: to the ground).
+
+Parameters
+----------
+i, j : int, dof label or None
+    The dofs of the deformation ``x_i - x_j`` (``j=None``: to the ground).
+c : float
+    Damping coefficient, >= 0.
+
+Examples
+--------
+>>> import duhamel
+>>> dashpot = duhamel.elements.Damper(0, c=0.2)
+"#;
+    const LEGACY: &'static [&'static str] = &["i", "j", "c"];
+    const LEGACY_DEFAULTS: &'static [(&'static str, &'static str)] = &[("c", "0.0")];
+    type Runtime = Damper;
+
+    fn build(&self) -> Result<Damper, CoreError> {
+        Damper::new(self.i, self.j, self.c)
+    }
+
+    fn directions(&self) -> Option<Vec<Pair>> {
+        along(self.i, self.j)
+    }
+
+    fn passive(&self) -> bool {
+        self.c >= 0.0
+    }
+
+    fn tangent_bound(&self) -> Option<(f64, f64)> {
+        Some((0.0, self.c.abs()))
+    }
+
+    fn linear(&self) -> Result<(Vec<f64>, Vec<f64>), String> {
+        Ok((pair_matrix(self.j, 0.0), pair_matrix(self.j, self.c)))
+    }
+}
 
 fn check_finite(name: &'static str, value: f64) -> Result<(), CoreError> {
     if value.is_finite() {
@@ -91,8 +222,12 @@ impl Spring {
 }
 
 impl Element for Spring {
-    fn as_any(&self) -> Option<&dyn std::any::Any> {
-        Some(self)
+    fn path_reads(&self) -> Option<(bool, bool)> {
+        Some((false, false))
+    }
+
+    fn restarts_exactly(&self) -> bool {
+        true
     }
 
     fn dofs(&self) -> &[usize] {

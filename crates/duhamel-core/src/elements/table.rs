@@ -10,9 +10,12 @@
 //! or the broken line through it, held at its end values outside the table. Linear in the
 //! state: the tangents are `K` and `C` themselves.
 
+use super::definition::Definition;
 use super::element::{distinct, Element, Tangent};
+use super::shifted::Shifted;
 use crate::error::CoreError;
 use crate::speed::SpeedLaw;
+use serde::{Deserialize, Serialize};
 
 /// Coefficients per table: `kxx, kxy, kyx, kyy, cxx, cxy, cyx, cyy`.
 pub const COEFFICIENTS: usize = 8;
@@ -144,6 +147,91 @@ impl Element for SpeedTableBearing {
 
     fn uses_velocity(&self) -> bool {
         true
+    }
+}
+
+/// `duhamel.elements.SpeedTableBearing`: the definition of a [`SpeedTableBearing`] less its
+/// coefficients at the initial speed (`k0 x + c0 x'`, which the background carries).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpeedTableBearingDef {
+    pub dofs: (usize, usize),
+    pub speeds: Vec<f64>,
+    pub values: Vec<Vec<f64>>,
+    #[serde(default)]
+    pub slopes: Option<Vec<Vec<f64>>>,
+    pub speed: SpeedLaw,
+    pub k0: [[f64; 2]; 2],
+    pub c0: [[f64; 2]; 2],
+}
+
+impl Definition for SpeedTableBearingDef {
+    const NAME: &'static str = "SpeedTableBearing";
+    const SIGNATURE: &'static str = "(dofs, *, speeds, values, slopes=None, speed, k0, c0)";
+    const DOC: &'static str = r#"A bearing whose stiffness and damping coefficients are tabulated against the spin speed,
+following the speed law `speed` in time (the same PCHIP or linear interpolation as
+:meth:`duhamel.rotor.Bearing.stiffness_at`, end values held), minus ``k0 x + c0 x'`` (its
+matrices at the initial speed, which the background carries).
+
+Parameters
+----------
+dofs : pair of int or dof labels
+    The journal centre's dofs ``(x, y)``.
+speeds : sequence of float
+    The table's speeds, strictly ascending.
+values : 8 sequences
+    ``kxx, kxy, kyx, kyy, cxx, cxy, cyx, cyy`` at `speeds`.
+slopes : 8 sequences, optional
+    Their Hermite slopes (PCHIP); None: linear interpolation.
+speed : float or speed law
+    The rotor's speed law.
+k0, c0 : 2 x 2 matrices
+    The linear part the background carries.
+
+Examples
+--------
+>>> import duhamel
+>>> e = duhamel.elements.SpeedTableBearing((0, 1), speeds=[0.0, 100.0],
+...     values=[[1e6, 2e6], [0, 0], [0, 0], [1e6, 2e6], [1e2, 1e2], [0, 0], [0, 0], [1e2, 1e2]],
+...     speed=duhamel.speed.LinearRunUp(0.0, 100.0, 1.0), k0=[[1e6, 0], [0, 1e6]],
+...     c0=[[1e2, 0], [0, 1e2]])
+>>> r, K, C = e.evaluate([1e-3, 0.0], t=1.0)
+>>> float(K[0, 0])
+1000000.0
+"#;
+    type Runtime = Shifted<SpeedTableBearing>;
+
+    fn build(&self) -> Result<Shifted<SpeedTableBearing>, CoreError> {
+        let (x, y) = self.dofs;
+        let table = SpeedTableBearing::new(
+            x,
+            y,
+            self.speeds.clone(),
+            self.values.clone(),
+            self.slopes.clone(),
+            self.speed,
+        )?;
+        Shifted::new(Box::new(table), self.k0.concat(), self.c0.concat())
+    }
+
+    fn tangent_bound(&self) -> Option<(f64, f64)> {
+        // PCHIP and linear interpolation stay within each entry's tabulated values: the
+        // entrywise largest difference bounds the Frobenius norm at any speed
+        let worst = |rows: std::ops::Range<usize>, reference: [[f64; 2]; 2]| {
+            let r = reference.concat();
+            let sq: f64 = rows
+                .enumerate()
+                .map(|(k, c)| {
+                    let w = self.values[c]
+                        .iter()
+                        .map(|v| (v - r[k]).abs())
+                        .fold(0.0, f64::max);
+                    w * w
+                })
+                .sum();
+            sq.sqrt()
+        };
+        Some((worst(0..4, self.k0), worst(4..8, self.c0)))
     }
 }
 

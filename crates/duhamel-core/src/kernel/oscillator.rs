@@ -92,7 +92,14 @@ impl Transfer {
     /// `k >= 0` is the modal stiffness `omega^2`, `c` the modal damping `2 zeta omega` (any
     /// sign), both per unit modal mass; `dt > 0`. `a^2 - h^2` is formed from error-free
     /// products, so near-critical damping loses nothing to the rounding of `k dt^2`.
+    ///
+    /// `k = +inf` marks a coordinate without modal mass (a massless dof's static or
+    /// first-order coordinate, unit stiffness): `c x' + x = p(t)`, `c >= 0` its time constant
+    /// ([`super::relaxation`]).
     pub fn new(k: f64, c: f64, dt: f64) -> Self {
+        if k == f64::INFINITY {
+            return super::relaxation::transfer(c, dt);
+        }
         if k > 0.0 {
             let omega = k.sqrt();
             if let Some(far) = far(omega, c / (2.0 * omega), dt) {
@@ -306,7 +313,7 @@ fn upward(hh: f64, a: f64, delta: f64, real: Option<(f64, f64)>) -> (f64, [f64; 
 
 /// `phi_0..phi_4` at one real point `z`, by series for `|z| < 1` and by the
 /// upward recurrence otherwise.
-fn phi_point(z: f64) -> [f64; 5] {
+pub(super) fn phi_point(z: f64) -> [f64; 5] {
     let mut out = [0.0; 5];
     if z.abs() < R_UPWARD {
         for (j, o) in out.iter_mut().enumerate() {

@@ -50,7 +50,9 @@ impl GrowthGuard {
     /// (the guard off) or when the initial pseudo-force loads a mode without stiffness (its
     /// static energy is unbounded: nothing to compare with).
     pub fn new(limit: f64, k: &[f64], (q0, v0): (&[f64], &[f64]), force0: &[f64]) -> Option<Self> {
-        if !(limit.is_finite() && limit > 1.0) {
+        // Coordinates without mass (`k = +inf`, a massless dof's) hold no kinetic energy:
+        // the bound is not derived for them, the guard is off.
+        if !(limit.is_finite() && limit > 1.0) || k.iter().any(|x| x.is_infinite()) {
             return None;
         }
         let k: Vec<f64> = k.iter().map(|&x| x.max(0.0)).collect();
@@ -79,7 +81,7 @@ impl GrowthGuard {
     /// bound counts from the first run's start. None when the state is not two finite,
     /// non-negative numbers or `limit` turns the guard off.
     pub fn resume(limit: f64, k: &[f64], state: &[f64]) -> Option<Self> {
-        if !(limit.is_finite() && limit > 1.0) {
+        if !(limit.is_finite() && limit > 1.0) || k.iter().any(|x| x.is_infinite()) {
             return None;
         }
         let &[start, amplitude] = state else {

@@ -29,9 +29,85 @@
 //!
 //! A symmetric cycle between `+-u_max > uy` dissipates `4 (1 - alpha) fy (u_max - uy)`.
 
+use serde::{Deserialize, Serialize};
+
 use super::common::{check, check_alpha, finite, local_dofs, relative, scatter};
+use crate::elements::definition::{along, pair_matrix, Definition, Pair};
 use crate::elements::element::{Element, PathState, Tangent};
 use crate::error::CoreError;
+
+/// `duhamel.elements.Bilinear`: the definition of a [`Bilinear`] element.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BilinearDef {
+    pub i: usize,
+    #[serde(default)]
+    pub j: Option<usize>,
+    pub k: f64,
+    pub fy: f64,
+    pub alpha: f64,
+}
+
+impl Definition for BilinearDef {
+    const NAME: &'static str = "Bilinear";
+    const SIGNATURE: &'static str = "(i, j=None, *, k, fy, alpha)";
+    const DOC: &'static str = r#"Bilinear elastoplastic spring with kinematic hardening (OpenSees ``Steel01`` without
+isotropic hardening) on the deformation ``u = x_i - x_j`` (``j=None``: to the ground):
+elastic stiffness `k`, yield force `fy`, post-yield stiffness ``alpha k`` (0:
+elastic-perfectly plastic, negative: softening). The force stays between the lines
+``alpha k u +- (1 - alpha) fy``; the return mapping is exact for any increment. The element
+starts virgin at ``u = 0`` (an initial deformation is taken as reached monotonically). A
+symmetric cycle of amplitude ``u_max > fy / k`` dissipates ``4 (1 - alpha) fy (u_max - fy / k)``.
+
+Parameters
+----------
+i, j : int, dof label or None
+    The dofs of the deformation ``x_i - x_j`` (``j=None``: to the ground).
+k : float
+    Elastic stiffness, > 0.
+fy : float
+    Yield force, > 0.
+alpha : float
+    Post-yield stiffness ratio, <= 1.
+
+Examples
+--------
+>>> import numpy as np, duhamel
+>>> sdof = duhamel.System(np.eye(1), 10.0 * np.eye(1), zeta=0.02)
+>>> sdof = sdof.add(duhamel.elements.Bilinear(0, k=100.0, fy=1.0, alpha=0.05))
+>>> sol = duhamel.solve(sdof, duhamel.Semianalytic(), t_end=2.0, dt=0.01, v0=[1.0])
+>>> bool(abs(sol.elements[0].axial_force).max() <= 1.0 + 0.05 * 100 * 0.2)
+True
+"#;
+    const LEGACY: &'static [&'static str] = &["i", "j", "k", "fy", "alpha"];
+    const LEGACY_DEFAULTS: &'static [(&'static str, &'static str)] =
+        &[("k", "1.0"), ("fy", "1.0"), ("alpha", "0.0")];
+    type Runtime = Bilinear;
+
+    fn build(&self) -> Result<Bilinear, CoreError> {
+        Bilinear::new(self.i, self.j, self.k, self.fy, self.alpha)
+    }
+
+    fn directions(&self) -> Option<Vec<Pair>> {
+        along(self.i, self.j)
+    }
+
+    fn passive(&self) -> bool {
+        self.alpha >= 0.0
+    }
+
+    fn linear_stiffness(&self) -> Option<Vec<f64>> {
+        Some(pair_matrix(self.j, self.k)) // the initial stiffness
+    }
+
+    fn tangent_bound(&self) -> Option<(f64, f64)> {
+        Some((self.k.abs() * self.alpha.abs().max(1.0), 0.0)) // elastic k, post-yield alpha k
+    }
+
+    fn stored_energy(&self, _u: &[f64], f: &[f64]) -> f64 {
+        f[0] * f[0] / (2.0 * self.k)
+    }
+}
 
 /// Bilinear kinematic-hardening spring between dofs `i` and `j` (or `i` and ground).
 #[derive(Debug, Clone, PartialEq)]
@@ -101,8 +177,12 @@ impl Bilinear {
 }
 
 impl Element for Bilinear {
-    fn as_any(&self) -> Option<&dyn std::any::Any> {
-        Some(self)
+    fn path_reads(&self) -> Option<(bool, bool)> {
+        Some((false, false))
+    }
+
+    fn restarts_exactly(&self) -> bool {
+        true
     }
 
     fn dofs(&self) -> &[usize] {

@@ -60,8 +60,10 @@
 //! loading curve.
 
 use super::common::{check, check_alpha, finite, local_dofs, relative, scatter};
+use crate::elements::definition::{along, deformation, pair_matrix, Definition, Pair};
 use crate::elements::element::{Element, PathState, Tangent};
 use crate::error::CoreError;
+use serde::{Deserialize, Serialize};
 
 mod adaptive;
 mod substeps;
@@ -331,6 +333,107 @@ impl Element for BoucWen {
         history.trial[1] = z;
         scatter(f, kt, r, tangent.map(|tg| tg.kx));
         Ok(())
+    }
+}
+
+/// `duhamel.elements.BoucWen`: the definition of a [`BoucWen`] element.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoucWenDef {
+    pub i: usize,
+    #[serde(default)]
+    pub j: Option<usize>,
+    pub k: f64,
+    pub fy: f64,
+    pub alpha: f64,
+    #[serde(default = "one")]
+    pub n: f64,
+    #[serde(default = "half")]
+    pub beta: f64,
+    #[serde(default = "half")]
+    pub gamma: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+fn half() -> f64 {
+    0.5
+}
+
+impl Definition for BoucWenDef {
+    const NAME: &'static str = "BoucWen";
+    const SIGNATURE: &'static str = "(i, j=None, *, k, fy, alpha, n=1.0, beta=0.5, gamma=0.5)";
+    const DOC: &'static str = r#"Bouc-Wen smooth hysteretic spring on the deformation ``u = x_i - x_j`` (``j=None``: to
+the ground), ``F = alpha k u + (1 - alpha) fy z`` with
+``dz/du = (k / fy) [1 - |z|^n (beta sgn(du z) + gamma)]`` (OpenSees ``BoucWen`` with ``z`` in
+displacement units ``fy / k``). For ``n = 1`` the update of ``z`` over a step is exact; for
+other ``n`` it is integrated to about 1e-11 (integer ``n``) or 1e-8.
+
+Parameters
+----------
+i, j : int, dof label or None
+    The dofs of the deformation ``x_i - x_j`` (``j=None``: to the ground).
+k : float
+    Elastic stiffness, > 0.
+fy : float
+    Yield force, > 0.
+alpha : float
+    Post-yield stiffness ratio, <= 1.
+n : float, default 1.0
+    Yield exponent, >= 1.
+beta, gamma : float, default 0.5
+    Loop shape: ``beta > 0``, ``gamma > -beta``.
+
+Examples
+--------
+>>> import duhamel
+>>> isolator = duhamel.elements.BoucWen(0, k=2e6, fy=5e4, alpha=0.1)
+>>> isolator.n, isolator.beta, isolator.gamma
+(1.0, 0.5, 0.5)
+"#;
+    const LEGACY: &'static [&'static str] = &["i", "j", "k", "fy", "alpha", "n", "beta", "gamma"];
+    const LEGACY_DEFAULTS: &'static [(&'static str, &'static str)] =
+        &[("k", "1.0"), ("fy", "1.0"), ("alpha", "0.0")];
+    type Runtime = BoucWen;
+
+    fn build(&self) -> Result<BoucWen, CoreError> {
+        let params = BoucWenParams {
+            k: self.k,
+            fy: self.fy,
+            alpha: self.alpha,
+            n: self.n,
+            beta: self.beta,
+            gamma: self.gamma,
+        };
+        BoucWen::new(self.i, self.j, params)
+    }
+
+    fn directions(&self) -> Option<Vec<Pair>> {
+        along(self.i, self.j)
+    }
+
+    fn passive(&self) -> bool {
+        // the hysteretic loop dissipates for beta >= |gamma| (Bouc-Wen's passivity condition)
+        self.alpha >= 0.0 && self.beta >= self.gamma.abs()
+    }
+
+    fn linear_stiffness(&self) -> Option<Vec<f64>> {
+        Some(pair_matrix(self.j, self.k)) // the initial stiffness
+    }
+
+    fn stored_energy(&self, u: &[f64], f: &[f64]) -> f64 {
+        let ue = deformation(u);
+        let hyst = f[0] - self.alpha * self.k * ue;
+        let soft = (1.0 - self.alpha) * self.k;
+        let elastic = 0.5 * self.alpha * self.k * ue * ue;
+        elastic
+            + if soft > 0.0 {
+                hyst * hyst / (2.0 * soft)
+            } else {
+                0.0
+            }
     }
 }
 

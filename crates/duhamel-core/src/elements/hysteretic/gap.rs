@@ -16,9 +16,66 @@
 //! Stateless, path-independent; the force has a kink at contact: the tangent is `k` when
 //! closed and 0 when open (at exactly `u = -gap`: 0). No impact damping.
 
+use serde::{Deserialize, Serialize};
+
 use super::common::{check, finite, local_dofs, relative, scatter};
+use crate::elements::definition::{along, Definition, Pair};
 use crate::elements::element::{Element, Tangent};
 use crate::error::CoreError;
+
+/// `duhamel.elements.Gap`: the definition of a [`Gap`].
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GapDef {
+    pub i: usize,
+    #[serde(default)]
+    pub j: Option<usize>,
+    pub gap: f64,
+    pub k: f64,
+}
+
+impl Definition for GapDef {
+    const NAME: &'static str = "Gap";
+    const SIGNATURE: &'static str = "(i, j=None, *, gap, k)";
+    const DOC: &'static str = r#"Compression-only contact (pounding, a stop): ``F = k (u + gap)`` once the deformation
+``u = x_i - x_j`` closes the opening, ``u < -gap``, else 0 (node `i` on the positive side of
+`j`, or of a fixed stop at ``-gap`` when ``j=None``).
+
+Parameters
+----------
+i, j : int, dof label or None
+    The dofs of the deformation ``x_i - x_j`` (``j=None``: a fixed stop).
+gap : float
+    Initial opening, >= 0.
+k : float
+    Contact stiffness, > 0.
+
+Examples
+--------
+>>> import duhamel
+>>> moat = duhamel.elements.Gap(0, None, gap=0.3, k=1e9)
+"#;
+    const LEGACY: &'static [&'static str] = &["i", "j", "gap", "k"];
+    const LEGACY_DEFAULTS: &'static [(&'static str, &'static str)] =
+        &[("gap", "0.0"), ("k", "1.0")];
+    type Runtime = Gap;
+
+    fn build(&self) -> Result<Gap, CoreError> {
+        Gap::new(self.i, self.j, self.gap, self.k)
+    }
+
+    fn directions(&self) -> Option<Vec<Pair>> {
+        along(self.i, self.j)
+    }
+
+    fn passive(&self) -> bool {
+        true
+    }
+
+    fn tangent_bound(&self) -> Option<(f64, f64)> {
+        Some((self.k, 0.0)) // closed: k, open: 0
+    }
+}
 
 /// Compression-only contact between dofs `i` and `j` (or `i` and a stop).
 #[derive(Debug, Clone, PartialEq)]
@@ -62,8 +119,12 @@ impl Gap {
 }
 
 impl Element for Gap {
-    fn as_any(&self) -> Option<&dyn std::any::Any> {
-        Some(self)
+    fn path_reads(&self) -> Option<(bool, bool)> {
+        Some((false, false))
+    }
+
+    fn restarts_exactly(&self) -> bool {
+        true
     }
 
     fn dofs(&self) -> &[usize] {

@@ -31,6 +31,7 @@
 //! dof is `-P`. Internal variables: `[u_p,x, u_p,y]` (`u_p,y = 0` uniaxial).
 
 mod law;
+
 #[cfg(test)]
 mod tests;
 

@@ -22,9 +22,11 @@
 //! reached along a straight line.
 
 use super::common::{check, check_alpha, finite};
+use crate::elements::definition::Definition;
 use crate::elements::element::distinct;
 use crate::elements::element::{Element, PathState, Tangent};
 use crate::error::CoreError;
+use serde::{Deserialize, Serialize};
 
 /// Coupled Bouc-Wen bearing on `(dof_x, dof_y)` or on `dof_x` alone.
 #[derive(Debug, Clone, PartialEq)]
@@ -322,84 +324,136 @@ impl Element for LeadRubberBearing {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+/// `duhamel.elements.LeadRubberBearing`: the definition of a [`LeadRubberBearing`].
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LeadRubberBearingDef {
+    pub dofs: Vec<usize>,
+    pub k: f64,
+    pub fy: f64,
+    pub alpha: f64,
+    #[serde(default = "one")]
+    pub eta: f64,
+    #[serde(default = "half")]
+    pub beta: f64,
+    #[serde(default = "half")]
+    pub gamma: f64,
+}
 
-    fn bearing(y: Option<usize>) -> LeadRubberBearing {
-        LeadRubberBearing::new(0, y, (1e6, 5e4, 0.1), (1.0, 0.5, 0.5)).unwrap()
-    }
+fn one() -> f64 {
+    1.0
+}
 
-    #[test]
-    fn yields_to_the_unit_circle_and_hardens() {
-        let e = bearing(Some(1));
-        let uy = 0.05;
-        let (z, _) = e
-            .evolve([0.0; 2], [0.0; 2], [10.0 * uy, 10.0 * uy])
-            .unwrap();
-        // |z| -> 1 like exp(-|u| / uy) (eta = 1): 1 - |z| ~ exp(-14)
-        let nz = z[0].hypot(z[1]);
-        assert!((nz - 1.0).abs() < 2e-5, "{z:?}");
-        assert!((z[0] - z[1]).abs() < 1e-12);
-        // small increments are elastic: z = u / uy (to first order in |u| / uy = 4.5e-5)
-        let (z, d) = e.evolve([0.0; 2], [0.0; 2], [1e-6, -2e-6]).unwrap();
-        assert!((z[0] - 1e-6 / uy).abs() < 1e-4 * 1e-6 / uy);
-        assert!((z[1] + 2e-6 / uy).abs() < 1e-4 * 2e-6 / uy);
-        assert!((d[0] - 1.0 / uy).abs() < 1e-4 * (1.0 / uy));
-    }
+fn half() -> f64 {
+    0.5
+}
 
-    #[test]
-    fn tangent_is_the_derivative_of_the_update() {
-        for y in [Some(1), None] {
-            let e = bearing(y);
-            let n = if y.is_some() { 2 } else { 1 };
-            let c = [0.01, -0.02, 0.6, -0.5];
-            let x = [0.043, -0.011];
-            let force = |x: &[f64]| {
-                let mut r = vec![0.0; n];
-                let mut trial = [0.0; 4];
-                let h = PathState {
-                    committed: &c,
-                    trial: &mut trial,
-                };
-                e.eval_path(&x[..n], &[0.0; 2][..n], 0.0, h, &mut r, None)
-                    .unwrap();
-                r
-            };
-            let (mut r, mut kx, mut cv) = (vec![0.0; n], vec![0.0; n * n], vec![0.0; n * n]);
-            let mut trial = [0.0; 4];
-            let h = PathState {
-                committed: &c,
-                trial: &mut trial,
-            };
-            let tg = Tangent {
-                kx: &mut kx,
-                cv: &mut cv,
-            };
-            e.eval_path(&x[..n], &[0.0; 2][..n], 0.0, h, &mut r, Some(tg))
-                .unwrap();
-            for j in 0..n {
-                let (mut xp, mut xm) = (x, x);
-                xp[j] += 1e-7;
-                xm[j] -= 1e-7;
-                let (rp, rm) = (force(&xp), force(&xm));
-                for i in 0..n {
-                    let num = (rp[i] - rm[i]) / 2e-7;
-                    assert!(
-                        (kx[i * n + j] - num).abs() < 1e-5 * (1e6 + num.abs()),
-                        "{kx:?} {num}"
-                    );
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn uniaxial_is_the_bidirectional_bearing_on_a_line() {
-        let (one, two) = (bearing(None), bearing(Some(1)));
-        let (z1, d1) = one.evolve([0.01, 0.0], [0.3, 0.0], [-0.2, 0.0]).unwrap();
-        let (z2, d2) = two.evolve([0.01, 0.0], [0.3, 0.0], [-0.2, 0.0]).unwrap();
-        assert_eq!(z1, z2);
-        assert_eq!(d1[0], d2[0]);
+/// The horizontal dofs of the previous release (`dof_x`, `dof_y`) as entries of `dofs`.
+pub(crate) fn rename_axes(old: &str) -> Option<(&'static str, Option<usize>)> {
+    match old {
+        "dof_x" => Some(("dofs", Some(0))),
+        "dof_y" => Some(("dofs", Some(1))),
+        "dof_z" => Some(("dofs", Some(2))),
+        _ => None,
     }
 }
+
+/// `dofs` as one dof (uniaxial) or two (bidirectional): `(dof_x, dof_y)`.
+pub(crate) fn horizontal(dofs: &[usize]) -> Result<(usize, Option<usize>), CoreError> {
+    match *dofs {
+        [x] => Ok((x, None)),
+        [x, y] => Ok((x, Some(y))),
+        _ => Err(CoreError::InvalidInput {
+            name: "dofs",
+            problem: format!(
+                "must be one dof (uniaxial) or two (dof_x, dof_y), got {}",
+                dofs.len()
+            ),
+        }),
+    }
+}
+
+impl Definition for LeadRubberBearingDef {
+    const NAME: &'static str = "LeadRubberBearing";
+    const SIGNATURE: &'static str = "(dofs, *, k, fy, alpha, eta=1.0, beta=0.5, gamma=0.5)";
+    const DOC: &'static str = r#"Lead-rubber (elastomeric) bearing with coupled bidirectional Bouc-Wen hysteresis (OpenSees
+``ElastomericBearingBoucWen`` without nonlinear hardening), on two horizontal dofs
+``dofs=(x, y)`` or uniaxial on one (``dofs=x``): ``r = alpha k u + (1 - alpha) fy z`` with
+``(fy / k) dz = [I - |z|^(eta - 2) (gamma + beta sgn(z . du)) z z^T] du``. The parameters
+are those of :class:`Bilinear`: initial stiffness `k`, yield force `fy` (characteristic
+strength ``Qd = (1 - alpha) fy``), post-yield stiffness ratio `alpha`; `eta` sharpens the
+yielding (1: smooth). The increment of a step is integrated by the trapezoidal rule (second
+order) in substeps of at most a quarter of the yield displacement, with the exact tangent of
+that update (docs/structural.md).
+
+Parameters
+----------
+dofs : int, dof label or pair of them
+    The horizontal dofs ``(x, y)`` of the bearing's top (to the ground), or one dof.
+k : float
+    Initial stiffness, > 0.
+fy : float
+    Yield force, > 0.
+alpha : float
+    Post-yield stiffness ratio, <= 1.
+eta : float, default 1.0
+    Yield exponent, >= 1.
+beta, gamma : float, default 0.5
+    Loop shape: ``beta > 0``, ``gamma > -beta``.
+
+Examples
+--------
+>>> import duhamel
+>>> lrb = duhamel.elements.LeadRubberBearing((0, 1), k=2e7, fy=2e5, alpha=0.1)
+>>> lrb.eta, lrb.beta, lrb.gamma
+(1.0, 0.5, 0.5)
+"#;
+    const LEGACY: &'static [&'static str] =
+        &["dof_x", "dof_y", "k", "fy", "alpha", "eta", "beta", "gamma"];
+    const LEGACY_DEFAULTS: &'static [(&'static str, &'static str)] =
+        &[("k", "1.0"), ("fy", "1.0"), ("alpha", "0.0")];
+    type Runtime = LeadRubberBearing;
+
+    fn build(&self) -> Result<LeadRubberBearing, CoreError> {
+        let (x, y) = horizontal(&self.dofs)?;
+        LeadRubberBearing::new(
+            x,
+            y,
+            (self.k, self.fy, self.alpha),
+            (self.eta, self.beta, self.gamma),
+        )
+    }
+
+    fn rename(old: &str) -> Option<(&'static str, Option<usize>)> {
+        rename_axes(old)
+    }
+
+    fn passive(&self) -> bool {
+        // the coupled Bouc-Wen loop dissipates for beta >= |gamma|, as the uniaxial one
+        self.alpha >= 0.0 && self.beta >= self.gamma.abs()
+    }
+
+    fn linear_stiffness(&self) -> Option<Vec<f64>> {
+        let n = self.dofs.len(); // the initial stiffness, in each direction
+        Some(
+            (0..n * n)
+                .map(|k| if k % (n + 1) == 0 { self.k } else { 0.0 })
+                .collect(),
+        )
+    }
+
+    fn stored_energy(&self, u: &[f64], f: &[f64]) -> f64 {
+        let (ak, soft) = (self.alpha * self.k, (1.0 - self.alpha) * self.k);
+        let hyst: f64 = u
+            .iter()
+            .zip(f)
+            .map(|(u, f)| (f - ak * u) * (f - ak * u))
+            .sum();
+        let elastic = 0.5 * ak * u.iter().map(|u| u * u).sum::<f64>();
+        elastic + if soft > 0.0 { hyst / (2.0 * soft) } else { 0.0 }
+    }
+}
+
+#[cfg(test)]
+#[path = "rubber_tests.rs"]
+mod tests;

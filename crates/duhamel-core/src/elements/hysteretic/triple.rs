@@ -95,7 +95,7 @@ impl TripleFrictionPendulum {
             if !values.iter().all(|v| v.is_finite() && *v > 0.0) {
                 return Err(bad(
                     name,
-                    format!("must be three finite values > 0, got {values:?}"),
+                    format!("must be > 0 (three finite values), got {values:?}"),
                 ));
             }
         }

@@ -107,8 +107,12 @@ impl ViscousDamper {
 }
 
 impl Element for ViscousDamper {
-    fn as_any(&self) -> Option<&dyn std::any::Any> {
-        Some(self)
+    fn path_reads(&self) -> Option<(bool, bool)> {
+        Some((true, true))
+    }
+
+    fn restarts_exactly(&self) -> bool {
+        false
     }
 
     fn dofs(&self) -> &[usize] {

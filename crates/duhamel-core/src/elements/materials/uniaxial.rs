@@ -5,7 +5,7 @@
 //! first step the material is virgin and taken along the deformation path from 0 to the
 //! initial deformation `u_0` in one step (monotonic loading).
 
-use super::Material;
+use super::material::Material;
 use crate::elements::element::{Element, PathState, Tangent};
 use crate::elements::hysteretic::common::{finite, local_dofs, relative, scatter};
 use crate::error::CoreError;

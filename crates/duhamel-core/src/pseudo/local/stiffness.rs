@@ -86,7 +86,7 @@ impl ElementSpace<'_> {
                     row.iter()
                         .zip(modal_k)
                         .fold((0.0, 0.0), |(s, w), (&p, &km)| {
-                            (s + p * p, w + p * p * km.max(0.0))
+                            (s + p * p, w + stiffness_share(p * p, km))
                         })
                 });
                 let a = e.kx[0].abs();
@@ -103,7 +103,7 @@ impl ElementSpace<'_> {
                         }
                     }
                     share += d.abs();
-                    weighted += d.abs() * km.max(0.0);
+                    weighted += stiffness_share(d.abs(), km);
                 }
                 (share, weighted)
             };
@@ -120,5 +120,17 @@ impl ElementSpace<'_> {
         }
         self.background = if total > 0.0 { background } else { 0.0 };
         Ok((if total > 0.0 { total + background } else { 0.0 }, worst))
+    }
+}
+
+/// `share * k` of one coordinate, with no stiffness counted below 0; a coordinate without mass
+/// (`k = +inf`: a massless dof's, infinitely stiff against its mass) that the element does
+/// not load counts nothing (not `0 * inf`), one that it loads makes the background infinite
+/// (the element never dominates it: such a coordinate's step is stable at any stiffness).
+fn stiffness_share(share: f64, k: f64) -> f64 {
+    if share == 0.0 {
+        0.0
+    } else {
+        share * k.max(0.0)
     }
 }

@@ -1,0 +1,135 @@
+//! `ElasticMultiLinear`: a nonlinear elastic law, piecewise linear through given
+//! `(strain, stress)` points (both sides of the origin, extended beyond the end points with
+//! the end slopes), as OpenSees' `ElasticMultiLinear` without its viscous term `eta`.
+//! Loading and unloading follow the same curve: no internal variables, no dissipation.
+
+use super::points::check_points;
+use super::Material;
+use crate::error::CoreError;
+
+/// OpenSees' `uniaxialMaterial ElasticMultiLinear tag -strain ... -stress ...`.
+#[derive(Debug, Clone)]
+pub struct ElasticMultiLinear {
+    strain: Vec<f64>,
+    stress: Vec<f64>,
+    /// `int_(strain[0])^(strain[k]) F`.
+    work: Vec<f64>,
+    /// `int_(strain[0])^0 F`.
+    work0: f64,
+    k0: f64,
+}
+
+impl ElasticMultiLinear {
+    /// The curve through `(strain[k], stress[k])`: at least two points, strains strictly
+    /// increasing. Errors name `strain` or `stress`.
+    pub fn new(strain: &[f64], stress: &[f64]) -> Result<Self, CoreError> {
+        check_points(("strain", "stress"), strain, stress, 2, false)?;
+        let mut m = Self {
+            strain: strain.to_vec(),
+            stress: stress.to_vec(),
+            work: vec![0.0; strain.len()],
+            work0: 0.0,
+            k0: 0.0,
+        };
+        m.k0 = m.eval(0.0).1;
+        for k in 1..strain.len() {
+            m.work[k] =
+                m.work[k - 1] + 0.5 * (stress[k] + stress[k - 1]) * (strain[k] - strain[k - 1]);
+        }
+        m.work0 = m.integral_from_first(0.0);
+        Ok(m)
+    }
+
+    /// The interval `[strain[i], strain[i + 1]]` holding `u` (the first or last beyond
+    /// the end points), as OpenSees' search when the strain increases.
+    fn interval(&self, u: f64) -> usize {
+        let n = self.strain.len();
+        self.strain[1..n - 1]
+            .iter()
+            .position(|&e| u < e)
+            .unwrap_or(n - 2)
+    }
+
+    /// `(F(u), F'(u))`.
+    fn eval(&self, u: f64) -> (f64, f64) {
+        let i = self.interval(u);
+        let (e1, e2) = (self.strain[i], self.strain[i + 1]);
+        let (s1, s2) = (self.stress[i], self.stress[i + 1]);
+        let k = (s2 - s1) / (e2 - e1);
+        let mut f = s1 + k * (u - e1);
+        if f.abs() < k * f64::EPSILON {
+            f = 0.0;
+        }
+        (f, k)
+    }
+
+    /// `int_(strain[0])^u F` (the trapezoid is exact on a linear piece).
+    fn integral_from_first(&self, u: f64) -> f64 {
+        let i = self.interval(u);
+        let (e1, s1) = (self.strain[i], self.stress[i]);
+        let k = (self.stress[i + 1] - s1) / (self.strain[i + 1] - e1);
+        self.work[i] + (s1 + 0.5 * k * (u - e1)) * (u - e1)
+    }
+
+    /// The potential `W(u) = int_0^u F`.
+    fn potential(&self, u: f64) -> f64 {
+        self.integral_from_first(u) - self.work0
+    }
+}
+
+impl Material for ElasticMultiLinear {
+    fn state_len(&self) -> usize {
+        0
+    }
+
+    fn initial_state(&self, _state: &mut [f64]) {}
+
+    fn response(
+        &self,
+        u: f64,
+        _rate: f64,
+        _committed: &[f64],
+        _trial: &mut [f64],
+    ) -> Result<(f64, f64), CoreError> {
+        Ok(self.eval(u))
+    }
+
+    fn initial_tangent(&self) -> f64 {
+        self.k0
+    }
+
+    fn tangent_bound(&self) -> Option<f64> {
+        Some(
+            self.strain
+                .windows(2)
+                .zip(self.stress.windows(2))
+                .map(|(e, s)| ((s[1] - s[0]) / (e[1] - e[0])).abs())
+                .fold(0.0, f64::max),
+        )
+    }
+
+    /// `F(u) u >= 0` everywhere: the potential is bounded below by its value 0 at rest.
+    fn passive(&self) -> bool {
+        let n = self.strain.len();
+        let end_slopes = [
+            self.eval(self.strain[0] - 1.0).1,
+            self.eval(self.strain[n - 1] + 1.0).1,
+        ];
+        self.eval(0.0).0 == 0.0
+            && end_slopes.iter().all(|&k| k >= 0.0)
+            && self
+                .strain
+                .iter()
+                .zip(&self.stress)
+                .all(|(&e, &s)| e * s >= 0.0)
+    }
+
+    /// The potential `int_0^u F` (path-independent).
+    fn stored_energy(&self, _state: &[f64], u: f64, _force: f64) -> f64 {
+        self.potential(u)
+    }
+}
+
+#[cfg(test)]
+#[path = "elastic_multilinear_tests.rs"]
+mod tests;

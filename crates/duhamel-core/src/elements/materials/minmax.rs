@@ -1,0 +1,104 @@
+//! `MinMax`: a material that fails — force 0 from then on — once its deformation reaches
+//! `min` or `max`, as OpenSees' `MinMax` wrapper. The trial at or beyond a limit has force
+//! 0 and, as OpenSees, the tangent `1e-8` of the inner material's initial tangent (a
+//! failed spring keeps a matrix regular); a commit there makes the failure permanent. Until
+//! then the inner material answers.
+
+use super::Material;
+use crate::error::CoreError;
+
+/// OpenSees' `uniaxialMaterial MinMax tag otherTag -min min -max max`.
+#[derive(Debug)]
+pub struct MinMax {
+    inner: Box<dyn Material>,
+    min: f64,
+    max: f64,
+}
+
+/// OpenSees' tangent of a failed MinMax, relative to the inner initial tangent.
+const FAILED_TANGENT: f64 = 1.0e-8;
+
+impl MinMax {
+    /// `inner` failing at `u <= min` or `u >= max` (OpenSees' defaults: `-1e16`, `1e16`).
+    /// Errors name `min` or `max`.
+    pub fn new(inner: Box<dyn Material>, min: f64, max: f64) -> Result<Self, CoreError> {
+        if min.is_nan() || max.is_nan() || min >= max {
+            let (name, value) = if min.is_nan() {
+                ("min", min)
+            } else {
+                ("max", max)
+            };
+            return Err(CoreError::InvalidInput {
+                name,
+                problem: format!(
+                    "must be a number with min < max, got min = {min}, max = {max} ({value})"
+                ),
+            });
+        }
+        Ok(Self { inner, min, max })
+    }
+
+    fn failed_tangent(&self) -> f64 {
+        FAILED_TANGENT * self.inner.initial_tangent()
+    }
+}
+
+impl Material for MinMax {
+    fn state_len(&self) -> usize {
+        1 + self.inner.state_len()
+    }
+
+    fn initial_state(&self, s: &mut [f64]) {
+        s[0] = 0.0;
+        self.inner.initial_state(&mut s[1..]);
+    }
+
+    fn response(
+        &self,
+        u: f64,
+        rate: f64,
+        c: &[f64],
+        t: &mut [f64],
+    ) -> Result<(f64, f64), CoreError> {
+        if c[0] != 0.0 || u >= self.max || u <= self.min {
+            // failed (committed, or in this trial): the inner material keeps its committed
+            // state
+            t.copy_from_slice(c);
+            t[0] = 1.0;
+            return Ok((0.0, self.failed_tangent()));
+        }
+        t[0] = 0.0;
+        self.inner.response(u, rate, &c[1..], &mut t[1..])
+    }
+
+    fn initial_tangent(&self) -> f64 {
+        self.inner.initial_tangent()
+    }
+
+    fn uses_rate(&self) -> bool {
+        self.inner.uses_rate()
+    }
+
+    fn tangent_bound(&self) -> Option<f64> {
+        self.inner
+            .tangent_bound()
+            .map(|b| b.max(self.failed_tangent().abs()))
+    }
+
+    fn passive(&self) -> bool {
+        self.inner.passive()
+    }
+
+    /// A failed material stores nothing (its force is 0).
+    fn stored_energy(&self, s: &[f64], u: f64, force: f64) -> f64 {
+        if s[0] != 0.0 {
+            0.0
+        } else {
+            self.inner.stored_energy(&s[1..], u, force)
+        }
+    }
+}
+
+#[cfg(test)]
+#[path = "minmax_tests.rs"]
+mod tests;
