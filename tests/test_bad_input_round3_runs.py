@@ -241,7 +241,7 @@ def test_every_mode_of_a_large_model_beyond_the_memory_is_refused(monkeypatch):
 
 def _bouc_wen(**shape) -> duhamel.System:
     s = duhamel.System(np.eye(1), np.eye(1), zeta=0.05)
-    s.add(duhamel.elements.BoucWen(0, None, k=1.0, fy=1e-300, **shape))
+    s.add(duhamel.elements.BoucWen(0, None, k=1.0, fy=1e-300, alpha=0.0, **shape))
     return s.add_load(duhamel.loads.Harmonic(0, 1.0, omega=3.0))
 
 
@@ -277,7 +277,7 @@ def test_a_bouc_wen_beyond_the_substep_bound_stops_naming_it(integrator, shape, 
 
 def test_an_initial_deformation_beyond_the_substep_bound_is_reported_at_the_first_step():
     s = duhamel.System(np.eye(1), np.eye(1), zeta=0.05)
-    s.add(duhamel.elements.BoucWen(0, None, k=1.0, fy=1e-300, beta=1e-300, gamma=1e-300,
+    s.add(duhamel.elements.BoucWen(0, None, k=1.0, fy=1e-300, alpha=0.0, beta=1e-300, gamma=1e-300,
                                    n=1.66))  # fmt: skip
     with pytest.raises(duhamel.SolverError, match=r"^BoucWen \(dofs \[0\]\)") as info:
         duhamel.solve(s, duhamel.Newmark(), t_end=0.1, dt=0.01, x0=[0.01])
