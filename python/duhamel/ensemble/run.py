@@ -17,12 +17,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._engine.validate import positive_int
+from duhamel._engine.validate import finite_float, positive_float, positive_int
 from duhamel.ensemble.statistics import statistics
 from duhamel.ensemble.zarr import ZarrWriter, stack
 from duhamel.errors import SolverError
 from duhamel.modal import ModalBasis
-from duhamel.prepared import Prepared, prepare
+from duhamel.prepared import Prepared, _steps, prepare
 from duhamel.results.solution import Solution
 
 __all__ = ["Ensemble", "solve_many"]
@@ -153,8 +153,20 @@ _KEPT = 8
 _LOCK = threading.Lock()
 
 
+def _check_model(made: Any) -> None:
+    """TypeError unless `made` (what `make_system` returned) is a System or a Prepared."""
+    from duhamel.system import System
+
+    if not isinstance(made, System | Prepared):
+        raise TypeError(
+            "`make_system` must return a duhamel.System, a (System, options) pair or a "
+            f"duhamel.Prepared, got {type(made).__name__}"
+        )
+
+
 def _prepared(system: Any, integrator: Any, dt: float, basis: ModalBasis | None) -> Prepared:
     """The Prepared of `system` (one thread per run), made once per unchanged system."""
+    _check_model(system)
     if isinstance(system, Prepared):
         if system.dt != dt or system.integrator != integrator:
             raise ValueError(
@@ -180,7 +192,7 @@ def _shared_basis(basis: Any, make_system: Callable, ps: list, integrator: Any) 
     """The ModalBasis every run uses, or None (each run computes its own)."""
     if basis is None or isinstance(basis, ModalBasis):
         return basis
-    if basis != "first":
+    if not isinstance(basis, str) or basis != "first":
         raise ValueError(f"`basis` must be None, 'first' or a duhamel.ModalBasis, got {basis!r}")
     if not ps:
         return None
@@ -189,6 +201,7 @@ def _shared_basis(basis: Any, make_system: Callable, ps: list, integrator: Any) 
         made = make_system(ps[0])
         if isinstance(made, tuple) and len(made) == 2 and isinstance(made[1], dict):
             made = made[0]  # (system, per-run options)
+        _check_model(made)
         if isinstance(made, Prepared):
             made = made.system
         return made.modal(modes)
@@ -345,7 +358,7 @@ def solve_many(
         raise TypeError(
             f"`progress` must be a bool or a function (done, n_runs), got {type(progress).__name__}"
         )
-    if on_error not in ("raise", "keep"):
+    if not isinstance(on_error, str) or on_error not in ("raise", "keep"):
         raise ValueError(f"`on_error` must be 'raise' or 'keep', got {on_error!r}")
     if to_zarr is not None and on_error == "keep":
         raise ValueError("`to_zarr` stores complete studies: use on_error='raise' with it")
@@ -353,7 +366,17 @@ def solve_many(
         chunk_size = positive_int(chunk_size, "chunk_size")
     if workers is not None:
         workers = positive_int(workers, "workers", MAX_WORKERS)
-    ps = list(params)
+    # the study's grid, checked as solve checks it, also when there are no cases
+    _steps(t_end, positive_float(dt, "dt"), finite_float(solve_options.get("t0", 0.0), "t0"))
+    try:
+        if isinstance(params, str | bytes):
+            raise TypeError
+        ps = list(params)
+    except TypeError:  # None, a number, a 0-d array
+        raise TypeError(
+            "`params` must be an iterable of the cases' parameters (a list: records, scale "
+            f"factors, dicts ...), got {type(params).__name__}"
+        ) from None
     options = {"t_end": t_end, "dt": dt, **solve_options}
     job = _Job(make_system, integrator, reduce, options, on_error == "keep")
     started = time.perf_counter()

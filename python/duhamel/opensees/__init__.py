@@ -180,7 +180,11 @@ def from_opensees(
     ImportError
         If openseespy cannot be loaded.
     ValueError
-        If the session holds no model, or an element cannot be translated.
+        If the session holds no model, an element cannot be translated, a node's
+        coordinates are not finite, every dof is fixed (or tied to another node), or the
+        multi-point constraints tie a dof back to itself (``equalDOF`` 2 -> 3 and 3 -> 2):
+        refused before OpenSees analyses the model, whose numbering of the last two ends the
+        Python process.
 
     Examples
     --------
@@ -194,7 +198,7 @@ def from_opensees(
     >>> system.dof_labels, system.dof(2, "ux")  # doctest: +SKIP
     (('2:ux',), 0)
     """
-    from duhamel.opensees._read import dof_map, matrices, printout
+    from duhamel.opensees._read import check_model, dof_map, matrices, printout
     from duhamel.opensees._translate import translate
 
     if nonlinear not in ("translate", "linearize"):
@@ -203,6 +207,7 @@ def from_opensees(
     if not list(ops.getNodeTags()):
         raise ValueError("the openseespy session holds no model (no nodes)")
     pr = printout(ops)
+    check_model(ops, pr.constraints)  # before OpenSees numbers it: what ends the process
     M, C, K, equations = matrices(ops)
     dmap = dof_map(ops, M.shape[0], equations, pr.constraints)
     tr = translate(ops, pr, dmap, nonlinear)
