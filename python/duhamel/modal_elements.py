@@ -45,22 +45,24 @@ def _effective(element: Any, displacement: float) -> NDArray[np.float64]:
         dofs = element.dofs
         # the horizontal loop under the axial force at x = 0 (its weight: nominal)
         weight = element.initial_axial_force or element.weight
+        # the same initial stiffness k_i: its friction part k_i - N / R is mu N / Y there
+        k_i = element.mu * element.weight / element.yield_displacement
         horizontal = FrictionPendulum(
             tuple(d for d in dofs[:2] if d is not None),
             radius=element.radius,
             mu=element.mu,
             weight=weight,
-            yield_displacement=element.yield_displacement * weight / element.weight,
+            yield_displacement=element.mu * weight / (k_i - weight / element.radius),
         )
-        keff = effective_properties(horizontal, displacement).k_eff
+        keff = effective_properties(horizontal, displacement).stiffness
         m = n - 1
         k[:m, :m] = keff * np.eye(m)
         k[m, m] = element.vertical_stiffness
         return k
     if name in ("FrictionPendulum", "TripleFrictionPendulum", "LeadRubberBearing") or n == 1:
-        return effective_properties(element, displacement).k_eff * np.eye(n)
+        return effective_properties(element, displacement).stiffness * np.eye(n)
     if n == 2 and name in ("Bilinear", "BoucWen"):
-        keff = effective_properties(element.replace(j=None), displacement).k_eff
+        keff = effective_properties(element.replace(j=None), displacement).stiffness
         return keff * np.array([[1.0, -1.0], [-1.0, 1.0]])
     raise ValueError(
         f"`elements`='effective': no effective stiffness for {name} (on dofs "

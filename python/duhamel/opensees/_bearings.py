@@ -6,15 +6,23 @@ bilinear it is."""
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
-from duhamel.elements import Bilinear, Element, FrictionPendulum, TripleFrictionPendulum
+from duhamel.elements import (
+    Bilinear,
+    Element,
+    FrictionPendulum,
+    LeadRubberBearing,
+    TripleFrictionPendulum,
+)
 from duhamel.opensees._parts import Damped, Made, Refused, Untranslatable, _eq, _pair, _resp
 from duhamel.opensees._read import DofMap, Printout
 
-__all__ = ["BEARINGS", "FLAT_RADIUS", "bearing"]
+__all__ = ["BEARINGS", "FLAT_RADIUS", "PDelta", "bearing", "pdelta_elements", "pdelta_info"]
 
 #: The flat and single friction pendulum bearings.
 SLIDERS = {"FlatSliderSimple2d", "FlatSliderSimple3d", "SingleFPSimple2d", "SingleFPSimple3d"}
@@ -164,44 +172,89 @@ def _triple(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx: dict
     return made, removed, [note], None
 
 
-def _plasticity(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx: dict) -> Made:
-    """OpenSees' ``elastomericBearingPlasticity`` in 2-D: an elastic-perfectly plastic
-    spring ``(k0, qYield)`` in parallel with the linear ``k2`` on its shear dof (OpenSees
-    prints ``k0 = (1 - alpha1) kInit``, ``k2 = alpha1 kInit``), which is duhamel's
-    :class:`~duhamel.elements.Bilinear` with ``k = k0 + k2``, ``fy = qYield k / k0``,
-    ``alpha = k2 / k``; its nonlinear hardening (``alpha2``, printed ``k3``) is not."""
+def _elastomeric(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx: dict) -> Made:
+    """OpenSees' ``elastomericBearingPlasticity`` and ``elastomericBearingBoucWen`` (2-D and
+    3-D, OpenSees prints ``k0 = (1 - alpha1) kInit``, ``k2 = alpha1 kInit``, ``qYield``): a
+    hysteretic part ``(k0, qYield)`` in parallel with the linear ``k2`` on the shear dofs.
+    The plasticity model is duhamel's :class:`~duhamel.elements.Bilinear` (``k = k0 + k2``,
+    ``fy = qYield k / k0``, ``alpha = k2 / k``) on a line; in 3-D its circular yield surface
+    with the isotropic ``k2`` is a flat-or-dished :class:`~duhamel.elements.FrictionPendulum`
+    (``mu = 1``, ``weight = qYield``, ``radius = qYield / k2``, ``yield_displacement =
+    qYield / k0``). The Bouc-Wen model is :class:`~duhamel.elements.LeadRubberBearing`
+    (``eta``, ``beta``, ``gamma`` as OpenSees'). Their shear does not depend on the axial
+    force (OpenSees' models): the axial and moment materials stay in K, linear."""
     k0, k2, qy = (float(ele[key]) for key in ("k0", "k2", "qYield"))
     if float(ele.get("k3", 0.0)) != 0.0:
         raise Untranslatable(f"nonlinear hardening alpha2 (k3 = {ele['k3']}) != 0")
     if not (k0 > 0 and qy > 0 and k2 >= 0):
         raise Untranslatable(f"k0 = {k0}, qYield = {qy}, k2 = {k2}")
-    force = np.array(_resp(ops, tag, "globalForce")[:2])  # the axial force at node i
+    ndm = int(np.atleast_1d(ops.getNDM())[0])
+    force = np.array(_resp(ops, tag, "globalForce")[:ndm])  # the axial force at node i
     axis = int(np.argmax(np.abs(force)))
-    if not abs(force[axis]) > 0 or abs(force[1 - axis]) > 1e-9 * abs(force[axis]):
+    if not abs(force[axis]) > 0 or np.sum(np.abs(force)) - abs(force[axis]) > 1e-9 * abs(
+        force[axis]
+    ):
         raise Untranslatable(
             "bearing without axial load at import, or sheared (its axis is read from the "
             "gravity load's axial force: run the gravity analysis before importing)"
         )
     _axial_stiffness(pr, ele)  # its axial and moment materials stay in K: linear
     ni, nj = (int(v) for v in ops.eleNodes(tag))
-    comp = ("uy", "ux")[axis]  # the shear dof
-    i, j = _eq(dmap, ni, comp, idx), _eq(dmap, nj, comp, idx)
-    if (i, j) == (None, None):
+    names = ("ux", "uy", "uz")[:ndm]
+    pairs = [(_eq(dmap, ni, c, idx), _eq(dmap, nj, c, idx)) for c in names if c != names[axis]]
+    pairs = [p for p in pairs if p != (None, None)]
+    if not pairs:
         return [], [], [], None
+    if len(pairs) == 2 and (any(i is not None for i, _ in pairs) and any(j for _, j in pairs)):
+        raise Untranslatable("3-D bearing between two free nodes (duhamel's is to the ground)")
     k = k0 + k2
-    a, b = (j, i) if j is not None else (i, j)  # a symmetric law: the free dof first
-    made: list[Element] = [Bilinear(a, b, k=k, fy=qy * k / k0, alpha=k2 / k)]  # type: ignore[arg-type]
+    kind = str(ops.eleType(tag))
+    made: list[Element]
+    if len(pairs) == 1:  # a symmetric law on a line: the free dof first
+        a, b = (pairs[0][1], pairs[0][0]) if pairs[0][1] is not None else pairs[0]
+        if "BoucWen" in kind:
+            if b is not None:
+                raise Untranslatable("bearing between two free nodes (duhamel's is to the ground)")
+            made = [_rubber(ele, (a,), k, qy * k / k0, k2 / k)]
+        else:
+            made = [Bilinear(a, b, k=k, fy=qy * k / k0, alpha=k2 / k)]  # type: ignore[arg-type]
+    else:
+        dofs = tuple(j if i is None else i for i, j in pairs)
+        if "BoucWen" in kind:
+            made = [_rubber(ele, dofs, k, qy * k / k0, k2 / k)]
+        else:
+            made = [
+                FrictionPendulum(
+                    dofs,
+                    radius=min(qy / k2, FLAT_RADIUS) if k2 > 0 else FLAT_RADIUS,
+                    mu=1.0,
+                    weight=qy,
+                    yield_displacement=qy / k0,
+                )
+            ]
     damped = None
     if int(float(ele.get("addRayleigh", 0))) == 1:
-        damped = Damped("bearing", "its initial stiffness", [(k, math.nan)])
-    return made, [_pair(i, j, k)], [], damped
+        damped = Damped("bearing", "its initial stiffness", [(k, math.nan)] * len(pairs))
+    return made, [_pair(i, j, k) for i, j in pairs], [], damped
+
+
+def _rubber(ele: dict, dofs: tuple, k: float, fy: float, alpha: float) -> Element:
+    """OpenSees' Bouc-Wen bearing's shear as :class:`~duhamel.elements.LeadRubberBearing`."""
+    eta, beta, gamma = (float(ele[key]) for key in ("eta", "beta", "gamma"))
+    return LeadRubberBearing(
+        dofs if len(dofs) > 1 else dofs[0],
+        k=k, fy=fy, alpha=alpha, eta=eta, beta=beta, gamma=gamma,
+    )  # fmt: skip
 
 
 #: The bearings translated here, by OpenSees class.
 BEARINGS = {
     **dict.fromkeys(SLIDERS, _slider),
     "TripleFrictionPendulum": _triple,
-    "ElastomericBearingPlasticity2d": _plasticity,
+    **dict.fromkeys(
+        [f"ElastomericBearing{m}{d}d" for m in ("Plasticity", "BoucWen") for d in (2, 3)],
+        _elastomeric,
+    ),
 }
 
 
@@ -210,3 +263,96 @@ def bearing(
 ) -> Made:
     """The translation of the bearing `tag` of OpenSees class `kind` (in :data:`BEARINGS`)."""
     return BEARINGS[kind](ops, tag, ele, pr, dmap, idx)  # type: ignore[operator, no-any-return]
+
+
+@dataclass
+class PDelta:
+    """An elastomeric bearing's P-Delta moments on its free node: its shear dofs, vertical
+    dof (None: fixed), rotations, its axial force at import and axial stiffness."""
+
+    tag: int
+    shear: list[int]
+    z: int | None
+    rotations: list[int]
+    n0: float
+    kv: float
+
+
+def pdelta_info(ops: Any, tag: int, pr: Printout, dmap: DofMap, idx: dict) -> PDelta | None:
+    """Where OpenSees' elastomeric bearing `tag` puts its P-Delta moments ``0.5 N`` times
+    its shear displacement (on its free node's rotations), or None (nothing free there)."""
+    ndm = int(np.atleast_1d(ops.getNDM())[0])
+    force = np.array(_resp(ops, tag, "globalForce")[:ndm])
+    axis = int(np.argmax(np.abs(force)))
+    ni, nj = (int(v) for v in ops.eleNodes(tag))
+    names = ("ux", "uy", "uz")[:ndm]
+    rot = ("rz",) if ndm == 2 else ("rx", "ry", "rz")
+    free = nj if any(_eq(dmap, nj, c, idx) is not None for c in names) else ni
+    shear = [_eq(dmap, free, c, idx) for c in names if c != names[axis]]
+    rotations = [_eq(dmap, free, c, idx) for c in rot]
+    ele = pr.elements.get(tag, {})
+    return PDelta(
+        tag,
+        [d for d in shear if d is not None],
+        _eq(dmap, free, names[axis], idx),
+        [d for d in rotations if d is not None],
+        -_resp(ops, tag, "basicForce")[0],
+        _axial_stiffness(pr, ele),
+    )
+
+
+def pdelta_elements(K: NDArray[np.float64], infos: list[PDelta], notes: list[str]) -> list:
+    """The bearings' P-Delta moments as one element that follows their axial forces:
+    OpenSees adds ``0.5 N`` times the shear displacement to the moments of an elastomeric
+    bearing's nodes with the current axial force ``N`` (a tangent that is not symmetric).
+    Their coefficients at import (the skew entries of `K` between the free node's rotations
+    and shear dofs) are taken out of `K` (in place) into an element whose force on each
+    bearing's rotations is ``C u (N0 - kv w) / N0`` (one Python element for all: one call
+    per evaluation)."""
+    from duhamel.elements import Callable
+
+    blocks = []
+    for p in infos:
+        if not p.shear or not p.rotations or not p.n0 > 0:
+            continue
+        r, u = np.ix_(p.rotations, p.shear)
+        c = K[r, u] - K[u.T, r.T].T
+        if not np.any(c):
+            continue
+        K[r, u] -= c
+        blocks.append((p, c))
+        notes.append(
+            f"element {p.tag}: OpenSees' P-Delta moments (0.5 N times the shear displacement, "
+            "with the current axial force N) kept as a Callable element"
+        )
+    if not blocks:
+        return []
+    dofs = sorted({d for p, _ in blocks for d in (*p.shear, *p.rotations, p.z) if d is not None})
+    at = {d: k for k, d in enumerate(dofs)}
+    parts = [
+        (
+            np.array([at[d] for d in p.shear]),
+            np.array([at[d] for d in p.rotations]),
+            at[p.z] if p.z is not None else None,
+            c,
+            p.kv / p.n0,
+        )
+        for p, c in blocks
+    ]
+
+    def force(x: NDArray, v: NDArray, t: float) -> NDArray:
+        f = np.zeros(len(dofs))
+        for s, r, z, c, scale in parts:
+            f[r] += (c @ x[s]) * (1.0 - (scale * x[z] if z is not None else 0.0))
+        return f
+
+    def jacobian(x: NDArray, v: NDArray, t: float) -> tuple[NDArray, NDArray]:
+        k = np.zeros((len(dofs), len(dofs)))
+        for s, r, z, c, scale in parts:
+            ratio = 1.0 - (scale * x[z] if z is not None else 0.0)
+            k[np.ix_(r, s)] += c * ratio
+            if z is not None:
+                k[r, z] -= (c @ x[s]) * scale
+        return k, np.zeros_like(k)
+
+    return [Callable(dofs, force, jacobian)]

@@ -47,6 +47,7 @@ class Translation:
     linearized: dict[int, str] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
     damped: dict[int, Damped] = field(default_factory=dict)
+    pdelta: list[Any] = field(default_factory=list)  # elastomeric bearings' P-Delta moments
 
 
 def _eq(dmap: DofMap, node: int, comp: str, index: dict) -> int | None:

@@ -19,7 +19,7 @@ from duhamel.elements import (
     Gap,
     ViscousDamper,
 )
-from duhamel.opensees._bearings import BEARINGS, bearing
+from duhamel.opensees._bearings import BEARINGS, bearing, pdelta_info
 from duhamel.opensees._parts import (
     Damped,
     Made,
@@ -286,6 +286,8 @@ def translate(ops: Any, pr: Printout, dmap: DofMap, nonlinear: str) -> Translati
                 made, removed, notes, damped = _zero_length(ops, tag, ele, pr, dmap, idx)
             elif kind in BEARINGS:
                 made, removed, notes, damped = bearing(ops, kind, tag, ele, pr, dmap, idx)
+                if kind.startswith("ElastomericBearing") and made:
+                    out.pdelta.append(pdelta_info(ops, tag, pr, dmap, idx))
             else:
                 raise Untranslatable("no duhamel counterpart")
             if kind not in LINEAR and made:
