@@ -174,3 +174,43 @@ def test_a_loaded_material_that_cannot_be_carried_over_is_refused_naming_it() ->
     ops.loadConst("-time", 0.0)
     with pytest.raises(ValueError, match=r"element 3 .*BoucWenMaterial material 7 is loaded"):
         duhamel.opensees.from_opensees()
+
+
+def _gap_model(load: float) -> None:
+    """A mass on an elastic spring and a compression-only ``ENT`` gap in parallel (1-D),
+    a static load pulling it up by `load` first (the gap opens), held."""
+    ops.wipe()
+    ops.model("basic", "-ndm", 1, "-ndf", 1)
+    ops.node(1, 0.0)
+    ops.node(2, 0.0)
+    ops.fix(1, 1)
+    ops.mass(2, 1e3)
+    ops.uniaxialMaterial("Elastic", 1, 4e5)
+    ops.uniaxialMaterial("ENT", 2, 4e7)
+    ops.element("zeroLength", 1, 1, 2, "-mat", 1, "-dir", 1)
+    ops.element("zeroLength", 2, 1, 2, "-mat", 2, "-dir", 1)
+    ops.timeSeries("Constant", 1)
+    ops.pattern("Plain", 1, 1)
+    ops.load(2, load)
+    for name, *args in (("constraints", "Plain"), ("numberer", "Plain"), ("system", "FullGeneral"),
+                        ("test", "NormDispIncr", 1e-12, 50), ("algorithm", "Newton"),
+                        ("integrator", "LoadControl", 1.0), ("analysis", "Static")):  # fmt: skip
+        getattr(ops, name)(*args)
+    assert ops.analyze(1) == 0
+    ops.loadConst("-time", 0.0)
+    ops.wipeAnalysis()
+
+
+def test_a_gap_open_at_import_keeps_the_distance_left_to_contact() -> None:
+    t, a = hf.record(duration=3.0, pga=2.0)
+    _gap_model(2e3)  # open by 5 mm
+    s = duhamel.opensees.from_opensees()
+    (gap,) = s.opensees.elements[2]
+    assert gap.gap == pytest.approx(2e3 / 4e5, rel=1e-12)
+    s.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
+    sol = duhamel.solve(s, duhamel.Newmark(), t_end=float(t[-2]), dt=0.01 / 32, save_every=32)
+    ours = s.opensees.x0[0] + sol.x[:, 0]
+    _gap_model(2e3)
+    ref = hf.run_opensees(t, a, 32, 2, [1])[0]  # (its first entry is not filled)
+    assert ours.min() < 0.0  # it closes the gap and bears
+    assert np.abs(ours[1:] - ref[1:]).max() <= 5e-3 * np.abs(ref).max()

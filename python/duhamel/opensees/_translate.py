@@ -159,9 +159,18 @@ def _loaded(
     material's state at import: its `strain` and `stress` (e.g. after a gravity analysis)
     as the element's initial deformation and force. A state that cannot be carried over is
     refused naming the material."""
-    if stress == 0.0 and (strain == 0.0 or isinstance(element, Gap)):
-        return element  # undeformed (a gap's opening takes no force)
+    if stress == 0.0 and strain == 0.0:
+        return element  # undeformed
     name = f"{mat.get('type')} material {mat.get('name')}"
+    if isinstance(element, Gap) and stress == 0.0:
+        # open at import: the distance left to contact (a compression gap closes as the
+        # strain falls to -|gap|, a tension gap as it rises to gap)
+        gap = float(mat.get("gap", 0.0))
+        closes_down = mat.get("type") == "ENTMaterial" or gap <= 0.0
+        left = abs(gap) + (strain if closes_down else -strain)
+        if not left >= 0.0:
+            raise Untranslatable(f"{name} is in contact at import without force")
+        return element.replace(gap=left)  # type: ignore[attr-defined, no-any-return]
     if type(element).__name__ not in CARRIED:
         raise Untranslatable(
             f"{name} is loaded at import (strain {strain:.3g}, stress {stress:.3g}): its "

@@ -63,7 +63,10 @@ impl BilinearDef {
         if self.initial_deformation == 0.0 && self.initial_force.is_none() {
             return None;
         }
-        Some((self.initial_deformation, self.initial_force.unwrap_or(f64::NAN)))
+        Some((
+            self.initial_deformation,
+            self.initial_force.unwrap_or(f64::NAN),
+        ))
     }
 }
 
@@ -418,6 +421,50 @@ mod tests {
         assert!((f1 - (f - 3.0)).abs() < 1e-14 && k1 == 100.0);
         let (f2, k2) = b.response(0.05, f, 0.0);
         assert!((f2 - (-1.8)).abs() < 1e-14 && k2 == 10.0);
+    }
+
+    #[test]
+    fn an_initial_state_is_continued_as_the_total_return_mapping() {
+        // virgin, loaded to u0 = 0.05 (yielded), unloaded to 0.03: the state (u0, F0)
+        let b = Bilinear::new(0, None, 100.0, 2.0, 0.1).unwrap();
+        let (f1, _) = b.backbone(0.05);
+        let (f0, _) = b.response(0.05, f1, 0.03);
+        let s = b.clone().starting_at(0.03, Some(f0)).unwrap();
+        let (mut uc, mut fc) = (0.03, f0); // the total path
+        let mut state = [0.0; 2];
+        s.initial_state(&[0.0], &[0.0], &mut state);
+        for du in [0.01, 0.04, -0.02, -0.09, 0.03] {
+            let u = uc + du;
+            let (f, kt) = b.response(uc, fc, u);
+            let mut r = [0.0];
+            let mut kx = [0.0];
+            let mut trial = [0.0; 2];
+            let history = PathState {
+                committed: &state,
+                trial: &mut trial,
+            };
+            let tg = Tangent {
+                kx: &mut kx,
+                cv: &mut [0.0],
+            };
+            s.eval_path(&[u - 0.03], &[0.0], 0.0, history, &mut r, Some(tg))
+                .unwrap();
+            assert!(
+                (r[0] - (f - f0)).abs() < 1e-12 && kx[0] == kt,
+                "{du}: {r:?} {f} {f0}"
+            );
+            state = trial;
+            (uc, fc) = (u, f);
+        }
+        // a force the element cannot hold there is refused, named
+        let e = b.clone().starting_at(0.0, Some(2.5)).unwrap_err();
+        assert!(matches!(
+            e,
+            CoreError::InvalidInput {
+                name: "initial_force",
+                ..
+            }
+        ));
     }
 
     #[test]

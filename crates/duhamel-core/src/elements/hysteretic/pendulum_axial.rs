@@ -290,7 +290,13 @@ impl AxialFrictionPendulum {
             None => r[m] -= res.axial,
             // the change from the axial force at x = 0: in compression -P + p0 = k_v x_z,
             // taken so (the small change without the cancellation of the large p0)
-            Some(p0) => r[m] += if res.axial > 0.0 { self.law.kv * x[m] } else { p0 },
+            Some(p0) => {
+                r[m] += if res.axial > 0.0 {
+                    self.law.kv * x[m]
+                } else {
+                    p0
+                }
+            }
         }
         if let Some(tg) = tangent {
             for (a, &i) in idx.iter().enumerate() {
