@@ -149,7 +149,15 @@ class Element:
 @final
 class Bilinear(Element):
     def __new__(
-        cls, i: Dof, j: Dof | None = None, *, k: float, fy: float, alpha: float
+        cls,
+        i: Dof,
+        j: Dof | None = None,
+        *,
+        k: float,
+        fy: float,
+        alpha: float,
+        initial_deformation: float = 0.0,
+        initial_force: float | None = None,
     ) -> Self: ...
 
 @final
@@ -227,6 +235,7 @@ class FrictionPendulum(Element):
         contact_area: float | None = None,
         delta_mu: float = 0.0,
         pressure_alpha: float = 0.0,
+        initial_axial_force: float | None = None,
     ) -> Self: ...
 
 @final

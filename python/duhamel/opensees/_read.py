@@ -86,7 +86,9 @@ def matrices(ops: Any) -> tuple[NDArray, NDArray, NDArray, dict[int, list[int]]]
         a = np.array(ops.printA("-ret"), dtype=np.float64)
         if a.size != n * n:
             raise RuntimeError(f"OpenSees returned {a.size} matrix entries for {n} equations")
-        out.append(a.reshape(n, n))
+        # FullGeneral holds its matrix column by column (LAPACK's order): printA returns
+        # it so (an element's tangent that is not symmetric shows it)
+        out.append(a.reshape(n, n, order="F"))
     eqs = {int(v): [int(e) for e in ops.nodeDOFs(int(v))] for v in ops.getNodeTags()}
     ops.wipeAnalysis()
     return out[0], out[1], out[2], eqs
