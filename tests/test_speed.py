@@ -349,15 +349,14 @@ def test_engine_scaled_path_with_a_unit_law_is_the_constant_path():
     # constant couplings: the semi-analytic one is the same arithmetic, the direct one adds
     # the matrices in another order.
     from duhamel._engine.dispatch import options
-    from duhamel._engine.specs import time_function
 
     system = _coupled(K=KQ, C=GROT)
     basis = system.modal(None)
     phi = np.ascontiguousarray(basis.phi)
     kq, cq = (np.ascontiguousarray(m) for m in system.elements[0].modal(phi))
     specs = [
-        _core.Load(np.ascontiguousarray(phi.T @ p), time_function(kind, params))
-        for p, kind, params in system.loads[0]._specs(system)
+        _core.Load(np.ascontiguousarray(phi.T @ term.pattern), term.time)
+        for term in system.loads[0]._terms(system)
     ]
     q0 = np.ascontiguousarray(phi.T @ MROT @ X0R)
     run = _core.RunSpec(_core.Grid(0.0, 2e-4, 1000, 1), q0, np.zeros(4))
@@ -388,10 +387,7 @@ def test_engine_scaled_path_with_a_unit_law_is_the_constant_path():
     )
     scaled = [_core.ScaledCoupling(_matrix(KQ, False), _matrix(GROT, False), unit)]
     bare_scaled = _core.Matrices(m, k, c, k_fixed, scaled)
-    dspecs = [
-        _core.Load(np.ascontiguousarray(p), time_function(k, pr))
-        for p, k, pr in system.loads[0]._specs(system)
-    ]
+    dspecs = system.loads[0]._terms(system)
     direct_run = _core.DirectRun(
         _core.Grid(0.0, 2e-4, 1000, 1),
         np.ascontiguousarray(X0R, dtype=np.float64),
