@@ -166,13 +166,15 @@ class Model:
     def core(self, route: Plan) -> Any:
         """The core's model of this run (``_core.ModalModel``), as :func:`duhamel.prepare`
         builds it."""
-        mass = None
-        if self.mass is not None:
-            m = self.mass
-            law = m["law"]
-            law = _core.MassLaw._from_value(law) if isinstance(law, str) else _legacy.mass_law(law)
-            mass = _core.Mass(law, m["form"], bool(m["scale_stiffness"]), m["treatment"])
-        return dispatch.modal_model(route, load_terms(self), self.semianalytic(), mass)
+        return dispatch.modal_model(route, load_terms(self), self.semianalytic(), self.core_mass())
+
+    def core_mass(self) -> _core.Mass | None:
+        """The run's mass law as the core takes it (None: constant mass)."""
+        if self.mass is None:
+            return None
+        m, law = self.mass, self.mass["law"]
+        law = _core.MassLaw._from_value(law) if isinstance(law, str) else _legacy.mass_law(law)
+        return _core.Mass(law, m["form"], bool(m["scale_stiffness"]), m["treatment"])
 
     def run(self, core: Any, route: Plan, segment: Segment) -> Any:
         """Runs `segment` of the grid in the core (as ``duhamel.solve`` runs a whole route);
