@@ -129,7 +129,7 @@ def main(argv: list[str] | None = None) -> dict:
     ds = ens.to_xarray()
     iso = ds["isolator"].values.reshape(len(pairs), 2)
     drift = ds["drift"].values.reshape(len(pairs), 2)
-    print(f"{len(cases)} runs in {wall:.1f} s ({ens.stats['workers']} workers)")
+    print(f"{len(cases)} runs in {wall:.1f} s ({ens.stats.workers} workers)")
     print(f"{'record':8s} {'factor':>6s} {'iso 0 [m]':>9s} {'iso 90 [m]':>10s} {'drift [%]':>9s}")
     for i, name in enumerate(suite.names):
         print(

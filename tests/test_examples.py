@@ -255,7 +255,7 @@ def test_asce7_isolated_study_example(tmp_path: Path) -> None:
     out = ex.main(["--pairs", "7", "--duration", "15", "--out", str(tmp_path / "study.html")])
     study, elf = out["study"], out["elf"]
     assert list(study.models) == ["lower", "nominal", "upper"]
-    assert study.ensemble.stats["runs"] == 7 * 2 * 3
+    assert study.ensemble.stats.runs == 7 * 2 * 3
     lo, nom, up = (elf.bounds[n] for n in ("lower", "nominal", "upper"))
     assert lo.d_m > nom.d_m > up.d_m and lo.t_m > nom.t_m > up.t_m
     hand = hand_statistics(study)

@@ -70,6 +70,10 @@ def test_a_runs_loads_replace_the_systems(route: str) -> None:
     again = prepared.run(t_end=2.0)
     own = duhamel.solve(model(route), integrator(route), t_end=2.0, dt=0.01)
     np.testing.assert_array_equal(again.x, own.x)
+    # solve takes a run's loads as Prepared.run does (issue 35), bit for bit
+    solved = duhamel.solve(model(route), integrator(route), t_end=2.0, dt=0.01, loads=[other])
+    np.testing.assert_array_equal(solved.x, sol.x)
+    np.testing.assert_array_equal(solved.a_absolute, sol.a_absolute)
 
 
 def test_a_prepared_is_a_snapshot_of_the_system() -> None:

@@ -210,7 +210,7 @@ class Model:
 
     def base_loads(self) -> list[BaseAcceleration]:
         """The support accelerations (for ``Solution.a_absolute``)."""
-        return [BaseAcceleration(r, t, v) for r, t, v in self.base]
+        return [BaseAcceleration(r, t=t, values=v) for r, t, v in self.base]
 
 
 @dataclass(frozen=True)
