@@ -78,7 +78,7 @@ def isolated_model() -> tuple[duhamel.System, np.ndarray, np.ndarray]:
         m[d * n : (d + 1) * n, d * n : (d + 1) * n] = m1
         k[d * n : (d + 1) * n, d * n : (d + 1) * n] = k1
     system = duhamel.System(m, k, zeta=0.05)
-    system.add(E.FrictionPendulum(0, n, radius=RADIUS, mu=MU, weight=masses.sum() * G))
+    system.add(E.FrictionPendulum((0, n), radius=RADIUS, mu=MU, weight=masses.sum() * G))
     rx, ry = np.zeros(2 * n), np.zeros(2 * n)
     rx[:n], ry[n:] = 1.0, 1.0
     return system, rx, ry

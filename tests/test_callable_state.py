@@ -40,7 +40,7 @@ def epp_jacobian(x, v, t, state):
 def system(jacobian: bool = True) -> duhamel.System:
     s = duhamel.System(np.array([[M]]), np.array([[K_FRAME]]), zeta=ZETA)
     s.add(E.Callable(epp, [0], jacobian=epp_jacobian if jacobian else None, state=[0.0, 0.0]))
-    s.add_load(L.Harmonic(0, AMP, W))
+    s.add_load(L.Harmonic(0, amplitude=AMP, omega=W))
     return s
 
 

@@ -51,7 +51,7 @@ def chain_with_devices(k: float) -> duhamel.System:
     s = duhamel.System(np.eye(N), fixed_chain(N), zeta=0.05)
     s.add(E.Bilinear(N // 2, N // 2 - 1, k=k, fy=3e-5 * k, alpha=0.05))
     s.add(E.Gap(N - 1, None, gap=0.002, k=k))
-    s.add_load(L.BaseAcceleration(np.ones(N), TT, AG))
+    s.add_load(L.BaseAcceleration(np.ones(N), t=TT, values=AG))
     return s
 
 
@@ -70,7 +70,7 @@ def test_the_ratio_is_the_projected_tangent() -> None:
     i, j = N // 2, N // 2 - 1
     expected = 1e4 * ((phi[i] - phi[j]) ** 2 + phi[N - 1] ** 2) / omega**2 - SAFE_RATIO * 0.05
     assert np.allclose(stiffness_ratios(s, basis, cols), expected, rtol=1e-12, atol=0.0)
-    s.add(E.Cubic(N // 4, 1e12))
+    s.add(E.Cubic(N // 4, k3=1e12))
     basis, omega = enriched(s, s.modal(5))
     w = np.sqrt(basis.omega2)
     cols = np.array([int(np.flatnonzero(w == v)[0]) for v in omega])

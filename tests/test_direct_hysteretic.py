@@ -22,7 +22,9 @@ def sdof(element: duhamel.elements.Element) -> duhamel.System:
     K = 40.0 * np.array([[2.0, -1.0], [-1.0, 1.0]])
     s = duhamel.System(M, K, zeta=0.02).add(element)
     t = np.linspace(0.0, T_END, 801)
-    s.add_load(L.BaseAcceleration(np.ones(2), t, 8.0 * np.sin(5.0 * t) * np.minimum(t, 1.0)))
+    s.add_load(
+        L.BaseAcceleration(np.ones(2), t=t, values=8.0 * np.sin(5.0 * t) * np.minimum(t, 1.0))
+    )
     return s
 
 

@@ -91,9 +91,7 @@ def test_one_prepared_model_under_every_record_equals_a_model_per_run() -> None:
         np.testing.assert_array_equal(a.elements[0].force, b.elements[0].force)
     # with a shared basis too (made from the first case's model)
     based = solve_many(study, PARAMS[:2], duhamel.Semianalytic(), basis="first", **KW)
-    assert (
-        based.stats.basis == "shared" and based.results[0].x.shape == shared.results[0].x.shape
-    )
+    assert based.stats.basis == "shared" and based.results[0].x.shape == shared.results[0].x.shape
     # one preparation served every run of the shared model (the cache holds it once)
     prepared = [
         p for p in ensemble_run._PREPARED.values() if p.matches(MODEL, duhamel.Semianalytic(), 0.01)

@@ -166,7 +166,7 @@ def test_rotd_refuses_huge_angle_counts_before_allocating() -> None:
 
 def _sdof(amplitude: float) -> duhamel.System:
     s = duhamel.System(np.eye(1), np.eye(1), zeta=0.05)
-    return s.add_load(duhamel.loads.Harmonic(0, amplitude, omega=1.0))
+    return s.add_load(duhamel.loads.Harmonic(0, amplitude=amplitude, omega=1.0))
 
 
 def _with_options(amplitude: float) -> tuple[duhamel.System, dict]:

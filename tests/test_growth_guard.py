@@ -30,7 +30,7 @@ def _one_dof(element) -> duhamel.System:
     40 m/s^2), the stop given as `element`."""
     s = duhamel.System(10.0 * np.eye(1), 1e4 * np.eye(1), zeta=0.05)
     s.add(element)
-    s.add_load(BaseAcceleration(np.ones(1), T, 40.0 * np.sin(2 * np.pi * T)))
+    s.add_load(BaseAcceleration(np.ones(1), t=T, values=40.0 * np.sin(2 * np.pi * T)))
     return s
 
 
@@ -67,7 +67,7 @@ def _coupled(element) -> duhamel.System:
     C = np.array([[50.0, 0.0], [0.0, 0.0]])
     s = duhamel.System(M, K, C=C)
     s.add(element)
-    s.add_load(BaseAcceleration(np.ones(2), T, 40.0 * np.sin(2 * np.pi * T)))
+    s.add_load(BaseAcceleration(np.ones(2), t=T, values=40.0 * np.sin(2 * np.pi * T)))
     return s
 
 
@@ -132,7 +132,7 @@ def _stiff_coupling(growth_limit: float | None) -> tuple[duhamel.System, duhamel
     watch does not see."""
     s = duhamel.System(np.eye(2), np.diag([1e2, 4e2]), zeta=0.02)
     s.add(E.LinearCoupling(K=np.array([[1e6, -1e6], [-1e6, 1e6]])))
-    s.add_load(BaseAcceleration(np.array([1.0, 0.0]), T, 4.0 * np.sin(2 * np.pi * T)))
+    s.add_load(BaseAcceleration(np.array([1.0, 0.0]), t=T, values=4.0 * np.sin(2 * np.pi * T)))
     return s, duhamel.Semianalytic(coupling="pseudo-force", growth_limit=growth_limit)
 
 
@@ -171,7 +171,7 @@ def test_growth_guard_does_not_stop_a_resonance():
     t = np.linspace(0.0, 40.0, 40001)
     s = duhamel.System(np.eye(1), w**2 * np.eye(1))
     s.add(E.Gap(0, gap=1e3, k=1.0))  # never closes: the response is the linear one
-    s.add_load(duhamel.loads.Tabulated(0, t, np.sin(w * t)))
+    s.add_load(duhamel.loads.Tabulated(0, t=t, values=np.sin(w * t)))
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=40.0, dt=1e-3)
     exact = (np.sin(w * sol.t) - w * sol.t * np.cos(w * sol.t)) / (2 * w**2)
     assert np.abs(sol.x[:, 0] - exact).max() < 1e-3 * np.abs(exact).max()
