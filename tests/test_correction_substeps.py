@@ -127,7 +127,7 @@ def test_an_unbounded_or_first_order_run_keeps_the_previous_rule() -> None:
     on the first-order route (an exactly integrated coupling) every coordinate is."""
     soft = chain_with_devices(1e4)
     assert plan(soft, duhamel.Semianalytic(modes=5)).resolve.size == 0
-    python = chain_with_devices(1e4).add(E.Callable(lambda x, v, t: 1e2 * x, [N // 3]))
+    python = chain_with_devices(1e4).add(E.Callable([N // 3], lambda x, v, t: 1e2 * x))
     route = plan(python, duhamel.Semianalytic(modes=5))
     assert route.resolve.size > 0
     assert substeps(route.resolve, DT) > 1

@@ -89,7 +89,7 @@ def test_bilinear_equals_the_same_law_as_a_python_callable() -> None:
         sdof(E.Bilinear(0, k=k, fy=fy)), duhamel.Semianalytic(), t_end=3.0, dt=0.005
     )
     py = duhamel.solve(
-        sdof(E.Callable(epp, [0], jacobian=jac, state=[0.0, 0.0])),
+        sdof(E.Callable([0], epp, jacobian=jac, state=[0.0, 0.0])),
         duhamel.Semianalytic(),
         t_end=3.0,
         dt=0.005,

@@ -345,7 +345,7 @@ def test_nonlinear_chain_sparse_equals_dense():
     for sparse in (False, True):
         sys = chain(6, sparse)
         sys.add(E.Spring(2, 4, k3=1e8)).add(E.Cubic(5, k3=3e7)).add(E.Damper(1, 3, c=2.0))
-        sys.add(E.Callable(lambda x, v, t: 1e3 * np.tanh(x / 0.01) + 0.5 * v, [0]))
+        sys.add(E.Callable([0], lambda x, v, t: 1e3 * np.tanh(x / 0.01) + 0.5 * v))
         sys.add_load(L.Harmonic(5, amplitude=300.0, omega=30.0))
         runs.append(duhamel.solve(sys, duhamel.GeneralizedAlpha(0.7), t_end=0.5, dt=0.002))
     assert np.abs(runs[0].x).max() > 1e-3
@@ -356,7 +356,7 @@ def test_callable_element_with_and_without_jacobian_equals_cubic():
     ref, _ = duffing_error(duhamel.Newmark(), DUFF_DT)
     for jac in (None, lambda x, v, t: (np.array([[12.0 * x[0] ** 2]]), np.zeros((1, 1)))):
         sys = duhamel.System(np.eye(1), np.eye(1))
-        sys.add(E.Callable(lambda x, v, t: 4.0 * x**3, [0], jacobian=jac))
+        sys.add(E.Callable([0], lambda x, v, t: 4.0 * x**3, jacobian=jac))
         sol = duhamel.solve(sys, duhamel.Newmark(), t_end=DUFF_T_END, dt=DUFF_DT, x0=[1.0])
         exact, _ = duffing(sol.t, 1.0, 4.0, 1.0)
         assert float(np.abs(sol.x[:, 0] - exact).max()) == pytest.approx(ref, rel=1e-8)
@@ -563,7 +563,7 @@ def test_callable_element_exception_propagates():
     def bad(x, v, t):
         raise ZeroDivisionError("element broke")
 
-    sys = duhamel.System(np.eye(1), np.eye(1)).add(E.Callable(bad, [0]))
+    sys = duhamel.System(np.eye(1), np.eye(1)).add(E.Callable([0], bad))
     for integ in (duhamel.HHT(-0.1), duhamel.CentralDifference()):
         with callback_failure(ZeroDivisionError, "element broke"):
             duhamel.solve(sys, integ, t_end=1.0, dt=0.1, x0=[1.0])

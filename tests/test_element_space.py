@@ -51,7 +51,7 @@ def _random_system(seed: int, element_kind: str) -> duhamel.System:
         def jac(x, v, t):
             return np.diag([6e7 * x[0] ** 2, 3e7 * x[1] ** 2]), np.diag([0.5, 0.0])
 
-        system.add(E.Callable(fn, dofs[:2], jacobian=jac))
+        system.add(E.Callable(dofs[:2], fn, jacobian=jac))
     return system
 
 

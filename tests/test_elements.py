@@ -182,12 +182,12 @@ def test_callable_reproduces_cubic():
     assert ref.stats.newton_iterations > ref.stats.steps  # really iterating
     assert np.abs(ref.x).max() > 0.5  # strongly nonlinear: k3 x^2 ~ 4 omega^2
     with_jac = duhamel.solve(
-        duffing(E.Callable(lambda x, v, t: K3 * x**3, [0], jacobian=cubic_jacobian)),
+        duffing(E.Callable([0], lambda x, v, t: K3 * x**3, jacobian=cubic_jacobian)),
         NEWTON,
         **RUN_2,
     )
     finite_diff = duhamel.solve(
-        duffing(E.Callable(lambda x, v, t: K3 * x**3, [0])), NEWTON, **RUN_2
+        duffing(E.Callable([0], lambda x, v, t: K3 * x**3)), NEWTON, **RUN_2
     )
     e_jac = max(np.abs(with_jac.x - ref.x).max(), np.abs(with_jac.v - ref.v).max())
     e_fd = max(np.abs(finite_diff.x - ref.x).max(), np.abs(finite_diff.v - ref.v).max())
@@ -235,12 +235,12 @@ def test_callable_multi_dof_and_velocity():
 
     ref = run(E.Spring(0, 2, k3=k3), E.Damper(1, c=cd))
     got = run(
-        E.Callable(spring_fn, [2, 0], jacobian=spring_jac),
+        E.Callable([2, 0], spring_fn, jacobian=spring_jac),
         E.Callable(
-            lambda x, v, t: cd * v, [1], jacobian=lambda x, v, t: (0 * x[:, None], cd * np.eye(1))
+            [1], lambda x, v, t: cd * v, jacobian=lambda x, v, t: (0 * x[:, None], cd * np.eye(1))
         ),
     )
-    fd = run(E.Callable(spring_fn, [2, 0]), E.Callable(lambda x, v, t: cd * v, [1]))
+    fd = run(E.Callable([2, 0], spring_fn), E.Callable([1], lambda x, v, t: cd * v))
     scale = np.abs(ref.x).max()
     e_jac = np.abs(got.x - ref.x).max() / scale
     e_fd = np.abs(fd.x - ref.x).max() / scale
@@ -250,7 +250,7 @@ def test_callable_multi_dof_and_velocity():
 
 
 def _solve_callable(fn):
-    return duhamel.solve(duffing(E.Callable(fn, [0])), NEWTON, **RUN_2)
+    return duhamel.solve(duffing(E.Callable([0], fn)), NEWTON, **RUN_2)
 
 
 def test_callable_wrong_shape_raises():
@@ -285,7 +285,7 @@ def test_callable_exception_propagates():
 
 def test_callable_bad_jacobian_shape():
     bad = E.Callable(
-        lambda x, v, t: K3 * x**3, [0], jacobian=lambda x, v, t: (np.zeros(3), np.zeros((1, 1)))
+        [0], lambda x, v, t: K3 * x**3, jacobian=lambda x, v, t: (np.zeros(3), np.zeros((1, 1)))
     )
     with callback_failure(ValueError, r"jacobian.*\(1, 1\)"):
         duhamel.solve(duffing(bad), NEWTON, **RUN_2)
@@ -662,23 +662,23 @@ BAD = [
     ("callable-fn", lambda: E.Callable(3.0, [0]), TypeError, "`fn`"),
     (
         "callable-jacobian",
-        lambda: E.Callable(lambda x, v, t: x, [0], jacobian=1),
+        lambda: E.Callable([0], lambda x, v, t: x, jacobian=1),
         TypeError,
         "`jacobian`",
     ),
     (
         "callable-dofs",
-        lambda: _sys2().add(E.Callable(lambda x, v, t: x, [4])),
+        lambda: _sys2().add(E.Callable([4], lambda x, v, t: x)),
         ValueError,
         "`dofs`",
     ),
     (
         "callable-dofs-dup",
-        lambda: _sys2().add(E.Callable(lambda x, v, t: x, [0, 0])),
+        lambda: _sys2().add(E.Callable([0, 0], lambda x, v, t: x)),
         ValueError,
         "`dofs`",
     ),
-    ("callable-dofs-empty", lambda: E.Callable(lambda x, v, t: x, []), ValueError, "`dofs`"),
+    ("callable-dofs-empty", lambda: E.Callable([], lambda x, v, t: x), ValueError, "`dofs`"),
     ("coupling-K-shape", lambda: _sys2().add(E.LinearCoupling(K=np.eye(3))), ValueError, "`K`"),
     ("coupling-C-shape", lambda: _sys2().add(E.LinearCoupling(C=np.eye(3))), ValueError, "`C`"),
     ("coupling-1d", lambda: _sys2().add(E.LinearCoupling(K=np.ones(2))), ValueError, "`K`"),

@@ -176,13 +176,13 @@ def test_numpy_scalars_are_numbers():
     ids=["None", "one matrix", "three matrices"],
 )
 def test_a_wrong_jacobian_is_named(jacobian, got):
-    element = E.Callable(lambda x, v, t: x**3, [0], jacobian=jacobian)
+    element = E.Callable([0], lambda x, v, t: x**3, jacobian=jacobian)
     with callback_failure(ValueError, rf"jacobian returned {got}, expected a pair"):
         duhamel.solve(_one().add(element), duhamel.Semianalytic(), t_end=1.0, dt=0.1, x0=[1.0])
 
 
 def test_complex_element_values_are_refused_not_truncated():
-    element = E.Callable(lambda x, v, t: x**3 + 1j, [0])
+    element = E.Callable([0], lambda x, v, t: x**3 + 1j)
     with callback_failure(ValueError, r"dtype complex128, expected real numbers"):
         duhamel.solve(_one().add(element), duhamel.Semianalytic(), t_end=1.0, dt=0.1, x0=[1.0])
 

@@ -51,7 +51,7 @@ def test_python_stop_is_watched_like_the_built_in_one(gap_reference, dt):
     finite-difference tangent is watched, the closed steps are subdivided, and it is as
     accurate as Newmark at the same step (and as the built-in `Gap`)."""
     semi = duhamel.solve(
-        _one_dof(E.Callable(_gap_force, [0])), duhamel.Semianalytic(), t_end=3.0, dt=dt
+        _one_dof(E.Callable([0], _gap_force)), duhamel.Semianalytic(), t_end=3.0, dt=dt
     )
     newmark = duhamel.solve(
         _one_dof(E.Gap(0, gap=0.02, k=1e8)), duhamel.Newmark(), t_end=3.0, dt=dt
@@ -73,7 +73,7 @@ def _coupled(element) -> duhamel.System:
 
 @pytest.mark.parametrize(
     "element",
-    [E.Gap(1, gap=0.02, k=1e8), E.Callable(_gap_force, [1])],
+    [E.Gap(1, gap=0.02, k=1e8), E.Callable([1], _gap_force)],
     ids=["Gap", "Callable"],
 )
 def test_coupled_route_stops_on_a_stop_too_stiff_for_its_step(element):
@@ -209,7 +209,7 @@ def test_models_that_gain_energy_are_not_guarded():
 
     base = duhamel.System(np.eye(2), np.diag([1e2, 4e2]), zeta=0.02)
     assert plan(base.add(E.Gap(0, gap=0.1, k=1e3)), duhamel.Semianalytic()).passive
-    for element in (E.Cubic(0, k3=-1.0), E.Callable(lambda x, v, t: 0.0 * x, [0])):
+    for element in (E.Cubic(0, k3=-1.0), E.Callable([0], lambda x, v, t: 0.0 * x)):
         s = duhamel.System(np.eye(2), np.diag([1e2, 4e2]), zeta=0.02).add(element)
         assert not plan(s, duhamel.Semianalytic()).passive
     s = duhamel.System(np.eye(2), np.diag([1e2, 4e2]), zeta=-0.02).add(E.Gap(0, gap=0.1, k=1.0))

@@ -1582,7 +1582,7 @@ def smooth_elements(draw: Any, n: int, dom: Domain) -> Any:
             friction=draw(floats(0.0, 0.5)),
         )
     k3 = draw(floats(-10.0, 100.0))
-    return E.Callable(CubicForce(k3), [dof])
+    return E.Callable([dof], CubicForce(k3))
 
 
 @st.composite
@@ -1889,7 +1889,7 @@ ARRAY_PARAMETERS: dict[str, Callable[[Any], Any]] = {
     ),
     "elements.Polynomial(coefficients)": lambda v: E.Polynomial(0, coefficients=v),
     "elements.LinearCoupling(K)": lambda v: E.LinearCoupling(K=v),
-    "elements.Callable(dofs)": lambda v: E.Callable(CubicForce(1.0), v),
+    "elements.Callable(dofs)": lambda v: E.Callable(v, CubicForce(1.0)),
     "mass.Tabulated(mu)": lambda v: MS.Tabulated([0.0, 1.0], v),
     "transfer_matrices(omega)": lambda v: transfer_matrices(v, 0.1, 0.1),
     "transfer_matrices(zeta)": lambda v: transfer_matrices(1.0, v, 0.1),

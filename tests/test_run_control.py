@@ -141,7 +141,7 @@ def test_callback_exception_names_its_step(route, source):
     if source == "load":
         system.add_load(L.Callable(broken))
     else:
-        system.add(E.Callable(broken, [0]))
+        system.add(E.Callable([0], broken))
     with callback_failure(ZeroDivisionError, "sensor failed") as info:
         duhamel.solve(system, integrator, t0=T0, t_end=T0 + 1.0, dt=DT, x0=[1e-3, 0, 0])
     assert info.value.step == 40 and "(step 40)" in str(info.value)

@@ -288,7 +288,7 @@ def test_python_functions_and_direct_integrators_are_refused(tmp_path):
     with pytest.raises(ValueError, match=r"`store`.*Callable.*Python code"):
         duhamel.solve(s, duhamel.Semianalytic(), t_end=1.0, dt=0.1, store=tmp_path / "a")
     s = chain()
-    s.add(el.Callable(lambda x, v, t: x**3, [0]))
+    s.add(el.Callable([0], lambda x, v, t: x**3))
     with pytest.raises(ValueError, match=r"`store`.*Callable"):
         duhamel.solve(s, duhamel.Semianalytic(), t_end=1.0, dt=0.1, store=tmp_path / "b")
     with pytest.raises(ValueError, match=r"`store`.*Semianalytic"):

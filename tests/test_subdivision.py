@@ -33,7 +33,7 @@ def friction_system() -> duhamel.System:
     """An isolated 2-dof structure with a smoothed Coulomb friction isolator (a stiff law:
     its tangent is FY / V_EPS = 3e4 times the isolator's linear stiffness)."""
     s = duhamel.System(M, K, zeta=0.02)
-    s.add(E.Callable(friction, [0]))
+    s.add(E.Callable([0], friction))
     s.add_load(L.BaseAcceleration(np.ones(2), t=T_REC, values=A_REC))
     return s
 
