@@ -258,6 +258,16 @@ CASES = [
         ],
     ),
     Case(
+        E.PDelta,
+        "deformation",
+        {"i": 0, "P": 300.0, "height": 10.0},
+        old=[
+            ((0, None, 300.0, 10.0), {}, {}),
+            ((0,), {"P": 300.0}, {"height": 1.0}),  # the previous release's default height
+            ((0,), {}, {"P": 0.0, "height": 1.0}),
+        ],
+    ),
+    Case(
         L.Step,
         "load at one dof",
         {"dof": 0, "amplitude": 5.0},
@@ -306,14 +316,16 @@ CASES = [
 BY_CLASS = {case.cls: case for case in CASES}
 
 
+#: Names of duhamel.elements.__all__ that are not constructors of something placed on dofs:
+#: the base class, a result, and the coupling of the background (placed by its matrices).
+NOT_PLACED = {"Element", "Hysteresis", "LinearCoupling", "drive"}
+
+
 def _public_classes() -> list[type]:
-    elements = [getattr(E, n) for n in E.__all__]
+    elements = [getattr(E, n) for n in E.__all__ if n not in NOT_PLACED]
     loads = [getattr(L, n) for n in L.__all__]
-    return [
-        c
-        for c in elements
-        if isinstance(c, type) and issubclass(c, E.Element) and c is not E.Element
-    ] + [c for c in loads if isinstance(c, type) and issubclass(c, L.Load) and c is not L.Load]
+    loads = [c for c in loads if isinstance(c, type) and issubclass(c, L.Load) and c is not L.Load]
+    return elements + loads
 
 
 def test_every_public_element_and_load_has_its_row() -> None:
@@ -334,7 +346,7 @@ def _same(a: Any, b: Any) -> bool:
     """Equal objects: elements by their own equality, loads field by field (arrays by value)."""
     if type(a) is not type(b):
         return False
-    if isinstance(a, E.Element):
+    if isinstance(a, E.Element | E.PDelta):
         return bool(a == b)
     return all(_equal(getattr(a, f.name), getattr(b, f.name)) for f in dataclasses.fields(a))
 
@@ -427,8 +439,9 @@ def test_dof_labels_are_taken_wherever_an_index_is(case: Case) -> None:
     add = "add_load" if isinstance(by_index, L.Load) else "add"
     getattr(a, add)(by_index)
     getattr(b, add)(by_label)
-    added = (a.loads, b.loads) if add == "add_load" else (a.elements, b.elements)
-    assert _same(added[0][-1], added[1][-1])
+    where = "loads" if add == "add_load" else "geometric" if case.cls is E.PDelta else "elements"
+    assert _same(getattr(a, where)[-1], getattr(b, where)[-1])
+    np.testing.assert_array_equal(a.K, b.K)
 
 
 OLD = [(case, old) for case in CASES for old in case.old]

@@ -42,6 +42,7 @@ def old_spellings(
     positional: tuple[str, ...],
     renamed: Mapping[str, str] | None = None,
     merged: Mapping[str, tuple[str, ...]] | None = None,
+    defaults: Mapping[str, Any] | None = None,
 ) -> Callable[[T], T]:
     """Class decorator: the class also takes the previous release's spellings, each with a
     ``DeprecationWarning`` naming the new signature.
@@ -56,18 +57,20 @@ def old_spellings(
     merged : mapping, optional
         New parameter -> the old ones it gathers into a tuple (``{"dofs": ("dof_x",
         "dof_y")}``); all of them must be given.
+    defaults : mapping, optional
+        The previous release's defaults of parameters that are now required (a physical
+        value has no default): a call without one still runs with it, warned.
 
     Examples
     --------
     >>> import warnings
-    >>> from dataclasses import KW_ONLY, dataclass
+    >>> from dataclasses import dataclass, field
     >>> from duhamel._engine.spellings import old_spellings
     >>> @old_spellings(positional=("dof", "amplitude"))
     ... @dataclass(frozen=True)
     ... class Force:
     ...     dof: int
-    ...     _: KW_ONLY
-    ...     amplitude: float
+    ...     amplitude: float = field(kw_only=True)
     >>> with warnings.catch_warnings(record=True) as caught:
     ...     warnings.simplefilter("always")
     ...     old = Force(2, 5.0)
@@ -76,19 +79,27 @@ def old_spellings(
     """  # noqa: E501
     renames = dict(renamed or {})
     merges = {new: tuple(old) for new, old in (merged or {}).items()}
+    required = dict(defaults or {})
 
     def decorate(cls: T) -> T:
         init = cls.__init__  # type: ignore[misc]
         params = list(inspect.signature(init).parameters.values())[1:]
-        n_positional = sum(p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD) for p in params)
+        new_positional = tuple(
+            p.name for p in params if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)
+        )
+        n_positional = len(new_positional)
         shown = _unannotated(cls.__name__, params)
-        gathered = {old: new for new, olds in merges.items() for old in olds}
+        gathered = {old: new for new, group in merges.items() for old in group}
 
         @functools.wraps(init)
         def __init__(self: Any, *args: Any, **kwargs: Any) -> None:
-            if len(args) > n_positional or any(k in renames or k in gathered for k in kwargs):
+            if (
+                len(args) > n_positional
+                or any(k in renames or k in gathered for k in kwargs)
+                or any(k not in kwargs for k in required)
+            ):
                 kwargs = _translate(cls.__name__, shown, args, kwargs, positional, renames,
-                                    merges)  # fmt: skip
+                                    merges, required, new_positional)  # fmt: skip
                 args = ()
             init(self, *args, **kwargs)
 
@@ -119,11 +130,19 @@ def _translate(
     positional: tuple[str, ...],
     renames: dict[str, str],
     merges: dict[str, tuple[str, ...]],
+    required: dict[str, Any],
+    new_positional: tuple[str, ...],
 ) -> dict[str, Any]:
     """The keyword arguments of the new signature for an old call (warning once per old
     spelling, at the user's call: three frames up)."""
     out = dict(kwargs)
     from_position: set[str] = set()
+    if args and len(args) <= len(new_positional):  # the new positional form
+        for key, value in zip(new_positional, args, strict=False):
+            if key in out:
+                raise TypeError(f"{name}() got multiple values for `{key}`: {shown}")
+            out[key] = value
+        args = ()
     if args:
         if len(args) > len(positional):
             raise TypeError(
@@ -147,23 +166,31 @@ def _translate(
             out[new] = out.pop(old)
             if old not in from_position:
                 deprecated(f"{name}: `{old}` is deprecated, use `{new}`: {shown}", stacklevel=3)
-    for new, olds in merges.items():
-        given = [old for old in olds if old in out]
+    for new, group in merges.items():
+        given = [old for old in group if old in out]
         if not given:
             continue
         if new in out:
             raise TypeError(f"{name}() got both `{given[0]}` and `{new}`: {shown}")
-        missing = [old for old in olds if old not in out]
+        missing = [old for old in group if old not in out]
         if missing:
             raise TypeError(
                 f"{name}() got `{given[0]}` without `{missing[0]}`: give both as "
-                f"`{new}`=({', '.join(olds)}): {shown}"
+                f"`{new}`=({', '.join(group)}): {shown}"
             )
-        out[new] = tuple(out.pop(old) for old in olds)
+        out[new] = tuple(out.pop(old) for old in group)
         if not set(given) <= from_position:
             deprecated(
-                f"{name}: `{'`, `'.join(olds)}` are deprecated, use `{new}`=({', '.join(olds)}): "
+                f"{name}: `{'`, `'.join(group)}` are deprecated, use `{new}`=({', '.join(group)}): "
                 f"{shown}",
+                stacklevel=3,
+            )
+    for key, value in required.items():
+        if key not in out:
+            out[key] = value
+            deprecated(
+                f"{name}: `{key}` is required (a physical value has no default); the previous "
+                f"release's default {value!r} is used for now: {shown}",
                 stacklevel=3,
             )
     return out

@@ -8,7 +8,7 @@ loads passed to it.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import KW_ONLY, dataclass
 from typing import Any
 
 import numpy as np
@@ -16,6 +16,7 @@ from numpy.typing import NDArray
 
 from duhamel import _core
 from duhamel._engine.protocols import Model
+from duhamel._engine.spellings import old_spellings
 from duhamel._engine.validate import as_float_array, finite_float, positive_float
 from duhamel.constants import STANDARD_GRAVITY
 from duhamel.loads import Load, Step
@@ -35,9 +36,11 @@ class RotorLoad:
         raise NotImplementedError
 
 
+@old_spellings(positional=("vector", "t0"))
 @dataclass(frozen=True, eq=False)
 class VectorStep(Load):
-    """A fixed load vector switched on at `t0` (a :class:`duhamel.loads.Load`).
+    """A fixed load vector switched on at `t0` (a :class:`duhamel.loads.Load`):
+    ``VectorStep(vector, *, t0=0.0)``.
 
     Examples
     --------
@@ -49,6 +52,7 @@ class VectorStep(Load):
     """
 
     vector: NDArray[np.float64]
+    _: KW_ONLY
     t0: float = 0.0
 
     def __post_init__(self) -> None:
@@ -204,7 +208,7 @@ class Gravity(RotorLoad):
 
     def loads(self, rotor: RotorModel, speed: Any = None) -> list[Load]:
         """One :class:`VectorStep` with :meth:`vector`."""
-        return [VectorStep(self.vector(rotor), self.t0)]
+        return [VectorStep(self.vector(rotor), t0=self.t0)]
 
 
 @dataclass(frozen=True)
