@@ -81,9 +81,9 @@ class Fragility:
         """
         from scipy.special import ndtr
 
-        x = as_float_array(intensity, "intensity")
-        if np.any(x < 0):
-            raise ValueError("`intensity` must be >= 0")
+        x = as_float_array(intensity, "intensity", finite=False)
+        if np.isnan(x).any() or np.any(x < 0):
+            raise ValueError(f"`intensity` must be >= 0 (inf allowed), got {intensity!r}")
         with np.errstate(divide="ignore"):
             return ndtr(np.log(x / self.median) / self.beta)
 
