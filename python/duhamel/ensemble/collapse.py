@@ -22,63 +22,74 @@ import numpy as np
 
 from duhamel.errors import SolverError
 
-__all__ = ["first_collapse", "refine"]
+__all__ = ["first_collapse", "outcome", "refine"]
 
 
-def first_collapse(collapsed: np.ndarray, ims: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Per record (rows of `collapsed`, over the grid `ims`, taken in ascending order), the bracket
+def first_collapse(
+    measures: np.ndarray, ims: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per record (rows of `measures`, ``inf`` a collapse, over the grid `ims`, taken in
+    ascending order), the bracket
     ``(lower, upper)``: the grid intensity before the first collapse (0 when the first
-    intensity collapsed) and the first collapse (``inf`` when none)."""
+    intensity collapsed) and the first collapse (``inf`` when none), and the measure at the
+    lower end (NaN at 0 and where there was no collapse)."""
     order = np.argsort(ims, kind="stable")
-    grid, hit = ims[order], collapsed[:, order]
+    grid, hit = ims[order], ~np.isfinite(measures[:, order])
     lower = np.full(hit.shape[0], float(grid[-1]))
     upper = np.full(hit.shape[0], np.inf)
+    at_lower = np.full(hit.shape[0], np.nan)
     for i, row in enumerate(hit):
         hits = np.flatnonzero(row)
         if hits.size:
             j = hits[0]
             upper[i] = grid[j]
             lower[i] = grid[j - 1] if j > 0 else 0.0
-    return lower, upper
+            if j > 0:
+                at_lower[i] = measures[i, order[j - 1]]
+    return lower, upper, at_lower
 
 
 def _bisect_one(
-    run: Callable[[Any, float], bool],
+    run: Callable[[Any, float], tuple[bool, float]],
     motion: Any,
     unit: float,
     lower: float,
     upper: float,
+    at_lower: float,
     tolerance: float,
-) -> tuple[float, float, int]:
-    """Bisect ``[lower, upper]`` (no collapse at `lower`, collapse at `upper`) until
-    ``upper - lower <= tolerance * upper``; returns the bracket and the runs made."""
+) -> tuple[float, float, float, int]:
+    """Bisect ``[lower, upper]`` (no collapse at `lower`, where the measure is `at_lower`;
+    a collapse at `upper`) until ``upper - lower <= tolerance * upper``; returns the
+    bracket, the measure at its lower end and the runs made."""
     runs = 0
     while upper - lower > tolerance * upper:
         mid = 0.5 * (lower + upper)
         runs += 1
-        if run(motion, mid / unit):
+        collapsed, value = run(motion, mid / unit)
+        if collapsed:
             upper = mid
         else:
-            lower = mid
-    return lower, upper, runs
+            lower, at_lower = mid, value
+    return lower, upper, at_lower, runs
 
 
 def refine(
-    run: Callable[[Any, float], bool],
+    run: Callable[[Any, float], tuple[bool, float]],
     motions: Sequence[Any],
     unit: np.ndarray,
     lower: np.ndarray,
     upper: np.ndarray,
+    at_lower: np.ndarray,
     tolerance: float,
     workers: int | None,
-) -> tuple[np.ndarray, np.ndarray, int]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
     """Bisect each record's bracket on its scale factor (``run(motion, factor) ->
-    collapsed``), the records in parallel threads; returns the brackets and the number of
-    runs made."""
+    (collapsed, measure)``), the records in parallel threads; returns the brackets, the
+    measures at their lower ends and the number of runs made."""
     todo = [i for i in range(len(motions)) if np.isfinite(upper[i])]
-    lo, hi = lower.copy(), upper.copy()
+    lo, hi, at = lower.copy(), upper.copy(), at_lower.copy()
     if not todo:
-        return lo, hi, 0
+        return lo, hi, at, 0
     n_threads = max(1, min(len(todo), workers or os.cpu_count() or 1))
     with ThreadPoolExecutor(n_threads) as pool:
         futures = {
@@ -89,28 +100,29 @@ def refine(
                 float(unit[i]),
                 float(lower[i]),
                 float(upper[i]),
+                float(at_lower[i]),
                 tolerance,
             )
             for i in todo
         }
         total = 0
         for i, fut in futures.items():
-            lo[i], hi[i], runs = fut.result()
+            lo[i], hi[i], at[i], runs = fut.result()
             total += runs
-    return lo, hi, total
+    return lo, hi, at, total
 
 
-def is_collapse(result: Any, solver_error: str, where: str) -> bool:
+def outcome(result: Any, solver_error: str, where: str) -> tuple[bool, float]:
     """Whether one run's result (``(measure, time)`` of a run with the collapse event, a
-    measure, or the SolverError it stopped with) is a collapse."""
+    measure, or the SolverError it stopped with) is a collapse, and its measure (``inf``
+    for a collapse)."""
     if isinstance(result, SolverError):
         if solver_error == "collapse":
-            return True
+            return True, np.inf
         result.add_note(
             f"{where}: if the model deteriorates and this is its loss of lateral strength, "
             "pass solver_error='collapse' to count such a run as a collapse"
         )
         raise result
-    if isinstance(result, tuple):
-        return not np.isfinite(result[0])
-    return False
+    value = float(result[0]) if isinstance(result, tuple) else float(result)
+    return not np.isfinite(value), value

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from duhamel._engine.validate import as_float_array, finite_float, positive_float
-from duhamel.ensemble.collapse import first_collapse, is_collapse, refine
+from duhamel.ensemble.collapse import first_collapse, outcome, refine
 from duhamel.ensemble.fragility import Fragility, fit_fragility
 from duhamel.ensemble.run import solve_many
 from duhamel.errors import SolverError
@@ -54,6 +54,9 @@ class IDA:
     tolerance: float | None = None
     #: Runs made by the bisection, beyond the grid's.
     refinement_runs: int = 0
+    #: Per motion, the measure of the run at ``collapse_brackets[:, 0]`` (NaN when that is 0
+    #: or the motion did not collapse).
+    collapse_measures: np.ndarray | None = None
 
     def fractiles(self, q: Sequence[float] = (16, 50, 84)) -> np.ndarray:
         """Percentiles `q` of the measure over the motions at each intensity, shape
@@ -106,32 +109,41 @@ class IDA:
     def __post_init__(self) -> None:
         if self.collapse_intensities is None and np.ndim(self.measures) == 2:
             ims = np.asarray(self.intensities, dtype=np.float64)
-            lo, hi = first_collapse(~np.isfinite(np.asarray(self.measures)), ims)
+            lo, hi, at = first_collapse(np.asarray(self.measures, dtype=np.float64), ims)
             object.__setattr__(self, "collapse_intensities", hi)
             object.__setattr__(self, "collapse_brackets", np.stack([lo, hi], axis=1))
+            object.__setattr__(self, "collapse_measures", at)
 
     def plot(self, ax: Any = None, q: Sequence[float] = (16, 50, 84)) -> Any:
-        """The IDA curves (measure on x, intensity on y), one thin line per motion, and the
-        fractiles; returns the matplotlib Axes."""
+        """The IDA curves (measure on x, intensity on y), one thin line per motion, each
+        ending in a flat line (red) at its collapse intensity, and the fractiles; returns the
+        matplotlib Axes."""
         import matplotlib.pyplot as plt
 
         if ax is None:
             _, ax = plt.subplots(figsize=(6, 4.5))
         finite = np.where(np.isfinite(self.measures), self.measures, np.nan)
-        caps = self.collapse_intensities
+        caps, brackets, at = (
+            self.collapse_intensities,
+            self.collapse_brackets,
+            self.collapse_measures,
+        )
+        right = np.nanmax(np.r_[finite.ravel(), 0.0])
         for i, row in enumerate(finite):
-            ax.plot(row, self.intensities, color="0.75", lw=0.8)
-            if caps is not None and np.isfinite(caps[i]):
-                last = np.flatnonzero(np.isfinite(row) & (self.intensities < caps[i]))
-                if last.size:  # the flat line to the collapse intensity
-                    ax.plot(row[last[-1]] * np.ones(1), caps[i] * np.ones(1), "x", ms=4,
-                            color="C3")  # fmt: skip
+            x, y = row, self.intensities
+            if caps is not None and at is not None and np.isfinite(caps[i]):
+                keep = y < brackets[i, 0]  # the grid below the last run without collapse
+                x, y = np.r_[row[keep], at[i]], np.r_[y[keep], brackets[i, 0]]
+                first = i == int(np.argmax(np.isfinite(caps)))
+                ax.plot([at[i], max(right, at[i]) * 1.05], [caps[i], caps[i]], color="C3",
+                        lw=0.8, label="collapse" if first else None)  # fmt: skip
+            ax.plot(x, y, color="0.6", lw=0.8)
         for qi, curve in zip(q, self.fractiles(q), strict=True):
             ax.plot(np.where(np.isfinite(curve), curve, np.nan), self.intensities, lw=2.2,
                     label=f"{qi:g} %")  # fmt: skip
         ax.set_xlabel("response measure")
         ax.set_ylabel(self.intensity)
-        ax.legend(title="fractiles", fontsize="small")
+        ax.legend(fontsize="small")
         ax.grid(True, alpha=0.3)
         return ax
 
@@ -378,7 +390,7 @@ def ida(
         )  # fmt: skip
         failed.append([isinstance(r, SolverError) for r in ens.results])
         for j, r in enumerate(ens.results):  # raises with solver_error='raise'
-            is_collapse(r, solver_error, f"motion {i} ({m.name!r}) at intensity {ims[j]:g}")
+            outcome(r, solver_error, f"motion {i} ({m.name!r}) at intensity {ims[j]:g}")
         if collapse is None:
             rows.append([_measure(r, i, j) for j, r in enumerate(ens.results)])
         else:
@@ -386,23 +398,25 @@ def ida(
             rows.append([float(r[0]) for r in out])
             times.append([float(r[1]) for r in out])
     measures = np.array(rows)
-    lower, upper = first_collapse(~np.isfinite(measures), ims)
+    lower, upper, at_lower = first_collapse(measures, ims)
     n_refined = 0
     if tolerance is not None:
 
-        def collapses(motion: GroundMotion, factor: float) -> bool:
+        def collapses(motion: GroundMotion, factor: float) -> tuple[bool, float]:
             ens = solve_many(
                 _ida_case, [(system_factory, motion, factor)], integ, t_end=motion.duration,
                 dt=dt or motion.dt, reduce=reduce, client=client, workers=1, on_error="keep",
                 **extra,
             )  # fmt: skip
             where = f"motion {motion.name!r} at scale factor {factor:g}"
-            return is_collapse(ens.results[0], solver_error, where)
+            return outcome(ens.results[0], solver_error, where)
 
-        lower, upper, n_refined = refine(collapses, motions, unit, lower, upper, tolerance, workers)
+        lower, upper, at_lower, n_refined = refine(
+            collapses, motions, unit, lower, upper, at_lower, tolerance, workers
+        )
     label = "PGA [m/s^2]" if intensity == "pga" else f"Sa(T = {period:g} s) [m/s^2]"
     return IDA(
         ims, measures, [m.name for m in motions], label, factors,
         None if collapse is None else np.array(times), upper, np.stack([lower, upper], axis=1),
-        np.array(failed), tolerance, n_refined,
+        np.array(failed), tolerance, n_refined, at_lower,
     )  # fmt: skip
