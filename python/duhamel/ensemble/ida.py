@@ -131,7 +131,12 @@ class IDA:
         right = np.nanmax(np.r_[finite.ravel(), 0.0])
         for i, row in enumerate(finite):
             x, y = row, self.intensities
-            if caps is not None and at is not None and np.isfinite(caps[i]):
+            if (
+                caps is not None
+                and brackets is not None
+                and at is not None
+                and np.isfinite(caps[i])
+            ):
                 keep = y < brackets[i, 0]  # the grid below the last run without collapse
                 x, y = np.r_[row[keep], at[i]], np.r_[y[keep], brackets[i, 0]]
                 first = i == int(np.argmax(np.isfinite(caps)))
