@@ -112,17 +112,13 @@ def refine(
     return lo, hi, at, total
 
 
-def outcome(result: Any, solver_error: str, where: str) -> tuple[bool, float]:
-    """Whether one run's result (``(measure, time)`` of a run with the collapse event, a
-    measure, or the SolverError it stopped with) is a collapse, and its measure (``inf``
-    for a collapse)."""
-    if isinstance(result, SolverError):
-        if solver_error == "collapse":
-            return True, np.inf
-        result.add_note(
-            f"{where}: if the model deteriorates and this is its loss of lateral strength, "
-            "pass solver_error='collapse' to count such a run as a collapse"
-        )
-        raise result
-    value = float(result[0]) if isinstance(result, tuple) else float(result)
-    return not np.isfinite(value), value
+def outcome(result: SolverError, solver_error: str, where: str) -> tuple[bool, float]:
+    """A run that stopped with SolverError: a collapse (``(True, inf)``) with
+    ``solver_error='collapse'``, else the error raised with a note naming `where`."""
+    if solver_error == "collapse":
+        return True, np.inf
+    result.add_note(
+        f"{where}: if the model deteriorates and this is its loss of lateral strength, "
+        "pass solver_error='collapse' to count such a run as a collapse"
+    )
+    raise result

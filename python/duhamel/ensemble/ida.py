@@ -211,21 +211,25 @@ def _ida_case(case: tuple[Any, Any, float]) -> Any:
     return factory(motion.scaled(factor))
 
 
-def _measure(result: Any, i: int, j: int) -> float:
-    """A run's measure: ``inf`` for a collapse, else the finite number `measure` gave."""
+def _measure(result: Any, where: str) -> float:
+    """A run's measure: ``inf`` for a collapse (a SolverError, or the collapse event met:
+    ``(inf, time)``), else the finite number `measure` gave."""
     if isinstance(result, SolverError):
         return np.inf
+    if isinstance(result, tuple):  # _Collapsed's (measure or inf, time or NaN)
+        if not np.isnan(result[1]):
+            return np.inf
+        result = result[0]
     try:
         value = float(result)
     except (TypeError, ValueError):
         raise TypeError(
-            f"`measure` must return a number, got {type(result).__name__} (motion {i}, "
-            f"intensity {j})"
+            f"`measure` must return a number, got {type(result).__name__} ({where})"
         ) from None
     if not np.isfinite(value):
         raise ValueError(
-            f"`measure` returned {value!r} for motion {i} at intensity {j}: a measure must be "
-            "finite (collapses are the runs that stop with SolverError)"
+            f"`measure` returned {value!r} for {where}: a measure must be finite (collapses "
+            "are the runs that stop with SolverError or meet the `collapse` event)"
         )
     return value
 
@@ -394,14 +398,14 @@ def ida(
             client=client, workers=workers, on_error="keep", **extra,
         )  # fmt: skip
         failed.append([isinstance(r, SolverError) for r in ens.results])
-        for j, r in enumerate(ens.results):  # raises with solver_error='raise'
-            outcome(r, solver_error, f"motion {i} ({m.name!r}) at intensity {ims[j]:g}")
-        if collapse is None:
-            rows.append([_measure(r, i, j) for j, r in enumerate(ens.results)])
-        else:
-            out = [(np.inf, np.nan) if isinstance(r, SolverError) else r for r in ens.results]
-            rows.append([float(r[0]) for r in out])
-            times.append([float(r[1]) for r in out])
+        where = [f"motion {i} ({m.name!r}) at intensity {im:g}" for im in ims]
+        for j, r in enumerate(ens.results):
+            if isinstance(r, SolverError):  # raises with solver_error='raise'
+                outcome(r, solver_error, where[j])
+        rows.append([_measure(r, where[j]) for j, r in enumerate(ens.results)])
+        if collapse is not None:
+            times.append([np.nan if isinstance(r, SolverError) else float(r[1])
+                          for r in ens.results])  # fmt: skip
     measures = np.array(rows)
     lower, upper, at_lower = first_collapse(measures, ims)
     n_refined = 0
@@ -414,7 +418,10 @@ def ida(
                 **extra,
             )  # fmt: skip
             where = f"motion {motion.name!r} at scale factor {factor:g}"
-            return outcome(ens.results[0], solver_error, where)
+            if isinstance(ens.results[0], SolverError):
+                return outcome(ens.results[0], solver_error, where)
+            value = _measure(ens.results[0], where)
+            return not np.isfinite(value), value
 
         lower, upper, at_lower, n_refined = refine(
             collapses, motions, unit, lower, upper, at_lower, tolerance, workers
