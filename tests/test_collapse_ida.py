@@ -192,6 +192,8 @@ def test_collapse_errors() -> None:
         ida(sdof, [step], [fc], peak, intensity="pga", solver_error="raise", tolerance=0.01)
     with pytest.raises(ValueError, match="`solver_error`"):
         ida(sdof, [step], [fc], peak, intensity="pga", solver_error="ignore")
+    with pytest.raises(ValueError, match="`measure` returned nan"):
+        ida(sdof, [step], [fc], lambda sol: np.nan, intensity="pga", collapse=STOP)
     with pytest.raises(ValueError, match="`censored_at`"):
         fit_fragility([1.0, 2.0, np.inf])
     with pytest.raises(ValueError, match="moments"):
@@ -221,6 +223,8 @@ def test_solver_error_is_a_collapse_only_when_stated() -> None:
     res = ida(unstable, [motion], [1.0, 2.0], peak, intensity="pga")
     assert res.failed.all() and np.isinf(res.measures).all()
     assert res.collapse_intensities[0] == 1.0
+    with pytest.raises(ValueError, match="collapses at every intensity"):
+        ida(unstable, [motion], [1.0], peak, intensity="pga", tolerance=0.1, workers=1)
     with pytest.raises(duhamel.SolverError) as err:
         ida(unstable, [motion], [1.0], peak, intensity="pga",
             solver_error="raise")  # fmt: skip

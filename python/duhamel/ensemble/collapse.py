@@ -61,8 +61,14 @@ def _bisect_one(
     """Bisect ``[lower, upper]`` (no collapse at `lower`, where the measure is `at_lower`;
     a collapse at `upper`) until ``upper - lower <= tolerance * upper``; returns the
     bracket, the measure at its lower end and the runs made."""
-    runs = 0
+    runs, floor = 0, upper * 2.0**-30
     while upper - lower > tolerance * upper:
+        if lower == 0.0 and upper < floor:
+            raise ValueError(
+                f"motion {getattr(motion, 'name', motion)!r} collapses at every intensity "
+                f"tried, down to {upper:.3g} (2^-30 of the first of the grid): the model "
+                "fails without load? (see the runs' SolverError with solver_error='raise')"
+            )
         mid = 0.5 * (lower + upper)
         runs += 1
         collapsed, value = run(motion, mid / unit)
