@@ -29,7 +29,7 @@ from duhamel._engine.validate import as_float_array, positive_float
 __all__ = ["Fragility", "fit_fragility"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Fragility:
     """A lognormal collapse fragility ``P(collapse | IM = x) = Phi(ln(x / median) / beta)``
     fitted by :func:`fit_fragility` (or :meth:`duhamel.ensemble.IDA.fragility`).
