@@ -12,7 +12,7 @@ from duhamel.integrators.base import Integrator, newton_options
 __all__ = ["Semianalytic"]
 
 _CHOICES = {
-    "scheme": ("a", "b", "c"),
+    "scheme": ("a", "b", "c", "hermite"),
     "quadrature": ("trapezoid", "parabolic", "exact"),
     "mass_treatment": ("eliminate", "estimate"),
     "solver": ("auto", "newton", "modal-newton"),
@@ -38,17 +38,25 @@ class Semianalytic(Integrator):
     ----------
     modes : int, optional
         Keep only the lowest `modes` modes (modal reduction). Default: all modes.
-    scheme : {"a", "b", "c"}
+    scheme : {"a", "b", "c", "hermite"}
         State inside the step for evaluating pseudo-forces (the paper's eq. 20): "a" constant
         velocity ``(v0 + v1)/2``; "b" displacement linear from ``x0`` to ``x1``, velocity
         ``(x1 - x0)/dt`` — unconditionally stable, the default; "c" the parabola through
-        ``x0`` (slope ``v0``) and ``x1``.
-    quadrature : {"trapezoid", "parabolic", "exact"}
+        ``x0`` (slope ``v0``) and ``x1``. "hermite": the cubic Hermite interpolant of the
+        start and end states (displacement and velocity), with the parabolic quadrature —
+        the **fourth-order** step (the linear part still exact; stable on the linear test
+        equation whatever share of the stiffness is a pseudo-force, as far as measured: up
+        to the stiffness watch's ``omega_c dt = 2``; docs/nonlinear.md, "The fourth-order
+        step"). Both halves of the end state are then unknown: one mode is solved on
+        scalars, more modes by Newton on all the modal coordinates (``2 n`` unknowns).
+    quadrature : {"trapezoid", "parabolic", "exact"} or None
         How the pseudo-force along that state is integrated against ``A(dt - tau)``: linear
         between its start and end values; the parabola through start, middle and end; or
         the cubic through four values, exact for polynomial forces of degree <= 3 along
-        schemes "a" and "b". The default "trapezoid" is the most accurate in our
-        measurements (docs/nonlinear.md: 5x smaller errors on the paper's Duffing case).
+        schemes "a" and "b". The default (None) is "trapezoid" for schemes "a", "b", "c"
+        — the most accurate there in our measurements (docs/nonlinear.md: 5x smaller errors
+        on the paper's Duffing case) — and "parabolic" for "hermite", the only one it takes
+        (with "trapezoid" it would be of second order).
     tol : float
         Relative tolerance of the Newton updates.
     max_iter : int
@@ -134,11 +142,13 @@ mass_treatment='eliminate', solver='auto', coupling='auto', subdivisions=4, \
 linear_parts='auto', static_correction=None, growth_limit=100.0)
     >>> duhamel.Semianalytic(modes=5, quadrature="exact").quadrature
     'exact'
+    >>> duhamel.Semianalytic(scheme="hermite").quadrature  # the fourth-order step
+    'parabolic'
     """
 
     modes: int | None = None
     scheme: str = "b"
-    quadrature: str = "trapezoid"
+    quadrature: str | None = None
     tol: float = 1e-10
     max_iter: int = 25
     mass_treatment: str = "eliminate"
@@ -159,6 +169,14 @@ linear_parts='auto', static_correction=None, growth_limit=100.0)
             object.__setattr__(self, "growth_limit", limit)
         if self.modes is not None:
             object.__setattr__(self, "modes", positive_int(self.modes, "modes"))
+        if self.quadrature is None:
+            quadrature = "parabolic" if self.scheme == "hermite" else "trapezoid"
+            object.__setattr__(self, "quadrature", quadrature)
+        elif self.scheme == "hermite" and self.quadrature != "parabolic":
+            raise ValueError(
+                f"`quadrature` must be 'parabolic' (or None) with scheme='hermite' (the "
+                f"fourth-order step's quadrature), got {self.quadrature!r}"
+            )
         for name, allowed in _CHOICES.items():
             value = getattr(self, name)
             if value not in allowed:
