@@ -24,6 +24,14 @@ class MatchWarning(UserWarning):
     last iterate, and its ``metadata['match']`` gives the misfit reached."""
 
 
+class AccuracyWarning(UserWarning):
+    """A semi-analytic run whose estimated error (``sol.stats.error_estimate`` at the saved
+    dofs, ``sol.stats.element_error_estimate`` at the elements, relative to their peaks)
+    exceeds the integrator's ``error_warning`` (default 1 %): the step is too long for the
+    response's nonlinearity. Reduce ``dt`` (the error falls like ``dt**2``); see
+    docs/accuracy.md for how the estimate is made and when it is reliable."""
+
+
 class InternalError(DuhamelError, RuntimeError):
     """A bug in duhamel: please report it, with the input that raised it.
 

@@ -132,6 +132,12 @@ class Semianalytic(Integrator):
         (docs/nonlinear.md, "Stiff elements"). Default 100 (ten times the amplitude). None
         turns it off. Models that can gain energy by themselves (a Python element, a
         journal bearing, negative damping, a mass law) are not guarded.
+    error_warning : float or None
+        Every run of the default step (scheme "b", "trapezoid") estimates its error
+        (``sol.stats.error_estimate`` at the saved dofs, ``element_error_estimate`` at the
+        elements, each relative to its peak; docs/accuracy.md) and warns with a
+        :class:`duhamel.AccuracyWarning` when it exceeds `error_warning`. Default 0.01 (1 %
+        of the peak); None: no warning (the estimate is still made).
 
     Examples
     --------
@@ -139,7 +145,7 @@ class Semianalytic(Integrator):
     >>> duhamel.Semianalytic()
     Semianalytic(modes=None, scheme='b', quadrature='trapezoid', tol=1e-10, max_iter=25, \
 mass_treatment='eliminate', solver='auto', coupling='auto', subdivisions=4, \
-linear_parts='auto', static_correction=None, growth_limit=100.0)
+linear_parts='auto', static_correction=None, growth_limit=100.0, error_warning=0.01)
     >>> duhamel.Semianalytic(modes=5, quadrature="exact").quadrature
     'exact'
     >>> duhamel.Semianalytic(scheme="hermite").quadrature  # the fourth-order step
@@ -158,6 +164,7 @@ linear_parts='auto', static_correction=None, growth_limit=100.0)
     linear_parts: str = "auto"
     static_correction: bool | None = None
     growth_limit: float | None = 100.0
+    error_warning: float | None = 0.01
 
     def __post_init__(self) -> None:
         if self.growth_limit is not None:
@@ -169,6 +176,13 @@ linear_parts='auto', static_correction=None, growth_limit=100.0)
             object.__setattr__(self, "growth_limit", limit)
         if self.modes is not None:
             object.__setattr__(self, "modes", positive_int(self.modes, "modes"))
+        if self.error_warning is not None:
+            level = finite_float(self.error_warning, "error_warning")
+            if not level > 0.0:
+                raise ValueError(
+                    f"`error_warning` must be a positive number (or None: no warning), got {level}"
+                )
+            object.__setattr__(self, "error_warning", level)
         if self.quadrature is None:
             quadrature = "parabolic" if self.scheme == "hermite" else "trapezoid"
             object.__setattr__(self, "quadrature", quadrature)
