@@ -56,7 +56,9 @@ class SolverError(DuhamelError, RuntimeError):
         by its index and dofs, the limit and the step that would do, see docs/nonlinear.md),
         ``"growth"`` (the response's energy outgrew by ``growth_limit`` times what the
         initial state and the loads can give a passive model: an unstable step, or a model
-        that gains energy by itself) or ``"callback"`` (a Python load or element function
+        that gains energy by itself), ``"tolerance"`` (``Semianalytic(rtol=...)``: the error
+        estimate stays above the tolerance in steps of ``dt / 2**subdivisions``) or
+        ``"callback"`` (a Python load or element function
         failed).
     step : int or None
         The step that could not be completed (steps count from 1: step ``n`` ends at

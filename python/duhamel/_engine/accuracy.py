@@ -135,7 +135,12 @@ def _relative(bound: NDArray[np.float64], response: NDArray[np.float64]) -> floa
 
 
 def attach_estimate(
-    solution: Any, prep: Any, opts: Any, sub: int, phi_out: NDArray[np.float64]
+    solution: Any,
+    prep: Any,
+    opts: Any,
+    sub: int,
+    phi_out: NDArray[np.float64],
+    warn: bool = True,
 ) -> None:
     """Sets ``solution.stats.error_estimate`` (and per element) and warns above the
     integrator's ``error_warning``; None where the estimate does not apply (see the module
@@ -166,7 +171,7 @@ def attach_estimate(
     solution.stats = replace(
         solution.stats, error_estimate=dofs_est, element_error_estimate=elements
     )
-    limit = integrator.error_warning
+    limit = integrator.error_warning if warn else None
     worst = max([e for e in (dofs_est, *elements) if e is not None], default=None)
     if limit is not None and worst is not None and worst > limit:
         warnings.warn(
@@ -196,3 +201,66 @@ def _element_estimates(
         deformation = history.deformation
         out.append(_relative(np.abs(rows) @ bounds, np.asarray(deformation)))
     return tuple(out)
+
+
+def tolerance_ratio(solution: Any, rtol: float, atol: float) -> float | None:
+    """The largest ratio of the estimated error to what ``rtol`` and ``atol`` allow, at the
+    saved dofs (``atol + rtol * peak``) and at every element's deformation; None where the
+    run has no estimate."""
+    st = solution.stats
+    if st.error_estimate is None:
+        return None
+
+    def ratio(estimate: float, response: NDArray[np.float64]) -> float:
+        peak = float(np.max(np.abs(response))) if response.size else 0.0
+        if estimate == 0.0:
+            return 0.0
+        allowed = rtol + (atol / peak if peak > 0.0 else np.inf)
+        return estimate / allowed
+
+    worst = ratio(st.error_estimate, solution.x)
+    for estimate, history in zip(st.element_error_estimate, solution.elements, strict=False):
+        worst = max(worst, ratio(estimate, np.asarray(history.deformation)))
+    return worst
+
+
+def to_tolerance(run_once: Any, prep: Any, opts: Any) -> Any:
+    """Runs with steps of ``dt / 2^k``, ``k`` raised as the error estimate requires (the
+    error falls like ``dt^2``) until it meets ``rtol``/``atol``, the saved instants the
+    user's; at ``k = subdivisions`` a run still above stops with ``SolverError(reason=
+    "tolerance")``."""
+    from duhamel.errors import SolverError
+
+    integrator = prep.integrator
+    rtol, atol, depth = integrator.rtol, integrator.atol, integrator.subdivisions
+    level = 0
+    while True:
+        k = 2**level
+        grid = {"dt": opts.dt / k, "n_steps": opts.n_steps * k, "save_every": opts.save_every * k}
+        sol = run_once(prep, replace(opts, **grid) if k > 1 else opts)
+        worst = tolerance_ratio(sol, rtol, atol)
+        if worst is None:
+            raise ValueError(
+                "`rtol`: this run has no error estimate to choose its steps by (the coupled "
+                "route, `coupling='exact'` with couplings: pass `coupling='pseudo-force'`)"
+            )
+        if level:
+            sol.meta["dt"] = opts.dt
+            sol.meta["save_every"] = opts.save_every
+            sol.stats = replace(
+                sol.stats, steps=sol.stats.steps // k, substeps=sol.stats.substeps * k
+            )
+        if worst <= 1.0:
+            return sol
+        if level >= depth:
+            raise SolverError(
+                f"the run cannot meet `rtol`={rtol:g} (`atol`={atol:g}): its estimated error "
+                f"is still {worst:.3g} times the tolerance in steps of dt/2^{level} = "
+                f"{opts.dt / k:.4g} (`subdivisions`={depth}); raise `subdivisions` or "
+                "loosen `rtol` (docs/accuracy.md)",
+                time=float(sol.t[-1]),
+                reason="tolerance",
+                partial=sol,
+            )
+        # the error falls like dt^2: 4x per level; at least one level more
+        level = min(depth, level + max(1, int(np.ceil(np.log(worst) / np.log(4.0)))))

@@ -138,6 +138,17 @@ class Semianalytic(Integrator):
         elements, each relative to its peak; docs/accuracy.md) and warns with a
         :class:`duhamel.AccuracyWarning` when it exceeds `error_warning`. Default 0.01 (1 %
         of the peak); None: no warning (the estimate is still made).
+    rtol, atol : float or None, float
+        Steps chosen by tolerance: with `rtol`, the run is repeated in steps of
+        ``dt / 2**k``, ``k`` raised as the error estimate requires, until the estimate is
+        within ``atol + rtol * peak`` at the saved dofs and ``rtol`` (plus `atol` over the
+        peak) at every element's deformation; the saved instants stay the user's
+        (``stats.substeps`` is ``2**k``). ``k`` stops at `subdivisions`: a run still above
+        the tolerance there raises :class:`duhamel.SolverError` with
+        ``reason="tolerance"``. The estimate is a bound (docs/accuracy.md), so the true
+        error is usually several times below `rtol`. The refinement is of the whole run,
+        not step by step. Only with the default step (scheme "b", "trapezoid"). Default
+        None (the run at `dt`), `atol` 0.
 
     Examples
     --------
@@ -145,7 +156,8 @@ class Semianalytic(Integrator):
     >>> duhamel.Semianalytic()
     Semianalytic(modes=None, scheme='b', quadrature='trapezoid', tol=1e-10, max_iter=25, \
 mass_treatment='eliminate', solver='auto', coupling='auto', subdivisions=4, \
-linear_parts='auto', static_correction=None, growth_limit=100.0, error_warning=0.01)
+linear_parts='auto', static_correction=None, growth_limit=100.0, error_warning=0.01, \
+rtol=None, atol=0.0)
     >>> duhamel.Semianalytic(modes=5, quadrature="exact").quadrature
     'exact'
     >>> duhamel.Semianalytic(scheme="hermite").quadrature  # the fourth-order step
@@ -165,6 +177,8 @@ linear_parts='auto', static_correction=None, growth_limit=100.0, error_warning=0
     static_correction: bool | None = None
     growth_limit: float | None = 100.0
     error_warning: float | None = 0.01
+    rtol: float | None = None
+    atol: float = 0.0
 
     def __post_init__(self) -> None:
         if self.growth_limit is not None:
@@ -207,3 +221,22 @@ linear_parts='auto', static_correction=None, growth_limit=100.0, error_warning=0
                     f"{self.static_correction!r}"
                 )
             object.__setattr__(self, "static_correction", bool(self.static_correction))
+        self._check_tolerance()
+
+    def _check_tolerance(self) -> None:
+        atol = finite_float(self.atol, "atol")
+        if not atol >= 0.0:
+            raise ValueError(f"`atol` must be a number >= 0, got {atol}")
+        object.__setattr__(self, "atol", atol)
+        if self.rtol is None:
+            return
+        rtol = finite_float(self.rtol, "rtol")
+        if not 0.0 < rtol < 1.0:
+            raise ValueError(f"`rtol` must be a number in (0, 1) (or None), got {rtol}")
+        if self.scheme != "b" or self.quadrature != "trapezoid":
+            raise ValueError(
+                f"`rtol` needs the error estimate of the default step (scheme='b', "
+                f"quadrature='trapezoid'), got scheme={self.scheme!r}, "
+                f"quadrature={self.quadrature!r}"
+            )
+        object.__setattr__(self, "rtol", rtol)
