@@ -89,7 +89,14 @@ def mode_bounds(
     # |DDQ| = |Q''| h^2 / 8 per internal step, k of them per saved interval
     scale = np.hypot(moments[:, 0], moments[:, 1] / w) / (8.0 * k)
     decay = np.exp(-0.5 * np.maximum(c, 0.0) * k * h)
-    return scale * _decaying_max(second, decay)
+    # the undamped sums bound the recurrence; the modes that make up 95 % of their total
+    # are run through it, the others keep their sum (a bound within 5 % of the total)
+    out = scale * second.sum(axis=1)
+    order = np.argsort(out)
+    small = order[np.cumsum(out[order]) <= 0.05 * out.sum()]
+    big = np.setdiff1d(np.arange(n), small)
+    out[big] = scale[big] * _decaying_max(second[big], decay[big])
+    return out
 
 
 def _decaying_max(x: NDArray[np.float64], decay: NDArray[np.float64]) -> NDArray[np.float64]:
