@@ -198,3 +198,16 @@ def test_decaying_accumulation_is_the_recurrence():
     got = _decaying_max(x, decay)
     assert got[:4] == pytest.approx(want[:4], rel=1e-12)
     assert np.all(got[4:] >= want[4:]) and np.all(got[4:] <= want[4:] / decay[4:])
+
+
+def test_massless_dofs_give_a_finite_estimate():
+    """A massless dof's quasi-static coordinate (``omega = inf``) carries no quadrature."""
+    k = np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
+    system = duhamel.System(np.diag([1.0, 1.0, 0.0]), k, zeta=0.05)
+    system.add(duhamel.elements.Cubic(2, k3=10.0))
+    system.add(duhamel.elements.Cubic(0, k3=10.0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        sol = duhamel.solve(system, duhamel.Semianalytic(), t_end=5.0, dt=0.05, x0=[0.5, 0, 0])
+    estimates = (sol.stats.error_estimate, *sol.stats.element_error_estimate)
+    assert len(estimates) == 3 and all(np.isfinite(e) and e > 0 for e in estimates)

@@ -34,9 +34,16 @@ def parabola_moments(
 ) -> NDArray[np.float64]:
     """Per mode, the end state ``(q, v)`` of ``q'' + c q' + omega^2 q = 4 s (1 - s)``,
     ``s = tau / h``, from rest over one step ``h`` (shape ``(n, 2)``): the exponential of
-    the oscillator augmented with the polynomial's integrator chain (Van Loan)."""
+    the oscillator augmented with the polynomial's integrator chain (Van Loan). Zero for the
+    quasi-static coordinates of massless dofs (``omega = inf``)."""
     import scipy.linalg  # the solve path's, not `import duhamel`'s
 
+    finite = np.isfinite(omega) & np.isfinite(c)
+    if not finite.all():
+        out = np.zeros((omega.size, 2))
+        if finite.any():
+            out[finite] = parabola_moments(omega[finite], c[finite], h)
+        return out
     z = np.zeros((omega.size, 5, 5))
     z[:, 0, 1] = h
     z[:, 1, 0] = -(omega**2) * h
@@ -85,10 +92,11 @@ def mode_bounds(
     moments = parabola_moments(omega, c, h)
     # velocity errors read as the displacement amplitude they carry (at least the drift
     # they cause over half the run, for slow and rigid modes)
-    w = np.maximum(effective_omega(pseudo, q, omega), 2.0 / max(span, h))
+    finite = np.where(np.isfinite(omega), omega, 0.0)  # massless dofs' coordinates: moments 0
+    w = np.maximum(effective_omega(pseudo, q, finite), 2.0 / max(span, h))
     # |DDQ| = |Q''| h^2 / 8 per internal step, k of them per saved interval
     scale = np.hypot(moments[:, 0], moments[:, 1] / w) / (8.0 * k)
-    decay = np.exp(-0.5 * np.maximum(c, 0.0) * k * h)
+    decay = np.exp(-0.5 * np.where(np.isfinite(c) & (c > 0.0), c, 0.0) * k * h)
     # the undamped sums bound the recurrence; the modes that make up 95 % of their total
     # are run through it, the others keep their sum (a bound within 5 % of the total)
     out = scale * second.sum(axis=1)
@@ -175,6 +183,8 @@ def attach_estimate(
     if phi_out.ndim == 2 and phi_out.shape[1] == bounds.size:
         dofs_est = _relative(np.abs(phi_out) @ bounds, solution.x)
     elements = _element_estimates(solution, prep.route.basis.phi, bounds)
+    if (dofs_est is not None and np.isnan(dofs_est)) or any(np.isnan(e) for e in elements):
+        return  # not estimated rather than NaN (a non-finite pseudo-force history)
     solution.stats = replace(
         solution.stats, error_estimate=dofs_est, element_error_estimate=elements
     )
@@ -201,7 +211,7 @@ def _element_estimates(
     for history in solution.elements:
         dofs = list(getattr(history.element, "_dofs", ()))
         if not dofs or max(dofs) >= phi.shape[0]:
-            continue
+            return ()  # an element the basis's rows do not reach: none rather than some
         rows = phi[dofs]
         if len(dofs) == 2 and getattr(history.element, "j", None) is not None:
             rows = rows[:1] - rows[1:]
