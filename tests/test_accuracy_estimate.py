@@ -32,8 +32,10 @@ def _run(system, dt, t_end, **kw):
         return duhamel.solve(system, duhamel.Semianalytic(), t_end=t_end, dt=dt, **kw)
 
 
-def test_parabola_moments_are_the_closed_forms():
-    omega, zeta, h_dt = 3.0, 0.05, 0.2
+@pytest.mark.parametrize(
+    ("omega", "zeta", "h_dt"), [(3.0, 0.05, 0.2), (1e4, 0.05, 0.01), (2 * np.pi, 0.0, 1e3)]
+)
+def test_parabola_moments_are_the_closed_forms(omega, zeta, h_dt):
     h = omega * h_dt
     e, r = np.exp(-zeta * h), np.sqrt(1 - zeta**2)
     wd = omega * r
@@ -225,3 +227,9 @@ def test_grouped_accumulation_bounds_the_recurrence_closely():
     want = np.array([lfilter([1.0], [1.0, -d], row).max() for d, row in zip(decay, x, strict=True)])
     got = _decaying_max(x, decay)
     assert np.all(got >= want) and np.all(got <= want * np.exp(0.2)), got / want
+
+
+def test_the_warning_points_at_the_callers_line():
+    with pytest.warns(duhamel.AccuracyWarning) as record:
+        duhamel.solve(_stiff(), duhamel.Semianalytic(), t_end=0.5, dt=0.01, x0=[1.0])
+    assert record[0].filename == __file__
