@@ -23,7 +23,13 @@ from duhamel import elements, events, loads, mass, oscillator, speed
 from duhamel._core import __version__
 from duhamel.constants import STANDARD_GRAVITY
 from duhamel.damping import Rayleigh
-from duhamel.errors import DampingWarning, DuhamelError, InternalError, SolverError
+from duhamel.errors import (
+    AccuracyWarning,
+    DampingWarning,
+    DuhamelError,
+    InternalError,
+    SolverError,
+)
 from duhamel.events import Event
 from duhamel.integrators import (
     HHT,
@@ -47,6 +53,7 @@ if TYPE_CHECKING:
 __all__ = [
     "HHT",
     "STANDARD_GRAVITY",
+    "AccuracyWarning",
     "CentralDifference",
     "CubicHermite",
     "DampingWarning",

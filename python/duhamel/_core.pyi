@@ -429,7 +429,7 @@ class Options:
 
     def __new__(
         cls,
-        scheme: Literal["a", "b", "c"],
+        scheme: Literal["a", "b", "c", "hermite"],
         quadrature: Literal["trapezoid", "parabolic", "exact"],
         tol: float,
         max_iter: int,

@@ -24,6 +24,14 @@ class MatchWarning(UserWarning):
     last iterate, and its ``metadata['match']`` gives the misfit reached."""
 
 
+class AccuracyWarning(UserWarning):
+    """A semi-analytic run whose estimated error (``sol.stats.error_estimate`` at the saved
+    dofs, ``sol.stats.element_error_estimate`` at the elements, relative to their peaks)
+    exceeds the integrator's ``error_warning`` (default 1 %): the step is too long for the
+    response's nonlinearity. Reduce ``dt`` (the error falls like ``dt**2``); see
+    docs/accuracy.md for how the estimate is made and when it is reliable."""
+
+
 class InternalError(DuhamelError, RuntimeError):
     """A bug in duhamel: please report it, with the input that raised it.
 
@@ -48,7 +56,9 @@ class SolverError(DuhamelError, RuntimeError):
         by its index and dofs, the limit and the step that would do, see docs/nonlinear.md),
         ``"growth"`` (the response's energy outgrew by ``growth_limit`` times what the
         initial state and the loads can give a passive model: an unstable step, or a model
-        that gains energy by itself) or ``"callback"`` (a Python load or element function
+        that gains energy by itself), ``"tolerance"`` (``Semianalytic(rtol=...)``: the error
+        estimate stays above the tolerance in steps of ``dt / 2**subdivisions``) or
+        ``"callback"`` (a Python load or element function
         failed).
     step : int or None
         The step that could not be completed (steps count from 1: step ``n`` ends at

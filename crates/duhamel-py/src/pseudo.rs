@@ -55,9 +55,10 @@ impl Options {
             "a" => Scheme::A,
             "b" => Scheme::B,
             "c" => Scheme::C,
+            "hermite" => Scheme::H,
             other => {
                 return Err(PyValueError::new_err(format!(
-                    "`scheme` must be 'a', 'b' or 'c', got {other:?}"
+                    "`scheme` must be 'a', 'b', 'c' or 'hermite', got {other:?}"
                 )))
             }
         };

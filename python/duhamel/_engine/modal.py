@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._engine import dispatch
+from duhamel._engine.accuracy import attach_estimate, to_tolerance
 from duhamel._engine.background import background
 from duhamel._engine.chunks import chunked, steps_of
 from duhamel._engine.correction import substeps
@@ -174,7 +175,15 @@ class RunOptions:
 
 
 def run(prep: ModalSetup, opts: RunOptions) -> Solution:
-    """One run of a prepared modal model, up to its :class:`duhamel.Solution`."""
+    """A run of a prepared modal model, up to its :class:`duhamel.Solution`: one, or with
+    ``Semianalytic(rtol=...)`` as many as the tolerance needs (:func:`to_tolerance`)."""
+    if getattr(prep.integrator, "rtol", None) is not None:
+        return to_tolerance(_run_once, prep, opts)
+    return _run_once(prep, opts)
+
+
+def _run_once(prep: ModalSetup, opts: RunOptions) -> Solution:
+    """One run of a prepared modal model."""
     route = prep.route
     system = prep.system
     if opts.loads is None:
@@ -236,7 +245,9 @@ def _stopping(
         return prep.model.run(spec, loads, out.maps, forcing, None)
 
     def seen(result: Any, steps: int) -> bool:
-        part = solution(prep, result, out, patterns, steps_of(opts, steps), 0.0, base, sub)
+        part = solution(
+            prep, result, out, patterns, steps_of(opts, steps), 0.0, base, sub, estimate=False
+        )
         return bool(opts.stop(part))
 
     loop_start = _time.perf_counter()
@@ -305,6 +316,7 @@ def solution(
     base: list[Any] | None,
     sub: int = 1,
     emodel: EnergyModel | None = None,
+    estimate: bool = True,
 ) -> Solution:
     """The :class:`duhamel.Solution` of a core run's `result` (raises the run's failure,
     with the solution up to it as ``partial``)."""
@@ -370,6 +382,9 @@ def solution(
     )
     if emodel is not None and terms is None and result.energy is not None:
         solution._energy_run = (result.energy[:kept], emodel)
+    if estimate and error is None and kept == result.t.size:
+        warn = getattr(prep.integrator, "rtol", None) is None  # else the tolerance decides
+        attach_estimate(solution, prep, opts, sub, out.phi_out, warn)
     if error is None and kept < result.t.size:
         raise overflow_error(result.t, kept, opts.dt, opts.t0, solution)
     if error is not None:

@@ -12,7 +12,7 @@ from duhamel.integrators.base import Integrator, newton_options
 __all__ = ["Semianalytic"]
 
 _CHOICES = {
-    "scheme": ("a", "b", "c"),
+    "scheme": ("a", "b", "c", "hermite"),
     "quadrature": ("trapezoid", "parabolic", "exact"),
     "mass_treatment": ("eliminate", "estimate"),
     "solver": ("auto", "newton", "modal-newton"),
@@ -38,17 +38,25 @@ class Semianalytic(Integrator):
     ----------
     modes : int, optional
         Keep only the lowest `modes` modes (modal reduction). Default: all modes.
-    scheme : {"a", "b", "c"}
+    scheme : {"a", "b", "c", "hermite"}
         State inside the step for evaluating pseudo-forces (the paper's eq. 20): "a" constant
         velocity ``(v0 + v1)/2``; "b" displacement linear from ``x0`` to ``x1``, velocity
         ``(x1 - x0)/dt`` — unconditionally stable, the default; "c" the parabola through
-        ``x0`` (slope ``v0``) and ``x1``.
-    quadrature : {"trapezoid", "parabolic", "exact"}
+        ``x0`` (slope ``v0``) and ``x1``. "hermite": the cubic Hermite interpolant of the
+        start and end states (displacement and velocity), with the parabolic quadrature —
+        the **fourth-order** step (the linear part still exact; stable on the linear test
+        equation whatever share of the stiffness is a pseudo-force, as far as measured: up
+        to the stiffness watch's ``omega_c dt = 2``; docs/nonlinear.md, "The fourth-order
+        step"). Both halves of the end state are then unknown: one mode is solved on
+        scalars, more modes by Newton on all the modal coordinates (``2 n`` unknowns).
+    quadrature : {"trapezoid", "parabolic", "exact"} or None
         How the pseudo-force along that state is integrated against ``A(dt - tau)``: linear
         between its start and end values; the parabola through start, middle and end; or
         the cubic through four values, exact for polynomial forces of degree <= 3 along
-        schemes "a" and "b". The default "trapezoid" is the most accurate in our
-        measurements (docs/nonlinear.md: 5x smaller errors on the paper's Duffing case).
+        schemes "a" and "b". The default (None) is "trapezoid" for schemes "a", "b", "c"
+        — the most accurate there in our measurements (docs/nonlinear.md: 5x smaller errors
+        on the paper's Duffing case) — and "parabolic" for "hermite", the only one it takes
+        (with "trapezoid" it would be of second order).
     tol : float
         Relative tolerance of the Newton updates.
     max_iter : int
@@ -124,6 +132,23 @@ class Semianalytic(Integrator):
         (docs/nonlinear.md, "Stiff elements"). Default 100 (ten times the amplitude). None
         turns it off. Models that can gain energy by themselves (a Python element, a
         journal bearing, negative damping, a mass law) are not guarded.
+    error_warning : float or None
+        Every run of the default step (scheme "b", "trapezoid") estimates its error
+        (``sol.stats.error_estimate`` at the saved dofs, ``element_error_estimate`` at the
+        elements, each relative to its peak; docs/accuracy.md) and warns with a
+        :class:`duhamel.AccuracyWarning` when it exceeds `error_warning`. Default 0.01 (1 %
+        of the peak); None: no warning (the estimate is still made).
+    rtol, atol : float or None, float
+        Steps chosen by tolerance: with `rtol`, the run is repeated in steps of
+        ``dt / 2**k``, ``k`` raised as the error estimate requires, until the estimate is
+        within ``atol + rtol * peak`` at the saved dofs and ``rtol`` (plus `atol` over the
+        peak) at every element's deformation; the saved instants stay the user's
+        (``stats.substeps`` is ``2**k``). ``k`` stops at `subdivisions`: a run still above
+        the tolerance there raises :class:`duhamel.SolverError` with
+        ``reason="tolerance"``. The estimate is a bound (docs/accuracy.md), so the true
+        error is usually several times below `rtol`. The refinement is of the whole run,
+        not step by step. Only with the default step (scheme "b", "trapezoid"). Default
+        None (the run at `dt`), `atol` 0.
 
     Examples
     --------
@@ -131,14 +156,17 @@ class Semianalytic(Integrator):
     >>> duhamel.Semianalytic()
     Semianalytic(modes=None, scheme='b', quadrature='trapezoid', tol=1e-10, max_iter=25, \
 mass_treatment='eliminate', solver='auto', coupling='auto', subdivisions=4, \
-linear_parts='auto', static_correction=None, growth_limit=100.0)
+linear_parts='auto', static_correction=None, growth_limit=100.0, error_warning=0.01, \
+rtol=None, atol=0.0)
     >>> duhamel.Semianalytic(modes=5, quadrature="exact").quadrature
     'exact'
+    >>> duhamel.Semianalytic(scheme="hermite").quadrature  # the fourth-order step
+    'parabolic'
     """
 
     modes: int | None = None
     scheme: str = "b"
-    quadrature: str = "trapezoid"
+    quadrature: str | None = None
     tol: float = 1e-10
     max_iter: int = 25
     mass_treatment: str = "eliminate"
@@ -148,6 +176,9 @@ linear_parts='auto', static_correction=None, growth_limit=100.0)
     linear_parts: str = "auto"
     static_correction: bool | None = None
     growth_limit: float | None = 100.0
+    error_warning: float | None = 0.01
+    rtol: float | None = None
+    atol: float = 0.0
 
     def __post_init__(self) -> None:
         if self.growth_limit is not None:
@@ -159,6 +190,21 @@ linear_parts='auto', static_correction=None, growth_limit=100.0)
             object.__setattr__(self, "growth_limit", limit)
         if self.modes is not None:
             object.__setattr__(self, "modes", positive_int(self.modes, "modes"))
+        if self.error_warning is not None:
+            level = finite_float(self.error_warning, "error_warning")
+            if not level > 0.0:
+                raise ValueError(
+                    f"`error_warning` must be a positive number (or None: no warning), got {level}"
+                )
+            object.__setattr__(self, "error_warning", level)
+        if self.quadrature is None:
+            quadrature = "parabolic" if self.scheme == "hermite" else "trapezoid"
+            object.__setattr__(self, "quadrature", quadrature)
+        elif self.scheme == "hermite" and self.quadrature != "parabolic":
+            raise ValueError(
+                f"`quadrature` must be 'parabolic' (or None) with scheme='hermite' (the "
+                f"fourth-order step's quadrature), got {self.quadrature!r}"
+            )
         for name, allowed in _CHOICES.items():
             value = getattr(self, name)
             if value not in allowed:
@@ -175,3 +221,22 @@ linear_parts='auto', static_correction=None, growth_limit=100.0)
                     f"{self.static_correction!r}"
                 )
             object.__setattr__(self, "static_correction", bool(self.static_correction))
+        self._check_tolerance()
+
+    def _check_tolerance(self) -> None:
+        atol = finite_float(self.atol, "atol")
+        if not atol >= 0.0:
+            raise ValueError(f"`atol` must be a number >= 0, got {atol}")
+        object.__setattr__(self, "atol", atol)
+        if self.rtol is None:
+            return
+        rtol = finite_float(self.rtol, "rtol")
+        if not 0.0 < rtol < 1.0:
+            raise ValueError(f"`rtol` must be a number in (0, 1) (or None), got {rtol}")
+        if self.scheme != "b" or self.quadrature != "trapezoid":
+            raise ValueError(
+                f"`rtol` needs the error estimate of the default step (scheme='b', "
+                f"quadrature='trapezoid'), got scheme={self.scheme!r}, "
+                f"quadrature={self.quadrature!r}"
+            )
+        object.__setattr__(self, "rtol", rtol)

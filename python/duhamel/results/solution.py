@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
 
@@ -12,6 +11,7 @@ from numpy.typing import NDArray
 
 from duhamel.results.forces import real_array
 from duhamel.results.outputs import StructuralOutputs
+from duhamel.results.stats import SolveStats, summary
 from duhamel.results.structural import ElementHistory, drifts
 
 __all__ = ["ModalHistory", "Solution", "SolveStats"]
@@ -122,78 +122,6 @@ class ModalHistory:
     def a(self) -> NDArray[np.float64]:
         """Modal accelerations from the modal equations of motion."""
         return self.p + self.pseudo_force - self.c * self.v - self.omega**2 * self.q
-
-
-@dataclass(frozen=True)
-class SolveStats:
-    """Cost of a run.
-
-    Attributes
-    ----------
-    steps : int
-        Time steps taken.
-    wall_time : float
-        Seconds spent in the time loop (Rust, GIL released).
-    total_time : float
-        Seconds for the whole call, modal analysis and back-transformation included.
-    modes : int
-        Modal coordinates integrated (0 for the direct integrators, which step the physical
-        coordinates).
-    newton_iterations : int
-        Newton iterations over the run (nonlinear problems).
-    closed_form_steps : int
-        Steps solved by the closed-form cubic (single-mode polynomial problems).
-    factorizations : int
-        Direct integrators: LU factorisations of the iteration (effective stiffness)
-        matrix over the run; 1 for a linear problem with constant mass (the mass matrix,
-        factorised once for the initial acceleration, is not counted). Semi-analytic
-        integrator: factorisations of the kept (modified Newton) iteration matrix of
-        elements on the exact coupled background; 0 on the other routes.
-    subdivided_steps : int
-        Semi-analytic integrator: steps whose equation did not converge and that were
-        retried in halves (``Semianalytic(subdivisions=...)``); a failed run's ``partial``
-        counts them too (and its Newton iterations), the failing step included.
-    subdivision_depth : int
-        The deepest of those subdivisions: substeps of ``dt / 2**subdivision_depth``.
-    coupling : str or None
-        Semi-analytic integrator: how modal couplings (non-classical damping, gyroscopic
-        and cross-coupled terms) were integrated: "exact" (the first-order modes of the
-        coupled background; element forces, if any, as pseudo-forces on it), or
-        "pseudo-force"; None when there were none (or for a direct integrator).
-    eigenvector_condition : float or None
-        For ``coupling == "exact"``: the 1-norm condition number ``kappa`` of the
-        first-order eigenvector matrix (a few for well-separated modes; the round-off of the
-        run grows like ``kappa^2`` times the unit round-off near a defective system, which
-        is why ``kappa`` above ``duhamel._engine.coupled.CONDITION_LIMIT`` = 1e4 is refused).
-    loop_time : float
-        Seconds in the core's time loop alone, measured in Rust around it (``wall_time``
-        also counts taking the run's inputs into Rust and its history out); ``total_time``
-        minus ``loop_time`` is what the call cost beyond the loop.
-    substeps : int
-        Semi-analytic integrator: internal steps per step of ``dt`` (1 but for a reduced
-        basis with static correction under nonlinear elements, whose correction coordinates
-        are resolved in time, ``omega dt <= 0.5``: see docs/nonlinear.md);
-        ``subdivided_steps`` and ``newton_iterations`` then count internal steps.
-    """
-
-    steps: int
-    wall_time: float
-    total_time: float
-    modes: int
-    newton_iterations: int = 0
-    closed_form_steps: int = 0
-    factorizations: int = 0
-    subdivided_steps: int = 0
-    subdivision_depth: int = 0
-    coupling: str | None = None
-    eigenvector_condition: float | None = None
-    loop_time: float = 0.0
-    substeps: int = 1
-
-    @property
-    def mode_steps_per_second(self) -> float:
-        """Throughput of the time loop: ``steps * modes / wall_time``."""
-        return self.steps * self.modes / self.wall_time if self.wall_time > 0 else float("inf")
 
 
 class Solution(StructuralOutputs):
@@ -394,6 +322,22 @@ class Solution(StructuralOutputs):
         True
         """
         return drifts(self.x, self.dofs, floors, heights)
+
+    def summary(self) -> str:
+        """A few lines on the run: integrator, steps, cost, peak response and the estimated
+        error (``stats.error_estimate``, docs/accuracy.md).
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> system = duhamel.System(np.eye(1), np.eye(1))
+        >>> system.add(duhamel.elements.Cubic(0, k3=4.0))
+        System(n_dof=1, damping='none', loads=0, elements=1)
+        >>> sol = duhamel.solve(system, duhamel.Semianalytic(), t_end=10.0, dt=0.01, x0=[1.0])
+        >>> print(sol.summary().splitlines()[-2])  # doctest: +ELLIPSIS
+        estimated error: ...e-03 of the peak at the saved dofs
+        """
+        return summary(self)
 
     def __repr__(self) -> str:
         return (

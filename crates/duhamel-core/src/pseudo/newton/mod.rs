@@ -9,6 +9,7 @@
 mod cubic;
 mod damping;
 mod few;
+mod hermite;
 mod local;
 mod modal;
 mod one;
@@ -20,6 +21,7 @@ use super::problem::{Options, Solver};
 use super::scheme::{Rule, Scheme, StepInput, Unknown};
 use crate::error::CoreError;
 use few::Few;
+use hermite::Hermite;
 use local::{End, LocalNewton};
 use modal::{Modal, Start};
 use one::OneMode;
@@ -42,6 +44,9 @@ enum Strategy {
     /// The same for two and three modes, on fixed-size arrays ([`few`]).
     TwoModes(Box<Few<2>>),
     ThreeModes(Box<Few<3>>),
+    /// One mode along the Hermite scheme (both halves of the end state unknown), on
+    /// scalars ([`hermite`]).
+    Hermite(Box<Hermite>),
     /// Newton in the elements' space, where the pseudo-force allows it and it is smaller.
     ElementSpace(Box<LocalNewton>),
 }
@@ -76,6 +81,7 @@ impl<'r> StepSolver<'r> {
         let unknown = match (estimate, scheme) {
             (true, _) => Unknown::Both,
             (false, Scheme::A) => Unknown::V1,
+            (false, Scheme::H) => Unknown::Both,
             (false, _) => Unknown::Q1,
         };
         // A node whose state does not depend on the unknowns is evaluated once per step.
@@ -87,7 +93,8 @@ impl<'r> StepSolver<'r> {
                 match unknown {
                     Unknown::Q1 => dqq == 0.0 && (dvq == 0.0 || !pf.uses_velocity),
                     Unknown::V1 => dqv == 0.0 && (dvv == 0.0 || !pf.uses_velocity),
-                    Unknown::Both => false,
+                    // the estimated mass reads the step's acceleration at every node
+                    Unknown::Both => !estimate && node.d == [0.0; 4],
                 }
             })
             .collect();
@@ -102,6 +109,7 @@ impl<'r> StepSolver<'r> {
             tol,
             max_iter,
             linear: pf.linear,
+            acceleration: estimate,
         };
         let local = solver != Solver::ModalNewton
             && unknown != Unknown::Both
@@ -138,6 +146,9 @@ impl<'r> StepSolver<'r> {
             }
             None if local => Strategy::ElementSpace(Box::new(LocalNewton::new(pf, &set, n))),
             None if closed_form => Strategy::ClosedForm(modal()),
+            None if solver != Solver::ModalNewton && Hermite::applies(&set, pf) => {
+                Strategy::Hermite(Box::new(Hermite::new(&set)))
+            }
             // the dense reference stays the generic modal Newton
             None if solver != Solver::ModalNewton && OneMode::applies(&set, pf) => {
                 Strategy::OneMode(OneMode::new(&set))
@@ -194,6 +205,10 @@ impl<'r> StepSolver<'r> {
             Strategy::ThreeModes(few) => {
                 start.known = set.constant[0];
                 return few.solve(set, pf, inp, (q_out, v_out), &mut start.values);
+            }
+            Strategy::Hermite(one) => {
+                start.known = set.constant[0];
+                return one.solve(set, pf, inp, (q_out, v_out), &mut start.values[0]);
             }
             Strategy::ElementSpace(newton) => {
                 // A constant first node is the start state itself (see Modal::solve).

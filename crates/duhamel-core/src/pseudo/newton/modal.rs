@@ -161,7 +161,7 @@ impl Modal {
             } else {
                 None
             };
-            let a = (set.unknown == Unknown::Both).then_some(&self.acc[..]);
+            let a = set.acceleration.then_some(&self.acc[..]);
             let at = At {
                 q: &self.qn,
                 v: &self.vn,

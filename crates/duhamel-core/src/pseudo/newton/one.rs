@@ -23,7 +23,7 @@ const NODES: usize = 4;
 /// `dQ/dq`, `dQ/dv` when `tangent`: [`PseudoForce::eval`]'s arithmetic for `n = 1` without
 /// mass law or couplings (the sums in its order, from its zero).
 #[inline(always)]
-fn force(
+pub(super) fn force(
     space: &mut ElementSpace,
     (q, v, t): (f64, f64, f64),
     tangent: bool,

@@ -22,4 +22,7 @@ pub(super) struct Setting<'r> {
     pub max_iter: usize,
     /// The step equation is linear (affine pseudo-force): one Newton step is exact.
     pub linear: bool,
+    /// The pseudo-force reads the step's acceleration estimate `(v1 - v0)/dt` (an estimated
+    /// mass law).
+    pub acceleration: bool,
 }

@@ -1,0 +1,153 @@
+"""The error estimate of semi-analytic runs (issue 41): its cost against the run itself, and
+(``--table``) the table of docs/accuracy.md, estimate against true error.
+
+Each case is solved repeatedly; the time of ``duhamel._engine.accuracy.attach_estimate``
+(timed around the call) is compared with the whole ``duhamel.solve`` call, both in process
+CPU time (``time.process_time``: less sensitive to other processes than wall time), the
+minimum over the repeats. Run: ``python benchmarks/error_estimate.py [--table]`` (record
+the load average with the numbers). The references of the table: the exact ``cn`` solution
+(Duffing), DOP853 at ``rtol = 1e-12`` restarted at every record sample (cubic SDOF), the
+same run at ``dt / 64`` (the others).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+import warnings
+
+import numpy as np
+
+import duhamel
+import duhamel._engine.accuracy as accuracy
+import duhamel._engine.modal as modal
+
+_SPENT: list[float] = []
+_ATTACH = accuracy.attach_estimate
+
+
+def _timed(*args, **kwargs):
+    t0 = time.process_time()
+    _ATTACH(*args, **kwargs)
+    _SPENT.append(time.process_time() - t0)
+
+
+def _duffing() -> duhamel.System:
+    system = duhamel.System(np.eye(1), np.array([[1.0]]))
+    system.add(duhamel.elements.Cubic(0, k3=4.0))
+    return system
+
+
+def _frame(n: int = 60) -> duhamel.System:
+    k = 400.0 * (2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1))
+    k[-1, -1] = 400.0
+    t = np.arange(0.0, 20.0 + 0.005, 0.01)
+    system = duhamel.System(np.eye(n), k, zeta=0.03)
+    system.add(duhamel.elements.Bilinear(0, k=300.0, fy=3.0, alpha=0.1))
+    system.add(duhamel.elements.Cubic(n // 2, k3=2e3))
+    system.add_load(duhamel.loads.BaseAcceleration(np.ones(n), t, np.sin(5.0 * t)))
+    return system
+
+
+def main(repeats: int = 7) -> None:
+    modal.attach_estimate = _timed
+    warnings.simplefilter("ignore", duhamel.AccuracyWarning)
+    cases = (
+        ("Duffing, 100 periods, 200 steps a period", _duffing, dict(
+            t_end=200 * np.pi, dt=2 * np.pi / 200, x0=[1.0])),
+        ("60-dof frame, bilinear + cubic, 2,000 steps", _frame, dict(t_end=20.0, dt=0.01)),
+    )  # fmt: skip
+    print(f"load average {os.getloadavg()}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
+    for name, make, kw in cases:
+        runs, spent = [], []
+        for _ in range(repeats):
+            _SPENT.clear()
+            t0 = time.process_time()
+            duhamel.solve(make(), duhamel.Semianalytic(), **kw)
+            runs.append(time.process_time() - t0)
+            spent.append(_SPENT[0])
+        run, est = min(runs), min(spent)
+        print(f"{name}: solve {run * 1e3:.2f} ms, estimate {est * 1e3:.2f} ms "
+              f"({100 * est / run:.1f} % of the call)")  # fmt: skip
+
+
+def _row(name: str, error: float, sol: duhamel.Solution, element: float | None = None) -> None:
+    est = sol.stats.error_estimate
+    line = f"| {name} | {error:.2e} | {est:.2e} | {est / error:.1f} |"
+    if element is None:
+        line += " |"
+    else:
+        worst = max(sol.stats.element_error_estimate)
+        line += f" {element:.2e} / {worst:.2e} ({worst / element:.1f}) |"
+    print(line + f" {sol.stats.subdivided_steps} |")
+
+
+def table() -> None:
+    """The rows of docs/accuracy.md's table."""
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests"))
+    from test_accuracy_estimate import (  # the test family
+        B3,
+        _cubic_reference,
+        _duffing,
+        _record,
+        _sdof,
+        _stiff,
+    )
+
+    warnings.simplefilter("ignore", duhamel.AccuracyWarning)
+    print("| case | true error | estimate | ratio | elements: true / estimate (ratio) | "
+          "subdivided steps |\n|---|---|---|---|---|---|")  # fmt: skip
+    for n in (50, 100, 200, 400):
+        error, sol = _duffing(n)
+        _row(f"Duffing, 10 periods, {n} steps a period", error, sol)
+    t_rec, ag = _record()
+    x_ref = _cubic_reference(t_rec, ag)
+
+    def scaled(x: np.ndarray, ref: np.ndarray) -> float:
+        return float(np.max(np.abs(x - ref)) / np.max(np.abs(ref)))
+
+    def make_cubic():
+        return _sdof(t_rec, ag, duhamel.elements.Cubic(0, k3=B3))
+
+    def make_bilinear():
+        k0 = 3 * (2 * np.pi) ** 2
+        return _sdof(t_rec, ag, duhamel.elements.Bilinear(0, k=k0, fy=0.015 * k0, alpha=0.05))
+
+    for k in (1, 2, 4, 8):
+        sol = duhamel.solve(make_cubic(), duhamel.Semianalytic(), t_end=t_rec[-1], dt=0.02 / k)
+        _row(f"cubic SDOF, record, dt = 0.02/{k}", scaled(sol.x[::k, 0], x_ref), sol)
+    cases = (
+        ("bilinear SDOF, record", make_bilinear, 0.02, t_rec[-1], {}),
+        ("5-dof frame, bilinear + cubic, record", _frame5, 0.02, 8.0, {}),
+        ("stiff cubic (omega_c dt = 1 at dt = 0.01)", _stiff, 0.01, 2.0, {"x0": [1.0]}),
+    )
+    for name, make, dt, t_end, kw in cases:
+        ref = duhamel.solve(make(), duhamel.Semianalytic(), t_end=t_end, dt=dt / 64, **kw)
+        for k in (1, 2, 4, 8, 16):
+            sol = duhamel.solve(make(), duhamel.Semianalytic(), t_end=t_end, dt=dt / k, **kw)
+            step = 64 // k
+            element = max(
+                scaled(a.deformation, b.deformation[::step])
+                for a, b in zip(sol.elements, ref.elements, strict=True)
+            )
+            _row(f"{name}, dt = {dt}/{k}", scaled(sol.x, ref.x[::step]), sol, element)
+
+
+def _frame5() -> duhamel.System:
+    n = 5
+    t = np.arange(0.0, 8.0 + 0.01, 0.02)
+    rng = np.random.default_rng(7)
+    ag = 3.0 * np.sin(5.0 * t) * np.exp(-0.3 * t) + rng.normal(0.0, 0.8, t.size)
+    ag[0] = 0.0
+    k = 400.0 * (2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1))
+    k[-1, -1] = 400.0
+    system = duhamel.System(np.eye(n), k, zeta=0.03)
+    system.add(duhamel.elements.Bilinear(0, k=300.0, fy=3.0, alpha=0.1))
+    system.add(duhamel.elements.Cubic(3, k3=2e3))
+    system.add_load(duhamel.loads.BaseAcceleration(np.ones(n), t, ag))
+    return system
+
+
+if __name__ == "__main__":
+    table() if "--table" in sys.argv else main()
