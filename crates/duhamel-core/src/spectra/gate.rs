@@ -172,8 +172,8 @@ pub(super) const BLOCK: usize = 8;
 /// place), and the blocks of [`BLOCK`] steps that pass a cheap gate against the peaks so
 /// far; returns those (their first step and the states there) and the final states.
 ///
-/// The gate is [`Lanes::gate`] over a block: the largest ends and amplitude of `x''` of the
-/// block's steps, the quantities' gaps to their peaks over the bounds' factors, with a
+/// The gate is [`Lanes::gate`] over a block: the largest ends of the block's steps and a
+/// bound of their amplitudes of `x''` (from the largest of each of its two terms), the quantities' gaps to their peaks over the bounds' factors, with a
 /// margin for the rearrangement's rounding, so it lets go only blocks none of whose steps
 /// [`Lanes::gate`] would keep. Per step that is a few maxima beside the recurrence (whose
 /// chain of fused multiply-adds sets the pace); every coefficient is a local array and each
@@ -200,34 +200,47 @@ pub(super) fn first_pass(
     let wide = o.h2 * (1.0 + 1e-6);
     let inv_h = 1.0 / h;
     let mut cands = Vec::new();
-    let (mut x, mut v, mut s) = ([0.0f64; LANES], [0.0f64; LANES], [0.0f64; LANES]);
+    // The lanes' x, x', k x + c x'.
+    let mut st = [[0.0f64; LANES]; 3];
+    // One step of every lane: the recurrence, then the block's largest |x|, |x'|,
+    // |k x + c x'|, and, at the step's start, |x''| and |x''' + sigma x''| (the two terms of
+    // the squared amplitude of x'', the second over `wd`), in `m`.
+    let step = |p0: f64, p1: f64, [x, v, s]: &mut [[f64; LANES]; 3], m: &mut [[f64; LANES]; 5]| {
+        let r = (p1 - p0) * inv_h;
+        for l in 0..LANES {
+            let (x0, v0) = (x[l], v[l]);
+            let xn = a00[l].mul_add(x0, a01[l].mul_add(v0, b0x[l].mul_add(p0, b1x[l] * p1)));
+            let vn = a10[l].mul_add(x0, a11[l].mul_add(v0, b0v[l].mul_add(p0, b1v[l] * p1)));
+            let sn = k[l].mul_add(xn, c[l] * vn);
+            let a0 = p0 - s[l];
+            let j = (-sigma[l]).mul_add(a0, (-k[l]).mul_add(v0, r));
+            m[0][l] = larger(m[0][l], xn.abs());
+            m[1][l] = larger(m[1][l], vn.abs());
+            m[2][l] = larger(m[2][l], sn.abs());
+            m[3][l] = larger(m[3][l], a0.abs());
+            m[4][l] = larger(m[4][l], j.abs());
+            (x[l], v[l], s[l]) = (xn, vn, sn);
+        }
+    };
     let steps = acc.len() - 1;
     for start in (0..steps).step_by(BLOCK) {
-        let (xs, vs) = (x, v);
-        // The block's largest |x|, |x'|, |k x + c x'| (its first step's start included) and
-        // squared amplitude of x''.
-        let (mut mx, mut mv, mut ms, mut ma) =
-            ([0.0; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
+        let [xs, vs, ss] = st;
+        let mut m = [[0.0; LANES]; 5];
         for l in 0..LANES {
-            (mx[l], mv[l], ms[l]) = (x[l].abs(), v[l].abs(), s[l].abs());
+            (m[0][l], m[1][l], m[2][l]) = (xs[l].abs(), vs[l].abs(), ss[l].abs());
         }
-        for n in start..steps.min(start + BLOCK) {
-            let (p0, p1) = (-acc[n], -acc[n + 1]);
-            let r = (p1 - p0) * inv_h;
-            for l in 0..LANES {
-                let (x0, v0) = (x[l], v[l]);
-                let xn = a00[l].mul_add(x0, a01[l].mul_add(v0, b0x[l].mul_add(p0, b1x[l] * p1)));
-                let vn = a10[l].mul_add(x0, a11[l].mul_add(v0, b0v[l].mul_add(p0, b1v[l] * p1)));
-                let sn = k[l].mul_add(xn, c[l] * vn);
-                let a0 = p0 - s[l];
-                let q = (-sigma[l]).mul_add(a0, (-k[l]).mul_add(v0, r)) * iw[l];
-                ma[l] = larger(ma[l], a0.mul_add(a0, q * q));
-                mx[l] = larger(mx[l], xn.abs());
-                mv[l] = larger(mv[l], vn.abs());
-                ms[l] = larger(ms[l], sn.abs());
-                (x[l], v[l], s[l]) = (xn, vn, sn);
+        if start + BLOCK <= steps {
+            // A whole block: a constant trip count, so the compiler unrolls it.
+            let block = &acc[start..start + BLOCK + 1];
+            for i in 0..BLOCK {
+                step(-block[i], -block[i + 1], &mut st, &mut m);
+            }
+        } else {
+            for pair in acc[start..].windows(2) {
+                step(-pair[0], -pair[1], &mut st, &mut m);
             }
         }
+        let [mx, mv, ms, ma, mj] = m;
         let mut hit = false;
         for l in 0..LANES {
             px[l] = larger(px[l], mx[l]);
@@ -237,7 +250,8 @@ pub(super) fn first_pass(
             let gv = (pv[l] - mv[l]) * i1[l];
             let ga = (pa[l] - ms[l]) * i2[l];
             let g = smaller(gx, smaller(gv, ga));
-            hit |= g * g.abs() <= ma[l] * wide;
+            let q = mj[l] * iw[l];
+            hit |= g * g.abs() <= ma[l].mul_add(ma[l], q * q) * wide;
         }
         if hit {
             cands.push(Candidate {
@@ -247,5 +261,5 @@ pub(super) fn first_pass(
             });
         }
     }
-    (cands, x, v)
+    (cands, st[0], st[1])
 }
