@@ -173,11 +173,12 @@ pub(super) const BLOCK: usize = 8;
 /// far; returns those (their first step and the states there) and the final states.
 ///
 /// The gate is [`Lanes::gate`] over a block: the largest ends of the block's steps and a
-/// bound of their amplitudes of `x''` (from the largest of each of its two terms), the quantities' gaps to their peaks over the bounds' factors, with a
-/// margin for the rearrangement's rounding, so it lets go only blocks none of whose steps
-/// [`Lanes::gate`] would keep. Per step that is a few maxima beside the recurrence (whose
-/// chain of fused multiply-adds sets the pace); every coefficient is a local array and each
-/// loop over the lanes has a constant trip count, so the state stays in registers.
+/// bound of their amplitudes of `x''` (from the largest of its terms), the quantities' gaps
+/// to their peaks over the bounds' factors, with a margin for the rearrangement's rounding,
+/// so it lets go only blocks none of whose steps [`Lanes::gate`] would keep. Per step that
+/// is a few maxima beside the recurrence (whose chain of fused multiply-adds sets the pace);
+/// every coefficient is a local array and each loop over the lanes has a constant trip
+/// count, so the state stays in registers.
 #[allow(clippy::type_complexity)]
 pub(super) fn first_pass(
     acc: &[f64],
@@ -203,29 +204,29 @@ pub(super) fn first_pass(
     // The lanes' x, x', k x + c x'.
     let mut st = [[0.0f64; LANES]; 3];
     // One step of every lane: the recurrence, then the block's largest |x|, |x'|,
-    // |k x + c x'|, and, at the step's start, |x''| and |x''' + sigma x''| (the two terms of
-    // the squared amplitude of x'', the second over `wd`), in `m`.
-    let step = |p0: f64, p1: f64, [x, v, s]: &mut [[f64; LANES]; 3], m: &mut [[f64; LANES]; 5]| {
-        let r = (p1 - p0) * inv_h;
+    // |k x + c x'| and |x''| at the step's start, in `m`. The other term of the squared
+    // amplitude of x'', |x''' + sigma x''| / wd = |r - sigma x'' - k x'| / wd, is bounded at
+    // the block's end from the largest |r| (`mr`, the same for every lane), |x''| and |x'|:
+    // no arithmetic per lane and step beyond the sampled loop's but the maxima.
+    let step = |p0: f64, p1: f64, [x, v, s]: &mut [[f64; LANES]; 3], m: &mut [[f64; LANES]; 4]| {
         for l in 0..LANES {
             let (x0, v0) = (x[l], v[l]);
             let xn = a00[l].mul_add(x0, a01[l].mul_add(v0, b0x[l].mul_add(p0, b1x[l] * p1)));
             let vn = a10[l].mul_add(x0, a11[l].mul_add(v0, b0v[l].mul_add(p0, b1v[l] * p1)));
             let sn = k[l].mul_add(xn, c[l] * vn);
             let a0 = p0 - s[l];
-            let j = (-sigma[l]).mul_add(a0, (-k[l]).mul_add(v0, r));
             m[0][l] = larger(m[0][l], xn.abs());
             m[1][l] = larger(m[1][l], vn.abs());
             m[2][l] = larger(m[2][l], sn.abs());
             m[3][l] = larger(m[3][l], a0.abs());
-            m[4][l] = larger(m[4][l], j.abs());
             (x[l], v[l], s[l]) = (xn, vn, sn);
         }
     };
     let steps = acc.len() - 1;
     for start in (0..steps).step_by(BLOCK) {
         let [xs, vs, ss] = st;
-        let mut m = [[0.0; LANES]; 5];
+        let mut m = [[0.0; LANES]; 4];
+        let mut mr = 0.0f64;
         for l in 0..LANES {
             (m[0][l], m[1][l], m[2][l]) = (xs[l].abs(), vs[l].abs(), ss[l].abs());
         }
@@ -233,14 +234,17 @@ pub(super) fn first_pass(
             // A whole block: a constant trip count, so the compiler unrolls it.
             let block = &acc[start..start + BLOCK + 1];
             for i in 0..BLOCK {
+                mr = larger(mr, (block[i] - block[i + 1]).abs());
                 step(-block[i], -block[i + 1], &mut st, &mut m);
             }
         } else {
             for pair in acc[start..].windows(2) {
+                mr = larger(mr, (pair[0] - pair[1]).abs());
                 step(-pair[0], -pair[1], &mut st, &mut m);
             }
         }
-        let [mx, mv, ms, ma, mj] = m;
+        let [mx, mv, ms, ma] = m;
+        let mr = mr * inv_h;
         let mut hit = false;
         for l in 0..LANES {
             px[l] = larger(px[l], mx[l]);
@@ -250,7 +254,7 @@ pub(super) fn first_pass(
             let gv = (pv[l] - mv[l]) * i1[l];
             let ga = (pa[l] - ms[l]) * i2[l];
             let g = smaller(gx, smaller(gv, ga));
-            let q = mj[l] * iw[l];
+            let q = sigma[l].mul_add(ma[l], k[l].mul_add(mv[l], mr)) * iw[l];
             hit |= g * g.abs() <= ma[l].mul_add(ma[l], q * q) * wide;
         }
         if hit {
