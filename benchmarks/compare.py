@@ -553,10 +553,13 @@ def _other_cases(tmp):
         periods = np.geomspace(0.05, 5.0, 9)
         rs = response_spectrum([GroundMotion(a1, dt), GroundMotion(a2, dt)], periods,
                                [0.0, 0.05, 0.2])  # fmt: skip
+        ex = response_spectrum([GroundMotion(a1, dt), GroundMotion(a2, dt)], periods,
+                               [0.0, 0.05, 0.2], peaks="exact")  # fmt: skip
         r = rotd(GroundMotion(a1, dt), GroundMotion(a2, dt), periods, percentiles=(0, 50, 100))
         ds = ductility_spectrum(GroundMotion(a1, dt), periods[::2], ductility=[1.0, 2.0, 4.0],
                                 alpha=0.02)  # fmt: skip
-        return {"rs.sd": rs.sd, "rs.sv": rs.sv, "rs.sa": rs.sa, "rotd.sd": r.sd,
+        return {"rs.sd": rs.sd, "rs.sv": rs.sv, "rs.sa": rs.sa, "exact.sd": ex.sd,
+                "exact.sv": ex.sv, "exact.sa": ex.sa, "rotd.sd": r.sd,
                 "rotd.peaks": r.peaks, "ductility.uy": ds.uy,
                 "ductility.elastic_sd": ds.elastic_sd}  # fmt: skip
 

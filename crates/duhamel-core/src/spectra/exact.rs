@@ -8,17 +8,19 @@
 //! of `f` is a root of `g`; the zeros of `g'` (closed form) split the step into pieces on which
 //! `g` is monotone, each with at most one root, found by a safeguarded Newton iteration; `f`
 //! there is then evaluated with the oscillator's exact step matrices over the fraction of the
-//! step. The sampled response is computed first (the sampled spectra's loop, the states
-//! kept) with its peaks; an interior value counts only if it exceeds those, the largest of
-//! the record, so a step is searched only when a bound says it may: a cheap gate
-//! `|f| <= max(|f0|, |f1|) + h^2/8 max|f''|` (`|f''|` bounded by the amplitude of `x''`, a
-//! damped sinusoid under a linear load, times 1, `omega` or `omega^2 + 2 zeta omega^2`), then
-//! the free part's amplitude. The bounds of different steps are independent (no chain from
-//! step to step), so their loop runs at the vector units' throughput.
+//! step. The sampled response and its peaks come first; an interior value counts only if it
+//! exceeds those, the largest of the record, so a step is searched only when a bound says it
+//! may: a cheap gate `|f| <= max(|f0|, |f1|) + h^2/8 max|f''|` (`|f''|` bounded by the
+//! amplitude of `x''`, a damped sinusoid under a linear load, times 1, `omega` or `omega^2 +
+//! 2 zeta omega^2`), then the free part's amplitude. The sampled recurrence and a blockwise
+//! form of the gate against the peaks so far share one pass over the record, no state
+//! stored ([`super::gate`]): the gate's arithmetic does not feed the recurrence's chain,
+//! so it runs in that chain's latency. Only the blocks it keeps are gone over again.
 //! Underdamped oscillators (`zeta < 1`) only.
 
 use super::common::{check, map_tasks, Record, Step};
 use super::elastic::{Peaks, LANES};
+use super::gate::{first_pass, larger, Candidate, Lanes, BLOCK};
 use super::inside::{Osc, Search};
 use crate::error::CoreError;
 
@@ -129,63 +131,21 @@ impl Bound {
     }
 }
 
-/// `max(m, y)` without `f64::max`'s NaN rule (a NaN is caught by the final check).
-#[inline(always)]
-fn larger(m: f64, y: f64) -> f64 {
-    if y > m {
-        y
-    } else {
-        m
-    }
-}
-
-/// `min(m, y)` as a select (see [`larger`]).
-#[inline(always)]
-fn smaller(m: f64, y: f64) -> f64 {
-    if y < m {
-        y
-    } else {
-        m
-    }
-}
-
-/// The lanes' sampled states over `acc` (from rest), one row per sample.
-#[allow(clippy::type_complexity)]
-fn sampled(
-    acc: &[f64],
-    [[a00, a01], [a10, a11]]: [[[f64; LANES]; 2]; 2],
-    (b0x, b0v, b1x, b1v): ([f64; LANES], [f64; LANES], [f64; LANES], [f64; LANES]),
-) -> (Vec<[f64; LANES]>, Vec<[f64; LANES]>) {
-    // Written in place (no growth inside the loop: the lanes stay in registers).
-    let mut xs = vec![[0.0; LANES]; acc.len()];
-    let mut vs = vec![[0.0; LANES]; acc.len()];
-    let (mut x, mut v) = ([0.0; LANES], [0.0; LANES]);
-    for ((pair, xo), vo) in acc.windows(2).zip(&mut xs[1..]).zip(&mut vs[1..]) {
-        let (p0, p1) = (-pair[0], -pair[1]);
-        for l in 0..LANES {
-            let (x0, v0) = (x[l], v[l]);
-            x[l] = a00[l].mul_add(x0, a01[l].mul_add(v0, b0x[l].mul_add(p0, b1x[l] * p1)));
-            v[l] = a10[l].mul_add(x0, a11[l].mul_add(v0, b0v[l].mul_add(p0, b1v[l] * p1)));
-        }
-        *xo = x;
-        *vo = v;
-    }
-    (xs, vs)
-}
-
 /// Exact peaks `[sd, sv, sa]` of the lanes `o` (`None`: a padding lane, at rest) over
 /// `acc`, and whether the final states are finite.
 ///
-/// The step and the bounds run over all lanes branch-free (they vectorise, as the sampled
-/// spectra's loop); the search runs for the lanes whose bound may exceed their peak.
+/// One pass over the record runs the sampled spectra's recurrence with its peaks and gates
+/// blocks of steps against the peaks so far ([`first_pass`]; below the record's, so a block
+/// it lets go has no step that could exceed the final ones). The steps of the blocks it keeps
+/// are then gated again one by one against the record's sampled peaks (raised by each
+/// search, in time order), scored and searched for the lanes whose bounds may exceed their
+/// peaks: the steps, order and peaks of a pass over every step with the states kept.
 fn run(
     acc: &[f64],
     h: f64,
     o: &[Option<Osc>; LANES],
     steps: &[Step; LANES],
 ) -> ([[f64; 3]; LANES], bool) {
-    let [[a00, a01], [a10, a11]] = transpose_a(steps);
-    let (b0x, b0v, b1x, b1v) = transpose_b(steps);
     let mut bound = [Bound::default(); LANES];
     for (b, ol) in bound.iter_mut().zip(o) {
         if let Some(ol) = ol {
@@ -200,122 +160,58 @@ fn run(
         }
         out
     };
-    let (k, c, sigma) = (lane(|b| b.k), lane(|b| b.c), lane(|b| b.sigma));
-    let (iw, ik) = (lane(|b| b.inv_wd), lane(|b| b.inv_k));
-    let (f1, f2) = (lane(|b| b.f1), lane(|b| b.f2));
+    let (b0x, b0v, b1x, b1v) = transpose_b(steps);
     let h2 = (h * h / 8.0 * (1.0 + 1e-9)).powi(2);
-    // First the sampled response and its peaks (the sampled spectra's loop, its states
-    // kept); then each step's bounds against those peaks, the largest of the record, which
-    // an interior value must exceed to count: few steps are searched, and the bounds of
-    // different steps are independent (no chain from step to step, unlike the first loop).
-    let (xs, vs) = sampled(acc, [[a00, a01], [a10, a11]], (b0x, b0v, b1x, b1v));
-    let (mut px, mut pv, mut pa) = ([0.0f64; LANES], [0.0f64; LANES], [0.0f64; LANES]);
-    for (x, v) in xs.iter().zip(&vs) {
-        for l in 0..LANES {
-            px[l] = larger(px[l], x[l].abs());
-            pv[l] = larger(pv[l], v[l].abs());
-            pa[l] = larger(pa[l], k[l].mul_add(x[l], c[l] * v[l]).abs());
-        }
-    }
+    let lanes = Lanes {
+        a: transpose_a(steps),
+        b: [b0x, b0v, b1x, b1v],
+        k: lane(|b| b.k),
+        c: lane(|b| b.c),
+        sigma: lane(|b| b.sigma),
+        iw: lane(|b| b.inv_wd),
+        ik: lane(|b| b.inv_k),
+        f1: lane(|b| b.f1),
+        f2: lane(|b| b.f2),
+        h2,
+    };
     // Padding lanes (at rest) never need a search: an infinite peak (reset below).
+    let mut pk = [[0.0f64; LANES]; 3];
     for (l, ol) in o.iter().enumerate() {
         if ol.is_none() {
-            (px[l], pv[l], pa[l]) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
-        }
-    }
-    let mut search = Search::new();
-    for (n, pair) in acc.windows(2).enumerate() {
-        let (p0, p1) = (-pair[0], -pair[1]);
-        let r = (p1 - p0) / h;
-        let (x0s, v0s, xns, vns) = (xs[n], vs[n], xs[n + 1], vs[n + 1]);
-        // A cheap gate first: the ends plus `h^2/8` times the bound of the second
-        // derivative (the first of the two bounds below, which both must pass).
-        let mut gate = [0.0f64; LANES];
-        for l in 0..LANES {
-            let (x0, v0, xn, vn) = (x0s[l], v0s[l], xns[l], vns[l]);
-            let (kl, cl, sl, iwl) = (k[l], c[l], sigma[l], iw[l]);
-            let a0 = p0 - cl * v0 - kl * x0;
-            let q = (r - cl * a0 - kl * v0 + sl * a0) * iwl;
-            let amp2 = a0.mul_add(a0, q * q) * h2;
-            let excess = |gap: f64, r2: f64| r2 - gap * gap.abs();
-            let big = |a: f64, b: f64| larger(a.abs(), b.abs());
-            let s0 = kl.mul_add(x0, cl * v0);
-            let s1 = kl.mul_add(xn, cl * vn);
-            gate[l] = larger(
-                excess(px[l] - big(x0, xn), amp2),
-                larger(
-                    excess(pv[l] - big(v0, vn), amp2 * f1[l] * f1[l]),
-                    excess(pa[l] - big(s0, s1), amp2 * f2[l] * f2[l]),
-                ),
-            );
-        }
-        if gate.iter().fold(f64::NEG_INFINITY, |m, y| larger(m, *y)) < 0.0 {
-            continue;
-        }
-        let mut score = [0.0f64; LANES];
-        for l in 0..LANES {
-            let (x0, v0, xn, vn) = (x0s[l], v0s[l], xns[l], vns[l]);
-            // Bound::flags as one number per lane, >= 0 where a quantity may exceed its
-            // peak (min of its two bounds' excesses, max over the quantities): selects
-            // and arithmetic only, so the lanes' loop vectorises.
-            let (kl, cl, sl, iwl, ikl) = (k[l], c[l], sigma[l], iw[l], ik[l]);
-            let s0 = kl.mul_add(x0, cl * v0);
-            let s1 = kl.mul_add(xn, cl * vn);
-            let a0 = p0 - cl * v0 - kl * x0;
-            let q = (r - cl * a0 - kl * v0 + sl * a0) * iwl;
-            let amp2 = a0.mul_add(a0, q * q) * h2;
-            let vp = r * ikl;
-            let xp0 = (p0 - cl * vp) * ikl;
-            let xp1 = xp0 + vp * h;
-            let cx = x0 - xp0;
-            let dx = (v0 - vp + sl * cx) * iwl;
-            let pvl = v0 - vp;
-            let qv = (a0 + sl * pvl) * iwl;
-            let (ps, qs) = (kl.mul_add(cx, cl * pvl), kl.mul_add(dx, cl * qv));
-            let sp = cl * vp;
-            let excess = |gap: f64, r2: f64| r2 - gap * gap.abs();
-            let big = |a: f64, b: f64| larger(a.abs(), b.abs());
-            let ex = smaller(
-                excess(px[l] - big(x0, xn), amp2),
-                excess(
-                    px[l] * (1.0 - 1e-9) - big(xp0, xp1),
-                    cx.mul_add(cx, dx * dx),
-                ),
-            );
-            let ev = smaller(
-                excess(pv[l] - big(v0, vn), amp2 * f1[l] * f1[l]),
-                excess(pv[l] * (1.0 - 1e-9) - vp.abs(), pvl.mul_add(pvl, qv * qv)),
-            );
-            let es = smaller(
-                excess(pa[l] - big(s0, s1), amp2 * f2[l] * f2[l]),
-                excess(
-                    pa[l] * (1.0 - 1e-9) - big(kl * xp0 + sp, kl * xp1 + sp),
-                    ps.mul_add(ps, qs * qs),
-                ),
-            );
-            score[l] = larger(ex, larger(ev, es));
-        }
-        if score.iter().fold(f64::NEG_INFINITY, |m, y| larger(m, *y)) >= 0.0 {
-            for l in 0..LANES {
-                if let (Some(ol), true) = (&o[l], score[l] >= 0.0) {
-                    let mut pk = [px[l], pv[l], pa[l]];
-                    let (x0, v0, xn, vn) = (x0s[l], v0s[l], xns[l], vns[l]);
-                    let f = bound[l].flags((h, h2), (x0, v0), (xn, vn), (p0, r), pk);
-                    search.step(ol, h, ((x0, v0), (xn, vn)), (p0, p1), f, &mut pk);
-                    [px[l], pv[l], pa[l]] = pk;
-                }
+            for q in &mut pk {
+                q[l] = f64::INFINITY;
             }
         }
     }
-    for (l, ol) in o.iter().enumerate() {
-        if ol.is_none() {
-            (px[l], pv[l], pa[l]) = (0.0, 0.0, 0.0);
+    let (cands, x, v) = first_pass(acc, h, &lanes, &mut pk);
+    let mut search = Search::new();
+    for Candidate { n: start, x, v } in &cands {
+        let (mut x0s, mut v0s) = (*x, *v);
+        for n in *start..(acc.len() - 1).min(start + BLOCK) {
+            let (p0, p1) = (-acc[n], -acc[n + 1]);
+            let r = (p1 - p0) / h;
+            let [xns, vns] = lanes.advance(&x0s, &v0s, p0, p1);
+            let (start, end) = ([&x0s, &v0s], [&xns, &vns]);
+            if lanes.gate(start, end, (p0, r), &pk) {
+                let score = lanes.score(h, start, end, (p0, r), &pk);
+                for l in 0..LANES {
+                    if let (Some(ol), true) = (&o[l], score[l] >= 0.0) {
+                        let mut peak = [pk[0][l], pk[1][l], pk[2][l]];
+                        let (x0, v0, xn, vn) = (x0s[l], v0s[l], xns[l], vns[l]);
+                        let f = bound[l].flags((h, h2), (x0, v0), (xn, vn), (p0, r), peak);
+                        search.step(ol, h, ((x0, v0), (xn, vn)), (p0, p1), f, &mut peak);
+                        [pk[0][l], pk[1][l], pk[2][l]] = peak;
+                    }
+                }
+            }
+            (x0s, v0s) = (xns, vns);
         }
     }
-    let (x, v) = (xs[xs.len() - 1], vs[vs.len() - 1]);
     let mut peak = [[0.0; 3]; LANES];
-    for (l, pk) in peak.iter_mut().enumerate() {
-        *pk = [px[l], pv[l], pa[l]];
+    for (l, p) in peak.iter_mut().enumerate() {
+        if o[l].is_some() {
+            *p = [pk[0][l], pk[1][l], pk[2][l]];
+        }
     }
     let finite = x
         .iter()

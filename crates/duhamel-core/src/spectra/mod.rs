@@ -19,6 +19,7 @@
 mod common;
 pub mod elastic;
 pub mod exact;
+mod gate;
 pub mod inelastic;
 mod inside;
 pub mod rotd;

@@ -1,0 +1,269 @@
+//! The bounds that decide which steps of an exact-peak spectrum ([`super::exact`]) are
+//! searched between the samples: one pass over the record with the sampled recurrence, its
+//! peaks and a cheap gate per block of steps ([`first_pass`]), then, for the blocks that
+//! pass, the gate and the score of each step ([`Lanes::gate`], [`Lanes::score`]).
+
+use super::elastic::LANES;
+
+/// `max(m, y)` without `f64::max`'s NaN rule (a NaN is caught by the final check).
+#[inline(always)]
+pub(super) fn larger(m: f64, y: f64) -> f64 {
+    if y > m {
+        y
+    } else {
+        m
+    }
+}
+
+/// `min(m, y)` as a select (see [`larger`]).
+#[inline(always)]
+pub(super) fn smaller(m: f64, y: f64) -> f64 {
+    if y < m {
+        y
+    } else {
+        m
+    }
+}
+
+/// The lanes' constants: the step (structure of arrays) and the bounds'.
+pub(super) struct Lanes {
+    pub(super) a: [[[f64; LANES]; 2]; 2],
+    /// `(b0 x, b0 v, b1 x, b1 v)`.
+    pub(super) b: [[f64; LANES]; 4],
+    pub(super) k: [f64; LANES],
+    pub(super) c: [f64; LANES],
+    pub(super) sigma: [f64; LANES],
+    pub(super) iw: [f64; LANES],
+    pub(super) ik: [f64; LANES],
+    pub(super) f1: [f64; LANES],
+    pub(super) f2: [f64; LANES],
+    /// `(h^2 / 8)^2`, with a margin.
+    pub(super) h2: f64,
+}
+
+impl Lanes {
+    /// The lanes' state after the step from `(x, v)` under `p0 -> p1`: the sampled spectra's
+    /// expression, so both passes over a step (and the sampled spectra) agree to the bit.
+    #[inline(always)]
+    pub(super) fn advance(
+        &self,
+        x: &[f64; LANES],
+        v: &[f64; LANES],
+        p0: f64,
+        p1: f64,
+    ) -> [[f64; LANES]; 2] {
+        let [[a00, a01], [a10, a11]] = &self.a;
+        let [b0x, b0v, b1x, b1v] = &self.b;
+        let (mut xn, mut vn) = ([0.0; LANES], [0.0; LANES]);
+        for l in 0..LANES {
+            let (x0, v0) = (x[l], v[l]);
+            xn[l] = a00[l].mul_add(x0, a01[l].mul_add(v0, b0x[l].mul_add(p0, b1x[l] * p1)));
+            vn[l] = a10[l].mul_add(x0, a11[l].mul_add(v0, b0v[l].mul_add(p0, b1v[l] * p1)));
+        }
+        [xn, vn]
+    }
+
+    /// The cheap gate of a step from `(x0, v0)` to `(xn, vn)` against the peaks `pk`: whether
+    /// in some lane a quantity's ends plus `h^2/8` times the bound of its second derivative
+    /// reach its peak (the first of the two bounds of `exact::Bound::flags`). Monotone in `pk`: a
+    /// step that fails against some peaks fails against larger ones.
+    #[inline(always)]
+    pub(super) fn gate(
+        &self,
+        [x0s, v0s]: [&[f64; LANES]; 2],
+        [xns, vns]: [&[f64; LANES]; 2],
+        (p0, r): (f64, f64),
+        [px, pv, pa]: &[[f64; LANES]; 3],
+    ) -> bool {
+        let (k, c, sigma, iw, f1, f2) =
+            (&self.k, &self.c, &self.sigma, &self.iw, &self.f1, &self.f2);
+        let mut hit = false;
+        for l in 0..LANES {
+            let (x0, v0, xn, vn) = (x0s[l], v0s[l], xns[l], vns[l]);
+            let (kl, cl, sl, iwl) = (k[l], c[l], sigma[l], iw[l]);
+            let a0 = p0 - cl * v0 - kl * x0;
+            let q = (r - cl * a0 - kl * v0 + sl * a0) * iwl;
+            let amp2 = a0.mul_add(a0, q * q) * self.h2;
+            let excess = |gap: f64, r2: f64| r2 - gap * gap.abs();
+            let big = |a: f64, b: f64| larger(a.abs(), b.abs());
+            let s0 = kl.mul_add(x0, cl * v0);
+            let s1 = kl.mul_add(xn, cl * vn);
+            let g = larger(
+                excess(px[l] - big(x0, xn), amp2),
+                larger(
+                    excess(pv[l] - big(v0, vn), amp2 * f1[l] * f1[l]),
+                    excess(pa[l] - big(s0, s1), amp2 * f2[l] * f2[l]),
+                ),
+            );
+            hit |= g >= 0.0;
+        }
+        hit
+    }
+
+    /// Per lane, a number `>= 0` where a quantity may exceed its peak in the step: the
+    /// smaller excess of its two bounds (`exact::Bound::flags`), the largest over the quantities.
+    /// Selects and arithmetic only, so the lanes' loop vectorises.
+    #[inline(always)]
+    pub(super) fn score(
+        &self,
+        h: f64,
+        [x0s, v0s]: [&[f64; LANES]; 2],
+        [xns, vns]: [&[f64; LANES]; 2],
+        (p0, r): (f64, f64),
+        [px, pv, pa]: &[[f64; LANES]; 3],
+    ) -> [f64; LANES] {
+        let (k, c, sigma, iw, ik) = (&self.k, &self.c, &self.sigma, &self.iw, &self.ik);
+        let mut score = [0.0f64; LANES];
+        for l in 0..LANES {
+            let (x0, v0, xn, vn) = (x0s[l], v0s[l], xns[l], vns[l]);
+            let (kl, cl, sl, iwl, ikl) = (k[l], c[l], sigma[l], iw[l], ik[l]);
+            let s0 = kl.mul_add(x0, cl * v0);
+            let s1 = kl.mul_add(xn, cl * vn);
+            let a0 = p0 - cl * v0 - kl * x0;
+            let q = (r - cl * a0 - kl * v0 + sl * a0) * iwl;
+            let amp2 = a0.mul_add(a0, q * q) * self.h2;
+            let vp = r * ikl;
+            let xp0 = (p0 - cl * vp) * ikl;
+            let xp1 = xp0 + vp * h;
+            let cx = x0 - xp0;
+            let dx = (v0 - vp + sl * cx) * iwl;
+            let pvl = v0 - vp;
+            let qv = (a0 + sl * pvl) * iwl;
+            let (ps, qs) = (kl.mul_add(cx, cl * pvl), kl.mul_add(dx, cl * qv));
+            let sp = cl * vp;
+            let excess = |gap: f64, r2: f64| r2 - gap * gap.abs();
+            let big = |a: f64, b: f64| larger(a.abs(), b.abs());
+            let ex = smaller(
+                excess(px[l] - big(x0, xn), amp2),
+                excess(
+                    px[l] * (1.0 - 1e-9) - big(xp0, xp1),
+                    cx.mul_add(cx, dx * dx),
+                ),
+            );
+            let ev = smaller(
+                excess(pv[l] - big(v0, vn), amp2 * self.f1[l] * self.f1[l]),
+                excess(pv[l] * (1.0 - 1e-9) - vp.abs(), pvl.mul_add(pvl, qv * qv)),
+            );
+            let es = smaller(
+                excess(pa[l] - big(s0, s1), amp2 * self.f2[l] * self.f2[l]),
+                excess(
+                    pa[l] * (1.0 - 1e-9) - big(kl * xp0 + sp, kl * xp1 + sp),
+                    ps.mul_add(ps, qs * qs),
+                ),
+            );
+            score[l] = larger(ex, larger(ev, es));
+        }
+        score
+    }
+}
+
+/// A block of steps that passed the first pass's gate: its first step and the lanes' states
+/// at its start (the states after are recomputed with [`Lanes::advance`], to the bit).
+pub(super) struct Candidate {
+    pub(super) n: usize,
+    pub(super) x: [f64; LANES],
+    pub(super) v: [f64; LANES],
+}
+
+/// Steps per block of the first pass's gate.
+pub(super) const BLOCK: usize = 8;
+
+/// The one pass over the record: the sampled spectra's recurrence and peaks `pk` (raised in
+/// place), and the blocks of [`BLOCK`] steps that pass a cheap gate against the peaks so
+/// far; returns those (their first step and the states there) and the final states.
+///
+/// The gate is [`Lanes::gate`] over a block: the largest ends of the block's steps and a
+/// bound of their amplitudes of `x''` (from the largest of its terms), the quantities' gaps
+/// to their peaks over the bounds' factors, with a margin for the rearrangement's rounding,
+/// so it lets go only blocks none of whose steps [`Lanes::gate`] would keep. Per step that
+/// is a few maxima beside the recurrence (whose chain of fused multiply-adds sets the pace);
+/// every coefficient is a local array and each loop over the lanes has a constant trip
+/// count, so the state stays in registers.
+#[allow(clippy::type_complexity)]
+pub(super) fn first_pass(
+    acc: &[f64],
+    h: f64,
+    o: &Lanes,
+    [px, pv, pa]: &mut [[f64; LANES]; 3],
+) -> (Vec<Candidate>, [f64; LANES], [f64; LANES]) {
+    let [[a00, a01], [a10, a11]] = o.a;
+    let [b0x, b0v, b1x, b1v] = o.b;
+    let (k, c, sigma, iw) = (o.k, o.c, o.sigma, o.iw);
+    let inv = |f: &[f64; LANES]| -> [f64; LANES] {
+        let mut y = [0.0; LANES];
+        for (y, f) in y.iter_mut().zip(f) {
+            *y = 1.0 / f;
+        }
+        y
+    };
+    // A padding lane's factors are 0: infinite inverses, its gaps (infinite peaks) infinite.
+    let (i1, i2) = (inv(&o.f1), inv(&o.f2));
+    let wide = o.h2 * (1.0 + 1e-6);
+    let inv_h = 1.0 / h;
+    let mut cands = Vec::new();
+    // The lanes' x, x', k x + c x'.
+    let mut st = [[0.0f64; LANES]; 3];
+    // One step of every lane: the recurrence, then the block's largest |x|, |x'|,
+    // |k x + c x'| and |x''| at the step's start, in `m`. The other term of the squared
+    // amplitude of x'', |x''' + sigma x''| / wd = |r - sigma x'' - k x'| / wd, is bounded at
+    // the block's end from the largest |r| (`mr`, the same for every lane), |x''| and |x'|:
+    // no arithmetic per lane and step beyond the sampled loop's but the maxima.
+    let step = |p0: f64, p1: f64, [x, v, s]: &mut [[f64; LANES]; 3], m: &mut [[f64; LANES]; 4]| {
+        for l in 0..LANES {
+            let (x0, v0) = (x[l], v[l]);
+            let xn = a00[l].mul_add(x0, a01[l].mul_add(v0, b0x[l].mul_add(p0, b1x[l] * p1)));
+            let vn = a10[l].mul_add(x0, a11[l].mul_add(v0, b0v[l].mul_add(p0, b1v[l] * p1)));
+            let sn = k[l].mul_add(xn, c[l] * vn);
+            let a0 = p0 - s[l];
+            m[0][l] = larger(m[0][l], xn.abs());
+            m[1][l] = larger(m[1][l], vn.abs());
+            m[2][l] = larger(m[2][l], sn.abs());
+            m[3][l] = larger(m[3][l], a0.abs());
+            (x[l], v[l], s[l]) = (xn, vn, sn);
+        }
+    };
+    let steps = acc.len() - 1;
+    for start in (0..steps).step_by(BLOCK) {
+        let [xs, vs, ss] = st;
+        let mut m = [[0.0; LANES]; 4];
+        let mut mr = 0.0f64;
+        for l in 0..LANES {
+            (m[0][l], m[1][l], m[2][l]) = (xs[l].abs(), vs[l].abs(), ss[l].abs());
+        }
+        if start + BLOCK <= steps {
+            // A whole block: a constant trip count, so the compiler unrolls it.
+            let block = &acc[start..start + BLOCK + 1];
+            for i in 0..BLOCK {
+                mr = larger(mr, (block[i] - block[i + 1]).abs());
+                step(-block[i], -block[i + 1], &mut st, &mut m);
+            }
+        } else {
+            for pair in acc[start..].windows(2) {
+                mr = larger(mr, (pair[0] - pair[1]).abs());
+                step(-pair[0], -pair[1], &mut st, &mut m);
+            }
+        }
+        let [mx, mv, ms, ma] = m;
+        let mr = mr * inv_h;
+        let mut hit = false;
+        for l in 0..LANES {
+            px[l] = larger(px[l], mx[l]);
+            pv[l] = larger(pv[l], mv[l]);
+            pa[l] = larger(pa[l], ms[l]);
+            let gx = px[l] - mx[l];
+            let gv = (pv[l] - mv[l]) * i1[l];
+            let ga = (pa[l] - ms[l]) * i2[l];
+            let g = smaller(gx, smaller(gv, ga));
+            let q = sigma[l].mul_add(ma[l], k[l].mul_add(mv[l], mr)) * iw[l];
+            hit |= g * g.abs() <= ma[l].mul_add(ma[l], q * q) * wide;
+        }
+        if hit {
+            cands.push(Candidate {
+                n: start,
+                x: xs,
+                v: vs,
+            });
+        }
+    }
+    (cands, st[0], st[1])
+}
