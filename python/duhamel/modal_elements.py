@@ -32,41 +32,49 @@ def _local_tangent(element: Any) -> NDArray[np.float64]:
     return np.asarray(h.tangent, dtype=np.float64).reshape(n, n)
 
 
+def _horizontal(element: Any) -> Any:
+    """A bearing with its vertical dof (a definition with a ``vertical_stiffness``: its normal
+    force from the model) as its horizontal loop sees it: the same bearing on its horizontal
+    dofs under the axial force at ``x = 0`` (its initial axial force, else its weight), with
+    the same initial stiffness ``k_i``: its friction part ``k_i - N / R`` is ``mu N / Y``."""
+    p = element.parameters
+    weight = p["initial_axial_force"] or p["weight"]
+    k_i = p["mu"] * p["weight"] / p["yield_displacement"]
+    return type(element)(
+        tuple(d for d in p["dofs"][:2] if d is not None),
+        radius=p["radius"],
+        mu=p["mu"],
+        weight=weight,
+        yield_displacement=p["mu"] * weight / (k_i - weight / p["radius"]),
+    )
+
+
 def _effective(element: Any, displacement: float) -> NDArray[np.float64]:
-    """The element's local stiffness at the amplitude `displacement`: ``k_eff`` along each
-    of its directions (a bearing's horizontal ones; its vertical dof at its tangent)."""
+    """The element's local stiffness at the amplitude `displacement`, from its definition's
+    directions (:meth:`duhamel.elements.Element._directions`): a deformation ``x_i - x_j``
+    at the ``k_eff`` of its loop (measured on the element to the ground); a device acting on
+    each of its dofs alone at ``k_eff`` along each (its loop along the first); a bearing with
+    its vertical dof at its horizontal loop's ``k_eff`` and its vertical tangent."""
     from duhamel.design import effective_properties
-    from duhamel.elements import FrictionPendulum
 
     n = len(element._dofs)
-    k = np.zeros((n, n))
-    name = type(element).__name__
-    if isinstance(element, FrictionPendulum) and len(element.dofs) == 3:
-        dofs = element.dofs
-        # the horizontal loop under the axial force at x = 0 (its weight: nominal)
-        weight = element.initial_axial_force or element.weight
-        # the same initial stiffness k_i: its friction part k_i - N / R is mu N / Y there
-        k_i = element.mu * element.weight / element.yield_displacement
-        horizontal = FrictionPendulum(
-            tuple(d for d in dofs[:2] if d is not None),
-            radius=element.radius,
-            mu=element.mu,
-            weight=weight,
-            yield_displacement=element.mu * weight / (k_i - weight / element.radius),
-        )
-        keff = effective_properties(horizontal, displacement).stiffness
-        m = n - 1
-        k[:m, :m] = keff * np.eye(m)
-        k[m, m] = element.vertical_stiffness
-        return k
-    if name in ("FrictionPendulum", "TripleFrictionPendulum", "LeadRubberBearing") or n == 1:
-        return effective_properties(element, displacement).stiffness * np.eye(n)
-    if n == 2 and name in ("Bilinear", "BoucWen"):
+    directions = element._directions()
+    parameters = getattr(element, "parameters", None) or {}
+    if len(directions) == 1 and directions[0][1] is not None and n == 2:
         keff = effective_properties(element.replace(j=None), displacement).stiffness
         return keff * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    if all(j is None for _, j in directions) and len(directions) == n:
+        if parameters.get("vertical_stiffness") is not None:
+            keff = effective_properties(_horizontal(element), displacement).stiffness
+            k = np.zeros((n, n))
+            k[: n - 1, : n - 1] = keff * np.eye(n - 1)
+            k[n - 1, n - 1] = parameters["vertical_stiffness"]
+            return k
+        if n <= 2:
+            return effective_properties(element, displacement).stiffness * np.eye(n)
     raise ValueError(
-        f"`elements`='effective': no effective stiffness for {name} (on dofs "
-        f"{element.dofs}); use elements='initial'"
+        f"`elements`='effective': no effective stiffness for {type(element).__name__} (on "
+        f"dofs {element._dofs}, acting along {directions}); use elements='initial'"
     )
 
 
