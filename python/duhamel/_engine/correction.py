@@ -21,9 +21,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel._engine import caches
 from duhamel._engine.eigen import SHIFT_RTOL
 from duhamel._engine.validate import issparse
-from duhamel.couplings import LinearCoupling
 from duhamel.loads import Callable
 from duhamel.modal import ModalBasis, damped
 from duhamel.system import System
@@ -54,8 +54,6 @@ def force_directions(system: System) -> Array:
     n = system.n_dof
     cols: list[Array] = []
     for element in system.elements:
-        if isinstance(element, LinearCoupling):
-            continue
         for i, j in element._directions():
             f = np.zeros(n)
             f[i] = 1.0
@@ -205,7 +203,7 @@ def enriched(system: System, basis: ModalBasis) -> tuple[ModalBasis, Array]:
     Ritz values' roots; empty when nothing was added)."""
     f = force_directions(system)
     key = (basis.n_modes, f.shape[1], f.tobytes())
-    cache = system.__dict__.setdefault("_corrected", {})
+    cache = caches.of(system).setdefault("corrected", {})
     if key in cache:
         return cache[key]
     n = basis.n_modes
@@ -247,8 +245,6 @@ def stiffness_ratios(system: System, basis: ModalBasis, columns: NDArray[np.intp
     c = np.zeros(columns.size)
     scale = np.abs(phi).max(axis=0) if phi.size else np.zeros(0)
     for element in system.elements:
-        if isinstance(element, LinearCoupling):
-            continue
         share = np.zeros(columns.size)
         for i, j in element._directions():
             d = phi[i] if j is None else phi[i] - phi[j]

@@ -151,7 +151,7 @@ def _massless_start(
 
     system = setup.system
     c = system._condensation
-    if system.elements and (np.any(x0) or np.any(v0)):
+    if (system.elements or system.couplings) and (np.any(x0) or np.any(v0)):
         raise ValueError(
             "`x0`/`v0`: a model with massless dofs and elements starts a direct integrator "
             "from rest only (its initial acceleration is taken from the linear part)"
@@ -237,7 +237,7 @@ def step_matrix(system: System, integrator: DirectIntegrator, dt: float) -> NDAr
     ``(x, v, a)`` and the matrix is ``3 n x 3 n`` (the amplification matrix of Chung and
     Hulbert); the cubic Hermite element's state is ``(x, v)`` (``2 n x 2 n``).
     """
-    if system.elements or system.mass_law is not None:
+    if system.elements or system.couplings or system.mass_law is not None:
         raise ValueError("`system` must be linear (no elements, constant mass)")
     n = system.n_dof
     alpha = not isinstance(integrator, CubicHermite)

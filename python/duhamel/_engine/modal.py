@@ -35,7 +35,6 @@ from duhamel._engine.relaxation import check_loads, check_state
 from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
 from duhamel._engine.structure import structure_model
 from duhamel._engine.validate import as_float_array
-from duhamel.couplings import LinearCoupling
 from duhamel.errors import SolverError
 from duhamel.integrators import Semianalytic
 from duhamel.loads import support_terms
@@ -146,7 +145,7 @@ def setup(system: System, integrator: Semianalytic, threads: int | None = None) 
     patterns = (
         np.stack([s.pattern for s in loads], axis=1) if loads else np.zeros((phi.shape[1], 0))
     )
-    forces = [e for e in system.elements if not isinstance(e, LinearCoupling)]
+    forces = list(system.elements)
     return ModalSetup(system, integrator, route, model, loads, fns, patterns, forces, threads)
 
 

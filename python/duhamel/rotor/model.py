@@ -443,7 +443,7 @@ class Rotor(RotorAnalyses):
 
         >>> run_up = duhamel.speed.LinearRunUp(omega0=0.0, omega1=rpm(3000), t1=0.1)
         >>> system = rotor.system(run_up, [Unbalance(2, m_e=1e-4)])
-        >>> system.elements[0].scale is run_up
+        >>> system.couplings[0].scale is run_up
         True
         >>> sol = duhamel.solve(system, duhamel.Newmark(), t_end=0.15, dt=1e-4)
         """
