@@ -18,7 +18,7 @@ basis supplied with ``System.use_basis`` (its modes are those of ``K`` alone).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -55,7 +55,7 @@ class _Remainder:
     c0: Any = None
 
     @property
-    def _path_dependent(self) -> bool:  # type: ignore[override]
+    def _path_dependent(self) -> bool:
         return bool(self.element._path_dependent)
 
     def _validate(self, system: Model) -> None:
@@ -80,7 +80,7 @@ class _Remainder:
         return self.element._stored_energy(u, f)
 
     def _directions(self) -> list[tuple[int, int | None]]:
-        return self.element._directions()
+        return cast(list[tuple[int, int | None]], self.element._directions())
 
 
 @dataclass(frozen=True)
@@ -93,7 +93,7 @@ class Background:
 
 
 def _parts(system: System) -> list[tuple[tuple[int, ...], NDArray[np.float64]] | None]:
-    return [e._linear() for e in system.elements]
+    return [e._linear() for e in system.elements]  # type: ignore[misc]
 
 
 def background(system: System, linear_parts: str = "auto") -> Background:
@@ -159,6 +159,6 @@ def _derive(
         dofs, k0 = part
         c0 = beta * k0
         damping = np.ascontiguousarray(c0, dtype=np.float64).ravel() if beta != 0.0 else None
-        derived.elements.append(_Remainder(element, element._remainder(damping), damping))
+        derived.elements.append(_Remainder(element, element._remainder(damping), damping))  # type: ignore[arg-type]
         linear.append(LinearPart(dofs, k0, c0))
     return derived, tuple(linear)

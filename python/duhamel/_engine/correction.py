@@ -16,7 +16,7 @@ response lies in the basis.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -123,7 +123,7 @@ def _m_orthonormal(system: System, phi: Array, x: Array) -> Array:
     x = x / np.sqrt(np.einsum("ij,ij->j", x, np.asarray(Ms @ x)))
 
     def project(y: Array) -> Array:
-        return y - phi @ ((phi.T @ np.asarray(Ms @ y)) * scale)
+        return cast(Array, y - phi @ ((phi.T @ np.asarray(Ms @ y)) * scale))
 
     x = project(project(x))  # twice: orthogonal to working precision
     g = x.T @ np.asarray(Ms @ x)
@@ -134,7 +134,7 @@ def _m_orthonormal(system: System, phi: Array, x: Array) -> Array:
     y = project(x @ (u[:, keep] / np.sqrt(s[keep])))
     g = y.T @ np.asarray(Ms @ y)
     c = np.linalg.cholesky((g + g.T) / 2)
-    return np.linalg.solve(c, y.T).T / np.sqrt(scale)  # M-orthonormal
+    return cast(Array, np.linalg.solve(c, y.T).T / np.sqrt(scale))  # M-orthonormal
 
 
 @dataclass(frozen=True)
@@ -205,7 +205,7 @@ def enriched(system: System, basis: ModalBasis) -> tuple[ModalBasis, Array]:
     key = (basis.n_modes, f.shape[1], f.tobytes())
     cache = caches.of(system).setdefault("corrected", {})
     if key in cache:
-        return cache[key]
+        return cast(tuple[ModalBasis, Array], cache[key])
     n = basis.n_modes
     if f.shape[1] == 0 or n == system.n_mass:
         return basis, np.zeros(0)

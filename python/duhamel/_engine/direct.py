@@ -115,9 +115,9 @@ def _to_scipy(m: Any, n: int) -> Any:
 def highest_frequency(
     system: System,
     mats: dict[str, Any],
-    elements: list,
-    x0: NDArray,
-    v0: NDArray,
+    elements: list[Any],
+    x0: NDArray[np.float64],
+    v0: NDArray[np.float64],
     t_span: tuple[float, float],
 ) -> float:
     """``omega_max``: the square root of the largest eigenvalue magnitude of ``(K_t, M)``.
@@ -182,9 +182,9 @@ def highest_frequency(
 def _check_central(
     system: System,
     mats: dict[str, Any],
-    elements: list,
-    x0: NDArray,
-    v0: NDArray,
+    elements: list[Any],
+    x0: NDArray[np.float64],
+    v0: NDArray[np.float64],
     dt: float,
     t_span: tuple[float, float],
 ) -> None:

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, NamedTuple
+from typing import Any, Literal, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -144,9 +144,13 @@ def modal_loads(
     return terms, fns
 
 
+def _contiguous(m: NDArray[Any] | None) -> NDArray[Any] | None:
+    return None if m is None else np.ascontiguousarray(m)
+
+
 def _couplings(system: System, basis: ModalBasis) -> Couplings:
-    k: NDArray | None = None
-    c: NDArray | None = basis.c_coupling
+    k: NDArray[np.float64] | None = None
+    c: NDArray[np.float64] | None = basis.c_coupling
     scaled = []
     for element in system.couplings:
         mk, mc = element.modal(basis.phi)
@@ -161,7 +165,6 @@ def _couplings(system: System, basis: ModalBasis) -> Couplings:
         if mc is not None:
             mc = mc if factor == 1.0 else factor * mc
             c = mc if c is None else c + mc
-    as_c = lambda m: None if m is None else np.ascontiguousarray(m)  # noqa: E731
     with np.errstate(all="ignore"):
         parts = [m for m in (k, c) if m is not None]
         parts += [m for spec in scaled for m in (spec.k, spec.c) if m is not None]
@@ -172,7 +175,7 @@ def _couplings(system: System, basis: ModalBasis) -> Couplings:
             "overflow the double range: check their `K`, `C` and `scale` (a rotor's speed) "
             "and the model's units"
         )
-    return Couplings(as_c(k), as_c(c), scaled)
+    return Couplings(_contiguous(k), _contiguous(c), scaled)
 
 
 def mass(system: System, integrator: Any) -> _core.Mass | None:
@@ -181,7 +184,7 @@ def mass(system: System, integrator: Any) -> _core.Mass | None:
     attached = system.mass_law
     if attached is None:
         return None
-    treatment = getattr(integrator, "mass_treatment", "eliminate")
+    treatment: Literal["eliminate", "estimate"] = getattr(integrator, "mass_treatment", "eliminate")
     return _core.Mass(attached.law._law(), attached.form, bool(attached.scale_stiffness), treatment)
 
 
@@ -262,7 +265,7 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         )  # fmt: skip
     couplings = _couplings(system, basis)
     route = "pseudo-force"
-    modes = None
+    modes: FirstOrderModes | None = None
     states = _states(system, basis)
     if states is not None:
         modes = _with_feedback(system, basis, integrator, couplings, states)
@@ -282,7 +285,7 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
     )  # fmt: skip
 
 
-def _semidefinite(m: NDArray | None, *, symmetric: bool) -> bool:
+def _semidefinite(m: NDArray[np.float64] | None, *, symmetric: bool) -> bool:
     """Whether `m` is None, or its symmetric part positive semi-definite (and `m` itself
     symmetric when `symmetric`), to round-off."""
     if m is None:
@@ -410,6 +413,7 @@ def _first_order(
                 "coupling='auto' or 'pseudo-force')"
             )
         return None
+    modes: FirstOrderModes | None
     try:
         modes = first_order_modes(basis.omega2, basis.c, couplings.k, couplings.c)
     except (np.linalg.LinAlgError, ValueError) as exc:

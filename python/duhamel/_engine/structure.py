@@ -4,9 +4,11 @@ the elements' global dofs and the support loads, as a
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from duhamel._engine.direct import damping_matrix, physical_matrices
 from duhamel.feedback import Feedback
@@ -67,7 +69,7 @@ def structure_model(
                 c = factor * coupling.C if c is None else c + factor * coupling.C
     alpha = float(system.rayleigh[0]) if system.damping == "rayleigh" else 0.0
     forces = tuple((e, np.asarray(e._dofs, dtype=np.int64)) for e in elements)
-    base = [
+    base: list[tuple[NDArray[np.float64], Callable[[Any], Any]]] = [
         (np.asarray(load.direction_vector, dtype=np.float64), load._scalar)
         for load in loads
         if isinstance(load, BaseAcceleration)
