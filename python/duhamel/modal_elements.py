@@ -32,30 +32,13 @@ def _local_tangent(element: Any) -> NDArray[np.float64]:
     return np.asarray(h.tangent, dtype=np.float64).reshape(n, n)
 
 
-def _horizontal(element: Any) -> Any:
-    """A bearing with its vertical dof (a definition with a ``vertical_stiffness``: its normal
-    force from the model) as its horizontal loop sees it: the same bearing on its horizontal
-    dofs under the axial force at ``x = 0`` (its initial axial force, else its weight), with
-    the same initial stiffness ``k_i``: its friction part ``k_i - N / R`` is ``mu N / Y``."""
-    p = element.parameters
-    weight = p["initial_axial_force"] or p["weight"]
-    k_i = p["mu"] * p["weight"] / p["yield_displacement"]
-    return type(element)(
-        tuple(d for d in p["dofs"][:2] if d is not None),
-        radius=p["radius"],
-        mu=p["mu"],
-        weight=weight,
-        yield_displacement=p["mu"] * weight / (k_i - weight / p["radius"]),
-    )
-
-
 def _effective(element: Any, displacement: float) -> NDArray[np.float64]:
     """The element's local stiffness at the amplitude `displacement`, from its definition's
     directions (:meth:`duhamel.elements.Element._directions`): a deformation ``x_i - x_j``
     at the ``k_eff`` of its loop (measured on the element to the ground); a device acting on
     each of its dofs alone at ``k_eff`` along each (its loop along the first); a bearing with
     its vertical dof at its horizontal loop's ``k_eff`` and its vertical tangent."""
-    from duhamel.design import effective_properties
+    from duhamel.design.effective import effective_properties
 
     n = len(element._dofs)
     directions = element._directions()
@@ -64,8 +47,8 @@ def _effective(element: Any, displacement: float) -> NDArray[np.float64]:
         keff = effective_properties(element.replace(j=None), displacement).stiffness
         return keff * np.array([[1.0, -1.0], [-1.0, 1.0]])
     if all(j is None for _, j in directions) and len(directions) == n:
-        if parameters.get("vertical_stiffness") is not None:
-            keff = effective_properties(_horizontal(element), displacement).stiffness
+        if "vertical_stiffness" in parameters and len(parameters.get("dofs") or ()) == 3:
+            keff = effective_properties(element, displacement).stiffness  # its horizontal loop
             k = np.zeros((n, n))
             k[: n - 1, : n - 1] = keff * np.eye(n - 1)
             k[n - 1, n - 1] = parameters["vertical_stiffness"]

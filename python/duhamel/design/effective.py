@@ -78,13 +78,27 @@ def _local_axes(element: Any) -> int:
             f"{type(element).__name__}"
         )
     dofs = getattr(element, "dofs", None)
-    if dofs is not None and len(dofs) > 2:
-        raise TypeError(
-            "`element`: a friction pendulum with its vertical dof has a normal force from the "
-            "model; measure the same bearing on its horizontal dofs (its `weight` the axial "
-            "load)"
-        )
     return len(element._dofs) if dofs is not None else 1
+
+
+def horizontal_bearing(element: Any) -> Any:
+    """A bearing with its vertical dof (a definition with a ``vertical_stiffness`` on three
+    dofs: a friction pendulum whose normal force comes from the model) as the same bearing on
+    its horizontal dofs under its axial force at ``x = 0`` (``initial_axial_force``, else its
+    nominal ``weight``), with the same initial stiffness ``k_i = mu W / u_y``; any other
+    element unchanged."""
+    p = getattr(element, "parameters", None) or {}
+    if "vertical_stiffness" not in p or len(p.get("dofs") or ()) != 3:
+        return element
+    weight = p["initial_axial_force"] or p["weight"]
+    k_i = p["mu"] * p["weight"] / p["yield_displacement"]
+    return type(element)(
+        tuple(d for d in p["dofs"][:2] if d is not None),
+        radius=p["radius"],
+        mu=p["mu"],
+        weight=weight,
+        yield_displacement=p["mu"] * weight / (k_i - weight / p["radius"]),
+    )
 
 
 #: Parts an increment holding a kink of the loop is split into.
@@ -165,7 +179,8 @@ def effective_properties(
     Parameters
     ----------
     element : duhamel.elements element
-        A hysteretic element: ``FrictionPendulum`` (without ``dof_z``),
+        A hysteretic element: ``FrictionPendulum`` (with its vertical dof: measured on its
+        horizontal dofs under its initial axial force, the gravity state it starts from),
         ``TripleFrictionPendulum``, ``LeadRubberBearing``, ``Bilinear``, ``BoucWen``.
         Velocity-dependent friction is measured at the driver's pace (one point per unit
         time: the slow coefficient).
@@ -202,6 +217,7 @@ def effective_properties(
         raise ValueError(f"`cycles` must be an integer >= 1, got {cycles!r}")
     if isinstance(points, bool) or not isinstance(points, int) or points < 8 or points % 2:
         raise ValueError(f"`points` must be an even integer >= 8, got {points!r}")
+    element = horizontal_bearing(element)
     axes = _local_axes(element)
     path = cycle(d, cycles, points)
     reached, force = _forces(element, path, axes, d)
