@@ -236,6 +236,7 @@ class System:
         return (
             f"System(n_dof={self.n_dof}, damping={self._damping!r}, loads={len(self.loads)}"
             + (f", elements={len(self.elements)}" if self.elements else "")
+            + (f", couplings={len(self.couplings)}" if self.couplings else "")
             + (", mass_law" if self.mass_law is not None else "")
             + ")"
         )
@@ -381,10 +382,8 @@ class System:
         return damping_summary(self, linear_parts)
 
     # ---------------------------------------------------------------- modal analysis
-    def modal(
-        self, n_modes: int | None = None, *, elements: str | None = None,
-        displacement: float | None = None,
-    ) -> ModalBasis:  # fmt: skip
+    def modal(self, n_modes: int | None = None, *, elements: str | None = None,
+              displacement: float | None = None) -> ModalBasis:  # fmt: skip
         """Undamped modal analysis ``K phi = omega^2 M phi`` (cached per `n_modes`).
 
         Parameters

@@ -434,7 +434,7 @@ class Rotor(RotorAnalyses):
         ...               rayleigh=(0.0, 1e-5))
         >>> system = rotor.system(rpm(3000), [Unbalance(2, m_e=1e-4)])
         >>> system
-        System(n_dof=20, damping='matrix', loads=1, elements=2)
+        System(n_dof=20, damping='matrix', loads=1, couplings=2)
         >>> sol = duhamel.solve(system, duhamel.Semianalytic(modes=8), t_end=0.1, dt=1e-4)
         >>> sol.x.shape
         (1001, 20)

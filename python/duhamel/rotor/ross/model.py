@@ -296,7 +296,7 @@ def from_ross(
     >>> from duhamel.rotor import from_ross
     >>> system, dofs, _ = from_ross(ross.rotor_example(), speed=500.0)  # doctest: +SKIP
     >>> system                                                          # doctest: +SKIP
-    System(n_dof=28, damping='none', loads=0, elements=1)
+    System(n_dof=28, damping='none', loads=0, couplings=1)
     >>> dofs(2, "x"), dofs(2, "y"), dofs.labels[8:12]                   # doctest: +SKIP
     (8, 9, ('x_2', 'y_2', 'alpha_2', 'beta_2'))
     >>> _ = system.add_load(dofs.unbalance(2, m_e=1e-3, speed=500.0))   # doctest: +SKIP
