@@ -20,7 +20,7 @@ $(VPY):
 # it per Python: about 210 MB and 40 s on first install); redone when pyproject.toml changes.
 $(VENV)/.deps: pyproject.toml | $(VPY)
 	$(VPY) -m pip install --quiet "maturin>=1.7,<2" "numpy>=2" "scipy>=1.11" "matplotlib>=3.8" \
-		"tqdm>=4.66" "pytest>=8" "mpmath>=1.3" "ruff==0.17.6" "hypothesis==6.170.15" \
+		"tqdm>=4.66" "pytest>=8" "mpmath>=1.3" "ruff==0.17.6" "hypothesis==6.170.15" "mypy==1.20.2" \
 		"ross-rotordynamics==2.3.0; python_version < '3.12'" "plotly>=4.7,<7; python_version < '3.12'" \
 		"ross-rotordynamics==3.0.0; python_version == '3.12'" \
 		"ross-rotordynamics==3.1.0; python_version >= '3.13'" "zarr>=3,<4" "xarray>=2024.1" \
@@ -42,6 +42,7 @@ lint: $(VENV)/.deps
 	cargo clippy --workspace --all-targets --quiet -- -D warnings
 	$(VENV)/bin/ruff check python tests benchmarks
 	$(VENV)/bin/ruff format --check python tests benchmarks
+	$(VENV)/bin/mypy --strict python/duhamel/_engine
 
 test: install test-rust test-python
 

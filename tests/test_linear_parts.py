@@ -119,11 +119,23 @@ def test_store_runs_with_linear_parts_equal_in_memory(tmp_path) -> None:
 
 
 def test_the_background_is_computed_once() -> None:
+    """The engine keeps a model's background in its own cache (weakly, by the model), never
+    in the model object; a new element makes a new one; the entry goes with the model."""
+    import gc
+
+    from duhamel._engine import caches
+
     s = loaded(duhamel.System(np.eye(N), chain())).add(E.Spring(2, k=500.0, k3=1e4))
+    before = dict(vars(s))
     duhamel.solve(s, duhamel.Semianalytic(modes=3), t_end=0.1, dt=0.01)
-    first = s._background[1]
+    assert vars(s).keys() == before.keys()  # nothing written into the model
+    first = caches.of(s)["background"][1]
     duhamel.solve(s, duhamel.Semianalytic(modes=3), t_end=0.2, dt=0.01)
-    assert s._background[1] is first and 3 in first._modal_cache
+    assert caches.of(s)["background"][1] is first and 3 in first._modal_cache
     s.add(E.Cubic(4, k3=1.0))  # another element: a new background
     duhamel.solve(s, duhamel.Semianalytic(modes=3), t_end=0.1, dt=0.01)
-    assert s._background[1] is not first
+    assert caches.of(s)["background"][1] is not first
+    held = len(caches._CACHES)
+    del s
+    gc.collect()
+    assert len(caches._CACHES) < held

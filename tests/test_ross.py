@@ -144,10 +144,10 @@ def test_lateral_matrices_are_ross_and_duhamel_rotor_ones(ross):
 def test_system_structure(ross):
     """Background M, K_sym (and sym C); speed G and the skew bearing parts as couplings."""
     system, _, (M, K, C, G) = from_ross(ross.rotor_example(), SPEED)
-    assert system.damping == "none" and len(system.elements) == 1  # undamped, gyroscopic only
+    assert system.damping == "none" and len(system.couplings) == 1  # undamped, gyroscopic only
     np.testing.assert_array_equal(system.M, M)
     np.testing.assert_array_equal(system.K, K)  # symmetric bearings
-    np.testing.assert_array_equal(system.elements[0].C, SPEED * G)
+    np.testing.assert_array_equal(system.couplings[0].C, SPEED * G)
     system0, _, _ = from_ross(ross.rotor_example(), 0.0)
     assert system0.elements == []  # at rest, symmetric bearings: a classical system
     system, _, (M, K, C, G) = from_ross(damped_cross_coupled(ross), SPEED)
@@ -155,7 +155,7 @@ def test_system_structure(ross):
     np.testing.assert_array_equal(system.M, M)
     np.testing.assert_array_equal(system.K, (K + K.T) / 2)
     np.testing.assert_array_equal(system.C, (C + C.T) / 2)
-    gyro, skew = system.elements
+    gyro, skew = system.couplings
     np.testing.assert_array_equal(gyro.C, SPEED * G)
     np.testing.assert_array_equal(skew.K, (K - K.T) / 2)
     np.testing.assert_array_equal(skew.C, (C - C.T) / 2)

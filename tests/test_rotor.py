@@ -371,8 +371,8 @@ def test_system_structure():
     rotor = make_rotor()
     system = rotor.system(SPEED)
     _, K, C, G = rotor.matrices(SPEED)
-    assert system.damping == "matrix" and len(system.elements) == 2
-    gyro, bearing = system.elements
+    assert system.damping == "matrix" and len(system.couplings) == 2
+    gyro, bearing = system.couplings
     assert np.array_equal(gyro.C, SPEED * G) and gyro.K is None
     assert np.allclose(system.K + bearing.K, K, rtol=0, atol=1e-6)
     assert np.allclose(system.C + bearing.C, C, rtol=0, atol=1e-9)
@@ -382,6 +382,7 @@ def test_system_structure():
         rotor.shafts, rotor.disks, [Bearing(0, 1e7, 2e7), Bearing(5, 1e7, 2e7)], zeta=0.02
     )
     assert plain.system(0.0).elements == [] and plain.system(0.0).damping == "zeta"
+    assert plain.system(0.0).couplings == []
     # modal damping: the matrix the direct integrators and eigenvalues see is diagonal on the modes
     lam, phi = scipy.linalg.eigh(plain.matrices().K, plain.matrices().M)
     cm = phi.T @ plain.matrices().C @ phi
@@ -601,7 +602,7 @@ def test_run_up_through_the_critical_speed_matches_an_ode_reference(integrator):
     assert rotor.natural_frequencies(0.0)[0] < RUN_W1 / 1.5  # the run passes the critical
     law = duhamel.speed.LinearRunUp(0.0, RUN_W1, RUN_T1)
     system = rotor.system(law, [Unbalance(1, RUN_ME)])
-    gyro = system.elements[0]
+    gyro = system.couplings[0]
     assert gyro.scale is law and np.array_equal(gyro.C, rotor.matrices().G) and gyro.K is None
     assert [type(load) for load in system.loads] == [duhamel.loads.Unbalance]
     t, ref = run_up_reference()
@@ -628,7 +629,7 @@ def test_run_up_speed_checks():
         duhamel.speed.ConstantSpeed(SPEED),
         duhamel.speed.LinearRunUp(SPEED, SPEED, 1.0),
     ):
-        gyro = rotor.system(constant).elements[0]
+        gyro = rotor.system(constant).couplings[0]
         assert gyro.scale is None and np.array_equal(gyro.C, SPEED * rotor.matrices().G)
     # an unbalance with its own law agrees with the rotor's, or is refused
     (load,) = rotor.system(law, [Unbalance(2, 1e-3, speed=law)]).loads

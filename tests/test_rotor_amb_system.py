@@ -174,7 +174,7 @@ def test_campbell_and_critical_speeds_of_the_closed_loop():
 def test_the_system_carries_the_controllers():
     r = rotor()
     system = r.system(SPEED)
-    fb = [e for e in system.elements if isinstance(e, Feedback)]
+    fb = [e for e in system.couplings if isinstance(e, Feedback)]
     assert len(fb) == 1 and fb[0].n_states == 6  # 2 + 1 states per axis, 2 axes, 2 bearings
     with pytest.raises(ValueError, match="Semianalytic"):
         duhamel.solve(system, duhamel.Newmark(), t_end=0.01, dt=1e-4)

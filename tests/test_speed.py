@@ -356,7 +356,7 @@ def test_engine_scaled_path_with_a_unit_law_is_the_constant_path():
     system = _coupled(K=KQ, C=GROT)
     basis = system.modal(None)
     phi = np.ascontiguousarray(basis.phi)
-    kq, cq = (np.ascontiguousarray(m) for m in system.elements[0].modal(phi))
+    kq, cq = (np.ascontiguousarray(m) for m in system.couplings[0].modal(phi))
     specs = [
         _core.Load(np.ascontiguousarray(phi.T @ term.pattern), term.time)
         for term in system.loads[0]._terms(system)

@@ -199,7 +199,7 @@ class BreathingCrack(Element):
     ) -> Self: ...
 
 @final
-class Callable(Element):
+class Callable(Element):  # type: ignore[no-redef]  # (after every use of the import)
     def __new__(
         cls,
         dofs: Dofs,

@@ -225,9 +225,7 @@ def damping_summary(system: Any, linear_parts: str = "auto") -> DampingSummary:
     diagonal there. ``zeta`` defines the damping on the modes of the background the run
     integrates (``K``, or ``K`` plus the elements' linear parts, as
     :mod:`duhamel._engine.background` chooses), which need not be those modes."""
-    from duhamel.couplings import LinearCoupling
-
-    parts = [e._linear() for e in system.elements if not isinstance(e, LinearCoupling)]
+    parts = [e._linear() for e in system.elements]
     law = system.mass_law
     linear = system
     if any(p is not None for p in parts):

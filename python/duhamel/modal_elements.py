@@ -33,30 +33,31 @@ def _local_tangent(element: Any) -> NDArray[np.float64]:
 
 
 def _effective(element: Any, displacement: float) -> NDArray[np.float64]:
-    """The element's local stiffness at the amplitude `displacement`: ``k_eff`` along each
-    of its directions (a bearing's horizontal ones; its vertical dof at its tangent)."""
-    from duhamel.design.effective import effective_properties, horizontal_bearing
-    from duhamel.elements import FrictionPendulum
+    """The element's local stiffness at the amplitude `displacement`, from its definition's
+    directions (:meth:`duhamel.elements.Element._directions`): a deformation ``x_i - x_j``
+    at the ``k_eff`` of its loop (measured on the element to the ground); a device acting on
+    each of its dofs alone at ``k_eff`` along each (its loop along the first); a bearing with
+    its vertical dof at its horizontal loop's ``k_eff`` and its vertical tangent."""
+    from duhamel.design.effective import effective_properties
 
     n = len(element._dofs)
-    k = np.zeros((n, n))
-    name = type(element).__name__
-    if isinstance(element, FrictionPendulum) and len(element.dofs) == 3:
-        # the horizontal loop under the axial force at x = 0 (its weight: nominal)
-        horizontal = horizontal_bearing(element)
-        keff = effective_properties(horizontal, displacement).stiffness
-        m = n - 1
-        k[:m, :m] = keff * np.eye(m)
-        k[m, m] = element.vertical_stiffness
-        return k
-    if name in ("FrictionPendulum", "TripleFrictionPendulum", "LeadRubberBearing") or n == 1:
-        return effective_properties(element, displacement).stiffness * np.eye(n)
-    if n == 2 and name in ("Bilinear", "BoucWen"):
+    directions = element._directions()
+    parameters = getattr(element, "parameters", None) or {}
+    if len(directions) == 1 and directions[0][1] is not None and n == 2:
         keff = effective_properties(element.replace(j=None), displacement).stiffness
         return keff * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    if all(j is None for _, j in directions) and len(directions) == n:
+        if "vertical_stiffness" in parameters and len(parameters.get("dofs") or ()) == 3:
+            keff = effective_properties(element, displacement).stiffness  # its horizontal loop
+            k = np.zeros((n, n))
+            k[: n - 1, : n - 1] = keff * np.eye(n - 1)
+            k[n - 1, n - 1] = parameters["vertical_stiffness"]
+            return k
+        if n <= 2:
+            return effective_properties(element, displacement).stiffness * np.eye(n)
     raise ValueError(
-        f"`elements`='effective': no effective stiffness for {name} (on dofs "
-        f"{element.dofs}); use elements='initial'"
+        f"`elements`='effective': no effective stiffness for {type(element).__name__} (on "
+        f"dofs {element._dofs}, acting along {directions}); use elements='initial'"
     )
 
 

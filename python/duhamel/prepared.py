@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from duhamel._engine import modal, run_inputs
+from duhamel._engine import caches, modal, run_inputs
 from duhamel._engine.direct_run import DirectSetup, prepare_direct
 from duhamel._engine.energy_run import check_energy
 from duhamel._engine.labels import resolve_list
@@ -66,6 +66,7 @@ def _fingerprint(system: System) -> tuple:
     return (
         tuple(map(id, system.loads)),
         tuple(map(id, system.elements)),
+        tuple(map(id, system.couplings)),
         id(system.mass_law),
         id(system._modes),
         system._modes.supplied,
@@ -81,7 +82,9 @@ def _with_loads(system: System, loads: list[Load]) -> System:
     other.__dict__.update(system.__dict__)
     other.loads = list(loads)
     other.elements = list(system.elements)
-    other.__dict__["_corrected"] = system.__dict__.setdefault("_corrected", {})
+    other.couplings = list(system.couplings)
+    caches.share(system, other, "background")
+    caches.share(system, other, "corrected", {})
     return other
 
 
@@ -141,9 +144,8 @@ class Prepared:
             self._direct = prepare_direct(self.system, integrator)
         else:
             self._modal = modal.setup(self.system, integrator, threads)
-            derived = self.system.__dict__.get("_background")
-            if derived is not None:  # the system's own cache, as solve() always kept it
-                system._background = derived  # type: ignore[attr-defined]
+            # the system's own cache, as solve() always kept it
+            caches.share(self.system, system, "background")
 
     def matches(self, system: System, integrator: Any, dt: float) -> bool:
         """Whether this is the preparation of `system` as it is now, with `integrator` and

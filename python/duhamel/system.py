@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._core import Element
-from duhamel._engine import shared
+from duhamel._engine import caches, shared
 from duhamel._engine.basis import check_supplied, modal_basis
 from duhamel._engine.eigen import Modes
 from duhamel._engine.geometric import softened
@@ -118,8 +118,10 @@ class System:
         )
         self._damping_given = rayleigh if isinstance(rayleigh, Rayleigh) else None
         self.loads: list[Load] = []
-        #: Force elements (nonlinear springs, dampers, couplings, contacts), see :meth:`add`.
+        #: Force elements (nonlinear springs, dampers, contacts, bearings), see :meth:`add`.
         self.elements: list[Element] = []
+        #: Linear couplings (:class:`~duhamel.couplings.LinearCoupling`), apart from elements.
+        self.couplings: list[LinearCoupling] = []
         #: Time-varying mass law, see :meth:`set_mass_law` (None: constant mass).
         self.mass_law: Any = None
         self._modal_cache: dict[int, ModalBasis] = {}
@@ -234,6 +236,7 @@ class System:
         return (
             f"System(n_dof={self.n_dof}, damping={self._damping!r}, loads={len(self.loads)}"
             + (f", elements={len(self.elements)}" if self.elements else "")
+            + (f", couplings={len(self.couplings)}" if self.couplings else "")
             + (", mass_law" if self.mass_law is not None else "")
             + ")"
         )
@@ -267,11 +270,12 @@ class System:
         self.loads.append(load)
         return self
 
-    def add(self, element: Element | PDelta) -> System:
+    def add(self, element: Element | LinearCoupling | PDelta) -> System:
         """Append a force element (see :mod:`duhamel.elements`), validated against this system.
 
         Elements add a restoring force ``r(x, x', t)`` to the left-hand side,
         ``M x'' + C x' + K x + r = f(t)``; the integrators treat it as a modal pseudo-force.
+        A :class:`~duhamel.couplings.LinearCoupling` is kept apart, in :attr:`couplings`.
 
         Returns
         -------
@@ -298,7 +302,10 @@ class System:
                 f"`element` must be a duhamel.elements element, got {type(element).__name__}"
             )
         element._validate(self)
-        self.elements.append(element)
+        if isinstance(element, LinearCoupling):
+            self.couplings.append(element)
+        else:
+            self.elements.append(element)
         return self
 
     def add_geometric_stiffness(self, Kg: Any) -> System:
@@ -323,14 +330,14 @@ class System:
         self._modes = Modes(self._M, self._K, self._condensation)
         self._modal_cache = {}
         self._content = shared.content_key(self._M, self._K)
-        for cache in ("_background", "_corrected"):
-            self.__dict__.pop(cache, None)
+        caches.forget(self)
         return self
 
     def set_mass_law(
         self, law: Any, *, form: str = "acceleration", scale_stiffness: bool = False
     ) -> System:
-        """Make the mass time-varying: ``M(t) = M mu(t)`` for a law of :mod:`duhamel.mass`.
+        """Make the mass time-varying: ``M(t) = M mu(t)`` for a law of :mod:`duhamel.mass`;
+        returns ``self``.
 
         Parameters
         ----------
@@ -341,11 +348,6 @@ class System:
         scale_stiffness : bool
             Whether the stiffness scales with the mass too (gravity stiffness, e.g. the
             pendulum's ``m g / l``).
-
-        Returns
-        -------
-        System
-            ``self``.
 
         Examples
         --------
@@ -380,10 +382,8 @@ class System:
         return damping_summary(self, linear_parts)
 
     # ---------------------------------------------------------------- modal analysis
-    def modal(
-        self, n_modes: int | None = None, *, elements: str | None = None,
-        displacement: float | None = None,
-    ) -> ModalBasis:  # fmt: skip
+    def modal(self, n_modes: int | None = None, *, elements: str | None = None,
+              displacement: float | None = None) -> ModalBasis:  # fmt: skip
         """Undamped modal analysis ``K phi = omega^2 M phi`` (cached per `n_modes`).
 
         Parameters
@@ -435,10 +435,9 @@ class System:
     def _with_stiffness(self, K: Any) -> System:
         """This model with the stiffness `K` (checked by the caller), no loads or elements."""
         other = object.__new__(System)
-        other.__dict__.update(self.__dict__)
-        other.__dict__.pop("_background", None)
+        other.__dict__.update(self.__dict__)  # (the engine's caches stay this model's)
         other._K = K if issparse(K) else _frozen(K)
-        other.loads, other.elements, other.mass_law = [], [], None
+        other.loads, other.elements, other.couplings, other.mass_law = [], [], [], None
         other._modal_cache = {}
         if self._condensation is not None:
             other._condensation = Condensation(self._M, other._K)

@@ -18,14 +18,14 @@ basis supplied with ``System.use_basis`` (its modes are those of ``K`` alone).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel._engine import caches
 from duhamel._engine.protocols import Model
 from duhamel._engine.validate import issparse
-from duhamel.couplings import LinearCoupling
 from duhamel.system import System
 
 __all__ = ["Background", "LinearPart", "background"]
@@ -55,7 +55,7 @@ class _Remainder:
     c0: Any = None
 
     @property
-    def _path_dependent(self) -> bool:  # type: ignore[override]
+    def _path_dependent(self) -> bool:
         return bool(self.element._path_dependent)
 
     def _validate(self, system: Model) -> None:
@@ -80,7 +80,7 @@ class _Remainder:
         return self.element._stored_energy(u, f)
 
     def _directions(self) -> list[tuple[int, int | None]]:
-        return self.element._directions()
+        return cast(list[tuple[int, int | None]], self.element._directions())
 
 
 @dataclass(frozen=True)
@@ -93,13 +93,12 @@ class Background:
 
 
 def _parts(system: System) -> list[tuple[tuple[int, ...], NDArray[np.float64]] | None]:
-    return [e._linear() for e in system.elements if not isinstance(e, LinearCoupling)]
+    return [e._linear() for e in system.elements]  # type: ignore[misc]
 
 
 def background(system: System, linear_parts: str = "auto") -> Background:
     """The background of a modal run of `system` (cached on it: its modes are reused by
     later runs while the elements stay the same)."""
-    forces = [e for e in system.elements if not isinstance(e, LinearCoupling)]
     parts = _parts(system)
     law = system.mass_law
     if linear_parts == "auto" and system.damping == "zeta":
@@ -110,12 +109,13 @@ def background(system: System, linear_parts: str = "auto") -> Background:
         or (law is not None and law.scale_stiffness)
         or system._modes.supplied
     ):
-        return Background(system, (None,) * len(forces))
-    key = tuple(id(e) for e in system.elements)
-    cached = getattr(system, "_background", None)
+        return Background(system, (None,) * len(system.elements))
+    key = (tuple(map(id, system.elements)), tuple(map(id, system.couplings)))
+    held = caches.of(system)
+    cached = held.get("background")
     if cached is None or cached[0] != key:
-        cached = (key, *_derive(system, parts), tuple(system.elements))
-        system._background = cached  # type: ignore[attr-defined]
+        kept = (tuple(system.elements), tuple(system.couplings))  # the ids stay theirs
+        cached = held["background"] = (key, *_derive(system, parts), kept)
     derived, linear = cached[1], cached[2]
     derived.loads, derived.mass_law = list(system.loads), system.mass_law
     return Background(derived, linear)
@@ -150,13 +150,8 @@ def _derive(
     derived = system._with_stiffness(K)
     beta = system.rayleigh[1] if system.damping == "rayleigh" else 0.0  # type: ignore[index]
     linear: list[LinearPart | None] = []
-    i = 0
-    for element in system.elements:
-        if isinstance(element, LinearCoupling):
-            derived.elements.append(element)
-            continue
-        part = parts[i]
-        i += 1
+    derived.couplings = list(system.couplings)
+    for element, part in zip(system.elements, parts, strict=True):
         if part is None:
             derived.elements.append(element)
             linear.append(None)
@@ -164,6 +159,6 @@ def _derive(
         dofs, k0 = part
         c0 = beta * k0
         damping = np.ascontiguousarray(c0, dtype=np.float64).ravel() if beta != 0.0 else None
-        derived.elements.append(_Remainder(element, element._remainder(damping), damping))
+        derived.elements.append(_Remainder(element, element._remainder(damping), damping))  # type: ignore[arg-type]
         linear.append(LinearPart(dofs, k0, c0))
     return derived, tuple(linear)

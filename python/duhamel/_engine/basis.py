@@ -5,7 +5,7 @@ system, the same analysis of an earlier system with the same matrices
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -24,7 +24,7 @@ def modal_basis(system: Any, n: int) -> ModalBasis:
         lam, phi, basis, semidefinite = known
         # This system's modes become those of the first analysis, as if computed here.
         modes.lam, modes.phi, modes._semidefinite = lam, phi, semidefinite
-        return basis
+        return cast(ModalBasis, basis)
     basis = _checked_modal(system, n)
     if key is not None and modes.count == n:
         shared.remember_basis(key, n, system, (modes.lam, modes.phi, basis, modes._semidefinite))

@@ -16,14 +16,14 @@ response lies in the basis.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel._engine import caches
 from duhamel._engine.eigen import SHIFT_RTOL
 from duhamel._engine.validate import issparse
-from duhamel.couplings import LinearCoupling
 from duhamel.loads import Callable
 from duhamel.modal import ModalBasis, damped
 from duhamel.system import System
@@ -54,8 +54,6 @@ def force_directions(system: System) -> Array:
     n = system.n_dof
     cols: list[Array] = []
     for element in system.elements:
-        if isinstance(element, LinearCoupling):
-            continue
         for i, j in element._directions():
             f = np.zeros(n)
             f[i] = 1.0
@@ -125,7 +123,7 @@ def _m_orthonormal(system: System, phi: Array, x: Array) -> Array:
     x = x / np.sqrt(np.einsum("ij,ij->j", x, np.asarray(Ms @ x)))
 
     def project(y: Array) -> Array:
-        return y - phi @ ((phi.T @ np.asarray(Ms @ y)) * scale)
+        return cast(Array, y - phi @ ((phi.T @ np.asarray(Ms @ y)) * scale))
 
     x = project(project(x))  # twice: orthogonal to working precision
     g = x.T @ np.asarray(Ms @ x)
@@ -136,7 +134,7 @@ def _m_orthonormal(system: System, phi: Array, x: Array) -> Array:
     y = project(x @ (u[:, keep] / np.sqrt(s[keep])))
     g = y.T @ np.asarray(Ms @ y)
     c = np.linalg.cholesky((g + g.T) / 2)
-    return np.linalg.solve(c, y.T).T / np.sqrt(scale)  # M-orthonormal
+    return cast(Array, np.linalg.solve(c, y.T).T / np.sqrt(scale))  # M-orthonormal
 
 
 @dataclass(frozen=True)
@@ -205,9 +203,9 @@ def enriched(system: System, basis: ModalBasis) -> tuple[ModalBasis, Array]:
     Ritz values' roots; empty when nothing was added)."""
     f = force_directions(system)
     key = (basis.n_modes, f.shape[1], f.tobytes())
-    cache = system.__dict__.setdefault("_corrected", {})
+    cache = caches.of(system).setdefault("corrected", {})
     if key in cache:
-        return cache[key]
+        return cast(tuple[ModalBasis, Array], cache[key])
     n = basis.n_modes
     if f.shape[1] == 0 or n == system.n_mass:
         return basis, np.zeros(0)
@@ -247,8 +245,6 @@ def stiffness_ratios(system: System, basis: ModalBasis, columns: NDArray[np.intp
     c = np.zeros(columns.size)
     scale = np.abs(phi).max(axis=0) if phi.size else np.zeros(0)
     for element in system.elements:
-        if isinstance(element, LinearCoupling):
-            continue
         share = np.zeros(columns.size)
         for i, j in element._directions():
             d = phi[i] if j is None else phi[i] - phi[j]

@@ -22,6 +22,7 @@ import threading
 import warnings
 from collections import OrderedDict
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -74,7 +75,8 @@ class FirstOrderModes:
 
     def initial(self, q0: NDArray[np.float64], v0: NDArray[np.float64]) -> NDArray[np.complex128]:
         """First-order coordinates of the modal state ``(q0, v0)`` (feedback states zero)."""
-        return self.inverse @ np.concatenate([self.sigma * q0, v0, np.zeros(self.n_states)])
+        out = self.inverse @ np.concatenate([self.sigma * q0, v0, np.zeros(self.n_states)])
+        return cast(NDArray[np.complex128], out)
 
 
 #: First-order modes kept per process, by a digest of their inputs (at most this many): a

@@ -38,12 +38,12 @@ class ExactSteps:
     def __init__(
         self,
         run: Callable[[float, float, int], Any],
-        physical: Callable[[Any], tuple[State, dict[str, NDArray]]],
+        physical: Callable[[Any], tuple[State, dict[str, NDArray[np.float64]]]],
     ) -> None:
         self._run = run
         self._physical = physical
 
-    def state(self, t_n: float, tau: float, n: int) -> tuple[State, dict[str, NDArray]]:
+    def state(self, t_n: float, tau: float, n: int) -> tuple[State, dict[str, NDArray[np.float64]]]:
         """``(x, v, a)`` at ``t_n + tau`` (``0 < tau < dt``) and the modal row there."""
         return self._physical(self._run(t_n, tau, n))
 
@@ -86,7 +86,7 @@ class Dense:
         n = min(max(n, 0), t.size - 2)
         return n, float(time - t[n])
 
-    def in_step(self, n: int, tau: float) -> tuple[State, dict[str, NDArray] | None]:
+    def in_step(self, n: int, tau: float) -> tuple[State, dict[str, NDArray[np.float64]] | None]:
         """``(x, v, a)`` at ``t_n + tau`` and, for the exact interpolant, the modal row."""
         t = self.t
         h = float(t[n + 1] - t[n])
@@ -111,7 +111,14 @@ class Dense:
         return out[0], out[1], out[2]
 
 
-def hermite(x: NDArray, v: NDArray, a: NDArray, n: int, s: float, h: float) -> State:
+def hermite(
+    x: NDArray[np.float64],
+    v: NDArray[np.float64],
+    a: NDArray[np.float64],
+    n: int,
+    s: float,
+    h: float,
+) -> State:
     """Cubic Hermite interpolation between rows `n`, `n+1` at the fraction `s` of the step
     `h`: ``x`` from ``(x, v)``, ``v`` from ``(v, a)``; ``a`` linearly."""
     s2, s3 = s * s, s * s * s

@@ -12,7 +12,6 @@ from duhamel._engine.eigen import DENSE_EIGH_ARRAYS
 from duhamel._engine.memory import check_fits
 from duhamel._engine.run import callback_error
 from duhamel._engine.validate import issparse
-from duhamel.couplings import LinearCoupling
 from duhamel.feedback import Feedback
 from duhamel.results.solution import Solution, SolveStats
 from duhamel.system import System
@@ -88,19 +87,18 @@ def physical_matrices(system: System) -> dict[str, Any]:
     c = damping_matrix(system)
     kc = None
     scaled = []
-    for element in system.elements:
-        if isinstance(element, Feedback):
+    for coupling in system.couplings:
+        if isinstance(coupling, Feedback):
             raise ValueError(
                 "the system has feedback states (duhamel.feedback.Feedback: controllers): the "
                 "direct integrators step second-order equations only; use duhamel.Semianalytic()"
             )
-        if isinstance(element, LinearCoupling):
-            factor = element.constant_factor()
-            if factor is None:
-                scaled.append((element.K, element.C, element.scale))
-                continue
-            kc = _add(kc, _times(element.K, factor))
-            c = _add(c, _times(element.C, factor))
+        factor = coupling.constant_factor()
+        if factor is None:
+            scaled.append((coupling.K, coupling.C, coupling.scale))
+            continue
+        kc = _add(kc, _times(coupling.K, factor))
+        c = _add(c, _times(coupling.C, factor))
     k = system.K
     law = system.mass_law
     if kc is not None and (law is None or not law.scale_stiffness):
@@ -117,9 +115,9 @@ def _to_scipy(m: Any, n: int) -> Any:
 def highest_frequency(
     system: System,
     mats: dict[str, Any],
-    elements: list,
-    x0: NDArray,
-    v0: NDArray,
+    elements: list[Any],
+    x0: NDArray[np.float64],
+    v0: NDArray[np.float64],
     t_span: tuple[float, float],
 ) -> float:
     """``omega_max``: the square root of the largest eigenvalue magnitude of ``(K_t, M)``.
@@ -137,12 +135,11 @@ def highest_frequency(
     t0, t_end = t_span
     k = _to_scipy(mats["k"], n)
     rest = _to_scipy(mats["k_fixed"], n)
-    for element in system.elements:
-        if isinstance(element, LinearCoupling) and element.constant_factor() is None:
-            if element.K is not None:
-                # the speed laws are monotonic: the extremes are at the ends of the run
-                worst = float(np.max(np.abs(element.scale.omega(np.array([t0, t_end])))))
-                rest = rest + worst * sp.csr_array(element.K)
+    for coupling in system.couplings:
+        if coupling.constant_factor() is None and coupling.K is not None:
+            # the speed laws are monotonic: the extremes are at the ends of the run
+            worst = float(np.max(np.abs(coupling.scale.omega(np.array([t0, t_end])))))
+            rest = rest + worst * sp.csr_array(coupling.K)
     if elements:
         try:
             rows, cols, vals = _core.element_stiffness(elements, x0, v0, t0)
@@ -185,9 +182,9 @@ def highest_frequency(
 def _check_central(
     system: System,
     mats: dict[str, Any],
-    elements: list,
-    x0: NDArray,
-    v0: NDArray,
+    elements: list[Any],
+    x0: NDArray[np.float64],
+    v0: NDArray[np.float64],
     dt: float,
     t_span: tuple[float, float],
 ) -> None:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import functools
 import time as _time
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -21,6 +21,9 @@ from duhamel._engine.validate import as_float_array, issparse
 from duhamel.integrators import CentralDifference, CubicHermite, DirectIntegrator
 from duhamel.results.solution import Solution, SolveStats
 from duhamel.system import System
+
+if TYPE_CHECKING:
+    from duhamel._engine.massless import Condensation
 
 __all__ = ["DirectSetup", "prepare_direct", "step_matrix"]
 
@@ -51,7 +54,7 @@ class DirectSetup:
         loads: list[Any] | None,
         progress: bool | Progress | None,
         started: float,
-        a0: NDArray | None = None,
+        a0: NDArray[np.float64] | None = None,
         energy: bool = False,
     ) -> Solution:
         """One run (see :meth:`duhamel.Prepared.run`); `a0` overrides the initial
@@ -130,7 +133,12 @@ class DirectSetup:
 
 
 def _massless_start(
-    setup: DirectSetup, x0: NDArray, v0: NDArray, t0: float, dt: float, loads: list[Any] | None
+    setup: DirectSetup,
+    x0: NDArray[np.float64],
+    v0: NDArray[np.float64],
+    t0: float,
+    dt: float,
+    loads: list[Any] | None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The initial velocity and acceleration of a model with massless dofs, which the
     equation of motion does not leave free (``M`` is singular).
@@ -150,8 +158,8 @@ def _massless_start(
     from duhamel._engine.massless import matrix_relaxation
 
     system = setup.system
-    c = system._condensation
-    if system.elements and (np.any(x0) or np.any(v0)):
+    c = cast("Condensation", system._condensation)  # (a model with massless dofs)
+    if (system.elements or system.couplings) and (np.any(x0) or np.any(v0)):
         raise ValueError(
             "`x0`/`v0`: a model with massless dofs and elements starts a direct integrator "
             "from rest only (its initial acceleration is taken from the linear part)"
@@ -237,7 +245,7 @@ def step_matrix(system: System, integrator: DirectIntegrator, dt: float) -> NDAr
     ``(x, v, a)`` and the matrix is ``3 n x 3 n`` (the amplification matrix of Chung and
     Hulbert); the cubic Hermite element's state is ``(x, v)`` (``2 n x 2 n``).
     """
-    if system.elements or system.mass_law is not None:
+    if system.elements or system.couplings or system.mass_law is not None:
         raise ValueError("`system` must be linear (no elements, constant mass)")
     n = system.n_dof
     alpha = not isinstance(integrator, CubicHermite)

@@ -110,7 +110,7 @@ def grid(
     return _core.Grid(t0, dt, n_steps, save_every, step0, threads)
 
 
-def eta0(route: Plan, q0: NDArray, v0: NDArray) -> NDArray[np.float64]:
+def eta0(route: Plan, q0: NDArray[np.float64], v0: NDArray[np.float64]) -> NDArray[np.float64]:
     """The first-order coordinates ``Re | Im`` of the modal state ``(q0, v0)``."""
     assert route.modes is not None
     eta = route.modes.initial(q0, v0)
@@ -120,10 +120,10 @@ def eta0(route: Plan, q0: NDArray, v0: NDArray) -> NDArray[np.float64]:
 def run_spec(
     route: Plan,
     run_grid: Any,
-    state: tuple[NDArray, NDArray],
-    element_state: NDArray | None = None,
-    eta: NDArray | None = None,
-    guard_state: NDArray | None = None,
+    state: tuple[NDArray[np.float64], NDArray[np.float64]],
+    element_state: NDArray[np.float64] | None = None,
+    eta: NDArray[np.float64] | None = None,
+    guard_state: NDArray[np.float64] | None = None,
     energy: Any = None,
 ) -> Any:
     """One run from the modal `state` ``(q0, v0)``; on the first-order route from `eta`
@@ -144,7 +144,7 @@ def run_spec(
     )
 
 
-def outputs(route: Plan, phi_out: NDArray, n_loads: int) -> Any:
+def outputs(route: Plan, phi_out: NDArray[np.float64], n_loads: int) -> Any:
     """What the engine maps during a first-order run: ``[x | v]`` of the output dofs from
     ``[Re eta | Im eta]`` (the loads add nothing to them); None on the other routes."""
     if route.route != "first-order":
@@ -190,7 +190,7 @@ def matrices(mats: dict[str, Any]) -> Any:
         )
         for ks, cs, law in mats["scaled"]
     ]
-    return _core.Matrices(m, k, c, k_fixed, scaled)
+    return _core.Matrices(m, k, c, k_fixed, scaled)  # type: ignore[arg-type]
 
 
 def direct_model(mats: dict[str, Any], elements: list[Any], mass: Any, integrator: Any) -> Any:
@@ -206,8 +206,8 @@ def direct_model(mats: dict[str, Any], elements: list[Any], mass: Any, integrato
 
 
 def direct_run(
-    run_grid: Any, x0: NDArray, v0: NDArray, dofs: NDArray, a0: NDArray | None = None,
-    energy: Any = None,
+    run_grid: Any, x0: NDArray[np.float64], v0: NDArray[np.float64], dofs: NDArray[np.int64],
+    a0: NDArray[np.float64] | None = None, energy: Any = None,
 ) -> Any:  # fmt: skip
     """One direct run from `x0`, `v0` (and `a0`), keeping the dofs `dofs`; `energy` the
     integrals to accumulate (a ``_core.EnergySpec``)."""

@@ -24,7 +24,7 @@ extended the same way when allowed.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -158,7 +158,7 @@ class Modes:
             return deflate(lu.solve(b - m_known @ (known.T @ b) if m else b))
 
         op = spla.LinearOperator((n_dof, n_dof), matvec=op_inv, dtype=np.float64)
-        v0 = deflate(np.random.default_rng(_SEED).standard_normal(n_dof))
+        v0 = deflate(np.random.default_rng(_SEED).standard_normal(n_dof))  # type: ignore[arg-type]
         ncv = min(n_dof - m, max(2 * k + 1, 20))
         _, x = spla.eigsh(K, k=k, M=M, sigma=sigma, which="LM", OPinv=op, v0=v0, ncv=ncv)
         x = deflate(deflate(x))  # twice: exactly M-orthogonal to the known modes
@@ -205,7 +205,9 @@ class Modes:
                 return lam[:k], (x @ y2)[:, :k]
             return lam[:k], c.expand(y[:, :k])
         if m == 0:
-            return la.eigh(K, M, subset_by_index=[0, k - 1], check_finite=False)
+            return cast(
+                tuple[Array, Array], la.eigh(K, M, subset_by_index=[0, k - 1], check_finite=False)
+            )
         # With M = L L^T and y = L^T x the problem is standard, A = L^-1 K L^-T, and the known
         # modes are orthonormal columns L^T phi; Q spans their orthogonal complement.
         L = la.cholesky(M, lower=True, check_finite=False)

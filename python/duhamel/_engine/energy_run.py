@@ -100,7 +100,9 @@ def energy_model(
     )
 
 
-def _bases(system: Any, loads: Any) -> tuple[list[int], list[NDArray], NDArray[np.float64]]:
+def _bases(
+    system: Any, loads: Any
+) -> tuple[list[int], list[NDArray[np.float64]], NDArray[np.float64]]:
     """The index among the core loads of each base excitation, its influence vector, and
     ``r^T M r'``."""
     index, base_loads, directions = 0, [], []

@@ -61,7 +61,7 @@ class Labels:
     ) -> None:
         if n_dof is not None and len(labels) != n_dof:
             raise ValueError(f"`labels` must name all {n_dof} dofs, got {len(labels)}")
-        keys = [(int(v[0]), str(v[1])) if _is_pair(v) else str(v) for v in labels]
+        keys: list[Hashable] = [(int(v[0]), str(v[1])) if _is_pair(v) else str(v) for v in labels]  # type: ignore[index]
         self.keys: tuple[Hashable, ...] = tuple(keys)
         self.texts: tuple[str, ...] = tuple(text(k) for k in keys)
         if len(set(self.texts)) != len(keys):
@@ -164,4 +164,4 @@ def resolve_fields(system: Any, obj: Any) -> Any:
             )
         elif f.name == "direction_vector" and isinstance(value, str):
             changes[f.name] = direction(system, value)
-    return dataclasses.replace(obj, **changes) if changes else obj
+    return dataclasses.replace(obj, **changes) if changes else obj  # type: ignore[type-var]

@@ -52,7 +52,7 @@ def checked_times(t_eval: Any, t0: float, t_end: float) -> NDArray[np.float64]:
     return times
 
 
-def _crossings(g: NDArray, direction: int) -> NDArray[np.int64]:
+def _crossings(g: NDArray[np.float64], direction: int) -> NDArray[np.int64]:
     s0, s1 = g[:-1], g[1:]
     up = (s0 < 0) & (s1 >= 0)
     down = (s0 > 0) & (s1 <= 0)
@@ -117,7 +117,7 @@ def locate(events: Sequence[Event], sol: Solution, dense: Dense) -> list[Occurre
     return [occ for _, _, occ in found]
 
 
-def _cut_modal(modal: ModalHistory | None, rows: int, row: dict[str, NDArray] | None,
+def _cut_modal(modal: ModalHistory | None, rows: int, row: dict[str, NDArray[np.float64]] | None,
                s: float, h: float) -> ModalHistory | None:  # fmt: skip
     """The first `rows` rows of `modal` and a last one: `row` (exact) or interpolated in
     step ``rows - 1`` at the fraction `s` (``q`` by Hermite, the rest linearly)."""
@@ -125,7 +125,7 @@ def _cut_modal(modal: ModalHistory | None, rows: int, row: dict[str, NDArray] | 
         return None
     n = rows - 1
 
-    def take(name: str, a: NDArray | None) -> NDArray | None:
+    def take(name: str, a: NDArray[np.float64] | None) -> NDArray[np.float64] | None:
         if a is None:
             return None
         if row is not None and name in row:
@@ -144,16 +144,16 @@ def _cut_modal(modal: ModalHistory | None, rows: int, row: dict[str, NDArray] | 
         v = np.vstack([modal.v[:rows], v[None, :]])
         first_new = None
     else:
-        q = v = None
+        q = v = None  # type: ignore[assignment]
         first_new = (take("eta", first[0]), first[1])
     return ModalHistory(
-        q, v, modal.omega, modal.c, take("load_values", modal.load_values), modal.patterns,
+        q, v, modal.omega, modal.c, take("load_values", modal.load_values), modal.patterns,  # type: ignore[arg-type]
         take("forcing", modal.forcing), take("pseudo", modal.pseudo),
-        first_order=first_new, coupling=modal._coupling,
+        first_order=first_new, coupling=modal._coupling,  # type: ignore[arg-type]
     )  # fmt: skip
 
 
-def _accelerations(modal: ModalHistory, n: int, h: float) -> NDArray:
+def _accelerations(modal: ModalHistory, n: int, h: float) -> NDArray[np.float64]:
     """The modal accelerations of rows `n`, `n + 1` for the Hermite interpolation; those of
     the massless dofs' coordinates (``omega = inf``, no inertia) are not formed: their
     velocity's secant over the step (``v`` linear there)."""
@@ -171,7 +171,7 @@ def _slice_modal(modal: ModalHistory | None, rows: int) -> ModalHistory | None:
     if modal is None:
         return None
 
-    def cut(a: NDArray | None) -> NDArray | None:
+    def cut(a: NDArray[np.float64] | None) -> NDArray[np.float64] | None:
         return None if a is None else a[:rows]
 
     first = modal._first_order
@@ -184,11 +184,11 @@ def _slice_modal(modal: ModalHistory | None, rows: int) -> ModalHistory | None:
 
 
 def _cut_elements(
-    elements: tuple[ElementHistory, ...], t: NDArray, rows: int, s: float
+    elements: tuple[ElementHistory, ...], t: NDArray[np.float64], rows: int, s: float
 ) -> tuple[ElementHistory, ...]:
     n = rows - 1
 
-    def take(a: NDArray) -> NDArray:
+    def take(a: NDArray[np.float64]) -> NDArray[np.float64]:
         extra = (1.0 - s) * a[n] + s * a[n + 1] if n + 1 < a.shape[0] else a[n]
         return np.vstack([a[:rows], extra[None, :]])
 
@@ -197,8 +197,9 @@ def _cut_elements(
     )
 
 
-def _with_rows(sol: Solution, t: NDArray, x: NDArray, v: NDArray, a: NDArray,
-               modal: ModalHistory | None, elements: Any) -> Solution:  # fmt: skip
+def _with_rows(sol: Solution, t: NDArray[np.float64], x: NDArray[np.float64],
+               v: NDArray[np.float64], a: NDArray[np.float64], modal: ModalHistory | None,
+               elements: Any) -> Solution:  # fmt: skip
     out = Solution(t, x, v, a, sol.dofs, modal, sol.stats, sol.meta, elements=elements,
                    base=sol._base)  # fmt: skip
     out.events = sol.events

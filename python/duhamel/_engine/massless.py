@@ -19,7 +19,7 @@ A massless part whose stiffness ``K_ss`` is singular is a mechanism: refused, na
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -130,7 +130,9 @@ class Condensation:
             return np.asarray(self._factor.solve(np.asarray(b, dtype=np.float64)))
         import scipy.linalg
 
-        return scipy.linalg.cho_solve(self._factor, b, check_finite=False)
+        return cast(
+            NDArray[np.float64], scipy.linalg.cho_solve(self._factor, b, check_finite=False)
+        )
 
     def expand(self, x_m: Array) -> Array:
         """Vectors of the dofs with mass (rows) completed by the static relation without
@@ -294,7 +296,7 @@ def load_terms(
         out = c.static(f)
         if carried is not None and carried.shape[1]:
             out -= (f @ carried) @ carried.T
-        return out[:, dofs]
+        return cast(NDArray[np.float64], out[:, dofs])
 
     f0, fp, fm = forces(t), forces(t + h), forces(t - h)
     x = static(f0)

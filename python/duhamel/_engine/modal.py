@@ -36,7 +36,6 @@ from duhamel._engine.relaxation import check_loads, check_state
 from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
 from duhamel._engine.structure import structure_model
 from duhamel._engine.validate import as_float_array
-from duhamel.couplings import LinearCoupling
 from duhamel.errors import SolverError
 from duhamel.integrators import Semianalytic
 from duhamel.loads import support_terms
@@ -55,7 +54,7 @@ class Outputs:
     dofs: NDArray[np.int64]
     phi_out: NDArray[np.float64]
     maps: Any  # _core.Outputs or None
-    base: list[tuple[NDArray, Any]]
+    base: list[tuple[NDArray[np.float64], Any]]
 
 
 @dataclass(eq=False)
@@ -147,7 +146,7 @@ def setup(system: System, integrator: Semianalytic, threads: int | None = None) 
     patterns = (
         np.stack([s.pattern for s in loads], axis=1) if loads else np.zeros((phi.shape[1], 0))
     )
-    forces = [e for e in system.elements if not isinstance(e, LinearCoupling)]
+    forces = list(system.elements)
     return ModalSetup(system, integrator, route, model, loads, fns, patterns, forces, threads)
 
 
@@ -236,7 +235,7 @@ def _run_once(prep: ModalSetup, opts: RunOptions) -> Solution:
 
 def _stopping(
     prep: ModalSetup, opts: RunOptions, state: Any, sub: int, loads: Any, out: Outputs,
-    forcing: Any, patterns: NDArray, base: Any,
+    forcing: Any, patterns: NDArray[np.float64], base: Any,
 ) -> tuple[Solution, Any] | None:  # fmt: skip
     """The run in chunks, stopped after the chunk where ``opts.stop`` fires (None: a chunk
     failed, the caller runs the whole grid)."""
@@ -287,7 +286,7 @@ def exact_steps(
             spec = dispatch.run_spec(route, grid, (zeros, zeros), eta=eta[n])
         return prep.model.run(spec, loads, out.maps, forcing, None)
 
-    def last_row(res: Any) -> tuple[State, dict[str, NDArray]]:
+    def last_row(res: Any) -> tuple[State, dict[str, NDArray[np.float64]]]:
         kept, x, vel, acc, hist = physical(res, route, out.phi_out, patterns)
         if res.error is not None or kept < 2 or not callable(acc):
             raise FloatingPointError(
@@ -300,7 +299,7 @@ def exact_steps(
         if eta is None:
             row["q"], row["v"] = hist.q[-1], hist.v[-1]
         else:
-            row["eta"] = hist._first_order[0][-1]
+            row["eta"] = hist._first_order[0][-1]  # type: ignore[index]
         return (x[-1], vel[-1], acc()[-1]), row
 
     return ExactSteps(one_step, last_row)

@@ -26,7 +26,7 @@ __all__ = ["ROW_BLOCK", "check_memory", "physical", "rows_product"]
 ROW_BLOCK = 1024
 
 
-def rows_product(a: NDArray, b: NDArray) -> NDArray:
+def rows_product(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
     """``a @ b`` computed in blocks of :data:`ROW_BLOCK` rows of `a` from its first row.
 
     BLAS rounds a row of a product differently depending on where it falls in the blocking
@@ -73,15 +73,21 @@ def check_memory(n_steps: int, save_every: int, n_out: int, history_width: int) 
         )
 
 
-def _finite_rows(*arrays: NDArray) -> int:
+def _finite_rows(*arrays: NDArray[np.float64]) -> int:
     """The number of leading rows finite in every one of `arrays`."""
     finite = np.logical_and.reduce([np.isfinite(a).all(axis=1) for a in arrays])
     return int(finite.size if finite.all() else np.argmin(finite))
 
 
 def physical(
-    result: Any, plan: Plan, phi_out: NDArray, patterns: NDArray
-) -> tuple[int, NDArray, NDArray, NDArray | Callable[[], NDArray], ModalHistory]:
+    result: Any, plan: Plan, phi_out: NDArray[np.float64], patterns: NDArray[np.float64]
+) -> tuple[
+    int,
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[np.float64] | Callable[[], NDArray[np.float64]],
+    ModalHistory,
+]:
     """The physical response of the output dofs from a modal run's `result`.
 
     Returns ``(kept, x, v, a, modal)``: ``x`` and ``v`` of the output dofs, the accelerations
@@ -101,7 +107,7 @@ def physical(
         )
     if error is None and not overflowed:
 
-        def checked() -> NDArray:
+        def checked() -> NDArray[np.float64]:
             with np.errstate(over="ignore", invalid="ignore"):
                 a = acceleration()
             row = _finite_rows(a)
@@ -129,8 +135,10 @@ def physical(
 
 
 def _assemble(
-    result: Any, plan: Plan, phi_out: NDArray, patterns: NDArray, rows: int
-) -> tuple[NDArray, NDArray, Callable[[], NDArray], ModalHistory]:
+    result: Any, plan: Plan, phi_out: NDArray[np.float64], patterns: NDArray[np.float64], rows: int
+) -> tuple[
+    NDArray[np.float64], NDArray[np.float64], Callable[[], NDArray[np.float64]], ModalHistory
+]:
     """``x``, ``v``, the accelerations (as a function) and the modal history of the first
     `rows` saved instants."""
     basis = plan.basis
@@ -140,7 +148,7 @@ def _assemble(
 
     m = basis.n_modes
 
-    def cut(a: NDArray | None, width: int = m) -> NDArray | None:
+    def cut(a: NDArray[np.float64] | None, width: int = m) -> NDArray[np.float64] | None:
         if a is not None and rows == 0:  # nothing kept: no row, the right columns
             return np.empty((0, a.shape[1] if a.ndim == 2 and a.shape[1] else width))
         return a if a is None or whole else a[:rows]
@@ -149,12 +157,12 @@ def _assemble(
     forcing, pseudo = cut(result.forcing), cut(result.pseudo)
     if result.eta is None:
         q, vel = cut(result.q), cut(result.v)
-        x, v = rows_product(q, phi_out.T), rows_product(vel, phi_out.T)
+        x, v = rows_product(q, phi_out.T), rows_product(vel, phi_out.T)  # type: ignore[arg-type]
         coupling = None
         first_order = None
     else:
         out = cut(result.outputs, 3 * n_out)
-        x, v = out[:, :n_out], out[:, n_out : 2 * n_out]
+        x, v = out[:, :n_out], out[:, n_out : 2 * n_out]  # type: ignore[index]
         coupling = (plan.couplings.k, plan.couplings.c)
         assert plan.modes is not None
         first_order = (cut(result.eta, plan.modes.back.shape[0]), plan.modes.back)
@@ -164,15 +172,15 @@ def _assemble(
         v=vel,
         omega=basis.omega,
         c=basis.c,
-        load_values=values,
+        load_values=values,  # type: ignore[arg-type]
         patterns=patterns,
         forcing=forcing,
         pseudo=pseudo,
-        first_order=first_order,
+        first_order=first_order,  # type: ignore[arg-type]
         coupling=coupling,
     )
 
-    def acceleration() -> NDArray:
+    def acceleration() -> NDArray[np.float64]:
         """``Phi_out (p + pseudo - S q - D q')``: the modal accelerations first, then one
         product with the mode shapes (whose scale may be far from that of ``S``)."""
         massless = np.isinf(basis.omega2)  # coordinates of massless dofs: no inertia
@@ -185,12 +193,12 @@ def _assemble(
         else:
             eta, back = first_order
             m = basis.n_modes
-            q, vel = rows_product(eta, back[:, :m]), rows_product(eta, back[:, m:])
+            q, vel = rows_product(eta, back[:, :m]), rows_product(eta, back[:, m:])  # type: ignore[arg-type]
             a = -(q * basis.omega2) - vel * basis.c
-            for part, matrix in ((q, coupling[0]), (vel, coupling[1])):
+            for part, matrix in ((q, coupling[0]), (vel, coupling[1])):  # type: ignore[index]
                 if matrix is not None:
                     a -= rows_product(part, np.asarray(matrix).T)
-        a += rows_product(values, patterns.T)
+        a += rows_product(values, patterns.T)  # type: ignore[arg-type]
         for extra in (forcing, pseudo):
             if extra is not None:
                 a += extra

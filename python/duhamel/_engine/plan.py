@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, NamedTuple
+from typing import Any, Literal, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -23,7 +23,6 @@ from duhamel._engine.background import background
 from duhamel._engine.correction import enriched, resolved
 from duhamel._engine.coupled import CONDITION_LIMIT, FirstOrderModes, first_order_modes
 from duhamel._engine.relaxation import Massless, massless_coordinates
-from duhamel.couplings import LinearCoupling
 from duhamel.feedback import Feedback
 from duhamel.integrators import Semianalytic
 from duhamel.loads import Callable
@@ -145,13 +144,15 @@ def modal_loads(
     return terms, fns
 
 
+def _contiguous(m: NDArray[Any] | None) -> NDArray[Any] | None:
+    return None if m is None else np.ascontiguousarray(m)
+
+
 def _couplings(system: System, basis: ModalBasis) -> Couplings:
-    k: NDArray | None = None
-    c: NDArray | None = basis.c_coupling
+    k: NDArray[np.float64] | None = None
+    c: NDArray[np.float64] | None = basis.c_coupling
     scaled = []
-    for element in system.elements:
-        if not isinstance(element, LinearCoupling):
-            continue
+    for element in system.couplings:
         mk, mc = element.modal(basis.phi)
         factor = element.constant_factor()
         if factor is None:
@@ -164,7 +165,6 @@ def _couplings(system: System, basis: ModalBasis) -> Couplings:
         if mc is not None:
             mc = mc if factor == 1.0 else factor * mc
             c = mc if c is None else c + mc
-    as_c = lambda m: None if m is None else np.ascontiguousarray(m)  # noqa: E731
     with np.errstate(all="ignore"):
         parts = [m for m in (k, c) if m is not None]
         parts += [m for spec in scaled for m in (spec.k, spec.c) if m is not None]
@@ -175,7 +175,7 @@ def _couplings(system: System, basis: ModalBasis) -> Couplings:
             "overflow the double range: check their `K`, `C` and `scale` (a rotor's speed) "
             "and the model's units"
         )
-    return Couplings(as_c(k), as_c(c), scaled)
+    return Couplings(_contiguous(k), _contiguous(c), scaled)
 
 
 def mass(system: System, integrator: Any) -> _core.Mass | None:
@@ -184,7 +184,7 @@ def mass(system: System, integrator: Any) -> _core.Mass | None:
     attached = system.mass_law
     if attached is None:
         return None
-    treatment = getattr(integrator, "mass_treatment", "eliminate")
+    treatment: Literal["eliminate", "estimate"] = getattr(integrator, "mass_treatment", "eliminate")
     return _core.Mass(attached.law._law(), attached.form, bool(attached.scale_stiffness), treatment)
 
 
@@ -192,18 +192,16 @@ def _check_massless_elements(system: System) -> None:
     """Refuses linear couplings acting on massless dofs on the modal route (their
     stiffness would not be condensed); force elements there get coordinates of their own
     (:func:`duhamel._engine.relaxation.massless_coordinates`)."""
-    if system._condensation is None or not system.elements:
+    if system._condensation is None or not system.couplings:
         return
     massless = set(system.massless_dofs.tolist())
-    for index, element in enumerate(system.elements):
-        if not isinstance(element, LinearCoupling):
-            continue
+    for index, element in enumerate(system.couplings):
         mats = [m for m in (element.K, element.C) if m is not None]
         touched = {int(d) for m in mats for d in np.flatnonzero(np.abs(np.asarray(m)).sum(1))}
         hit = sorted(touched & massless)
         if hit:
             raise ValueError(
-                f"`system.elements[{index}]` (LinearCoupling) acts on the massless dofs {hit}: "
+                f"`system.couplings[{index}]` (LinearCoupling) acts on the massless dofs {hit}: "
                 "the modal route does not condense a coupling; add its matrices to `K`/`C`, "
                 "or run the model with duhamel.Newmark()"
             )
@@ -238,13 +236,11 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
     basis = system.modal(integrator.modes)
     correct = integrator.static_correction
     if correct is None:
-        correct = integrator.modes is not None and any(
-            not isinstance(e, LinearCoupling) for e in system.elements
-        )
+        correct = integrator.modes is not None and bool(system.elements)
     correction = np.zeros(0)
     if correct:
         basis, correction = enriched(system, basis)
-    if not any(not isinstance(e, LinearCoupling) for e in system.elements):
+    if not system.elements:
         correction = np.zeros(0)  # the linear steps are exact at any dt
     resolve = resolved(system, basis, correction)
     carried = np.zeros((system.n_dof, 0))
@@ -260,10 +256,8 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
     if integrator.modes is not None:
         _warn_missing_mass(system, basis)
     elements = core_elements(system.elements)
-    has_elements = bool(system.elements)
-    coupled = basis.c_coupling is not None or any(
-        isinstance(e, LinearCoupling) for e in system.elements
-    )
+    has_elements = bool(system.elements or system.couplings)
+    coupled = basis.c_coupling is not None or bool(system.couplings)
     if not has_elements and basis.c_coupling is None and system.mass_law is None:
         return Plan(
             "uncoupled", basis, Couplings(None, None, []), None, None, elements, bg.linear,
@@ -271,7 +265,7 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
         )  # fmt: skip
     couplings = _couplings(system, basis)
     route = "pseudo-force"
-    modes = None
+    modes: FirstOrderModes | None = None
     states = _states(system, basis)
     if states is not None:
         modes = _with_feedback(system, basis, integrator, couplings, states)
@@ -291,7 +285,7 @@ def plan(system: System, integrator: Semianalytic) -> Plan:
     )  # fmt: skip
 
 
-def _semidefinite(m: NDArray | None, *, symmetric: bool) -> bool:
+def _semidefinite(m: NDArray[np.float64] | None, *, symmetric: bool) -> bool:
     """Whether `m` is None, or its symmetric part positive semi-definite (and `m` itself
     symmetric when `symmetric`), to round-off."""
     if m is None:
@@ -314,9 +308,9 @@ def passive(system: System, couplings: Couplings, basis: ModalBasis) -> bool:
     with skew-symmetric (gyroscopic) damping. Then the growth guard's bound holds."""
     if system.mass_law is not None or bool(np.any(np.asarray(basis.c) < 0.0)):
         return False
-    if any(isinstance(e, Feedback) for e in system.elements):
+    if any(isinstance(e, Feedback) for e in system.couplings):
         return False  # a controller supplies energy
-    if not all(e._passive() for e in system.elements if not isinstance(e, LinearCoupling)):
+    if not all(e._passive() for e in system.elements):
         return False
     if not _semidefinite(couplings.k, symmetric=True):
         return False
@@ -334,7 +328,7 @@ def passive(system: System, couplings: Couplings, basis: ModalBasis) -> bool:
 
 def _states(system: System, basis: ModalBasis) -> Any:
     """The system's feedback states in modal form (``coupled.States``), or None."""
-    parts = [e.modal_states(basis.phi) for e in system.elements if isinstance(e, Feedback)]
+    parts = [e.modal_states(basis.phi) for e in system.couplings if isinstance(e, Feedback)]
     if not parts:
         return None
     import scipy.linalg
@@ -350,7 +344,7 @@ def _with_feedback(
 ) -> FirstOrderModes:
     """The first-order modes of the closed loop (modal coordinates and feedback states):
     the only route that integrates feedback states; a ValueError says why it cannot."""
-    nonlinear = any(not isinstance(e, LinearCoupling) for e in system.elements)
+    nonlinear = bool(system.elements)
     why = None
     if integrator.coupling == "pseudo-force":
         why = "coupling='pseudo-force' cannot carry them (use coupling='auto' or 'exact')"
@@ -395,7 +389,7 @@ def _first_order(
 ) -> FirstOrderModes | None:
     """The first-order modes for the exact coupled route, or None for the pseudo-force
     route."""
-    nonlinear = any(not isinstance(e, LinearCoupling) for e in system.elements)
+    nonlinear = bool(system.elements)
     why = None
     if extra is not None:
         why = (
@@ -419,6 +413,7 @@ def _first_order(
                 "coupling='auto' or 'pseudo-force')"
             )
         return None
+    modes: FirstOrderModes | None
     try:
         modes = first_order_modes(basis.omega2, basis.c, couplings.k, couplings.c)
     except (np.linalg.LinAlgError, ValueError) as exc:

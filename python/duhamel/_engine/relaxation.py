@@ -87,15 +87,12 @@ class Massless:
 def _directions(system: Any, loads: bool) -> tuple[list[Array], bool]:
     """The massless parts of the elements' directions (and, with `loads`, of the loads'
     patterns), and whether a Python load (pattern unknown) is among the loads."""
-    from duhamel.couplings import LinearCoupling
     from duhamel.loads import Callable
 
     c = system._condensation
     n = system.n_dof
     cols: list[Array] = []
     for element in system.elements:
-        if isinstance(element, LinearCoupling):
-            continue
         for i, j in element._directions():
             d = np.zeros(n)
             d[i] = 1.0

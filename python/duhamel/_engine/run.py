@@ -33,7 +33,7 @@ class ModalCallable:
         self.fns = fns
         self.n_dof = n_dof
 
-    def __call__(self, t: float) -> NDArray:
+    def __call__(self, t: float) -> NDArray[np.float64]:
         total = np.zeros(self.n_dof)
         for fn in self.fns:
             f = np.asarray(fn(t))
@@ -97,7 +97,7 @@ def raise_failure(error: Any, partial: Any, note: str = "", step: int | None = N
     )
     if interrupted:
         exc = cause if isinstance(cause, BaseException) else KeyboardInterrupt(error.message)
-        exc.partial = partial  # type: ignore[union-attr]
+        exc.partial = partial  # type: ignore[attr-defined]
         exc.add_note(f"duhamel: {error.message}")
         raise exc
     if error.kind == "callback":

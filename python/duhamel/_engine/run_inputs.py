@@ -25,7 +25,7 @@ def massless_store_check(system: System) -> None:
         return
     from duhamel.loads import Callable
 
-    touched = bool(system.elements) or any(
+    touched = bool(system.elements or system.couplings) or any(
         isinstance(load, Callable) or any(np.any(term.pattern[c.s]) for term in load._terms(system))
         for load in system.loads
     )

@@ -38,7 +38,7 @@ KEPT = 16
 MAX_N = 2000
 
 _CHECKED: OrderedDict[bytes, bool] = OrderedDict()
-_BASES: OrderedDict[tuple, tuple[Any, Any, Any, bool]] = OrderedDict()
+_BASES: OrderedDict[tuple[Any, ...], tuple[Any, Any, Any, bool]] = OrderedDict()
 _LOCK = threading.Lock()
 
 
@@ -55,7 +55,7 @@ def content_key(*matrices: Any) -> bytes | None:
     return digest.digest()
 
 
-def _keep(cache: OrderedDict, key: Any, value: Any) -> None:
+def _keep(cache: OrderedDict[Any, Any], key: Any, value: Any) -> None:
     with _LOCK:
         cache[key] = value
         cache.move_to_end(key)
@@ -74,7 +74,7 @@ def remember_checked(key: bytes | None) -> None:
         _keep(_CHECKED, key, True)
 
 
-def damping_key(system: Any) -> tuple | None:
+def damping_key(system: Any) -> tuple[Any, ...] | None:
     """What the modal damping of `system` depends on besides its modes (None: a sparse
     damping matrix, not shared)."""
     kind = system.damping

@@ -4,12 +4,13 @@ the elements' global dofs and the support loads, as a
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from duhamel._engine.direct import damping_matrix, physical_matrices
-from duhamel.couplings import LinearCoupling
 from duhamel.feedback import Feedback
 from duhamel.loads import BaseAcceleration
 from duhamel.results.forces import StructureModel
@@ -50,30 +51,25 @@ def structure_model(
                 raise
             mphi = np.asarray(system.M @ basis.phi)
             c = (mphi * basis.c) @ mphi.T
-        for element in elements:
-            if isinstance(element, Feedback):
+        for coupling in system.couplings:
+            if isinstance(coupling, Feedback):
                 raise ValueError(
                     "structural outputs (base shear, energy) need the forces of the model's "
                     "matrices; this system has feedback states (controllers) that push too"
                 )
-            if isinstance(element, LinearCoupling):
-                factor = element.constant_factor()
-                if factor is None:
-                    raise ValueError(
-                        "structural outputs (base shear, energy) need constant matrices; this "
-                        "system has couplings scaled by a speed law"
-                    )
-                if element.K is not None:
-                    k = k + factor * element.K
-                if element.C is not None:
-                    c = factor * element.C if c is None else c + factor * element.C
+            factor = coupling.constant_factor()
+            if factor is None:
+                raise ValueError(
+                    "structural outputs (base shear, energy) need constant matrices; this "
+                    "system has couplings scaled by a speed law"
+                )
+            if coupling.K is not None:
+                k = k + factor * coupling.K
+            if coupling.C is not None:
+                c = factor * coupling.C if c is None else c + factor * coupling.C
     alpha = float(system.rayleigh[0]) if system.damping == "rayleigh" else 0.0
-    forces = tuple(
-        (e, np.asarray(e._dofs, dtype=np.int64))
-        for e in elements
-        if not isinstance(e, LinearCoupling)
-    )
-    base = [
+    forces = tuple((e, np.asarray(e._dofs, dtype=np.int64)) for e in elements)
+    base: list[tuple[NDArray[np.float64], Callable[[Any], Any]]] = [
         (np.asarray(load.direction_vector, dtype=np.float64), load._scalar)
         for load in loads
         if isinstance(load, BaseAcceleration)

@@ -258,7 +258,7 @@ def issparse(value: Any) -> bool:
     if sparse is None:
         return False
     if not hasattr(sparse, "issparse"):  # partially initialised by another thread
-        import scipy.sparse as sparse
+        import scipy.sparse as sparse  # type: ignore[no-redef]
     return bool(sparse.issparse(value))
 
 

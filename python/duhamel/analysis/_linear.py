@@ -10,7 +10,6 @@ import numpy as np
 import scipy.linalg
 from numpy.typing import NDArray
 
-from duhamel import elements as el
 from duhamel.system import System
 
 Array = NDArray[np.float64]
@@ -30,6 +29,13 @@ def check_system(system: Any) -> System:
             "`system` must have constant coefficients for an amplification matrix, but it has "
             "a time-varying mass law"
         )
+    for coupling in system.couplings:
+        if coupling.constant_factor() is None:
+            raise ValueError(
+                f"`system` must be linear for an amplification matrix, but its coupling "
+                f"{coupling!r} has a time-varying scale (a speed law): the coefficients are "
+                "not constant"
+            )
     for element in system.elements:
         reason = _nonlinear_reason(element)
         if reason is not None:
@@ -41,10 +47,6 @@ def check_system(system: Any) -> System:
 
 
 def _nonlinear_reason(element: Any) -> str | None:
-    if isinstance(element, el.LinearCoupling):
-        if element.constant_factor() is None:
-            return "has a time-varying scale (a speed law): the coefficients are not constant"
-        return None
     try:
         element._linear_matrices()
     except ValueError as exc:
@@ -123,15 +125,14 @@ def modal_model(system: System, modes: int | None = None) -> ModalModel:
     c_q = np.diag(np.asarray(basis.c, dtype=np.float64)).copy()
     if basis.c_coupling is not None:
         c_q += basis.c_coupling
+    for coupling in system.couplings:
+        kk, cc = coupling.modal(phi)
+        factor = coupling.constant_factor()  # not None: checked by check_system
+        if kk is not None:
+            k_q += factor * kk
+        if cc is not None:
+            c_q += factor * cc
     for element in system.elements:
-        if isinstance(element, el.LinearCoupling):
-            kk, cc = element.modal(phi)
-            factor = element.constant_factor()  # not None: checked by check_system
-            if kk is not None:
-                k_q += factor * kk
-            if cc is not None:
-                c_q += factor * cc
-            continue
         dofs, k_e, c_e = element._linear_matrices()  # linear: checked by check_system
         local = phi[np.asarray(dofs)]
         k_q += local.T @ k_e @ local

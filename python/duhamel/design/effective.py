@@ -82,21 +82,22 @@ def _local_axes(element: Any) -> int:
 
 
 def horizontal_bearing(element: Any) -> Any:
-    """A friction pendulum with its vertical dof as the bearing on its horizontal dofs under
-    its axial force at ``x = 0`` (``initial_axial_force``, else its nominal ``weight``), with
-    the same initial stiffness ``k_i = mu W / u_y``; any other element unchanged."""
-    from duhamel.elements import FrictionPendulum
-
-    if not isinstance(element, FrictionPendulum) or len(element.dofs) != 3:
+    """A bearing with its vertical dof (a definition with a ``vertical_stiffness`` on three
+    dofs: a friction pendulum whose normal force comes from the model) as the same bearing on
+    its horizontal dofs under its axial force at ``x = 0`` (``initial_axial_force``, else its
+    nominal ``weight``), with the same initial stiffness ``k_i = mu W / u_y``; any other
+    element unchanged."""
+    p = getattr(element, "parameters", None) or {}
+    if "vertical_stiffness" not in p or len(p.get("dofs") or ()) != 3:
         return element
-    weight = element.initial_axial_force or element.weight
-    k_i = element.mu * element.weight / element.yield_displacement
-    return FrictionPendulum(
-        tuple(d for d in element.dofs[:2] if d is not None),
-        radius=element.radius,
-        mu=element.mu,
+    weight = p["initial_axial_force"] or p["weight"]
+    k_i = p["mu"] * p["weight"] / p["yield_displacement"]
+    return type(element)(
+        tuple(d for d in p["dofs"][:2] if d is not None),
+        radius=p["radius"],
+        mu=p["mu"],
         weight=weight,
-        yield_displacement=element.mu * weight / (k_i - weight / element.radius),
+        yield_displacement=p["mu"] * weight / (k_i - weight / p["radius"]),
     )
 
 

@@ -143,6 +143,8 @@ def property_bounds(system: Any, lambdas: Mapping[str, Any]) -> dict[str, Any]:
             other.add_load(load)
         for element in system.elements:
             other.add(_modified(element, factors, which))
+        for coupling in system.couplings:
+            other.add(coupling)
         out[name] = other
     return out
 

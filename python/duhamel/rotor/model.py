@@ -434,7 +434,7 @@ class Rotor(RotorAnalyses):
         ...               rayleigh=(0.0, 1e-5))
         >>> system = rotor.system(rpm(3000), [Unbalance(2, m_e=1e-4)])
         >>> system
-        System(n_dof=20, damping='matrix', loads=1, elements=2)
+        System(n_dof=20, damping='matrix', loads=1, couplings=2)
         >>> sol = duhamel.solve(system, duhamel.Semianalytic(modes=8), t_end=0.1, dt=1e-4)
         >>> sol.x.shape
         (1001, 20)
@@ -443,7 +443,7 @@ class Rotor(RotorAnalyses):
 
         >>> run_up = duhamel.speed.LinearRunUp(omega0=0.0, omega1=rpm(3000), t1=0.1)
         >>> system = rotor.system(run_up, [Unbalance(2, m_e=1e-4)])
-        >>> system.elements[0].scale is run_up
+        >>> system.couplings[0].scale is run_up
         True
         >>> sol = duhamel.solve(system, duhamel.Newmark(), t_end=0.15, dt=1e-4)
         """

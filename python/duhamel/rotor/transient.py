@@ -149,7 +149,7 @@ def add_couplings(
     >>> system = duhamel.System(np.eye(2), np.eye(2))
     >>> G = np.array([[0.0, 1.0], [-1.0, 0.0]])
     >>> add_couplings(system, G, 10.0, np.zeros((2, 2)), np.zeros((2, 2)), lambda a: a)
-    >>> system.elements[0].C.tolist()
+    >>> system.couplings[0].C.tolist()
     [[0.0, 10.0], [-10.0, 0.0]]
     """
     bearings = tuple(magnetic)

@@ -24,7 +24,6 @@ from duhamel._engine.background import LinearPart, background
 from duhamel._engine.coupled import FirstOrderModes
 from duhamel._engine.plan import Couplings, Plan, ScaledSpec, plan
 from duhamel._engine.validate import as_float_array
-from duhamel.couplings import LinearCoupling
 from duhamel.integrators import Semianalytic
 from duhamel.loads import BaseAcceleration, Callable
 from duhamel.store import _legacy
@@ -261,10 +260,8 @@ def capture(
         for load in system.loads
         for term in load._terms(system)
     ]
-    forces = [e for e in system.elements if not isinstance(e, LinearCoupling)]
-    varying = [
-        e for e in system.elements if isinstance(e, LinearCoupling) and e.constant_factor() is None
-    ]
+    forces = system.elements
+    varying = [e for e in system.couplings if e.constant_factor() is None]
     scaled = [
         (s.k, s.c, e.scale._to_value())
         for s, e in zip(route.couplings.scaled, varying, strict=True)
@@ -290,9 +287,7 @@ def capture(
         q0=_initial(x0, "x0", system, phi),
         v0=_initial(v0, "v0", system, phi),
         loads=loads,
-        elements=[
-            _run_element(e) for e in run.system.elements if not isinstance(e, LinearCoupling)
-        ],
+        elements=[_run_element(e) for e in run.system.elements],
         integrator={f.name: getattr(integrator, f.name) for f in dataclasses.fields(integrator)},
         coupling_k=route.couplings.k,
         coupling_c=route.couplings.c,

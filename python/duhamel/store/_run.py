@@ -20,7 +20,6 @@ from duhamel._engine.output import ROW_BLOCK, physical
 from duhamel._engine.plan import plan
 from duhamel._engine.run import Progress, overflow_error, raise_failure, watch
 from duhamel._engine.validate import positive_int
-from duhamel.couplings import LinearCoupling
 from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import support_terms
 from duhamel.results.solution import Solution
@@ -181,7 +180,7 @@ def run_stored(
         "model": text,
         "checksum": digest(grid, text, model_group, identity),
     }
-    forces = [e for e in system.elements if not isinstance(e, LinearCoupling)]
+    forces = list(system.elements)
     return _proceed(
         group,
         model,

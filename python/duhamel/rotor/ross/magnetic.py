@@ -29,6 +29,7 @@ currents that differ, and bearings linked to another node, are refused.
 
 from __future__ import annotations
 
+import sys
 from typing import Any
 
 import numpy as np
@@ -41,7 +42,9 @@ __all__ = ["is_magnetic", "magnetic_bearing", "without_magnetic"]
 
 def is_magnetic(element: Any) -> bool:
     """Whether `element` is a ROSS ``MagneticBearingElement``."""
-    return any(cls.__name__ == "MagneticBearingElement" for cls in type(element).__mro__)
+    ross = sys.modules.get("ross")  # an element of ROSS's: ROSS is loaded
+    kind = getattr(ross, "MagneticBearingElement", None)
+    return isinstance(kind, type) and isinstance(element, kind)
 
 
 def _scalar(element: Any, name: str) -> float:

@@ -52,6 +52,7 @@ class RossModel(_RossModelFields):
     _source: Any = None  # the ROSS rotor (set by from_ross)
     _speed: Any = 0.0  # the speed (or law) and the coefficients' frequency of from_ross
     _frequency: float = 0.0
+    _tables: tuple[Any, ...] = ()  # the speed-table elements from_ross added for a run-up
 
     def swap_bearing(self, journal: Any) -> Any:
         """Replace ROSS's bearing(s) at ``journal.node`` by the nonlinear
@@ -109,7 +110,7 @@ class RossModel(_RossModelFields):
                 # along a run-up the bearing follows the speed as a table element: cancel it
                 from duhamel.rotor.ross.runup import cancelling
 
-                self.system.add(cancelling(self.system.elements, dx, dy))
+                self.system.add(cancelling(self._tables, dx, dy))
             for m, kind in ((k0, "k"), (c0, "c")):
                 for (i, j), a in zip(
                     ((0, 0), (0, 1), (1, 0), (1, 1)), ("xx", "xy", "yx", "yy"), strict=True
@@ -295,7 +296,7 @@ def from_ross(
     >>> from duhamel.rotor import from_ross
     >>> system, dofs, _ = from_ross(ross.rotor_example(), speed=500.0)  # doctest: +SKIP
     >>> system                                                          # doctest: +SKIP
-    System(n_dof=28, damping='none', loads=0, elements=1)
+    System(n_dof=28, damping='none', loads=0, couplings=1)
     >>> dofs(2, "x"), dofs(2, "y"), dofs.labels[8:12]                   # doctest: +SKIP
     (8, 9, ('x_2', 'y_2', 'alpha_2', 'beta_2'))
     >>> _ = system.add_load(dofs.unbalance(2, m_e=1e-3, speed=500.0))   # doctest: +SKIP
@@ -350,14 +351,17 @@ def from_ross(
         magnetic_bearing(b) for b in getattr(rotor, "bearing_elements", ()) if is_magnetic(b)
     ]
     add_couplings(system, G, w, k_skew, c_skew, conv, magnetic, dofs)
+    tables: tuple[Any, ...] = ()
     if law is not None:
         from duhamel.rotor.ross.runup import ross_speed_tables
 
-        for element in ross_speed_tables(rotor, dofs, law, w0):
+        tables = tuple(ross_speed_tables(rotor, dofs, law, w0))
+        for element in tables:
             system.add(element)
     if len(set(names)) == len(names):
         system.label_dofs(names)
     model = RossModel(system=system, dofs=dofs, matrices=matrices)
     model._source = rotor
     model._speed, model._frequency = w, freq
+    model._tables = tables
     return model

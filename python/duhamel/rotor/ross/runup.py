@@ -11,6 +11,7 @@ element."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -94,15 +95,12 @@ def ross_speed_tables(rotor: Any, dofs: RossDofs, law: Any, w0: float) -> list[A
     return out
 
 
-def cancelling(elements: list[Any], dof_x: int, dof_y: int) -> Any:
-    """The exact negative of the speed-table element on ``(dof_x, dof_y)`` among
-    `elements` (the same table and law, every coefficient negated: their forces cancel bit
-    for bit), to take a swapped bearing out of a run-up."""
-    from duhamel.elements import SpeedTableBearing
-
-    found = [
-        e for e in elements if isinstance(e, SpeedTableBearing) and tuple(e.dofs) == (dof_x, dof_y)
-    ]
+def cancelling(tables: Sequence[Any], dof_x: int, dof_y: int) -> Any:
+    """The exact negative of the speed-table element on ``(dof_x, dof_y)`` among `tables`
+    (the speed-table elements :func:`ross_speed_tables` made; the same table and law, every
+    coefficient negated: their forces cancel bit for bit), to take a swapped bearing out of
+    a run-up."""
+    found = [e for e in tables if tuple(e.dofs) == (dof_x, dof_y)]
     if len(found) != 1:
         raise ValueError(
             f"the run-up has {len(found)} speed tables at dofs ({dof_x}, {dof_y}) to cancel"
