@@ -42,6 +42,9 @@ macro_rules! for_each_element {
 macro_rules! registry {
     ($($name:ident: $def:ty),* $(,)?) => {
         /// A built-in element as a model holds it: its definition.
+        // A definition is made once per element of a model, never per step: the size of the
+        // largest (Pinching4's 39 parameters) costs nothing where it matters.
+        #[allow(clippy::large_enum_variant)]
         #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
         #[serde(tag = "type")]
         pub enum Defined {

@@ -228,8 +228,8 @@ impl Material for Series {
             // after three iterations, within 1e-6 of the forces, or within the deformation
             // a part resolves: OpenSees' Steel02 ignores increments below 10 eps, so a step
             // from rest can leave an unbalance of its stiffness times 1e-15)
-            let resolved = unbalance * flex.iter().fold(0.0_f64, |m, f| m.max(f.abs()))
-                <= 64.0 * f64::EPSILON;
+            let resolved =
+                unbalance * flex.iter().fold(0.0_f64, |m, f| m.max(f.abs())) <= 64.0 * f64::EPSILON;
             let stalled = iteration >= 3
                 && unbalance >= 0.5 * previous
                 && (unbalance <= 1e-6 * s_ref || resolved);
