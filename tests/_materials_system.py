@@ -116,8 +116,8 @@ MATERIALS: dict[str, tuple[dict[str, Any], tuple[Any, ...] | None]] = {
 }
 
 
-def element(kind: str, params: dict[str, Any], i: Any = 0, j: Any = None) -> E.Element:
-    """The element ``kind`` on ``x_i - x_j``; parts given as ``(kind, parameters)``."""
+def keywords(params: dict[str, Any], i: Any = 0, j: Any = None) -> dict[str, Any]:
+    """`params` with the parts given as ``(kind, parameters)`` made elements on ``i, j``."""
 
     def value(v: Any) -> Any:
         if isinstance(v, tuple) and len(v) == 2 and isinstance(v[1], dict):
@@ -126,7 +126,12 @@ def element(kind: str, params: dict[str, Any], i: Any = 0, j: Any = None) -> E.E
             return [value(x) for x in v]
         return v
 
-    return getattr(E, kind)(i, j, **{k: value(v) for k, v in params.items()})
+    return {k: value(v) for k, v in params.items()}
+
+
+def element(kind: str, params: dict[str, Any], i: Any = 0, j: Any = None) -> E.Element:
+    """The element ``kind`` on ``x_i - x_j``; parts given as ``(kind, parameters)``."""
+    return getattr(E, kind)(i, j, **keywords(params, i, j))
 
 
 def record(amplitude: float = 0.4 * 9.81) -> tuple[np.ndarray, np.ndarray]:
