@@ -14,8 +14,34 @@ from types import ModuleType
 import numpy as np
 import pytest
 
+from duhamel import elements
+
 #: The acceptance: forces equal OpenSees' to this fraction of the largest force.
 RTOL = 1e-8
+
+
+def element(kind: str, params: dict[str, object], i: int = 0) -> elements.Element:
+    """The element class ``kind`` on the deformation of dof ``i`` (to the ground) with the
+    keyword parameters ``params``; a part of a wrapper given as a dict with its ``"kind"``
+    becomes an element on the same dof."""
+
+    def value(v: object) -> object:
+        if isinstance(v, dict) and "kind" in v:
+            rest = {k: x for k, x in v.items() if k != "kind"}
+            return element(str(v["kind"]), rest, i)
+        if isinstance(v, list) and v and all(isinstance(x, dict) for x in v):
+            return [value(x) for x in v]
+        return v
+
+    cls = getattr(elements, kind)
+    return cls(i, **{k: value(v) for k, v in params.items()})
+
+
+def drive(kind: str, params: dict[str, object], u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Force and tangent of the element ``kind`` driven through ``u`` (a commit after each
+    point) by :func:`duhamel.elements.drive`."""
+    loop = elements.drive(element(kind, params), np.ascontiguousarray(u, dtype=float))
+    return loop.force, loop.tangent
 
 
 def opensees() -> ModuleType:

@@ -22,11 +22,13 @@ from __future__ import annotations
 import dataclasses
 import inspect
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 import pytest
+from _materials_system import MATERIALS, keywords
 
 import duhamel
 from duhamel import elements as E
@@ -55,6 +57,17 @@ STANDARD_VALUES = {
     ("TripleFrictionPendulum", "yield_displacement"): 2.5e-4,
     ("ViscousDamper", "exponent"): 1.0,  # a linear damper
     ("ViscousDamper", "v0"): 1e-4,  # the regularisation velocity of a fractional exponent
+    # OpenSees' defaults (docs/materials.md)
+    ("Steel02", "R0"): 15.0,
+    ("Steel02", "cR1"): 0.925,
+    ("Steel02", "cR2"): 0.15,
+    ("Steel02", "a2"): 1.0,
+    ("Steel02", "a4"): 1.0,
+    ("MinMax", "min"): -1e16,
+    ("MinMax", "max"): 1e16,
+    ("Series", "max_iter"): 100,
+    ("Series", "tol"): 1e-10,
+    ("Takeda", "alpha"): 0.4,  # Takeda, Sozen & Nielsen's unloading exponent
 }
 
 T = np.array([0.0, 0.5, 1.0, 3.0])
@@ -78,6 +91,8 @@ class Case:
     minimal: dict[str, Any]
     extra: tuple[str, ...] = ()
     old: list[tuple[tuple, dict, dict]] = field(default_factory=list)
+    #: a wrapper's parts made on its dofs ``(i, j)`` (they act where it acts)
+    parts: Callable[[Any, Any], dict[str, Any]] | None = None
 
     @property
     def where(self) -> tuple[str, ...]:
@@ -85,6 +100,8 @@ class Case:
 
     def make(self, **changes: Any) -> Any:
         given = {**self.minimal, **changes}
+        if self.parts is not None:
+            given |= self.parts(given.get("i"), given.get("j"))
         names = (*self.where, *self.extra)
         args = [given.pop(n) for n in names if n in given]
         return self.cls(*args, **given)
@@ -312,6 +329,26 @@ CASES = [
         ],
     ),
     Case(L.Callable, "everywhere", {"fn": np.zeros}, extra=("fn",)),
+]
+
+
+# the uniaxial materials (issue 37): new, no old spellings
+def _required(kind: str, params: dict[str, Any]) -> dict[str, Any]:
+    signature = inspect.signature(getattr(E, kind)).parameters
+    given = keywords(params)
+    return {"i": 0} | {k: v for k, v in given.items() if signature[k].default is inspect._empty}
+
+
+def _parts(params: dict[str, Any]) -> Callable[[Any, Any], dict[str, Any]] | None:
+    wrapped = {"material", "materials"} & set(params)
+    if not wrapped:
+        return None
+    return lambda i, j: {k: v for k, v in keywords(params, i, j).items() if k in wrapped}
+
+
+CASES += [
+    Case(getattr(E, kind), "deformation", _required(kind, params), parts=_parts(params))
+    for kind, (params, _) in MATERIALS.items()
 ]
 BY_CLASS = {case.cls: case for case in CASES}
 

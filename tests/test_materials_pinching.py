@@ -14,9 +14,8 @@ from types import ModuleType
 
 import numpy as np
 import pytest
+from _materials import drive
 from _materials_deteriorating import histories, load_opensees, opensees
-
-from duhamel import _core
 
 HYST = {
     "s1p": 100.0, "e1p": 0.01, "s2p": 130.0, "e2p": 0.04, "s3p": 60.0, "e3p": 0.1,
@@ -66,7 +65,7 @@ def pinching4_args(p: dict) -> list:
 
 
 def check(ops: ModuleType, kind: str, params: dict, args: list, u: np.ndarray) -> np.ndarray:
-    f, k = _core.drive_material(kind, params, u)
+    f, k = drive(kind, params, u)
     fo, ko = opensees(ops, kind, args, u)
     np.testing.assert_allclose(f, fo, rtol=0, atol=1e-8 * np.abs(fo).max())
     np.testing.assert_allclose(k, ko, rtol=0, atol=1e-8 * np.abs(ko).max())
@@ -116,9 +115,9 @@ def test_pinching4_equals_opensees(ops: ModuleType, params: dict, history: str) 
         ("Pinching4", P4 | {"ePd3": 0.01}, "`ePd3`"),
         ("Pinching4", P4 | {"gFLim": -1.0}, "`gFLim`"),
         ("Pinching4", P4 | {"dmgType": "damage"}, "`dmgType`"),
-        ("Pinching4", {k: v for k, v in P4.items() if k != "uForceN"}, "give all eleven"),
+        ("Pinching4", {k: v for k, v in P4.items() if k != "uForceN"}, "all eleven values or none"),
     ],
 )
 def test_bad_parameters_are_named(kind: str, params: dict, message: str) -> None:
     with pytest.raises(ValueError, match=message):
-        _core.drive_material(kind, params, np.zeros(3))
+        drive(kind, params, np.zeros(3))

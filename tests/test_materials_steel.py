@@ -9,15 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from _materials import assert_matches, histories, opensees, opensees_drive
-
-from duhamel import _core
-
-
-def drive(kind: str, params: dict[str, object], u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Force and tangent of the core's material after each point of ``u`` (committed)."""
-    return _core.drive_material(kind, params, np.ascontiguousarray(u, dtype=float))
-
+from _materials import assert_matches, drive, histories, opensees, opensees_drive
 
 FY, E = 355.0, 2.0e5  # MPa: a steel with yield strain 1.775e-3
 UY = FY / E
@@ -110,11 +102,9 @@ def test_bad_parameters_name_themselves() -> None:
         drive("Steel02", {"fy": FY, "E": E, "b": 1.5}, u)
     with pytest.raises(ValueError, match="`a2`"):
         drive("Steel02", {"fy": FY, "E": E, "b": 0.01, "a2": 0.0}, u)
-    with pytest.raises(ValueError, match="`fy` is required"):
+    with pytest.raises(TypeError, match="missing required keyword argument `fy`"):
         drive("Steel02", {"E": E, "b": 0.01}, u)
-    with pytest.raises(ValueError, match="unknown parameter `Fy`"):
+    with pytest.raises(TypeError, match="unexpected keyword argument `Fy`"):
         drive("Steel02", {"Fy": FY, "fy": FY, "E": E, "b": 0.01}, u)
-    with pytest.raises(ValueError, match="`deformation` must be finite"):
+    with pytest.raises(ValueError, match="`deformation` contains NaN"):
         drive("Steel02", {"fy": FY, "E": E, "b": 0.01}, np.array([0.0, np.nan]))
-    with pytest.raises(ValueError, match="`kind` must be one of"):
-        drive("Steel03", {}, u)

@@ -16,15 +16,9 @@ from types import ModuleType
 
 import numpy as np
 import pytest
-from _materials import assert_matches, histories, opensees, opensees_drive
+from _materials import assert_matches, drive, element, histories, opensees, opensees_drive
 
-from duhamel import _core
-
-
-def drive(kind: str, params: dict[str, object], u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Force and tangent of the core's material after each point of ``u`` (committed)."""
-    return _core.drive_material(kind, params, np.ascontiguousarray(u, dtype=float))
-
+from duhamel import elements
 
 HISTORIES = ["cyclic", "random", "small after large"]
 
@@ -176,17 +170,26 @@ def test_opensees_series_material_lags_the_series_solution() -> None:
 
 def test_composite_input_is_checked() -> None:
     u = np.array([0.01])
-    with pytest.raises(ValueError, match=r"Series\.materials\[1\] \(Steel02\): `b` is required"):
-        drive("Series", {"materials": [SPRING[0], {"kind": "Steel02", "fy": 1.0, "E": 1.0}]}, u)
-    with pytest.raises(ValueError, match='needs a "kind"'):
-        drive("Parallel", {"materials": [{"fy": 1.0}]}, u)
-    with pytest.raises(TypeError, match="must be a list of material dicts"):
-        drive("Parallel", {"materials": STEEL[0]}, u)
+    steel, spring = element(*kind_params(STEEL[0])), element(*kind_params(SPRING[0]))
+    bilinear = elements.Bilinear(0, k=1.0, fy=1.0, alpha=0.0)
+    with pytest.raises(ValueError, match=r"`materials` entry 1 must be a uniaxial material"):
+        elements.Series(0, materials=[spring, bilinear])
+    with pytest.raises(ValueError, match="`materials` must hold at least one material"):
+        elements.Parallel(0, materials=[])
+    with pytest.raises(TypeError, match=r"`materials\[1\]`"):
+        elements.Parallel(0, materials=[steel, 1.0])
+    with pytest.raises(ValueError, match=r"`materials\[0\]` acts on i=0, the Series on i=1"):
+        elements.Series(1, materials=[spring])
     with pytest.raises(ValueError, match="`factors` has length 1"):
         drive("Parallel", {"materials": [STEEL[0], SPRING[0]], "factors": [1.0]}, u)
     with pytest.raises(ValueError, match="`max`"):
         drive("MinMax", {"material": STEEL[0], "min": 0.1, "max": -0.1}, u)
     with pytest.raises(ValueError, match="`tol`"):
         drive("Series", {"materials": [SPRING[0]], "tol": 2.0}, u)
-    with pytest.raises(RuntimeError, match=r"deformation\[0\].*did not converge"):
+    with pytest.raises(RuntimeError, match="did not converge"):
         drive("Series", {"materials": [SPRING[0], STEEL[0]], "max_iter": 1}, np.array([0.05]))
+
+
+def kind_params(part: dict[str, object]) -> tuple[str, dict[str, object]]:
+    """A part's ``"kind"`` and its parameters."""
+    return str(part["kind"]), {k: v for k, v in part.items() if k != "kind"}

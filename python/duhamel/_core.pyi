@@ -230,6 +230,17 @@ class Damper(Element):
     def __new__(cls, i: Dof, j: Dof | None = None, *, c: float) -> Self: ...
 
 @final
+class ElasticMultiLinear(Element):
+    def __new__(
+        cls,
+        i: Dof,
+        j: Dof | None = None,
+        *,
+        strain: Sequence[float],
+        stress: Sequence[float],
+    ) -> Self: ...
+
+@final
 class FrictionPendulum(Element):
     def __new__(
         cls,
@@ -251,6 +262,62 @@ class FrictionPendulum(Element):
 @final
 class Gap(Element):
     def __new__(cls, i: Dof, j: Dof | None = None, *, gap: float, k: float) -> Self: ...
+
+@final
+class Hysteretic(Element):
+    def __new__(
+        cls,
+        i: Dof,
+        j: Dof | None = None,
+        *,
+        s1p: float,
+        e1p: float,
+        s2p: float,
+        e2p: float,
+        s3p: float | None = None,
+        e3p: float | None = None,
+        s1n: float,
+        e1n: float,
+        s2n: float,
+        e2n: float,
+        s3n: float | None = None,
+        e3n: float | None = None,
+        pinch_x: float,
+        pinch_y: float,
+        damage1: float,
+        damage2: float,
+        beta: float = 0.0,
+    ) -> Self: ...
+
+@final
+class IMKBilin(Element):
+    def __new__(
+        cls,
+        i: Dof,
+        j: Dof | None = None,
+        *,
+        Ke: float,
+        theta_p_plus: float,
+        theta_pc_plus: float,
+        theta_u_plus: float,
+        My_plus: float,
+        Mmax_My_plus: float,
+        res_plus: float,
+        theta_p_neg: float,
+        theta_pc_neg: float,
+        theta_u_neg: float,
+        My_neg: float,
+        Mmax_My_neg: float,
+        res_neg: float,
+        lambda_s: float,
+        lambda_c: float,
+        lambda_k: float,
+        c_s: float,
+        c_c: float,
+        c_k: float,
+        D_plus: float,
+        D_neg: float,
+    ) -> Self: ...
 
 @final
 class JournalElement(Element):
@@ -282,8 +349,135 @@ class LeadRubberBearing(Element):
     ) -> Self: ...
 
 @final
+class MinMax(Element):
+    def __new__(
+        cls,
+        i: Dof,
+        j: Dof | None = None,
+        *,
+        material: Element,
+        min: float = -1e16,
+        max: float = 1e16,
+    ) -> Self: ...
+
+@final
+class ModIMKPeakOriented(Element):
+    def __new__(
+        cls,
+        i: Dof,
+        j: Dof | None = None,
+        *,
+        K0: float,
+        as_plus: float,
+        as_neg: float,
+        My_plus: float,
+        My_neg: float,
+        lambda_s: float,
+        lambda_c: float,
+        lambda_a: float,
+        lambda_k: float,
+        c_s: float,
+        c_c: float,
+        c_a: float,
+        c_k: float,
+        theta_p_plus: float,
+        theta_p_neg: float,
+        theta_pc_plus: float,
+        theta_pc_neg: float,
+        res_plus: float,
+        res_neg: float,
+        theta_u_plus: float,
+        theta_u_neg: float,
+        D_plus: float,
+        D_neg: float,
+        n_factor: float = 0.0,
+    ) -> Self: ...
+
+@final
+class MultiLinear(Element):
+    def __new__(
+        cls,
+        i: Dof,
+        j: Dof | None = None,
+        *,
+        strain: Sequence[float],
+        stress: Sequence[float],
+    ) -> Self: ...
+
+@final
+class Parallel(Element):
+    def __new__(
+        cls,
+        i: Dof,
+        j: Dof | None = None,
+        *,
+        materials: Sequence[Element],
+        factors: Sequence[float] | None = None,
+    ) -> Self: ...
+
+@final
+class Pinching4(Element):
+    def __new__(
+        cls,
+        i: Dof,
+        j: Dof | None = None,
+        *,
+        ePf1: float,
+        ePd1: float,
+        ePf2: float,
+        ePd2: float,
+        ePf3: float,
+        ePd3: float,
+        ePf4: float,
+        ePd4: float,
+        eNf1: float | None = None,
+        eNd1: float | None = None,
+        eNf2: float | None = None,
+        eNd2: float | None = None,
+        eNf3: float | None = None,
+        eNd3: float | None = None,
+        eNf4: float | None = None,
+        eNd4: float | None = None,
+        rDispP: float,
+        rForceP: float,
+        uForceP: float,
+        rDispN: float | None = None,
+        rForceN: float | None = None,
+        uForceN: float | None = None,
+        gK1: float,
+        gK2: float,
+        gK3: float,
+        gK4: float,
+        gKLim: float,
+        gD1: float,
+        gD2: float,
+        gD3: float,
+        gD4: float,
+        gDLim: float,
+        gF1: float,
+        gF2: float,
+        gF3: float,
+        gF4: float,
+        gFLim: float,
+        gE: float,
+        dmgType: Literal["energy", "cycle"] = "energy",
+    ) -> Self: ...
+
+@final
 class Polynomial(Element):
     def __new__(cls, i: Dof, *, coefficients: Sequence[float]) -> Self: ...
+
+@final
+class Series(Element):
+    def __new__(
+        cls,
+        i: Dof,
+        j: Dof | None = None,
+        *,
+        materials: Sequence[Element],
+        max_iter: int = 100,
+        tol: float = 1e-10,
+    ) -> Self: ...
 
 @final
 class SpeedTableBearing(Element):
@@ -302,6 +496,40 @@ class SpeedTableBearing(Element):
 @final
 class Spring(Element):
     def __new__(cls, i: Dof, j: Dof | None = None, *, k: float, k3: float = 0.0) -> Self: ...
+
+@final
+class Steel02(Element):
+    def __new__(
+        cls,
+        i: Dof,
+        j: Dof | None = None,
+        *,
+        fy: float,
+        E: float,
+        b: float,
+        R0: float = 15.0,
+        cR1: float = 0.925,
+        cR2: float = 0.15,
+        a1: float = 0.0,
+        a2: float = 1.0,
+        a3: float = 0.0,
+        a4: float = 1.0,
+        sig_init: float = 0.0,
+    ) -> Self: ...
+
+@final
+class Takeda(Element):
+    def __new__(
+        cls,
+        i: Dof,
+        j: Dof | None = None,
+        *,
+        strain: Sequence[float],
+        stress: Sequence[float],
+        strain_neg: Sequence[float] | None = None,
+        stress_neg: Sequence[float] | None = None,
+        alpha: float = 0.4,
+    ) -> Self: ...
 
 @final
 class TripleFrictionPendulum(Element):
@@ -697,15 +925,6 @@ def bilinear_peak(
     acc: Array, dt: float, omega: float, zeta: float, alpha: float, uy: float
 ) -> float:
     """Peak displacement at the samples of one bilinear oscillator."""
-
-def drive_material(kind: str, params: dict[str, object], deformation: Array) -> tuple[Array, Array]:
-    """The uniaxial material ``kind`` (``"Steel02"``, ``"MultiLinear"``,
-    ``"ElasticMultiLinear"``, ``"Takeda"``, ``"MinMax"``, ``"Parallel"``, ``"Series"``,
-    ``"ModIMKPeakOriented"``, ``"IMKBilin"``, ``"Hysteretic"``, ``"Pinching4"``) with the
-    parameters ``params`` (OpenSees' names; a composite's parts are nested dicts with a
-    ``"kind"``), driven from its virgin state through the points of ``deformation`` with a
-    commit after each (OpenSees' ``setStrain``): the force and the tangent after each point.
-    A narrow checking hook until the materials are elements of their own."""
 
 def _panic_for_tests(kind: str) -> None:
     """Test only: panics on purpose (``kind`` "here", "detached" with the GIL released,

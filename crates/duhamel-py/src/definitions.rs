@@ -161,6 +161,23 @@ impl Element {
         }
         let py = slf.py();
         let params = this.params.bind(py).copy()?;
+        // a wrapper's parts act on its dofs: resolved with it
+        for (name, value) in this.params.bind(py).iter() {
+            if let Ok(part) = value.cast::<Element>() {
+                params.set_item(&name, Self::_resolved(part, resolve)?)?;
+            } else if value.is_instance_of::<PyTuple>()
+                && value.len()? > 0
+                && value
+                    .try_iter()?
+                    .all(|v| v.is_ok_and(|v| v.cast::<Element>().is_ok()))
+            {
+                let parts = value
+                    .try_iter()?
+                    .map(|v| Self::_resolved(v?.cast::<Element>()?, resolve))
+                    .collect::<PyResult<Vec<_>>>()?;
+                params.set_item(&name, PyTuple::new(py, parts)?)?;
+            }
+        }
         for name in DOF_PARAMS {
             let Some(value) = params.get_item(name)? else {
                 continue;

@@ -101,7 +101,7 @@ macro_rules! element_classes {
             let params = def.params();
             let kwargs = PyDict::new(py);
             for (k, v) in &params {
-                kwargs.set_item(k, to_python(py, v)?)?;
+                kwargs.set_item(k, nested_python(py, v)?)?;
             }
             let empty = PyTuple::empty(py);
             match def {
@@ -116,6 +116,26 @@ macro_rules! element_classes {
 }
 
 duhamel_core::for_each_element!(element_classes);
+
+/// A parameter's JSON value as a Python value, a wrapper's parts (definitions, `"type"`
+/// tagged) as their elements.
+fn nested_python<'py>(py: Python<'py>, v: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+    use serde_json::Value;
+    let is_def = |v: &Value| matches!(v, Value::Object(o) if o.contains_key("type"));
+    let element = |v: &Value| -> PyResult<Bound<'py, PyAny>> {
+        let def: Defined = serde_json::from_value(v.clone())
+            .map_err(|e| PyValueError::new_err(format!("a part's data: {e}")))?;
+        Ok(from_defined(py, def)?.into_bound(py).into_any())
+    };
+    match v {
+        v if is_def(v) => element(v),
+        Value::Array(items) if !items.is_empty() && items.iter().all(is_def) => {
+            let parts = items.iter().map(element).collect::<PyResult<Vec<_>>>()?;
+            Ok(PyTuple::new(py, parts)?.into_any())
+        }
+        _ => to_python(py, v),
+    }
+}
 
 /// Sets a class's `__doc__` and `__signature__` (from the signature's text).
 fn describe(m: &Bound<'_, PyModule>, name: &str, signature: &str, doc: &str) -> PyResult<()> {

@@ -5,7 +5,7 @@
 use duhamel_core::elements::{Defined, Definition};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyTuple};
+use pyo3::types::{PyDict, PyList, PyTuple};
 use serde_json::{Map, Value};
 
 use crate::arguments::{bind, Signature};
@@ -37,13 +37,21 @@ impl Element {
         )?;
         let mut map = Map::new();
         let mut labels: Vec<Bound<'_, PyAny>> = Vec::new();
+        let mut parts = Vec::new();
         for (key, value) in given.iter() {
             let key: String = key.extract()?;
-            let v = if DOF_PARAMS.contains(&key.as_str()) {
-                dof_value(&value, &key, &mut labels)?
+            if DOF_PARAMS.contains(&key.as_str()) {
+                let v = dof_value(&value, &key, &mut labels)?;
+                map.insert(key, v);
+            } else if let Some(found) = elements_in(&value)? {
+                parts.push((key, found));
             } else {
-                to_value(&value, &key)?
-            };
+                let v = to_value(&value, &key)?;
+                map.insert(key, v);
+            }
+        }
+        for (key, found) in parts {
+            let v = parts_value(D::NAME, &key, found, &given, &map)?;
             map.insert(key, v);
         }
         let def = Defined::from(definition::<D>(map)?);
@@ -56,6 +64,7 @@ impl Element {
                 given.get_item(&p.name)?,
             ) {
                 (true, Some(v)) if !labels.is_empty() => dof_display(&v)?,
+                (false, Some(v)) if elements_in(&v)?.is_some() => dof_display(&v)?,
                 _ => match canonical.get(&p.name) {
                     Some(v) => to_python(py, v)?,
                     None => py.None().into_bound(py),
@@ -86,6 +95,100 @@ impl Element {
             labelled,
             key,
         }
+    }
+}
+
+/// The elements `value` holds, when it is an element (`Some((vec![e], false))`) or a
+/// non-empty sequence of elements only (`Some((items, true))`): the parts of a wrapper.
+fn elements_in<'py>(
+    value: &Bound<'py, PyAny>,
+) -> PyResult<Option<(Vec<Bound<'py, Element>>, bool)>> {
+    if let Ok(e) = value.cast::<Element>() {
+        return Ok(Some((vec![e.clone()], false)));
+    }
+    if !(value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>()) {
+        return Ok(None);
+    }
+    let items: Vec<Bound<'py, PyAny>> = value.try_iter()?.collect::<PyResult<_>>()?;
+    if items.is_empty() || !items.iter().all(|v| v.cast::<Element>().is_ok()) {
+        return Ok(None);
+    }
+    let items = items
+        .into_iter()
+        .map(|v| Ok(v.cast_into::<Element>()?))
+        .collect::<PyResult<Vec<_>>>()?;
+    Ok(Some((items, true)))
+}
+
+/// The definitions of the parts `found` of the wrapper `name` (parameter `key`), each
+/// checked to act on the wrapper's dofs as given (indices or the same labels) and written
+/// with the wrapper's dof values (`map`: its placeholders for labels), nested parts too.
+fn parts_value(
+    name: &str,
+    key: &str,
+    (found, sequence): (Vec<Bound<'_, Element>>, bool),
+    given: &Bound<'_, PyDict>,
+    map: &Map<String, Value>,
+) -> PyResult<Value> {
+    let py = given.py();
+    let mut out = Vec::new();
+    for (k, part) in found.iter().enumerate() {
+        let label = if sequence {
+            format!("{key}[{k}]")
+        } else {
+            key.to_string()
+        };
+        let this = part.get();
+        let Kind::Builtin { def, .. } = &this.kind else {
+            return Err(PyTypeError::new_err(format!(
+                "{name}(): `{label}` must be a built-in uniaxial material element, got a {}",
+                this.name()
+            )));
+        };
+        let params = this.params.bind(py);
+        for dof in ["i", "j"] {
+            let mine = given
+                .get_item(dof)?
+                .unwrap_or_else(|| py.None().into_bound(py));
+            let theirs = params
+                .get_item(dof)?
+                .unwrap_or_else(|| py.None().into_bound(py));
+            if !mine.eq(&theirs)? {
+                return Err(PyValueError::new_err(format!(
+                    "{name}(): `{label}` acts on {dof}={}, the {name} on {dof}={}: a part acts \
+                     on its wrapper's dofs `i, j`",
+                    theirs.repr()?,
+                    mine.repr()?
+                )));
+            }
+        }
+        let mut value =
+            serde_json::to_value(&**def).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        retarget(&mut value, map);
+        out.push(value);
+    }
+    Ok(if sequence {
+        Value::Array(out)
+    } else {
+        out.pop().unwrap_or(Value::Null)
+    })
+}
+
+/// Sets the dofs `i`, `j` of a part's definition (and of its own parts) to the wrapper's.
+fn retarget(value: &mut Value, map: &Map<String, Value>) {
+    match value {
+        Value::Object(obj) if obj.contains_key("type") => {
+            for dof in ["i", "j"] {
+                obj.insert(dof.into(), map.get(dof).cloned().unwrap_or(Value::Null));
+            }
+            for (k, v) in obj.iter_mut() {
+                if k != "i" && k != "j" {
+                    retarget(v, map);
+                }
+            }
+        }
+        Value::Array(items) => items.iter_mut().for_each(|v| retarget(v, map)),
+        _ => {}
     }
 }
 

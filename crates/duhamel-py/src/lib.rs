@@ -28,8 +28,6 @@ mod guard;
 mod history;
 mod loads;
 mod mass;
-mod materials;
-mod materials_deteriorating;
 mod model;
 mod problem;
 mod pseudo;
@@ -166,7 +164,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(spectra::rotd_peaks, m)?)?;
     m.add_function(wrap_pyfunction!(spectra::ductility_spectrum, m)?)?;
     m.add_function(wrap_pyfunction!(spectra::bilinear_peak, m)?)?;
-    m.add_function(wrap_pyfunction!(materials::drive_material, m)?)?;
     m.add_function(wrap_pyfunction!(guard::_panic_for_tests, m)?)?;
     m.add_class::<speed::SpeedLaw>()?;
     m.add_class::<loads::TimeFunction>()?;

@@ -179,8 +179,12 @@ def from_opensees(
 
     Nonlinear elements are translated to duhamel's: ``zeroLength`` with ``Steel01``
     (:class:`~duhamel.elements.Bilinear`), ``BoucWen``, ``ViscousDamper`` (a dashpot),
-    ``ElasticPPGap`` without yield and ``ENT`` (:class:`~duhamel.elements.Gap`) materials
-    (``Elastic`` stays in ``K``), ``flatSliderBearing`` and ``singleFPBearing`` (in 2-D a
+    ``ElasticPPGap`` without yield and ``ENT`` (:class:`~duhamel.elements.Gap`) materials,
+    ``Steel02``, ``ModIMKPeakOriented``, ``IMKBilin``, ``Hysteretic``,
+    ``ElasticMultiLinear`` and ``MinMax``/``Parallel``/``Series`` of them (the element of
+    the same name; ``Pinching4`` and ``MultiLinear`` are refused: OpenSees does not print
+    what they are) (``Elastic`` stays in ``K``), ``flatSliderBearing`` and
+    ``singleFPBearing`` (in 2-D a
     :class:`~duhamel.elements.Bilinear` on the shear dof, in 3-D a
     :class:`~duhamel.elements.FrictionPendulum`, flat or of radius ``Reff``, with the friction
     coefficient and the axial load at import); their stiffness at import is taken out of

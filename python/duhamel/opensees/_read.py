@@ -151,8 +151,8 @@ def _entries(block: str) -> list[dict[str, Any]]:
         s = line.strip().rstrip(",")
         if s.startswith("{") and s.endswith("}"):
             flush()
-            try:
-                out.append(json.loads(s))
+            try:  # OpenSees' Parallel material closes its entry before its factors
+                out.append(json.loads(s.replace(']}"factors"', '], "factors"')))
             except json.JSONDecodeError:
                 out.append({"_unreadable": s})
         elif s:

@@ -20,6 +20,7 @@ from duhamel.elements import (
     ViscousDamper,
 )
 from duhamel.opensees._bearings import BEARINGS, bearing, pdelta_info
+from duhamel.opensees._materials import KINDS, material_element
 from duhamel.opensees._parts import (
     Damped,
     Made,
@@ -62,9 +63,13 @@ _ZL_DIRS = {
 }
 
 
-def _material(mat: dict[str, Any], i: int | None, j: int | None, sign: float) -> Element | None:
+def _material(
+    mat: dict[str, Any], i: int | None, j: int | None, sign: float,
+    materials: dict[int, dict[str, Any]],
+) -> Element | None:  # fmt: skip
     """The duhamel element of a zeroLength material between the dofs `i`, `j` (deformation
-    ``sign (x_j - x_i)`` in OpenSees), or None when the material is linear (it stays in K)."""
+    ``sign (x_j - x_i)`` in OpenSees), or None when the material is linear (it stays in K);
+    `materials`: the printed materials by tag (the parts of a wrapper)."""
     kind = str(mat.get("type"))
     # duhamel's deformation is x_a - x_b: OpenSees' strain when (a, b) = (j, i) for sign +1
     a, b = (j, i) if sign > 0 else (i, j)
@@ -126,6 +131,8 @@ def _material(mat: dict[str, Any], i: int | None, j: int | None, sign: float) ->
             exponent=float(mat["Alpha"]),
             brace_stiffness=float(mat["K"]),
         )
+    if kind in KINDS:
+        return material_element(mat, materials, a, b)
     raise Untranslatable(f"material {mat.get('name')} of type {kind}")
 
 
@@ -211,6 +218,11 @@ def _zero_length(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx:
     rayleigh: NDArray[np.float64] | None = None
     for k, (mtag, dname) in enumerate(zip(ele["materials"], ele["dof"], strict=True)):
         mat = pr.materials.get(int(mtag))
+        if mat is None and int(mtag) == 0:
+            raise Untranslatable(
+                "its material is printed with tag 0 (OpenSees' copy lost its tag, as a "
+                "MultiLinear's does), so it cannot be read back"
+            )
         if mat is None:
             raise Untranslatable(f"material {mtag} (not printed by OpenSees)")
         axis, rot = _ZL_DIRS[ndm][dname] if dname in _ZL_DIRS.get(ndm, {}) else (None, False)
@@ -226,7 +238,7 @@ def _zero_length(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx:
         i, j = _eq(dmap, ni, comp, idx), _eq(dmap, nj, comp, idx)
         if i is None and j is None:
             continue
-        element = _material(mat, i, j, float(np.sign(row[a])))
+        element = _material(mat, i, j, float(np.sign(row[a])), pr.materials)
         if element is None:
             continue
         if length > 0.0 and dname in ("Vy", "Vz"):

@@ -12,6 +12,7 @@ use serde::de::DeserializeOwned;
 use serde::Serialize;
 
 use super::element::Element;
+use super::materials::material::Material;
 use crate::error::CoreError;
 
 /// The dofs of a deformation `x_i - x_j` (`j` None: to the ground).
@@ -96,6 +97,12 @@ pub trait Definition:
     /// (row-major over its dofs) and None otherwise, with the reason.
     fn linear(&self) -> Result<(Vec<f64>, Vec<f64>), String> {
         Err(format!("is not linear ({} is nonlinear)", Self::NAME))
+    }
+
+    /// For a uniaxial material element, its law without its dofs (a part of a `MinMax`,
+    /// `Parallel` or `Series`), checked; None (the default) for any other element.
+    fn material(&self) -> Option<Result<Box<dyn Material>, CoreError>> {
+        None
     }
 }
 

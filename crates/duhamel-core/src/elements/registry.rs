@@ -15,13 +15,24 @@ macro_rules! for_each_element {
             Contact: $crate::elements::ContactDef,
             Cubic: $crate::elements::CubicDef,
             Damper: $crate::elements::DamperDef,
+            ElasticMultiLinear: $crate::elements::materials::elastic_multilinear::ElasticMultiLinearDef,
             FrictionPendulum: $crate::elements::FrictionPendulumDef,
             Gap: $crate::elements::GapDef,
+            Hysteretic: $crate::elements::materials::hysteretic_def::HystereticDef,
+            IMKBilin: $crate::elements::materials::imk_bilin_def::ImkBilinDef,
             JournalElement: $crate::elements::JournalElementDef,
             LeadRubberBearing: $crate::elements::LeadRubberBearingDef,
+            MinMax: $crate::elements::materials::minmax::MinMaxDef,
+            ModIMKPeakOriented: $crate::elements::materials::imk_def::ModImkPeakOrientedDef,
+            MultiLinear: $crate::elements::materials::multilinear::MultiLinearDef,
+            Parallel: $crate::elements::materials::parallel::ParallelDef,
+            Pinching4: $crate::elements::materials::pinching4_def::Pinching4Def,
             Polynomial: $crate::elements::PolynomialDef,
+            Series: $crate::elements::materials::series::SeriesDef,
             Spring: $crate::elements::SpringDef,
             SpeedTableBearing: $crate::elements::SpeedTableBearingDef,
+            Steel02: $crate::elements::materials::steel02::Steel02Def,
+            Takeda: $crate::elements::materials::takeda::TakedaDef,
             TripleFrictionPendulum: $crate::elements::TripleFrictionPendulumDef,
             ViscousDamper: $crate::elements::ViscousDamperDef,
         }
@@ -31,6 +42,9 @@ macro_rules! for_each_element {
 macro_rules! registry {
     ($($name:ident: $def:ty),* $(,)?) => {
         /// A built-in element as a model holds it: its definition.
+        // A definition is made once per element of a model, never per step: the size of the
+        // largest (Pinching4's 39 parameters) costs nothing where it matters.
+        #[allow(clippy::large_enum_variant)]
         #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
         #[serde(tag = "type")]
         pub enum Defined {
@@ -106,6 +120,11 @@ macro_rules! registry {
             /// [`Definition::linear`].
             pub fn linear(&self) -> Result<(Vec<f64>, Vec<f64>), String> {
                 match self { $(Defined::$name(d) => d.linear(),)* }
+            }
+
+            /// [`Definition::material`].
+            pub fn material(&self) -> Option<Result<Box<dyn Material>, CoreError>> {
+                match self { $(Defined::$name(d) => d.material(),)* }
             }
 
             /// [`Definition::rename`] of the element `name`.
@@ -201,6 +220,7 @@ macro_rules! registry {
 
 use super::definition::{Definition, Pair};
 use super::element::{Element, ModalCubic, PathState, Tangent};
+use super::materials::material::Material;
 use crate::error::CoreError;
 
 crate::for_each_element!(registry);

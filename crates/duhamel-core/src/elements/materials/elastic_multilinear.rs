@@ -3,9 +3,63 @@
 //! the end slopes), as OpenSees' `ElasticMultiLinear` without its viscous term `eta`.
 //! Loading and unloading follow the same curve: no internal variables, no dissipation.
 
+use serde::{Deserialize, Serialize};
+
 use super::points::check_points;
+use super::uniaxial::{uniaxial_methods, Uniaxial, UniaxialDefinition};
 use super::Material;
+use crate::elements::definition::{Definition, Pair};
 use crate::error::CoreError;
+
+/// `duhamel.elements.ElasticMultiLinear`: the definition of an [`ElasticMultiLinear`] element.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ElasticMultiLinearDef {
+    pub i: usize,
+    #[serde(default)]
+    pub j: Option<usize>,
+    pub strain: Vec<f64>,
+    pub stress: Vec<f64>,
+}
+
+impl UniaxialDefinition for ElasticMultiLinearDef {
+    type Law = ElasticMultiLinear;
+    fn pair(&self) -> Pair {
+        (self.i, self.j)
+    }
+    fn law(&self) -> Result<ElasticMultiLinear, CoreError> {
+        ElasticMultiLinear::new(&self.strain, &self.stress)
+    }
+}
+
+impl Definition for ElasticMultiLinearDef {
+    const NAME: &'static str = "ElasticMultiLinear";
+    const SIGNATURE: &'static str = "(i, j=None, *, strain, stress)";
+    const DOC: &'static str = r#"Nonlinear elastic spring on the deformation ``u = x_i - x_j`` (``j=None``: to the
+ground), piecewise linear through the points ``(strain[k], stress[k])`` (both sides of the
+origin, extended past the end points with the end slopes), as OpenSees' ``uniaxialMaterial
+ElasticMultiLinear tag -strain ... -stress ...`` without its viscous term ``eta``. Loading and
+unloading follow the same curve: no internal variables, no dissipation; the stored energy is
+the potential ``int_0^u F``. Linear part: the slope at ``u = 0`` (when positive).
+
+Parameters
+----------
+i, j : int, dof label or None
+    The dofs of the deformation ``x_i - x_j`` (``j=None``: to the ground).
+strain, stress : sequence of float
+    At least two points, strains strictly increasing.
+
+Examples
+--------
+>>> import duhamel
+>>> gap = duhamel.elements.ElasticMultiLinear(0, strain=[-1.0, 0.0, 0.01, 1.0],
+...                                           stress=[0.0, 0.0, 0.0, 99.0])
+>>> duhamel.elements.drive(gap, [-0.5, 0.005, 0.11]).force.tolist()
+[0.0, 0.0, 10.0]
+"#;
+    type Runtime = Uniaxial<ElasticMultiLinear>;
+    uniaxial_methods!();
+}
 
 /// OpenSees' `uniaxialMaterial ElasticMultiLinear tag -strain ... -stress ...`.
 #[derive(Debug, Clone)]

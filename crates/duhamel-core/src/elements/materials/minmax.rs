@@ -4,8 +4,77 @@
 //! failed spring keeps a matrix regular); a commit there makes the failure permanent. Until
 //! then the inner material answers.
 
+use serde::{Deserialize, Serialize};
+
+use super::uniaxial::{part_law, uniaxial_methods, Uniaxial, UniaxialDefinition};
 use super::Material;
+use crate::elements::definition::{Definition, Pair};
+use crate::elements::registry::Defined;
 use crate::error::CoreError;
+
+/// `duhamel.elements.MinMax`: the definition of a [`MinMax`] element.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MinMaxDef {
+    pub i: usize,
+    #[serde(default)]
+    pub j: Option<usize>,
+    pub material: Box<Defined>,
+    #[serde(default = "lowest")]
+    pub min: f64,
+    #[serde(default = "highest")]
+    pub max: f64,
+}
+
+fn lowest() -> f64 {
+    -1.0e16
+}
+fn highest() -> f64 {
+    1.0e16
+}
+
+impl UniaxialDefinition for MinMaxDef {
+    type Law = MinMax;
+    fn pair(&self) -> Pair {
+        (self.i, self.j)
+    }
+    fn law(&self) -> Result<MinMax, CoreError> {
+        let inner = part_law(&self.material, ("material", None), self.pair(), "MinMax")?;
+        MinMax::new(inner, self.min, self.max)
+    }
+}
+
+impl Definition for MinMaxDef {
+    const NAME: &'static str = "MinMax";
+    const SIGNATURE: &'static str = "(i, j=None, *, material, min=-1e16, max=1e16)";
+    const DOC: &'static str = r#"A uniaxial material that fails beyond a deformation, as OpenSees'
+``uniaxialMaterial MinMax tag otherTag -min min -max max``: `material` answers until a trial
+deformation ``u = x_i - x_j`` reaches `min` or `max`; there the force is 0 (and the tangent,
+as OpenSees', ``1e-8`` of the material's initial tangent, which keeps a stiffness matrix
+regular), and a step committed there makes the failure permanent. A hinge that loses its
+strength for good, for collapse.
+
+Parameters
+----------
+i, j : int, dof label or None
+    The dofs of the deformation ``x_i - x_j`` (``j=None``: to the ground).
+material : Element
+    The material: a uniaxial material element on the same ``i, j`` (``Steel02``,
+    ``ModIMKPeakOriented``, ... or another wrapper).
+min, max : float
+    The deformations at which it fails, ``min < max``.
+
+Examples
+--------
+>>> import duhamel
+>>> steel = duhamel.elements.Steel02(0, fy=1.0, E=100.0, b=0.02)
+>>> fuse = duhamel.elements.MinMax(0, material=steel, max=0.03)
+>>> duhamel.elements.drive(fuse, [0.0, 0.02, 0.03, 0.0]).force.tolist()[2:]
+[0.0, 0.0]
+"#;
+    type Runtime = Uniaxial<MinMax>;
+    uniaxial_methods!();
+}
 
 /// OpenSees' `uniaxialMaterial MinMax tag otherTag -min min -max max`.
 #[derive(Debug)]

@@ -15,9 +15,63 @@
 //! deformation within `f64::EPSILON` of the committed one keeps the committed state, as a
 //! single commit does (docs/materials.md).
 
+use serde::{Deserialize, Serialize};
+
 use super::points::check_points;
+use super::uniaxial::{uniaxial_methods, Uniaxial, UniaxialDefinition};
 use super::Material;
+use crate::elements::definition::{Definition, Pair};
 use crate::error::CoreError;
+
+/// `duhamel.elements.MultiLinear`: the definition of a [`MultiLinear`] element.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MultiLinearDef {
+    pub i: usize,
+    #[serde(default)]
+    pub j: Option<usize>,
+    pub strain: Vec<f64>,
+    pub stress: Vec<f64>,
+}
+
+impl UniaxialDefinition for MultiLinearDef {
+    type Law = MultiLinear;
+    fn pair(&self) -> Pair {
+        (self.i, self.j)
+    }
+    fn law(&self) -> Result<MultiLinear, CoreError> {
+        MultiLinear::new(&self.strain, &self.stress)
+    }
+}
+
+impl Definition for MultiLinearDef {
+    const NAME: &'static str = "MultiLinear";
+    const SIGNATURE: &'static str = "(i, j=None, *, strain, stress)";
+    const DOC: &'static str = r#"Multilinear kinematic hardening on the deformation ``u = x_i - x_j`` (``j=None``: to
+the ground), as OpenSees' ``uniaxialMaterial MultiLinear tag e1 s1 e2 s2 ...``: a symmetric
+backbone through the points ``(strain[k], stress[k])`` and their mirror images (extended past
+the last point with the last slope); loading past the elastic range drags the inner segments
+with it (Masing's rule: after a reversal the branch is the backbone scaled by 2). The
+tangent is the slope of the segment reached. One deliberate difference from OpenSees (a
+deformation committed twice, docs/materials.md). Linear part: the first slope.
+
+Parameters
+----------
+i, j : int, dof label or None
+    The dofs of the deformation ``x_i - x_j`` (``j=None``: to the ground).
+strain, stress : sequence of float
+    At least two points, strains positive and increasing, stresses positive.
+
+Examples
+--------
+>>> import duhamel
+>>> link = duhamel.elements.MultiLinear(0, strain=[0.01, 0.05], stress=[1.0, 1.4])
+>>> duhamel.elements.drive(link, [0.03, 0.0]).force.round(12).tolist()  # 1.2 - 2 B(0.015)
+[1.2, -0.9]
+"#;
+    type Runtime = Uniaxial<MultiLinear>;
+    uniaxial_methods!();
+}
 
 /// OpenSees' `uniaxialMaterial MultiLinear tag e1 s1 e2 s2 ...`.
 #[derive(Debug, Clone)]

@@ -1,8 +1,72 @@
 //! `Parallel`: materials side by side on the same deformation, the force the sum of theirs
 //! (times optional factors), as OpenSees' `Parallel` material.
 
+use serde::{Deserialize, Serialize};
+
+use super::uniaxial::{part_law, uniaxial_methods, Uniaxial, UniaxialDefinition};
 use super::Material;
+use crate::elements::definition::{Definition, Pair};
+use crate::elements::registry::Defined;
 use crate::error::CoreError;
+
+/// `duhamel.elements.Parallel`: the definition of a [`Parallel`] element.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParallelDef {
+    pub i: usize,
+    #[serde(default)]
+    pub j: Option<usize>,
+    pub materials: Vec<Defined>,
+    #[serde(default)]
+    pub factors: Option<Vec<f64>>,
+}
+
+impl UniaxialDefinition for ParallelDef {
+    type Law = Parallel;
+    fn pair(&self) -> Pair {
+        (self.i, self.j)
+    }
+    fn law(&self) -> Result<Parallel, CoreError> {
+        let parts = self
+            .materials
+            .iter()
+            .enumerate()
+            .map(|(k, m)| part_law(m, ("materials", Some(k)), self.pair(), "Parallel"))
+            .collect::<Result<Vec<_>, _>>()?;
+        Parallel::new(parts, self.factors.clone())
+    }
+}
+
+impl Definition for ParallelDef {
+    const NAME: &'static str = "Parallel";
+    const SIGNATURE: &'static str = "(i, j=None, *, materials, factors=None)";
+    const DOC: &'static str = r#"Uniaxial materials side by side on the same deformation ``u = x_i - x_j``, as
+OpenSees' ``uniaxialMaterial Parallel tag tag1 tag2 ... <-factors f1 f2 ...>``: the force
+and tangent are the (weighted) sums of the parts'. Passive when every part is and every
+factor is non-negative.
+
+Parameters
+----------
+i, j : int, dof label or None
+    The dofs of the deformation ``x_i - x_j`` (``j=None``: to the ground).
+materials : sequence of Element
+    The parts (at least one): uniaxial material elements on the same ``i, j``.
+factors : sequence of float, optional
+    One factor per part (default: all 1).
+
+Examples
+--------
+>>> import duhamel
+>>> E = duhamel.elements
+>>> frame = E.ElasticMultiLinear(0, strain=[-1.0, 1.0], stress=[-50.0, 50.0])
+>>> brace = E.MultiLinear(0, strain=[0.01, 0.05], stress=[1.0, 1.4])
+>>> both = E.Parallel(0, materials=[frame, brace])
+>>> E.drive(both, [0.005, 0.03]).force.round(12).tolist()
+[0.75, 2.7]
+"#;
+    type Runtime = Uniaxial<Parallel>;
+    uniaxial_methods!();
+}
 
 /// OpenSees' `uniaxialMaterial Parallel tag tag1 tag2 ... <-factors f1 f2 ...>`.
 #[derive(Debug)]

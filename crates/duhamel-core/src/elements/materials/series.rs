@@ -23,9 +23,89 @@
 //! series solution; here the force is the converged one, as OpenSees' chain of `zeroLength`
 //! elements solved by Newton gives (docs/materials.md).
 
+use serde::{Deserialize, Serialize};
+
 use super::parallel::offsets_after;
+use super::uniaxial::{part_law, uniaxial_methods, Uniaxial, UniaxialDefinition};
 use super::Material;
+use crate::elements::definition::{Definition, Pair};
+use crate::elements::registry::Defined;
 use crate::error::CoreError;
+
+/// `duhamel.elements.Series`: the definition of a [`Series`] element.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SeriesDef {
+    pub i: usize,
+    #[serde(default)]
+    pub j: Option<usize>,
+    pub materials: Vec<Defined>,
+    #[serde(default = "max_iter")]
+    pub max_iter: usize,
+    #[serde(default = "tol")]
+    pub tol: f64,
+}
+
+fn max_iter() -> usize {
+    100
+}
+fn tol() -> f64 {
+    1.0e-10
+}
+
+impl UniaxialDefinition for SeriesDef {
+    type Law = Series;
+    fn pair(&self) -> Pair {
+        (self.i, self.j)
+    }
+    fn law(&self) -> Result<Series, CoreError> {
+        let parts = self
+            .materials
+            .iter()
+            .enumerate()
+            .map(|(k, m)| part_law(m, ("materials", Some(k)), self.pair(), "Series"))
+            .collect::<Result<Vec<_>, _>>()?;
+        Series::new(parts, self.max_iter, self.tol)
+    }
+}
+
+impl Definition for SeriesDef {
+    const NAME: &'static str = "Series";
+    const SIGNATURE: &'static str = "(i, j=None, *, materials, max_iter=100, tol=1e-10)";
+    const DOC: &'static str = r#"Uniaxial materials in series on the deformation ``u = x_i - x_j``, as OpenSees'
+``uniaxialMaterial Series tag tag1 tag2 ... <-iter maxIter tol>`` but solved to convergence:
+the parts carry the same force and their deformations add up to ``u`` (Newton on the parts'
+deformations from OpenSees' predictor; the tangent is the series tangent). A step that does
+not converge within `max_iter` iterations stops the run with an error (never an unconverged
+force). Unlike OpenSees' ``SeriesMaterial``, whose force under a fixed strain stays off the
+series solution (docs/materials.md), this one equals OpenSees' chain of ``zeroLength``
+elements.
+
+Parameters
+----------
+i, j : int, dof label or None
+    The dofs of the deformation ``x_i - x_j`` (``j=None``: to the ground).
+materials : sequence of Element
+    The parts (at least one, rate-independent): uniaxial material elements on the same
+    ``i, j``.
+max_iter : int
+    Iterations allowed per evaluation, >= 1.
+tol : float
+    Relative tolerance of the force balance and the compatibility, in (0, 1).
+
+Examples
+--------
+>>> import duhamel
+>>> E = duhamel.elements
+>>> gusset = E.ElasticMultiLinear(0, strain=[-1.0, 1.0], stress=[-300.0, 300.0])
+>>> brace = E.MultiLinear(0, strain=[0.01, 0.05], stress=[1.0, 1.4])
+>>> both = E.Series(0, materials=[gusset, brace])
+>>> E.drive(both, [0.004]).force.round(9).tolist()  # 1 / (1/300 + 1/100) per unit deformation
+[0.3]
+"#;
+    type Runtime = Uniaxial<Series>;
+    uniaxial_methods!();
+}
 
 /// OpenSees' `uniaxialMaterial Series tag tag1 tag2 ... <-iter maxIter tol>`, converged.
 #[derive(Debug)]
@@ -145,9 +225,14 @@ impl Material for Series {
             }
             let compatible = gap.abs() <= self.tol * u_ref;
             // converged, or stalled at the parts' round-off (no halving of the unbalance
-            // after three iterations, within 1e-6 of the forces)
-            let stalled =
-                iteration >= 3 && unbalance >= 0.5 * previous && unbalance <= 1e-6 * s_ref;
+            // after three iterations, within 1e-6 of the forces, or within the deformation
+            // a part resolves: OpenSees' Steel02 ignores increments below 10 eps, so a step
+            // from rest can leave an unbalance of its stiffness times 1e-15)
+            let resolved =
+                unbalance * flex.iter().fold(0.0_f64, |m, f| m.max(f.abs())) <= 64.0 * f64::EPSILON;
+            let stalled = iteration >= 3
+                && unbalance >= 0.5 * previous
+                && (unbalance <= 1e-6 * s_ref || resolved);
             previous = unbalance;
             if compatible && (unbalance <= self.tol * s_ref || stalled) {
                 let tangent = inverse(flex.iter().sum());

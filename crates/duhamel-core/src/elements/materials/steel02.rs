@@ -14,9 +14,118 @@
 //! `R = R0 (1 - cR1 xi / (cR2 + xi))` decreases with the plastic excursion `xi` of the last
 //! half cycle. The tangent is the curve's exact derivative.
 
+use serde::{Deserialize, Serialize};
+
+use super::uniaxial::{uniaxial_methods, Uniaxial, UniaxialDefinition};
 use super::Material;
+use crate::elements::definition::{Definition, Pair};
 use crate::elements::element::check;
 use crate::error::CoreError;
+
+/// `duhamel.elements.Steel02`: the definition of a [`Steel02`] element.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Steel02Def {
+    pub i: usize,
+    #[serde(default)]
+    pub j: Option<usize>,
+    pub fy: f64,
+    #[serde(rename = "E")]
+    pub e: f64,
+    pub b: f64,
+    #[serde(rename = "R0", default = "r0")]
+    pub r0: f64,
+    #[serde(rename = "cR1", default = "cr1")]
+    pub cr1: f64,
+    #[serde(rename = "cR2", default = "cr2")]
+    pub cr2: f64,
+    #[serde(default)]
+    pub a1: f64,
+    #[serde(default = "one")]
+    pub a2: f64,
+    #[serde(default)]
+    pub a3: f64,
+    #[serde(default = "one")]
+    pub a4: f64,
+    #[serde(default)]
+    pub sig_init: f64,
+}
+
+fn r0() -> f64 {
+    15.0
+}
+fn cr1() -> f64 {
+    0.925
+}
+fn cr2() -> f64 {
+    0.15
+}
+fn one() -> f64 {
+    1.0
+}
+
+impl UniaxialDefinition for Steel02Def {
+    type Law = Steel02;
+    fn pair(&self) -> Pair {
+        (self.i, self.j)
+    }
+    fn law(&self) -> Result<Steel02, CoreError> {
+        let a = [self.a1, self.a2, self.a3, self.a4];
+        Steel02::new(
+            self.fy,
+            self.e,
+            self.b,
+            self.r0,
+            self.cr1,
+            self.cr2,
+            a,
+            self.sig_init,
+        )
+    }
+}
+
+impl Definition for Steel02Def {
+    const NAME: &'static str = "Steel02";
+    const SIGNATURE: &'static str = "(i, j=None, *, fy, E, b, R0=15.0, cR1=0.925, cR2=0.15, \
+        a1=0.0, a2=1.0, a3=0.0, a4=1.0, sig_init=0.0)";
+    const DOC: &'static str = r#"Giuffré-Menegotto-Pinto steel with Filippou's isotropic hardening on the deformation
+``u = x_i - x_j`` (``j=None``: to the ground), operation for operation as OpenSees'
+``uniaxialMaterial Steel02 tag fy E b R0 cR1 cR2 a1 a2 a3 a4 sigInit`` (defaults: its
+3-argument form). Between reversals the force follows the Menegotto-Pinto curve from the last
+reversal towards the asymptote of slope ``b E``, with the curvature ``R`` decreasing with the
+plastic excursion; ``a1``, ``a2`` (compression) and ``a3``, ``a4`` (tension) shift the
+asymptotes with the largest excursion. The tangent is the curve's exact derivative (never
+above ``E``). Force and deformation are the element's (a strain and a stress when the
+element is a unit fibre). Linear part for ``Semianalytic(linear_parts="background")``: ``E``.
+
+Parameters
+----------
+i, j : int, dof label or None
+    The dofs of the deformation ``x_i - x_j`` (``j=None``: to the ground).
+fy : float
+    Yield force, > 0.
+E : float
+    Initial stiffness, > 0.
+b : float
+    Hardening ratio (post-yield stiffness ``b E``), in [0, 1).
+R0, cR1, cR2 : float
+    Curvature of the transition: ``R = R0 (1 - cR1 xi / (cR2 + xi))``; ``cR1`` in [0, 1).
+a1, a2, a3, a4 : float
+    Isotropic hardening (OpenSees' meaning; ``a1 = a3 = 0``: none); ``a2``, ``a4`` > 0.
+sig_init : float
+    Initial force (OpenSees' ``sigInit``).
+
+Examples
+--------
+>>> import numpy as np, duhamel
+>>> brace = duhamel.elements.Steel02(0, fy=1.0, E=100.0, b=0.02)
+>>> loop = duhamel.elements.drive(brace, 0.05 * np.sin(np.linspace(0.0, 4 * np.pi, 201)))
+>>> bool(0.0 < loop.dissipated and abs(loop.force).max() < 1.0 + 0.02 * 100 * 0.05)
+True
+"#;
+    type Runtime = Uniaxial<Steel02>;
+    uniaxial_methods!();
+}
 
 /// OpenSees' `Steel02` (force `fy`, stiffness `E` in the units of the element's force and
 /// deformation).

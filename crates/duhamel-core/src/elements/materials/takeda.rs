@@ -27,9 +27,96 @@
 //! from the committed state (a monotone path), so the result depends on the committed state
 //! and the deformation only.
 
+use serde::{Deserialize, Serialize};
+
 use super::points::{check_points, Backbone};
+use super::uniaxial::{uniaxial_methods, Uniaxial, UniaxialDefinition};
 use super::Material;
+use crate::elements::definition::{Definition, Pair};
 use crate::error::CoreError;
+
+/// `duhamel.elements.Takeda`: the definition of a [`Takeda`] element.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TakedaDef {
+    pub i: usize,
+    #[serde(default)]
+    pub j: Option<usize>,
+    pub strain: Vec<f64>,
+    pub stress: Vec<f64>,
+    #[serde(default)]
+    pub strain_neg: Option<Vec<f64>>,
+    #[serde(default)]
+    pub stress_neg: Option<Vec<f64>>,
+    #[serde(default = "takeda_alpha")]
+    pub alpha: f64,
+}
+
+fn takeda_alpha() -> f64 {
+    0.4
+}
+
+impl UniaxialDefinition for TakedaDef {
+    type Law = Takeda;
+    fn pair(&self) -> Pair {
+        (self.i, self.j)
+    }
+    fn law(&self) -> Result<Takeda, CoreError> {
+        let negative = match (&self.strain_neg, &self.stress_neg) {
+            (Some(e), Some(s)) => Some((e.as_slice(), s.as_slice())),
+            (None, None) => None,
+            (e, _) => {
+                return Err(CoreError::InvalidInput {
+                    name: if e.is_none() {
+                        "strain_neg"
+                    } else {
+                        "stress_neg"
+                    },
+                    problem: "is missing: `strain_neg` and `stress_neg` go together (give \
+                              both, or neither for a symmetric backbone)"
+                        .into(),
+                })
+            }
+        };
+        Takeda::new(&self.strain, &self.stress, negative, self.alpha)
+    }
+}
+
+impl Definition for TakedaDef {
+    const NAME: &'static str = "Takeda";
+    const SIGNATURE: &'static str =
+        "(i, j=None, *, strain, stress, strain_neg=None, stress_neg=None, alpha=0.4)";
+    const DOC: &'static str = r#"Takeda's degrading, peak-oriented hysteresis on a multilinear backbone, on the
+deformation ``u = x_i - x_j`` (``j=None``: to the ground): Takeda, Sozen & Nielsen (1970) in
+Otani's simplified form with Emori & Schnobrich's unloading stiffness
+``k0 (d_y / u_max)^alpha``, on the backbone of CSI's Takeda multilinear-plastic links.
+Elastic before the first yield, on the backbone beyond the largest deformation reached,
+unloading at the degraded stiffness to zero force, then towards the peak of the other side.
+OpenSees has no counterpart (its ``Hysteretic`` without pinching or damage follows the same
+rules up to the differences listed in docs/materials.md). Linear part: the first slope.
+
+Parameters
+----------
+i, j : int, dof label or None
+    The dofs of the deformation ``x_i - x_j`` (``j=None``: to the ground).
+strain, stress : sequence of float
+    The positive backbone's points (positive, increasing strains, non-decreasing forces);
+    the first is the yield point.
+strain_neg, stress_neg : sequence of float, optional
+    The negative backbone's points as magnitudes (default: symmetric).
+alpha : float
+    The unloading exponent, in [0, 1] (0: unloading at the initial stiffness).
+
+Examples
+--------
+>>> import duhamel
+>>> column = duhamel.elements.Takeda(0, strain=[0.01, 0.05], stress=[1.0, 1.4], alpha=0.0)
+>>> duhamel.elements.drive(column, [0.03, 0.018, -0.01]).force.round(12).tolist()
+[1.2, 0.0, -1.0]
+"#;
+    type Runtime = Uniaxial<Takeda>;
+    uniaxial_methods!();
+}
 
 /// The Takeda law (see the module documentation).
 #[derive(Debug, Clone)]

@@ -1,20 +1,40 @@
-//! A uniaxial material between dof `i` and dof `j` (or `i` and the ground).
+//! A uniaxial material between dof `i` and dof `j` (or `i` and the ground), and what every
+//! material's element definition answers the same way (from its law).
 //!
 //! The deformation is `u = x_i - x_j` (`x_i` when grounded), the force `F` acts as
 //! `r_i = +F`, `r_j = -F`. The element's internal variables are the material's; before the
 //! first step the material is virgin and taken along the deformation path from 0 to the
 //! initial deformation `u_0` in one step (monotonic loading).
+//!
+//! A material's definition (`Steel02Def`, ...) implements [`UniaxialDefinition`] (its dofs
+//! and its law) and, through [`uniaxial_methods!`], the planner's questions of
+//! [`Definition`](crate::elements::Definition): the linear part is the initial tangent
+//! (`k0 > 0`), the tangent bound the law's, the stored energy `F^2 / (2 k0)` (the element
+//! histories carry no internal variables; a path-independent law gives its potential).
+
+use std::sync::Arc;
 
 use super::material::Material;
+use crate::elements::definition::{pair_matrix, Pair};
 use crate::elements::element::{Element, PathState, Tangent};
 use crate::elements::hysteretic::common::{finite, local_dofs, relative, scatter};
+use crate::elements::registry::Defined;
 use crate::error::CoreError;
 
 /// A [`Material`] between two dofs (or a dof and the ground).
 #[derive(Debug)]
 pub struct Uniaxial<M: Material> {
     dofs: Vec<usize>,
-    material: M,
+    material: Arc<M>,
+}
+
+impl<M: Material> Clone for Uniaxial<M> {
+    fn clone(&self) -> Self {
+        Self {
+            dofs: self.dofs.clone(),
+            material: Arc::clone(&self.material),
+        }
+    }
 }
 
 impl<M: Material> Uniaxial<M> {
@@ -23,7 +43,7 @@ impl<M: Material> Uniaxial<M> {
     pub fn new(i: usize, j: Option<usize>, material: M) -> Result<Self, CoreError> {
         Ok(Self {
             dofs: local_dofs(i, j)?,
-            material,
+            material: Arc::new(material),
         })
     }
 
@@ -90,6 +110,7 @@ impl<M: Material + 'static> Element for Uniaxial<M> {
         }
     }
 
+    #[inline]
     fn eval_path(
         &self,
         x: &[f64],
@@ -106,4 +127,151 @@ impl<M: Material + 'static> Element for Uniaxial<M> {
         scatter(f, kt, r, tangent.map(|tg| tg.kx));
         Ok(())
     }
+
+    /// A law's trial variables depend on its committed ones and the deformation (and the
+    /// rate, for a rate-dependent law) only.
+    fn path_reads(&self) -> Option<(bool, bool)> {
+        Some((self.material.uses_rate(), false))
+    }
 }
+
+/// A material element's definition: where it acts and its law.
+pub trait UniaxialDefinition {
+    /// The law.
+    type Law: Material + 'static;
+    /// The dofs `(i, j)` of the deformation `x_i - x_j`.
+    fn pair(&self) -> Pair;
+    /// The law, checked (errors name the parameter).
+    fn law(&self) -> Result<Self::Law, CoreError>;
+}
+
+/// The engine element of `d`.
+pub fn build<D: UniaxialDefinition>(d: &D) -> Result<Uniaxial<D::Law>, CoreError> {
+    let (i, j) = d.pair();
+    let law = d.law()?;
+    Uniaxial::new(i, j, law)
+}
+
+/// Whether the law is passive (a definition that does not build is not).
+pub fn passive<D: UniaxialDefinition>(d: &D) -> bool {
+    d.law().is_ok_and(|m| m.passive())
+}
+
+/// The initial tangent as the linear part, when it is positive: a law whose initial
+/// tangent is 0 or negative leaves the background as it is.
+pub fn linear_stiffness<D: UniaxialDefinition>(d: &D) -> Option<Vec<f64>> {
+    let k0 = d.law().ok()?.initial_tangent();
+    (k0 > 0.0 && k0.is_finite()).then(|| pair_matrix(d.pair().1, k0))
+}
+
+/// The law's bound on `|dF/du|`, no damping.
+pub fn tangent_bound<D: UniaxialDefinition>(d: &D) -> Option<(f64, f64)> {
+    d.law().ok()?.tangent_bound().map(|k| (k, 0.0))
+}
+
+/// The stored energy at the local displacements `u` and forces `f`: a path-independent
+/// law's potential, else `F^2 / (2 k0)` (unloading at the initial tangent; 0 when it is
+/// not positive).
+pub fn stored_energy<D: UniaxialDefinition>(d: &D, u: &[f64], f: &[f64]) -> f64 {
+    let Ok(m) = d.law() else { return 0.0 };
+    let du = u[0] - u.get(1).copied().unwrap_or(0.0);
+    if m.state_len() == 0 {
+        return m.stored_energy(&[], du, f[0]);
+    }
+    let k0 = m.initial_tangent();
+    if k0 > 0.0 {
+        0.5 * f[0] * f[0] / k0
+    } else {
+        0.0
+    }
+}
+
+/// The law of `d` as a part of a wrapper.
+pub fn as_material<D: UniaxialDefinition>(d: &D) -> Result<Box<dyn Material>, CoreError> {
+    d.law().map(|m| Box::new(m) as Box<dyn Material>)
+}
+
+/// The law of the part `part` (entry `k` of the parameter `name`, or the parameter itself
+/// when `k` is None) of a wrapper on `pair` (`wrapper` its name): an error names the
+/// parameter when the part is no uniaxial material or acts on other dofs.
+pub fn part_law(
+    part: &Defined,
+    (name, k): (&'static str, Option<usize>),
+    pair: Pair,
+    wrapper: &str,
+) -> Result<Box<dyn Material>, CoreError> {
+    let entry = k.map_or(String::new(), |k| format!("entry {k} "));
+    let bad = |problem: String| CoreError::InvalidInput { name, problem };
+    let law = part.material().ok_or_else(|| {
+        bad(format!(
+            "{entry}must be a uniaxial material element (Steel02, MultiLinear, \
+             ElasticMultiLinear, Takeda, Hysteretic, Pinching4, ModIMKPeakOriented, IMKBilin, \
+             MinMax, Parallel, Series), got a {}",
+            part.name()
+        ))
+    })?;
+    let at = part.directions().and_then(|d| d.first().copied());
+    if at != Some(pair) {
+        let show = |(i, j): Pair| match j {
+            Some(j) => format!("({i}, {j})"),
+            None => format!("({i}, None)"),
+        };
+        return Err(bad(format!(
+            "{entry}acts on {}, the {wrapper} on {}: a part acts on its wrapper's dofs `i, j`",
+            at.map_or("?".into(), show),
+            show(pair)
+        )));
+    }
+    law.map_err(|e| match e {
+        CoreError::InvalidInput {
+            name: inner,
+            problem,
+        } => bad(format!("{entry}({}): `{inner}` {problem}", part.name())),
+        other => other,
+    })
+}
+
+/// The [`Definition`](crate::elements::Definition) methods of a material element, from its
+/// [`UniaxialDefinition`] (inside the `impl Definition` block, after `type Runtime`).
+macro_rules! uniaxial_methods {
+    () => {
+        fn build(&self) -> Result<Self::Runtime, $crate::error::CoreError> {
+            $crate::elements::materials::uniaxial::build(self)
+        }
+
+        fn directions(&self) -> Option<Vec<$crate::elements::Pair>> {
+            Some(vec![
+                <Self as $crate::elements::materials::uniaxial::UniaxialDefinition>::pair(self),
+            ])
+        }
+
+        fn passive(&self) -> bool {
+            $crate::elements::materials::uniaxial::passive(self)
+        }
+
+        fn linear_stiffness(&self) -> Option<Vec<f64>> {
+            $crate::elements::materials::uniaxial::linear_stiffness(self)
+        }
+
+        fn tangent_bound(&self) -> Option<(f64, f64)> {
+            $crate::elements::materials::uniaxial::tangent_bound(self)
+        }
+
+        fn stored_energy(&self, u: &[f64], f: &[f64]) -> f64 {
+            $crate::elements::materials::uniaxial::stored_energy(self, u, f)
+        }
+
+        fn material(
+            &self,
+        ) -> Option<
+            Result<
+                Box<dyn $crate::elements::materials::Material>,
+                $crate::error::CoreError,
+            >,
+        > {
+            Some($crate::elements::materials::uniaxial::as_material(self))
+        }
+    };
+}
+
+pub(crate) use uniaxial_methods;

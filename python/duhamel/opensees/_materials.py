@@ -1,0 +1,144 @@
+"""OpenSees' uniaxial materials of issue 37 as duhamel's elements of the same name: Steel02,
+ModIMKPeakOriented, IMKBilin, Hysteretic, ElasticMultiLinear and the wrappers MinMax,
+Parallel and Series of them, from the parameters OpenSees prints (``printModel -JSON``, six
+significant digits). Refused, naming the material: those OpenSees prints without their
+parameters (Pinching4; a zeroLength prints a MultiLinear's tag as 0) and an asymmetric law
+whose deformation duhamel would have to mirror (the node with the material's positive
+deformation fixed)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from duhamel.elements import (
+    ElasticMultiLinear,
+    Element,
+    Hysteretic,
+    IMKBilin,
+    MinMax,
+    ModIMKPeakOriented,
+    Parallel,
+    Series,
+    Steel02,
+)
+from duhamel.opensees._parts import Untranslatable
+
+__all__ = ["KINDS", "material_element"]
+
+#: ModIMKPeakOriented's printed names -> duhamel's
+_IMK = {
+    "Ke0": "K0", "AlfaPos": "as_plus", "AlfaNeg": "as_neg", "My_pos": "My_plus",
+    "My_neg": "My_neg", "Ls": "lambda_s", "Ld": "lambda_c", "La": "lambda_a",
+    "Lk": "lambda_k", "Cs": "c_s", "Cd": "c_c", "Ca": "c_a", "Ck": "c_k",
+    "ThetaPpos": "theta_p_plus", "ThetaPneg": "theta_p_neg", "ThetaPCpos": "theta_pc_plus",
+    "ThetaPCneg": "theta_pc_neg", "ResfacPos": "res_plus", "ResfacNeg": "res_neg",
+    "FracDispPos": "theta_u_plus", "FracDispNeg": "theta_u_neg", "DPos": "D_plus",
+    "DNeg": "D_neg", "nFactor": "n_factor",
+}  # fmt: skip
+#: IMKBilin's printed names (OpenSees prints it as type "IMKPeakOriented", without the
+#: ``Lamda_A`` of that material) -> duhamel's
+_BILIN = {
+    "Ke": "Ke", "dp_pos": "theta_p_plus", "dpc_pos": "theta_pc_plus", "du_pos": "theta_u_plus",
+    "Fy_pos": "My_plus", "FmaxFy_pos": "Mmax_My_plus", "FresFy_pos": "res_plus",
+    "dp_neg": "theta_p_neg", "dpc_neg": "theta_pc_neg", "du_neg": "theta_u_neg",
+    "Fy_neg": "My_neg", "FmaxFy_neg": "Mmax_My_neg", "FresFy_neg": "res_neg",
+    "Lamda_S": "lambda_s", "Lamda_C": "lambda_c", "Lamda_K": "lambda_k", "c_S": "c_s",
+    "c_C": "c_c", "c_K": "c_k", "D_pos": "D_plus", "D_neg": "D_neg",
+}  # fmt: skip
+_HYST = {
+    **{f"{x}{k}{s}": f"{x}{k}{s}" for x in "se" for k in "123" for s in "pn"},
+    "pinchX": "pinch_x", "pinchY": "pinch_y", "damfc1": "damage1", "damfc2": "damage2",
+    "beta": "beta",
+}  # fmt: skip
+
+#: The printed types translated here.
+KINDS = (
+    "Steel02",
+    "ModIMKPeakOriented",
+    "IMKPeakOriented",
+    "HystereticMaterial",
+    "ElasticMultiLinear",
+    "MinMaxMaterial",
+    "ParallelMaterial",
+    "SeriesMaterial",
+    "Pinching4Material",
+    "MultiLinear",
+)
+#: Laws equal to their mirror image (``F(-u) = -F(u)`` on every path).
+_SYMMETRIC = ("ElasticMultiLinear",)
+
+
+def _named(mat: dict[str, Any], names: dict[str, str]) -> dict[str, float]:
+    missing = [k for k in names if k not in mat]
+    if missing:
+        raise Untranslatable(
+            f"{mat.get('type')} material {mat.get('name')}: OpenSees printed no {missing[0]}"
+        )
+    return {names[k]: float(mat[k]) for k in names}
+
+
+def _symmetric(mat: dict[str, Any], materials: dict[int, dict[str, Any]]) -> bool:
+    kind = str(mat.get("type"))
+    if kind in _SYMMETRIC:
+        points = sorted(zip(mat["strainPoints"], mat["stressPoints"], strict=True))
+        return points == sorted((-float(e), -float(f)) for e, f in points)
+    if kind in ("ParallelMaterial", "SeriesMaterial"):
+        return all(_symmetric(materials.get(int(m), {}), materials) for m in mat["materials"])
+    return False
+
+
+def material_element(
+    mat: dict[str, Any], materials: dict[int, dict[str, Any]], a: int | None, b: int | None
+) -> Element:
+    """The duhamel element of the OpenSees material `mat` on the deformation ``x_a - x_b``
+    (OpenSees' strain; `materials`: the printed materials by tag, for a wrapper's parts)."""
+    kind = str(mat.get("type"))
+    name = f"{kind} material {mat.get('name')}"
+    if a is None:
+        if not _symmetric(mat, materials):
+            raise Untranslatable(
+                f"{name} with its positive deformation towards a fixed node (the node given "
+                "second is fixed): duhamel would have to mirror the law; give the fixed node "
+                "first"
+            )
+        a, b = b, None
+    i, j = a, b
+    if kind == "Steel02":
+        p = _named(mat, {"fy": "fy", "E": "E", "b": "b", "R0": "R0", "cR1": "cR1"})
+        p |= _named(mat, {"cR2": "cR2", "a1": "a1", "a2": "a2", "a3": "a3", "a4": "a4"})
+        return Steel02(i, j, **p, sig_init=float(mat.get("sigini", 0.0)))
+    if kind == "ModIMKPeakOriented":
+        return ModIMKPeakOriented(i, j, **_named(mat, _IMK))
+    if kind == "IMKPeakOriented":
+        if "Lamda_A" in mat:
+            raise Untranslatable(f"{name} (IMKPeakOriented: no duhamel counterpart)")
+        return IMKBilin(i, j, **_named(mat, _BILIN))
+    if kind == "HystereticMaterial":
+        return Hysteretic(i, j, **_named(mat, _HYST))
+    if kind == "ElasticMultiLinear":
+        if float(mat.get("eta", 0.0)) != 0.0:
+            raise Untranslatable(f"{name} with damping (eta != 0)")
+        strain = [float(v) for v in mat["strainPoints"]]
+        stress = [float(v) for v in mat["stressPoints"]]
+        return ElasticMultiLinear(i, j, strain=strain, stress=stress)
+    if kind in ("MinMaxMaterial", "ParallelMaterial", "SeriesMaterial"):
+        tags = [mat["material"]] if kind == "MinMaxMaterial" else list(mat["materials"])
+        parts = []
+        for tag in tags:
+            part = materials.get(int(tag))
+            if part is None:
+                raise Untranslatable(f"{name}: its part {tag} (not printed by OpenSees)")
+            parts.append(material_element(part, materials, i, j))
+        if kind == "MinMaxMaterial":
+            lo, hi = float(mat["epsMin"]), float(mat["epsMax"])
+            return MinMax(i, j, material=parts[0], min=lo, max=hi)
+        if kind == "SeriesMaterial":
+            return Series(i, j, materials=parts)
+        factors = mat.get("factors")
+        return Parallel(
+            i, j, materials=parts, factors=None if factors is None else [float(f) for f in factors]
+        )
+    raise Untranslatable(
+        f"{name}: OpenSees prints none of its parameters (only its state), so it cannot be "
+        "read back; build the duhamel element of the same name yourself"
+    )
