@@ -346,7 +346,7 @@ def test_2d_linear_response_equals_opensees_newmark() -> None:
     t, a = frame2d.record(duration=4.0)
     frame2d.build(isolated=False, gravity=False)
     s = duhamel.opensees.from_opensees()
-    s.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
+    s.add_load(duhamel.loads.BaseAcceleration("ux", t=t, values=a))
     roof, mid = frame2d.node_tag(frame2d.STOREYS, 0), frame2d.node_tag(1, 1)
     sol = duhamel.solve(
         s, duhamel.Semianalytic(), t_end=float(t[-1]), dt=0.01, dofs=[(roof, "ux"), (mid, "rz")]
@@ -367,8 +367,8 @@ def test_3d_linear_response_equals_opensees_newmark() -> None:
     t, a = frame2d.record(duration=3.0)
     build_3d(isolated=False, gravity=False)
     s = duhamel.opensees.from_opensees()
-    s.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
-    s.add_load(duhamel.loads.BaseAcceleration("uy", t, 0.5 * a * np.cos(2.0 * t)))
+    s.add_load(duhamel.loads.BaseAcceleration("ux", t=t, values=a))
+    s.add_load(duhamel.loads.BaseAcceleration("uy", t=t, values=0.5 * a * np.cos(2.0 * t)))
     roof = 3999
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=float(t[-1]), dt=0.01)
     ours = sol.x[:, [s.dof(roof, "ux"), s.dof(roof, "uy"), s.dof(roof, "rz")]]
@@ -386,7 +386,7 @@ def test_2d_isolated_nonlinear_response_within_half_percent() -> None:
     t, a = frame2d.record(duration=6.0)
     frame2d.build(isolated=True, gravity=True)
     s = duhamel.opensees.from_opensees()
-    s.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
+    s.add_load(duhamel.loads.BaseAcceleration("ux", t=t, values=a))
     base, roof = frame2d.node_tag(0, 0), frame2d.node_tag(frame2d.STOREYS, 0)
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=float(t[-1]), dt=0.005, save_every=2)
     ours = sol.x[:, [s.dof(base, "ux"), s.dof(roof, "ux")]]
@@ -407,8 +407,8 @@ def test_3d_isolated_nonlinear_response_within_half_percent() -> None:
     s = duhamel.opensees.from_opensees()
     kinds = {type(e[0]).__name__ for e in s.opensees.elements.values()}
     assert kinds == {"Bilinear", "FrictionPendulum"}
-    s.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
-    s.add_load(duhamel.loads.BaseAcceleration("uy", t, ay))
+    s.add_load(duhamel.loads.BaseAcceleration("ux", t=t, values=a))
+    s.add_load(duhamel.loads.BaseAcceleration("uy", t=t, values=ay))
     base, roof = _n3(0, 1, 0), 3999
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=float(t[-1]), dt=0.005, save_every=2)
     ours = sol.x[:, [s.dof(base, "ux"), s.dof(base, "uy"), s.dof(roof, "ux")]]
@@ -480,9 +480,9 @@ def test_friction_bearings_against_opensees(ndm: int, bearing: str) -> None:
     s = duhamel.opensees.from_opensees()
     (element,) = s.opensees.elements[5]
     assert type(element).__name__ == "FrictionPendulum" and len(element.dofs) == 3
-    s.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
+    s.add_load(duhamel.loads.BaseAcceleration("ux", t=t, values=a))
     if ndm == 3:
-        s.add_load(duhamel.loads.BaseAcceleration("uy", t, ay))
+        s.add_load(duhamel.loads.BaseAcceleration("uy", t=t, values=ay))
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=float(t[-1]), dt=0.0025, save_every=4)
     comps = ["ux"] if ndm == 2 else ["ux", "uy"]
     ours = sol.x[:, [s.dof(2, c) for c in comps]]
@@ -524,7 +524,7 @@ def test_bouc_wen_against_opensees() -> None:
     assert (bw.k, bw.alpha, bw.n) == (4e5, 0.1, 1.0)
     assert (bw.beta, bw.gamma) == pytest.approx((0.6, 0.4)) and bw.fy == pytest.approx(4e5)
     assert s.K[0, 0] == pytest.approx(0.0, abs=1e-6)  # its tangent taken out of K
-    s.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
+    s.add_load(duhamel.loads.BaseAcceleration("ux", t=t, values=a))
     ours = duhamel.solve(s, duhamel.Semianalytic(), t_end=float(t[-1]), dt=0.0025, save_every=4)
     runs = []
     for n in (16, 32):

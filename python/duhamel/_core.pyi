@@ -44,6 +44,8 @@ class SpeedLaw:
     def run_up(omega0: float, omega1: float, t1: float) -> SpeedLaw: ...
     def _to_value(self) -> str:
         """The law as JSON text."""
+    @staticmethod
+    def _from_value(text: str) -> SpeedLaw: ...
     def evaluate(self, t: Array) -> tuple[Array, Array, Array]:
         """``(omega, omega', theta)`` at the times `t`."""
 
@@ -67,6 +69,10 @@ class TimeFunction:
     ) -> TimeFunction: ...
     def values(self, t: Array) -> Array:
         """The values at the times `t` (right limits at jumps)."""
+    def _to_value(self) -> str:
+        """The function as JSON text."""
+    @staticmethod
+    def _from_value(text: str) -> TimeFunction: ...
 
 @final
 class MassLaw:
@@ -76,6 +82,10 @@ class MassLaw:
     def harmonic(amplitude: float, frequency: float) -> MassLaw: ...
     @staticmethod
     def table(t: Array, mu: Array) -> MassLaw: ...
+    def _to_value(self) -> str:
+        """The law as JSON text."""
+    @staticmethod
+    def _from_value(text: str) -> MassLaw: ...
 
 @final
 class Mass:

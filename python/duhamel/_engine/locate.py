@@ -37,7 +37,12 @@ def checked_events(events: Any) -> list[Event]:
 def checked_times(t_eval: Any, t0: float, t_end: float) -> NDArray[np.float64]:
     """`t_eval` as a 1-D increasing array within ``[t0, t_end]``."""
     times = as_float_array(t_eval, "t_eval", ndim=1)
-    if times.size and (times[0] < t0 or times[-1] > t_end):
+    if times.size == 0:
+        raise ValueError(
+            "`t_eval` is empty: pass the instants to report (within the run), or leave it "
+            "out (None) for the saved steps"
+        )
+    if times[0] < t0 or times[-1] > t_end:
         raise ValueError(
             f"`t_eval` must lie within the run, [{t0:g}, {t_end:g}]; got "
             f"[{times[0]:g}, {times[-1]:g}]"
@@ -88,7 +93,8 @@ def locate(events: Sequence[Event], sol: Solution, dense: Dense) -> list[Occurre
         if not np.all(np.isfinite(g)):
             row = int(np.argmin(np.isfinite(g)))
             raise ValueError(
-                f"event {ev.name or k!r} is not finite at t = {t[row]:g} (value {g[row]})"
+                f"event {ev.name or k!r}: its function (`fn`, or a built-in's quantity) is "
+                f"not finite at t = {t[row]:g} (value {g[row]})"
             )
         name = ev.name if ev.name is not None else f"event{k}"
         for n in _crossings(g, ev.direction):

@@ -227,10 +227,13 @@ def from_opensees(
     ImportError
         If openseespy cannot be loaded.
     ValueError
-        If the session holds no model, a model OpenSees cannot analyse (naming the nodes or
-        constraints), an element that cannot be translated or whose state at import cannot
-        be carried over (naming the element and material), or Rayleigh damping on a
-        translated element that duhamel cannot keep exactly.
+        If the session holds no model, an element cannot be translated or its state at
+        import cannot be carried over (naming the element and material), Rayleigh damping
+        on a translated element cannot be kept exactly, a node's coordinates are not
+        finite, every dof is fixed (or tied to another node), or the multi-point
+        constraints tie a dof back to itself (``equalDOF`` 2 -> 3 and 3 -> 2): refused
+        before OpenSees analyses the model, whose numbering of the last two ends the Python
+        process.
 
     Examples
     --------
@@ -264,8 +267,7 @@ def from_opensees(
     >>> round(float(peak), 4)  # OpenSees' Newmark at dt = 2.5 ms: 0.396877
     0.3969
     """
-    from duhamel.opensees._checks import refuse_unanalysable
-    from duhamel.opensees._read import dof_map, matrices, printout
+    from duhamel.opensees._read import check_model, dof_map, matrices, printout
     from duhamel.opensees._translate import translate
 
     if nonlinear not in ("translate", "linearize"):
@@ -274,7 +276,7 @@ def from_opensees(
     if not list(ops.getNodeTags()):
         raise ValueError("the openseespy session holds no model (no nodes)")
     pr = printout(ops)
-    refuse_unanalysable(ops, pr)  # before OpenSees' analyze(), which would end the process
+    check_model(ops, pr.constraints)  # before OpenSees numbers it: what ends the process
     M, C, K, equations = matrices(ops)
     dmap = dof_map(ops, M.shape[0], equations, pr.constraints)
     tr = translate(ops, pr, dmap, nonlinear)
