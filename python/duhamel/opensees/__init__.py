@@ -260,7 +260,7 @@ def from_opensees(
     [Bilinear(0, None, k=40.0, fy=2.0, alpha=0.1, initial_deformation=0.025,
               initial_force=1.0)]
     >>> t = np.linspace(0.0, 2.0, 201)
-    >>> record = duhamel.loads.BaseAcceleration("ux", t, 3.0 * np.sin(2 * np.pi * t))
+    >>> record = duhamel.loads.BaseAcceleration("ux", t=t, values=3.0 * np.sin(2 * np.pi * t))
     >>> _ = system.add_load(record)
     >>> sol = duhamel.solve(system, duhamel.Semianalytic(), t_end=2.0, dt=0.0025)
     >>> peak = np.abs(system.opensees.x0[0] + sol.x[:, 0]).max()  # the total displacement
