@@ -78,12 +78,15 @@ def _local_axes(element: Any) -> int:
             f"{type(element).__name__}"
         )
     dofs = getattr(element, "dofs", None)
-    if dofs is not None and len(dofs) > 2:
+    if dofs is not None and len(dofs) > 2 and getattr(element, "initial_axial_force", None) is None:
         raise TypeError(
-            "`element`: a friction pendulum with its vertical dof has a normal force from the "
-            "model; measure the same bearing on its horizontal dofs (its `weight` the axial "
-            "load)"
+            "`element`: a friction pendulum with its vertical dof and no "
+            "`initial_axial_force` has its normal force from the model; give it "
+            "`initial_axial_force` (the axial load a prototype test holds), or measure the "
+            "same bearing on its horizontal dofs (its `weight` the axial load)"
         )
+    # a pendulum with its vertical dof is driven along x, its vertical deformation held at
+    # zero: the axial force at import, held constant as a prototype test holds it
     return len(element._dofs) if dofs is not None else 1
 
 
@@ -125,8 +128,8 @@ def _forces(
     element: Any, path: NDArray[np.float64], axes: int, d: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The element's deformation and force along its first axis on `path` (a
-    bidirectional one driven along x)."""
-    drive_path = path if axes == 1 else np.column_stack([path, np.zeros_like(path)])
+    bidirectional one driven along x, a vertical dof held)."""
+    drive_path = path if axes == 1 else np.column_stack([path] + [np.zeros_like(path)] * (axes - 1))
     force, reached = _drive(element, drive_path)
     force = force.reshape(path.size, -1)[:, 0]
     if not np.all(np.isfinite(force)):
