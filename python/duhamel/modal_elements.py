@@ -35,7 +35,7 @@ def _local_tangent(element: Any) -> NDArray[np.float64]:
 def _effective(element: Any, displacement: float) -> NDArray[np.float64]:
     """The element's local stiffness at the amplitude `displacement`: ``k_eff`` along each
     of its directions (a bearing's horizontal ones; its vertical dof at its tangent)."""
-    from duhamel.design import effective_properties
+    from duhamel.design.effective import effective_properties
     from duhamel.elements import FrictionPendulum
 
     n = len(element._dofs)
