@@ -478,7 +478,7 @@ BAD = [
             L.Unbalance((2, 1), m_e=1.0, speed=5.0)
         ),
         ValueError,
-        r"`dofs\[0\]`",
+        "`dofs[0]`",
     ),
     (
         "core-t1",
