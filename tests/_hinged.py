@@ -180,6 +180,7 @@ def run_opensees(t: Any, a: Any, substeps: int, roof: int, base: list[int]) -> t
     ops.integrator("Newmark", 0.5, 0.25)
     ops.analysis("Transient")
     x, acc, shear = (np.zeros(t.size - 1) for _ in range(3))
+    x[0] = ops.nodeDisp(roof, 1)  # the state at the start (after the gravity analysis)
     for k in range(1, t.size - 1):  # to the record's last but one instant (its end is open)
         if ops.analyze(substeps, dt / substeps) != 0:
             raise RuntimeError(f"OpenSees failed at t = {t[k]}")

@@ -147,6 +147,7 @@ def run_opensees(
     ops.analysis("Transient")
     n = len(lines(ndm, bays))
     x, acc, shear = (np.zeros(t.size - 1) for _ in range(3))
+    x[0] = ops.nodeDisp(node(0, 0), 1)  # the state at the start (after gravity)
     for k in range(1, t.size - 1):
         if ops.analyze(substeps, dt / substeps) != 0:
             raise RuntimeError(f"OpenSees failed at t = {t[k]}")

@@ -227,6 +227,30 @@ def test_lead_rubber_bearing_tends_to_the_bilinear_formulas() -> None:
     assert slope == pytest.approx(-1.0, abs=0.1)
 
 
+@pytest.mark.parametrize("dofs", [(0, None, 1), (0, 1, 2)], ids=["2-D", "3-D"])
+@pytest.mark.parametrize("d", [0.05, 0.2])
+def test_pendulum_with_its_vertical_dof_measured_under_its_axial_force(dofs, d) -> None:
+    """A friction pendulum with its vertical dof (as ``from_opensees`` imports
+    ``singleFPBearing``) is driven along x with its axial force held at
+    ``initial_axial_force`` P, as a prototype test holds it: on the sliding branch its
+    normal force on the dish is ``N = P + V u / R`` (OpenSees'), so ``V = P (u/R + mu) /
+    (1 - (u/R)(u/R + mu))`` at the peak, the closed form of ``k_eff`` to 1e-9. Before, it
+    was refused (the ASCE 7 study of an imported isolated frame stopped there)."""
+    p, r, mu = 6.867e5, 2.0, 0.06
+    fp = FrictionPendulum(
+        dofs, radius=r, mu=mu, weight=p, yield_displacement=1e-3, vertical_stiffness=1e11,
+        initial_axial_force=p,
+    )  # fmt: skip
+    got = effective_properties(fp, d)
+    x = d / r
+    assert got.stiffness == pytest.approx(p * (x + mu) / (1.0 - x * (x + mu)) / d, rel=1e-9)
+    flat = effective_properties(FrictionPendulum(0, radius=r, mu=mu, weight=p), d)
+    assert got.stiffness / flat.stiffness - 1.0 == pytest.approx(x * (x + mu), rel=0.05)
+    without = FrictionPendulum(dofs, radius=r, mu=mu, weight=p, vertical_stiffness=1e11)
+    with pytest.raises(TypeError, match="`initial_axial_force`"):
+        effective_properties(without, d)
+
+
 def test_effective_properties_refuse_bad_input() -> None:
     fp = FrictionPendulum(0, radius=2.0, mu=0.05, weight=1e6)
     with pytest.raises(ValueError, match="`displacement`"):

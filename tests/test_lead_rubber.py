@@ -38,7 +38,7 @@ def ours(k: int, seconds: float, both: bool) -> np.ndarray:
     t, ax, ay = records(seconds)
     n = 2 if both else 1
     s = duhamel.System(M * np.eye(n), np.zeros((n, n)))
-    s.add(E.LeadRubberBearing((0, 1 if both else None), k=K, fy=FY, alpha=ALPHA))
+    s.add(E.LeadRubberBearing((0, 1) if both else 0, k=K, fy=FY, alpha=ALPHA))
     s.add_load(L.BaseAcceleration(np.eye(n)[0], t=t, values=ax))
     if both:
         s.add_load(L.BaseAcceleration(np.eye(n)[1], t=t, values=ay))

@@ -136,12 +136,14 @@ def test_modes_with_the_bearings_initial_and_effective_stiffness() -> None:
     at their initial stiffness) to 1e-8; ``elements="effective"`` adds each pendulum's
     ``k_eff = N / R + mu N / D`` at the displacement D (ASCE 7 chapter 17): the isolated
     period of the rigid-superstructure limit."""
-    iso.build("singleFP", ndm=2)
-    system = duhamel.opensees.from_opensees()
-    lam = np.array(ops.eigen("-fullGenLapack", 4))
-    basis = system.modal(4, elements="initial")
-    np.testing.assert_allclose(2 * np.pi / basis.omega, 2 * np.pi / np.sqrt(lam), rtol=1e-8)
-    assert "initial stiffness" in basis.summary()
+    for bearing, ndm in (("singleFP", 3), ("flat", 2), ("singleFP", 2)):
+        iso.build(bearing, ndm=ndm)
+        system = duhamel.opensees.from_opensees()
+        lam = np.array(ops.eigen("-fullGenLapack", 4))
+        basis = system.modal(4, elements="initial")
+        periods = 2 * np.pi / np.sqrt(lam)
+        np.testing.assert_allclose(2 * np.pi / basis.omega, periods, rtol=1e-8)
+        assert "initial stiffness" in basis.summary()
     d = 0.15
     eff = system.modal(2, elements="effective", displacement=d)
     n = sum(e.initial_axial_force for e in system.elements)

@@ -470,7 +470,7 @@ BAD = [
             L.Unbalance((1, 1), m_e=1.0, speed=5.0)
         ),
         ValueError,
-        "`dofs`",
+        "`dofs` must be two different dofs",
     ),
     (
         "dof-range",

@@ -78,27 +78,16 @@ def _local_axes(element: Any) -> int:
             f"{type(element).__name__}"
         )
     dofs = getattr(element, "dofs", None)
+    if dofs is not None and len(dofs) > 2 and getattr(element, "initial_axial_force", None) is None:
+        raise TypeError(
+            "`element`: a friction pendulum with its vertical dof and no "
+            "`initial_axial_force` has its normal force from the model; give it "
+            "`initial_axial_force` (the axial load a prototype test holds), or measure the "
+            "same bearing on its horizontal dofs (its `weight` the axial load)"
+        )
+    # a pendulum with its vertical dof is driven along x, its vertical deformation held at
+    # zero: the axial force at import, held constant as a prototype test holds it
     return len(element._dofs) if dofs is not None else 1
-
-
-def horizontal_bearing(element: Any) -> Any:
-    """A bearing with its vertical dof (a definition with a ``vertical_stiffness`` on three
-    dofs: a friction pendulum whose normal force comes from the model) as the same bearing on
-    its horizontal dofs under its axial force at ``x = 0`` (``initial_axial_force``, else its
-    nominal ``weight``), with the same initial stiffness ``k_i = mu W / u_y``; any other
-    element unchanged."""
-    p = getattr(element, "parameters", None) or {}
-    if "vertical_stiffness" not in p or len(p.get("dofs") or ()) != 3:
-        return element
-    weight = p["initial_axial_force"] or p["weight"]
-    k_i = p["mu"] * p["weight"] / p["yield_displacement"]
-    return type(element)(
-        tuple(d for d in p["dofs"][:2] if d is not None),
-        radius=p["radius"],
-        mu=p["mu"],
-        weight=weight,
-        yield_displacement=p["mu"] * weight / (k_i - weight / p["radius"]),
-    )
 
 
 #: Parts an increment holding a kink of the loop is split into.
@@ -139,8 +128,8 @@ def _forces(
     element: Any, path: NDArray[np.float64], axes: int, d: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The element's deformation and force along its first axis on `path` (a
-    bidirectional one driven along x)."""
-    drive_path = path if axes == 1 else np.column_stack([path, np.zeros_like(path)])
+    bidirectional one driven along x, a vertical dof held)."""
+    drive_path = path if axes == 1 else np.column_stack([path] + [np.zeros_like(path)] * (axes - 1))
     force, reached = _drive(element, drive_path)
     force = force.reshape(path.size, -1)[:, 0]
     if not np.all(np.isfinite(force)):
@@ -179,8 +168,9 @@ def effective_properties(
     Parameters
     ----------
     element : duhamel.elements element
-        A hysteretic element: ``FrictionPendulum`` (with its vertical dof: measured on its
-        horizontal dofs under its initial axial force, the gravity state it starts from),
+        A hysteretic element: ``FrictionPendulum`` (with its vertical dof: driven along x, its
+        vertical deformation held, under its ``initial_axial_force`` as a prototype test
+        holds it; refused without one),
         ``TripleFrictionPendulum``, ``LeadRubberBearing``, ``Bilinear``, ``BoucWen``.
         Velocity-dependent friction is measured at the driver's pace (one point per unit
         time: the slow coefficient).
@@ -217,7 +207,6 @@ def effective_properties(
         raise ValueError(f"`cycles` must be an integer >= 1, got {cycles!r}")
     if isinstance(points, bool) or not isinstance(points, int) or points < 8 or points % 2:
         raise ValueError(f"`points` must be an even integer >= 8, got {points!r}")
-    element = horizontal_bearing(element)
     axes = _local_axes(element)
     path = cycle(d, cycles, points)
     reached, force = _forces(element, path, axes, d)

@@ -177,20 +177,31 @@ def from_opensees(
     ``"ry"``, ``"rz"``; dofs tied one to one (``equalDOF``) are aliases of it. The session's
     analysis objects are replaced (define them again before running OpenSees).
 
-    Nonlinear elements are translated to duhamel's: ``zeroLength`` with ``Steel01``
+    Nonlinear elements are translated to duhamel's (docs/models.md lists each):
+    ``zeroLength`` and ``twoNodeLink`` (coincident nodes) with ``Steel01``
     (:class:`~duhamel.elements.Bilinear`), ``BoucWen``, ``ViscousDamper`` (a dashpot),
     ``ElasticPPGap`` without yield and ``ENT`` (:class:`~duhamel.elements.Gap`) materials,
     ``Steel02``, ``ModIMKPeakOriented``, ``IMKBilin``, ``Hysteretic``,
     ``ElasticMultiLinear`` and ``MinMax``/``Parallel``/``Series`` of them (the element of
     the same name; ``Pinching4`` and ``MultiLinear`` are refused: OpenSees does not print
-    what they are) (``Elastic`` stays in ``K``), ``flatSliderBearing`` and
-    ``singleFPBearing`` (in 2-D a
-    :class:`~duhamel.elements.Bilinear` on the shear dof, in 3-D a
-    :class:`~duhamel.elements.FrictionPendulum`, flat or of radius ``Reff``, with the friction
-    coefficient and the axial load at import); their stiffness at import is taken out of
-    ``K``. The response is measured from the state at import: totals are
+    what they are) (``Elastic`` stays in ``K``); ``flatSliderBearing`` and ``singleFPBearing`` (2-D and 3-D)
+    as :class:`~duhamel.elements.FrictionPendulum` with their vertical dof and the axial force
+    at import (friction and restoring force follow the axial force);
+    ``TripleFrictionPendulum`` (3-D, under its axial load at import);
+    ``elastomericBearingPlasticity`` and ``elastomericBearingBoucWen`` as their bilinear and
+    Bouc-Wen shear with OpenSees' P-Delta moments. Their stiffness at import is taken out of
+    ``K``. The import runs after a gravity analysis (``loadConst``): ``K`` is the tangent
+    there, and each translated element starts in its state at import (a ``Steel01`` hinge
+    with the rotation and moment the gravity loads left, elastic or yielded, as the
+    Bilinear's ``initial_deformation``/``initial_force``; an open gap with the distance left
+    to contact); a state that cannot be carried over is refused naming the element and
+    material. The response is measured from the state at import: totals are
     ``system.opensees.x0 + sol.x`` (the model carries no gravity load, so do not pass
-    ``x0`` to :func:`duhamel.solve`).
+    ``x0`` to :func:`duhamel.solve`). Massless dofs that the damping matrix reaches (a
+    hinge's rotation under ``betaK``) are first-order coordinates of the model, not static
+    (:meth:`System.damping_summary` says which). Models OpenSees cannot analyse (no free
+    dof, a constraint loop, coordinates that are not finite) are refused before OpenSees
+    runs.
 
     Parameters
     ----------
@@ -219,23 +230,45 @@ def from_opensees(
     ImportError
         If openseespy cannot be loaded.
     ValueError
-        If the session holds no model, an element cannot be translated, a node's
-        coordinates are not finite, every dof is fixed (or tied to another node), or the
-        multi-point constraints tie a dof back to itself (``equalDOF`` 2 -> 3 and 3 -> 2):
-        refused before OpenSees analyses the model, whose numbering of the last two ends the
-        Python process.
+        If the session holds no model, an element cannot be translated or its state at
+        import cannot be carried over (naming the element and material), Rayleigh damping
+        on a translated element cannot be kept exactly, a node's coordinates are not
+        finite, every dof is fixed (or tied to another node), or the multi-point
+        constraints tie a dof back to itself (``equalDOF`` 2 -> 3 and 3 -> 2): refused
+        before OpenSees analyses the model, whose numbering of the last two ends the Python
+        process.
 
     Examples
     --------
-    >>> import openseespy.opensees as ops  # doctest: +SKIP
-    >>> ops.wipe(); ops.model("basic", "-ndm", 1, "-ndf", 1)  # doctest: +SKIP
-    >>> ops.node(1, 0.0); ops.node(2, 0.0); ops.fix(1, 1); ops.mass(2, 1.0)  # doctest: +SKIP
-    >>> ops.uniaxialMaterial("Elastic", 1, 4.0)  # doctest: +SKIP
-    >>> ops.element("zeroLength", 1, 1, 2, "-mat", 1, "-dir", 1)  # doctest: +SKIP
-    >>> import duhamel.opensees  # doctest: +SKIP
-    >>> system = duhamel.opensees.from_opensees()  # doctest: +SKIP
-    >>> system.dof_labels, system.dof(2, "ux")  # doctest: +SKIP
-    (('2:ux',), 0)
+    A mass on a ``Steel01`` spring (yield force 2, stiffness 40, hardening 0.1) under a
+    constant load of 1 applied first (the gravity analysis), then a base acceleration:
+
+    >>> import numpy as np
+    >>> import openseespy.opensees as ops
+    >>> import duhamel, duhamel.opensees
+    >>> ops.wipe(); ops.model("basic", "-ndm", 1, "-ndf", 1)
+    >>> ops.node(1, 0.0); ops.node(2, 0.0); ops.fix(1, 1); ops.mass(2, 1.0)
+    >>> ops.uniaxialMaterial("Steel01", 1, 2.0, 40.0, 0.1)
+    >>> ops.element("zeroLength", 1, 1, 2, "-mat", 1, "-dir", 1)
+    >>> ops.timeSeries("Linear", 1); ops.pattern("Plain", 1, 1); ops.load(2, 1.0)
+    >>> ops.constraints("Plain"); ops.numberer("Plain"); ops.system("FullGeneral")
+    >>> ops.algorithm("Newton"); ops.integrator("LoadControl", 1.0); ops.analysis("Static")
+    >>> ops.analyze(1)
+    0
+    >>> ops.loadConst("-time", 0.0)
+    >>> system = duhamel.opensees.from_opensees()
+    >>> system.dof_labels, system.opensees.x0
+    (('2:ux',), array([0.025]))
+    >>> system.opensees.elements[1]  # doctest: +NORMALIZE_WHITESPACE
+    [Bilinear(0, None, k=40.0, fy=2.0, alpha=0.1, initial_deformation=0.025,
+              initial_force=1.0)]
+    >>> t = np.linspace(0.0, 2.0, 201)
+    >>> record = duhamel.loads.BaseAcceleration("ux", t=t, values=3.0 * np.sin(2 * np.pi * t))
+    >>> _ = system.add_load(record)
+    >>> sol = duhamel.solve(system, duhamel.Semianalytic(), t_end=2.0, dt=0.0025)
+    >>> peak = np.abs(system.opensees.x0[0] + sol.x[:, 0]).max()  # the total displacement
+    >>> round(float(peak), 4)  # OpenSees' Newmark at dt = 2.5 ms: 0.396877
+    0.3969
     """
     from duhamel.opensees._read import check_model, dof_map, matrices, printout
     from duhamel.opensees._translate import translate

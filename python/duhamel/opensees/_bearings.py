@@ -6,6 +6,7 @@ bilinear it is."""
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -153,6 +154,18 @@ def _triple(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx: dict
     if not free:
         return [], [], [], None
     uy = float(ele["uy"])
+    vertical = [n for n in (ni, nj) if _eq(dmap, n, "uz", idx) is not None]
+    if vertical:
+        # duhamel's triple pendulum has no vertical dof: OpenSees' friction follows the
+        # axial force of its vertical material, which moves with these dofs
+        warnings.warn(
+            f"OpenSees element {tag} (TripleFrictionPendulum): its axial force is held at the "
+            f"value at import ({weight:g}) in duhamel, while in OpenSees it follows the "
+            f"vertical motion of node {vertical[0]} (its uz is free: overturning and vertical "
+            "records change it); fix that dof for the two to be the same model",
+            UserWarning,
+            stacklevel=5,
+        )
     made: list[Element] = [
         TripleFrictionPendulum(
             tuple(free),
