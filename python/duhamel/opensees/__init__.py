@@ -186,7 +186,8 @@ def from_opensees(
     the same name; ``Pinching4`` and ``MultiLinear`` are refused: OpenSees does not print
     what they are) (``Elastic`` stays in ``K``); ``flatSliderBearing`` and
     ``singleFPBearing`` (2-D and 3-D) as :class:`~duhamel.elements.FrictionPendulum` with
-    their vertical dof and the axial force at import (friction and restoring force follow the axial force);
+    their vertical dof and the axial force at import (friction and restoring force follow
+    the axial force);
     ``TripleFrictionPendulum`` (3-D, under its axial load at import);
     ``elastomericBearingPlasticity`` and ``elastomericBearingBoucWen`` as their bilinear and
     Bouc-Wen shear with OpenSees' P-Delta moments. Their stiffness at import is taken out of
