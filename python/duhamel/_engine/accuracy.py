@@ -56,7 +56,7 @@ def parabola_moments(
     z[:, 1, 3] = 4.0 * h
     z[:, 2, 3] = 1.0
     z[:, 3, 4] = 1.0
-    end = scipy.linalg.expm(z)[:, :2, 4]
+    end: NDArray[np.float64] = scipy.linalg.expm(z)[:, :2, 4]
     end[:, 0] /= s
     return end
 
@@ -70,7 +70,8 @@ def effective_omega(
     error."""
     qq = np.einsum("ij,ij->j", q, q)
     stiffening = -np.einsum("ij,ij->j", pseudo, q) / np.where(qq > 0.0, qq, 1.0)
-    return np.sqrt(omega**2 + np.maximum(stiffening, 0.0))
+    result: NDArray[np.float64] = np.sqrt(omega**2 + np.maximum(stiffening, 0.0))
+    return result
 
 
 def mode_bounds(
@@ -109,7 +110,8 @@ def mode_bounds(
     small = order[np.cumsum(out[order]) <= 0.05 * out.sum()]
     big = np.setdiff1d(np.arange(n), small)
     out[big] = scale[big] * _decaying_max(second[big], decay[big])
-    return out
+    result: NDArray[np.float64] = out
+    return result
 
 
 def _decaying_max(x: NDArray[np.float64], decay: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -225,7 +227,8 @@ def _caller_level() -> int:
     import sys
 
     package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    frame, level = sys._getframe(1), 1
+    frame: Any = sys._getframe(1)
+    level = 1
     while frame is not None and os.path.abspath(frame.f_code.co_filename).startswith(package):
         frame, level = frame.f_back, level + 1
     return level

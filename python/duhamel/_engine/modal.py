@@ -177,7 +177,8 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
     """A run of a prepared modal model, up to its :class:`duhamel.Solution`: one, or with
     ``Semianalytic(rtol=...)`` as many as the tolerance needs (:func:`to_tolerance`)."""
     if getattr(prep.integrator, "rtol", None) is not None:
-        return to_tolerance(_run_once, prep, opts)
+        solution: Solution = to_tolerance(_run_once, prep, opts)
+        return solution
     return _run_once(prep, opts)
 
 
