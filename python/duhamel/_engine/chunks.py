@@ -10,7 +10,6 @@ history equals a whole run's, bit for bit, up to the chunk where it stops.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -92,8 +91,3 @@ def chunked(
         elements = None if result.element_state is None else np.asarray(result.element_state)
         guard = None if result.guard_state is None else np.asarray(result.guard_state)
     return Joined(parts), step // sub
-
-
-def steps_of(opts: Any, steps: int) -> Any:
-    """`opts` for a run of `steps` steps (its stats count the steps taken)."""
-    return replace(opts, n_steps=steps)

@@ -10,7 +10,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
 
 from duhamel._core import __version__
 from duhamel._engine import dispatch
@@ -18,6 +17,7 @@ from duhamel._engine.correction import substeps
 from duhamel._engine.modal import failure_note
 from duhamel._engine.output import ROW_BLOCK, physical
 from duhamel._engine.plan import plan
+from duhamel._engine.request import Request
 from duhamel._engine.run import Progress, overflow_error, raise_failure, watch
 from duhamel._engine.validate import positive_int
 from duhamel.couplings import LinearCoupling
@@ -66,6 +66,9 @@ class Store:
     segment_bytes : int
         Memory budget of one segment's saved rows (engine history and physical outputs).
         A segment holds a multiple of 1024 saved rows, at least 1024.
+    checkpoint_every : int
+        A checkpoint every this many segments (``checkpoint_every`` of :func:`duhamel.solve`
+        sets it).
 
     Examples
     --------
@@ -82,12 +85,15 @@ class Store:
     path: str | os.PathLike[str]
     modal: bool = True
     segment_bytes: int = SEGMENT_BYTES
+    checkpoint_every: int = 1
 
     def __post_init__(self) -> None:
         _path(self.path)
         if not isinstance(self.modal, bool):
             raise TypeError(f"`modal` must be True or False, got {self.modal!r}")
         object.__setattr__(self, "segment_bytes", positive_int(self.segment_bytes, "segment_bytes"))
+        every = positive_int(self.checkpoint_every, "checkpoint_every")
+        object.__setattr__(self, "checkpoint_every", every)
 
 
 def _path(store: Any, name: str = "store") -> str:
@@ -119,23 +125,12 @@ def _grid(
 def run_stored(
     system: System,
     integrator: Semianalytic | DirectIntegrator,
-    *,
-    store: str | os.PathLike[str] | Store,
-    checkpoint_every: int | None,
-    t0: float,
-    dt: float,
-    n_steps: int,
-    save_every: int,
-    out_dofs: NDArray[np.int64],
-    x0: ArrayLike | None,
-    v0: ArrayLike | None,
+    options: Store,
+    req: Request,
     threads: int | None,
-    progress: bool | Progress | None,
-    started: float,
-    energy: bool = False,
 ) -> Solution:
-    """``duhamel.solve(..., store=...)``: creates the store and runs into it."""
-    options = store if isinstance(store, Store) else Store(_path(store))
+    """``duhamel.solve(..., store=...)``: creates the store `options` describes and runs
+    `req` into it (the run's loads are `system`'s)."""
     path = os.fspath(options.path)
     if isinstance(integrator, DirectIntegrator):
         raise ValueError(
@@ -143,9 +138,11 @@ def run_stored(
             f"not for {type(integrator).__name__} (direct integrators keep their state "
             "outside the engine's checkpoints); solve without `store`"
         )
-    every = 1 if checkpoint_every is None else positive_int(checkpoint_every, "checkpoint_every")
+    every = options.checkpoint_every
+    t0, dt, n_steps, save_every = req.t0, req.dt, req.n_steps, req.save_every
+    out_dofs = np.arange(system.n_dof) if req.dofs is None else req.dofs
     z = zarr()
-    model = capture(system, integrator, x0, v0)
+    model = capture(system, integrator, req.x0, req.v0)
     # As duhamel.solve: static-correction coordinates under nonlinear elements resolved in
     # time (the store holds the internal grid, its saved instants unchanged).
     route = plan(system, integrator)
@@ -158,7 +155,9 @@ def run_stored(
     grid["correction"] = [float(w) for w in correction]
     grid["checkpoint_every"] = every
     grid["modal"] = options.modal
-    if energy:
+    if not req.elements:
+        grid["elements"] = False
+    if req.energy:
         if model.route == "uncoupled":  # stepped one step at a time (energy_run.stepwise)
             model.route = "pseudo-force"
         grid["energy"] = energy_record(system, model)
@@ -189,8 +188,8 @@ def run_stored(
         start(model),
         Ledger(path, group, grid, identity),
         threads,
-        progress,
-        started,
+        req.progress,
+        req.started,
         elements=forces,
         base=support_terms(system.loads, np.asarray(out_dofs, dtype=np.int64)),
     )
@@ -337,7 +336,7 @@ def _proceed(
             keep = kept if failed else (size if final else size - 1)
             if not failed:
                 a = a()  # type: ignore[operator]
-            arrays = _columns(result, x, v, a, grid["modal"])
+            arrays = _columns(result, x, v, a, grid["modal"], grid.get("elements", True))
             ended = carry
             if em is not None and carry is not None and result.energy is not None:
                 arrays["energy"], ended = segment_energy(result, em, carry)
