@@ -18,7 +18,6 @@ from numpy.typing import NDArray
 
 from duhamel._engine import dispatch
 from duhamel._engine.background import background
-from duhamel._engine.chunks import chunked
 from duhamel._engine.correction import substeps
 from duhamel._engine.dense import ExactSteps, State
 from duhamel._engine.energy_run import (
@@ -33,6 +32,7 @@ from duhamel._engine.plan import Plan, mass, modal_loads, plan
 from duhamel._engine.relaxation import check_loads, check_state
 from duhamel._engine.request import ACCUMULATED, Request
 from duhamel._engine.run import ModalCallable, overflow_error, raise_failure, watch
+from duhamel._engine.segments import Grid, chunked
 from duhamel._engine.structure import structure_model
 from duhamel._engine.validate import as_float_array
 from duhamel.couplings import LinearCoupling
@@ -174,17 +174,16 @@ def run(prep: ModalSetup, opts: Request) -> Solution:
     # Static-correction coordinates under nonlinear elements are resolved in time: `sub`
     # internal steps per step, the saved instants unchanged.
     sub = prep.substeps(opts.dt)
-    grid = dispatch.grid(
-        opts.t0, opts.dt / sub, opts.n_steps * sub, opts.save_every * sub, 0, prep.threads
-    )
+    grid = Grid(
+        route, opts.t0, opts.dt / sub, opts.n_steps * sub, opts.save_every * sub, prep.threads,
+        *state,
+    )  # fmt: skip
     emodel = _energy_model(prep, opts, patterns, bool(fns))
     back = None if route.modes is None else route.modes.back
-    spec = dispatch.run_spec(
-        route, grid, state, energy=None if emodel is None else energy_spec(emodel, None, back)
-    )
+    spec = grid.whole(None if emodel is None else energy_spec(emodel, None, back))
     forcing = ModalCallable(fns, system.n_dof) if fns else None
     if opts.stop is not None and (opts.progress is None or opts.progress is False):
-        stopped = _stopping(prep, opts, state, sub, loads, out, forcing, patterns, base)
+        stopped = _stopping(prep, opts, grid, sub, loads, out, forcing, patterns, base)
         if stopped is not None:
             sol, joined = stopped
             if opts.interpolant:
@@ -207,7 +206,7 @@ def run(prep: ModalSetup, opts: Request) -> Solution:
 
 
 def _stopping(
-    prep: ModalSetup, opts: Request, state: Any, sub: int, loads: Any, out: Outputs,
+    prep: ModalSetup, opts: Request, grid: Grid, sub: int, loads: Any, out: Outputs,
     forcing: Any, patterns: NDArray, base: Any,
 ) -> tuple[Solution, Any] | None:  # fmt: skip
     """The run in chunks, stopped after the chunk where ``opts.stop`` fires (None: a chunk
@@ -222,7 +221,7 @@ def _stopping(
 
     loop_start = _time.perf_counter()
     try:
-        done = chunked(prep, opts, state, sub, one, seen)
+        done = chunked(grid, sub, one, seen)
     except (ArithmeticError, SolverError):  # an overflow: the whole run raises it
         return None
     if done is None:
