@@ -133,7 +133,7 @@ def _check(save: SaveAt, names: dict[str, str]) -> None:
     """Checks and normalises the fields of `save` in place, the messages naming `names`."""
     put = object.__setattr__
     every = save.every
-    if type(every) is not int or every < 1:
+    if type(every) is not int or not 1 <= every <= 2**64:
         put(save, "every", positive_int(every, names["every"], maximum=2**64))
     for key in ("dense", "energy", "elements"):
         value = getattr(save, key)
