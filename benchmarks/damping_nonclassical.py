@@ -43,7 +43,7 @@ def _model() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray
 
 def section(quick: bool, repeats: int = 15) -> list[str]:
     M, K, Ks, t, ag = _model()
-    load = duhamel.loads.BaseAcceleration(np.ones(N), t, ag)
+    load = duhamel.loads.BaseAcceleration(np.ones(N), t=t, values=ag)
     rayleigh = duhamel.Rayleigh(0.0, 0.002, stiffness=Ks)
 
     def run(kind: str) -> None:

@@ -135,7 +135,7 @@ def cases() -> list[Case]:
         Case(
             FPS,
             E.FrictionPendulum(
-                0, 1, radius=RADIUS, mu=MU_FPS, weight=M * G, yield_displacement=UY_FPS
+                (0, 1), radius=RADIUS, mu=MU_FPS, weight=M * G, yield_displacement=UY_FPS
             ),
             lambda tag: None,
         ),
@@ -166,7 +166,7 @@ def cases() -> list[Case]:
         ),
         Case(
             LRB_2,
-            E.LeadRubberBearing(0, 1, k=K_LRB, fy=FY, alpha=0.1),
+            E.LeadRubberBearing((0, 1), k=K_LRB, fy=FY, alpha=0.1),
             lambda tag: None,
         ),
         Case(_triple.TFP, _triple.bearing(M), lambda tag: None),

@@ -45,7 +45,7 @@ def _best(make, params, integ, repeats, **kw) -> dict:
     for _ in range(repeats):
         for key, extra in configs.items():
             ens = solve_many(make, params, integ, **extra, **kw)
-            if key not in best or ens.stats["wall_time"] < best[key].stats["wall_time"]:
+            if key not in best or ens.stats.wall_time < best[key].stats.wall_time:
                 best[key] = ens
     return best
 
@@ -67,7 +67,7 @@ def measure(n_scales: int) -> dict:
     for _ in range(3):
         for key, workers in (("long_one", 1), ("long_many", cores)):
             t = solve_many(model.building, params, integ, workers=workers, **long_kw)
-            long[key] = min(long.get(key, np.inf), t.stats["wall_time"])
+            long[key] = min(long.get(key, np.inf), t.stats.wall_time)
     with (
         distributed.LocalCluster(
             n_workers=cores, threads_per_worker=1, processes=True, dashboard_address=None
@@ -85,14 +85,14 @@ def measure(n_scales: int) -> dict:
                 ),
             }
             for key, ens in runs.items():
-                if dask[key] is None or ens.stats["wall_time"] < dask[key].stats["wall_time"]:
+                if dask[key] is None or ens.stats.wall_time < dask[key].stats.wall_time:
                     dask[key] = ens
     reference = fresh["one"].results
     for group in (fresh, study, dask):
         for ens in group.values():
             assert ens.results == reference  # every configuration, bit for bit
-    n_tasks = -(-len(params) // dask["fresh"].stats["chunk_size"])
-    wall = lambda group: {k: e.stats["wall_time"] for k, e in group.items()}  # noqa: E731
+    n_tasks = -(-len(params) // dask["fresh"].stats.chunk_size)
+    wall = lambda group: {k: e.stats.wall_time for k, e in group.items()}  # noqa: E731
     return {
         "runs": len(params),
         "fresh": wall(fresh),
@@ -100,7 +100,7 @@ def measure(n_scales: int) -> dict:
         "dask": wall(dask),
         **long,
         "cores": cores,
-        "chunk": dask["fresh"].stats["chunk_size"],
+        "chunk": dask["fresh"].stats.chunk_size,
         "tasks": n_tasks,
         "load": (load0, os.getloadavg()[0]),
     }

@@ -77,7 +77,7 @@ def system(t, a, rayleigh=(A0, A1, 0.0, 0.0), linear=False):
             K[np.ix_(dofs, dofs)] += k0
         C = None if s.C is None else np.asarray(s.C)
         s = duhamel.System(s.M, K, C=C).label_dofs(s.opensees.labels)
-    return s.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
+    return s.add_load(duhamel.loads.BaseAcceleration("ux", t=t, values=a))
 
 
 def run_duhamel(t, a, k, **kw):

@@ -38,12 +38,12 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
     basis = duhamel.System(m, k, zeta=0.02).modal(args.modes)
     # the springs local.py places: the same generator, seed and draw
     dofs = np.random.default_rng(7).choice(n - 1, size=max(s.springs), replace=False)
-    load = L.Harmonic(tip, s.force, s.frequency)
+    load = L.Harmonic(tip, amplitude=s.force, omega=s.frequency)
 
     def system(n_springs: int) -> duhamel.System:
         sys_ = duhamel.System(m, k, zeta=0.02).use_basis(basis).add_load(load)
         for d in dofs[:n_springs]:
-            sys_.add(E.Cubic(int(d), s.k3))
+            sys_.add(E.Cubic(int(d), k3=s.k3))
         return sys_
 
     linear, nonlinear = system(0), system(args.springs)

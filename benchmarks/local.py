@@ -110,7 +110,7 @@ def measure(s: Setup) -> dict:
     m, k = lattice(s.shape, s.k)
     n = m.shape[0]
     tip = n - 1
-    load = L.Harmonic(tip, s.force, s.frequency)
+    load = L.Harmonic(tip, amplitude=s.force, omega=s.frequency)
     started = time.perf_counter()
     full = duhamel.System(m, k, zeta=0.02)
     biggest = full.modal(max(s.modes))
@@ -122,14 +122,14 @@ def measure(s: Setup) -> dict:
         # the same modes for every mode count: the leading columns of one eigsh
         sys_ = duhamel.System(m, k, zeta=0.02).use_basis(biggest).add_load(load)
         for d in spring_dofs[:n_springs]:
-            sys_.add(E.Cubic(int(d), s.k3))
+            sys_.add(E.Cubic(int(d), k3=s.k3))
         return sys_
 
     ref_basis = duhamel.System(m, k, zeta=0.02).use_basis(biggest, extend=True)
     ref_basis = ref_basis.modal(s.reference_modes)
     acc_system = duhamel.System(m, k, zeta=0.02).use_basis(ref_basis).add_load(load)
     for d in spring_dofs[: s.accuracy_springs]:
-        acc_system.add(E.Cubic(int(d), s.k3))
+        acc_system.add(E.Cubic(int(d), k3=s.k3))
     acc = accuracy(s, acc_system, np.sort(spring_dofs[: s.accuracy_springs]))
     linear = {mm: np.inf for mm in s.modes}
     timed: dict[tuple[int, int, str], float] = {}

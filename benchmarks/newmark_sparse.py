@@ -43,7 +43,7 @@ def measure(shape: tuple[int, int, int], lengths: tuple[int, int]) -> dict:
     s = duhamel.System(m, k, rayleigh=(0.5, 1e-4))
     for d in dofs:
         s.add(E.Spring(int(d), k3=1e9))
-    s.add_load(L.Harmonic(int(dofs[0]), 100.0, 6.0))
+    s.add_load(L.Harmonic(int(dofs[0]), amplitude=100.0, omega=6.0))
     out = {}
     for steps in lengths:
         t0 = time.perf_counter()

@@ -88,7 +88,7 @@ QUICK = NonlinearSetup(duffing_steps=20_000, chain_steps=2000, repeats=1)
 
 def duffing_system(s: NonlinearSetup) -> duhamel.System:
     system = duhamel.System(np.eye(1), np.array([[s.omega**2]]))
-    system.add(duhamel.elements.Cubic(0, s.b))
+    system.add(duhamel.elements.Cubic(0, k3=s.b))
     return system
 
 
@@ -105,8 +105,8 @@ def chain_system(s: NonlinearSetup, *, cubic: bool = True) -> duhamel.System:
     system = duhamel.System(np.eye(n), K, zeta=s.zeta)
     if cubic:
         for dof in s.cubic_dofs:
-            system.add(duhamel.elements.Cubic(dof, s.k3))
-    system.add_load(duhamel.loads.Harmonic(s.tip, s.tip_amplitude, s.tip_omega))
+            system.add(duhamel.elements.Cubic(dof, k3=s.k3))
+    system.add_load(duhamel.loads.Harmonic(s.tip, amplitude=s.tip_amplitude, omega=s.tip_omega))
     return system
 
 

@@ -77,7 +77,7 @@ def run_duhamel(size, t, a, k, modes=None):
     frame.build(storeys=size[0], bays=size[1])
     t0 = time.perf_counter()
     system = duhamel.opensees.from_opensees()
-    system.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
+    system.add_load(duhamel.loads.BaseAcceleration("ux", t=t, values=a))
     dofs = [(n, "ux") for n, _ in watch(size[0])]
     sol = duhamel.solve(
         system,

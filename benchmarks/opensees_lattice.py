@@ -62,7 +62,7 @@ def run_duhamel(shape, t_end: float, k: int, modes: int | None) -> tuple[float, 
     s = duhamel.System(m, kk, rayleigh=(A0, 0.0))
     for d in dofs:
         s.add(E.Bilinear(int(d), k=KS, fy=FY, alpha=ALPHA))
-    s.add_load(L.Harmonic(int(dofs[0]), FORCE, OMEGA))
+    s.add_load(L.Harmonic(int(dofs[0]), amplitude=FORCE, omega=OMEGA))
     sol = duhamel.solve(
         s, duhamel.Semianalytic(modes=modes), t_end=t_end, dt=DT / k, save_every=k, dofs=dofs
     )

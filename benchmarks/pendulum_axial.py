@@ -55,13 +55,13 @@ def ours(ndm: int, k: int) -> np.ndarray:
     s = duhamel.System(M * np.eye(n), np.zeros((n, n)))
     s.add(
         E.FrictionPendulum(
-            0, None if ndm == 2 else 1, radius=R, mu=FAST, weight=W, yield_displacement=UY,
-            mu_slow=SLOW, rate=RATE, dof_z=n - 1, vertical_stiffness=KV,
+            (0, None if ndm == 2 else 1, n - 1), radius=R, mu=FAST, weight=W,
+            yield_displacement=UY, mu_slow=SLOW, rate=RATE, vertical_stiffness=KV,
         )
     )  # fmt: skip
     for dof, a in inputs(ndm):
-        s.add_load(L.BaseAcceleration(np.eye(n)[dof], t, a))
-    s.add_load(L.Step(n - 1, -W))
+        s.add_load(L.BaseAcceleration(np.eye(n)[dof], t=t, values=a))
+    s.add_load(L.Step(n - 1, amplitude=-W))
     x0 = np.zeros(n)
     x0[-1] = -W / KV
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=t[-1], dt=DT / k, save_every=k, x0=x0)

@@ -328,7 +328,7 @@ def _duffing_label(s: PrecisionSetup) -> Callable[[float], str]:
 def duffing_problem(s: PrecisionSetup) -> tuple[Problem, Callable[[RunResult], float]]:
     def make() -> duhamel.System:
         system = duhamel.System(np.eye(1), np.array([[s.omega**2]]))
-        return system.add(duhamel.elements.Cubic(0, s.b))
+        return system.add(duhamel.elements.Cubic(0, k3=s.b))
 
     t_end = s.duffing_t_end
     label = _duffing_label(s)

@@ -170,7 +170,10 @@ class Model:
     def contact(self) -> duhamel.elements.Contact:
         s = self.setup
         return duhamel.elements.Contact(
-            self.ix, self.iy, s.clearance, s.contact_stiffness, s.friction
+            (self.ix, self.iy),
+            clearance=s.clearance,
+            stiffness=s.contact_stiffness,
+            friction=s.friction,
         )
 
     def force(self, t: NDArray[np.float64], n_dof: int, index: NDArray[np.intp]) -> NDArray:

@@ -118,8 +118,10 @@ def make_system(setup: Setup) -> duhamel.System:
     """A fresh model with its two loads (fresh, so no modal analysis is cached)."""
     M, K = chain(setup)
     system = duhamel.System(M, K, zeta=setup.zeta)
-    system.add_load(duhamel.loads.Harmonic(setup.tip, setup.tip_amplitude, setup.tip_omega))
-    system.add_load(duhamel.loads.Step(setup.mid, setup.step_amplitude, t0=0.0))
+    system.add_load(
+        duhamel.loads.Harmonic(setup.tip, amplitude=setup.tip_amplitude, omega=setup.tip_omega)
+    )
+    system.add_load(duhamel.loads.Step(setup.mid, amplitude=setup.step_amplitude, t0=0.0))
     return system
 
 

@@ -68,7 +68,7 @@ def main(label: str, steps: float, segment_bytes: int, repeats: int) -> None:
     n = 10
     k = 2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
     s = duhamel.System(np.eye(n), 1e3 * k, zeta=0.02)
-    s.add_load(duhamel.loads.Harmonic(n - 1, 1.0, omega=3.0))
+    s.add_load(duhamel.loads.Harmonic(n - 1, amplitude=1.0, omega=3.0))
     dt = 0.01
     for _ in range(repeats):
         where = tempfile.mkdtemp()

@@ -114,7 +114,7 @@ def main(argv: list[str] | None = None) -> dict:
         workers=args.workers,
     )
     study.run()
-    print(f"{study.ensemble.stats['runs']} runs in {study.wall_time['runs']:.1f} s")
+    print(f"{study.ensemble.stats.runs} runs in {study.wall_time['runs']:.1f} s")
     for c in study.checks:
         print(f"{c.clause:28s} {c.quantity}: {c.value:.5g} vs {c.limit:.5g} -> {c.verdict}")
     command = "python examples/asce7_isolated_study.py" + (" " + " ".join(argv) if argv else "")

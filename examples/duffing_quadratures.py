@@ -21,7 +21,7 @@ def main() -> None:
         for scheme in "abc":
             errors = []
             for quadrature in ("trapezoid", "parabolic", "exact"):
-                system = duhamel.System(np.eye(1), np.eye(1)).add(duhamel.elements.Cubic(0, 4.0))
+                system = duhamel.System(np.eye(1), np.eye(1)).add(duhamel.elements.Cubic(0, k3=4.0))
                 options = duhamel.Semianalytic(scheme=scheme, quadrature=quadrature)
                 sol = duhamel.solve(system, options, t_end=t_end, dt=dt, x0=[1.0])
                 exact, _ = duffing(sol.t, 1.0, 4.0, 1.0)

@@ -78,7 +78,7 @@ def isolated_model() -> tuple[duhamel.System, np.ndarray, np.ndarray]:
         m[d * n : (d + 1) * n, d * n : (d + 1) * n] = m1
         k[d * n : (d + 1) * n, d * n : (d + 1) * n] = k1
     system = duhamel.System(m, k, zeta=0.05)
-    system.add(E.FrictionPendulum(0, n, radius=RADIUS, mu=MU, weight=masses.sum() * G))
+    system.add(E.FrictionPendulum((0, n), radius=RADIUS, mu=MU, weight=masses.sum() * G))
     rx, ry = np.zeros(2 * n), np.zeros(2 * n)
     rx[:n], ry[n:] = 1.0, 1.0
     return system, rx, ry
@@ -129,7 +129,7 @@ def main(argv: list[str] | None = None) -> dict:
     ds = ens.to_xarray()
     iso = ds["isolator"].values.reshape(len(pairs), 2)
     drift = ds["drift"].values.reshape(len(pairs), 2)
-    print(f"{len(cases)} runs in {wall:.1f} s ({ens.stats['workers']} workers)")
+    print(f"{len(cases)} runs in {wall:.1f} s ({ens.stats.workers} workers)")
     print(f"{'record':8s} {'factor':>6s} {'iso 0 [m]':>9s} {'iso 90 [m]':>10s} {'drift [%]':>9s}")
     for i, name in enumerate(suite.names):
         print(

@@ -86,11 +86,11 @@ def building(isolated: bool, motions) -> duhamel.System:
     system = duhamel.System(m, k, zeta=0.05)
     if isolated:
         weight = masses.sum() * G
-        system.add(E.FrictionPendulum(0, n, radius=RADIUS, mu=MU, weight=weight))
+        system.add(E.FrictionPendulum((0, n), radius=RADIUS, mu=MU, weight=weight))
     for d, (t, a) in enumerate(motions):
         r = np.zeros(2 * n)
         r[d * n : (d + 1) * n] = 1.0
-        system.add_load(L.BaseAcceleration(r, t, a))
+        system.add_load(L.BaseAcceleration(r, t=t, values=a))
     return system
 
 
@@ -118,7 +118,7 @@ def plane() -> duhamel.System:
         )
     )
     t, a = record(1, 0.4 * G, duration=32.0)  # outlasts the 30-s run
-    system.add_load(L.BaseAcceleration(np.ones(n), t, a))
+    system.add_load(L.BaseAcceleration(np.ones(n), t=t, values=a))
     return system
 
 

@@ -78,7 +78,9 @@ def run(w0: float, w1: float, seconds: float, dt: float, integrator: Any) -> dic
     tn = np.arange(0.0, seconds + 1e-3, 1e-3)
     for direction in ("x", "y"):  # weak broadband excitation, 2 N rms
         system.add_load(
-            duhamel.loads.Tabulated(rotor.dof(1, direction), tn, 2.0 * rng.normal(size=tn.size))
+            duhamel.loads.Tabulated(
+                rotor.dof(1, direction), t=tn, values=2.0 * rng.normal(size=tn.size)
+            )
         )
     x0 = rotor.static_equilibrium(w0)
     started = time.perf_counter()

@@ -68,10 +68,10 @@ def main(argv: list[str] | None = None) -> dict:
 
         def model() -> duhamel.System:
             system = duhamel.System(M_read, K_read, zeta=0.02)
-            system.add_load(L.Harmonic(n - 1, 100.0, 6.0))
+            system.add_load(L.Harmonic(n - 1, amplitude=100.0, omega=6.0))
             rng = np.random.default_rng(3)
             for dof in rng.choice(n - 1, size=10, replace=False):
-                system.add(E.Cubic(int(dof), 1e9))
+                system.add(E.Cubic(int(dof), k3=1e9))
             return system
 
         started = time.perf_counter()

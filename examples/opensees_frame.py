@@ -212,7 +212,7 @@ def main() -> None:
     t, a = record()
     start = time.perf_counter()
     frame = duhamel.opensees.from_opensees()
-    frame.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
+    frame.add_load(duhamel.loads.BaseAcceleration("ux", t=t, values=a))
     sol = duhamel.solve(frame, duhamel.Semianalytic(), t_end=float(t[-1]), dt=0.005, save_every=2)
     t_duhamel = time.perf_counter() - start
     n_modes = 3

@@ -33,7 +33,7 @@ ag = scipy.signal.lfilter(b, a, np.random.default_rng(7).standard_normal(t.size)
 ag *= np.clip(t / 2.0, 0, 1) ** 2 * np.exp(-0.3 * np.clip(t - 8.0, 0, None)) * (t < 20)
 ag *= 0.3 * g / np.abs(ag).max()
 
-building.add_load(duhamel.loads.BaseAcceleration(np.ones(n), t, ag))
+building.add_load(duhamel.loads.BaseAcceleration(np.ones(n), t=t, values=ag))
 sol = duhamel.solve(building, duhamel.Semianalytic(), t_end=30.0, dt=0.01)
 
 periods = 2 * np.pi / building.modal().omega[:3]

@@ -65,7 +65,7 @@ def small_building(three_d: bool = False) -> Building:
     w = masses.sum() * G
     for _ in range(2):
         y = n if three_d else None
-        s.add(duhamel.elements.FrictionPendulum(0, y, radius=2.0, mu=0.05, weight=w / 2))
+        s.add(duhamel.elements.FrictionPendulum((0, y), radius=2.0, mu=0.05, weight=w / 2))
     levels = list(range(n))
     if not three_d:
         return Building(s, levels, [3.2] * (n - 1), name="small test building")

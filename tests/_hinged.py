@@ -8,7 +8,9 @@ column node in ux and uy (``equalDOF``), with a rotational ``zeroLength`` hinge 
 them: the hinge rotations are massless dofs at the massless joint rotations. Rayleigh
 damping ``rayleigh(alphaM, betaK, betaK0, betaKc)`` on every element (OpenSees' zeroLength
 leaves it out unless ``-doRayleigh``), or through a ``region`` of some elements only.
-No gravity load.
+With `gravity`, a uniform load on every beam (and `leaning`, the vertical load on a leaning
+column of its own: pinned, ``PDelta``, tied to the frame's floors in ux) is applied by a
+static analysis first and held (``loadConst``), as a frame model is run.
 """
 
 from __future__ import annotations
@@ -41,10 +43,13 @@ def build(
     hinge_rayleigh: bool = False,
     my: float = 1.2e5,
     alpha: float = 0.02,
+    gravity: float = 0.0,
+    leaning: float = 0.0,
 ) -> dict[str, list[int]]:
     """Defines the frame in the openseespy session (wiped first); `region` ``"columns"``
-    damps only the columns (the beams and hinges undamped). Returns the element tags by
-    kind."""
+    damps only the columns (the beams and hinges undamped); `gravity` (N/m on the beams) and
+    `leaning` (N per floor on a leaning column) are applied by a static analysis and held.
+    Returns the element tags by kind."""
     import openseespy.opensees as ops
 
     ops.wipe()
@@ -87,12 +92,65 @@ def build(
             )  # fmt: skip
             tags["beams"].append(tag)
             tag += 1
+    if leaning:
+        _leaning_column(ops, storeys, bays, tags)
     if rayleigh is not None:
         if region is None:
             ops.rayleigh(*rayleigh)
         else:
             ops.region(1, "-ele", *tags[region], "-rayleigh", *rayleigh)
+    if gravity or leaning:
+        _gravity(ops, storeys, bays, tags, gravity, leaning)
     return tags
+
+
+def lean(storey: int) -> int:
+    """The leaning column's node at level `storey`."""
+    return 900 + storey
+
+
+def _leaning_column(ops: Any, storeys: int, bays: int, tags: dict[str, list[int]]) -> None:
+    """A column one bay beyond the frame, pinned at its base, its rotations held (a stiff
+    axial member, no bending to speak of), carried by the floors (ux tied to the frame's
+    last line): its vertical load acts through its ``PDelta`` transformation."""
+    ops.geomTransf("PDelta", 2)
+    x = (bays + 1) * BAY
+    for storey in range(storeys + 1):
+        ops.node(lean(storey), x, storey * H)
+        ops.fix(lean(storey), *((1, 1, 1) if storey == 0 else (0, 0, 1)))
+        if storey > 0:
+            ops.equalDOF(node(storey, bays), lean(storey), 1)
+    tags["leaning"] = []
+    for storey in range(storeys):
+        ops.element(
+            "elasticBeamColumn", 800 + storey, lean(storey), lean(storey + 1), A_COL, E,
+            1e-3 * I_COL, 2,
+        )  # fmt: skip
+        tags["leaning"].append(800 + storey)
+
+
+def _gravity(
+    ops: Any, storeys: int, bays: int, tags: dict[str, list[int]], w: float, p: float
+) -> None:
+    """The gravity loads by a static analysis (Newton, ten load steps), then held."""
+    ops.timeSeries("Linear", 1)
+    ops.pattern("Plain", 1, 1)
+    for tag in tags["beams"]:
+        ops.eleLoad("-ele", tag, "-type", "-beamUniform", -w)
+    if p:
+        for storey in range(1, storeys + 1):
+            ops.load(lean(storey), 0.0, -p, 0.0)
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("BandGeneral")
+    ops.test("NormDispIncr", 1e-12, 50)
+    ops.algorithm("Newton")
+    ops.integrator("LoadControl", 0.1)
+    ops.analysis("Static")
+    if ops.analyze(10) != 0:
+        raise RuntimeError("the gravity analysis failed")
+    ops.loadConst("-time", 0.0)
+    ops.wipeAnalysis()
 
 
 def record(dt: float = 0.01, duration: float = 4.0, pga: float = 4.0) -> tuple[Any, Any]:

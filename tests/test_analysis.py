@@ -618,7 +618,7 @@ def test_integrators_with_their_own_acceleration():
 
 
 def _cubic():
-    return duhamel.System([[1.0]], [[1.0]]).add(E.Cubic(0, 2.0))
+    return duhamel.System([[1.0]], [[1.0]]).add(E.Cubic(0, k3=2.0))
 
 
 def _mass():
@@ -635,7 +635,7 @@ BAD = [
     (
         "constant force",
         lambda: an.amplification_matrix(
-            duhamel.System([[1.0]], [[1.0]]).add(E.Polynomial(0, [1.0, 2.0])), B, 0.1
+            duhamel.System([[1.0]], [[1.0]]).add(E.Polynomial(0, coefficients=[1.0, 2.0])), B, 0.1
         ),
         ValueError,
         "`system`",
@@ -643,7 +643,11 @@ BAD = [
     (
         "contact",
         lambda: an.amplification_matrix(
-            duhamel.System(np.eye(2), np.eye(2)).add(E.Contact(0, 1, 1e-3, 1e3)), B, 0.1
+            duhamel.System(np.eye(2), np.eye(2)).add(
+                E.Contact((0, 1), clearance=1e-3, stiffness=1e3)
+            ),
+            B,
+            0.1,
         ),
         ValueError,
         "`system`",

@@ -115,7 +115,7 @@ def test_a_run_on_a_supplied_basis_equals_one_on_the_computed_basis():
     M, K = chain(30, sparse=True)
 
     def run(system):
-        system.add_load(duhamel.loads.Harmonic(29, 10.0, 40.0))
+        system.add_load(duhamel.loads.Harmonic(29, amplitude=10.0, omega=40.0))
         return duhamel.solve(system, duhamel.Semianalytic(modes=10), t_end=0.5, dt=1e-3)
 
     basis = ModalBasis.from_modes(*_modes(System(M, K).modal(10)), M)

@@ -39,8 +39,8 @@ def epp_jacobian(x, v, t, state):
 
 def system(jacobian: bool = True) -> duhamel.System:
     s = duhamel.System(np.array([[M]]), np.array([[K_FRAME]]), zeta=ZETA)
-    s.add(E.Callable(epp, [0], jacobian=epp_jacobian if jacobian else None, state=[0.0, 0.0]))
-    s.add_load(L.Harmonic(0, AMP, W))
+    s.add(E.Callable([0], epp, jacobian=epp_jacobian if jacobian else None, state=[0.0, 0.0]))
+    s.add_load(L.Harmonic(0, amplitude=AMP, omega=W))
     return s
 
 
@@ -96,14 +96,14 @@ def test_finite_difference_tangents_work_too(fine: np.ndarray) -> None:
 
 def test_protocol_errors_are_clear() -> None:
     s = duhamel.System(np.eye(1), np.eye(1), zeta=0.02)
-    s.add(E.Callable(lambda x, v, t, state: np.array([x[0]]), [0], state=[0.0]))
+    s.add(E.Callable([0], lambda x, v, t, state: np.array([x[0]]), state=[0.0]))
     with pytest.raises(duhamel.SolverError, match=r"expected a pair \(r, state\)") as err:
         duhamel.solve(s, duhamel.Semianalytic(), t_end=0.1, dt=0.01, x0=[0.1])
     assert err.value.reason == "callback"
     with pytest.raises(ValueError, match="`state`"):
-        E.Callable(epp, [0], state=[])
+        E.Callable([0], epp, state=[])
     with pytest.raises(ValueError, match="`state`"):
-        E.Callable(epp, [0], state=[np.nan])
+        E.Callable([0], epp, state=[np.nan])
 
 
 def test_direct_integrators_commit_the_callable_state() -> None:

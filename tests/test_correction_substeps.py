@@ -51,7 +51,7 @@ def chain_with_devices(k: float) -> duhamel.System:
     s = duhamel.System(np.eye(N), fixed_chain(N), zeta=0.05)
     s.add(E.Bilinear(N // 2, N // 2 - 1, k=k, fy=3e-5 * k, alpha=0.05))
     s.add(E.Gap(N - 1, None, gap=0.002, k=k))
-    s.add_load(L.BaseAcceleration(np.ones(N), TT, AG))
+    s.add_load(L.BaseAcceleration(np.ones(N), t=TT, values=AG))
     return s
 
 
@@ -70,7 +70,7 @@ def test_the_ratio_is_the_projected_tangent() -> None:
     i, j = N // 2, N // 2 - 1
     expected = 1e4 * ((phi[i] - phi[j]) ** 2 + phi[N - 1] ** 2) / omega**2 - SAFE_RATIO * 0.05
     assert np.allclose(stiffness_ratios(s, basis, cols), expected, rtol=1e-12, atol=0.0)
-    s.add(E.Cubic(N // 4, 1e12))
+    s.add(E.Cubic(N // 4, k3=1e12))
     basis, omega = enriched(s, s.modal(5))
     w = np.sqrt(basis.omega2)
     cols = np.array([int(np.flatnonzero(w == v)[0]) for v in omega])
@@ -127,7 +127,7 @@ def test_an_unbounded_or_first_order_run_keeps_the_previous_rule() -> None:
     on the first-order route (an exactly integrated coupling) every coordinate is."""
     soft = chain_with_devices(1e4)
     assert plan(soft, duhamel.Semianalytic(modes=5)).resolve.size == 0
-    python = chain_with_devices(1e4).add(E.Callable(lambda x, v, t: 1e2 * x, [N // 3]))
+    python = chain_with_devices(1e4).add(E.Callable([N // 3], lambda x, v, t: 1e2 * x))
     route = plan(python, duhamel.Semianalytic(modes=5))
     assert route.resolve.size > 0
     assert substeps(route.resolve, DT) > 1

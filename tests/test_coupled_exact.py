@@ -158,7 +158,7 @@ def build_coupled(variant, loads=None):
     else:  # pragma: no cover
         raise AssertionError(variant)
     if loads is None:
-        loads = [L.Step(int(i), float(F5[i])) for i in np.flatnonzero(F5)]
+        loads = [L.Step(int(i), amplitude=float(F5[i])) for i in np.flatnonzero(F5)]
     for load in loads:
         s.add_load(load)
     return s, c_tot, k_tot
@@ -222,7 +222,11 @@ def test_exact_and_auto_agree_and_report_condition():
 # --------------------------------------------------------------------------------------------
 def test_step_jump_inside_a_step_is_exact():
     t1, t2 = 0.2371, 1.0703
-    loads = [L.Step(4, 10.0, t0=t1), L.Step(0, -3.0, t0=t2), L.Step(2, 1.5)]
+    loads = [
+        L.Step(4, amplitude=10.0, t0=t1),
+        L.Step(0, amplitude=-3.0, t0=t2),
+        L.Step(2, amplitude=1.5),
+    ]
     system, c_tot, k_tot = build_coupled("System(C=nonclassical)+LinearCoupling(K)", loads)
     steps = [(unit(N, 4, 10.0), t1), (unit(N, 0, -3.0), t2), (unit(N, 2, 1.5), 0.0)]
     for dt in (0.1, 0.7, 1.2):  # 1.2: both jumps inside the first step
@@ -243,7 +247,7 @@ def test_step_jump_inside_a_step_is_exact():
 # --------------------------------------------------------------------------------------------
 def test_harmonic_load_fourth_order():
     amp, w, phase = 10.0, 15.0, 0.4
-    loads = [L.Harmonic(4, amp, w, phase)]
+    loads = [L.Harmonic(4, amplitude=amp, omega=w, phase=phase)]
     system, c_tot, k_tot = build_coupled("undamped+LinearCoupling(K,C)", loads)
     t_end, dt0 = 2.0, 0.04
     times = np.arange(round(t_end / dt0) + 1) * dt0
@@ -454,7 +458,7 @@ def test_rigid_body_mode_with_coupling_is_exact():
     cc[0, 0] = 0.5
     cc[1, 2], cc[2, 1] = 3.0, -3.0
     system = duhamel.System(m, k).add(E.LinearCoupling(C=cc))
-    system.add_load(L.Step(3, 2.0)).add_load(L.Step(1, -1.0, t0=0.77))
+    system.add_load(L.Step(3, amplitude=2.0)).add_load(L.Step(1, amplitude=-1.0, t0=0.77))
     basis = system.modal()
     assert basis.omega2[0] == 0.0
     x0, v0 = np.array([0.0, 0.01, 0.0, -0.02]), np.array([0.3, 0.0, 0.0, 0.1])
@@ -480,7 +484,11 @@ def test_rigid_body_mode_with_coupling_is_exact():
 # 7. Velocities, accelerations, the modal history, a subset of dofs
 # --------------------------------------------------------------------------------------------
 def test_velocity_acceleration_modal_history_and_dofs():
-    loads = [L.Step(4, 10.0), L.Step(1, -2.0, t0=0.55), L.Step(0, -3.0)]
+    loads = [
+        L.Step(4, amplitude=10.0),
+        L.Step(1, amplitude=-2.0, t0=0.55),
+        L.Step(0, amplitude=-3.0),
+    ]
     system, c_tot, k_tot = build_coupled("System(C=nonclassical)+LinearCoupling(K)", loads)
     steps = [(unit(N, 4, 10.0), 0.0), (unit(N, 1, -2.0), 0.55), (unit(N, 0, -3.0), 0.0)]
     kw = {"t_end": 3.0, "dt": 0.2, "x0": X0_5, "v0": V0_5}
@@ -559,7 +567,7 @@ def test_tabulated_and_base_acceleration_on_the_grid_are_exact():
     ts, vals = np.array([0.0, 0.5, 1.5, 2.0]), np.array([0.0, 40.0, -20.0, 5.0])
     r = np.array([1.0, 1.0, 0.0, 1.0, 1.0])
     ag_t, ag = np.array([0.0, 0.75, 1.75]), np.array([0.0, 3.0, -1.0])
-    loads = [L.Tabulated(4, ts, vals, hold=True), L.BaseAcceleration(r, ag_t, ag)]
+    loads = [L.Tabulated(4, t=ts, values=vals, hold=True), L.BaseAcceleration(r, t=ag_t, values=ag)]
     system, c_tot, k_tot = build_coupled("undamped+LinearCoupling(K,C)", loads)
     sol = duhamel.solve(system, duhamel.Semianalytic(), t_end=3.0, dt=dt, x0=X0_5, v0=V0_5)
     assert sol.stats.coupling == "exact"
@@ -597,7 +605,7 @@ def test_nonlinear_element_on_the_exact_background():
     """Elements on a coupled system: the couplings stay exact (first-order modes), only the
     element forces are pseudo-forces (scheme b, trapezoid); other schemes fall back."""
     system, _, _ = build_coupled("System(C=nonclassical)+LinearCoupling(K)")
-    system.add(E.Cubic(0, 1e4))
+    system.add(E.Cubic(0, k3=1e4))
     sol = _run(system)
     assert sol.stats.coupling == "exact" and sol.stats.eigenvector_condition is not None
     assert sol.stats.newton_iterations > 0
@@ -613,7 +621,7 @@ def test_nonlinear_element_on_the_exact_background():
                 x0=X0_5,
             )
     # Without couplings there is nothing to integrate exactly: no coupling route, no error.
-    only_cubic = duhamel.System(M5, K5, rayleigh=RAYLEIGH).add(E.Cubic(0, 1e4))
+    only_cubic = duhamel.System(M5, K5, rayleigh=RAYLEIGH).add(E.Cubic(0, k3=1e4))
     for coupling in ("auto", "exact", "pseudo-force"):
         assert _run(only_cubic, coupling).stats.coupling is None
 
@@ -667,7 +675,7 @@ def test_defective_system_falls_back_and_exact_raises():
     m, k = free_free()
     cc = np.zeros((4, 4))
     cc[np.ix_([0, 2], [0, 2])] = 0.8 * np.array([[1.0, -1.0], [-1.0, 1.0]])  # relative damper
-    system = duhamel.System(m, k).add(E.LinearCoupling(C=cc)).add_load(L.Step(3, 2.0))
+    system = duhamel.System(m, k).add(E.LinearCoupling(C=cc)).add_load(L.Step(3, amplitude=2.0))
     basis = system.modal()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # scipy's ill-conditioned inverse warning
@@ -700,7 +708,7 @@ def critical_pair(eps):
     ``eps``: the first-order matrix is defective for eps = 0, nearly so for tiny eps."""
     kx = np.array([[0.0, eps], [-eps, 0.0]])
     system = duhamel.System(np.eye(2), np.eye(2), C=2.0 * np.eye(2)).add(E.LinearCoupling(K=kx))
-    return system.add_load(L.Step(0, 1.0)), (np.eye(2), 2.0 * np.eye(2), np.eye(2) + kx)
+    return system.add_load(L.Step(0, amplitude=1.0)), (np.eye(2), 2.0 * np.eye(2), np.eye(2) + kx)
 
 
 def critical_and_gyroscopic(g):
@@ -709,7 +717,7 @@ def critical_and_gyroscopic(g):
     m, k, c = np.eye(2), np.diag([1.0, 4.0]), np.diag([2.0, 0.2])
     cx = np.array([[0.0, g], [-g, 0.0]])
     system = duhamel.System(m, k, C=c).add(E.LinearCoupling(C=cx))
-    return system.add_load(L.Step(0, 1.0)), (m, c + cx, k)
+    return system.add_load(L.Step(0, amplitude=1.0)), (m, c + cx, k)
 
 
 NEAR_DEFECTIVE = [
@@ -874,7 +882,7 @@ def test_divergence_partial_history_is_finite():
 # 11. save_every
 # --------------------------------------------------------------------------------------------
 def test_save_every_keeps_the_same_values_and_the_last_step():
-    loads = [L.Step(4, 10.0), L.Harmonic(2, 3.0, 9.0, 0.2)]
+    loads = [L.Step(4, amplitude=10.0), L.Harmonic(2, amplitude=3.0, omega=9.0, phase=0.2)]
     system, _, _ = build_coupled("rayleigh+LinearCoupling(sparse K,C)", loads)
     kw = {"t_end": 2.0, "dt": 0.05, "x0": X0_5, "v0": V0_5}  # 40 steps
     every = duhamel.solve(system, duhamel.Semianalytic(), **kw)
@@ -932,9 +940,9 @@ def _gyro_cubic():
     def build():
         s = duhamel.System(m, k, zeta=0.02)
         s.add(E.LinearCoupling(K=kx, C=g))
-        s.add(E.Cubic(0, 5e4))
-        s.add(E.Cubic(1, 5e4))
-        return s.add_load(L.Step(0, 5.0))
+        s.add(E.Cubic(0, k3=5e4))
+        s.add(E.Cubic(1, k3=5e4))
+        return s.add_load(L.Step(0, amplitude=5.0))
 
     basis = build().modal()
     c = m @ basis.phi @ np.diag(basis.c) @ basis.phi.T @ m + g

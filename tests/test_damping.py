@@ -116,7 +116,7 @@ def test_superstructure_only_rayleigh_equals_hand_formed_matrix():
     # the run equals one on the hand-formed matrix, and the isolation mode's damping is
     # only what the frame's stiffness-proportional part gives it
     t = np.arange(0.0, 6.0, 0.01)
-    load = duhamel.loads.BaseAcceleration(np.ones(n), t, 2.0 * np.sin(2.5 * t))
+    load = duhamel.loads.BaseAcceleration(np.ones(n), t=t, values=2.0 * np.sin(2.5 * t))
     by_hand = duhamel.System(M, K, C=hand).add(duhamel.elements.Spring(0, None, k=k_iso))
     a = duhamel.solve(system.add_load(load), duhamel.Semianalytic(), t_end=6.0, dt=0.01)
     b = duhamel.solve(by_hand.add_load(load), duhamel.Semianalytic(), t_end=6.0, dt=0.01)

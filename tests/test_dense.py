@@ -59,7 +59,7 @@ def test_t_eval_equals_lsim_off_grid(route: str) -> None:
     system = _frame(c)
     f = np.array([0.0, 1.0])
     tr, fr = _record(2.0)
-    system.add_load(duhamel.loads.Tabulated(1, tr, fr))
+    system.add_load(duhamel.loads.Tabulated(1, t=tr, values=fr))
     fine = 8
     t_fine = np.arange(0.0, 2.0 * fine / DT + 0.5) * (DT / fine)
     y = _lsim(system, f, tr, fr, t_fine)
@@ -125,7 +125,7 @@ def test_nonlinear_interpolant_converges_at_the_schemes_order() -> None:
     steps = [0.02, 0.01, 0.005, 0.0025]
     for dt in steps:
         system = duhamel.System(np.eye(1), 25.0 * np.eye(1), 0.2 * np.eye(1))
-        system.add(duhamel.elements.Cubic(0, 40.0))
+        system.add(duhamel.elements.Cubic(0, k3=40.0))
         system.add_load(duhamel.loads.Harmonic(dof=0, amplitude=1.0, omega=3.0, phase=np.pi / 2))
         sol = duhamel.solve(system, duhamel.Semianalytic(), t_end=2.0, dt=dt, x0=[0.05],
                             t_eval=times)  # fmt: skip

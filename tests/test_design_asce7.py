@@ -186,7 +186,7 @@ def test_friction_pendulum_effective_properties(d: float) -> None:
     assert p.damping == pytest.approx(ideal * (1 - uy / d), rel=1e-6)
     # the bidirectional bearing driven along x measures the same
     two = effective_properties(
-        FrictionPendulum(0, 1, radius=r, mu=mu, weight=w, yield_displacement=uy), d
+        FrictionPendulum((0, 1), radius=r, mu=mu, weight=w, yield_displacement=uy), d
     )
     assert two.stiffness == pytest.approx(p.stiffness, rel=1e-6)
     assert two.damping == pytest.approx(p.damping, rel=1e-6)
@@ -234,7 +234,7 @@ def test_effective_properties_refuse_bad_input() -> None:
     with pytest.raises(ValueError, match="`points`"):
         effective_properties(fp, 0.1, points=7)
     with pytest.raises(TypeError, match="`element`"):
-        effective_properties(duhamel.elements.Cubic(0, 1.0), 0.1)
+        effective_properties(duhamel.elements.Cubic(0, k3=1.0), 0.1)
 
 
 # ------------------------------------------------------------------------- the ELF fixed point

@@ -22,7 +22,7 @@ ALPHA, BETA = 0.3, 0.002
 def frame(devices: bool = True) -> duhamel.System:
     k = 4e8 * np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
     s = duhamel.System(np.diag(MASSES), k, rayleigh=(ALPHA, BETA))
-    s.add_load(L.BaseAcceleration(np.ones(3), T_REC, A_REC))
+    s.add_load(L.BaseAcceleration(np.ones(3), t=T_REC, values=A_REC))
     if devices:
         s.add(E.Bilinear(0, None, k=1e8, fy=2e5, alpha=0.05))
         s.add(E.ViscousDamper(2, 1, c=2e6, exponent=0.5))
@@ -37,10 +37,10 @@ def isolated(dt: float) -> duhamel.Solution:
     for a, b, ks in ((0, 2, 3e8), (2, 3, 3e8)):
         k[np.ix_([a, b], [a, b])] += ks * np.array([[1.0, -1.0], [-1.0, 1.0]])
     s = duhamel.System(m, k, rayleigh=(0.0, 0.003))
-    s.add(E.FrictionPendulum(0, 1, radius=2.0, mu=0.04, weight=1e6 * 9.81))
+    s.add(E.FrictionPendulum((0, 1), radius=2.0, mu=0.04, weight=1e6 * 9.81))
     s.add(E.Bilinear(2, 0, k=1e8, fy=1.5e5, alpha=0.05))
     s.add(E.ViscousDamper(3, 2, c=1e6, exponent=0.5))
-    s.add_load(L.BaseAcceleration(np.array([1.0, 0.0, 1.0, 1.0]), T_REC, 2.0 * A_REC))
+    s.add_load(L.BaseAcceleration(np.array([1.0, 0.0, 1.0, 1.0]), t=T_REC, values=2.0 * A_REC))
     return duhamel.solve(s, duhamel.Semianalytic(), t_end=6.0, dt=dt)
 
 
@@ -210,7 +210,7 @@ def test_ensemble_statistics_over_records() -> None:
         s = duhamel.System(
             np.diag(MASSES), 4e8 * (2 * np.eye(3) - np.eye(3, k=1) - np.eye(3, k=-1))
         )
-        return s.add_load(L.BaseAcceleration(np.ones(3), T_REC, scale * A_REC))
+        return s.add_load(L.BaseAcceleration(np.ones(3), t=T_REC, values=scale * A_REC))
 
     scales = [0.5, 1.0, 2.0]
     ens = solve_many(make, scales, duhamel.Semianalytic(), t_end=3.0, dt=0.01, workers=1)
@@ -246,7 +246,7 @@ def test_property_bounds_scale_the_devices_and_run_both() -> None:
     s = duhamel.System(np.diag([3e5, 2e5]), 3e8 * np.array([[1.0, -1.0], [-1.0, 1.0]]), zeta=0.02)
     s.add(E.FrictionPendulum(0, radius=2.0, mu=0.05, weight=5e5 * 9.81))
     s.add(E.ViscousDamper(1, 0, c=1e6, exponent=0.5))
-    s.add_load(L.BaseAcceleration(np.ones(2), T_REC, 2.0 * A_REC))
+    s.add_load(L.BaseAcceleration(np.ones(2), t=T_REC, values=2.0 * A_REC))
     lambdas = {"FrictionPendulum.mu": (0.8, 1.3), "c": (0.85, 1.15)}
     models = property_bounds(s, lambdas)
     assert models["lower"].elements[0].mu == 0.8 * 0.05

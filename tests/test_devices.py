@@ -23,7 +23,7 @@ T_END = 6.0
 def sdof(element: E.Element) -> duhamel.System:
     s = duhamel.System(np.array([[M]]), np.array([[KF]]), zeta=ZETA)
     s.add(element)
-    s.add_load(L.Harmonic(0, AMP, W))
+    s.add_load(L.Harmonic(0, amplitude=AMP, omega=W))
     return s
 
 
@@ -89,7 +89,7 @@ def test_bilinear_equals_the_same_law_as_a_python_callable() -> None:
         sdof(E.Bilinear(0, k=k, fy=fy)), duhamel.Semianalytic(), t_end=3.0, dt=0.005
     )
     py = duhamel.solve(
-        sdof(E.Callable(epp, [0], jacobian=jac, state=[0.0, 0.0])),
+        sdof(E.Callable([0], epp, jacobian=jac, state=[0.0, 0.0])),
         duhamel.Semianalytic(),
         t_end=3.0,
         dt=0.005,
@@ -170,7 +170,7 @@ def test_friction_pendulum_period_is_that_of_the_pendulum() -> None:
     g, radius, weight = 9.81, 2.0, 1e5
     m = weight / g
     s = duhamel.System(m * np.eye(2), 1e-9 * np.eye(2))  # the isolator carries everything
-    s.add(E.FrictionPendulum(0, 1, radius=radius, mu=0.0, weight=weight))
+    s.add(E.FrictionPendulum((0, 1), radius=radius, mu=0.0, weight=weight))
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=12.0, dt=0.002, x0=[0.1, 0.0])
     x = sol.x[:, 0]
     crossings = sol.t[1:][np.diff(np.sign(x)) > 0]
@@ -180,7 +180,7 @@ def test_friction_pendulum_period_is_that_of_the_pendulum() -> None:
     # friction +mu W), x = mu R (cos(w t) - 1) + (V / w) sin(w t); it never exceeds mu W
     mu, speed, w = 0.06, 0.3, np.sqrt(g / radius)
     s = duhamel.System(m * np.eye(2), 1e-9 * np.eye(2))
-    s.add(E.FrictionPendulum(0, 1, radius=radius, mu=mu, weight=weight))
+    s.add(E.FrictionPendulum((0, 1), radius=radius, mu=mu, weight=weight))
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=3.0, dt=0.001, v0=[speed, 0.0])
     el = sol.elements[0]
     friction = el.force[:, 0] - weight / radius * el.x[:, 0]
@@ -209,7 +209,7 @@ def test_direct_integrators_run_path_dependent_elements() -> None:
         (lambda: E.Bilinear(0, k=1.0, fy=1.0, alpha=1.5), "`alpha`"),
         (lambda: E.BoucWen(0, k=1.0, fy=1.0, n=0.5), "`n`"),
         (lambda: E.BoucWen(0, k=1.0, fy=1.0, beta=0.5, gamma=-0.6), "`gamma`"),
-        (lambda: E.FrictionPendulum(0, 1, radius=0.0), "`radius`"),
+        (lambda: E.FrictionPendulum((0, 1), radius=0.0), "`radius`"),
         (lambda: E.ViscousDamper(0, c=1.0, exponent=0.0), "`exponent`"),
         (lambda: E.Gap(0, gap=-1.0, k=1.0), "`gap`"),
     ],

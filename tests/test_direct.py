@@ -64,7 +64,7 @@ LOAD1 = (5.0, 1.3)  # amplitude, frequency of a harmonic force
 
 def oscillator():
     sys = duhamel.System(np.array([[M1]]), np.array([[K1]]), zeta=ZETA1)
-    return sys.add_load(L.Harmonic(0, LOAD1[0], LOAD1[1]))
+    return sys.add_load(L.Harmonic(0, amplitude=LOAD1[0], omega=LOAD1[1]))
 
 
 def oscillator_error(integrator, dt, t_end=4 * T1):
@@ -174,11 +174,11 @@ def chain(n, sparse, damping="rayleigh", stiffness=1e4):
 
 def loaded(sys):
     n = sys.n_dof
-    sys.add_load(L.Step(n - 1, 50.0, t0=0.03))
-    sys.add_load(L.Harmonic(n // 2, 20.0, 40.0))
-    sys.add_load(L.Tabulated(0, [0.0, 0.1, 0.3], [0.0, 30.0, -10.0]))
+    sys.add_load(L.Step(n - 1, amplitude=50.0, t0=0.03))
+    sys.add_load(L.Harmonic(n // 2, amplitude=20.0, omega=40.0))
+    sys.add_load(L.Tabulated(0, t=[0.0, 0.1, 0.3], values=[0.0, 30.0, -10.0]))
     sys.add_load(L.Callable(lambda t: np.full(n, 0.5 * math.cos(7.0 * t))))
-    sys.add_load(L.BaseAcceleration(np.ones(n), [0.0, 0.2, 0.5], [0.0, 1.0, 0.0]))
+    sys.add_load(L.BaseAcceleration(np.ones(n), t=[0.0, 0.2, 0.5], values=[0.0, 1.0, 0.0]))
     return sys
 
 
@@ -208,7 +208,7 @@ def test_2000_dof_sparse_chain_reaches_the_static_deflection():
     n = 2000
     sys = chain(n, sparse=True, stiffness=1e8)  # fundamental period about 1 s
     sys = duhamel.System(sys.M, sys.K, rayleigh=(40.0, 1e-4))  # overdamped lowest mode
-    sys.add_load(L.Step(n - 1, 1.0))
+    sys.add_load(L.Step(n - 1, amplitude=1.0))
     sol = duhamel.solve(sys, duhamel.Newmark(), t_end=30.0, dt=0.01, dofs=[n // 2, n - 1])
     static = spla.spsolve(sp.csc_matrix(sys.K), np.eye(n)[n - 1])
     print(f"\n2000-dof sparse chain, 3000 Newmark steps: {sol.stats.wall_time:.3f} s in the loop")
@@ -226,10 +226,12 @@ def test_linear_element_equals_the_same_stiffness_in_k():
     c_extra[2, 2] = 5.0
     stiff = duhamel.System(
         base.M, base.K + k_extra, C=0.5 * base.M + 1e-4 * base.K + c_extra
-    ).add_load(L.Step(4, 10.0))
-    elem = duhamel.System(base.M, base.K, rayleigh=(0.5, 1e-4)).add_load(L.Step(4, 10.0))
+    ).add_load(L.Step(4, amplitude=10.0))
+    elem = duhamel.System(base.M, base.K, rayleigh=(0.5, 1e-4)).add_load(L.Step(4, amplitude=10.0))
     elem.add(E.Spring(1, 3, k=3e3)).add(E.Spring(4, k=2e3)).add(E.Damper(2, c=5.0))
-    coupled = duhamel.System(base.M, base.K, rayleigh=(0.5, 1e-4)).add_load(L.Step(4, 10.0))
+    coupled = duhamel.System(base.M, base.K, rayleigh=(0.5, 1e-4)).add_load(
+        L.Step(4, amplitude=10.0)
+    )
     coupled.add(E.LinearCoupling(K=k_extra, C=c_extra))
     for integ in (duhamel.HHT(-0.1), duhamel.CubicHermite()):
         ref = duhamel.solve(stiff, integ, t_end=0.5, dt=0.005)
@@ -255,7 +257,9 @@ def test_modal_and_nonclassical_damping(damping):
         sys = duhamel.System(m, k, C=c)
     x0, v0 = np.array([0.01, 0.0, -0.02, 0.0]), np.array([0.0, 0.1, 0.0, 0.2])
     f = np.array([0.0, 2.0, 0.0, -1.0])
-    sys.add_load(L.Harmonic(1, 2.0, 3.0)).add_load(L.Harmonic(3, -1.0, 3.0))
+    sys.add_load(L.Harmonic(1, amplitude=2.0, omega=3.0)).add_load(
+        L.Harmonic(3, amplitude=-1.0, omega=3.0)
+    )
     errs = {}
     dts = [0.02, 0.01, 0.005, 0.0025]  # omega_max dt <= 0.4: the asymptotic range
     for name, integ in (("Newmark", duhamel.Newmark()), ("CubicHermite", duhamel.CubicHermite())):
@@ -294,7 +298,7 @@ DUFF_T_END = 10 * 2 * math.pi  # 1000 steps: NOTES.md's span
 
 def duffing_error(integrator, dt, sparse=False):
     m, k = (sp.csr_array([[1.0]]), sp.csr_array([[1.0]])) if sparse else (np.eye(1), np.eye(1))
-    sys = duhamel.System(m, k).add(E.Cubic(0, 4.0))
+    sys = duhamel.System(m, k).add(E.Cubic(0, k3=4.0))
     sol = duhamel.solve(sys, integrator, t_end=DUFF_T_END, dt=dt, x0=[1.0])
     exact, _ = duffing(sol.t, 1.0, 4.0, 1.0)
     return float(np.abs(sol.x[:, 0] - exact).max()), sol
@@ -340,9 +344,9 @@ def test_nonlinear_chain_sparse_equals_dense():
     runs = []
     for sparse in (False, True):
         sys = chain(6, sparse)
-        sys.add(E.Spring(2, 4, k3=1e8)).add(E.Cubic(5, 3e7)).add(E.Damper(1, 3, c=2.0))
-        sys.add(E.Callable(lambda x, v, t: 1e3 * np.tanh(x / 0.01) + 0.5 * v, [0]))
-        sys.add_load(L.Harmonic(5, 300.0, 30.0))
+        sys.add(E.Spring(2, 4, k3=1e8)).add(E.Cubic(5, k3=3e7)).add(E.Damper(1, 3, c=2.0))
+        sys.add(E.Callable([0], lambda x, v, t: 1e3 * np.tanh(x / 0.01) + 0.5 * v))
+        sys.add_load(L.Harmonic(5, amplitude=300.0, omega=30.0))
         runs.append(duhamel.solve(sys, duhamel.GeneralizedAlpha(0.7), t_end=0.5, dt=0.002))
     assert np.abs(runs[0].x).max() > 1e-3
     assert np.abs(runs[0].x - runs[1].x).max() <= 1e-12 * np.abs(runs[0].x).max()
@@ -352,7 +356,7 @@ def test_callable_element_with_and_without_jacobian_equals_cubic():
     ref, _ = duffing_error(duhamel.Newmark(), DUFF_DT)
     for jac in (None, lambda x, v, t: (np.array([[12.0 * x[0] ** 2]]), np.zeros((1, 1)))):
         sys = duhamel.System(np.eye(1), np.eye(1))
-        sys.add(E.Callable(lambda x, v, t: 4.0 * x**3, [0], jacobian=jac))
+        sys.add(E.Callable([0], lambda x, v, t: 4.0 * x**3, jacobian=jac))
         sol = duhamel.solve(sys, duhamel.Newmark(), t_end=DUFF_T_END, dt=DUFF_DT, x0=[1.0])
         exact, _ = duffing(sol.t, 1.0, 4.0, 1.0)
         assert float(np.abs(sol.x[:, 0] - exact).max()) == pytest.approx(ref, rel=1e-8)
@@ -372,7 +376,7 @@ def pendulum_error(integrator, steps):
     sys.set_mass_law(
         duhamel.mass.Exponential(rate=-P_A * P_OMEGA), form="momentum", scale_stiffness=True
     )
-    sys.add_load(L.Step(0, P_F))
+    sys.add_load(L.Step(0, amplitude=P_F))
     sol = duhamel.solve(
         sys, integrator, t_end=5 * P_PERIOD, dt=P_PERIOD / steps, x0=[P_W0], v0=[P_V0]
     )
@@ -466,7 +470,7 @@ def test_central_difference_sparse_limit_and_element_tangent():
     with pytest.raises(ValueError, match=f"omega_max = {omega_max:.6g}"):
         duhamel.solve(sys, duhamel.CentralDifference(), t_end=1.0, dt=2.02 / omega_max)
     # Duffing: the tangent stiffness at x0 = 1 is 1 + 3 * 4 = 13
-    duff = duhamel.System(np.eye(1), np.eye(1)).add(E.Cubic(0, 4.0))
+    duff = duhamel.System(np.eye(1), np.eye(1)).add(E.Cubic(0, k3=4.0))
     with pytest.raises(ValueError, match=f"omega_max = {math.sqrt(13):.6g}"):
         duhamel.solve(duff, duhamel.CentralDifference(), t_end=10.0, dt=0.6, x0=[1.0])
     sol = duhamel.solve(duff, duhamel.CentralDifference(), t_end=10.0, dt=0.05, x0=[1.0])
@@ -505,7 +509,7 @@ def test_central_difference_allowed_unstable_diverges_to_solver_error():
 def test_central_difference_explicit_needs_no_stiffness_factorisation():
     # no damping, position-only elements: the only matrix factorised is M, once
     sys = chain(10, sparse=True)
-    sys = duhamel.System(sys.M, sys.K).add(E.Cubic(3, 1e6)).add_load(L.Step(9, 5.0))
+    sys = duhamel.System(sys.M, sys.K).add(E.Cubic(3, k3=1e6)).add_load(L.Step(9, amplitude=5.0))
     sol = duhamel.solve(sys, duhamel.CentralDifference(), t_end=0.2, dt=1e-3)
     assert sol.stats.factorizations == 1 and sol.stats.newton_iterations == 0
     ref = duhamel.solve(sys, duhamel.Newmark(), t_end=0.2, dt=1e-4, save_every=10)
@@ -516,7 +520,7 @@ def test_central_difference_explicit_needs_no_stiffness_factorisation():
 # 7. Errors and bad input
 # --------------------------------------------------------------------------------------------
 def test_non_convergence_raises_solver_error_with_partial_solution():
-    sys = duhamel.System(np.eye(1), np.eye(1)).add(E.Cubic(0, 4.0))
+    sys = duhamel.System(np.eye(1), np.eye(1)).add(E.Cubic(0, k3=4.0))
     with pytest.raises(duhamel.SolverError) as info:
         duhamel.solve(sys, duhamel.Newmark(max_iter=1), t_end=5.0, dt=0.1, x0=[1.0])
     err = info.value
@@ -559,7 +563,7 @@ def test_callable_element_exception_propagates():
     def bad(x, v, t):
         raise ZeroDivisionError("element broke")
 
-    sys = duhamel.System(np.eye(1), np.eye(1)).add(E.Callable(bad, [0]))
+    sys = duhamel.System(np.eye(1), np.eye(1)).add(E.Callable([0], bad))
     for integ in (duhamel.HHT(-0.1), duhamel.CentralDifference()):
         with callback_failure(ZeroDivisionError, "element broke"):
             duhamel.solve(sys, integ, t_end=1.0, dt=0.1, x0=[1.0])

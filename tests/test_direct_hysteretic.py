@@ -22,7 +22,9 @@ def sdof(element: duhamel.elements.Element) -> duhamel.System:
     K = 40.0 * np.array([[2.0, -1.0], [-1.0, 1.0]])
     s = duhamel.System(M, K, zeta=0.02).add(element)
     t = np.linspace(0.0, T_END, 801)
-    s.add_load(L.BaseAcceleration(np.ones(2), t, 8.0 * np.sin(5.0 * t) * np.minimum(t, 1.0)))
+    s.add_load(
+        L.BaseAcceleration(np.ones(2), t=t, values=8.0 * np.sin(5.0 * t) * np.minimum(t, 1.0))
+    )
     return s
 
 
@@ -78,7 +80,7 @@ def test_python_callable_with_state_equals_bilinear() -> None:
         kt = k if abs(k * (u - state[0])) <= fy else 0.0
         return kt * np.array([[1.0, -1.0], [-1.0, 1.0]]), np.zeros((2, 2))
 
-    mine = E.Callable(epp, [0, 1], jacobian=jacobian, state=[0.0])
+    mine = E.Callable([0, 1], epp, jacobian=jacobian, state=[0.0])
     kw = {"t_end": T_END, "dt": 0.005}
     a = duhamel.solve(sdof(mine), duhamel.Newmark(), **kw)
     b = duhamel.solve(sdof(E.Bilinear(1, 0, k=k, fy=fy, alpha=0.0)), duhamel.Newmark(), **kw)

@@ -32,7 +32,9 @@ def model(sparse: bool) -> duhamel.System:
     s.add(E.Gap(20, gap=1e-3, k=5e4))
     s.add(E.ViscousDamper(30, 29, c=200.0, exponent=0.6))
     t = np.linspace(0.0, 3.0, 601)
-    s.add_load(L.BaseAcceleration(np.ones(N), t, 60.0 * np.sin(9.0 * t) * np.minimum(t, 1.0)))
+    s.add_load(
+        L.BaseAcceleration(np.ones(N), t=t, values=60.0 * np.sin(9.0 * t) * np.minimum(t, 1.0))
+    )
     return s
 
 

@@ -38,14 +38,14 @@ def test_elements_and_loads_with_labels_equal_indices() -> None:
     a = 3.0 * np.sin(5.0 * t)
     by_label = _system().label_dofs(LABELS)
     by_label.add(E.Bilinear((2, "ux"), (1, "ux"), k=5e3, fy=20.0, alpha=0.1))
-    by_label.add(E.FrictionPendulum((1, "ux"), (1, "uy"), radius=2.0, mu=0.05, weight=50.0))
-    by_label.add_load(L.Step((2, "uy"), 10.0, t0=0.5))
-    by_label.add_load(L.BaseAcceleration("ux", t, a))
+    by_label.add(E.FrictionPendulum(((1, "ux"), (1, "uy")), radius=2.0, mu=0.05, weight=50.0))
+    by_label.add_load(L.Step((2, "uy"), amplitude=10.0, t0=0.5))
+    by_label.add_load(L.BaseAcceleration("ux", t=t, values=a))
     by_index = _system()
     by_index.add(E.Bilinear(2, 0, k=5e3, fy=20.0, alpha=0.1))
-    by_index.add(E.FrictionPendulum(0, 1, radius=2.0, mu=0.05, weight=50.0))
-    by_index.add_load(L.Step(3, 10.0, t0=0.5))
-    by_index.add_load(L.BaseAcceleration(np.array([1.0, 0.0, 1.0, 0.0]), t, a))
+    by_index.add(E.FrictionPendulum((0, 1), radius=2.0, mu=0.05, weight=50.0))
+    by_index.add_load(L.Step(3, amplitude=10.0, t0=0.5))
+    by_index.add_load(L.BaseAcceleration(np.array([1.0, 0.0, 1.0, 0.0]), t=t, values=a))
     assert by_label.elements == by_index.elements
     np.testing.assert_array_equal(by_label.loads[1].direction_vector, [1.0, 0.0, 1.0, 0.0])
     run = {"t_end": 2.0, "dt": 0.01}
@@ -61,9 +61,9 @@ def test_label_errors_name_the_parameter() -> None:
     with pytest.raises(ValueError, match=r"`i` \(5, 'ux'\)"):
         s.add(E.Bilinear((5, "ux"), k=1.0, fy=1.0))
     with pytest.raises(ValueError, match="`direction_vector` 'uz' names no dofs"):
-        s.add_load(L.BaseAcceleration("uz", [0.0, 1.0], [0.0, 1.0]))
+        s.add_load(L.BaseAcceleration("uz", t=[0.0, 1.0], values=[0.0, 1.0]))
     prepared = duhamel.prepare(_system(), duhamel.Semianalytic(), dt=0.01)
     with pytest.raises(ValueError, match="names no dofs"):  # a system without labels
-        prepared.run(t_end=0.1, loads=[L.BaseAcceleration("ux", [0.0, 1.0], [0.0, 1.0])])
+        prepared.run(t_end=0.1, loads=[L.BaseAcceleration("ux", t=[0.0, 1.0], values=[0.0, 1.0])])
     with pytest.raises(ValueError, match=r"`dofs\[1\]`"):
         duhamel.solve(s, duhamel.Semianalytic(), t_end=0.1, dt=0.01, dofs=[0, (3, "rz")])

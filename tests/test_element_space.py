@@ -27,22 +27,22 @@ def _random_system(seed: int, element_kind: str) -> duhamel.System:
     links = 1e3 * (1.0 + rng.random(N))
     k = np.diag(links + np.r_[links[1:], 0.0]) - np.diag(links[1:], 1) - np.diag(links[1:], -1)
     system = duhamel.System(m, k, rayleigh=(0.5, 1e-4))
-    system.add_load(L.Harmonic(N - 1, 50.0, 25.0))
-    system.add_load(L.Step(3, 20.0))
+    system.add_load(L.Harmonic(N - 1, amplitude=50.0, omega=25.0))
+    system.add_load(L.Step(3, amplitude=20.0))
     dofs = rng.choice(N, size=3, replace=False).tolist()
     if element_kind == "cubic":
         for d in dofs:
-            system.add(E.Cubic(d, 1e7 * (1.0 + rng.random())))
+            system.add(E.Cubic(d, k3=1e7 * (1.0 + rng.random())))
     elif element_kind == "polynomial":
-        system.add(E.Polynomial(dofs[0], [0.0, 200.0, 3e4, 1e7]))
+        system.add(E.Polynomial(dofs[0], coefficients=[0.0, 200.0, 3e4, 1e7]))
     elif element_kind == "spring":
         system.add(E.Spring(dofs[0], dofs[1], k=300.0, k3=5e7))
         system.add(E.Spring(dofs[2], None, k=100.0, k3=1e7))
     elif element_kind == "damper":
         system.add(E.Damper(dofs[0], dofs[1], c=3.0))
-        system.add(E.Cubic(dofs[2], 1e7))
+        system.add(E.Cubic(dofs[2], k3=1e7))
     elif element_kind == "contact":
-        system.add(E.Contact(dofs[0], dofs[1], clearance=0.01, stiffness=1e5, friction=0.1))
+        system.add(E.Contact((dofs[0], dofs[1]), clearance=0.01, stiffness=1e5, friction=0.1))
     elif element_kind == "callable":
 
         def fn(x, v, t):
@@ -51,7 +51,7 @@ def _random_system(seed: int, element_kind: str) -> duhamel.System:
         def jac(x, v, t):
             return np.diag([6e7 * x[0] ** 2, 3e7 * x[1] ** 2]), np.diag([0.5, 0.0])
 
-        system.add(E.Callable(fn, dofs[:2], jacobian=jac))
+        system.add(E.Callable(dofs[:2], fn, jacobian=jac))
     return system
 
 
@@ -155,7 +155,7 @@ def test_mass_law_with_constant_couplings_at_any_element_dof_count(n_dofs, law, 
     rng = np.random.default_rng(100 + n_dofs)
     system = _random_system(n_dofs, "none")
     for d in rng.choice(N, size=n_dofs, replace=False).tolist():
-        system.add(E.Cubic(d, 1e7 * (1.0 + rng.random())))
+        system.add(E.Cubic(d, k3=1e7 * (1.0 + rng.random())))
     g = np.zeros((N, N))
     g[0, 1], g[1, 0], g[4, 6], g[6, 4] = 2.0, -2.0, 1.0, -1.0
     kc = np.zeros((N, N))
@@ -189,7 +189,7 @@ def _chain(n: int = 8) -> duhamel.System:
     links = np.full(n, 1e4)
     k = np.diag(links + np.r_[links[1:], 0.0]) - np.diag(links[1:], 1) - np.diag(links[1:], -1)
     system = duhamel.System(np.eye(n), k, zeta=0.02)
-    return system.add_load(L.Harmonic(n - 1, 300.0, 9.0))
+    return system.add_load(L.Harmonic(n - 1, amplitude=300.0, omega=9.0))
 
 
 @pytest.mark.parametrize("scheme", ["a", "b", "c"])
@@ -201,8 +201,8 @@ def test_saved_element_records_are_the_forces_at_the_saved_states(scheme):
     # the saved end state), independent of the engine.
     # (a hardening ratio whose yield the watch does not subdivide: a substep commits too)
     k3, (kb, fy, alpha) = 2e9, (3e3, 4.0, 0.3)
-    one = _chain().add(E.Cubic(2, k3))
-    two = _chain().add(E.Cubic(2, k3)).add(E.Bilinear(5, k=kb, fy=fy, alpha=alpha))
+    one = _chain().add(E.Cubic(2, k3=k3))
+    two = _chain().add(E.Cubic(2, k3=k3)).add(E.Bilinear(5, k=kb, fy=fy, alpha=alpha))
     for system in (one, two):
         sol = duhamel.solve(system, duhamel.Semianalytic(scheme=scheme), t_end=1.0, dt=2e-3)
         cubic = sol.elements[0]

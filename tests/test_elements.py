@@ -97,7 +97,7 @@ def build_coupled(variant):
     else:  # pragma: no cover
         raise AssertionError(variant)
     for i in np.flatnonzero(F5):
-        s.add_load(L.Step(int(i), float(F5[i])))
+        s.add_load(L.Step(int(i), amplitude=float(F5[i])))
     return s, c_tot, k_tot
 
 
@@ -154,7 +154,7 @@ def test_linear_coupling_quadratures_agree_and_sparse_equals_dense():
     dense = duhamel.System(M5, K5).add(E.LinearCoupling(K=KX5, C=C5))
     sparse = duhamel.System(M5, K5).add(E.LinearCoupling(K=sp.csr_matrix(KX5), C=sp.csc_matrix(C5)))
     for s in (dense, sparse):
-        s.add_load(L.Step(4, 10.0))
+        s.add_load(L.Step(4, amplitude=10.0))
     a = duhamel.solve(dense, duhamel.Semianalytic(), t_end=1.0, dt=0.01, x0=X0_5).x
     b = duhamel.solve(sparse, duhamel.Semianalytic(), t_end=1.0, dt=0.01, x0=X0_5).x
     assert np.abs(a - b).max() <= 1e-13 * np.abs(a).max()
@@ -170,7 +170,7 @@ RUN_2 = {"t_end": 20.0, "dt": 0.05, "x0": [1.0], "v0": [0.0]}
 
 def duffing(element):
     s = duhamel.System(np.eye(1), np.eye(1), zeta=0.02).add(element)
-    return s.add_load(L.Harmonic(0, 0.5, 1.3))
+    return s.add_load(L.Harmonic(0, amplitude=0.5, omega=1.3))
 
 
 def cubic_jacobian(x, v, t):
@@ -178,16 +178,16 @@ def cubic_jacobian(x, v, t):
 
 
 def test_callable_reproduces_cubic():
-    ref = duhamel.solve(duffing(E.Cubic(0, K3)), NEWTON, **RUN_2)
+    ref = duhamel.solve(duffing(E.Cubic(0, k3=K3)), NEWTON, **RUN_2)
     assert ref.stats.newton_iterations > ref.stats.steps  # really iterating
     assert np.abs(ref.x).max() > 0.5  # strongly nonlinear: k3 x^2 ~ 4 omega^2
     with_jac = duhamel.solve(
-        duffing(E.Callable(lambda x, v, t: K3 * x**3, [0], jacobian=cubic_jacobian)),
+        duffing(E.Callable([0], lambda x, v, t: K3 * x**3, jacobian=cubic_jacobian)),
         NEWTON,
         **RUN_2,
     )
     finite_diff = duhamel.solve(
-        duffing(E.Callable(lambda x, v, t: K3 * x**3, [0])), NEWTON, **RUN_2
+        duffing(E.Callable([0], lambda x, v, t: K3 * x**3)), NEWTON, **RUN_2
     )
     e_jac = max(np.abs(with_jac.x - ref.x).max(), np.abs(with_jac.v - ref.v).max())
     e_fd = max(np.abs(finite_diff.x - ref.x).max(), np.abs(finite_diff.v - ref.v).max())
@@ -204,7 +204,7 @@ def test_callable_reproduces_cubic():
     assert e_acc < 1e-11
     assert e_fd < 1e-9
     # the closed-form (auto) single-mode cubic solver agrees with Newton as well
-    auto = duhamel.solve(duffing(E.Cubic(0, K3)), duhamel.Semianalytic(), **RUN_2)
+    auto = duhamel.solve(duffing(E.Cubic(0, k3=K3)), duhamel.Semianalytic(), **RUN_2)
     assert auto.stats.closed_form_steps == auto.stats.steps
     assert np.abs(auto.x - ref.x).max() < 1e-12
 
@@ -228,19 +228,19 @@ def test_callable_multi_dof_and_velocity():
         s = duhamel.System(m, k, zeta=0.01)
         for e in elements:
             s.add(e)
-        s.add_load(L.Step(2, 5.0))
+        s.add_load(L.Step(2, amplitude=5.0))
         return duhamel.solve(
             s, NEWTON, t_end=2.0, dt=0.005, x0=[0.05, 0.0, -0.05], v0=[0.0, 0.3, 0.0]
         )
 
     ref = run(E.Spring(0, 2, k3=k3), E.Damper(1, c=cd))
     got = run(
-        E.Callable(spring_fn, [2, 0], jacobian=spring_jac),
+        E.Callable([2, 0], spring_fn, jacobian=spring_jac),
         E.Callable(
-            lambda x, v, t: cd * v, [1], jacobian=lambda x, v, t: (0 * x[:, None], cd * np.eye(1))
+            [1], lambda x, v, t: cd * v, jacobian=lambda x, v, t: (0 * x[:, None], cd * np.eye(1))
         ),
     )
-    fd = run(E.Callable(spring_fn, [2, 0]), E.Callable(lambda x, v, t: cd * v, [1]))
+    fd = run(E.Callable([2, 0], spring_fn), E.Callable([1], lambda x, v, t: cd * v))
     scale = np.abs(ref.x).max()
     e_jac = np.abs(got.x - ref.x).max() / scale
     e_fd = np.abs(fd.x - ref.x).max() / scale
@@ -250,7 +250,7 @@ def test_callable_multi_dof_and_velocity():
 
 
 def _solve_callable(fn):
-    return duhamel.solve(duffing(E.Callable(fn, [0])), NEWTON, **RUN_2)
+    return duhamel.solve(duffing(E.Callable([0], fn)), NEWTON, **RUN_2)
 
 
 def test_callable_wrong_shape_raises():
@@ -285,7 +285,7 @@ def test_callable_exception_propagates():
 
 def test_callable_bad_jacobian_shape():
     bad = E.Callable(
-        lambda x, v, t: K3 * x**3, [0], jacobian=lambda x, v, t: (np.zeros(3), np.zeros((1, 1)))
+        [0], lambda x, v, t: K3 * x**3, jacobian=lambda x, v, t: (np.zeros(3), np.zeros((1, 1)))
     )
     with callback_failure(ValueError, r"jacobian.*\(1, 1\)"):
         duhamel.solve(duffing(bad), NEWTON, **RUN_2)
@@ -320,8 +320,8 @@ def _pair_matrix(n, i, j, value):
 def test_spring_damper_equal_linear_coupling(element, coupling):
     def run(el):
         s = duhamel.System(M3, K3M, zeta=0.02).add(el)
-        s.add_load(L.Step(2, 1.0))
-        s.add_load(L.Harmonic(0, 2.0, 7.0))
+        s.add_load(L.Step(2, amplitude=1.0))
+        s.add_load(L.Harmonic(0, amplitude=2.0, omega=7.0))
         # Both as pseudo-forces: the same scheme (a constant LinearCoupling alone would
         # otherwise be integrated exactly).
         return duhamel.solve(
@@ -536,9 +536,18 @@ def rotor_reference():
 def rotor(contact=True, clearance=GAP):
     s = duhamel.System(RM * np.eye(2), RK * np.eye(2), C=RC * np.eye(2))
     if contact:
-        s.add(E.Contact(0, 1, clearance, KC, friction=MU, smoothing=EPS, velocity_smoothing=VEPS))
-    s.add_load(L.Harmonic(0, FU, OM, phase=np.pi / 2))  # F cos(Om t)
-    s.add_load(L.Harmonic(1, FU, OM))  # F sin(Om t)
+        s.add(
+            E.Contact(
+                (0, 1),
+                clearance=clearance,
+                stiffness=KC,
+                friction=MU,
+                smoothing=EPS,
+                velocity_smoothing=VEPS,
+            )
+        )
+    s.add_load(L.Harmonic(0, amplitude=FU, omega=OM, phase=np.pi / 2))  # F cos(Om t)
+    s.add_load(L.Harmonic(1, amplitude=FU, omega=OM))  # F sin(Om t)
     return s
 
 
@@ -601,29 +610,49 @@ BAD = [
     ("spring-j", lambda: _sys2().add(E.Spring(0, 7)), ValueError, "`j`"),
     ("spring-k-inf", lambda: E.Spring(0, 1, k=np.inf), ValueError, "`k`"),
     ("damper-negative", lambda: E.Damper(0, c=-1.0), ValueError, "`c`"),
-    ("cubic-k3-nan", lambda: E.Cubic(0, np.nan), ValueError, "`k3`"),
-    ("contact-clearance", lambda: E.Contact(0, 1, -1.0, 1.0), ValueError, "`clearance`"),
-    ("contact-stiffness-0", lambda: E.Contact(0, 1, 1.0, 0.0), ValueError, "`stiffness`"),
-    ("contact-stiffness-neg", lambda: E.Contact(0, 1, 1.0, -1.0), ValueError, "`stiffness`"),
+    ("cubic-k3-nan", lambda: E.Cubic(0, k3=np.nan), ValueError, "`k3`"),
+    (
+        "contact-clearance",
+        lambda: E.Contact((0, 1), clearance=-1.0, stiffness=1.0),
+        ValueError,
+        "`clearance`",
+    ),
+    (
+        "contact-stiffness-0",
+        lambda: E.Contact((0, 1), clearance=1.0, stiffness=0.0),
+        ValueError,
+        "`stiffness`",
+    ),
+    (
+        "contact-stiffness-neg",
+        lambda: E.Contact((0, 1), clearance=1.0, stiffness=-1.0),
+        ValueError,
+        "`stiffness`",
+    ),
     (
         "contact-friction",
-        lambda: E.Contact(0, 1, 1.0, 1.0, friction=-0.1),
+        lambda: E.Contact((0, 1), clearance=1.0, stiffness=1.0, friction=-0.1),
         ValueError,
         "`friction`",
     ),
     (
         "contact-smoothing",
-        lambda: E.Contact(0, 1, 1.0, 1.0, smoothing=0.0),
+        lambda: E.Contact((0, 1), clearance=1.0, stiffness=1.0, smoothing=0.0),
         ValueError,
         "`smoothing`",
     ),
     (
         "contact-vsmoothing",
-        lambda: E.Contact(0, 1, 1.0, 1.0, velocity_smoothing=-1.0),
+        lambda: E.Contact((0, 1), clearance=1.0, stiffness=1.0, velocity_smoothing=-1.0),
         ValueError,
         "`velocity_smoothing`",
     ),
-    ("contact-same-dof", lambda: _sys2().add(E.Contact(0, 0, 1.0, 1.0)), ValueError, "`dof_y`"),
+    (
+        "contact-same-dof",
+        lambda: _sys2().add(E.Contact((0, 0), clearance=1.0, stiffness=1.0)),
+        ValueError,
+        "`dof_y`",
+    ),
     (
         "contact-dof",
         lambda: _sys2().add(E.Contact((0, 2), clearance=1.0, stiffness=1.0)),
@@ -633,23 +662,23 @@ BAD = [
     ("callable-fn", lambda: E.Callable(3.0, [0]), TypeError, "`fn`"),
     (
         "callable-jacobian",
-        lambda: E.Callable(lambda x, v, t: x, [0], jacobian=1),
+        lambda: E.Callable([0], lambda x, v, t: x, jacobian=1),
         TypeError,
         "`jacobian`",
     ),
     (
         "callable-dofs",
-        lambda: _sys2().add(E.Callable(lambda x, v, t: x, [4])),
+        lambda: _sys2().add(E.Callable([4], lambda x, v, t: x)),
         ValueError,
         "`dofs`",
     ),
     (
         "callable-dofs-dup",
-        lambda: _sys2().add(E.Callable(lambda x, v, t: x, [0, 0])),
+        lambda: _sys2().add(E.Callable([0, 0], lambda x, v, t: x)),
         ValueError,
         "`dofs`",
     ),
-    ("callable-dofs-empty", lambda: E.Callable(lambda x, v, t: x, []), ValueError, "`dofs`"),
+    ("callable-dofs-empty", lambda: E.Callable([], lambda x, v, t: x), ValueError, "`dofs`"),
     ("coupling-K-shape", lambda: _sys2().add(E.LinearCoupling(K=np.eye(3))), ValueError, "`K`"),
     ("coupling-C-shape", lambda: _sys2().add(E.LinearCoupling(C=np.eye(3))), ValueError, "`C`"),
     ("coupling-1d", lambda: _sys2().add(E.LinearCoupling(K=np.ones(2))), ValueError, "`K`"),
@@ -675,8 +704,8 @@ BAD = [
     ("solver", lambda: duhamel.Semianalytic(solver="cg"), ValueError, "`solver`"),
     ("add-str", lambda: _sys2().add("not an element"), TypeError, "`element`"),
     ("add-None", lambda: _sys2().add(None), TypeError, "`element`"),
-    ("add-load-as-element", lambda: _sys2().add(L.Step(0, 1.0)), TypeError, "`element`"),
-    ("add_load-element", lambda: _sys2().add_load(E.Cubic(0, 1.0)), TypeError, "`load`"),
+    ("add-load-as-element", lambda: _sys2().add(L.Step(0, amplitude=1.0)), TypeError, "`element`"),
+    ("add_load-element", lambda: _sys2().add_load(E.Cubic(0, k3=1.0)), TypeError, "`load`"),
     ("callable-float-dofs", lambda: E.Callable([0.7], lambda x, v, t: x), TypeError, "`dofs"),
 ]
 
@@ -694,7 +723,7 @@ def test_bad_input(label, call, exc, name):
 def test_rejected_element_is_not_added():
     s = _sys2()
     with pytest.raises(ValueError):
-        s.add(E.Cubic(5, 1.0))
+        s.add(E.Cubic(5, k3=1.0))
     assert s.elements == []
 
 
@@ -706,9 +735,9 @@ def hard_chain():
     k = 100.0 * np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
     s = duhamel.System(np.eye(3), k, zeta=0.02)
     for i in range(3):
-        s.add(E.Cubic(i, 1e4))
+        s.add(E.Cubic(i, k3=1e4))
     s.add(E.Spring(0, 2, k3=5e3))
-    return s.add_load(L.Step(2, 50.0, t0=0.3))
+    return s.add_load(L.Step(2, amplitude=50.0, t0=0.3))
 
 
 def test_non_convergence_raises_solver_error():

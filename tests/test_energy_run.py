@@ -27,10 +27,10 @@ def frame() -> duhamel.System:
     for a, b, ks in ((0, 2, 3e8), (2, 3, 3e8)):
         k[np.ix_([a, b], [a, b])] += ks * np.array([[1.0, -1.0], [-1.0, 1.0]])
     s = duhamel.System(m, k, rayleigh=(0.0, 0.003))
-    s.add(E.FrictionPendulum(0, 1, radius=2.0, mu=0.04, weight=1e6 * 9.81))
+    s.add(E.FrictionPendulum((0, 1), radius=2.0, mu=0.04, weight=1e6 * 9.81))
     s.add(E.Bilinear(2, 0, k=1e8, fy=1.5e5, alpha=0.05))
     s.add(E.ViscousDamper(3, 2, c=1e6, exponent=0.5))
-    s.add_load(L.BaseAcceleration(np.array([1.0, 0.0, 1.0, 1.0]), T_REC, 2.0 * A_REC))
+    s.add_load(L.BaseAcceleration(np.array([1.0, 0.0, 1.0, 1.0]), t=T_REC, values=2.0 * A_REC))
     return s
 
 
@@ -139,7 +139,7 @@ def test_the_uncoupled_route_accumulates_stepwise() -> None:
     m = np.diag([2e5, 2e5, 1.5e5])
     k = 4e8 * np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
     s = duhamel.System(m, k, rayleigh=(0.3, 0.002))
-    s.add_load(L.BaseAcceleration(np.ones(3), T_REC, A_REC))
+    s.add_load(L.BaseAcceleration(np.ones(3), t=T_REC, values=A_REC))
     plain = duhamel.solve(s, duhamel.Semianalytic(), t_end=6.0, dt=0.005)
     assert duhamel.prepare(s, duhamel.Semianalytic(), dt=0.005).route == "uncoupled"
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=6.0, dt=0.005, energy=True)
@@ -200,7 +200,7 @@ def test_the_first_order_route_accumulates_it_without_elements() -> None:
     k = 4e8 * np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
     c = 2e6 * np.diag([1.0, 0.0, 0.0]) + 0.002 * k
     s = duhamel.System(m, k, C=c)
-    s.add_load(L.BaseAcceleration(np.ones(3), T_REC, A_REC))
+    s.add_load(L.BaseAcceleration(np.ones(3), t=T_REC, values=A_REC))
     assert duhamel.prepare(s, duhamel.Semianalytic(), dt=0.005).route == "first-order"
     plain = duhamel.solve(s, duhamel.Semianalytic(), t_end=6.0, dt=0.005)
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=6.0, dt=0.005, energy=True)

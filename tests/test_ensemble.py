@@ -48,13 +48,36 @@ def peak_drift(sol: duhamel.Solution) -> dict:
 
 def test_threads_equal_one_at_a_time() -> None:
     ens = solve_many(building, PARAMS, duhamel.Semianalytic(), workers=2, **KW)
-    assert len(ens) == len(PARAMS) and ens.stats["where"] == "threads"
+    assert len(ens) == len(PARAMS) and ens.stats.where == "threads"
     for p, sol in zip(PARAMS, ens.results, strict=True):
         one = duhamel.solve(building(p), duhamel.Semianalytic(), threads=1, **KW)
         np.testing.assert_array_equal(sol.x, one.x)
     ds = ens.to_xarray()
     assert dict(ds.sizes) == {"case": 12, "time": 801, "dof": N}
     np.testing.assert_array_equal(ds["scale"].values, [p["scale"] for p in PARAMS])
+
+
+def test_stats_are_typed_and_solve_many_is_top_level() -> None:
+    """Issue 35: `Ensemble.stats` is a dataclass (the previous release's dict access still
+    works, with a DeprecationWarning naming the attribute); `duhamel.solve_many` is
+    `duhamel.ensemble.solve_many`."""
+    import dataclasses
+
+    assert duhamel.solve_many is solve_many and "solve_many" in duhamel.__all__
+    ens = duhamel.solve_many(building, PARAMS[:2], duhamel.Semianalytic(), workers=2, **KW)
+    stats = ens.stats
+    assert isinstance(stats, duhamel.ensemble.EnsembleStats)
+    assert (stats.runs, stats.where, stats.workers, stats.basis) == (2, "threads", 2, "per run")
+    assert stats.chunk_size == 1 and stats.wall_time > 0.0
+    with pytest.warns(DeprecationWarning, match=r"use `Ensemble.stats.runs`"):
+        assert stats["runs"] == 2
+    with pytest.warns(DeprecationWarning, match=r"use `Ensemble.stats.where`"):
+        assert stats.get("where") == "threads"
+    with pytest.warns(DeprecationWarning, match="dataclasses.asdict"):
+        assert dict(stats.items()) == dataclasses.asdict(stats)
+    assert "basis" in stats and stats.get("nothing", 3) == 3
+    with pytest.raises(KeyError):
+        stats["nothing"]
 
 
 def test_one_prepared_model_under_every_record_equals_a_model_per_run() -> None:
@@ -68,9 +91,7 @@ def test_one_prepared_model_under_every_record_equals_a_model_per_run() -> None:
         np.testing.assert_array_equal(a.elements[0].force, b.elements[0].force)
     # with a shared basis too (made from the first case's model)
     based = solve_many(study, PARAMS[:2], duhamel.Semianalytic(), basis="first", **KW)
-    assert (
-        based.stats["basis"] == "shared" and based.results[0].x.shape == shared.results[0].x.shape
-    )
+    assert based.stats.basis == "shared" and based.results[0].x.shape == shared.results[0].x.shape
     # one preparation served every run of the shared model (the cache holds it once)
     prepared = [
         p for p in ensemble_run._PREPARED.values() if p.matches(MODEL, duhamel.Semianalytic(), 0.01)
@@ -97,7 +118,7 @@ def test_reduce_and_dask_cluster_bit_for_bit() -> None:
         remote = solve_many(
             building, PARAMS, duhamel.Semianalytic(), reduce=peak_drift, client=client, **KW
         )
-    assert remote.stats["where"] == "dask" and remote.stats["chunk_size"] == 2
+    assert remote.stats.where == "dask" and remote.stats.chunk_size == 2
     assert remote.results == local.results  # bit for bit, in order
     ds = local.to_xarray()
     np.testing.assert_array_equal(ds["roof"].values, [r["roof"] for r in local.results])
@@ -178,7 +199,7 @@ def test_shared_basis_and_zarr_store(tmp_path) -> None:
     integ = duhamel.Semianalytic()
     own = solve_many(building, PARAMS, integ, reduce=peak_drift, **KW)
     shared = solve_many(building, PARAMS, integ, reduce=peak_drift, basis="first", **KW)
-    assert shared.results == own.results and shared.stats["basis"] == "shared"
+    assert shared.results == own.results and shared.stats.basis == "shared"
     store = solve_many(
         building, PARAMS, integ, basis=building(PARAMS[0]).modal(), to_zarr=tmp_path / "a.zarr",
         chunk_size=5, dofs=[0, 9], **KW,

@@ -74,7 +74,7 @@ def test_record_first_crossing_against_the_matrix_exponential() -> None:
     tr = np.arange(0.0, 2.0 + dt / 2, dt)
     fr = 20.0 * rng.standard_normal(tr.size)
     system = _sdof()
-    system.add_load(duhamel.loads.Tabulated(0, tr, fr))
+    system.add_load(duhamel.loads.Tabulated(0, t=tr, values=fr))
     sol = duhamel.solve(system, duhamel.Semianalytic(), t_end=2.0, dt=dt, dense=True)
     level = 0.6 * np.abs(sol.x[:, 0]).max()
     rows = np.flatnonzero(np.abs(sol.x[:, 0]) >= level)
@@ -143,7 +143,7 @@ def _stopping_model(route: str) -> duhamel.System:
         s.add(duhamel.elements.Bilinear(0, None, k=4e7, fy=1.2e6, alpha=0.05))
     t = np.arange(0.0, 40.0, 0.01)
     ramp = np.sin(3 * t) * np.minimum(t / 20.0, 1.0) * 5.0
-    return s.add_load(duhamel.loads.Tabulated(1, t, 1e5 * ramp))
+    return s.add_load(duhamel.loads.Tabulated(1, t=t, values=1e5 * ramp))
 
 
 @pytest.mark.parametrize("route", ["uncoupled", "first-order", "elements"])

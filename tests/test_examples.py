@@ -47,10 +47,10 @@ def test_lattice_from_matrixmarket() -> None:
     # against every mode (the static correction makes 30 modes of 512 close to it)
     M, K = ex.lattice((8, 8, 8))
     full_system = duhamel.System(M.toarray(), K.toarray(), zeta=0.02)
-    full_system.add_load(duhamel.loads.Harmonic(511, 100.0, 6.0))
+    full_system.add_load(duhamel.loads.Harmonic(511, amplitude=100.0, omega=6.0))
     rng = np.random.default_rng(3)
     for dof in rng.choice(511, size=10, replace=False):
-        full_system.add(duhamel.elements.Cubic(int(dof), 1e9))
+        full_system.add(duhamel.elements.Cubic(int(dof), k3=1e9))
     full = duhamel.solve(full_system, duhamel.Semianalytic(), t_end=1.0, dt=1e-3, dofs=[511])
     err = np.abs(sol.x - full.x).max() / np.abs(full.x).max()
     print(f"\n30 modes + correction vs all 512 modes at the tip: {err:.2e}")
@@ -255,7 +255,7 @@ def test_asce7_isolated_study_example(tmp_path: Path) -> None:
     out = ex.main(["--pairs", "7", "--duration", "15", "--out", str(tmp_path / "study.html")])
     study, elf = out["study"], out["elf"]
     assert list(study.models) == ["lower", "nominal", "upper"]
-    assert study.ensemble.stats["runs"] == 7 * 2 * 3
+    assert study.ensemble.stats.runs == 7 * 2 * 3
     lo, nom, up = (elf.bounds[n] for n in ("lower", "nominal", "upper"))
     assert lo.d_m > nom.d_m > up.d_m and lo.t_m > nom.t_m > up.t_m
     hand = hand_statistics(study)

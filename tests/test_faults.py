@@ -33,7 +33,7 @@ ROUTES = {
         duhamel.Semianalytic(),
     ),
     "pseudo-force": (
-        lambda: duhamel.System(np.eye(2), np.eye(2)).add(E.Cubic(0, 1.0)),
+        lambda: duhamel.System(np.eye(2), np.eye(2)).add(E.Cubic(0, k3=1.0)),
         duhamel.Semianalytic(),
     ),
     "direct": (lambda: duhamel.System(np.eye(2), np.eye(2)), duhamel.Newmark()),
@@ -176,13 +176,13 @@ def test_numpy_scalars_are_numbers():
     ids=["None", "one matrix", "three matrices"],
 )
 def test_a_wrong_jacobian_is_named(jacobian, got):
-    element = E.Callable(lambda x, v, t: x**3, [0], jacobian=jacobian)
+    element = E.Callable([0], lambda x, v, t: x**3, jacobian=jacobian)
     with callback_failure(ValueError, rf"jacobian returned {got}, expected a pair"):
         duhamel.solve(_one().add(element), duhamel.Semianalytic(), t_end=1.0, dt=0.1, x0=[1.0])
 
 
 def test_complex_element_values_are_refused_not_truncated():
-    element = E.Callable(lambda x, v, t: x**3 + 1j, [0])
+    element = E.Callable([0], lambda x, v, t: x**3 + 1j)
     with callback_failure(ValueError, r"dtype complex128, expected real numbers"):
         duhamel.solve(_one().add(element), duhamel.Semianalytic(), t_end=1.0, dt=0.1, x0=[1.0])
 
@@ -283,7 +283,9 @@ def test_step_matrices_are_finite_or_refused():
 def test_a_tiny_mass_gives_finite_accelerations(integrator):
     # Finite x but NaN/inf accelerations with only a RuntimeWarning: the modal acceleration
     # folded omega^2 = 1e300 into mode shapes of size 1e150. The true a = f/m = 1e300.
-    system = duhamel.System(1e-300 * np.eye(2), np.eye(2)).add_load(duhamel.loads.Step(0, 1.0))
+    system = duhamel.System(1e-300 * np.eye(2), np.eye(2)).add_load(
+        duhamel.loads.Step(0, amplitude=1.0)
+    )
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         sol = duhamel.solve(system, getattr(duhamel, integrator)(), t_end=1e-149, dt=1e-152)

@@ -166,7 +166,7 @@ def test_rotd_refuses_huge_angle_counts_before_allocating() -> None:
 
 def _sdof(amplitude: float) -> duhamel.System:
     s = duhamel.System(np.eye(1), np.eye(1), zeta=0.05)
-    return s.add_load(duhamel.loads.Harmonic(0, amplitude, omega=1.0))
+    return s.add_load(duhamel.loads.Harmonic(0, amplitude=amplitude, omega=1.0))
 
 
 def _with_options(amplitude: float) -> tuple[duhamel.System, dict]:
@@ -178,7 +178,7 @@ def test_solve_many_basis_first_with_system_and_options() -> None:
         _with_options, [1.0, 2.0], duhamel.Semianalytic(), t_end=1.0, dt=0.1, basis="first",
         workers=1,
     )  # fmt: skip
-    assert ens.stats["basis"] == "shared"
+    assert ens.stats.basis == "shared"
     one = duhamel.solve(_sdof(2.0), duhamel.Semianalytic(), t_end=1.0, dt=0.1, x0=[2.0])
     np.testing.assert_allclose(ens.results[1].x, one.x, rtol=1e-12, atol=1e-15)
 

@@ -26,8 +26,8 @@ ACC = 30.0 * np.sin(7.0 * T) * np.sin(1.3 * T)
 def _rigid_mass(element: E.Element, n: int = 2) -> duhamel.System:
     """A rigid mass on a bearing, excited along x and (less) along y."""
     s = duhamel.System(10.0 * np.eye(n), np.zeros((n, n)))
-    s.add_load(L.BaseAcceleration(np.eye(n)[0], T, ACC))
-    s.add_load(L.BaseAcceleration(np.eye(n)[1], T, 0.6 * np.roll(ACC, 80)))
+    s.add_load(L.BaseAcceleration(np.eye(n)[0], t=T, values=ACC))
+    s.add_load(L.BaseAcceleration(np.eye(n)[1], t=T, values=0.6 * np.roll(ACC, 80)))
     return s.add(element)
 
 
@@ -36,7 +36,7 @@ def _two_storeys(*elements: E.Element) -> duhamel.System:
     k = 1e4
     K = k * np.array([[2.0, -1.0], [-1.0, 1.0]])
     s = duhamel.System(10.0 * np.eye(2), K, zeta=0.05)
-    s.add_load(L.BaseAcceleration(np.ones(2), T, ACC))
+    s.add_load(L.BaseAcceleration(np.ones(2), t=T, values=ACC))
     for e in elements:
         s.add(e)
     return s
@@ -44,12 +44,12 @@ def _two_storeys(*elements: E.Element) -> duhamel.System:
 
 DEVICES = {
     "friction-pendulum": lambda: _rigid_mass(
-        E.FrictionPendulum(0, 1, radius=2.0, mu=0.05, weight=98.0)
+        E.FrictionPendulum((0, 1), radius=2.0, mu=0.05, weight=98.0)
     ),
     "friction-pendulum-velocity": lambda: _rigid_mass(
-        E.FrictionPendulum(0, 1, radius=2.0, mu=0.08, mu_slow=0.04, rate=20.0, weight=98.0)
+        E.FrictionPendulum((0, 1), radius=2.0, mu=0.08, mu_slow=0.04, rate=20.0, weight=98.0)
     ),
-    "lead-rubber-bearing": lambda: _rigid_mass(E.LeadRubberBearing(0, 1, k=4e3, fy=40.0)),
+    "lead-rubber-bearing": lambda: _rigid_mass(E.LeadRubberBearing((0, 1), k=4e3, fy=40.0)),
     "bilinear-storeys": lambda: _two_storeys(
         E.Bilinear(0, None, k=1e4, fy=60.0, alpha=0.05),
         E.Bilinear(1, 0, k=5e3, fy=40.0, alpha=0.1),
@@ -112,13 +112,11 @@ def test_three_modes_a_bearing_with_its_vertical_dof():
     def bearing():
         s = duhamel.System(10.0 * np.eye(3), np.zeros((3, 3)))
         s.add(
-            E.FrictionPendulum(
-                0, 1, radius=2.0, mu=0.05, weight=98.0, dof_z=2, vertical_stiffness=1e6
-            )
+            E.FrictionPendulum((0, 1, 2), radius=2.0, mu=0.05, weight=98.0, vertical_stiffness=1e6)
         )
-        s.add_load(L.BaseAcceleration(np.eye(3)[0], T, 0.2 * ACC))
-        s.add_load(L.BaseAcceleration(np.eye(3)[1], T, 0.1 * np.roll(ACC, 80)))
-        s.add_load(L.Step(2, -98.0))
+        s.add_load(L.BaseAcceleration(np.eye(3)[0], t=T, values=0.2 * ACC))
+        s.add_load(L.BaseAcceleration(np.eye(3)[1], t=T, values=0.1 * np.roll(ACC, 80)))
+        s.add_load(L.Step(2, amplitude=-98.0))
         return s
 
     x0 = np.array([0.0, 0.0, -98.0 / 1e6])

@@ -30,7 +30,7 @@ def _one_dof(element) -> duhamel.System:
     40 m/s^2), the stop given as `element`."""
     s = duhamel.System(10.0 * np.eye(1), 1e4 * np.eye(1), zeta=0.05)
     s.add(element)
-    s.add_load(BaseAcceleration(np.ones(1), T, 40.0 * np.sin(2 * np.pi * T)))
+    s.add_load(BaseAcceleration(np.ones(1), t=T, values=40.0 * np.sin(2 * np.pi * T)))
     return s
 
 
@@ -51,7 +51,7 @@ def test_python_stop_is_watched_like_the_built_in_one(gap_reference, dt):
     finite-difference tangent is watched, the closed steps are subdivided, and it is as
     accurate as Newmark at the same step (and as the built-in `Gap`)."""
     semi = duhamel.solve(
-        _one_dof(E.Callable(_gap_force, [0])), duhamel.Semianalytic(), t_end=3.0, dt=dt
+        _one_dof(E.Callable([0], _gap_force)), duhamel.Semianalytic(), t_end=3.0, dt=dt
     )
     newmark = duhamel.solve(
         _one_dof(E.Gap(0, gap=0.02, k=1e8)), duhamel.Newmark(), t_end=3.0, dt=dt
@@ -67,13 +67,13 @@ def _coupled(element) -> duhamel.System:
     C = np.array([[50.0, 0.0], [0.0, 0.0]])
     s = duhamel.System(M, K, C=C)
     s.add(element)
-    s.add_load(BaseAcceleration(np.ones(2), T, 40.0 * np.sin(2 * np.pi * T)))
+    s.add_load(BaseAcceleration(np.ones(2), t=T, values=40.0 * np.sin(2 * np.pi * T)))
     return s
 
 
 @pytest.mark.parametrize(
     "element",
-    [E.Gap(1, gap=0.02, k=1e8), E.Callable(_gap_force, [1])],
+    [E.Gap(1, gap=0.02, k=1e8), E.Callable([1], _gap_force)],
     ids=["Gap", "Callable"],
 )
 def test_coupled_route_stops_on_a_stop_too_stiff_for_its_step(element):
@@ -132,7 +132,7 @@ def _stiff_coupling(growth_limit: float | None) -> tuple[duhamel.System, duhamel
     watch does not see."""
     s = duhamel.System(np.eye(2), np.diag([1e2, 4e2]), zeta=0.02)
     s.add(E.LinearCoupling(K=np.array([[1e6, -1e6], [-1e6, 1e6]])))
-    s.add_load(BaseAcceleration(np.array([1.0, 0.0]), T, 4.0 * np.sin(2 * np.pi * T)))
+    s.add_load(BaseAcceleration(np.array([1.0, 0.0]), t=T, values=4.0 * np.sin(2 * np.pi * T)))
     return s, duhamel.Semianalytic(coupling="pseudo-force", growth_limit=growth_limit)
 
 
@@ -171,7 +171,7 @@ def test_growth_guard_does_not_stop_a_resonance():
     t = np.linspace(0.0, 40.0, 40001)
     s = duhamel.System(np.eye(1), w**2 * np.eye(1))
     s.add(E.Gap(0, gap=1e3, k=1.0))  # never closes: the response is the linear one
-    s.add_load(duhamel.loads.Tabulated(0, t, np.sin(w * t)))
+    s.add_load(duhamel.loads.Tabulated(0, t=t, values=np.sin(w * t)))
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=40.0, dt=1e-3)
     exact = (np.sin(w * sol.t) - w * sol.t * np.cos(w * sol.t)) / (2 * w**2)
     assert np.abs(sol.x[:, 0] - exact).max() < 1e-3 * np.abs(exact).max()
@@ -209,7 +209,7 @@ def test_models_that_gain_energy_are_not_guarded():
 
     base = duhamel.System(np.eye(2), np.diag([1e2, 4e2]), zeta=0.02)
     assert plan(base.add(E.Gap(0, gap=0.1, k=1e3)), duhamel.Semianalytic()).passive
-    for element in (E.Cubic(0, k3=-1.0), E.Callable(lambda x, v, t: 0.0 * x, [0])):
+    for element in (E.Cubic(0, k3=-1.0), E.Callable([0], lambda x, v, t: 0.0 * x)):
         s = duhamel.System(np.eye(2), np.diag([1e2, 4e2]), zeta=0.02).add(element)
         assert not plan(s, duhamel.Semianalytic()).passive
     s = duhamel.System(np.eye(2), np.diag([1e2, 4e2]), zeta=-0.02).add(E.Gap(0, gap=0.1, k=1.0))

@@ -38,10 +38,10 @@ def ours(k: int, seconds: float, both: bool) -> np.ndarray:
     t, ax, ay = records(seconds)
     n = 2 if both else 1
     s = duhamel.System(M * np.eye(n), np.zeros((n, n)))
-    s.add(E.LeadRubberBearing(0, 1 if both else None, k=K, fy=FY, alpha=ALPHA))
-    s.add_load(L.BaseAcceleration(np.eye(n)[0], t, ax))
+    s.add(E.LeadRubberBearing((0, 1 if both else None), k=K, fy=FY, alpha=ALPHA))
+    s.add_load(L.BaseAcceleration(np.eye(n)[0], t=t, values=ax))
     if both:
-        s.add_load(L.BaseAcceleration(np.eye(n)[1], t, ay))
+        s.add_load(L.BaseAcceleration(np.eye(n)[1], t=t, values=ay))
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=t[-1], dt=DT / k, save_every=k)
     return sol.x
 
@@ -123,7 +123,7 @@ def test_directions_interact_and_uniaxial_is_the_line() -> None:
     # within the circle (1 - alpha) fy and reaches it, with both components large (two
     # independent Bouc-Wen springs would reach sqrt(2) times it diagonally)
     uy = FY / K
-    lrb = E.LeadRubberBearing(0, 1, k=K, fy=FY, alpha=ALPHA)
+    lrb = E.LeadRubberBearing((0, 1), k=K, fy=FY, alpha=ALPHA)
     s = duhamel.System(M * np.eye(2), np.zeros((2, 2))).add(lrb)
     sol = duhamel.solve(
         s, duhamel.Semianalytic(), t_end=3.0, dt=0.002, x0=[10 * uy, 0.0], v0=[0.0, 0.4]
@@ -138,7 +138,7 @@ def test_directions_interact_and_uniaxial_is_the_line() -> None:
     one = duhamel.System(M * np.eye(1), np.zeros((1, 1)))
     one.add(E.LeadRubberBearing(0, k=K, fy=FY, alpha=ALPHA))
     two = duhamel.System(M * np.eye(2), np.zeros((2, 2)))
-    two.add(E.LeadRubberBearing(0, 1, k=K, fy=FY, alpha=ALPHA))
+    two.add(E.LeadRubberBearing((0, 1), k=K, fy=FY, alpha=ALPHA))
     x1 = duhamel.solve(one, duhamel.Semianalytic(), t_end=2.0, dt=0.005, v0=[0.5]).x[:, 0]
     x2 = duhamel.solve(two, duhamel.Semianalytic(), t_end=2.0, dt=0.005, v0=[0.5, 0.0]).x[:, 0]
     np.testing.assert_allclose(x1, x2, rtol=0, atol=1e-12 * np.abs(x1).max())
@@ -148,7 +148,7 @@ def test_energy_and_parameter_checks() -> None:
     t, ax, _ = records(6.0)
     s = duhamel.System(M * np.eye(1), np.zeros((1, 1)))
     s.add(E.LeadRubberBearing(0, k=K, fy=FY, alpha=ALPHA))
-    s.add_load(L.BaseAcceleration(np.ones(1), np.append(t, 7.0), np.append(ax, 0.0)))
+    s.add_load(L.BaseAcceleration(np.ones(1), t=np.append(t, 7.0), values=np.append(ax, 0.0)))
     e = duhamel.solve(s, duhamel.Semianalytic(), t_end=6.0, dt=0.001).energy
     assert e.hysteretic[-1] > 0.5 * e.input[-1]
     assert abs(e.error[-1]) <= 1e-4 * e.input[-1]
@@ -159,4 +159,4 @@ def test_energy_and_parameter_checks() -> None:
     with pytest.raises(ValueError, match="`alpha`"):
         E.LeadRubberBearing(0, k=K, fy=FY, alpha=1.5)
     with pytest.raises(ValueError, match="`dof_y`"):
-        duhamel.System(np.eye(2), np.eye(2)).add(E.LeadRubberBearing(1, 1, k=K, fy=FY))
+        duhamel.System(np.eye(2), np.eye(2)).add(E.LeadRubberBearing((1, 1), k=K, fy=FY))

@@ -89,7 +89,7 @@ def test_single_dof_exact_in_every_damping_regime(zeta, dt):
     """Steps (one jumping inside a step), ramps and a quadratic load; dt up to 1.3 T."""
     omega = 2 * np.pi
     sys = duhamel.System(np.array([[2.0]]), np.array([[2.0 * omega**2]]), zeta=zeta)
-    sys.add_load(loads.Step(0, 30.0, t0=0.9))  # inside the first step for both dt
+    sys.add_load(loads.Step(0, amplitude=30.0, t0=0.9))  # inside the first step for both dt
     sys.add_load(loads.Tabulated(0, t=[0.0, 2.6, 5.2], values=[0.0, 40.0, -20.0], hold=True))
     sys.add_load(loads.Callable(lambda t: np.array([0.8 * t**2 - 3.0 * t])))
     x0, v0 = np.array([0.3]), np.array([-1.0])
@@ -151,9 +151,9 @@ def test_chain_with_rayleigh_damping_and_rigid_body_mode_is_exact():
     assert dt > t_min  # larger than the shortest natural period
     rec_t = np.arange(0.0, 0.5 + 1e-12, 0.02)  # a record sampled on the step grid
     rec = 3.0 * np.sin(25 * rec_t) * np.exp(-3 * rec_t)
-    sys.add_load(loads.Step(3, 500.0, t0=0.013))  # jumps inside a step
+    sys.add_load(loads.Step(3, amplitude=500.0, t0=0.013))  # jumps inside a step
     sys.add_load(loads.Tabulated(11, t=[0.0, 0.1, 0.3], values=[0.0, -800.0, 200.0]))
-    sys.add_load(loads.BaseAcceleration(np.ones(12), rec_t, rec))
+    sys.add_load(loads.BaseAcceleration(np.ones(12), t=rec_t, values=rec))
     x0 = np.linspace(-1e-3, 1e-3, 12)
     v0 = np.full(12, 0.05)
     sol = duhamel.solve(sys, duhamel.Semianalytic(), t_end=0.8, dt=dt, x0=x0, v0=v0)
@@ -193,7 +193,7 @@ def harmonic_reference(omega, zeta, big_omega, amp, times):
 def test_harmonic_load_error_is_fourth_order():
     omega, zeta, big_omega, amp = 2 * np.pi, 0.05, 1.7 * 2 * np.pi, 5.0
     sys = duhamel.System(np.eye(1), np.array([[omega**2]]), zeta=zeta)
-    sys.add_load(loads.Harmonic(0, amp, big_omega))
+    sys.add_load(loads.Harmonic(0, amplitude=amp, omega=big_omega))
     t_end = 4.0
     check = np.linspace(0.0, t_end, 41)
     ref = harmonic_reference(omega, zeta, big_omega, amp, check)
@@ -215,7 +215,7 @@ def test_callable_matches_builtin_load():
         np.diag([1.0, 2.0]), np.array([[300.0, -100.0], [-100.0, 100.0]]), zeta=0.02
     )
     sys_b = duhamel.System(sys_a.M, sys_a.K, zeta=0.02)
-    sys_a.add_load(loads.Harmonic(1, 3.0, 4.0, phase=0.3))
+    sys_a.add_load(loads.Harmonic(1, amplitude=3.0, omega=4.0, phase=0.3))
     sys_b.add_load(loads.Callable(lambda t: np.array([0.0, 3.0 * np.sin(4.0 * t + 0.3)])))
     a = duhamel.solve(sys_a, duhamel.Semianalytic(), t_end=5.0, dt=0.01)
     b = duhamel.solve(sys_b, duhamel.Semianalytic(), t_end=5.0, dt=0.01)
@@ -225,7 +225,7 @@ def test_callable_matches_builtin_load():
 def test_modal_reduction_and_output_options_are_consistent():
     m, k = free_free_chain()
     sys = duhamel.System(m, k, zeta=0.02)
-    sys.add_load(loads.Step(11, 100.0))
+    sys.add_load(loads.Step(11, amplitude=100.0))
     full = duhamel.solve(sys, duhamel.Semianalytic(), t_end=0.5, dt=0.002, v0=np.ones(12))
     red = duhamel.solve(sys, duhamel.Semianalytic(modes=4), t_end=0.5, dt=0.002, v0=np.ones(12))
     phi4 = sys.modal(4).phi
@@ -251,7 +251,7 @@ def test_threads_give_identical_results():
     n = 150
     k = 2e4 * (np.diag(np.full(n, 2.0)) - np.diag(np.ones(n - 1), 1) - np.diag(np.ones(n - 1), -1))
     sys = duhamel.System(np.eye(n), k, zeta=0.01)
-    sys.add_load(loads.Harmonic(n - 1, 1.0, 30.0))
+    sys.add_load(loads.Harmonic(n - 1, amplitude=1.0, omega=30.0))
     one = duhamel.solve(sys, duhamel.Semianalytic(), t_end=0.2, dt=1e-3, threads=1)
     two = duhamel.solve(sys, duhamel.Semianalytic(), t_end=0.2, dt=1e-3, threads=2)
     np.testing.assert_array_equal(one.modal.q, two.modal.q)
@@ -332,17 +332,19 @@ def test_bad_models_loads_and_integrators_are_rejected():
     with pytest.raises(TypeError, match="`system`"):
         duhamel.solve(np.eye(3), duhamel.Semianalytic(), t_end=1.0, dt=0.1)
     with pytest.raises(ValueError, match="`dof`"):
-        _chain_system().add_load(loads.Step(3, 1.0))
+        _chain_system().add_load(loads.Step(3, amplitude=1.0))
     with pytest.raises(ValueError, match="`dof`"):
-        _chain_system().add_load(loads.Harmonic(-1, 1.0, 2.0))
+        _chain_system().add_load(loads.Harmonic(-1, amplitude=1.0, omega=2.0))
     with pytest.raises(ValueError, match="`t` must be strictly increasing"):
         loads.Tabulated(0, t=[0.0, 1.0, 1.0], values=[0.0, 1.0, 2.0])
     with pytest.raises(ValueError, match="`values`"):
         loads.Tabulated(0, t=[0.0, 1.0], values=[0.0, 1.0, 2.0])
     with pytest.raises(ValueError, match="`amplitude`"):
-        loads.Step(0, float("inf"))
+        loads.Step(0, amplitude=float("inf"))
     with pytest.raises(ValueError, match="`direction_vector`"):
-        _chain_system().add_load(loads.BaseAcceleration(np.ones(2), [0.0, 1.0], [0.0, 1.0]))
+        _chain_system().add_load(
+            loads.BaseAcceleration(np.ones(2), t=[0.0, 1.0], values=[0.0, 1.0])
+        )
     with pytest.raises(TypeError, match="`fn`"):
         loads.Callable(3.0)
 

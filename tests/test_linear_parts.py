@@ -22,8 +22,8 @@ def chain(n: int = N, k: float = 100.0) -> np.ndarray:
 
 
 def loaded(system: duhamel.System) -> duhamel.System:
-    system.add_load(L.Harmonic(N - 1, 5.0, 9.0))
-    system.add_load(L.Step(2, 1.0))
+    system.add_load(L.Harmonic(N - 1, amplitude=5.0, omega=9.0))
+    system.add_load(L.Step(2, amplitude=1.0))
     return system
 
 
@@ -63,10 +63,10 @@ def test_a_linear_spring_is_exact_in_the_background() -> None:
     "make",
     [
         lambda: E.Spring(2, 5, k=300.0, k3=4e5),
-        lambda: E.Polynomial(3, [0.0, 150.0, 0.0, 2e5]),
+        lambda: E.Polynomial(3, coefficients=[0.0, 150.0, 0.0, 2e5]),
         lambda: E.Bilinear(2, 4, k=300.0, fy=2.0, alpha=0.1),
         lambda: E.BoucWen(1, k=200.0, fy=1.5, alpha=0.05),
-        lambda: E.FrictionPendulum(0, 1, radius=0.5, mu=0.05, weight=40.0),
+        lambda: E.FrictionPendulum((0, 1), radius=0.5, mu=0.05, weight=40.0),
     ],
     ids=["spring", "polynomial", "bilinear", "bouc-wen", "friction-pendulum"],
 )
@@ -124,6 +124,6 @@ def test_the_background_is_computed_once() -> None:
     first = s._background[1]
     duhamel.solve(s, duhamel.Semianalytic(modes=3), t_end=0.2, dt=0.01)
     assert s._background[1] is first and 3 in first._modal_cache
-    s.add(E.Cubic(4, 1.0))  # another element: a new background
+    s.add(E.Cubic(4, k3=1.0))  # another element: a new background
     duhamel.solve(s, duhamel.Semianalytic(modes=3), t_end=0.1, dt=0.01)
     assert s._background[1] is not first

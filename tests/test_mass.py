@@ -73,7 +73,7 @@ def pendulum_system(scale_stiffness=True):
         form="momentum",
         scale_stiffness=scale_stiffness,
     )
-    sys.add_load(duhamel.loads.Step(0, P_F))
+    sys.add_load(duhamel.loads.Step(0, amplitude=P_F))
     return sys
 
 
@@ -259,8 +259,8 @@ K3 = np.array([[300.0, -100.0, 0.0], [-100.0, 250.0, -150.0], [0.0, -150.0, 150.
 
 def three_dof(law=None, form="acceleration", scale_stiffness=False, **damping):
     sys = duhamel.System(M3, K3, **damping)
-    sys.add_load(duhamel.loads.Step(1, 5.0, t0=0.13))
-    sys.add_load(duhamel.loads.Harmonic(2, 3.0, 7.0))
+    sys.add_load(duhamel.loads.Step(1, amplitude=5.0, t0=0.13))
+    sys.add_load(duhamel.loads.Harmonic(2, amplitude=3.0, omega=7.0))
     if law is not None:
         sys.set_mass_law(law, form=form, scale_stiffness=scale_stiffness)
     return sys

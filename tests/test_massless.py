@@ -54,7 +54,7 @@ def _system(M, K, sway, kind, tmp_path, ag, t):
     system = duhamel.System(*mats, zeta=ZETA)
     r = np.zeros(M.shape[0])
     r[sway] = 1.0
-    return system.add_load(duhamel.loads.BaseAcceleration(r, t, ag))
+    return system.add_load(duhamel.loads.BaseAcceleration(r, t=t, values=ag))
 
 
 @pytest.mark.parametrize("kind", ["dense", "sparse", "mmread"])
@@ -95,7 +95,7 @@ def test_loads_at_massless_dofs_are_exact():
     t = np.arange(0.0, 3.2, DT)  # beyond the run's end: the table's end is not sampled
     moment = 5e4 * np.sin(4.0 * t)
     system = duhamel.System(M, K, zeta=ZETA)
-    system.add_load(duhamel.loads.Tabulated(int(s[2]), t, moment))
+    system.add_load(duhamel.loads.Tabulated(int(s[2]), t=t, values=moment))
     sol = duhamel.solve(system, duhamel.Semianalytic(), t_end=3.0, dt=DT)
     M_mm, K_c, T, m = condensed(M, K)
     w2, phi = scipy.linalg.eigh(K_c, M_mm)
@@ -182,7 +182,7 @@ def _hinged_frame():
     r = np.zeros(M.shape[0])
     r[sway] = 1.0
     system = duhamel.System(M, K, zeta=ZETA)
-    system.add_load(duhamel.loads.BaseAcceleration(r, t, ag))
+    system.add_load(duhamel.loads.BaseAcceleration(r, t=t, values=ag))
     hinge = duhamel.elements.Bilinear(int(s[0]), k=5e7, fy=2e5, alpha=0.02)
     return system.add(hinge), hinge, K, s
 
@@ -226,7 +226,7 @@ def test_linear_element_at_massless_dof_with_a_load_there():
     M, K, _ = moment_frame(3, 1)
     s = np.flatnonzero(np.diag(M) == 0)
     t = np.arange(0.0, 3.2, DT)
-    moment = duhamel.loads.Tabulated(int(s[1]), t, 4e4 * np.sin(5.0 * t))
+    moment = duhamel.loads.Tabulated(int(s[1]), t=t, values=4e4 * np.sin(5.0 * t))
     k = 3e7
     stiff = K.copy()
     stiff[s[1], s[1]] += k
@@ -256,7 +256,7 @@ def test_element_linear_part_in_background_counts_in_the_massless_static_part(li
     t = np.linspace(0.0, 1.0, 2001)
     u = 0.9 * np.sin(1.5 * np.pi * t)
     for k in (1.0, 50.0):
-        load = duhamel.loads.Tabulated(0, t, 100.0 * u, hold=True)
+        load = duhamel.loads.Tabulated(0, t=t, values=100.0 * u, hold=True)
         s = duhamel.System(np.diag([0.0, 1.0]), np.diag([100.0, 1.0])).add_load(load)
         s.add(duhamel.elements.Spring(0, None, k=k))
         sol = duhamel.solve(s, duhamel.Semianalytic(linear_parts=linear_parts), t_end=1.0, dt=5e-4)
@@ -266,7 +266,7 @@ def test_element_linear_part_in_background_counts_in_the_massless_static_part(li
     M, K, _ = moment_frame(3, 1)
     r = np.flatnonzero(np.diag(M) == 0)
     tt = np.arange(0.0, 3.2, DT)
-    moment = duhamel.loads.Tabulated(int(r[1]), tt, 4e4 * np.sin(5.0 * tt))
+    moment = duhamel.loads.Tabulated(int(r[1]), t=tt, values=4e4 * np.sin(5.0 * tt))
     kr = 3e7
     stiff = K.copy()
     stiff[r[1], r[1]] += kr
@@ -282,7 +282,7 @@ def test_streamed_run_with_a_massless_load_refused(tmp_path):
     pytest.importorskip("zarr")
     M, K, _ = moment_frame(2, 1)
     s = np.flatnonzero(np.diag(M) == 0)
-    system = duhamel.System(M, K).add_load(duhamel.loads.Step(int(s[0]), 1e3))
+    system = duhamel.System(M, K).add_load(duhamel.loads.Step(int(s[0]), amplitude=1e3))
     with pytest.raises(ValueError, match=r"`store`.*massless"):
         duhamel.solve(
             system, duhamel.Semianalytic(), t_end=0.1, dt=0.01, store=str(tmp_path / "r.zarr")

@@ -23,7 +23,7 @@ TAU = C_S / K_S
 def _relaxation(**damping: object) -> duhamel.System:
     M = np.diag([2.0, 0.0])
     K = np.diag([50.0, K_S])
-    return duhamel.System(M, K, **damping).add_load(duhamel.loads.Step(1, F))  # type: ignore[arg-type]
+    return duhamel.System(M, K, **damping).add_load(duhamel.loads.Step(1, amplitude=F))  # type: ignore[arg-type]
 
 
 @pytest.mark.parametrize(
@@ -93,7 +93,7 @@ def test_coupled_massless_damping_converges_to_the_first_order_system(dof: int) 
     a pseudo-force) and Newmark converge to the exact first-order system at second order
     (Newmark too at the massless dof: it starts from the velocity of its first-order
     equation; from rest there, it converged at first order)."""
-    system = duhamel.System(M3, K3, C=C3).add_load(duhamel.loads.Tabulated(dof, T3, F3))
+    system = duhamel.System(M3, K3, C=C3).add_load(duhamel.loads.Tabulated(dof, t=T3, values=F3))
     steps = (0.02, 0.01, 0.005)
     found = {}
     for integrator in (duhamel.Semianalytic(), duhamel.Newmark()):
@@ -115,7 +115,7 @@ def test_rayleigh_at_massless_dofs_is_exact_on_the_linear_route() -> None:
     alpha, beta = 0.2, 0.03
     C = alpha * M3 + beta * K3
     system = duhamel.System(M3, K3, rayleigh=(alpha, beta))
-    system.add_load(duhamel.loads.Tabulated(2, T3, F3))  # linear within each step
+    system.add_load(duhamel.loads.Tabulated(2, t=T3, values=F3))  # linear within each step
     sol = duhamel.solve(system, duhamel.Semianalytic(), t_end=3.9, dt=T3[1] - T3[0])
     ref = _descriptor(C, 2, sol.t)
     assert np.abs(sol.x - ref).max() <= 1e-10 * np.abs(ref).max()
@@ -138,7 +138,7 @@ def test_hinge_at_a_damped_massless_rotation_against_newmark(form: str) -> None:
     r[sway] = 1.0
     damping = {"rayleigh": (0.3, 0.002)} if form == "rayleigh" else {"C": 0.3 * M + 0.002 * K}
     system = duhamel.System(M, K, **damping)  # type: ignore[arg-type]
-    system.add_load(duhamel.loads.BaseAcceleration(r, t, ag))
+    system.add_load(duhamel.loads.BaseAcceleration(r, t=t, values=ag))
     hinge = duhamel.elements.Bilinear(int(s[0]), None, k=5e7, fy=2e5, alpha=0.02)
     system.add(hinge)
     ref = duhamel.solve(system, duhamel.Newmark(), t_end=2.9, dt=dt / 64, save_every=64)
@@ -154,7 +154,7 @@ def test_element_at_a_damped_massless_dof_converges_to_it_in_the_stiffness() -> 
     M, K, _ = moment_frame(3, 1)
     s = np.flatnonzero(np.diag(M) == 0)
     t = np.arange(0.0, 2.0, 0.01)
-    moment = duhamel.loads.Tabulated(int(s[1]), t, 4e4 * np.sin(5.0 * t))
+    moment = duhamel.loads.Tabulated(int(s[1]), t=t, values=4e4 * np.sin(5.0 * t))
     k = 3e7
     stiff = K.copy()
     stiff[s[1], s[1]] += k
@@ -216,13 +216,16 @@ def test_refusals() -> None:
     # initial state in another direction is refused (its first-order motion is not held)
     prepared = duhamel.prepare(damped, duhamel.Semianalytic(), dt=0.01)
     with pytest.raises(ValueError, match="`loads`: Step acts at damped massless dofs"):
-        prepared.run(t_end=0.1, loads=[duhamel.loads.Step(int(s[1]), 1e3)])
+        prepared.run(t_end=0.1, loads=[duhamel.loads.Step(int(s[1]), amplitude=1e3)])
     x0 = np.zeros(M.shape[0])
     x0[s[1]] = 1e-3
     with pytest.raises(ValueError, match="`x0` moves the massless dofs"):
         prepared.run(t_end=0.1, x0=x0)
     # a load in the held direction runs
-    assert prepared.run(t_end=0.1, loads=[duhamel.loads.Step(int(s[0]), 1e3)]).x.shape[0] == 11
+    assert (
+        prepared.run(t_end=0.1, loads=[duhamel.loads.Step(int(s[0]), amplitude=1e3)]).x.shape[0]
+        == 11
+    )
 
 
 def test_streamed_run_with_damping_at_massless_dofs_refused(tmp_path) -> None:
@@ -230,7 +233,7 @@ def test_streamed_run_with_damping_at_massless_dofs_refused(tmp_path) -> None:
     M, K, sway = moment_frame(2, 1)
     C = 0.3 * M + 0.002 * K
     C[np.ix_(sway, sway)] *= 1.5  # non-proportional: the massless dofs couple to the modes
-    system = duhamel.System(M, K, C=C).add_load(duhamel.loads.Step(int(sway[0]), 1e3))
+    system = duhamel.System(M, K, C=C).add_load(duhamel.loads.Step(int(sway[0]), amplitude=1e3))
     with pytest.raises(ValueError, match=r"`store`.*damping matrix `C` that reaches"):
         duhamel.solve(
             system, duhamel.Semianalytic(), t_end=0.1, dt=0.01, store=str(tmp_path / "r.zarr")

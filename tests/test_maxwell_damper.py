@@ -33,7 +33,7 @@ def system(seconds: float, exponent: float) -> duhamel.System:
     t, a = record(seconds)
     s = duhamel.System(M * np.eye(1), K * np.eye(1))
     s.add(E.ViscousDamper(0, c=C, exponent=exponent, brace_stiffness=KB))
-    s.add_load(L.BaseAcceleration(np.ones(1), t, a))
+    s.add_load(L.BaseAcceleration(np.ones(1), t=t, values=a))
     return s
 
 

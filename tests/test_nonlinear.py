@@ -18,7 +18,7 @@ T_END = 10 * 2 * np.pi / OMEGA
 
 
 def duffing_system() -> duhamel.System:
-    return duhamel.System(np.eye(1), np.array([[OMEGA**2]])).add(duhamel.elements.Cubic(0, B))
+    return duhamel.System(np.eye(1), np.array([[OMEGA**2]])).add(duhamel.elements.Cubic(0, k3=B))
 
 
 def duffing_error(dt: float, **options) -> float:
@@ -60,10 +60,10 @@ def test_closed_form_and_newton_agree(scheme, quadrature):
     of the step equation's solution.
     """
     system = duhamel.System(np.eye(1), np.array([[4.0]]))
-    system.add(duhamel.elements.Cubic(0, 3.0))
-    system.add(duhamel.elements.Polynomial(0, [0.0, 0.5, -0.8]))
+    system.add(duhamel.elements.Cubic(0, k3=3.0))
+    system.add(duhamel.elements.Polynomial(0, coefficients=[0.0, 0.5, -0.8]))
     system.add(duhamel.elements.Damper(0, c=0.3))
-    system.add_load(duhamel.loads.Harmonic(0, 2.0, 1.7))
+    system.add_load(duhamel.loads.Harmonic(0, amplitude=2.0, omega=1.7))
     t_end = 0.5 if scheme == "a" else 20.0
     runs = {}
     for solver in ("auto", "newton"):
@@ -81,9 +81,9 @@ def test_a_zero_pseudo_force_leaves_the_exact_linear_solution():
     m = np.diag([1.0, 2.0, 1.5])
     k = np.array([[300.0, -100.0, 0.0], [-100.0, 250.0, -150.0], [0.0, -150.0, 150.0]])
     linear = duhamel.System(m, k, zeta=0.03)
-    linear.add_load(duhamel.loads.Step(2, 10.0, t0=0.013))
-    nonlinear = duhamel.System(m, k, zeta=0.03).add(duhamel.elements.Cubic(1, 0.0))
-    nonlinear.add_load(duhamel.loads.Step(2, 10.0, t0=0.013))
+    linear.add_load(duhamel.loads.Step(2, amplitude=10.0, t0=0.013))
+    nonlinear = duhamel.System(m, k, zeta=0.03).add(duhamel.elements.Cubic(1, k3=0.0))
+    nonlinear.add_load(duhamel.loads.Step(2, amplitude=10.0, t0=0.013))
     a = duhamel.solve(linear, duhamel.Semianalytic(), t_end=2.0, dt=0.1, x0=[0.01, 0, 0])
     b = duhamel.solve(nonlinear, duhamel.Semianalytic(), t_end=2.0, dt=0.1, x0=[0.01, 0, 0])
     assert np.abs(a.x - b.x).max() <= 1e-13 * np.abs(a.x).max()
@@ -106,8 +106,8 @@ def test_multi_dof_duffing_chain_with_modal_reduction_runs_and_converges():
     k = 1e4 * (np.diag(np.full(n, 2.0)) - np.diag(np.ones(n - 1), 1) - np.diag(np.ones(n - 1), -1))
     system = duhamel.System(np.eye(n), k, zeta=0.02)
     for dof in (4, 9, 14, 19):
-        system.add(duhamel.elements.Cubic(dof, 5e6))
-    system.add_load(duhamel.loads.Harmonic(19, 50.0, 12.0))
+        system.add(duhamel.elements.Cubic(dof, k3=5e6))
+    system.add_load(duhamel.loads.Harmonic(19, amplitude=50.0, omega=12.0))
     runs = [
         duhamel.solve(system, duhamel.Semianalytic(modes=5), t_end=2.0, dt=dt, dofs=[19])
         for dt in (4e-3, 2e-3, 1e-3, 5e-4)

@@ -22,7 +22,7 @@ DEVICES = {
     "bilinear": lambda: E.Bilinear(0, None, k=1e4, fy=60.0, alpha=0.05),
     "gap": lambda: E.Gap(0, None, gap=0.004, k=3e4),
     "viscous-damper": lambda: E.ViscousDamper(0, None, c=200.0, exponent=0.4),
-    "friction-pendulum": lambda: E.FrictionPendulum(0, None, radius=2.0, mu=0.05, weight=98.0),
+    "friction-pendulum": lambda: E.FrictionPendulum((0, None), radius=2.0, mu=0.05, weight=98.0),
     "bouc-wen": lambda: E.BoucWen(0, None, k=1e4, fy=60.0, alpha=0.1, n=2.0),
     "cubic-spring-newton": lambda: E.Spring(0, None, k=0.0, k3=1e9),
 }
@@ -31,7 +31,7 @@ DEVICES = {
 def _one_dof(element: E.Element) -> duhamel.System:
     s = duhamel.System(10.0 * np.eye(1), 1e4 * np.eye(1), zeta=0.05)
     t = np.linspace(0.0, 3.0, 601)
-    s.add_load(L.BaseAcceleration(np.ones(1), t, 30.0 * np.sin(7.0 * t) * np.sin(1.3 * t)))
+    s.add_load(L.BaseAcceleration(np.ones(1), t=t, values=30.0 * np.sin(7.0 * t) * np.sin(1.3 * t)))
     return s.add(element)
 
 

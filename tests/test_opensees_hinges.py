@@ -69,7 +69,7 @@ def _runs(case: str) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
     t, a = hf.record()
     out = {}
     system = _imported(case)
-    system.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
+    system.add_load(duhamel.loads.BaseAcceleration("ux", t=t, values=a))
     roof = system.dof(hf.node(STOREYS, 0), "ux")
     r = np.array([1.0 if lab.endswith("ux") else 0.0 for lab in system.dof_labels])
     kr = np.asarray(system.K) @ r  # the elastic base shear r^T K x (the hinges are moments)

@@ -208,7 +208,12 @@ def background_periods(system: duhamel.System) -> np.ndarray:
     for e in system.elements:
         dofs, k0 = e._linear()
         if isinstance(e, duhamel.elements.FrictionPendulum):  # and its pre-sliding stiffness
-            k0 = k0 + e.mu * e.weight / e.yield_displacement * np.eye(2)
+            k_init = e.mu * e.weight / e.yield_displacement
+            if len(e.dofs) == 3:  # with its vertical dof: kInit in shear (N / R and the
+                # friction's k_i - N / R), its axial stiffness
+                k0 = np.diag([k_init] * (len(dofs) - 1) + [e.vertical_stiffness])
+            else:
+                k0 = k0 + k_init * np.eye(len(dofs))
         K[np.ix_(dofs, dofs)] += k0
     M = np.array(system.M, dtype=float)
     m = np.flatnonzero(np.diag(M) > 0)  # the massless rotations condensed by hand
@@ -236,15 +241,19 @@ def test_2d_labels_constraints_and_translated_elements() -> None:
         assert sorted(s.massless_dofs.tolist()) == sorted(rotations)
     with pytest.raises(ValueError, match="fixed in OpenSees"):
         s.dof(frame2d.ground_tag(0), "ux")
-    # the isolators: Steel01 -> Bilinear (E, fy, b), the slider -> Bilinear(kInit, mu N)
+    # the isolators: Steel01 -> Bilinear (E, fy, b); the flat slider -> a FrictionPendulum
+    # with its vertical dof (kInit = mu N / Y, the axial force at import as its initial one)
     (b0,) = s.opensees.elements[900]
     w = (frame2d.M_BASE + frame2d.STOREYS * frame2d.M_NODE) * frame2d.G
     assert (b0.i, b0.j) == (s.dof(base, "ux"), None)
     assert b0.k == pytest.approx(0.04 * w / 0.002, rel=1e-15) and b0.alpha == frame2d.ALPHA_ISO
     (slider,) = s.opensees.elements[950]
     n_axial = -ops.eleResponse(950, "basicForce")[0]
-    assert slider.k == frame2d.K_SLIDER and slider.alpha == 0.0
-    assert slider.fy == pytest.approx(frame2d.MU * n_axial, rel=1e-12)
+    assert slider.dofs == (s.dof(mid, "ux"), None, s.dof(mid, "uy"))
+    assert slider.initial_axial_force == n_axial and slider.mu == frame2d.MU
+    assert slider.mu * slider.weight / slider.yield_displacement == pytest.approx(
+        frame2d.K_SLIDER, rel=1e-12
+    )
     # the middle column carries its tributary weight (independent check of N)
     assert n_axial == pytest.approx(w, rel=0.05)
     # the displaced state after gravity, and C from the frame's Rayleigh damping
@@ -297,6 +306,12 @@ def test_2d_periods_equal_opensees_eigen(isolated: bool) -> None:
     ref = eigen_periods(6)
     ours = background_periods(s)[:6] if isolated else 2 * np.pi / s.modal().omega[:6]
     np.testing.assert_allclose(ours, ref, rtol=1e-8)
+    # System.modal(elements="initial") is that: the bearings' initial stiffness
+    basis = s.modal(6, elements="initial")
+    np.testing.assert_allclose(2 * np.pi / basis.omega, ref, rtol=1e-8)
+    if isolated:
+        assert basis.summary().startswith("modes of K + the force elements' initial")
+        assert s.modal(6).summary().startswith("modes of K alone")
 
 
 def test_pdelta_tangent_after_gravity_carries_the_geometric_stiffness() -> None:
@@ -319,6 +334,7 @@ def test_3d_periods_equal_opensees_eigen(isolated: bool) -> None:
     ref = eigen_periods(6)
     ours = background_periods(s)[:6] if isolated else 2 * np.pi / s.modal().omega[:6]
     np.testing.assert_allclose(ours, ref, rtol=1e-8)
+    np.testing.assert_allclose(2 * np.pi / s.modal(6, elements="initial").omega, ref, rtol=1e-8)
 
 
 # ------------------------------------------------------------------ linear response
@@ -330,7 +346,7 @@ def test_2d_linear_response_equals_opensees_newmark() -> None:
     t, a = frame2d.record(duration=4.0)
     frame2d.build(isolated=False, gravity=False)
     s = duhamel.opensees.from_opensees()
-    s.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
+    s.add_load(duhamel.loads.BaseAcceleration("ux", t=t, values=a))
     roof, mid = frame2d.node_tag(frame2d.STOREYS, 0), frame2d.node_tag(1, 1)
     sol = duhamel.solve(
         s, duhamel.Semianalytic(), t_end=float(t[-1]), dt=0.01, dofs=[(roof, "ux"), (mid, "rz")]
@@ -351,8 +367,8 @@ def test_3d_linear_response_equals_opensees_newmark() -> None:
     t, a = frame2d.record(duration=3.0)
     build_3d(isolated=False, gravity=False)
     s = duhamel.opensees.from_opensees()
-    s.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
-    s.add_load(duhamel.loads.BaseAcceleration("uy", t, 0.5 * a * np.cos(2.0 * t)))
+    s.add_load(duhamel.loads.BaseAcceleration("ux", t=t, values=a))
+    s.add_load(duhamel.loads.BaseAcceleration("uy", t=t, values=0.5 * a * np.cos(2.0 * t)))
     roof = 3999
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=float(t[-1]), dt=0.01)
     ours = sol.x[:, [s.dof(roof, "ux"), s.dof(roof, "uy"), s.dof(roof, "rz")]]
@@ -370,7 +386,7 @@ def test_2d_isolated_nonlinear_response_within_half_percent() -> None:
     t, a = frame2d.record(duration=6.0)
     frame2d.build(isolated=True, gravity=True)
     s = duhamel.opensees.from_opensees()
-    s.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
+    s.add_load(duhamel.loads.BaseAcceleration("ux", t=t, values=a))
     base, roof = frame2d.node_tag(0, 0), frame2d.node_tag(frame2d.STOREYS, 0)
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=float(t[-1]), dt=0.005, save_every=2)
     ours = sol.x[:, [s.dof(base, "ux"), s.dof(roof, "ux")]]
@@ -391,8 +407,8 @@ def test_3d_isolated_nonlinear_response_within_half_percent() -> None:
     s = duhamel.opensees.from_opensees()
     kinds = {type(e[0]).__name__ for e in s.opensees.elements.values()}
     assert kinds == {"Bilinear", "FrictionPendulum"}
-    s.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
-    s.add_load(duhamel.loads.BaseAcceleration("uy", t, ay))
+    s.add_load(duhamel.loads.BaseAcceleration("ux", t=t, values=a))
+    s.add_load(duhamel.loads.BaseAcceleration("uy", t=t, values=ay))
     base, roof = _n3(0, 1, 0), 3999
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=float(t[-1]), dt=0.005, save_every=2)
     ours = sol.x[:, [s.dof(base, "ux"), s.dof(base, "uy"), s.dof(roof, "ux")]]
@@ -463,10 +479,10 @@ def test_friction_bearings_against_opensees(ndm: int, bearing: str) -> None:
     build()
     s = duhamel.opensees.from_opensees()
     (element,) = s.opensees.elements[5]
-    assert type(element).__name__ == ("Bilinear" if ndm == 2 else "FrictionPendulum")
-    s.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
+    assert type(element).__name__ == "FrictionPendulum" and len(element.dofs) == 3
+    s.add_load(duhamel.loads.BaseAcceleration("ux", t=t, values=a))
     if ndm == 3:
-        s.add_load(duhamel.loads.BaseAcceleration("uy", t, ay))
+        s.add_load(duhamel.loads.BaseAcceleration("uy", t=t, values=ay))
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=float(t[-1]), dt=0.0025, save_every=4)
     comps = ["ux"] if ndm == 2 else ["ux", "uy"]
     ours = sol.x[:, [s.dof(2, c) for c in comps]]
@@ -508,7 +524,7 @@ def test_bouc_wen_against_opensees() -> None:
     assert (bw.k, bw.alpha, bw.n) == (4e5, 0.1, 1.0)
     assert (bw.beta, bw.gamma) == pytest.approx((0.6, 0.4)) and bw.fy == pytest.approx(4e5)
     assert s.K[0, 0] == pytest.approx(0.0, abs=1e-6)  # its tangent taken out of K
-    s.add_load(duhamel.loads.BaseAcceleration("ux", t, a))
+    s.add_load(duhamel.loads.BaseAcceleration("ux", t=t, values=a))
     ours = duhamel.solve(s, duhamel.Semianalytic(), t_end=float(t[-1]), dt=0.0025, save_every=4)
     runs = []
     for n in (16, 32):

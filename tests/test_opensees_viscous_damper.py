@@ -70,7 +70,7 @@ def test_braced_damper_import_against_opensees(alpha: float) -> None:
     assert damper.brace_stiffness == pytest.approx(kb, rel=5e-6)
     assert (damper.c, damper.exponent) == (pytest.approx(c, rel=5e-6), alpha)
     assert s.K[0, 0] == pytest.approx(K_FRAME)  # the frame alone: the damper is an element
-    s.add_load(duhamel.loads.BaseAcceleration(np.ones(1), t, a))
+    s.add_load(duhamel.loads.BaseAcceleration(np.ones(1), t=t, values=a))
     ours = duhamel.solve(s, duhamel.Semianalytic(), t_end=float(t[-1]), dt=DT / 4, save_every=4)
     build(kb, c, alpha)
     theirs = run(a, t.size, 16)
@@ -79,6 +79,6 @@ def test_braced_damper_import_against_opensees(alpha: float) -> None:
     # the brace's flexibility is in the model: the rigid-brace dashpot responds differently
     rigid = duhamel.System(M * np.eye(1), K_FRAME * np.eye(1))
     rigid.add(duhamel.elements.ViscousDamper(0, c=c, exponent=alpha))
-    rigid.add_load(duhamel.loads.BaseAcceleration(np.ones(1), t, a))
+    rigid.add_load(duhamel.loads.BaseAcceleration(np.ones(1), t=t, values=a))
     dashpot = duhamel.solve(rigid, duhamel.Semianalytic(), t_end=float(t[-1]), dt=DT).x[:, 0]
     assert np.abs(dashpot - theirs).max() > 2e-2 * peak  # 4.6 % and more

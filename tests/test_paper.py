@@ -142,7 +142,7 @@ def test_fig3_error_ordering_and_values(f3):
 
 def test_fig3_errors_are_normalised_against_cn(f3):
     # recompute one run independently: eps = (w - w_exact)/w0, sigma = (w' - w'_exact)/(w0 omega)
-    system = duhamel.System(np.eye(1), np.eye(1)).add(duhamel.elements.Cubic(0, 4.0))
+    system = duhamel.System(np.eye(1), np.eye(1)).add(duhamel.elements.Cubic(0, k3=4.0))
     sol = duhamel.solve(system, duhamel.Newmark(), t_end=20 * np.pi, dt=2 * np.pi / 100, x0=[1.0])
     w, v = exact.duffing(sol.t, 1.0, 4.0, 1.0)
     run = f3.runs[pd.NEWMARK]

@@ -68,7 +68,7 @@ def test_corrected_ritz_basis_and_label_direction():
     from duhamel._engine.correction import corrected
 
     t = np.linspace(0.0, 1.0, 11)
-    system.add_load(duhamel.loads.BaseAcceleration(r, t, np.ones(11)))
+    system.add_load(duhamel.loads.BaseAcceleration(r, t=t, values=np.ones(11)))
     ritz = corrected(system, system.modal(2))
     p = ritz.participation(r, M=M)
     assert ritz.n_modes == 3
@@ -122,7 +122,7 @@ def test_reduced_run_warns_below_ninety_percent_of_the_mass():
     r[sway] = 1.0
     system = duhamel.System(M, K, zeta=0.05)
     t = np.linspace(0.0, 1.0, 101)
-    system.add_load(duhamel.loads.BaseAcceleration(r, t, np.sin(10 * t)))
+    system.add_load(duhamel.loads.BaseAcceleration(r, t=t, values=np.sin(10 * t)))
     first = system.modal().participation(r).cumulative
     few = int(np.argmax(first >= 0.5)) + 1  # a basis that keeps 50-90 %
     assert first[few - 1] < 0.9

@@ -52,7 +52,7 @@ def test_pdelta_storeys_equal_an_independently_assembled_k_minus_kg(sparse):
         system.add(duhamel.elements.PDelta(s, None if s == 0 else s - 1, P=P[s], height=H))
     reference = duhamel.System(M, K - _hand_kg(n, P), zeta=0.05)
     for sys_ in (system, reference):
-        sys_.add_load(duhamel.loads.BaseAcceleration(np.ones(n), t, ag))
+        sys_.add_load(duhamel.loads.BaseAcceleration(np.ones(n), t=t, values=ag))
     K_now = system.K.toarray() if sparse else system.K
     assert np.allclose(K_now, K - _hand_kg(n, P), rtol=0, atol=1e-6)
     assert system.is_sparse == sparse

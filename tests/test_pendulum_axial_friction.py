@@ -39,8 +39,8 @@ RECORDS = ((13, 0.4), (21, 0.3), (7, 0.5))
 def bearing(ndm: int, **friction: float) -> E.FrictionPendulum:
     dof_y, dof_z = (None, 1) if ndm == 2 else (1, 2)
     return E.FrictionPendulum(
-        0, dof_y, radius=R, mu=FAST, weight=W, yield_displacement=UY,
-        dof_z=dof_z, vertical_stiffness=KV, **friction,
+        (0, dof_y, dof_z), radius=R, mu=FAST, weight=W, yield_displacement=UY,
+        vertical_stiffness=KV, **friction,
     )  # fmt: skip
 
 
@@ -58,8 +58,8 @@ def ours(
     used = RECORDS[:1] + RECORDS[2:] if ndm == 2 else RECORDS
     for dof, (seed, peak) in zip(directions, used, strict=True):
         t, a = record(seed, vertical if dof == n - 1 else peak)
-        s.add_load(L.BaseAcceleration(np.eye(n)[dof], t, a))
-    s.add_load(L.Step(n - 1, -W))  # the weight, from the static state
+        s.add_load(L.BaseAcceleration(np.eye(n)[dof], t=t, values=a))
+    s.add_load(L.Step(n - 1, amplitude=-W))  # the weight, from the static state
     x0 = np.zeros(n)
     x0[-1] = -W / KV
     integrator = integrator or duhamel.Semianalytic()
@@ -213,7 +213,7 @@ def test_vertical_friction_checks() -> None:
         bearing(3, mu_slow=2 * FAST, rate=RATE)
     with pytest.raises(ValueError, match="`dof_y` must differ from dof_x"):
         duhamel.System(np.eye(3), np.eye(3)).add(
-            E.FrictionPendulum(0, 0, dof_z=2, vertical_stiffness=KV)
+            E.FrictionPendulum((0, 0, 2), radius=R, mu=FAST, weight=W, vertical_stiffness=KV)
         )
 
 
@@ -260,13 +260,13 @@ def test_rocking_block_on_two_bearings_against_opensees(tmp_path: Path) -> None:
     for z in (1, 2):
         s.add(
             E.FrictionPendulum(
-                0, radius=R, mu=FAST, mu_slow=SLOW, rate=RATE, weight=w / 2,
-                yield_displacement=UY, dof_z=z, vertical_stiffness=KV,
+                (0, None, z), radius=R, mu=FAST, mu_slow=SLOW, rate=RATE, weight=w / 2,
+                yield_displacement=UY, vertical_stiffness=KV,
             )
         )  # fmt: skip
-        s.add_load(L.Step(z, -w / 2))
-    s.add_load(L.BaseAcceleration(np.array([1.0, 0.0, 0.0]), t, hor))
-    s.add_load(L.BaseAcceleration(np.array([0.0, 1.0, 1.0]), t, ver))
+        s.add_load(L.Step(z, amplitude=-w / 2))
+    s.add_load(L.BaseAcceleration(np.array([1.0, 0.0, 0.0]), t=t, values=hor))
+    s.add_load(L.BaseAcceleration(np.array([0.0, 1.0, 1.0]), t=t, values=ver))
     x0 = np.array([0.0, -w / 2 / KV, -w / 2 / KV])
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=t[-1], dt=DT / k, save_every=k, x0=x0)
 

@@ -34,7 +34,7 @@ def plane(k: int, seconds: float, **friction: float) -> np.ndarray:
     t, a = record(seconds)
     s = duhamel.System(M * np.eye(1), np.zeros((1, 1)))
     s.add(E.FrictionPendulum(0, radius=R, mu=MU, weight=M * G, yield_displacement=UY, **friction))
-    s.add_load(L.BaseAcceleration(np.ones(1), t, a))
+    s.add_load(L.BaseAcceleration(np.ones(1), t=t, values=a))
     return duhamel.solve(s, duhamel.Semianalytic(), t_end=t[-1], dt=DT / k, save_every=k).x[:, 0]
 
 
@@ -96,10 +96,10 @@ def test_uniaxial_is_the_bidirectional_bearing_excited_along_x() -> None:
     t, a = record(6.0)
     one = duhamel.System(M * np.eye(1), np.zeros((1, 1)))
     one.add(E.FrictionPendulum(0, radius=R, mu=MU, weight=M * G))
-    one.add_load(L.BaseAcceleration(np.ones(1), t, a))
+    one.add_load(L.BaseAcceleration(np.ones(1), t=t, values=a))
     two = duhamel.System(M * np.eye(2), np.zeros((2, 2)))
-    two.add(E.FrictionPendulum(0, 1, radius=R, mu=MU, weight=M * G))
-    two.add_load(L.BaseAcceleration(np.array([1.0, 0.0]), t, a))
+    two.add(E.FrictionPendulum((0, 1), radius=R, mu=MU, weight=M * G))
+    two.add_load(L.BaseAcceleration(np.array([1.0, 0.0]), t=t, values=a))
     # The same element either way, compared on the same steps: the accuracy substeps of a
     # stiff element (docs/nonlinear.md) follow the tangent's largest eigenvalue, which the
     # bidirectional bearing keeps large across the slip (friction's tangent normal to it)
@@ -117,7 +117,7 @@ def test_velocity_dependent_friction_force_and_checks() -> None:
     # sliding at speed s: the force is (W / R) u + mu(s) W sgn(u')
     fps = E.FrictionPendulum(0, radius=R, mu=0.06, mu_slow=0.02, rate=10.0, weight=M * G)
     s = duhamel.System(M * np.eye(1), np.zeros((1, 1))).add(fps)
-    s.add_load(L.Step(0, 0.5 * M * G))  # pushes it into sliding
+    s.add_load(L.Step(0, amplitude=0.5 * M * G))  # pushes it into sliding
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=1.5, dt=0.0005)
     h = sol.elements[0]
     sliding = np.abs(h.v[:, 0]) > 0.05

@@ -32,7 +32,7 @@ def record(seconds: float, seed: int, peak: float) -> tuple[np.ndarray, np.ndarr
 
 def bearing() -> E.FrictionPendulum:
     return E.FrictionPendulum(
-        0, radius=R, mu=MU, weight=W, yield_displacement=UY, dof_z=1, vertical_stiffness=KV
+        (0, None, 1), radius=R, mu=MU, weight=W, yield_displacement=UY, vertical_stiffness=KV
     )
 
 
@@ -40,9 +40,9 @@ def ours(k: int, seconds: float, vertical: float) -> duhamel.Solution:
     t, a = record(seconds, 13, 0.4)
     _, av = record(seconds, 7, vertical)
     s = duhamel.System(M * np.eye(2), np.zeros((2, 2))).add(bearing())
-    s.add_load(L.BaseAcceleration(np.array([1.0, 0.0]), t, a))
-    s.add_load(L.BaseAcceleration(np.array([0.0, 1.0]), t, av))
-    s.add_load(L.Step(1, -W))  # the weight, from the static state
+    s.add_load(L.BaseAcceleration(np.array([1.0, 0.0]), t=t, values=a))
+    s.add_load(L.BaseAcceleration(np.array([0.0, 1.0]), t=t, values=av))
+    s.add_load(L.Step(1, amplitude=-W))  # the weight, from the static state
     return duhamel.solve(
         s, duhamel.Semianalytic(), t_end=t[-1], dt=DT / k, save_every=k, x0=[0.0, -W / KV]
     )
@@ -132,14 +132,14 @@ def test_normal_force_friction_and_uplift() -> None:
 def test_vertical_dof_checks() -> None:
     nominal = {"radius": 1.0, "mu": 0.05, "weight": 1.0}
     with pytest.raises(ValueError, match="`vertical_stiffness`"):
-        E.FrictionPendulum(0, dof_z=1)
+        E.FrictionPendulum((0, None, 1), **nominal)
     # bidirectional with its vertical dof (3-D, built since): the three dofs distinct
     with pytest.raises(ValueError, match="`dof_z` must differ from dof_y"):
         duhamel.System(np.eye(3), np.eye(3)).add(
-            E.FrictionPendulum(0, 2, dof_z=2, vertical_stiffness=1.0)
+            E.FrictionPendulum((0, 2, 2), vertical_stiffness=1.0, **nominal)
         )
     with pytest.raises(ValueError, match="`vertical_stiffness`"):
-        E.FrictionPendulum(0, vertical_stiffness=1.0)
+        E.FrictionPendulum(0, vertical_stiffness=1.0, **nominal)
     bad = duhamel.System(np.eye(2), np.eye(2))
     with pytest.raises(ValueError, match="`dof_z` must differ"):
         bad.add(E.FrictionPendulum((0, None, 0), vertical_stiffness=1.0, **nominal))
@@ -155,11 +155,14 @@ def test_beyond_half_the_radius_stops_naming_the_bearing(integrator) -> None:
     # said to diverge) and keeps what it computed
     radius = 2.0
     s = duhamel.System(10.0 * np.eye(2), np.zeros((2, 2)))
-    s.add(E.FrictionPendulum(0, radius=radius, mu=0.05, weight=98.0, dof_z=1,
-                             vertical_stiffness=2e5))  # fmt: skip
-    s.add_load(L.Step(1, -98.0))
+    s.add(
+        E.FrictionPendulum(
+            (0, None, 1), radius=radius, mu=0.05, weight=98.0, vertical_stiffness=2e5
+        )
+    )
+    s.add_load(L.Step(1, amplitude=-98.0))
     t = np.linspace(0.0, 4.0, 401)
-    s.add_load(L.Tabulated(0, t, 30.0 * t))
+    s.add_load(L.Tabulated(0, t=t, values=30.0 * t))
     x0 = np.array([0.0, -98.0 / 2e5])
     with pytest.raises(duhamel.SolverError, match="reached half the radius") as info:
         duhamel.solve(s, integrator, t_end=4.0, dt=0.001, x0=x0)

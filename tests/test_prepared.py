@@ -23,7 +23,7 @@ RECORD = np.sin(7.0 * T) * np.exp(-0.5 * T)
 
 def model(route: str) -> duhamel.System:
     s = duhamel.System(np.eye(N), K, zeta=0.03)
-    s.add_load(L.BaseAcceleration(np.ones(N), T, RECORD))
+    s.add_load(L.BaseAcceleration(np.ones(N), t=T, values=RECORD))
     if route == "first-order":
         g = np.zeros((N, N))
         g[0, 1], g[1, 0] = 3.0, -3.0
@@ -58,7 +58,7 @@ def test_prepared_run_is_solve_bit_for_bit(route: str) -> None:
 @pytest.mark.parametrize("route", ROUTES)
 def test_a_runs_loads_replace_the_systems(route: str) -> None:
     prepared = duhamel.prepare(model(route), integrator(route), dt=0.01)
-    other = L.BaseAcceleration(np.ones(N), T, 2.0 * RECORD[::-1])
+    other = L.BaseAcceleration(np.ones(N), t=T, values=2.0 * RECORD[::-1])
     sol = prepared.run(t_end=2.0, loads=[other])
     reference = model(route)
     reference.loads.clear()
@@ -70,6 +70,10 @@ def test_a_runs_loads_replace_the_systems(route: str) -> None:
     again = prepared.run(t_end=2.0)
     own = duhamel.solve(model(route), integrator(route), t_end=2.0, dt=0.01)
     np.testing.assert_array_equal(again.x, own.x)
+    # solve takes a run's loads as Prepared.run does (issue 35), bit for bit
+    solved = duhamel.solve(model(route), integrator(route), t_end=2.0, dt=0.01, loads=[other])
+    np.testing.assert_array_equal(solved.x, sol.x)
+    np.testing.assert_array_equal(solved.a_absolute, sol.a_absolute)
 
 
 def test_a_prepared_is_a_snapshot_of_the_system() -> None:
@@ -78,7 +82,7 @@ def test_a_prepared_is_a_snapshot_of_the_system() -> None:
     prepared = duhamel.prepare(s, integ, dt=0.01)
     before = prepared.run(t_end=1.0)
     assert prepared.matches(s, integ, 0.01)
-    s.add_load(L.Step(N - 1, 1e3))
+    s.add_load(L.Step(N - 1, amplitude=1e3))
     assert not prepared.matches(s, integ, 0.01)
     after = prepared.run(t_end=1.0)
     np.testing.assert_array_equal(after.x, before.x)
@@ -96,11 +100,11 @@ def test_bad_input_is_refused_by_name() -> None:
         duhamel.prepare(s, duhamel.Semianalytic(), dt=-0.1)
     prepared = duhamel.prepare(s, duhamel.Semianalytic(), dt=0.1)
     with pytest.raises(TypeError, match="`loads` must be a list"):
-        prepared.run(t_end=1.0, loads=L.Step(0, 1.0))  # type: ignore[arg-type]
+        prepared.run(t_end=1.0, loads=L.Step(0, amplitude=1.0))  # type: ignore[arg-type]
     with pytest.raises(TypeError, match=r"`loads\[0\]`"):
         prepared.run(t_end=1.0, loads=[1.0])  # type: ignore[list-item]
     with pytest.raises(ValueError, match="`dof`") as err:
-        prepared.run(t_end=1.0, loads=[L.Step(N + 3, 1.0)])
+        prepared.run(t_end=1.0, loads=[L.Step(N + 3, amplitude=1.0)])
     assert any("loads[0]" in note for note in err.value.__notes__)
     with pytest.raises(ValueError, match="`t_end`"):
         prepared.run(t_end=0.0)
@@ -111,7 +115,7 @@ def test_bad_input_is_refused_by_name() -> None:
 def test_runs_in_threads_on_one_prepared_are_the_runs_one_at_a_time() -> None:
     prepared = duhamel.prepare(model("pseudo-force"), duhamel.Semianalytic(), dt=0.01)
     scales = [0.5, 1.0, 1.5, 2.0, 2.5, 3.0]
-    cases = [[L.BaseAcceleration(np.ones(N), T, s * RECORD)] for s in scales]
+    cases = [[L.BaseAcceleration(np.ones(N), t=T, values=s * RECORD)] for s in scales]
     alone = [prepared.run(t_end=2.0, loads=c).x for c in cases]
     with ThreadPoolExecutor(max_workers=3) as pool:
         together = list(pool.map(lambda c: prepared.run(t_end=2.0, loads=c).x, cases))

@@ -49,8 +49,8 @@ def chain(n: int, k3: float) -> duhamel.System:
     quarters of the length, 5 % modal damping, a smooth base excitation."""
     s = duhamel.System(np.eye(n), fixed_chain(n), zeta=0.05)
     for d in springs(n):
-        s.add(E.Cubic(d, k3))
-    s.add_load(L.BaseAcceleration(np.ones(n), TT, AG))
+        s.add(E.Cubic(d, k3=k3))
+    s.add_load(L.BaseAcceleration(np.ones(n), t=TT, values=AG))
     return s
 
 
@@ -62,7 +62,7 @@ def frame(n: int, level: float) -> duhamel.System:
     Spring's cubic term equal to its linear level at half its storey's peak drift)."""
     b, c = n // 4, 3 * n // 4
     linear = duhamel.System(np.eye(n), fixed_chain(n), zeta=0.05)
-    linear.add_load(L.BaseAcceleration(np.ones(n), TT, AG))
+    linear.add_load(L.BaseAcceleration(np.ones(n), t=TT, values=AG))
     x = duhamel.solve(linear, duhamel.Semianalytic(), t_end=T_END, dt=DT).x
     db = np.abs(x[:, b] - x[:, b - 1]).max()
     dtop = np.abs(x[:, -1]).max()
@@ -72,7 +72,7 @@ def frame(n: int, level: float) -> duhamel.System:
     s.add(E.Bilinear(b, b - 1, k=k, fy=0.5 * k * db, alpha=0.05))
     s.add(E.Gap(n - 1, None, gap=0.5 * dtop, k=k))
     s.add(E.Spring(c, c - 1, k=0.0, k3=k / (0.5 * dc) ** 2))
-    s.add_load(L.BaseAcceleration(np.ones(n), TT, AG))
+    s.add_load(L.BaseAcceleration(np.ones(n), t=TT, values=AG))
     return s
 
 
@@ -263,7 +263,7 @@ def test_the_substep_rule() -> None:
 def test_linear_and_full_runs_take_no_substeps() -> None:
     n = 60
     s = duhamel.System(np.eye(n), fixed_chain(n), zeta=0.05)
-    s.add_load(L.BaseAcceleration(np.ones(n), TT, AG))
+    s.add_load(L.BaseAcceleration(np.ones(n), t=TT, values=AG))
     linear = duhamel.solve(
         s, duhamel.Semianalytic(modes=5, static_correction=True), t_end=0.1, dt=DT
     )
@@ -288,10 +288,10 @@ def test_the_benchmarks_reduced_chain() -> None:
 
     def make() -> duhamel.System:
         s = duhamel.System(np.eye(n), K, zeta=0.03)
-        s.add_load(L.Harmonic(n - 1, 50.0, 11.0, phase=0.3))
-        s.add_load(L.Step(n // 2, 20.0))
-        s.add_load(L.Tabulated(1, [0.0, 0.5, 1.0, 3.0], [0.0, 30.0, -10.0, 0.0]))
-        s.add_load(L.BaseAcceleration(np.ones(n), t, a))
+        s.add_load(L.Harmonic(n - 1, amplitude=50.0, omega=11.0, phase=0.3))
+        s.add_load(L.Step(n // 2, amplitude=20.0))
+        s.add_load(L.Tabulated(1, t=[0.0, 0.5, 1.0, 3.0], values=[0.0, 30.0, -10.0, 0.0]))
+        s.add_load(L.BaseAcceleration(np.ones(n), t=t, values=a))
         for d in (1, 6, 13):
             s.add(E.Spring(d, None, k=0.0, k3=2e9))
         return s

@@ -433,7 +433,7 @@ def test_run_up_follows_ross_frequency_dependent_coefficients(ross):
     dofs = model.dofs
     system = model.system
     node_y = dofs(2, "y")
-    system.add_load(duhamel.loads.Tabulated(node_y, [0.0, 1.0], [-200.0, -200.0]))
+    system.add_load(duhamel.loads.Tabulated(node_y, t=[0.0, 1.0], values=[-200.0, -200.0]))
     x0 = np.zeros(system.n_dof)
     x0[dofs(2, "x")] = 1e-5
     dt, t_end = 4e-6, 0.012
@@ -475,7 +475,7 @@ def test_run_up_follows_ross_frequency_dependent_coefficients(ross):
     scale = np.abs(ref[:, trans]).max()
     err = float(np.abs(sol.x[::100][:, trans] - ref[:, trans]).max() / scale)
     frozen = from_ross(rr, 100.0).system  # coefficients of the initial speed, G at 100 rad/s
-    frozen.add_load(duhamel.loads.Tabulated(node_y, [0.0, 1.0], [-200.0, -200.0]))
+    frozen.add_load(duhamel.loads.Tabulated(node_y, t=[0.0, 1.0], values=[-200.0, -200.0]))
     stale = duhamel.solve(frozen, duhamel.Semianalytic(), t_end=t_end, dt=dt, x0=x0).x[::100]
     off = float(np.abs(stale[:, trans] - ref[:, trans]).max() / scale)
     print(
@@ -504,7 +504,7 @@ def test_journal_swapped_in_at_a_ross_bearing_node(ross):
     x_eq = native.static_equilibrium(SPEED)
     weight = Gravity().vector(native)
     for i in np.flatnonzero(weight):
-        model.system.add_load(duhamel.loads.Tabulated(int(i), [0.0, 1.0], [weight[i]] * 2))
+        model.system.add_load(duhamel.loads.Tabulated(int(i), t=[0.0, 1.0], values=[weight[i]] * 2))
     x0 = x_eq.copy()
     x0[native.dof(2, "x")] += 5e-6  # a nudge at the disk
     errs = []

@@ -78,7 +78,7 @@ def test_a_journal_swapped_in_at_a_speed_dependent_bearing_in_a_run_up():
     x_eq = native.static_equilibrium(300.0)
     weight = Gravity().vector(native)
     for i in np.flatnonzero(weight):
-        model.system.add_load(duhamel.loads.Tabulated(int(i), [0.0, 1.0], [weight[i]] * 2))
+        model.system.add_load(duhamel.loads.Tabulated(int(i), t=[0.0, 1.0], values=[weight[i]] * 2))
     x0 = x_eq.copy()
     x0[native.dof(2, "x")] += 5e-6
     errs = []

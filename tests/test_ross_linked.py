@@ -123,7 +123,7 @@ def test_a_transient_on_pedestals_is_the_exact_response():
     model = from_ross(rr, SPEED)
     node = int(rr.disk_elements[0].n)
     dx = model.dofs(node, "x")
-    model.system.add_load(duhamel.loads.Step(dx, 100.0))
+    model.system.add_load(duhamel.loads.Step(dx, amplitude=100.0))
     sol = duhamel.solve(model.system, duhamel.Semianalytic(), t_end=0.05, dt=5e-4)
     M, K, C, G = model.matrices
     n = M.shape[0]

@@ -283,10 +283,10 @@ def test_a_transient_with_a_touchdown_contact_through_solve():
     model = from_ross(rr, SPEED)
     dx, dy = model.dofs(27, "x"), model.dofs(27, "y")
     alone = from_ross(rr, SPEED).system
-    alone.add_load(duhamel.loads.Step(dx, 200.0))
+    alone.add_load(duhamel.loads.Step(dx, amplitude=200.0))
     free = duhamel.solve(alone, duhamel.Semianalytic(modes=40), t_end=0.05, dt=2e-5)
-    model.system.add(duhamel.elements.Contact(dx, dy, clearance=5e-5, stiffness=1e7))
-    model.system.add_load(duhamel.loads.Step(dx, 200.0))
+    model.system.add(duhamel.elements.Contact((dx, dy), clearance=5e-5, stiffness=1e7))
+    model.system.add_load(duhamel.loads.Step(dx, amplitude=200.0))
     sol = duhamel.solve(model.system, duhamel.Semianalytic(modes=40), t_end=0.05, dt=2e-5)
     assert sol.stats.coupling == "exact"
     assert free.x[-1, dx] > 1e-3  # the loop alone lets it go: zero net stiffness near 0 Hz

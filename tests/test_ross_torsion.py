@@ -89,7 +89,9 @@ def test_start_up_torque_transient_equals_solve_ivp():
     model = from_ross(rr, 0.0, dofs="all")
     motor = model.dofs(0, "theta")
     t_ramp, torque, T = 0.01, 50.0, 0.03
-    model.system.add_load(duhamel.loads.Tabulated(motor, [0.0, t_ramp, 1.0], [0.0, torque, torque]))
+    model.system.add_load(
+        duhamel.loads.Tabulated(motor, t=[0.0, t_ramp, 1.0], values=[0.0, torque, torque])
+    )
     sol = duhamel.solve(model.system, duhamel.Semianalytic(), t_end=T, dt=1e-4)
     M, K, C, _ = model.matrices
     n = M.shape[0]

@@ -521,8 +521,10 @@ def test_constant_speed_unbalance_equals_the_harmonic_loads():
     assert isinstance(load, duhamel.loads.Unbalance)
     assert (load.dof_x, load.dof_y, load.m_e, load.phase) == (12, 13, m_e, phase)
     old = [
-        duhamel.loads.Harmonic(12, m_e * SPEED**2, SPEED, phase + math.pi / 2),
-        duhamel.loads.Harmonic(13, m_e * SPEED**2, SPEED, phase),
+        duhamel.loads.Harmonic(
+            12, amplitude=m_e * SPEED**2, omega=SPEED, phase=phase + math.pi / 2
+        ),
+        duhamel.loads.Harmonic(13, amplitude=m_e * SPEED**2, omega=SPEED, phase=phase),
     ]
     for integrator in (duhamel.Semianalytic(), duhamel.Newmark()):
         runs = []

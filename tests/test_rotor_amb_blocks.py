@@ -257,7 +257,7 @@ def test_a_rub_on_top_of_the_closed_loop_holds_the_rotor_at_the_stator():
     loop = rotor.closed_loop(SPEED, ambs)
     dx, dy = rotor.dof(2, "x"), rotor.dof(2, "y")
     clearance, k_c = 1e-5, 1e8
-    rub = duhamel.elements.Contact(dx, dy, clearance, k_c, friction=0.1)
+    rub = duhamel.elements.Contact((dx, dy), clearance=clearance, stiffness=k_c, friction=0.1)
     # dt = 1e-5: the coarse run (2e-5) stays below the coupled route's stiffness limit,
     # omega_c dt = 0.5 for the closed contact (k_c on the rotor at the rub: 0.26 at 2e-5)
     t = np.linspace(0.0, 0.03, 3001)
@@ -317,7 +317,7 @@ def test_a_failing_element_step_stops_with_the_history_kept():
     rotor, ambs = model()
     loop = rotor.closed_loop(SPEED, ambs)
     dx, dy = rotor.dof(2, "x"), rotor.dof(2, "y")
-    rub = duhamel.elements.Contact(dx, dy, 1e-6, 1e12)
+    rub = duhamel.elements.Contact((dx, dy), clearance=1e-6, stiffness=1e12)
     t = np.linspace(0.0, 0.02, 101)
     with pytest.raises(duhamel.SolverError, match="did not converge") as info:
         loop.transient(t, np.full((t.size, 1), 2e4), [dx], elements=[rub], max_iter=2)

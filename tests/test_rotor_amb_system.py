@@ -188,7 +188,7 @@ def test_a_linear_transient_is_exact():
     r = rotor()
     n, dx = r.n_dof, r.dof(2, "x")
     system = r.system(SPEED)
-    system.add_load(duhamel.loads.Step(dx, 500.0))
+    system.add_load(duhamel.loads.Step(dx, amplitude=500.0))
     T = 0.02
     sol = duhamel.solve(system, duhamel.Semianalytic(), t_end=T, dt=1e-3)
     f = np.zeros(n)
@@ -218,8 +218,8 @@ def test_touchdown_contact_on_the_controlled_rotor_converges_at_second_order():
 
     def system_of():
         s = r.system(SPEED)
-        s.add(duhamel.elements.Contact(dx, dy, clearance=CLEARANCE, stiffness=K_C, friction=MU))
-        s.add_load(duhamel.loads.Step(dx, 300.0))
+        s.add(duhamel.elements.Contact((dx, dy), clearance=CLEARANCE, stiffness=K_C, friction=MU))
+        s.add_load(duhamel.loads.Step(dx, amplitude=300.0))
         return s
 
     rhs, n_states = written_out(r, lambda t: SPEED, lambda t: f, contact_law(dx, dy, n))
@@ -238,7 +238,7 @@ def test_run_up_with_controllers_and_a_touchdown_contact_converges_at_second_ord
 
     def system_of():
         s = r.system(law, [Unbalance(2, m_e=m_e)])
-        s.add(duhamel.elements.Contact(dx, dy, clearance=CLEARANCE, stiffness=K_C, friction=MU))
+        s.add(duhamel.elements.Contact((dx, dy), clearance=CLEARANCE, stiffness=K_C, friction=MU))
         return s
 
     a = (1500.0 - 100.0) / T
@@ -265,7 +265,9 @@ def test_a_stored_run_with_controllers_resumes_bit_for_bit(tmp_path):
 
     r = rotor()
     system = r.system(SPEED, [Unbalance(2, m_e=1e-4)])
-    system.add(duhamel.elements.Contact(r.dof(2, "x"), r.dof(2, "y"), CLEARANCE, K_C))
+    system.add(
+        duhamel.elements.Contact((r.dof(2, "x"), r.dof(2, "y")), clearance=CLEARANCE, stiffness=K_C)
+    )
     kw = {"t_end": 0.01, "dt": 1e-5}
     memory = duhamel.solve(system, duhamel.Semianalytic(), **kw)
     path = tmp_path / "amb.zarr"

@@ -206,7 +206,7 @@ def test_run_up_with_a_nonlinear_element_follows_solve_ivp() -> None:
 
     t_end, errors = 0.1, []
     system = rotor.system(law, [fault])
-    system.add(duhamel.elements.Polynomial(dof, [0.0, 0.0, 0.0, k3]))
+    system.add(duhamel.elements.Polynomial(dof, coefficients=[0.0, 0.0, 0.0, k3]))
     for dt in (2e-4, 1e-4, 5e-5):
         res = duhamel.solve(system, duhamel.Semianalytic(), t_end=t_end, dt=dt)
         t = np.asarray(res.t)

@@ -107,7 +107,7 @@ def test_newton_failure_names_its_step(route):
     # solve.
     system = duhamel.System(np.eye(3), K3, zeta=0.02)
     system.add(E.LinearCoupling(C=GYRO)).add(E.Spring(2, None, k=0.0, k3=1e12))
-    system.add_load(L.Step(2, 1e3, t0=T0 + 5.5 * DT))
+    system.add_load(L.Step(2, amplitude=1e3, t0=T0 + 5.5 * DT))
     with pytest.raises(duhamel.SolverError) as info:
         duhamel.solve(system, NEWTON_ROUTES[route], t0=T0, t_end=T0 + 1.0, dt=DT)
     err = info.value
@@ -141,7 +141,7 @@ def test_callback_exception_names_its_step(route, source):
     if source == "load":
         system.add_load(L.Callable(broken))
     else:
-        system.add(E.Callable(broken, [0]))
+        system.add(E.Callable([0], broken))
     with callback_failure(ZeroDivisionError, "sensor failed") as info:
         duhamel.solve(system, integrator, t0=T0, t_end=T0 + 1.0, dt=DT, x0=[1e-3, 0, 0])
     assert info.value.step == 40 and "(step 40)" in str(info.value)
@@ -250,7 +250,7 @@ def test_ctrl_c_reaches_a_child_started_with_sigint_ignored():
 @pytest.mark.parametrize("route", list(ROUTES))
 def test_progress_reports_between_blocks(route):
     system, integrator = chain(route)
-    system.add_load(L.Harmonic(2, 1.0, 30.0))
+    system.add_load(L.Harmonic(2, amplitude=1.0, omega=30.0))
     calls = []
     n_steps = 5000
     duhamel.solve(
@@ -314,7 +314,9 @@ CHAIN_ROUTES = {
 def test_two_chained_runs_equal_one(route):
     make, integrator = CHAIN_ROUTES[route]
     system = make(duhamel.System(np.eye(3), K3, zeta=0.02))
-    system.add_load(L.Harmonic(2, 50.0, 30.0)).add_load(L.Step(1, 20.0, t0=0.3123))
+    system.add_load(L.Harmonic(2, amplitude=50.0, omega=30.0)).add_load(
+        L.Step(1, amplitude=20.0, t0=0.3123)
+    )
     run = dict(dt=1e-3)
     x0 = np.array([1e-3, 0.0, -2e-3])
     one = duhamel.solve(system, integrator, t0=0.1, t_end=0.7, x0=x0, **run)
@@ -334,7 +336,7 @@ def test_two_chained_runs_equal_one(route):
 def test_loads_keep_their_absolute_time():
     # A run from t0 sees the loads a run from 0 sees at the same times.
     system, integrator = chain("uncoupled")
-    system.add_load(L.Step(2, 1.0, t0=2.05))
+    system.add_load(L.Step(2, amplitude=1.0, t0=2.05))
     late = duhamel.solve(system, integrator, t0=2.0, t_end=2.2, dt=0.01)
     assert np.all(late.x[:5] == 0.0) and np.abs(late.x[-1]).max() > 0.0
     assert late.modal.p[5, :].any() and not late.modal.p[4, :].any()

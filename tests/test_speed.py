@@ -133,8 +133,11 @@ def test_constant_speed_unbalance_equals_harmonic_loads(integrator, speed):
     me, w, phase = 2e-3, 47.0, 0.7
     runs = []
     for loads in (
-        [L.Unbalance(0, 1, me, speed, phase=phase)],
-        [L.Harmonic(0, me * w * w, w, phase + math.pi / 2), L.Harmonic(1, me * w * w, w, phase)],
+        [L.Unbalance((0, 1), m_e=me, speed=speed, phase=phase)],
+        [
+            L.Harmonic(0, amplitude=me * w * w, omega=w, phase=phase + math.pi / 2),
+            L.Harmonic(1, amplitude=me * w * w, omega=w, phase=phase),
+        ],
     ):
         s = duhamel.System(M3, K3, zeta=0.03)
         for load in loads:
@@ -152,7 +155,7 @@ def test_unbalance_evaluate_matches_the_force_of_an_eccentric_mass():
     law = LinearRunUp(20.0, 80.0, 1.5)
     omega, domega, theta = runup(20.0, 80.0, 1.5)
     s = duhamel.System(np.eye(3), np.eye(3))
-    load = L.Unbalance(2, 0, me, law, phase=phase)
+    load = L.Unbalance((2, 0), m_e=me, speed=law, phase=phase)
     ts = np.array([0.0, 0.4, 1.5 - 1e-12, 1.5, 2.2])
     got = load.evaluate(s, ts)
     for row, t in zip(got, ts, strict=True):
@@ -189,7 +192,7 @@ def oscillator_reference(w0, w1, t1):
 def oscillator_errors(integrator, steps, w0, w1, t1):
     ref = oscillator_reference(w0, w1, t1)
     system = duhamel.System(M2 * np.eye(2), K2 * np.eye(2), zeta=ZETA2)
-    system.add_load(L.Unbalance(0, 1, ME2, LinearRunUp(w0, w1, t1), phase=PHASE2))
+    system.add_load(L.Unbalance((0, 1), m_e=ME2, speed=LinearRunUp(w0, w1, t1), phase=PHASE2))
     errs = []
     for n in steps:
         sol = duhamel.solve(system, integrator, t_end=T2, dt=T2 / n)
@@ -265,7 +268,7 @@ def rotor_system(sparse=False):
     wrap = sp.csr_array if sparse else np.asarray
     s = duhamel.System(wrap(MROT), wrap(KROT), rayleigh=RAYLEIGH_ROT)
     s.add(E.LinearCoupling(K=wrap(KQ), C=wrap(GROT), scale=law))
-    s.add_load(L.Unbalance(0, 1, MER, law))
+    s.add_load(L.Unbalance((0, 1), m_e=MER, speed=law))
     return s
 
 
@@ -322,7 +325,7 @@ def test_scaled_coupling_sparse_equals_dense():
 def _coupled(**kwargs):
     s = duhamel.System(MROT, KROT, rayleigh=RAYLEIGH_ROT)
     s.add(E.LinearCoupling(**kwargs))
-    s.add_load(L.Unbalance(0, 1, MER, 120.0))
+    s.add_load(L.Unbalance((0, 1), m_e=MER, speed=120.0))
     return s
 
 
@@ -349,15 +352,14 @@ def test_engine_scaled_path_with_a_unit_law_is_the_constant_path():
     # constant couplings: the semi-analytic one is the same arithmetic, the direct one adds
     # the matrices in another order.
     from duhamel._engine.dispatch import options
-    from duhamel._engine.specs import time_function
 
     system = _coupled(K=KQ, C=GROT)
     basis = system.modal(None)
     phi = np.ascontiguousarray(basis.phi)
     kq, cq = (np.ascontiguousarray(m) for m in system.elements[0].modal(phi))
     specs = [
-        _core.Load(np.ascontiguousarray(phi.T @ p), time_function(kind, params))
-        for p, kind, params in system.loads[0]._specs(system)
+        _core.Load(np.ascontiguousarray(phi.T @ term.pattern), term.time)
+        for term in system.loads[0]._terms(system)
     ]
     q0 = np.ascontiguousarray(phi.T @ MROT @ X0R)
     run = _core.RunSpec(_core.Grid(0.0, 2e-4, 1000, 1), q0, np.zeros(4))
@@ -388,10 +390,7 @@ def test_engine_scaled_path_with_a_unit_law_is_the_constant_path():
     )
     scaled = [_core.ScaledCoupling(_matrix(KQ, False), _matrix(GROT, False), unit)]
     bare_scaled = _core.Matrices(m, k, c, k_fixed, scaled)
-    dspecs = [
-        _core.Load(np.ascontiguousarray(p), time_function(k, pr))
-        for p, k, pr in system.loads[0]._specs(system)
-    ]
+    dspecs = system.loads[0]._terms(system)
     direct_run = _core.DirectRun(
         _core.Grid(0.0, 2e-4, 1000, 1),
         np.ascontiguousarray(X0R, dtype=np.float64),
@@ -415,9 +414,9 @@ def test_engine_scaled_path_with_a_unit_law_is_the_constant_path():
 def test_single_mode_with_scaled_coupling_closed_form_equals_newton():
     law = LinearRunUp(2.0, 12.0, 1.0)
     s = duhamel.System(np.eye(1), 25.0 * np.eye(1), zeta=0.05)
-    s.add(E.Cubic(0, 40.0))
+    s.add(E.Cubic(0, k3=40.0))
     s.add(E.LinearCoupling(K=np.array([[3.0]]), C=np.array([[0.2]]), scale=law))
-    s.add_load(L.Harmonic(0, 1.0, 7.0))
+    s.add_load(L.Harmonic(0, amplitude=1.0, omega=7.0))
     run = {"t_end": 3.0, "dt": 0.01, "x0": [0.2]}
     auto = duhamel.solve(s, duhamel.Semianalytic(), **run)
     newton = duhamel.solve(s, duhamel.Semianalytic(solver="newton"), **run)
@@ -453,22 +452,31 @@ BAD = [
     ("omega1-inf", lambda: LinearRunUp(0.0, float("inf"), 1.0), ValueError, "`omega1`"),
     ("omega-nan", lambda: ConstantSpeed(float("nan")), ValueError, "`omega`"),
     ("omega-str", lambda: ConstantSpeed("fast"), TypeError, "`omega`"),
-    ("me-nan", lambda: L.Unbalance(0, 1, float("nan"), 10.0), ValueError, "`m_e`"),
-    ("me-negative", lambda: L.Unbalance(0, 1, -1.0, 10.0), ValueError, "`m_e`"),
-    ("phase-inf", lambda: L.Unbalance(0, 1, 1.0, 10.0, float("inf")), ValueError, "`phase`"),
-    ("speed-nan", lambda: L.Unbalance(0, 1, 1.0, float("nan")), ValueError, "`speed`"),
-    ("speed-type", lambda: L.Unbalance(0, 1, 1.0, "fast"), TypeError, "`speed`"),
+    ("me-nan", lambda: L.Unbalance((0, 1), m_e=float("nan"), speed=10.0), ValueError, "`m_e`"),
+    ("me-negative", lambda: L.Unbalance((0, 1), m_e=-1.0, speed=10.0), ValueError, "`m_e`"),
+    (
+        "phase-inf",
+        lambda: L.Unbalance((0, 1), m_e=1.0, speed=10.0, phase=float("inf")),
+        ValueError,
+        "`phase`",
+    ),
+    ("speed-nan", lambda: L.Unbalance((0, 1), m_e=1.0, speed=float("nan")), ValueError, "`speed`"),
+    ("speed-type", lambda: L.Unbalance((0, 1), m_e=1.0, speed="fast"), TypeError, "`speed`"),
     ("scale-type", lambda: E.LinearCoupling(K=np.eye(2), scale="x"), TypeError, "`scale`"),
     ("scale-nan", lambda: E.LinearCoupling(K=np.eye(2), scale=np.nan), ValueError, "`scale`"),
     (
         "same-dofs",
-        lambda: duhamel.System(np.eye(2), np.eye(2)).add_load(L.Unbalance(1, 1, 1.0, 5.0)),
+        lambda: duhamel.System(np.eye(2), np.eye(2)).add_load(
+            L.Unbalance((1, 1), m_e=1.0, speed=5.0)
+        ),
         ValueError,
         "`dof_y`",
     ),
     (
         "dof-range",
-        lambda: duhamel.System(np.eye(2), np.eye(2)).add_load(L.Unbalance(2, 1, 1.0, 5.0)),
+        lambda: duhamel.System(np.eye(2), np.eye(2)).add_load(
+            L.Unbalance((2, 1), m_e=1.0, speed=5.0)
+        ),
         ValueError,
         "`dof_x`",
     ),

@@ -31,7 +31,7 @@ def building(**damping) -> duhamel.System:
     s = duhamel.System(np.eye(N), chain(), **damping)
     for d in SPRINGS:
         s.add(E.Spring(d, k=5e6, k3=5e13))
-    s.add_load(L.BaseAcceleration(np.ones(N), T, AG))
+    s.add_load(L.BaseAcceleration(np.ones(N), t=T, values=AG))
     return s
 
 
@@ -64,7 +64,7 @@ def test_default_is_on_for_reduced_runs_with_elements() -> None:
     on = duhamel.solve(s, duhamel.Semianalytic(modes=5, static_correction=True), t_end=0.1, dt=1e-3)
     assert np.array_equal(default.x, on.x) and default.stats.modes == 9
     linear = duhamel.System(np.eye(N), chain(), zeta=0.02)
-    linear.add_load(L.Step(10, 1.0))
+    linear.add_load(L.Step(10, amplitude=1.0))
     plain = duhamel.solve(linear, duhamel.Semianalytic(modes=5), t_end=0.1, dt=1e-3)
     assert plain.stats.modes == 5  # a linear run keeps its modal truncation
 
@@ -80,7 +80,7 @@ def test_exact_for_a_static_load() -> None:
     out = {}
     for correct in (False, True):
         s = duhamel.System(np.eye(N), K, zeta=0.05)
-        s.add_load(L.Step(37, 5e3))
+        s.add_load(L.Step(37, amplitude=5e3))
         sol = duhamel.solve(
             s,
             duhamel.Semianalytic(modes=4, static_correction=correct),
@@ -128,7 +128,7 @@ def test_the_enriched_basis_is_modal() -> None:
     # Every dof loaded: the correction vectors span what is left; none beyond n_dof.
     small = duhamel.System(np.eye(4), chain(4), zeta=0.02)
     for d in range(4):
-        small.add(E.Cubic(d, 1.0))
+        small.add(E.Cubic(d, k3=1.0))
     b = corrected(small, small.modal(2))
     assert b.n_modes == 4
     assert np.abs(b.phi.T @ b.phi - np.eye(4)).max() < 1e-12
@@ -141,7 +141,7 @@ def test_free_free_model() -> None:
     K = chain(20, 1e4)
     K[0, 0] -= 1e4  # free at both ends
     model = duhamel.System(np.eye(20), K, rayleigh=(0.2, 0.0)).add(E.Spring(3, 9, k=1e5, k3=1e9))
-    model.add_load(L.Harmonic(12, 10.0, 3.0))
+    model.add_load(L.Harmonic(12, amplitude=10.0, omega=3.0))
     full = duhamel.solve(model, duhamel.Semianalytic(), t_end=2.0, dt=2e-3)
     errors = {}
     for correct in (False, True):

@@ -25,12 +25,12 @@ def _coupled(kind, ratio):
     s.add(
         {
             "gap": lambda: E.Gap(0, gap=0.3, k=ratio),
-            "contact": lambda: E.Contact(0, 1, clearance=0.3, stiffness=ratio),
+            "contact": lambda: E.Contact((0, 1), clearance=0.3, stiffness=ratio),
         }[kind]()
     )
     t = np.linspace(0.0, 6.0, 12001)
     scale = 2.0 if kind == "contact" else 1.0
-    s.add_load(BaseAcceleration(np.ones(2), t, scale * np.sin(0.8 * t)))
+    s.add_load(BaseAcceleration(np.ones(2), t=t, values=scale * np.sin(0.8 * t)))
     return s
 
 

@@ -28,7 +28,7 @@ def _gap_system():
     t = np.linspace(0.0, 3.0, 30001)
     s = duhamel.System(10.0 * np.eye(1), 1e4 * np.eye(1), zeta=0.05)
     s.add(E.Gap(0, gap=0.02, k=1e8))
-    s.add_load(BaseAcceleration(np.ones(1), t, 40.0 * np.sin(2 * np.pi * t)))
+    s.add_load(BaseAcceleration(np.ones(1), t=t, values=40.0 * np.sin(2 * np.pi * t)))
     return s
 
 
@@ -105,13 +105,13 @@ def _family(kind, ratio):
     s.add(
         {
             "gap": lambda: E.Gap(0, gap=0.3, k=ratio),
-            "contact": lambda: E.Contact(0, 1, clearance=0.3, stiffness=ratio),
-            "cubic": lambda: E.Cubic(0, (ratio / 3.0) ** 3),
+            "contact": lambda: E.Contact((0, 1), clearance=0.3, stiffness=ratio),
+            "cubic": lambda: E.Cubic(0, k3=(ratio / 3.0) ** 3),
             "bilinear": lambda: E.Bilinear(0, k=ratio, fy=0.5, alpha=0.05),
         }[kind]()
     )
     t = np.linspace(0.0, 6.0, 12001)
-    s.add_load(BaseAcceleration(np.ones(n), t, np.sin(0.8 * t)))
+    s.add_load(BaseAcceleration(np.ones(n), t=t, values=np.sin(0.8 * t)))
     return s
 
 
@@ -218,14 +218,14 @@ def _chain_with(element):
     s = duhamel.System(np.eye(n), K, zeta=0.03)
     t = np.arange(0.0, 4.005, 0.01)
     a = 3.0 * np.sin(7.0 * t) * np.exp(-0.3 * t) + 0.5 * np.sin(23.0 * t)
-    s.add_load(BaseAcceleration(np.ones(n), t, a))
+    s.add_load(BaseAcceleration(np.ones(n), t=t, values=a))
     return s.add(element)
 
 
 @pytest.mark.parametrize(
     "element",
     [
-        E.Contact(4, 5, clearance=1e-3, stiffness=1e6, friction=0.2),
+        E.Contact((4, 5), clearance=1e-3, stiffness=1e6, friction=0.2),
         E.Gap(5, None, gap=0.0, k=1e11),
     ],
     ids=["contact", "gap"],

@@ -36,7 +36,7 @@ def chain(n: int = 4, *, zeta: float = 0.03, C: np.ndarray | None = None) -> duh
 
 def record(n: int = 4, amplitude: float = 3.0) -> duhamel.loads.BaseAcceleration:
     t = np.linspace(0.0, 20.0, 2001)
-    return duhamel.loads.BaseAcceleration(np.ones(n), t, amplitude * np.sin(7 * t))
+    return duhamel.loads.BaseAcceleration(np.ones(n), t=t, values=amplitude * np.sin(7 * t))
 
 
 def linear() -> duhamel.System:
@@ -51,7 +51,7 @@ def hysteretic() -> duhamel.System:
     s.add_load(record())
     s.add(el.Bilinear(0, None, k=50.0, fy=0.5, alpha=0.1))
     s.add(el.BoucWen(1, 2, k=40.0, fy=0.3, alpha=0.05))
-    s.add(el.Cubic(3, 30.0))
+    s.add(el.Cubic(3, k3=30.0))
     return s
 
 
@@ -288,7 +288,7 @@ def test_python_functions_and_direct_integrators_are_refused(tmp_path):
     with pytest.raises(ValueError, match=r"`store`.*Callable.*Python code"):
         duhamel.solve(s, duhamel.Semianalytic(), t_end=1.0, dt=0.1, store=tmp_path / "a")
     s = chain()
-    s.add(el.Callable(lambda x, v, t: x**3, [0]))
+    s.add(el.Callable([0], lambda x, v, t: x**3))
     with pytest.raises(ValueError, match=r"`store`.*Callable"):
         duhamel.solve(s, duhamel.Semianalytic(), t_end=1.0, dt=0.1, store=tmp_path / "b")
     with pytest.raises(ValueError, match=r"`store`.*Semianalytic"):
@@ -349,7 +349,7 @@ def test_memory_stays_bounded(tmp_path):
 
 def test_a_failing_run_fails_as_in_memory(tmp_path):
     s = duhamel.System(np.eye(1), np.eye(1))
-    s.add(el.Cubic(0, -1.0))  # unstable beyond x = 1: diverges in the second segment
+    s.add(el.Cubic(0, k3=-1.0))  # unstable beyond x = 1: diverges in the second segment
     kw = {"t_end": 50.0, "dt": 0.01, "x0": [1.0 + 1e-9]}
     caught = []
     for store in (None, Store(tmp_path / "r.zarr", segment_bytes=SMALL)):

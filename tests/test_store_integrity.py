@@ -31,7 +31,7 @@ def system(amplitude: float) -> duhamel.System:
     """The same grid and arrays for every amplitude, different numbers."""
     s = duhamel.System(np.eye(2), [[2.0, -1.0], [-1.0, 1.0]], zeta=0.02)
     s.add(el.Bilinear(0, None, k=0.5, fy=0.05, alpha=0.1))
-    s.add_load(L.Harmonic(1, amplitude, omega=0.9))
+    s.add_load(L.Harmonic(1, amplitude=amplitude, omega=0.9))
     return s
 
 

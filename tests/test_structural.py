@@ -23,11 +23,11 @@ def chain(n: int = 4, k: float = 400.0) -> tuple[np.ndarray, np.ndarray]:
 def test_element_histories_are_the_elements_forces(solver: str) -> None:
     M, K = chain()
     s = duhamel.System(M, K, zeta=0.03)
-    s.add(E.Cubic(0, 2e5))
+    s.add(E.Cubic(0, k3=2e5))
     s.add(E.Spring(1, 3, k=50.0, k3=1e4))
     s.add(E.Damper(2, None, c=1.5))
     s.add(E.LinearCoupling(K=0.1 * K))  # a coupling, not a force element: not listed
-    s.add_load(L.BaseAcceleration(np.ones(4), T_REC, A_REC))
+    s.add_load(L.BaseAcceleration(np.ones(4), t=T_REC, values=A_REC))
     sol = duhamel.solve(s, duhamel.Semianalytic(solver=solver), t_end=2.0, dt=0.005)
     assert len(sol.elements) == 3
     cubic, spring, damper = sol.elements
@@ -51,7 +51,7 @@ def test_element_histories_plot() -> None:
     import matplotlib
 
     matplotlib.use("Agg")
-    s = duhamel.System(np.eye(1), 40.0 * np.eye(1), zeta=0.05).add(E.Cubic(0, 1e3))
+    s = duhamel.System(np.eye(1), 40.0 * np.eye(1), zeta=0.05).add(E.Cubic(0, k3=1e3))
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=1.0, dt=0.01, x0=[0.2])
     ax = sol.elements[0].plot()
     x, y = ax.lines[0].get_data()
@@ -60,8 +60,8 @@ def test_element_histories_plot() -> None:
 
 def test_partial_run_keeps_element_rows_of_the_kept_steps() -> None:
     M, K = chain()
-    s = duhamel.System(M, K, zeta=0.03).add(E.Cubic(0, 1e9))
-    s.add_load(L.BaseAcceleration(np.ones(4), T_REC, 30 * A_REC))
+    s = duhamel.System(M, K, zeta=0.03).add(E.Cubic(0, k3=1e9))
+    s.add_load(L.BaseAcceleration(np.ones(4), t=T_REC, values=30 * A_REC))
     with pytest.raises(duhamel.SolverError) as err:
         duhamel.solve(s, duhamel.Semianalytic(max_iter=1, subdivisions=0), t_end=2.0, dt=0.01)
     part = err.value.partial
@@ -74,8 +74,8 @@ def test_absolute_acceleration_is_the_equation_of_motion() -> None:
     -(c v + k x + r) / m, whatever the record."""
     m, k, zeta = 2.0, 800.0, 0.04
     c = 2 * zeta * np.sqrt(k * m)
-    s = duhamel.System(np.array([[m]]), np.array([[k]]), zeta=zeta).add(E.Cubic(0, 5e4))
-    s.add_load(L.BaseAcceleration(np.ones(1), T_REC, A_REC))
+    s = duhamel.System(np.array([[m]]), np.array([[k]]), zeta=zeta).add(E.Cubic(0, k3=5e4))
+    s.add_load(L.BaseAcceleration(np.ones(1), t=T_REC, values=A_REC))
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=2.5, dt=0.005)
     want = -(c * sol.v[:, 0] + k * sol.x[:, 0] + 5e4 * sol.x[:, 0] ** 3) / m
     scale = np.abs(want).max()
@@ -94,7 +94,7 @@ def test_absolute_acceleration_is_the_equation_of_motion() -> None:
 def test_drifts() -> None:
     M, K = chain()
     s = duhamel.System(M, K, zeta=0.03)
-    s.add_load(L.BaseAcceleration(np.ones(4), T_REC, A_REC))
+    s.add_load(L.BaseAcceleration(np.ones(4), t=T_REC, values=A_REC))
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=1.0, dt=0.01)
     d = sol.drifts([0, 1, 2, 3])
     np.testing.assert_array_equal(d[:, 0], sol.x[:, 0])

@@ -33,8 +33,8 @@ def friction_system() -> duhamel.System:
     """An isolated 2-dof structure with a smoothed Coulomb friction isolator (a stiff law:
     its tangent is FY / V_EPS = 3e4 times the isolator's linear stiffness)."""
     s = duhamel.System(M, K, zeta=0.02)
-    s.add(E.Callable(friction, [0]))
-    s.add_load(L.BaseAcceleration(np.ones(2), T_REC, A_REC))
+    s.add(E.Callable([0], friction))
+    s.add_load(L.BaseAcceleration(np.ones(2), t=T_REC, values=A_REC))
     return s
 
 
@@ -97,6 +97,6 @@ def test_bad_subdivisions_are_refused(bad: object) -> None:
 def test_linear_runs_never_subdivide() -> None:
     s = duhamel.System(M, K, zeta=0.02)
     s.add(E.Spring(0, None, k=50.0))
-    s.add_load(L.BaseAcceleration(np.ones(2), T_REC, A_REC))
+    s.add_load(L.BaseAcceleration(np.ones(2), t=T_REC, values=A_REC))
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=1.0, dt=0.01)
     assert sol.stats.subdivided_steps == 0

@@ -255,13 +255,16 @@ def test_add_load_chains_and_validates(chain3):
     from duhamel.loads import Harmonic, Step
 
     system = System(*chain3, rayleigh=(0.1, 0.0))
-    assert system.add_load(Step(0, 1.0)).add_load(Harmonic(2, 1.0, 3.0)) is system
+    assert (
+        system.add_load(Step(0, amplitude=1.0)).add_load(Harmonic(2, amplitude=1.0, omega=3.0))
+        is system
+    )
     assert len(system.loads) == 2 and isinstance(system.loads, list)
     assert repr(system) == "System(n_dof=3, damping='rayleigh', loads=2)"
     with pytest.raises(ValueError, match=r"`dof` must be .*\[0, 2\]"):
-        system.add_load(Step(3, 1.0))
+        system.add_load(Step(3, amplitude=1.0))
     with pytest.raises(ValueError, match="`dof`"):
-        system.add_load(Step(-1, 1.0))
+        system.add_load(Step(-1, amplitude=1.0))
     assert len(system.loads) == 2
     with pytest.raises(TypeError, match="`load`"):
         system.add_load(object())

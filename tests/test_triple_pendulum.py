@@ -21,7 +21,7 @@ DT = 0.005
 
 def bearing(*dofs: int | None, weight: float = 1.0, uy: float = 5e-4) -> E.Element:
     return E.TripleFrictionPendulum(
-        *dofs,
+        dofs,
         mu=MU,
         radius=RADIUS,
         displacement_capacity=CAPACITY,
@@ -66,7 +66,7 @@ def driven(u: np.ndarray, t: np.ndarray, uy: float) -> tuple[np.ndarray, np.ndar
     displacement and force histories."""
     kd = 1e3 * MU[0] / uy
     s = duhamel.System(np.diag([0.0, 1.0]), np.diag([kd, 1.0])).add(bearing(0, uy=uy))
-    s.add_load(L.Tabulated(0, t, kd * u, hold=True))
+    s.add_load(L.Tabulated(0, t=t, values=kd * u, hold=True))
     sol = duhamel.solve(s, duhamel.Newmark(tol=1e-14), t_end=t[-1], dt=t[1] - t[0])
     x = sol.x[:, 0]
     return x, kd * (u - x)
@@ -132,7 +132,7 @@ def ours(k: int, records: list[np.ndarray], t: np.ndarray, method: object = None
     s = duhamel.System(M * np.eye(n), np.zeros((n, n)))
     s.add(bearing(*range(n), weight=M * G))
     for d, a in enumerate(records):
-        s.add_load(L.BaseAcceleration(np.eye(n)[d], t, a))
+        s.add_load(L.BaseAcceleration(np.eye(n)[d], t=t, values=a))
     method = method or duhamel.Semianalytic()
     return duhamel.solve(s, method, t_end=t[-1], dt=DT / k, save_every=k).x
 
@@ -257,7 +257,7 @@ def test_input_is_checked() -> None:
         with pytest.raises(ValueError, match=message):
             E.TripleFrictionPendulum(0, **{**ok, **change})
     with pytest.raises(TypeError):
-        E.TripleFrictionPendulum(0, 1, (0.02, 0.06, 0.1))  # the surfaces are keywords
+        E.TripleFrictionPendulum((0, 1), (0.02, 0.06, 0.1))  # the surfaces are keywords
     s = duhamel.System(np.eye(2), np.eye(2))
     with pytest.raises(ValueError, match="`dof_y`"):  # the second axis, dofs[1]
         s.add(E.TripleFrictionPendulum((0, 0), **ok))

@@ -134,8 +134,8 @@ def test_isolated_frame_against_opensees() -> None:
     assert sorted(e.weight for e in bearings) == pytest.approx(
         sorted(weight(ix) for ix, _ in GRID), rel=1e-12
     )
-    s.add_load(duhamel.loads.BaseAcceleration("ux", t, ax))
-    s.add_load(duhamel.loads.BaseAcceleration("uy", t, ay))
+    s.add_load(duhamel.loads.BaseAcceleration("ux", t=t, values=ax))
+    s.add_load(duhamel.loads.BaseAcceleration("uy", t=t, values=ay))
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=float(t[-1]), dt=DT / 2, save_every=2)
     watch = [(node(0, 0, 0), 1), (node(0, 0, 0), 2), (3999, 1), (3999, 2)]
     ours = sol.x[:, [s.dof(n, ("ux", "uy")[d - 1]) for n, d in watch]]
@@ -183,8 +183,7 @@ def test_imported_bearing_is_the_bearing() -> None:
     s = duhamel.opensees.from_opensees()
     (element,) = s.opensees.elements[7]
     want = duhamel.elements.TripleFrictionPendulum(
-        s.dof(2, "ux"),
-        s.dof(2, "uy"),
+        (s.dof(2, "ux"), s.dof(2, "uy")),
         mu=MU,
         radius=RADIUS,
         displacement_capacity=CAPACITY,

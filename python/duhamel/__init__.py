@@ -43,6 +43,7 @@ from duhamel.system import ModalBasis, System
 if TYPE_CHECKING:
     from duhamel import analysis, design, ensemble, exact, opensees, records, rotor, spectra
     from duhamel import paper as paper  # lazy too, but not in __all__ (`import *` skips it)
+    from duhamel.ensemble import solve_many
 
 __all__ = [
     "HHT",
@@ -83,6 +84,7 @@ __all__ = [
     "resume",
     "rotor",
     "solve",
+    "solve_many",
     "spectra",
     "speed",
 ]
@@ -94,13 +96,21 @@ _LAZY = frozenset(
 )
 
 
+#: Functions of those subpackages exported at the top level, loaded with them.
+_LAZY_FUNCTIONS = {"solve_many": "ensemble"}
+
+
 def __getattr__(name: str) -> Any:
     if name in _LAZY:
         module = importlib.import_module(f"duhamel.{name}")
         globals()[name] = module
         return module
+    if name in _LAZY_FUNCTIONS:
+        value = getattr(importlib.import_module(f"duhamel.{_LAZY_FUNCTIONS[name]}"), name)
+        globals()[name] = value
+        return value
     raise AttributeError(f"module 'duhamel' has no attribute {name!r}")
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | _LAZY)
+    return sorted(set(globals()) | _LAZY | set(_LAZY_FUNCTIONS))

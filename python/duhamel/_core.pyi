@@ -44,6 +44,8 @@ class SpeedLaw:
     def run_up(omega0: float, omega1: float, t1: float) -> SpeedLaw: ...
     def _to_value(self) -> str:
         """The law as JSON text."""
+    @staticmethod
+    def _from_value(text: str) -> SpeedLaw: ...
     def evaluate(self, t: Array) -> tuple[Array, Array, Array]:
         """``(omega, omega', theta)`` at the times `t`."""
 
@@ -67,6 +69,10 @@ class TimeFunction:
     ) -> TimeFunction: ...
     def values(self, t: Array) -> Array:
         """The values at the times `t` (right limits at jumps)."""
+    def _to_value(self) -> str:
+        """The function as JSON text."""
+    @staticmethod
+    def _from_value(text: str) -> TimeFunction: ...
 
 @final
 class MassLaw:
@@ -76,6 +82,10 @@ class MassLaw:
     def harmonic(amplitude: float, frequency: float) -> MassLaw: ...
     @staticmethod
     def table(t: Array, mu: Array) -> MassLaw: ...
+    def _to_value(self) -> str:
+        """The law as JSON text."""
+    @staticmethod
+    def _from_value(text: str) -> MassLaw: ...
 
 @final
 class Mass:
@@ -149,7 +159,15 @@ class Element:
 @final
 class Bilinear(Element):
     def __new__(
-        cls, i: Dof, j: Dof | None = None, *, k: float, fy: float, alpha: float
+        cls,
+        i: Dof,
+        j: Dof | None = None,
+        *,
+        k: float,
+        fy: float,
+        alpha: float,
+        initial_deformation: float = 0.0,
+        initial_force: float | None = None,
     ) -> Self: ...
 
 @final
@@ -227,6 +245,7 @@ class FrictionPendulum(Element):
         contact_area: float | None = None,
         delta_mu: float = 0.0,
         pressure_alpha: float = 0.0,
+        initial_axial_force: float | None = None,
     ) -> Self: ...
 
 @final

@@ -199,7 +199,7 @@ def run_demo(
     system = shear_building(**building)
     t_g, a_g = synthetic_record(dt=dt)
     n = system.n_dof
-    system.add_load(duhamel.loads.BaseAcceleration(np.ones(n), t_g, a_g))
+    system.add_load(duhamel.loads.BaseAcceleration(np.ones(n), t=t_g, values=a_g))
     sol = duhamel.solve(system, duhamel.Semianalytic(), t_end=t_end, dt=dt)
     roof = sol.x[:, -1]
     i_roof = int(np.argmax(np.abs(roof)))

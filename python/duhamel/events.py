@@ -67,12 +67,18 @@ class Event:
     ) -> None:
         if not callable(fn):
             raise TypeError(f"`fn` must be callable (t, x, v) -> float, got {type(fn).__name__}")
-        if direction not in (0, 1, -1) or isinstance(direction, bool):
+        if (
+            isinstance(direction, bool)
+            or not isinstance(direction, int | np.integer)
+            or direction not in (0, 1, -1)
+        ):
             raise ValueError(f"`direction` must be 0, 1 or -1, got {direction!r}")
         if not isinstance(terminal, bool | np.bool_):
             raise TypeError(f"`terminal` must be True or False, got {terminal!r}")
         if name is not None and not isinstance(name, str):
             raise TypeError(f"`name` must be a string, got {type(name).__name__}")
+        if not isinstance(vectorized, bool | np.bool_):
+            raise TypeError(f"`vectorized` must be True or False, got {vectorized!r}")
         self.fn = fn
         self.direction = int(direction)
         self.terminal = bool(terminal)
@@ -88,23 +94,45 @@ class Event:
     def _bind(self, sol: Any) -> None:
         """Checks the event against a solution's saved dofs (built-ins)."""
 
+    def _called(self, *args: Any) -> Any:
+        """``fn(*args)``; an exception of the user's function goes on as it is, with a note
+        naming the event."""
+        try:
+            return self.fn(*args)
+        except Exception as exc:
+            label = "an event" if self.name is None else f"event {self.name!r}"
+            exc.add_note(f"raised by the `fn` of {label}, called as fn(t, x, v)")
+            raise
+
+    def _returned(self, value: Any, shape: tuple[int, ...]) -> NDArray[np.float64]:
+        """What `fn` returned as real numbers of `shape` (``()``: one number), or a
+        ValueError naming the event and what it returned."""
+        label = "an event" if self.name is None else f"event {self.name!r}"
+        try:
+            g = np.asarray(value)
+        except (TypeError, ValueError):  # a ragged sequence
+            g = np.asarray(None)
+        if g.dtype.kind not in "fiu":  # None, a string, a bool, complex numbers
+            raise ValueError(f"{label}: `fn` must return real numbers, got {type(value).__name__}")
+        g = np.asarray(g, dtype=np.float64)
+        if g.shape != shape and not (shape == () and g.size == 1):
+            what = "one number (a float) per state" if shape == () else f"shape {shape}"
+            raise ValueError(f"{label}: `fn` must return {what}, got shape {g.shape}")
+        return g.reshape(shape)
+
     def _values(self, t: NDArray, x: NDArray, v: NDArray, sol: Any) -> NDArray[np.float64]:
         """The event function on every row."""
         if self.vectorized:
-            g = np.asarray(self.fn(t, x, v), dtype=np.float64)
-            if g.shape != t.shape:
-                raise ValueError(
-                    f"event {self.name!r}: a vectorized `fn` must return shape {t.shape}, got "
-                    f"{g.shape}"
-                )
-            return g
-        return np.array([float(self.fn(t[k], x[k], v[k])) for k in range(t.size)])
+            return self._returned(self._called(t, x, v), t.shape)
+        return np.array(
+            [float(self._returned(self._called(t[k], x[k], v[k]), ())) for k in range(t.size)]
+        )
 
     def _value(self, t: float, x: NDArray, v: NDArray, sol: Any, n: int, s: float) -> float:
         """The event function at one state inside step `n` (at the fraction `s`)."""
         if self.vectorized:
             return float(self._values(np.array([t]), x[None, :], v[None, :], sol)[0])
-        return float(self.fn(t, x, v))
+        return float(self._returned(self._called(t, x, v), ()))
 
 
 def _column(sol: Any, dof: int, name: str) -> int:
@@ -252,6 +280,12 @@ def drift(
     True
     """
     j = None if j is None else _dof(j, "j")
+    if j is not None and j == _dof(i, "i"):
+        raise ValueError(
+            f"`j` must differ from `i` (both are {j}): the drift of a dof against itself is "
+            "always 0; pass the dof of the floor below, or j=None for the drift against the "
+            "support"
+        )
     ev = _Drift(_dof(i, "i"), j, finite_float(limit, "limit"), positive_float(height, "height"),
                 **_options(direction, terminal, name))  # fmt: skip
     ev.name = name if name is not None else f"drift({i}, {j}) = {limit:g}"
@@ -282,7 +316,7 @@ def element(
     >>> bool(abs(sol.events[0].time - 2 * np.pi / 3) < 1e-4)    # cos t = -0.5
     True
     """
-    if quantity not in ("deformation", "force"):
+    if not isinstance(quantity, str) or quantity not in ("deformation", "force"):
         raise ValueError(f"`quantity` must be 'deformation' or 'force', got {quantity!r}")
     if isinstance(k, bool) or not isinstance(k, int | np.integer) or k < 0:
         raise ValueError(f"`k` must be an element index (an int >= 0), got {k!r}")

@@ -19,14 +19,16 @@ from __future__ import annotations
 
 from collections.abc import Callable as CallableT
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import KW_ONLY, dataclass, field
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from duhamel import _core
+from duhamel._engine.labels import is_label, resolve
 from duhamel._engine.protocols import Model
-from duhamel._engine.specs import time_function
+from duhamel._engine.spellings import deprecated, old_spellings
 from duhamel._engine.validate import as_float_array, dof_index, finite_float
 from duhamel.speed import ConstantSpeed, LinearRunUp, SpeedLaw, as_speed_law
 
@@ -34,6 +36,7 @@ __all__ = [
     "BaseAcceleration",
     "Callable",
     "ConstantSpeed",
+    "Dof",
     "Harmonic",
     "LinearRunUp",
     "Load",
@@ -43,6 +46,11 @@ __all__ = [
     "Unbalance",
     "support_terms",
 ]
+
+
+#: Where a load acts: a dof index or a dof label (a name, or a ``(node, component)`` pair),
+#: resolved when the load is added to a system.
+Dof = int | str | tuple[int, str]
 
 
 def _finite(value: Any, name: str) -> float:
@@ -83,17 +91,18 @@ class Load:
     def _pattern(self, system: Model) -> NDArray[np.float64]:  # pragma: no cover - abstract
         raise NotImplementedError
 
-    def _time(self) -> tuple[str, tuple]:  # pragma: no cover - abstract
+    def _time(self) -> _core.TimeFunction:  # pragma: no cover - abstract
+        """The time function ``s(t)`` as the core evaluates it."""
         raise NotImplementedError
 
     def _scalar(self, t: NDArray[np.float64]) -> NDArray[np.float64]:  # pragma: no cover
         raise NotImplementedError
 
-    def _specs(self, system: Model) -> list[tuple[NDArray[np.float64], str, tuple]]:
-        """The load as ``(physical pattern, kind, params)`` terms for the core (one for a
+    def _terms(self, system: Model) -> list[_core.Load]:
+        """The load as the core's terms ``pattern * s(t)``, physical patterns (one for a
         pattern times one time function; :class:`Unbalance` has two)."""
-        kind, params = self._time()
-        return [(self._pattern(system), kind, params)]
+        pattern = np.ascontiguousarray(self._pattern(system), dtype=np.float64)
+        return [_core.Load(pattern, self._time())]
 
     def evaluate(self, system: Model, t: ArrayLike) -> NDArray[np.float64]:
         """The load vectors at times `t`, shape ``(len(t), n_dof)`` (or ``(n_dof,)``).
@@ -114,7 +123,7 @@ class Load:
         --------
         >>> import numpy as np, duhamel
         >>> sys = duhamel.System(np.eye(2), np.diag([1.0, 4.0]))
-        >>> duhamel.loads.Step(1, 5.0, t0=1.0).evaluate(sys, [0.0, 2.0])
+        >>> duhamel.loads.Step(1, amplitude=5.0, t0=1.0).evaluate(sys, [0.0, 2.0])
         array([[0., 0.],
                [0., 5.]])
         """
@@ -124,25 +133,41 @@ class Load:
         return out[0] if ts.ndim == 0 else out
 
 
-def _unit(system: Model, dof: int, amplitude: float) -> NDArray[np.float64]:
+def _index(system: Model, dof: Any, name: str) -> int:
+    """`dof` (an index, or a label of `system`) as an index of `system`."""
+    return dof_index(resolve(system, dof, name), name, system.n_dof)
+
+
+def _unit(system: Model, dof: Any, amplitude: float) -> NDArray[np.float64]:
     p = np.zeros(system.n_dof)
-    p[dof_index(dof, "dof", system.n_dof)] = amplitude
+    p[_index(system, dof, "dof")] = amplitude
     return p
 
 
+def _table_time(t: NDArray, values: NDArray, hold: bool) -> _core.TimeFunction:
+    return _core.TimeFunction.table(
+        np.ascontiguousarray(t, dtype=np.float64),
+        np.ascontiguousarray(values, dtype=np.float64),
+        bool(hold),
+    )
+
+
+@old_spellings(positional=("dof", "amplitude", "t0"))
 @dataclass(frozen=True)
 class Step(Load):
-    """A force ``amplitude`` switched on at ``t0`` on one degree of freedom (Heaviside).
+    """A force `amplitude` switched on at `t0` on the degree of freedom `dof` (Heaviside):
+    ``Step(dof, *, amplitude, t0=0.0)``.
 
-    Integrated exactly, also when ``t0`` falls inside a time step.
+    Integrated exactly, also when `t0` falls inside a time step.
 
     Examples
     --------
     >>> import duhamel
-    >>> load = duhamel.loads.Step(dof=0, amplitude=1e3, t0=0.05)
+    >>> load = duhamel.loads.Step(0, amplitude=1e3, t0=0.05)
     """
 
-    dof: int
+    dof: Dof
+    _: KW_ONLY
     amplitude: float
     t0: float = 0.0
 
@@ -153,24 +178,27 @@ class Step(Load):
     def _pattern(self, system: Model) -> NDArray[np.float64]:
         return _unit(system, self.dof, float(self.amplitude))
 
-    def _time(self) -> tuple[str, tuple]:
-        return "step", (float(self.t0),)
+    def _time(self) -> _core.TimeFunction:
+        return _core.TimeFunction.step(float(self.t0))
 
     def _scalar(self, t: NDArray) -> NDArray:
         return (t >= self.t0).astype(np.float64)
 
 
+@old_spellings(positional=("dof", "amplitude", "omega", "phase"))
 @dataclass(frozen=True)
 class Harmonic(Load):
-    """``amplitude * sin(omega t + phase)`` on one degree of freedom.
+    """``amplitude * sin(omega t + phase)`` on the degree of freedom `dof`:
+    ``Harmonic(dof, *, amplitude, omega, phase=0.0)``.
 
     Examples
     --------
     >>> import duhamel
-    >>> load = duhamel.loads.Harmonic(dof=3, amplitude=10.0, omega=2 * 3.14159 * 5)
+    >>> load = duhamel.loads.Harmonic(3, amplitude=10.0, omega=2 * 3.14159 * 5)
     """
 
-    dof: int
+    dof: Dof
+    _: KW_ONLY
     amplitude: float
     omega: float
     phase: float = 0.0
@@ -182,16 +210,18 @@ class Harmonic(Load):
     def _pattern(self, system: Model) -> NDArray[np.float64]:
         return _unit(system, self.dof, float(self.amplitude))
 
-    def _time(self) -> tuple[str, tuple]:
-        return "harmonic", (float(self.omega), float(self.phase))
+    def _time(self) -> _core.TimeFunction:
+        return _core.TimeFunction.harmonic(float(self.omega), float(self.phase))
 
     def _scalar(self, t: NDArray) -> NDArray:
         return np.sin(self.omega * t + self.phase)
 
 
+@old_spellings(positional=("dof", "t", "values", "hold"))
 @dataclass(frozen=True, eq=False)
 class Tabulated(Load):
-    """A force history on one degree of freedom, linear between samples ``(t, values)``.
+    """A force history on the degree of freedom `dof`, linear between samples ``(t,
+    values)``: ``Tabulated(dof, *, t, values, hold=False)``.
 
     Zero before ``t[0]``; from ``t[-1]`` on zero (a record that has ended), or the last
     value when ``hold=True``. Loads are right-continuous: at a jump, the value after it.
@@ -206,7 +236,8 @@ class Tabulated(Load):
     >>> ramp = duhamel.loads.Tabulated(0, t=[0.0, 1.0], values=[0.0, 100.0], hold=True)
     """
 
-    dof: int
+    dof: Dof
+    _: KW_ONLY
     t: NDArray[np.float64]
     values: NDArray[np.float64]
     hold: bool = False
@@ -221,16 +252,18 @@ class Tabulated(Load):
     def _pattern(self, system: Model) -> NDArray[np.float64]:
         return _unit(system, self.dof, 1.0)
 
-    def _time(self) -> tuple[str, tuple]:
-        return "table", (self.t, self.values, bool(self.hold))
+    def _time(self) -> _core.TimeFunction:
+        return _table_time(self.t, self.values, self.hold)
 
     def _scalar(self, t: NDArray) -> NDArray:
         return _table_eval(t, self.t, self.values, self.hold)
 
 
+@old_spellings(positional=("direction_vector", "t", "values"))
 @dataclass(frozen=True, eq=False)
 class BaseAcceleration(Load):
-    """Support (ground) acceleration ``a_g(t)``: the load ``f = -M r a_g(t)``.
+    """Support (ground) acceleration ``a_g(t)``: the load ``f = -M r a_g(t)``;
+    ``BaseAcceleration(direction_vector, *, t, values)``.
 
     ``direction_vector`` is the influence vector ``r`` (the displacement of each degree of
     freedom for a unit rigid support displacement, e.g. ones on the horizontal dofs of a
@@ -243,10 +276,11 @@ class BaseAcceleration(Load):
     --------
     >>> import numpy as np, duhamel
     >>> t = np.arange(0.0, 10.0, 0.01)
-    >>> quake = duhamel.loads.BaseAcceleration(np.ones(5), t, 0.3 * 9.81 * np.sin(8 * t))
+    >>> quake = duhamel.loads.BaseAcceleration(np.ones(5), t=t, values=2.9 * np.sin(8 * t))
     """
 
     direction_vector: NDArray[np.float64]
+    _: KW_ONLY
     t: NDArray[np.float64]
     values: NDArray[np.float64]
 
@@ -275,8 +309,8 @@ class BaseAcceleration(Load):
             )
         return -np.asarray(system.M @ r, dtype=np.float64)
 
-    def _time(self) -> tuple[str, tuple]:
-        return "table", (self.t, self.values, False)
+    def _time(self) -> _core.TimeFunction:
+        return _table_time(self.t, self.values, False)
 
     def _scalar(self, t: NDArray) -> NDArray:
         return _table_eval(t, self.t, self.values, False)
@@ -313,11 +347,15 @@ class Callable(Load):
         return out[0] if ts.ndim == 0 else out
 
 
+@old_spellings(
+    positional=("dof_x", "dof_y", "m_e", "speed", "phase"), merged={"dofs": ("dof_x", "dof_y")}
+)
 @dataclass(frozen=True, eq=False)
 class Unbalance(Load):
-    """The rotating force of an unbalance ``m_e`` (mass times eccentricity, kg m) on the
-    shaft-centre degrees of freedom ``(dof_x, dof_y)``, driven by `speed` (rad/s: a number
-    for a constant speed, or a law from :mod:`duhamel.speed` such as :class:`LinearRunUp`).
+    """The rotating force of an unbalance `m_e` (mass times eccentricity, kg m) on the
+    shaft-centre degrees of freedom ``dofs = (x, y)``, driven by `speed` (rad/s: a number
+    for a constant speed, or a law from :mod:`duhamel.speed` such as :class:`LinearRunUp`):
+    ``Unbalance(dofs, *, m_e, speed, phase=0.0)``.
 
     With ``Theta = theta(t) + phase`` (``theta`` the rotation angle, the integral of the
     speed ``omega``) the mass sits at ``e (cos Theta, sin Theta)`` from the shaft centre, and
@@ -337,40 +375,64 @@ class Unbalance(Load):
     >>> import numpy as np, duhamel
     >>> rotor = duhamel.System(np.eye(2), 1e4 * np.eye(2), zeta=0.02)
     >>> run_up = duhamel.loads.LinearRunUp(omega0=0.0, omega1=200.0, t1=2.0)
-    >>> _ = rotor.add_load(duhamel.loads.Unbalance(0, 1, m_e=1e-4, speed=run_up))
+    >>> _ = rotor.add_load(duhamel.loads.Unbalance((0, 1), m_e=1e-4, speed=run_up))
     >>> rotor.loads[0].evaluate(rotor, 0.0)   # at rest: only the tangential omega' term
     array([ 0.  , -0.01])
     """
 
-    dof_x: int
-    dof_y: int
+    dofs: tuple[Dof, Dof]
+    _: KW_ONLY
     m_e: float
-    speed: Any
+    speed: float | SpeedLaw
     phase: float = 0.0
 
     def __post_init__(self) -> None:
+        dofs = self.dofs
+        if is_label(dofs) or isinstance(dofs, bytes) or not isinstance(dofs, Sequence):
+            raise TypeError(
+                "`dofs` must be the shaft centre's two dofs (x, y), indices or labels, "
+                f"got {dofs!r}"
+            )
+        if len(dofs) != 2:
+            raise ValueError(
+                f"`dofs` must be the shaft centre's two dofs (x, y), got {len(dofs)}: {dofs!r}"
+            )
+        object.__setattr__(self, "dofs", tuple(dofs))
         if finite_float(self.m_e, "m_e") < 0.0:
             raise ValueError(f"`m_e` must be >= 0 (mass times eccentricity), got {self.m_e!r}")
         object.__setattr__(self, "m_e", float(self.m_e))
         object.__setattr__(self, "phase", finite_float(self.phase, "phase"))
         object.__setattr__(self, "speed", as_speed_law(self.speed, "speed"))
 
-    def _validate(self, system: Model) -> None:
-        dx = dof_index(self.dof_x, "dof_x", system.n_dof)
-        dy = dof_index(self.dof_y, "dof_y", system.n_dof)
+    @property
+    def dof_x(self) -> Dof:
+        """Deprecated: ``dofs[0]``."""
+        deprecated("Unbalance: `dof_x` is deprecated, use `dofs[0]`")
+        return self.dofs[0]
+
+    @property
+    def dof_y(self) -> Dof:
+        """Deprecated: ``dofs[1]``."""
+        deprecated("Unbalance: `dof_y` is deprecated, use `dofs[1]`")
+        return self.dofs[1]
+
+    def _indices(self, system: Model) -> tuple[int, int]:
+        dx = _index(system, self.dofs[0], "dofs[0]")
+        dy = _index(system, self.dofs[1], "dofs[1]")
         if dx == dy:
-            raise ValueError(f"`dof_y` must differ from `dof_x` (both {dx})")
+            raise ValueError(f"`dofs` must be two different dofs (x, y), got {dx} twice")
+        return dx, dy
 
-    def _axis_spec(self, axis: str) -> tuple:
-        return (self.speed._spec(), self.phase, axis)
+    def _validate(self, system: Model) -> None:
+        self._indices(system)
 
-    def _specs(self, system: Model) -> list[tuple[NDArray[np.float64], str, tuple]]:
-        self._validate(system)
+    def _terms(self, system: Model) -> list[_core.Load]:
+        law = self.speed._law()  # type: ignore[union-attr]  # a law since __post_init__
         out = []
-        for dof, axis in ((self.dof_x, "x"), (self.dof_y, "y")):
+        for dof, axis in zip(self._indices(system), ("x", "y"), strict=True):
             pattern = np.zeros(system.n_dof)
-            pattern[int(dof)] = self.m_e
-            out.append((pattern, "unbalance", self._axis_spec(axis)))
+            pattern[dof] = self.m_e
+            out.append(_core.Load(pattern, _core.TimeFunction.unbalance(law, self.phase, axis)))
         return out
 
     def evaluate(self, system: Model, t: ArrayLike) -> NDArray[np.float64]:
@@ -379,8 +441,8 @@ class Unbalance(Load):
         ts = np.asarray(t, dtype=np.float64)
         flat = np.ascontiguousarray(np.atleast_1d(ts).ravel())
         out = np.zeros((flat.size, system.n_dof))
-        for pattern, kind, params in self._specs(system):
-            out += np.outer(time_function(kind, params).values(flat), pattern)
+        for term in self._terms(system):
+            out += np.outer(term.time.values(flat), term.pattern)
         return out[0] if ts.ndim == 0 else out
 
 

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from duhamel import _core
 from duhamel._engine.validate import as_float_array, finite_float
 
 __all__ = ["MU_FLOOR", "Exponential", "Harmonic", "MassLaw", "Tabulated"]
@@ -26,7 +27,8 @@ MU_FLOOR = 1e-8
 class MassLaw:
     """Base class of the mass laws ``mu(t)``."""
 
-    def _spec(self) -> tuple[str, tuple]:  # pragma: no cover - abstract
+    def _law(self) -> _core.MassLaw:  # pragma: no cover - abstract
+        """The law as the core evaluates it."""
         raise NotImplementedError
 
     def __call__(self, t: ArrayLike) -> NDArray[np.float64]:  # pragma: no cover - abstract
@@ -53,8 +55,8 @@ class Exponential(MassLaw):
         if finite_float(self.scale, "scale") <= 0.0:
             raise ValueError(f"`scale` must be positive, got {self.scale}")
 
-    def _spec(self) -> tuple[str, tuple]:
-        return "exponential", (float(self.rate), float(self.scale))
+    def _law(self) -> _core.MassLaw:
+        return _core.MassLaw.exponential(float(self.rate), float(self.scale))
 
     def __call__(self, t: ArrayLike) -> NDArray[np.float64]:
         return self.scale * np.exp(self.rate * np.asarray(t, dtype=float))
@@ -81,8 +83,8 @@ class Harmonic(MassLaw):
             )
         finite_float(self.frequency, "frequency")
 
-    def _spec(self) -> tuple[str, tuple]:
-        return "harmonic", (float(self.amplitude), float(self.frequency))
+    def _law(self) -> _core.MassLaw:
+        return _core.MassLaw.harmonic(float(self.amplitude), float(self.frequency))
 
     def __call__(self, t: ArrayLike) -> NDArray[np.float64]:
         return 1.0 + self.amplitude * np.sin(self.frequency * np.asarray(t, dtype=float))
@@ -126,8 +128,11 @@ class Tabulated(MassLaw):
         object.__setattr__(self, "t", ts)
         object.__setattr__(self, "mu", mu)
 
-    def _spec(self) -> tuple[str, tuple]:
-        return "table", (self.t, self.mu)
+    def _law(self) -> _core.MassLaw:
+        return _core.MassLaw.table(
+            np.ascontiguousarray(self.t, dtype=np.float64),
+            np.ascontiguousarray(self.mu, dtype=np.float64),
+        )
 
     def __call__(self, t: ArrayLike) -> NDArray[np.float64]:
         return np.interp(np.asarray(t, dtype=float), self.t, self.mu)

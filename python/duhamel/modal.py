@@ -80,6 +80,7 @@ class ModalBasis:
     #: :meth:`participation`); not saved by :meth:`save`.
     mass: Any = field(default=None, repr=False)
     labels: Any = field(default=None, repr=False)
+    stiffness: str = field(default="", repr=False)  # which, as summary() states ("": K)
 
     def participation(self, direction: ArrayLike | str, *, M: Any = None) -> Any:
         """Participation factors, effective modal masses and mass ratios in a direction.
@@ -117,7 +118,8 @@ class ModalBasis:
     def summary(self, directions: str | NDArray[np.float64] | list[Any] | None = None) -> str:
         """A table of the modes: ``omega``, period, damping ratio and, per direction
         (a label or a vector; default: ``"ux"``, ``"uy"``, ``"uz"`` where the labels have
-        them), the effective mass ratio and its cumulative value, in %.
+        them), the effective mass ratio and its cumulative value, in %; first, which
+        stiffness the modes are of, for a model with force elements (:meth:`System.modal`).
 
         Examples
         --------
@@ -137,7 +139,8 @@ class ModalBasis:
             (d if isinstance(d, str) else f"r{k}"): self.participation(d)
             for k, d in enumerate(directions)
         }
-        return summary_table(np.asarray(self.omega), np.asarray(self.zeta), parts)
+        table = summary_table(np.asarray(self.omega), np.asarray(self.zeta), parts)
+        return f"modes of {self.stiffness}\n{table}" if self.stiffness else table
 
     @property
     def n_modes(self) -> int:
@@ -375,8 +378,7 @@ def fix_signs(phi: NDArray[np.float64]) -> NDArray[np.float64]:
 def orthonormality_error(phi: NDArray[np.float64], M: Any) -> tuple[float, tuple[int, int]]:
     """``max |phi.T M phi - I|`` and the entry where it is reached."""
     gram = phi.T @ np.asarray(M @ phi)
-    gram[np.diag_indices_from(gram)] -= 1.0
-    gram = np.abs(gram)
+    gram = np.abs(gram - np.eye(gram.shape[0]))
     i, j = np.unravel_index(int(np.argmax(gram)), gram.shape)
     return float(gram[i, j]), (int(i), int(j))
 

@@ -318,6 +318,7 @@ def solve(
     x0: ArrayLike | None = None,
     v0: ArrayLike | None = None,
     t0: float = 0.0,
+    loads: list[Load] | None = None,
     save_every: int = 1,
     dofs: ArrayLike | None = None,
     threads: int | None = None,
@@ -353,6 +354,9 @@ def solve(
         Start time (default 0). Loads keep their absolute time axis, so a run can be
         continued from the last state of another: ``solve(..., t0=sol.t[-1], x0=sol.x[-1],
         v0=sol.v[-1])`` (all dofs kept) gives, to round-off, what one longer run gives.
+    loads : list of duhamel.loads loads, optional
+        The loads of this run instead of the system's (as :meth:`Prepared.run` takes them);
+        None uses the system's loads.
     save_every : int
         Keep every `save_every`-th step (the last step is always kept).
     dofs : sequence of int, optional
@@ -426,7 +430,7 @@ def solve(
     started = _time.perf_counter()
     prepared = prepare(system, integrator, dt=dt, threads=threads)
     spec = from_keywords(
-        t_end=t_end, t0=t0, x0=x0, v0=v0, loads=None, save_every=save_every, dofs=dofs,
+        t_end=t_end, t0=t0, x0=x0, v0=v0, loads=loads, save_every=save_every, dofs=dofs,
         store=store, checkpoint_every=checkpoint_every, progress=progress, events=events,
         t_eval=t_eval, dense=dense, energy=energy,
     )  # fmt: skip

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._engine.specs import speed_law
+from duhamel import _core
 from duhamel._engine.validate import finite_float
 
 __all__ = ["ConstantSpeed", "LinearRunUp", "SpeedLaw", "as_speed_law"]
@@ -32,7 +32,8 @@ __all__ = ["ConstantSpeed", "LinearRunUp", "SpeedLaw", "as_speed_law"]
 class SpeedLaw:
     """Base class of the speed laws."""
 
-    def _spec(self) -> tuple[str, tuple]:  # pragma: no cover - abstract
+    def _law(self) -> _core.SpeedLaw:  # pragma: no cover - abstract
+        """The law as the core evaluates it."""
         raise NotImplementedError
 
     def constant_value(self) -> float | None:  # pragma: no cover - abstract
@@ -41,12 +42,12 @@ class SpeedLaw:
 
     def _to_value(self) -> str:
         """The law as the core's data (JSON text): how an element's speed parameter holds it."""
-        return str(speed_law(self._spec())._to_value())
+        return self._law()._to_value()
 
     def _eval(self, t: ArrayLike, which: int) -> Any:
         ts = np.asarray(t, dtype=np.float64)
         flat = np.ascontiguousarray(np.atleast_1d(ts).ravel())
-        out = speed_law(self._spec()).evaluate(flat)[which].reshape(ts.shape)
+        out = self._law().evaluate(flat)[which].reshape(ts.shape)
         if not np.all(np.isfinite(out)):
             bad = float(np.atleast_1d(ts).ravel()[~np.isfinite(np.atleast_1d(out).ravel())][0])
             what = ("omega", "domega", "theta")[which]
@@ -91,8 +92,8 @@ class ConstantSpeed(SpeedLaw):
     def __repr__(self) -> str:
         return f"ConstantSpeed(omega={self.value!r})"
 
-    def _spec(self) -> tuple[str, tuple]:
-        return "constant", (self.value,)
+    def _law(self) -> _core.SpeedLaw:
+        return _core.SpeedLaw.constant(self.value)
 
     def constant_value(self) -> float | None:
         return self.value
@@ -127,8 +128,8 @@ class LinearRunUp(SpeedLaw):
         if self.t1 <= 0.0:
             raise ValueError(f"`t1` must be positive (the end of the run-up), got {self.t1!r}")
 
-    def _spec(self) -> tuple[str, tuple]:
-        return "runup", (self.omega0, self.omega1, self.t1)
+    def _law(self) -> _core.SpeedLaw:
+        return _core.SpeedLaw.run_up(self.omega0, self.omega1, self.t1)
 
     def constant_value(self) -> float | None:
         return self.omega0 if self.omega0 == self.omega1 else None

@@ -32,6 +32,7 @@ from duhamel.loads import Load
 from duhamel.mass import MassLaw, _Attached
 from duhamel.modal import ModalBasis
 from duhamel.modal import frozen as _frozen
+from duhamel.modal_elements import STIFFNESS_DEFAULT, modal_with_elements
 
 if TYPE_CHECKING:
     import scipy.sparse as sp
@@ -68,8 +69,7 @@ class System:
         part of the model it becomes the damping matrix ``C``).
 
     At most one of `C`, `zeta` and `rayleigh` may be given; with none the system is undamped.
-    Dense matrices are stored as read-only float64 arrays, sparse ones as float64 CSR
-    (never densified, except for a full dense eigensolve in :meth:`modal`).
+    Matrices are stored read-only (dense) or as float64 CSR (sparse, never densified).
 
     Attributes
     ----------
@@ -380,19 +380,26 @@ class System:
         return damping_summary(self, linear_parts)
 
     # ---------------------------------------------------------------- modal analysis
-    def modal(self, n_modes: int | None = None) -> ModalBasis:
+    def modal(
+        self, n_modes: int | None = None, *, elements: str | None = None,
+        displacement: float | None = None,
+    ) -> ModalBasis:  # fmt: skip
         """Undamped modal analysis ``K phi = omega^2 M phi`` (cached per `n_modes`).
 
         Parameters
         ----------
         n_modes : int, optional
-            Number of lowest modes to keep, in ``[1, n_dof]``; default all (error messages
-            call it `modes`, the integrator option that feeds it). Sparse systems
-            with ``n_modes < n_dof - 1`` use shift-invert Lanczos (``eigsh``) with a small
-            negative shift, so singular `K` (rigid-body modes) is fine; otherwise a dense
-            ``scipy.linalg.eigh`` is used. The undamped modes are kept: asking for more later
-            computes only the additional ones (on the same sparse factorisation), and a basis
-            given to :meth:`use_basis` is used instead of computing.
+            Number of lowest modes to keep, in ``[1, n_dof]``; default all (errors call it
+            `modes`). Sparse systems with ``n_modes < n_dof - 1`` use shift-invert Lanczos
+            (singular `K` is fine), others a dense ``eigh``. Asking for more later computes
+            only the additional ones; a basis given to :meth:`use_basis` is used instead.
+        elements : {"initial", "effective"}, optional
+            Default: the modes of ``K`` alone, as the integrators use them. ``"initial"``: of
+            ``K`` plus the force elements' tangent at ``x = 0`` (OpenSees' ``eigen`` of an
+            imported model); ``"effective"``: plus their ASCE 7 ``k_eff`` at `displacement`
+            (:mod:`duhamel.modal_elements`). The basis's ``summary()`` says which.
+        displacement : float, optional
+            The amplitude of ``elements="effective"``.
 
         Returns
         -------
@@ -407,25 +414,26 @@ class System:
 
         Examples
         --------
-        >>> import numpy as np
-        >>> from duhamel.system import System
-        >>> free_free = System(np.eye(2), [[1.0, -1.0], [-1.0, 1.0]], rayleigh=(0.5, 0.0))
-        >>> basis = free_free.modal()
+        >>> import numpy as np, duhamel
+        >>> basis = duhamel.System(np.eye(2), [[1, -1], [-1, 1]], rayleigh=(0.5, 0.0)).modal()
         >>> basis.omega2.tolist(), basis.c.tolist(), np.round(basis.zeta, 4).tolist()
         ([0.0, 2.0], [0.5, 0.5], [0.0, 0.1768])
         """
+        if elements is not None or displacement is not None:
+            return modal_with_elements(self, n_modes, elements or "", displacement)
         n = mode_count(n_modes, "modes", self.n_mass)  # user-facing name (integrators)
         cached = self._modal_cache.get(n)
         if cached is None:
             cached = self._modal_cache[n] = modal_basis(self, n)
-        if cached.labels is not self._labels or cached.mass is not self._M:
-            # a basis shared with a system of the same matrices: this one's labels and mass
-            cached = self._modal_cache[n] = replace(cached, labels=self._labels, mass=self._M)
+        said = STIFFNESS_DEFAULT if self.elements else ""  # what summary() states
+        other = cached.labels is not self._labels or cached.mass is not self._M
+        if other or cached.stiffness != said:  # a basis shared by the same matrices: ours
+            cached = replace(cached, labels=self._labels, mass=self._M, stiffness=said)
+            self._modal_cache[n] = cached
         return cached
 
     def _with_stiffness(self, K: Any) -> System:
-        """A copy of this model with the stiffness `K` (checked by the caller), its own modal
-        cache, the same mass and damping specification, and no loads or elements."""
+        """This model with the stiffness `K` (checked by the caller), no loads or elements."""
         other = object.__new__(System)
         other.__dict__.update(self.__dict__)
         other.__dict__.pop("_background", None)

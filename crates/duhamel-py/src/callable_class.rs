@@ -87,7 +87,8 @@ impl Callable {
         let (dofs, func) = if dofs.is_callable() && !r#fn.is_callable() {
             crate::arguments::warn(
                 py,
-                "Callable(fn, dofs) is deprecated: the dofs come first, Callable(dofs, fn)",
+                "Callable(fn, dofs) is deprecated: the dofs come first: \
+                 Callable(dofs, fn, jacobian=None, state=None)",
             )?;
             (r#fn, dofs)
         } else {

@@ -87,9 +87,30 @@ impl TimeFunction {
         Ok(PyArray1::from_vec(py, values))
     }
 
+    /// The function as JSON text (what a store keeps of a load's time function).
+    fn _to_value(&self) -> PyResult<String> {
+        to_json(&self.0)
+    }
+
+    /// The function of `_to_value`'s text, checked as when made.
+    #[staticmethod]
+    fn _from_value(text: &str) -> PyResult<Self> {
+        checked(from_json(text, "a load's time function")?)
+    }
+
     fn __repr__(&self) -> String {
         format!("{:?}", self.0)
     }
+}
+
+/// `value` as JSON text (floats written to round-trip exactly).
+pub(crate) fn to_json<T: serde::Serialize>(value: &T) -> PyResult<String> {
+    serde_json::to_string(value).map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
+/// The value of JSON text written by [`to_json`]; `what` names it in the error.
+pub(crate) fn from_json<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> PyResult<T> {
+    serde_json::from_str(text).map_err(|e| PyValueError::new_err(format!("{what}'s data: {e}")))
 }
 
 fn axis_of(axis: &str) -> PyResult<Axis> {

@@ -5,6 +5,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use crate::arrays::vec_of;
+use crate::loads::{from_json, to_json};
 
 /// A mass law `mu(t)` (checked against the run's span when the run starts).
 #[pyclass(frozen, name = "MassLaw", module = "duhamel._core")]
@@ -35,6 +36,17 @@ impl MassLaw {
             t: vec_of(t, "t")?,
             mu: vec_of(mu, "mu")?,
         }))
+    }
+
+    /// The law as JSON text (what a store keeps of a mass law).
+    fn _to_value(&self) -> PyResult<String> {
+        to_json(&self.0)
+    }
+
+    /// The law of `_to_value`'s text.
+    #[staticmethod]
+    fn _from_value(text: &str) -> PyResult<Self> {
+        Ok(MassLaw(from_json(text, "a mass law")?))
     }
 
     fn __repr__(&self) -> String {

@@ -243,8 +243,8 @@ pub(crate) fn build(kind: &str, params: &Bound<'_, PyDict>) -> PyResult<Box<dyn 
         "Pinching4" => pinching4(&mut p)?,
         other => {
             return Err(PyValueError::new_err(format!(
-                "`kind` must name a uniaxial material ({}, ModIMKPeakOriented, IMKBilin, \
-                 Hysteretic, Pinching4), got {other:?}",
+                "`kind` must be one of {}, ModIMKPeakOriented, IMKBilin, Hysteretic, \
+                 Pinching4, got {other:?}",
                 crate::materials::KINDS.join(", ")
             )))
         }

@@ -8,6 +8,7 @@ use pyo3::types::PyTuple;
 use crate::arrays::vec_of;
 use crate::error::core_err;
 use crate::guard::guarded;
+use crate::loads::{from_json, to_json};
 
 /// A checked speed law `omega(t)`.
 #[pyclass(frozen, name = "SpeedLaw", module = "duhamel._core")]
@@ -54,8 +55,13 @@ impl SpeedLaw {
 
     /// The law as JSON text (a number, or `{"omega0", "omega1", "t1"}`).
     fn _to_value(&self) -> PyResult<String> {
-        serde_json::to_string(&self.0)
-            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
+        to_json(&self.0)
+    }
+
+    /// The law of `_to_value`'s text, checked as when made.
+    #[staticmethod]
+    fn _from_value(text: &str) -> PyResult<Self> {
+        checked(from_json(text, "a speed law")?)
     }
 
     fn __repr__(&self) -> String {

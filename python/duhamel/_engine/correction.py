@@ -65,7 +65,7 @@ def force_directions(system: System) -> Array:
     for load in system.loads:
         if isinstance(load, Callable):
             continue
-        for pattern, _, _ in load._specs(system):
+        for pattern in (term.pattern for term in load._terms(system)):
             p = np.asarray(pattern, dtype=np.float64)
             if np.any(p):
                 cols.append(p / np.abs(p).max())

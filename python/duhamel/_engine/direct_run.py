@@ -14,11 +14,9 @@ from numpy.typing import NDArray
 from duhamel._engine import dispatch
 from duhamel._engine.direct import _check_central, physical_matrices
 from duhamel._engine.energy_run import direct_energy_model, energy_spec
-from duhamel._engine.plan import mass, modal_loads
+from duhamel._engine.plan import core_elements, mass, modal_loads
 from duhamel._engine.request import Request
 from duhamel._engine.run import ModalCallable, overflow_error, raise_failure, watch
-from duhamel._engine.specs import elements as core_elements
-from duhamel._engine.specs import elements as run_elements
 from duhamel._engine.structure import structure_model
 from duhamel._engine.validate import as_float_array, issparse
 from duhamel.integrators import CentralDifference, CubicHermite, DirectIntegrator
@@ -206,7 +204,7 @@ def prepare_direct(system: System, integrator: DirectIntegrator) -> DirectSetup:
             f"{int(system.massless_dofs[0])}); use Newmark(), HHT() or GeneralizedAlpha(), or "
             "duhamel.Semianalytic(), which condense them exactly"
         )
-    hysteretic = [e for e in run_elements(system.elements) if e._path_dependent]
+    hysteretic = [e for e in core_elements(system.elements) if e._path_dependent]
     if hysteretic and not getattr(integrator, "_commits_state", False):
         raise ValueError(
             f"`integrator`: {type(integrator).__name__} does not yet commit the internal "

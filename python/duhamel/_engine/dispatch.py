@@ -16,8 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel import _core
-from duhamel._engine.plan import Plan
-from duhamel._engine.specs import ScaledSpec, speed_law
+from duhamel._engine.plan import Plan, ScaledSpec
 from duhamel._engine.validate import issparse
 
 __all__ = [
@@ -187,7 +186,7 @@ def matrices(mats: dict[str, Any]) -> Any:
         _core.ScaledCoupling(
             None if ks is None else matrix(ks, sparse),
             None if cs is None else matrix(cs, sparse),
-            speed_law(law._spec()),
+            law._law(),
         )
         for ks, cs, law in mats["scaled"]
     ]

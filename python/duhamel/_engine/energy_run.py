@@ -101,7 +101,7 @@ def _bases(system: Any, loads: Any) -> tuple[list[int], list[NDArray], NDArray[n
     for item in loads:
         if isinstance(item, Callable):
             continue
-        count = len(item._specs(system))
+        count = len(item._terms(system))
         if isinstance(item, BaseAcceleration) and count == 1:
             base_loads.append(index)
             directions.append(np.asarray(item.direction_vector, dtype=np.float64))

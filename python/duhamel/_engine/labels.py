@@ -21,6 +21,8 @@ __all__ = ["Labels", "direction", "is_label", "resolve", "resolve_fields", "reso
 
 #: The element and load fields that hold one dof index (or None for the ground).
 DOF_FIELDS = ("i", "j", "dof", "dof_x", "dof_y")
+#: The load fields that hold a tuple of them.
+DOFS_FIELDS = ("dofs",)
 
 
 def _is_pair(value: Any) -> bool:
@@ -156,6 +158,10 @@ def resolve_fields(system: Any, obj: Any) -> Any:
         value = getattr(obj, f.name)
         if f.name in DOF_FIELDS and is_label(value):
             changes[f.name] = resolve(system, value, f.name)
+        elif f.name in DOFS_FIELDS and isinstance(value, tuple) and any(map(is_label, value)):
+            changes[f.name] = tuple(
+                resolve(system, v, f"{f.name}[{k}]") for k, v in enumerate(value)
+            )
         elif f.name == "direction_vector" and isinstance(value, str):
             changes[f.name] = direction(system, value)
     return dataclasses.replace(obj, **changes) if changes else obj

@@ -62,7 +62,8 @@ def locate(events: Sequence[Event], sol: Solution, dense: Dense) -> list[Occurre
         if not np.all(np.isfinite(g)):
             row = int(np.argmin(np.isfinite(g)))
             raise ValueError(
-                f"event {ev.name or k!r} is not finite at t = {t[row]:g} (value {g[row]})"
+                f"event {ev.name or k!r}: its function (`fn`, or a built-in's quantity) is "
+                f"not finite at t = {t[row]:g} (value {g[row]})"
             )
         name = ev.name if ev.name is not None else f"event{k}"
         for n in _crossings(g, ev.direction):

@@ -270,7 +270,7 @@ def load_terms(
         if isinstance(load, Callable):
             touches = True
             break
-        for pattern, _, _ in load._specs(system):
+        for pattern in (term.pattern for term in load._terms(system)):
             if np.any(np.asarray(pattern)[c.s]):
                 touches = True
     if not touches:

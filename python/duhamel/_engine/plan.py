@@ -13,25 +13,44 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel import _core
 from duhamel._engine.background import background
 from duhamel._engine.correction import enriched, resolved
 from duhamel._engine.coupled import CONDITION_LIMIT, FirstOrderModes, first_order_modes
 from duhamel._engine.relaxation import Massless, massless_coordinates
-from duhamel._engine.specs import ScaledSpec, load, speed_law
-from duhamel._engine.specs import elements as core_elements
-from duhamel._engine.specs import mass as core_mass
 from duhamel.couplings import LinearCoupling
 from duhamel.feedback import Feedback
 from duhamel.integrators import Semianalytic
 from duhamel.loads import Callable
 from duhamel.system import ModalBasis, System
 
-__all__ = ["Couplings", "Plan", "mass", "modal_loads", "plan"]
+__all__ = ["Couplings", "Plan", "ScaledSpec", "core_elements", "mass", "modal_loads", "plan"]
+
+
+class ScaledSpec(NamedTuple):
+    """A coupling scaled by a speed law: ``law(t) (K x + C x')`` (modal or physical)."""
+
+    k: NDArray[np.float64] | None
+    c: NDArray[np.float64] | None
+    law: _core.SpeedLaw
+
+
+def core_elements(items: Any) -> list[_core.Element]:
+    """The core elements a run evaluates: a model's elements (``duhamel.elements`` classes,
+    defined in the core), the remainder of one whose linear part went into the background
+    (its ``core`` element), couplings left out (a ``LinearCoupling`` is a coupling of the
+    background or a pseudo-force of its own, never an element)."""
+    out = []
+    for item in items:
+        core = getattr(item, "core", item)
+        if isinstance(core, _core.Element):
+            out.append(core)
+    return out
 
 
 @dataclass(frozen=True)
@@ -102,24 +121,28 @@ class Plan:
 
 def modal_loads(
     loads: Any, system: System, phi: NDArray[np.float64] | None
-) -> tuple[list[Any], list[Any]]:
+) -> tuple[list[_core.Load], list[Any]]:
     """The built-in `loads` projected on the modes `phi` (``_core.Load``s; `phi` None: their
     physical patterns, for the direct integrators), and the Python load functions."""
-    specs, fns = [], []
+    terms: list[_core.Load] = []
+    fns = []
     for item in loads:
         if isinstance(item, Callable):
             fns.append(item.fn)
             continue
-        for physical, kind, params in item._specs(system):
-            pattern = physical if phi is None else phi.T @ physical
-            if phi is not None and not np.all(np.isfinite(pattern)):
+        for term in item._terms(system):
+            if phi is None:
+                terms.append(term)
+                continue
+            pattern = phi.T @ term.pattern
+            if not np.all(np.isfinite(pattern)):
                 raise ValueError(
                     f"the load {type(item).__name__} projects on the modes beyond the double "
                     "range (a huge amplitude on tiny masses: the mass-normalised modes scale "
                     "as 1/sqrt(`M`)): check its amplitude, `M` and the model's units"
                 )
-            specs.append(load(pattern, kind, params))
-    return specs, fns
+            terms.append(_core.Load(np.ascontiguousarray(pattern, dtype=np.float64), term.time))
+    return terms, fns
 
 
 def _couplings(system: System, basis: ModalBasis) -> Couplings:
@@ -133,7 +156,7 @@ def _couplings(system: System, basis: ModalBasis) -> Couplings:
         factor = element.constant_factor()
         if factor is None:
             mk, mc = (None if m is None else np.ascontiguousarray(m) for m in (mk, mc))
-            scaled.append(ScaledSpec(mk, mc, speed_law(element.scale._spec())))
+            scaled.append(ScaledSpec(mk, mc, element.scale._law()))
             continue
         if mk is not None:
             mk = mk if factor == 1.0 else factor * mk
@@ -155,14 +178,14 @@ def _couplings(system: System, basis: ModalBasis) -> Couplings:
     return Couplings(as_c(k), as_c(c), scaled)
 
 
-def mass(system: System, integrator: Any) -> Any:
+def mass(system: System, integrator: Any) -> _core.Mass | None:
     """The system's mass law as the core takes it (``_core.Mass``, with the treatment of a
     `Semianalytic`), or None."""
     attached = system.mass_law
     if attached is None:
         return None
     treatment = getattr(integrator, "mass_treatment", "eliminate")
-    return core_mass(attached.law._spec(), attached.form, attached.scale_stiffness, treatment)
+    return _core.Mass(attached.law._law(), attached.form, bool(attached.scale_stiffness), treatment)
 
 
 def _check_massless_elements(system: System) -> None:

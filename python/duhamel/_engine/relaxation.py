@@ -108,7 +108,7 @@ def _directions(system: Any, loads: bool) -> tuple[list[Array], bool]:
         if isinstance(load, Callable):
             unknown = True
             continue
-        for pattern, _, _ in load._specs(system):
+        for pattern in (term.pattern for term in load._terms(system)):
             part = np.asarray(pattern, dtype=np.float64)[c.s]
             if np.any(part):
                 cols.append(part)
@@ -262,7 +262,7 @@ def check_loads(massless: Massless | None, system: Any, loads: list[Any]) -> Non
                 "the system's loads when it is prepared (its pattern decides which massless "
                 "directions are first-order coordinates)"
             )
-        for pattern, _, _ in load._specs(system):
+        for pattern in (term.pattern for term in load._terms(system)):
             f_s = np.asarray(pattern, dtype=np.float64)[c.s]
             if not np.any(f_s):
                 continue

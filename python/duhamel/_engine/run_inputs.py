@@ -23,7 +23,7 @@ def massless_store_check(system: System) -> None:
     from duhamel.loads import Callable
 
     touched = bool(system.elements) or any(
-        isinstance(load, Callable) or any(np.any(p[c.s]) for p, _, _ in load._specs(system))
+        isinstance(load, Callable) or any(np.any(term.pattern[c.s]) for term in load._terms(system))
         for load in system.loads
     )
     if touched:

@@ -28,6 +28,8 @@ __all__ = [
     "dof_index",
     "dof_list",
     "finite_float",
+    "flag",
+    "int_in_range",
     "issparse",
     "mode_count",
     "nonneg_float",
@@ -167,6 +169,27 @@ def positive_int(value: Any, name: str, maximum: int = MAX_COUNT) -> int:
     if out > maximum:
         raise ValueError(f"`{name}` must be at most {maximum:,}, got {out:,}")
     return out
+
+
+def int_in_range(value: Any, name: str, lo: int, hi: int, meaning: str) -> int:
+    """`value` (a Python or numpy integer; a float, even 2.0 or NaN, a string or a bool is a
+    TypeError) as an int in ``[lo, hi]``; `meaning` says what it counts."""
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
+    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"`{name}` must be an integer ({meaning}), got {value!r}")
+    out = int(value)
+    if not lo <= out <= hi:
+        raise ValueError(f"`{name}` must be {meaning}, {lo}..{hi}, got {out}")
+    return out
+
+
+def flag(value: Any, name: str) -> bool:
+    """`value` as a bool: anything but True or False (a string 'no', 0, None) is a TypeError
+    rather than taken by its truth value."""
+    if not isinstance(value, bool | np.bool_):
+        raise TypeError(f"`{name}` must be True or False, got {value!r}")
+    return bool(value)
 
 
 def _dof_range_error(name: str, n_dof: int, got: int) -> ValueError:

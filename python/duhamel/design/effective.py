@@ -71,7 +71,7 @@ def _local_axes(element: Any) -> int:
     bearing), or TypeError for an element without a hysteresis loop to measure."""
     from duhamel.elements import Element
 
-    if not isinstance(element, Element):
+    if not isinstance(element, Element) or not element._path_dependent:
         raise TypeError(
             "`element` must be an isolator or hysteretic device of duhamel.elements (a "
             f"friction pendulum, lead-rubber bearing, Bilinear, BoucWen ...), got "

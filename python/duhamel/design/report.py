@@ -143,7 +143,7 @@ def write_report(study: Any, path: Path, *, command: str | None = None) -> tuple
         command = " ".join(shlex.quote(a) for a in [Path(sys.executable).name, *sys.argv])
     sections = document(study, command)
     pngs = figures(study)
-    n_runs = study.ensemble.stats["runs"]
+    n_runs = study.ensemble.stats.runs
     title = f"ASCE 7-22 isolated-building study: {study.building.name}"
     meta = (
         f"duhamel {duhamel.__version__}; {len(study.suite)} records x "

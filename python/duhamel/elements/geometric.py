@@ -10,20 +10,22 @@ the exact modal step and the direct integrators all see it.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel._engine.spellings import old_spellings
 from duhamel._engine.validate import dof_index, finite_float
 
 __all__ = ["PDelta"]
 
 
+@old_spellings(positional=("i", "j", "P", "height"), defaults={"P": 0.0, "height": 1.0})
 @dataclass(frozen=True)
 class PDelta:
     """The P-Delta (leaning-column) stiffness of a storey: ``-P / height`` between dofs `i`
-    and `j` (or `i` and the ground when `j` is None).
+    and `j` (or `i` and the ground when `j` is None): ``PDelta(i, j=None, *, P, height)``.
 
     Parameters
     ----------
@@ -50,8 +52,9 @@ class PDelta:
 
     i: int
     j: int | None = None
-    P: float = 0.0
-    height: float = 1.0
+    _: KW_ONLY
+    P: float
+    height: float
 
     def __post_init__(self) -> None:
         finite_float(self.P, "P")

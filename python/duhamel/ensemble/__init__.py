@@ -31,11 +31,12 @@ from __future__ import annotations
 
 from duhamel.ensemble.bounds import property_bounds, solve_bounds
 from duhamel.ensemble.ida import IDA, fractiles, ida
-from duhamel.ensemble.run import Ensemble, solve_many
+from duhamel.ensemble.run import Ensemble, EnsembleStats, solve_many
 
 __all__ = [
     "IDA",
     "Ensemble",
+    "EnsembleStats",
     "fractiles",
     "ida",
     "property_bounds",

@@ -4,9 +4,12 @@ and both runs through :func:`~duhamel.ensemble.solve_many`."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
+import numpy as np
+
+from duhamel._engine.validate import finite_float
 from duhamel.ensemble.run import Ensemble, solve_many
 
 __all__ = ["BOUNDS", "property_bounds", "solve_bounds"]
@@ -26,11 +29,20 @@ def _factors(lambdas: Mapping[str, Any]) -> dict[str, tuple[float, float]]:
             "'FrictionPendulum.mu') to its (lower, upper) factors"
         )
     for key, pair in lambdas.items():
-        try:
-            low, high = (float(v) for v in pair)
-        except (TypeError, ValueError) as exc:
-            raise TypeError(f"`lambdas[{key!r}]` must be a (lower, upper) pair of factors") from exc
-        if not (0 < low <= high) or high == float("inf"):
+        if not isinstance(key, str):
+            raise TypeError(
+                f"`lambdas` keys must be property names ('mu', 'FrictionPendulum.mu'), got {key!r}"
+            )
+        if isinstance(pair, str | bytes) or not isinstance(pair, Sequence | np.ndarray):
+            raise TypeError(f"`lambdas[{key!r}]` must be a (lower, upper) pair of factors")
+        if len(pair) != 2:
+            raise TypeError(
+                f"`lambdas[{key!r}]` must be a (lower, upper) pair of factors, got "
+                f"{len(pair)} values"
+            )
+        # numbers only: a string '0.8' is refused as the other parameters refuse it
+        low, high = (finite_float(v, f"lambdas[{key!r}]") for v in pair)
+        if not (0 < low <= high):
             raise ValueError(
                 f"`lambdas[{key!r}]` must be finite factors with 0 < lower <= upper, got "
                 f"({low}, {high})"
@@ -109,6 +121,10 @@ def property_bounds(system: Any, lambdas: Mapping[str, Any]) -> dict[str, Any]:
     >>> round(models["lower"].elements[0].mu, 4), round(models["upper"].elements[0].mu, 4)
     (0.04, 0.065)
     """
+    from duhamel.system import System
+
+    if not isinstance(system, System):
+        raise TypeError(f"`system` must be a duhamel.System, got {type(system).__name__}")
     factors = _factors(lambdas)
     known = set()
     for element in system.elements:

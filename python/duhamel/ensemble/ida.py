@@ -9,10 +9,11 @@ from typing import Any
 
 import numpy as np
 
-from duhamel._engine.validate import as_float_array, positive_float
+from duhamel._engine.validate import as_float_array, finite_float, positive_float
 from duhamel.ensemble.run import solve_many
 from duhamel.errors import SolverError
 from duhamel.events import Event
+from duhamel.records.motion import GroundMotion
 from duhamel.results.solution import Solution
 
 __all__ = ["IDA", "fractiles", "ida"]
@@ -82,9 +83,17 @@ def fractiles(values: np.ndarray, q: Sequence[float]) -> np.ndarray:
     qs = np.atleast_1d(as_float_array(q, "q"))
     if qs.ndim != 1 or qs.size == 0 or np.any((qs < 0.0) | (qs > 100.0)):
         raise ValueError(f"`q` must be percentiles in [0, 100], got {q!r}")
-    x = np.sort(np.asarray(values, dtype=np.float64), axis=0)
+    x = as_float_array(values, "values", finite=False)
+    if x.ndim not in (1, 2) or x.shape[0] == 0:
+        raise ValueError(
+            "`values` must be the measures of at least one run along axis 0 (1-D, or 2-D: "
+            f"runs x intensities), got shape {x.shape}"
+        )
+    x = np.sort(x, axis=0)
     if np.isnan(x).any() or np.isneginf(x).any():
-        raise ValueError("the measures contain NaN or -inf: only collapses (+inf) are allowed")
+        raise ValueError(
+            "`values` (the measures) contain NaN or -inf: only collapses (+inf) are allowed"
+        )
     n = x.shape[0]
     h = (n - 1) * (qs / 100.0)  # numpy's virtual index, rounded as numpy rounds it
     lo = np.floor(h).astype(np.intp)
@@ -199,8 +208,16 @@ def ida(
     """
     from duhamel.integrators import Semianalytic
 
-    if intensity not in ("sa", "pga"):
+    if not isinstance(intensity, str) or intensity not in ("sa", "pga"):
         raise ValueError(f"`intensity` must be 'sa' or 'pga', got {intensity!r}")
+    for name, fn in (("system_factory", system_factory), ("measure", measure)):
+        if not callable(fn):
+            raise TypeError(f"`{name}` must be callable, got {type(fn).__name__}")
+    damping = finite_float(damping, "damping")
+    if not 0.0 <= damping < 1.0:
+        raise ValueError(f"`damping` must be a ratio in [0, 1), got {damping!r}")
+    if dt is not None:
+        dt = positive_float(dt, "dt")
     if intensity == "sa":
         if period is None:
             raise ValueError("`period` must be a positive period (s) for intensity='sa', got None")
@@ -208,9 +225,21 @@ def ida(
     ims = np.atleast_1d(as_float_array(intensities, "intensities"))
     if ims.ndim != 1 or ims.size == 0 or np.any(ims <= 0):
         raise ValueError("`intensities` must be a non-empty 1-D array of positive numbers")
-    motions = list(motions)
+    if isinstance(motions, GroundMotion):
+        motions = [motions]
+    try:
+        if isinstance(motions, str | bytes):
+            raise TypeError
+        motions = list(motions)
+    except TypeError:  # a number, a string, a 0-d array
+        raise TypeError(
+            f"`motions` must be a sequence of GroundMotion, got {type(motions).__name__}"
+        ) from None
     if not motions:
         raise ValueError("`motions` is empty")
+    for i, m in enumerate(motions):
+        if not isinstance(m, GroundMotion):
+            raise TypeError(f"`motions[{i}]` must be a GroundMotion, got {type(m).__name__}")
     integ = Semianalytic() if integrator is None else integrator
     unit = np.array([_scale_factor(m, intensity, period, damping) for m in motions])
     if np.any(unit <= 0):

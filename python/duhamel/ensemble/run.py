@@ -10,14 +10,16 @@ import threading
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._engine.validate import positive_int
+from duhamel._engine.request import steps
+from duhamel._engine.spellings import deprecated
+from duhamel._engine.validate import finite_float, positive_float, positive_int
 from duhamel.ensemble.statistics import statistics
 from duhamel.ensemble.zarr import ZarrWriter, stack
 from duhamel.errors import SolverError
@@ -25,10 +27,71 @@ from duhamel.modal import ModalBasis
 from duhamel.prepared import Prepared, prepare
 from duhamel.results.solution import Solution
 
-__all__ = ["Ensemble", "solve_many"]
+__all__ = ["Ensemble", "EnsembleStats", "solve_many"]
 
 #: The most in-process worker threads a study takes (as `threads` of duhamel.solve).
 MAX_WORKERS = 1024
+
+
+@dataclass(frozen=True)
+class EnsembleStats:
+    """How a study ran (:attr:`Ensemble.stats`).
+
+    Attributes
+    ----------
+    runs : int
+        The runs (cases) of the study.
+    wall_time : float
+        Seconds for the whole study.
+    workers : int
+        Worker threads in this process, or the Dask cluster's threads.
+    where : {"threads", "dask"}
+        Where the runs ran.
+    chunk_size : int
+        Runs per task (1 in threads).
+    basis : {"per run", "shared"}
+        Whether every run made its own modal basis or all shared one (``basis=``).
+
+    Examples
+    --------
+    >>> from duhamel.ensemble import EnsembleStats
+    >>> EnsembleStats(runs=4, wall_time=0.5, workers=2, where="threads", chunk_size=1,
+    ...               basis="per run").runs
+    4
+    """
+
+    runs: int
+    wall_time: float
+    workers: int
+    where: str
+    chunk_size: int
+    basis: str
+
+    def __getitem__(self, key: str) -> Any:
+        """Deprecated: the dict of the previous release (``stats["runs"]``)."""
+        if key not in self.keys():
+            raise KeyError(key)
+        deprecated(f"`Ensemble.stats[{key!r}]` is deprecated, use `Ensemble.stats.{key}`")
+        return getattr(self, key)
+
+    def get(self, key: str, default: Any = None) -> Any:
+        """Deprecated: the dict of the previous release."""
+        if key not in self.keys():
+            return default
+        deprecated(f"`Ensemble.stats.get({key!r})` is deprecated, use `Ensemble.stats.{key}`")
+        return getattr(self, key)
+
+    def keys(self) -> list[str]:
+        """The attributes' names (as the previous release's dict had its keys)."""
+        return [f.name for f in fields(self)]
+
+    def items(self) -> list[tuple[str, Any]]:
+        """Deprecated: the dict of the previous release; use :func:`dataclasses.asdict`."""
+        deprecated("`Ensemble.stats.items()` is deprecated, use dataclasses.asdict(stats)")
+        return [(k, getattr(self, k)) for k in self.keys()]
+
+    def __contains__(self, key: object) -> bool:
+        return key in self.keys()
 
 
 @dataclass(frozen=True, eq=False)
@@ -42,16 +105,17 @@ class Ensemble:
     results : list
         Per run, the Solution or what `reduce` returned; empty when the results were written
         to a zarr store (`store`).
-    stats : dict
-        ``runs``, ``wall_time`` (s), ``workers``, ``where`` (``'threads'`` or ``'dask'``),
-        ``chunk_size``, ``basis`` (``'per run'`` or ``'shared'``).
+    stats : EnsembleStats or None
+        How the study ran: ``runs``, ``wall_time`` (s), ``workers``, ``where``
+        (``'threads'`` or ``'dask'``), ``chunk_size``, ``basis`` (``'per run'`` or
+        ``'shared'``); None for an Ensemble made by hand.
     store : pathlib.Path or None
         The zarr store the results were written to (``solve_many(to_zarr=...)``).
     """
 
     params: list[Any]
     results: list[Any]
-    stats: dict[str, Any] = field(default_factory=dict)
+    stats: EnsembleStats | None = None
     store: Path | None = None
 
     def __len__(self) -> int:
@@ -153,8 +217,20 @@ _KEPT = 8
 _LOCK = threading.Lock()
 
 
+def _check_model(made: Any) -> None:
+    """TypeError unless `made` (what `make_system` returned) is a System or a Prepared."""
+    from duhamel.system import System
+
+    if not isinstance(made, System | Prepared):
+        raise TypeError(
+            "`make_system` must return a duhamel.System, a (System, options) pair or a "
+            f"duhamel.Prepared, got {type(made).__name__}"
+        )
+
+
 def _prepared(system: Any, integrator: Any, dt: float, basis: ModalBasis | None) -> Prepared:
     """The Prepared of `system` (one thread per run), made once per unchanged system."""
+    _check_model(system)
     if isinstance(system, Prepared):
         if system.dt != dt or system.integrator != integrator:
             raise ValueError(
@@ -180,7 +256,7 @@ def _shared_basis(basis: Any, make_system: Callable, ps: list, integrator: Any) 
     """The ModalBasis every run uses, or None (each run computes its own)."""
     if basis is None or isinstance(basis, ModalBasis):
         return basis
-    if basis != "first":
+    if not isinstance(basis, str) or basis != "first":
         raise ValueError(f"`basis` must be None, 'first' or a duhamel.ModalBasis, got {basis!r}")
     if not ps:
         return None
@@ -189,6 +265,7 @@ def _shared_basis(basis: Any, make_system: Callable, ps: list, integrator: Any) 
         made = make_system(ps[0])
         if isinstance(made, tuple) and len(made) == 2 and isinstance(made[1], dict):
             made = made[0]  # (system, per-run options)
+        _check_model(made)
         if isinstance(made, Prepared):
             made = made.system
         return made.modal(modes)
@@ -329,10 +406,10 @@ def solve_many(
     >>> from duhamel.ensemble import solve_many
     >>> def loaded(amplitude):
     ...     s = duhamel.System(np.eye(2), [[2.0, -1.0], [-1.0, 1.0]], zeta=0.02)
-    ...     return s.add_load(duhamel.loads.Harmonic(1, amplitude, omega=1.0))
+    ...     return s.add_load(duhamel.loads.Harmonic(1, amplitude=amplitude, omega=1.0))
     >>> ens = solve_many(loaded, [1.0, 2.0], duhamel.Semianalytic(), t_end=20.0, dt=0.05,
     ...                  basis="first", reduce=lambda sol: float(np.abs(sol.x).max()))
-    >>> ens.stats["basis"], round(ens.results[1] / ens.results[0], 12)
+    >>> ens.stats.basis, round(ens.results[1] / ens.results[0], 12)
     ('shared', 2.0)
     """
     if not callable(make_system):
@@ -345,7 +422,7 @@ def solve_many(
         raise TypeError(
             f"`progress` must be a bool or a function (done, n_runs), got {type(progress).__name__}"
         )
-    if on_error not in ("raise", "keep"):
+    if not isinstance(on_error, str) or on_error not in ("raise", "keep"):
         raise ValueError(f"`on_error` must be 'raise' or 'keep', got {on_error!r}")
     if to_zarr is not None and on_error == "keep":
         raise ValueError("`to_zarr` stores complete studies: use on_error='raise' with it")
@@ -353,7 +430,21 @@ def solve_many(
         chunk_size = positive_int(chunk_size, "chunk_size")
     if workers is not None:
         workers = positive_int(workers, "workers", MAX_WORKERS)
-    ps = list(params)
+    # the study's grid, checked as solve checks it, also when there are no cases
+    steps(
+        finite_float(t_end, "t_end"),
+        positive_float(dt, "dt"),
+        finite_float(solve_options.get("t0", 0.0), "t0"),
+    )
+    try:
+        if isinstance(params, str | bytes):
+            raise TypeError
+        ps = list(params)
+    except TypeError:  # None, a number, a 0-d array
+        raise TypeError(
+            "`params` must be an iterable of the cases' parameters (a list: records, scale "
+            f"factors, dicts ...), got {type(params).__name__}"
+        ) from None
     options = {"t_end": t_end, "dt": dt, **solve_options}
     job = _Job(make_system, integrator, reduce, options, on_error == "keep")
     started = time.perf_counter()
@@ -362,12 +453,12 @@ def solve_many(
         n = (os.cpu_count() or 1) if workers is None else workers
         size = int(chunk_size) if chunk_size else 64
         stream = _threads(job, ps, n, shared)
-        stats = {"where": "threads", "workers": n, "chunk_size": 1}
+        where, workers, chunk = "threads", n, 1
     else:
         threads = sum(client.nthreads().values()) or 1
         size = int(chunk_size) if chunk_size else max(1, math.ceil(len(ps) / (4 * threads)))
         stream = _dask(job, ps, client, size, shared)
-        stats = {"where": "dask", "workers": threads, "chunk_size": size}
+        where, workers, chunk = "dask", threads, size
     stream = _counted(stream, len(ps), progress)
     results: list[Any] = []
     store = None
@@ -384,9 +475,12 @@ def solve_many(
         if block or not ps:
             writer.write(ps[writer.written :], block)  # an empty study: an empty dataset
         store = writer.path
-    stats.update(
+    stats = EnsembleStats(
         runs=len(ps),
         wall_time=time.perf_counter() - started,
+        workers=workers,
+        where=where,
+        chunk_size=chunk,
         basis="per run" if shared is None else "shared",
     )
     return Ensemble(ps, results, stats, store)

@@ -27,6 +27,13 @@ def _per_record(results: Sequence[Any], quantities: Sequence[str] | None) -> dic
         )
     if not results:
         raise ValueError("statistics need at least one record")
+    if quantities is not None:
+        if isinstance(quantities, str) or not isinstance(quantities, Sequence):
+            raise TypeError(
+                f"`quantities` must be a list of names, got {type(quantities).__name__}"
+            )
+        if not all(isinstance(q, str) for q in quantities):
+            raise TypeError(f"`quantities` must be a list of names (strings), got {quantities!r}")
     if isinstance(results[0], Solution):
         names = list(quantities or SOLUTION_QUANTITIES)
         bad = [q for q in names if q not in SOLUTION_QUANTITIES]

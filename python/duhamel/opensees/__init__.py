@@ -126,6 +126,41 @@ def _rayleigh_check(damped: dict[int, Any], rayleigh: Any) -> list[str]:
     return notes
 
 
+def _skew(K: NDArray[np.float64], labels: list, notes: list[str]) -> NDArray | None:
+    """The skew-symmetric part of OpenSees' tangent `K` when it is not symmetric to
+    round-off (an elastomeric bearing's P-Delta moments: ``0.5 N`` times the shear
+    displacement on its rotations, without the symmetric counterpart), else None. The
+    system keeps it exactly, as a :class:`~duhamel.couplings.LinearCoupling`."""
+    skew = 0.5 * (K - K.T)
+    if not np.abs(skew).max(initial=0.0) > 1e-10 * np.abs(K).max(initial=0.0):
+        return None
+    a, b = np.unravel_index(int(np.argmax(np.abs(skew))), skew.shape)
+    notes.append(
+        f"OpenSees' tangent stiffness is not symmetric (largest between {labels[a]} and "
+        f"{labels[b]}: a bearing's P-Delta moments): its skew part is kept as a "
+        "linear Callable element (system.elements), K holds the symmetric part"
+    )
+    return skew
+
+
+def _skew_element(skew: NDArray[np.float64]) -> Element:
+    """The force ``skew @ x`` on the dofs it couples, as a linear element (the modal route
+    keeps elements at massless dofs exactly, where the bearings' rotations are)."""
+    from duhamel.elements import Callable
+
+    dofs = np.flatnonzero(np.any(skew != 0.0, axis=0) | np.any(skew != 0.0, axis=1))
+    local = np.ascontiguousarray(skew[np.ix_(dofs, dofs)])
+    zero = np.zeros_like(local)
+
+    def force(x: NDArray, v: NDArray, t: float) -> NDArray:
+        return local @ x
+
+    def jacobian(x: NDArray, v: NDArray, t: float) -> tuple[NDArray, NDArray]:
+        return local, zero
+
+    return Callable([int(d) for d in dofs], force, jacobian)
+
+
 def from_opensees(
     *,
     nonlinear: Literal["translate", "linearize"] = "translate",
@@ -180,7 +215,11 @@ def from_opensees(
     ImportError
         If openseespy cannot be loaded.
     ValueError
-        If the session holds no model, or an element cannot be translated.
+        If the session holds no model, an element cannot be translated, a node's
+        coordinates are not finite, every dof is fixed (or tied to another node), or the
+        multi-point constraints tie a dof back to itself (``equalDOF`` 2 -> 3 and 3 -> 2):
+        refused before OpenSees analyses the model, whose numbering of the last two ends the
+        Python process.
 
     Examples
     --------
@@ -194,7 +233,7 @@ def from_opensees(
     >>> system.dof_labels, system.dof(2, "ux")  # doctest: +SKIP
     (('2:ux',), 0)
     """
-    from duhamel.opensees._read import dof_map, matrices, printout
+    from duhamel.opensees._read import check_model, dof_map, matrices, printout
     from duhamel.opensees._translate import translate
 
     if nonlinear not in ("translate", "linearize"):
@@ -203,6 +242,7 @@ def from_opensees(
     if not list(ops.getNodeTags()):
         raise ValueError("the openseespy session holds no model (no nodes)")
     pr = printout(ops)
+    check_model(ops, pr.constraints)  # before OpenSees numbers it: what ends the process
     M, C, K, equations = matrices(ops)
     dmap = dof_map(ops, M.shape[0], equations, pr.constraints)
     tr = translate(ops, pr, dmap, nonlinear)
@@ -214,10 +254,20 @@ def from_opensees(
         # OpenSees in different ways (a triple pendulum's series stiffness): exactly zero
         left[np.abs(left) <= 1e-12 * np.abs(k)] = 0.0
         K[np.ix_(dofs, dofs)] = left
+    from duhamel.opensees._bearings import pdelta_elements
+
+    followers = pdelta_elements(K, tr.pdelta, tr.notes)
+    skew = _skew(K, dmap.labels, tr.notes)
+    if skew is not None:
+        K = K - skew
     system = System(M, K, C=C) if np.any(C) else System(M, K)
     system.label_dofs(dmap.labels)
     absent: dict[Hashable, str] = dict(dmap.absent)
     system._label_map = Labels(dmap.labels, dmap.aliases, absent)
+    for element in followers:
+        system.add(element)
+    if skew is not None:
+        system.add(_skew_element(skew))
     for made in tr.elements.values():
         for element in made:
             system.add(element)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import itertools
 import json
 import os
 import re
@@ -19,7 +20,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["DofMap", "Printout", "components", "dof_map", "matrices", "printout"]
+__all__ = ["DofMap", "Printout", "check_model", "components", "dof_map", "matrices", "printout"]
 
 _COMPONENTS = {
     (1, 1): ("ux",),
@@ -85,7 +86,9 @@ def matrices(ops: Any) -> tuple[NDArray, NDArray, NDArray, dict[int, list[int]]]
         a = np.array(ops.printA("-ret"), dtype=np.float64)
         if a.size != n * n:
             raise RuntimeError(f"OpenSees returned {a.size} matrix entries for {n} equations")
-        out.append(a.reshape(n, n))
+        # FullGeneral holds its matrix column by column (LAPACK's order): printA returns
+        # it so (an element's tangent that is not symmetric shows it)
+        out.append(a.reshape(n, n, order="F"))
     eqs = {int(v): [int(e) for e in ops.nodeDOFs(int(v))] for v in ops.getNodeTags()}
     ops.wipeAnalysis()
     return out[0], out[1], out[2], eqs
@@ -302,3 +305,107 @@ def dof_map(
     if missing:
         raise RuntimeError(f"OpenSees equations {missing[:5]} belong to no node dof")
     return DofMap([lab for lab in labels if lab is not None], aliases, absent, rows)
+
+
+def _ties(ops: Any, printed: list[Constraint]) -> list[tuple[int, int, list[int], list[int]]]:
+    """The multi-point constraints as ``(cnode, rnode, cdofs, rdofs)`` (dofs from 0), read
+    through openseespy's queries (``getRetainedNodes``, ``getConstrainedNodes``,
+    ``getConstrainedDOFs``, ``getRetainedDOFs``); from the printout where those are missing
+    (an older openseespy)."""
+    if not all(hasattr(ops, q) for q in ("getRetainedNodes", "getConstrainedNodes")):
+        return [(c.cnode, c.rnode, c.cdofs, c.rdofs) for c in printed]
+    out = []
+    for r in ops.getRetainedNodes():
+        for c in ops.getConstrainedNodes(int(r)):
+            cdofs = [int(d) - 1 for d in ops.getConstrainedDOFs(int(c), int(r))]
+            rdofs = [int(d) - 1 for d in ops.getRetainedDOFs(int(r), int(c))]
+            out.append((int(c), int(r), cdofs, rdofs))
+    return out
+
+
+def _loop(edges: dict[tuple[int, int], set[tuple[int, int]]]) -> list[tuple[int, int]] | None:
+    """A cycle of the directed graph `edges` (its nodes in order, the first repeated at the
+    end), or None."""
+    state: dict[tuple[int, int], int] = {}  # 1: on the current path, 2: done
+    for start in sorted(edges):
+        if start in state:
+            continue
+        path, stack = [start], [iter(sorted(edges.get(start, ())))]
+        state[start] = 1
+        while stack:
+            nxt = next(stack[-1], None)
+            if nxt is None:
+                state[path.pop()] = 2
+                stack.pop()
+            elif state.get(nxt) == 1:
+                return [*path[path.index(nxt) :], nxt]
+            elif nxt not in state:
+                state[nxt] = 1
+                path.append(nxt)
+                stack.append(iter(sorted(edges.get(nxt, ()))))
+    return None
+
+
+def check_model(ops: Any, printed: list[Constraint]) -> None:
+    """Refuses, naming the nodes or the constraint, what OpenSees' numbering of the model
+    (its ``analyze``) ends the Python process on (exit status 255, no message): a model
+    whose every dof is fixed or tied to another node, and multi-point constraints that tie
+    a dof back to itself (``equalDOF`` 2 -> 3 and 3 -> 2). Also a node coordinate that is
+    not finite (the matrices would be NaN). Read through openseespy's query functions,
+    before any analysis runs; `printed` (the printout's constraints, with their matrices)
+    says which retained dofs each constrained dof depends on."""
+    nodes = sorted(int(v) for v in ops.getNodeTags())
+    for node in nodes:
+        xyz = [float(c) for c in np.atleast_1d(ops.nodeCoord(node))]
+        if not all(np.isfinite(xyz)):
+            raise ValueError(
+                f"node {node} has the coordinates {xyz}: OpenSees node coordinates must be "
+                "finite (check the model's `node` commands)"
+            )
+    ndm = int(np.atleast_1d(ops.getNDM())[0])
+    ndf = {node: int(np.atleast_1d(ops.getNDF(node))[0]) for node in nodes}
+    fixed = {int(v): {int(d) - 1 for d in ops.getFixedDOFs(int(v))} for v in ops.getFixedNodes()}
+    ties = _ties(ops, printed)
+    edges: dict[tuple[int, int], set[tuple[int, int]]] = {}
+    for cnode, rnode, cdofs, rdofs in ties:
+        matrix = next(
+            (p.matrix for p in printed if (p.cnode, p.rnode, p.cdofs, p.rdofs) ==
+             (cnode, rnode, cdofs, rdofs)),
+            None,
+        )  # fmt: skip
+        for a, cd in enumerate(cdofs):
+            for b, rd in enumerate(rdofs):
+                if matrix is None or matrix.shape != (len(cdofs), len(rdofs)) or matrix[a, b]:
+                    edges.setdefault((cnode, cd), set()).add((rnode, rd))
+    cycle = _loop(edges)
+    if cycle is not None:
+
+        def name(key: tuple[int, int]) -> str:
+            node, d = key
+            comps = components(ndm, ndf.get(node, d + 1))
+            return f"node {node} {comps[d] if d < len(comps) else f'dof{d + 1}'}"
+
+        steps = list(itertools.pairwise(cycle))
+        chain = ", ".join(f"{name(c)} is tied to {name(r)}" for c, r in steps)
+        pairs = " and ".join(f"{r} -> {c}" for (c, _), (r, _) in steps)
+        first = steps[0]
+        raise ValueError(
+            f"the multi-point constraints form a loop: {chain} (the constraints of retained "
+            f"node -> constrained node {pairs}, e.g. `equalDOF({first[1][0]}, {first[0][0]}, "
+            "...)`); OpenSees cannot number such a model (its analysis ends the Python "
+            "process): remove one of them"
+        )
+    tied = {(c, d) for c, _, cdofs, _ in ties for d in cdofs}
+    free = [
+        (node, d)
+        for node in nodes
+        for d in range(ndf[node])
+        if d not in fixed.get(node, set()) and (node, d) not in tied
+    ]
+    if not free:
+        shown = ", ".join(map(str, nodes[:10])) + (", ..." if len(nodes) > 10 else "")
+        raise ValueError(
+            f"every dof of the model's nodes ({shown}) is fixed or tied to another node by a "
+            "constraint: the model has no equation to solve, and OpenSees' analysis of it "
+            "ends the process; free a dof (remove a `fix` or a constraint)"
+        )

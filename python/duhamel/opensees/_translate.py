@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -17,10 +16,19 @@ from duhamel.elements import (
     Bilinear,
     BoucWen,
     Element,
-    FrictionPendulum,
     Gap,
-    TripleFrictionPendulum,
     ViscousDamper,
+)
+from duhamel.opensees._bearings import BEARINGS, bearing, pdelta_info
+from duhamel.opensees._parts import (
+    Damped,
+    Made,
+    Refused,
+    Translation,
+    Untranslatable,
+    _eq,
+    _pair,
+    _resp,
 )
 from duhamel.opensees._read import DofMap, Printout, components
 
@@ -37,10 +45,6 @@ LINEAR = {
 }
 #: Coordinate transformations that make a linear element nonlinear (large displacements).
 NONLINEAR_GEOMETRY = ("Corot",)
-#: The flat and single friction pendulum bearings.
-SLIDERS = {"FlatSliderSimple2d", "FlatSliderSimple3d", "SingleFPSimple2d", "SingleFPSimple3d"}
-#: A friction pendulum of this radius is flat (its gravity stiffness W/R vanishes).
-FLAT_RADIUS = 1e30
 #: ElasticPPGap with a yield force at least this many times E |gap| never yields.
 NO_YIELD = 1e12
 
@@ -56,58 +60,6 @@ _ZL_DIRS = {
         "Mz": (2, True),
     },
 }
-
-
-class Untranslatable(Exception):
-    """An element (or one of its materials) without a duhamel counterpart."""
-
-
-@dataclass
-class Damped:
-    """A translated element that OpenSees damps with its Rayleigh factors (``zeroLength``
-    ``-doRayleigh 1``, a bearing's ``-doRayleigh``): its type, its materials (or `None` for a
-    bearing) and, per translated direction, its tangent at import and the damping OpenSees
-    gives it there (``nan`` where it cannot be read)."""
-
-    kind: str
-    what: str
-    directions: list[tuple[float, float]]
-
-
-@dataclass
-class Translation:
-    """The translated elements, by OpenSees tag; the stiffness to take out of K (each
-    ``(dofs, k)``); the elements kept linear; notes for the user; the translated elements
-    OpenSees damps with its Rayleigh factors, by tag."""
-
-    elements: dict[int, list[Element]] = field(default_factory=dict)
-    removed: list[tuple[tuple[int, ...], NDArray[np.float64]]] = field(default_factory=list)
-    linearized: dict[int, str] = field(default_factory=dict)
-    notes: list[str] = field(default_factory=list)
-    damped: dict[int, Damped] = field(default_factory=dict)
-
-
-def _eq(dmap: DofMap, node: int, comp: str, index: dict) -> int | None:
-    """The equation of a node dof, None when it is fixed; Untranslatable when it is tied to
-    others by a constraint that is not one to one."""
-    key = (node, comp)
-    if key in index:
-        return index[key]
-    why = dmap.absent.get(key, f"node {node} has no dof {comp}")
-    if "fixed" in why:
-        return None
-    raise Untranslatable(why)
-
-
-def _pair(i: int | None, j: int | None, k: float) -> tuple[tuple[int, ...], NDArray]:
-    dofs = tuple(d for d in (i, j) if d is not None)
-    if len(dofs) == 1:
-        return dofs, np.array([[k]])
-    return dofs, np.array([[k, -k], [-k, k]])
-
-
-def _resp(ops: Any, tag: int, *args: str) -> list[float]:
-    return [float(v) for v in np.atleast_1d(ops.eleResponse(tag, *args))]
 
 
 def _material(mat: dict[str, Any], i: int | None, j: int | None, sign: float) -> Element | None:
@@ -177,13 +129,6 @@ def _material(mat: dict[str, Any], i: int | None, j: int | None, sign: float) ->
     raise Untranslatable(f"material {mat.get('name')} of type {kind}")
 
 
-#: What translating one element gives: its duhamel elements, the stiffness to take out of K,
-#: notes, and its Rayleigh damping when OpenSees gives it one (None: none).
-Made = tuple[
-    list[Element], list[tuple[tuple[int, ...], NDArray[np.float64]]], list[str], Damped | None
-]
-
-
 def _rayleigh_forces(ops: Any, tag: int, node: int, response: str) -> NDArray[np.float64]:
     """The element's Rayleigh damping force (`response`: its name) under a unit trial
     velocity of every dof of its node `node` (the other node at rest): the damping OpenSees
@@ -201,10 +146,64 @@ def _rayleigh_forces(ops: Any, tag: int, node: int, response: str) -> NDArray[np
                 ops.setNodeVel(n, d + 1, v)
 
 
+#: Translated elements that take a loaded state at import: those whose definition has an
+#: initial deformation and force (the material's strain and stress at import).
+CARRIED = {"Bilinear"}
+
+
+def _loaded(
+    element: Element, mat: dict[str, Any], where: tuple[int | None, int | None, float],
+    strain: float, stress: float,
+) -> Element:  # fmt: skip
+    """`element` (the translation of `mat` between the dofs ``where = (i, j, sign)``) in the
+    material's state at import: its `strain` and `stress` (e.g. after a gravity analysis)
+    as the element's initial deformation and force. A state that cannot be carried over is
+    refused naming the material."""
+    if stress == 0.0 and strain == 0.0:
+        return element  # undeformed
+    name = f"{mat.get('type')} material {mat.get('name')}"
+    if isinstance(element, Gap) and stress == 0.0:
+        # open at import: the distance left to contact (a compression gap closes as the
+        # strain falls to -|gap|, a tension gap as it rises to gap)
+        gap = float(mat.get("gap", 0.0))
+        closes_down = mat.get("type") == "ENTMaterial" or gap <= 0.0
+        left = abs(gap) + (strain if closes_down else -strain)
+        if not left >= 0.0:
+            raise Untranslatable(f"{name} is in contact at import without force")
+        return element.replace(gap=left)  # type: ignore[attr-defined, no-any-return]
+    if type(element).__name__ not in CARRIED:
+        raise Untranslatable(
+            f"{name} is loaded at import (strain {strain:.3g}, stress {stress:.3g}): its "
+            f"state cannot be carried over to duhamel's {type(element).__name__}, which "
+            "starts undeformed"
+        )
+    i, j, sign = where
+    # duhamel's deformation x_e.i - x_e.j is OpenSees' strain, or its opposite where the
+    # moving node is the element's i (see _material)
+    a = j if sign > 0 else i
+    flip = 1.0 if a is not None else -1.0
+    try:
+        return element.replace(  # type: ignore[attr-defined, no-any-return]
+            initial_deformation=flip * strain, initial_force=flip * stress
+        )
+    except ValueError as exc:  # a state the duhamel element cannot reach
+        raise Untranslatable(f"{name}: its state at import {exc}") from None
+
+
 def _zero_length(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx: dict) -> Made:
+    """A ``zeroLength`` or ``twoNodeLink`` element: a duhamel element per nonlinear material
+    along its direction (a global axis), the linear ones left in K. A ``twoNodeLink`` of
+    length ``L > 0`` deforms in shear with its nodes' rotations (its shear distance): its
+    shear directions are translated only between coincident nodes."""
     ndm = int(np.atleast_1d(ops.getNDM())[0])
     ni, nj = (int(v) for v in ele["nodes"])
     trans = np.array(ele["transMatrix"], dtype=np.float64)
+    if not np.all(np.isfinite(trans)):
+        raise Untranslatable(
+            "local axes undefined (NaN in OpenSees' transformation: a link between coincident "
+            "nodes needs '-orient')"
+        )
+    length = float(np.linalg.norm(np.subtract(ops.nodeCoord(nj), ops.nodeCoord(ni))))
     comps = components(ndm, len(ops.nodeDisp(nj)))
     made: list[Element] = []
     removed = []
@@ -230,13 +229,14 @@ def _zero_length(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx:
         element = _material(mat, i, j, float(np.sign(row[a])))
         if element is None:
             continue
+        if length > 0.0 and dname in ("Vy", "Vz"):
+            raise Untranslatable(
+                f"{mat.get('type')} material {mtag} in shear ({dname}) over the length "
+                f"{length:g}: its deformation involves the nodes' rotations (shear distance)"
+            )
         stress = _resp(ops, tag, "material", str(k + 1), "stress")[0]
         strain = _resp(ops, tag, "material", str(k + 1), "strain")[0]
-        if stress != 0.0 or (strain != 0.0 and not isinstance(element, Gap)):
-            raise Untranslatable(
-                f"material {mtag} is loaded at import (strain {strain:.3g}, stress "
-                f"{stress:.3g}); translated elements start undeformed"
-            )
+        element = _loaded(element, mat, (i, j, float(np.sign(row[a]))), strain, stress)
         tangent = _resp(ops, tag, "material", str(k + 1), "tangent")[0]
         if tangent != 0.0:
             removed.append(_pair(i, j, tangent))
@@ -244,111 +244,37 @@ def _zero_length(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx:
         if rayleigh is None:  # zero unless the element was defined with -doRayleigh 1
             rayleigh = _rayleigh_forces(ops, tag, nj, "rayleighForces")
         half = rayleigh.size // 2
-        damping.append((tangent, abs(float(rayleigh[half + comps.index(comp)]))))
+        if rayleigh.size:
+            damping.append((tangent, abs(float(rayleigh[half + comps.index(comp)]))))
+        else:  # a twoNodeLink returns no Rayleigh forces: only whether it has any
+            damping.append((tangent, math.nan if int(float(ele["addRayleigh"])) else 0.0))
     damped = None
     if made and any(c != 0.0 for _, c in damping):
         what = ", ".join(
             f"{pr.materials[int(m)].get('type')} material {m}" for m in ele["materials"]
         )
-        damped = Damped("ZeroLength", what, damping)
+        damped = Damped(str(ops.eleType(tag)), what, damping)
     return made, removed, [], damped
 
 
-def _slider(ops: Any, tag: int, ele: dict, dmap: DofMap, idx: dict) -> Made:
-    ndm = int(np.atleast_1d(ops.getNDM())[0])
-    ni, nj = (int(v) for v in ops.eleNodes(tag))
-    k0 = float(ele.get("kInit", math.nan))
-    if not k0 > 0:
-        raise Untranslatable("bearing without a printed kInit")
-    mu = _resp(ops, tag, "frictionModel", "frictionCoeff")[0]
-    weight = _resp(ops, tag, "frictionModel", "normalForce")[0]
-    if not weight > 0:
-        raise Untranslatable(
-            "bearing without axial load at import (run the gravity analysis before importing)"
-        )
-    force = np.array(_resp(ops, tag, "globalForce")[:ndm])  # the axial force at node i
-    axis = int(np.argmax(np.abs(force)))
-    if np.sum(np.abs(force)) - abs(force[axis]) > 1e-6 * abs(force[axis]):
-        raise Untranslatable("bearing whose axis is not a global axis, or sheared at import")
-    shear = [c for c in ("ux", "uy", "uz")[:ndm] if c != ("ux", "uy", "uz")[axis]]
-    pairs = [(_eq(dmap, ni, c, idx), _eq(dmap, nj, c, idx)) for c in shear]
-    # a single friction pendulum: the elastic part N / R in kInit (OpenSees' k2 and k0)
-    radius = float(ele.get("Reff", math.inf))
-    k2 = weight / radius
-    if not k2 < k0:
-        raise Untranslatable(f"pendulum whose gravity stiffness N / R = {k2:g} >= kInit")
-    made: list[Element]
-    if len(shear) == 1:
-        i, j = pairs[0]
-        if i is None and j is None:
-            return [], [], [], None
-        a, b = (j, i) if j is not None else (i, j)
-        alpha = k2 / k0  # post-sliding over initial stiffness: (1 - alpha) fy = mu N
-        made = [Bilinear(a, b, k=k0, fy=mu * weight / (1.0 - alpha), alpha=alpha)]
-    else:
-        if any(i is not None for i, _ in pairs) and any(j is not None for _, j in pairs):
-            raise Untranslatable("3-D bearing between two free nodes (duhamel's is to ground)")
-        dofs = [j if i is None else i for i, j in pairs]
-        if any(d is None for d in dofs):
-            return [], [], [], None
-        made = [
-            FrictionPendulum(
-                (dofs[0], dofs[1]),
-                radius=min(radius, FLAT_RADIUS),
-                mu=mu,
-                weight=weight,
-                yield_displacement=mu * weight / (k0 - k2),
+#: Words of the uniaxial materials whose force depends on the deformation rate (a damper):
+#: their tangent stiffness at import holds none of their damping.
+RATE_DEPENDENT = ("Viscous", "Damper", "Maxwell", "Oil")
+
+
+def _keeps_damping(tag: int, kind: str, ele: dict, pr: Printout, what: str) -> None:
+    """Refuses to linearise an element with a damper among its materials: its tangent at
+    import keeps the stiffness but drops the damping, a silent wrong answer."""
+    for m in ele.get("materials", []):
+        mat = pr.materials.get(int(m), {})
+        name = str(mat.get("type", ""))
+        if any(word in name for word in RATE_DEPENDENT):
+            raise ValueError(
+                f"cannot translate OpenSees {what}; nonlinear='linearize' would keep only its "
+                f"stiffness at import and drop the damping of its {name} material {m}: "
+                "model the damper as an element duhamel translates (a zeroLength, or a "
+                "twoNodeLink between coincident nodes or along its axis)"
             )
-        ]
-    removed = [_pair(i, j, k0) for i, j in pairs if (i, j) != (None, None)]
-    note = (
-        f"element {tag}: friction taken as Coulomb with mu = {mu:g} (its value at import) "
-        f"under the axial load at import {weight:g}"
-    )
-    damped = None
-    if int(float(ele.get("addRayleigh", 0))) == 1:  # -doRayleigh: its damping not read
-        damped = Damped("bearing", "its kInit", [(k0, math.nan)] * len(removed))
-    return made, removed, [note], damped
-
-
-def _triple(ops: Any, tag: int, ele: dict, dmap: DofMap, idx: dict) -> Made:
-    """OpenSees' ``TripleFrictionPendulum`` (vertical, 3-D) as duhamel's, to the ground,
-    under its axial load at import and the friction coefficients at import (Coulomb)."""
-    ni, nj = (int(v) for v in ops.eleNodes(tag))
-    mu = tuple(_resp(ops, tag, "frictionModel", str(k), "frictionCoeff")[0] for k in (1, 2, 3))
-    weight = _resp(ops, tag, "frictionModel", "1", "normalForce")[0]
-    if not weight > 0:
-        raise Untranslatable(
-            "bearing without axial load at import (run the gravity analysis before importing)"
-        )
-    sheared = [ops.nodeDisp(nj, d) - ops.nodeDisp(ni, d) for d in (1, 2)]
-    if any(abs(v) > 0.0 for v in sheared):
-        raise Untranslatable(f"bearing sheared at import ({sheared}); it starts undeformed")
-    pairs = [(_eq(dmap, ni, c, idx), _eq(dmap, nj, c, idx)) for c in ("ux", "uy")]
-    if any(i is not None for i, _ in pairs) and any(j is not None for _, j in pairs):
-        raise Untranslatable("bearing between two free nodes (duhamel's is to the ground)")
-    dofs = [j if i is None else i for i, j in pairs]  # the force is odd in the deformation
-    free = [d for d in dofs if d is not None]
-    if not free:
-        return [], [], [], None
-    uy = float(ele["uy"])
-    made: list[Element] = [
-        TripleFrictionPendulum(
-            tuple(free),
-            mu=mu,  # type: ignore[arg-type]
-            radius=(float(ele["L1"]), float(ele["L2"]), float(ele["L3"])),
-            displacement_capacity=(float(ele["d1"]), float(ele["d2"]), float(ele["d3"])),
-            weight=weight,
-            yield_displacement=uy,
-        )
-    ]
-    k0 = mu[0] * weight / uy  # its initial stiffness in the matrix, in each direction
-    removed = [_pair(i, j, k0) for i, j in pairs if (i, j) != (None, None)]
-    note = (
-        f"element {tag}: friction taken as Coulomb with mu = {mu} (the values at import) "
-        f"under the axial load at import {weight:g}"
-    )
-    return made, removed, [note], None
 
 
 def translate(ops: Any, pr: Printout, dmap: DofMap, nonlinear: str) -> Translation:
@@ -365,12 +291,12 @@ def translate(ops: Any, pr: Printout, dmap: DofMap, nonlinear: str) -> Translati
                 name = pr.transforms.get(str(ele.get("crdTransformation", "")), "")
                 if any(word in name for word in NONLINEAR_GEOMETRY):
                     raise Untranslatable(f"geometric transformation {name} (large displacements)")
-            elif kind == "ZeroLength":
+            elif kind in ("ZeroLength", "TwoNodeLink"):
                 made, removed, notes, damped = _zero_length(ops, tag, ele, pr, dmap, idx)
-            elif kind in SLIDERS:
-                made, removed, notes, damped = _slider(ops, tag, ele, dmap, idx)
-            elif kind == "TripleFrictionPendulum":
-                made, removed, notes, damped = _triple(ops, tag, ele, dmap, idx)
+            elif kind in BEARINGS:
+                made, removed, notes, damped = bearing(ops, kind, tag, ele, pr, dmap, idx)
+                if kind.startswith("ElastomericBearing") and made:
+                    out.pdelta.append(pdelta_info(ops, tag, pr, dmap, idx))
             else:
                 raise Untranslatable("no duhamel counterpart")
             if kind not in LINEAR and made:
@@ -379,6 +305,8 @@ def translate(ops: Any, pr: Printout, dmap: DofMap, nonlinear: str) -> Translati
                 out.notes.extend(notes)
                 if damped is not None:
                     out.damped[tag] = damped
+        except Refused as exc:
+            raise ValueError(f"OpenSees element {tag} ({kind}): {exc}") from None
         except (Untranslatable, KeyError, ValueError) as exc:
             what = f"element {tag} ({kind}): {exc}"
             if nonlinear != "linearize":
@@ -386,6 +314,7 @@ def translate(ops: Any, pr: Printout, dmap: DofMap, nonlinear: str) -> Translati
                     f"cannot translate OpenSees {what}; pass nonlinear='linearize' to keep it "
                     "at its stiffness at import"
                 ) from None
+            _keeps_damping(tag, kind, ele, pr, what)
             out.linearized[tag] = kind
             warnings.warn(
                 f"OpenSees {what}: kept linear at its tangent stiffness at import",

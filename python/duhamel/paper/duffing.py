@@ -48,7 +48,7 @@ def duffing_system() -> duhamel.System:
     System(n_dof=1, damping='none', loads=0, elements=1)
     """
     system = duhamel.System(np.eye(1), OMEGA**2 * np.eye(1))
-    return system.add(duhamel.elements.Cubic(0, B))
+    return system.add(duhamel.elements.Cubic(0, k3=B))
 
 
 @dataclass(frozen=True, eq=False)

@@ -58,7 +58,7 @@ def pendulum_system() -> duhamel.System:
     system.set_mass_law(
         duhamel.mass.Exponential(rate=-A * OMEGA), form="momentum", scale_stiffness=True
     )
-    return system.add_load(duhamel.loads.Step(0, F_STEP))
+    return system.add_load(duhamel.loads.Step(0, amplitude=F_STEP))
 
 
 def _eq30_system() -> duhamel.System:

@@ -24,6 +24,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from duhamel._engine.validate import (
+    as_float_array,
+    finite_float,
+    flag,
+    int_in_range,
+)
 from duhamel.errors import MatchWarning
 from duhamel.records.motion import GroundMotion
 from duhamel.records.pair import GroundMotionPair
@@ -78,7 +84,10 @@ def _spectrum(rec: Any, periods: NDArray[np.float64], damping: float) -> NDArray
 
 
 def _check_range(periods: Any, target: Any) -> tuple[float, float]:
-    p = np.asarray(periods, dtype=np.float64).ravel()
+    from duhamel.spectra.target import check_target
+
+    check_target(target)
+    p = as_float_array(periods, "periods", finite=False).ravel()
     if p.size != 2 or not (np.all(np.isfinite(p)) and 0.0 < p[0] < p[1]):
         raise ValueError(
             f"`periods` must be the matching range (lo, hi) with 0 < lo < hi s, got {periods}"
@@ -174,15 +183,28 @@ def match(
             f"`record` must be a GroundMotion or GroundMotionPair, got {type(record).__name__}"
         )
     lo, hi = _check_range(periods, target)
-    zeta = float(damping)
+    zeta = finite_float(damping, "damping")
     if not 0.0 < zeta < 1.0:
         raise ValueError(f"`damping` must be a ratio in (0, 1), got {damping!r}")
     low, high = _band(tolerance)
-    aim = float(np.sqrt(low * high)) if aim is None else float(aim)
+    aim = float(np.sqrt(low * high)) if aim is None else finite_float(aim, "aim")
     if not low < aim < high:
         raise ValueError(f"`aim` must lie inside the band ({low:g}, {high:g}), got {aim!r}")
-    if int(max_iterations) < 1:
-        raise ValueError(f"`max_iterations` must be >= 1, got {max_iterations}")
+    max_iterations = int_in_range(max_iterations, "max_iterations", 1, 10_000, "adjustments")
+    frequency_iterations = int_in_range(
+        frequency_iterations, "frequency_iterations", 0, 10_000, "adjustments"
+    )
+    if n_scales is not None:
+        n_scales = int_in_range(n_scales, "n_scales", 2, 100_000, "a number of wavelet scales")
+    # each iterate ends at rest (zero velocity and displacement): a degree of 3 at least
+    meaning = "the degree of the baseline displacement polynomial"
+    baseline_order = int_in_range(baseline_order, "baseline_order", 3, 12, meaning)
+    prescale = flag(prescale, "prescale")
+    if not any(np.any(c.a) for c in (record if isinstance(record, GroundMotionPair) else [record])):
+        raise ValueError(
+            f"`record` {record.name!r} is zero at every sample: it has no spectrum to match "
+            "(the wavelets adjust what the record holds)"
+        )
     tmin = max(lo / 1.2, target.periods[target.periods > 0][0], 2.5 * record.dt)
     tmax = min(hi * 1.2, target.periods[-1])
     if n_scales is None:
@@ -283,13 +305,13 @@ def match(
 def _band(tolerance: Any) -> tuple[float, float]:
     """(low, high) ratios of the acceptance band from a tolerance or a band."""
     if np.ndim(tolerance) == 0:
-        tol = float(tolerance)
+        tol = finite_float(tolerance, "tolerance")
         if not 0.0 < tol < 1.0:
             raise ValueError(
                 f"`tolerance` must be in (0, 1) or a band (low, high), got {tolerance!r}"
             )
         return 1.0 - tol, 1.0 + tol
-    b = np.asarray(tolerance, dtype=np.float64).ravel()
+    b = as_float_array(tolerance, "tolerance", finite=False).ravel()
     if b.size != 2 or not (np.all(np.isfinite(b)) and 0.0 < b[0] < 1.0 < b[1]):
         raise ValueError(
             f"`tolerance` must be a band (low, high) with 0 < low < 1 < high, got {tolerance!r}"

@@ -210,7 +210,7 @@ class GroundMotion:
         """The :class:`~duhamel.loads.BaseAcceleration` of this record on the dofs moved by
         `direction_vector` (the influence vector ``r``: ones on the horizontal dofs of a
         shear building along this component)."""
-        return BaseAcceleration(direction_vector, self.t, self.a)
+        return BaseAcceleration(direction_vector, t=self.t, values=self.a)
 
     # --- processing (python/duhamel/records/processing.py) ---------------------------------
 

@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from duhamel._engine.validate import finite_float
 from duhamel.records.motion import GroundMotion
 
 __all__ = ["GroundMotionPair"]
@@ -44,6 +45,8 @@ class GroundMotionPair:
     name: str = ""
 
     def __post_init__(self) -> None:
+        if not isinstance(self.name, str):
+            raise TypeError(f"`name` must be a string, got {type(self.name).__name__}")
         for label, m in (("first", self.first), ("second", self.second)):
             if not isinstance(m, GroundMotion):
                 raise TypeError(f"`{label}` must be a GroundMotion, got {type(m).__name__}")
@@ -91,13 +94,12 @@ class GroundMotionPair:
         >>> [round(float(x), 12) for x in p.rotated(30.0).first.a]
         [0.0, 0.866025403784]
         """
-        th = np.deg2rad(float(angle))
-        if not np.isfinite(th):
-            raise ValueError(f"`angle` must be finite (degrees), got {angle!r}")
+        angle = finite_float(angle, "angle")  # degrees
+        th = np.deg2rad(angle)
         c, s = np.cos(th), np.sin(th)
         a1, a2 = self.first.a, self.second.a
-        m1 = {**self.first.metadata, "rotated": float(angle)}
-        m2 = {**self.second.metadata, "rotated": float(angle)}
+        m1 = {**self.first.metadata, "rotated": angle}
+        m2 = {**self.second.metadata, "rotated": angle}
         return GroundMotionPair(
             GroundMotion(c * a1 + s * a2, self.dt, "m/s^2", self.first.name, m1),
             GroundMotion(-s * a1 + c * a2, self.dt, "m/s^2", self.second.name, m2),

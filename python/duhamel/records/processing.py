@@ -12,7 +12,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._engine.validate import as_float_array
+from duhamel._engine.memory import check_fits
+from duhamel._engine.validate import (
+    as_float_array,
+    finite_float,
+    flag,
+    int_in_range,
+    positive_float,
+)
 from duhamel.records.units import UNITS, _unit
 
 #: A :class:`~duhamel.records.GroundMotion` (not imported here: the record's methods import
@@ -44,14 +51,21 @@ def _new(gm: GroundMotion, a: NDArray[np.float64], dt: float, step: dict[str, An
 
 
 def _seconds(value: Any, name: str, *, positive: bool = False) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise TypeError(f"`{name}` must be a number of seconds, got {value!r}") from None
-    if not np.isfinite(v) or v < 0.0 or (positive and v == 0.0):
+    """`value` as a finite number of seconds (> 0 with `positive`, else >= 0); a string or
+    another non-number is a TypeError."""
+    v = finite_float(value, name)
+    if v < 0.0 or (positive and v == 0.0):
         bound = "> 0" if positive else ">= 0"
         raise ValueError(f"`{name}` must be a finite number of seconds {bound}, got {value!r}")
     return v
+
+
+def _samples(count: float, what: str, advice: str, arrays: int = 3) -> int:
+    """`count` samples as an int, after checking that `arrays` float64 arrays of that many
+    samples fit in memory: else a ValueError saying `what` asks for them (naming the
+    parameter) and `advice`."""
+    check_fits(8.0 * arrays * count, f"{what}: {count:.4g} samples", advice)
+    return int(count)
 
 
 def _integrate(a: NDArray[np.float64], dt: float) -> tuple[NDArray[np.float64], ...]:
@@ -70,11 +84,8 @@ def baseline_corrected(gm: GroundMotion, order: int = 3, zero_end: bool = True) 
     order - 2``, whose displacement from rest is a polynomial of degree `order`. With
     `zero_end`, the fit is constrained so that the corrected record ends with zero velocity
     and displacement (needs ``order >= 3``)."""
-    order = int(order)
-    if order < 2 or order > 12:
-        raise ValueError(
-            f"`order` must be the displacement polynomial's degree, 2..12, got {order}"
-        )
+    order = int_in_range(order, "order", 2, 12, "the displacement polynomial's degree")
+    zero_end = flag(zero_end, "zero_end")
     if zero_end and order < 3:
         raise ValueError("`zero_end=True` fixes two end values: `order` must be >= 3")
     n, dt = gm.a.size, gm.dt
@@ -99,9 +110,8 @@ def baseline_corrected(gm: GroundMotion, order: int = 3, zero_end: bool = True) 
     return _new(gm, gm.a - basis @ c, dt, step)
 
 
-def _butter(low: float | None, high: float | None, order: int, dt: float) -> Any:
-    from scipy.signal import butter
-
+def _corners(low: float | None, high: float | None, dt: float) -> None:
+    """The corner frequencies (Hz) within (0, Nyquist), `low` below `high`, one at least."""
     nyq = 0.5 / dt
     for name, f in (("low", low), ("high", high)):
         if f is not None and not (0.0 < f < nyq):
@@ -113,6 +123,12 @@ def _butter(low: float | None, high: float | None, order: int, dt: float) -> Any
         raise ValueError(f"`low` ({low:g} Hz) must be below `high` ({high:g} Hz)")
     if low is None and high is None:
         raise ValueError("pass `low` (high-pass corner), `high` (low-pass corner) or both, in Hz")
+
+
+def _butter(low: float | None, high: float | None, order: int, dt: float) -> Any:
+    from scipy.signal import butter
+
+    _corners(low, high, dt)
     if low is not None and high is not None:
         return butter(order, [low, high], "bandpass", fs=1.0 / dt, output="sos")
     if low is not None:
@@ -120,12 +136,25 @@ def _butter(low: float | None, high: float | None, order: int, dt: float) -> Any
     return butter(order, high, "lowpass", fs=1.0 / dt, output="sos")
 
 
-def filter_pad(low: float | None, high: float | None, order: int, dt: float) -> int:
+def filter_pad(
+    low: float | None, high: float | None, order: int, dt: float, n: int | None = None
+) -> int:
     """Samples of zeros added at each end before filtering: ``1.5 order / f`` seconds for
-    the lowest corner f (Converse and Brady 1992; Boore 2005), at least 10 samples."""
-    f = low if low is not None else high
+    the lowest corner f (Converse and Brady 1992; Boore 2005), at least 10 samples. With the
+    record's `n` samples, a padded record that would not fit in memory is refused, naming
+    the corner (`low`, or `high` for a low-pass filter)."""
+    name, f = ("low", low) if low is not None else ("high", high)
     assert f is not None
-    return max(10, int(np.ceil(1.5 * order / f / dt)))
+    with np.errstate(over="ignore"):
+        pad = max(10.0, float(np.ceil(1.5 * order / f / dt)))
+    if n is not None:
+        what = f"`{name}` = {f:g} Hz pads the record with 1.5 order / {name} s of zeros each side"
+        advice = (
+            f"raise `{name}` (a corner below 1 / duration = {1.0 / ((n - 1) * dt):.3g} Hz "
+            "acts on periods longer than the record)"
+        )
+        _samples(n + 2.0 * pad, what, advice, arrays=6)
+    return int(pad)
 
 
 def filtered(
@@ -138,13 +167,14 @@ def filtered(
 ) -> Any:
     """Butterworth filter (second-order sections) of the record padded with zeros at both
     ends; see :meth:`GroundMotion.filtered`."""
-    order = int(order)
-    if not 1 <= order <= 20:
-        raise ValueError(f"`order` must be 1..20, got {order}")
-    low = None if low is None else float(low)
-    high = None if high is None else float(high)
+    order = int_in_range(order, "order", 1, 20, "the Butterworth filter's order")
+    low = None if low is None else positive_float(low, "low")
+    high = None if high is None else positive_float(high, "high")
+    zero_phase = flag(zero_phase, "zero_phase")
+    keep_padding = flag(keep_padding, "keep_padding")
+    _corners(low, high, gm.dt)  # checked before the pads are sized, the filter designed
+    pad = filter_pad(low, high, order, gm.dt, gm.a.size)
     sos = _butter(low, high, order, gm.dt)
-    pad = filter_pad(low, high, order, gm.dt)
     x = np.pad(gm.a, (pad, pad))
     from scipy.signal import sosfilt, sosfiltfilt
 
@@ -161,12 +191,16 @@ def resampled(gm: GroundMotion, dt: float, antialias: bool = True) -> Any:
     `dt` is first low-passed at 0.8 of the new Nyquist frequency (8th order, zero phase)
     unless ``antialias=False``."""
     new = _seconds(dt, "dt", positive=True)
+    antialias = flag(antialias, "antialias")
+    with np.errstate(over="ignore"):
+        count = float(np.floor(gm.duration / new * (1 + 1e-12))) + 1.0
+    if count < 2:
+        raise ValueError(f"`dt` = {new:g} s leaves fewer than 2 samples of the record")
+    what = f"`dt` = {new:g} s resamples the {gm.duration:g} s record"
+    n = _samples(count, what, "pass a larger `dt`")
     src = gm
     if new > gm.dt * (1 + 1e-12) and antialias:
         src = filtered(gm, high=0.8 * 0.5 / new, order=8)
-    n = int(np.floor(gm.duration / new * (1 + 1e-12))) + 1
-    if n < 2:
-        raise ValueError(f"`dt` = {new:g} s leaves fewer than 2 samples of the record")
     a = np.interp(new * np.arange(n), src.t, src.a)
     step = {"step": "resampled", "dt": new, "from_dt": gm.dt, "antialias": src is not gm}
     return _new(src, a, new, step)
@@ -174,8 +208,14 @@ def resampled(gm: GroundMotion, dt: float, antialias: bool = True) -> Any:
 
 def padded(gm: GroundMotion, before: float = 0.0, after: float = 0.0) -> Any:
     """Zeros added: `before` and `after` in seconds (rounded up to whole samples)."""
-    nb = int(np.ceil(_seconds(before, "before") / gm.dt - 1e-9))
-    na = int(np.ceil(_seconds(after, "after") / gm.dt - 1e-9))
+    seconds = {"before": _seconds(before, "before"), "after": _seconds(after, "after")}
+    with np.errstate(over="ignore"):
+        counts = {k: float(np.ceil(v / gm.dt - 1e-9)) for k, v in seconds.items()}
+    name = max(counts, key=lambda k: counts[k])  # the one that makes the record long
+    what = f"`{name}` = {seconds[name]:g} s of zeros makes the padded record"
+    total = counts["before"] + counts["after"] + gm.a.size
+    _samples(total, what, f"pass a shorter `{name}`", arrays=2)
+    nb, na = int(counts["before"]), int(counts["after"])
     step = {"step": "padded", "before": nb * gm.dt, "after": na * gm.dt}
     return _new(gm, np.pad(gm.a, (nb, na)), gm.dt, step)
 
@@ -193,7 +233,7 @@ def cav(gm: GroundMotion) -> float:
 def bracketed_duration(gm: GroundMotion, threshold: float, units: str = "g") -> float:
     """Time between the first and the last instant ``|a|`` reaches `threshold` (in
     `units`, default g), located exactly on the piecewise-linear record; 0 if never."""
-    thr = float(threshold) * UNITS[_unit(units)]
+    thr = positive_float(threshold, "threshold") * UNITS[_unit(units)]
     if not (np.isfinite(thr) and thr > 0.0):
         raise ValueError(f"`threshold` must be a positive acceleration, got {threshold!r}")
     a = np.abs(gm.a)
@@ -249,9 +289,7 @@ def konno_ohmachi(
     ``f = fc``, 0 at ``f = 0``); centres default to the frequencies themselves (0 stays 0)."""
     f = as_float_array(frequency, "frequency", ndim=1)
     s = as_float_array(amplitude, "amplitude", ndim=1)
-    b = float(bandwidth)
-    if not b > 0.0:
-        raise ValueError(f"`bandwidth` must be > 0, got {bandwidth!r}")
+    b = positive_float(bandwidth, "bandwidth")
     fc = f if centres is None else as_float_array(centres, "centres", ndim=1)
     out = np.zeros(fc.size)
     pos = f > 0.0
@@ -270,13 +308,16 @@ def konno_ohmachi(
 def fourier(gm: GroundMotion, smoothing: float | None = None, n_fft: int | None = None) -> Any:
     """The Fourier amplitude spectrum ``dt |FFT(a)|`` at ``k / (n_fft dt)``, with
     Konno-Ohmachi smoothing of bandwidth `smoothing` (b, typically 20 to 40) if given."""
-    n = gm.a.size if n_fft is None else int(n_fft)
+    b = None if smoothing is None else positive_float(smoothing, "smoothing")
+    n = gm.a.size if n_fft is None else int_in_range(n_fft, "n_fft", 1, 2**62, "an FFT length")
     if n < gm.a.size:
         raise ValueError(f"`n_fft` must be >= the record's {gm.a.size} samples, got {n_fft}")
+    what = f"`n_fft` = {n} zero-pads the record for its transform"
+    _samples(n, what, "pass a smaller `n_fft`", arrays=4)
     amp = gm.dt * np.abs(np.fft.rfft(gm.a, n))
     f = np.fft.rfftfreq(n, gm.dt)
-    sm = None if smoothing is None else konno_ohmachi(f, amp, smoothing)
-    return FourierSpectrum(f, amp, sm, None if smoothing is None else float(smoothing))
+    sm = None if b is None else konno_ohmachi(f, amp, b)
+    return FourierSpectrum(f, amp, sm, b)
 
 
 def write_at2(gm: GroundMotion, path: str | os.PathLike[str], units: str = "g") -> None:

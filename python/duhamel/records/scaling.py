@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel._engine.validate import as_float_array, finite_float, flag, int_in_range
 from duhamel.records.motion import G, GroundMotion
 from duhamel.records.pair import GroundMotionPair
 from duhamel.records.suite import Suite
@@ -157,6 +158,15 @@ def record_spectra(
 def _records(records_or_pairs: Any) -> list[Record]:
     if isinstance(records_or_pairs, GroundMotion | GroundMotionPair):
         return [records_or_pairs]
+    if (
+        isinstance(records_or_pairs, str | bytes)
+        or not isinstance(records_or_pairs, Sequence | np.ndarray)
+        or np.ndim(records_or_pairs) == 0
+    ):
+        raise TypeError(
+            "`records_or_pairs` must be a GroundMotion, a GroundMotionPair or a sequence of "
+            f"them, got {type(records_or_pairs).__name__}"
+        )
     items = list(records_or_pairs)
     if not items:
         raise ValueError("`records_or_pairs` is empty")
@@ -170,8 +180,16 @@ def _records(records_or_pairs: Any) -> list[Record]:
 
 
 def _range(period_range: Any, target: Any) -> tuple[float, float]:
-    lo, hi = (period_range, period_range) if np.ndim(period_range) == 0 else period_range
-    lo, hi = float(lo), float(hi)
+    from duhamel.spectra.target import check_target
+
+    check_target(target)
+    p = as_float_array(period_range, "period_range", finite=False).ravel()
+    if p.size not in (1, 2):
+        raise ValueError(
+            f"`period_range` must be (lo, hi) in s, or one period for method='sa', got {p.size} "
+            "values"
+        )
+    lo, hi = float(p[0]), float(p[-1])
     if not (np.isfinite(lo) and np.isfinite(hi) and 0.0 < lo <= hi):
         raise ValueError(f"`period_range` must be (lo, hi) with 0 < lo <= hi s, got {period_range}")
     tp = target.periods
@@ -246,14 +264,17 @@ def scale_suite(
     (True, True)
     """
     items = _records(records_or_pairs)
-    if method not in METHODS:
+    if not isinstance(method, str) or method not in METHODS:
         raise ValueError(f"`method` must be one of {METHODS}, got {method!r}")
+    minimise_misfit = flag(minimise_misfit, "minimise_misfit")
     lo, hi = _range(period_range, target)
-    frac = float(fraction)
+    frac = finite_float(fraction, "fraction")
     if not 0.0 < frac <= 2.0:
         raise ValueError(f"`fraction` must be in (0, 2], got {fraction!r}")
-    if int(n_periods) < 2 and lo < hi:
-        raise ValueError(f"`n_periods` must be >= 2, got {n_periods}")
+    damping = finite_float(damping, "damping")
+    if not 0.0 <= damping < 1.0:
+        raise ValueError(f"`damping` must be a ratio in [0, 1), got {damping!r}")
+    n_periods = int_in_range(n_periods, "n_periods", 2, 100_000, "a number of periods")
     if lo == hi:
         periods = np.array([lo])
     else:

@@ -5,7 +5,7 @@ and as coordinates of its :class:`~duhamel.ensemble.Ensemble`; exported from
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -18,6 +18,17 @@ from duhamel.records.motion import GroundMotion
 from duhamel.records.pair import GroundMotionPair
 
 __all__ = ["Suite"]
+
+
+def _listed(value: Any, name: str) -> list[Any]:
+    """`value` as a list, or a TypeError naming `name` when it is no sequence."""
+    if (
+        isinstance(value, str | bytes)
+        or not isinstance(value, Sequence | np.ndarray)
+        or np.ndim(value) == 0
+    ):
+        raise TypeError(f"`{name}` must be a sequence, got {type(value).__name__}")
+    return list(value)
 
 
 @dataclass(frozen=True, eq=False)
@@ -54,7 +65,7 @@ class Suite:
     names: Sequence[str] | None = None
 
     def __post_init__(self) -> None:
-        recs = list(self.records)
+        recs = _listed(self.records, "records")
         if not recs:
             raise ValueError("`records` is empty")
         for i, r in enumerate(recs):
@@ -67,7 +78,11 @@ class Suite:
         f = as_float_array(f, "factors", ndim=1)
         if f.size != len(recs) or not np.all(np.isfinite(f)):
             raise ValueError(f"`factors` must be {len(recs)} finite numbers, got {f.size}")
-        names = [r.name for r in recs] if self.names is None else [str(n) for n in self.names]
+        names = (
+            [r.name for r in recs]
+            if self.names is None
+            else [str(n) for n in _listed(self.names, "names")]
+        )
         if len(names) != len(recs):
             raise ValueError(f"`names` must be {len(recs)} strings, got {len(names)}")
         seen: dict[str, int] = {}
@@ -96,6 +111,8 @@ class Suite:
         along ``case``. Pass them as `params` to :func:`duhamel.ensemble.solve_many` and
         build each case's loads with :meth:`loads` or :meth:`motions`."""
         angles = np.atleast_1d(as_float_array(orientations, "orientations"))
+        if angles.ndim != 1:
+            raise ValueError(f"`orientations` must be angles in degrees (1-D), got {angles.shape}")
         assert self.factors is not None and self.names is not None
         out = []
         for i, (r, f, n) in enumerate(zip(self.records, self.factors, self.names, strict=True)):
@@ -107,7 +124,14 @@ class Suite:
     def motions(self, case: dict[str, Any]) -> tuple[GroundMotion, GroundMotion | None]:
         """The scaled (and for a pair, rotated) components of a case: ``(along x, along y)``;
         the second is None for a single record."""
-        i = int(case["index"])
+        if not isinstance(case, Mapping) or not {"index", "factor"} <= set(case):
+            raise TypeError(
+                "`case` must be one of Suite.cases() (a dict with 'index', 'factor' and "
+                f"'orientation'), got {type(case).__name__}"
+            )
+        i = case["index"]
+        if isinstance(i, bool) or not isinstance(i, int | np.integer) or not 0 <= i < len(self):
+            raise ValueError(f"`case`: 'index' must be a record of the suite, got {i!r}")
         r = self.records[i].scaled(float(case["factor"]))
         if isinstance(r, GroundMotionPair):
             r = r.rotated(float(case.get("orientation", 0.0)))

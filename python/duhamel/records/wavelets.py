@@ -37,9 +37,10 @@ class TimeDomainStep:
         self.pad = int(np.ceil(3.0 * tmax / dt))
         self.n_fft = n + 2 * self.pad
         freqs = np.fft.rfftfreq(self.n_fft, dt)
-        # frequencies the oscillators and the wavelets reach (their response beyond 2.5 times
-        # the highest oscillator frequency is below 1e-3 of the peak's)
-        self.keep = int(np.searchsorted(freqs, 2.5 / periods.min())) + 1
+        # frequencies the oscillators and the wavelets reach: up to 2.5 times the highest
+        # oscillator frequency (their response beyond it is below 1e-3 of the peak's), or
+        # the Nyquist frequency when that lies beyond it
+        self.keep = min(int(np.searchsorted(freqs, 2.5 / periods.min())) + 1, freqs.size)
         self.omega = 2.0 * np.pi * freqs[: self.keep]
         w = self.omega[None, :]
         wi = 2.0 * np.pi / periods[:, None]

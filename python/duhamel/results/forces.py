@@ -10,7 +10,25 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["StructureModel", "base_shear", "columns", "floor_groups"]
+__all__ = ["StructureModel", "base_shear", "columns", "floor_groups", "real_array"]
+
+#: The array kinds that are no real numbers, by name (for the messages).
+_KINDS = {"b": "bool", "c": "complex", "O": "object", "U": "string", "S": "bytes"}
+
+
+def real_array(value: Any, name: str) -> NDArray[np.float64]:
+    """`value` as a float64 array (NaN and inf kept: the caller checks them), or a
+    TypeError naming `name` for strings, bools, complex and object data, a ValueError for a
+    ragged sequence: the check of the results' own array parameters (this package sits
+    below ``duhamel._engine`` and does not import its validation)."""
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"`{name}` could not be converted to an array: {exc}") from None
+    if arr.dtype.kind not in "fiu":
+        kind = _KINDS.get(arr.dtype.kind, str(arr.dtype))
+        raise TypeError(f"`{name}` must contain real numbers, got dtype {kind}")
+    return arr.astype(np.float64)
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,11 +109,26 @@ def columns(dofs: NDArray[np.int64], wanted: Sequence[int], name: str) -> list[i
     return out
 
 
+def dof_sequence(value: Any, name: str) -> list[Any]:
+    """`value` as a list (its items checked by the caller), or a TypeError naming `name`
+    when it is no sequence (a number, a string, None)."""
+    if (
+        isinstance(value, str | bytes)
+        or not isinstance(value, Sequence | np.ndarray)
+        or (isinstance(value, np.ndarray) and value.ndim == 0)
+    ):
+        raise TypeError(f"`{name}` must be a sequence of dof indices, got {type(value).__name__}")
+    return list(np.asarray(value).ravel()) if isinstance(value, np.ndarray) else list(value)
+
+
 def floor_groups(floors: Sequence[Any], name: str = "floors") -> list[list[int]]:
     """`floors` (each a dof or a sequence of dofs: one per column line) as lists of ints."""
     groups = []
-    for f in floors:
-        group = [f] if np.ndim(f) == 0 else list(np.asarray(f).ravel())
+    for f in dof_sequence(floors, name):
+        try:
+            group = [f] if np.ndim(f) == 0 else list(np.asarray(f).ravel())
+        except ValueError:  # a ragged sequence
+            raise TypeError(f"`{name}` must contain dofs or sequences of dofs, got {f!r}") from None
         if not group:
             raise ValueError(f"`{name}`: a floor lists no dof")
         for d in group:
@@ -156,22 +189,42 @@ def base_shear(
     if direction is None:
         r = model.default_direction()
     else:
-        r = np.asarray(direction, dtype=np.float64)
+        if isinstance(direction, str):  # a label ('x') names no dofs: the vector does
+            raise TypeError(
+                f"`direction` must be an influence vector over the {n} dofs of the model "
+                f"(ones on the dofs along the direction), or None for the BaseAcceleration "
+                f"loads' direction, got the string {direction!r}"
+            )
+        r = real_array(direction, "direction")
         if r.shape != (n,) or not np.all(np.isfinite(r)):
             raise ValueError(
                 f"`direction` must be a finite vector over the {n} dofs of the model, got "
                 f"shape {r.shape}"
             )
     if storeys is None:
-        return _shear(sol, model, r)
+        return _finite(_shear(sol, model, r))
     groups = floor_groups(storeys, "storeys")
+    for group in groups:
+        for d in group:
+            if not 0 <= d < n:
+                raise ValueError(f"`storeys`: dof {d} is not a dof of the model (0 to {n - 1})")
     out = []
     for s in range(len(groups)):
         above = np.zeros(n, dtype=bool)
         for group in groups[s:]:
             above[group] = True
         out.append(_shear(sol, model, np.where(above, r, 0.0)))
-    return np.stack(out, axis=1)
+    return _finite(np.stack(out, axis=1))
+
+
+def _finite(shear: NDArray[np.float64]) -> NDArray[np.float64]:
+    """`shear` if finite, else a ValueError: the forces along `direction` overflow."""
+    if not np.all(np.isfinite(shear)):
+        raise ValueError(
+            "the forces along `direction` overflow the double range: scale the influence "
+            "vector (ones on the dofs along the direction)"
+        )
+    return shear
 
 
 def _from_equilibrium(

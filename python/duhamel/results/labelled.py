@@ -19,6 +19,12 @@ def _labels(sol: Any, labels: Sequence[str] | None) -> list[str] | None:
         labels = sol.meta.get("labels")
     if labels is None:
         return None
+    if isinstance(labels, str | bytes) or not isinstance(labels, Sequence | np.ndarray):
+        raise TypeError(
+            f"`labels` must be a sequence of names, one per dof, got {type(labels).__name__}"
+        )
+    if np.ndim(labels) != 1:
+        raise ValueError(f"`labels` must be a 1-D sequence of names, got shape {np.shape(labels)}")
     labels = [str(v) for v in labels]
     top = int(sol.dofs.max()) if sol.dofs.size else -1
     if len(labels) <= top:
@@ -59,7 +65,7 @@ def to_xarray(sol: Any, labels: Sequence[str] | None = None) -> Any:
 
 def to_dataframe(sol: Any, quantity: str = "x", labels: Sequence[str] | None = None) -> Any:
     """See :meth:`duhamel.Solution.to_dataframe`."""
-    if quantity not in QUANTITIES:
+    if not isinstance(quantity, str) or quantity not in QUANTITIES:
         raise ValueError(f"`quantity` must be one of {QUANTITIES}, got {quantity!r}")
     try:
         import pandas as pd

@@ -11,7 +11,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel.results.energy import Energy, energy_balance, energy_from_run
-from duhamel.results.forces import StructureModel, base_shear, columns
+from duhamel.results.forces import (
+    StructureModel,
+    base_shear,
+    columns,
+    dof_sequence,
+    real_array,
+)
 from duhamel.results.peaks import Peaks, peak_table
 
 __all__ = ["StructuralOutputs"]
@@ -103,15 +109,16 @@ class StructuralOutputs:
         from duhamel import _core
         from duhamel.spectra.elastic import ResponseSpectrum
 
-        cols = columns(self.dofs, list(dofs), "dofs")
+        dofs = dof_sequence(dofs, "dofs")
+        cols = columns(self.dofs, dofs, "dofs")
         if not cols:
             raise ValueError("`dofs` must list at least one dof")
         steps = np.diff(self.t)
         if steps.size == 0 or np.any(np.abs(steps - steps.mean()) > 1e-9 * steps.mean()):
             raise ValueError("floor spectra need at least two equally spaced saved instants")
         dt = float((self.t[-1] - self.t[0]) / (self.t.size - 1))
-        p = np.atleast_1d(np.asarray(periods, dtype=np.float64))
-        z = np.atleast_1d(np.asarray(damping, dtype=np.float64))
+        p = np.atleast_1d(real_array(periods, "periods"))
+        z = np.atleast_1d(real_array(damping, "damping"))
         if p.ndim != 1 or p.size == 0 or not np.all(np.isfinite(p)) or np.any(p < 0):
             raise ValueError(f"`periods` must be finite periods >= 0, got {periods!r}")
         if z.ndim != 1 or z.size == 0 or not np.all(np.isfinite(z)) or np.any(z < 0):
@@ -149,10 +156,12 @@ class StructuralOutputs:
         (1.0, 0.0)
         """
         wanted = quantities or ("x", "a_absolute")
-        cols = None if dofs is None else columns(self.dofs, list(dofs), "dofs")
+        cols = None if dofs is None else columns(self.dofs, dof_sequence(dofs, "dofs"), "dofs")
         chosen = self.dofs if cols is None else self.dofs[cols]
         series: dict[str, tuple[NDArray[np.float64], list[str]]] = {}
         for q in wanted:
+            if not isinstance(q, str):
+                raise TypeError(f"`quantities` must be names (strings), got {q!r}")
             if q == "base_shear":
                 series[q] = (self.base_shear()[:, None], [""])
             elif q in ("x", "v", "a", "a_absolute"):
@@ -164,7 +173,7 @@ class StructuralOutputs:
                     f"got {q!r}"
                 )
         for name, values in extra.items():
-            arr = np.asarray(values, dtype=np.float64)
+            arr = real_array(values, name)
             arr = arr[:, None] if arr.ndim == 1 else arr
             if arr.ndim != 2 or arr.shape[0] != self.t.size:
                 raise ValueError(

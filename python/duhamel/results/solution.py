@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel.results.forces import real_array
 from duhamel.results.outputs import StructuralOutputs
 from duhamel.results.structural import ElementHistory, drifts
 
@@ -329,7 +330,7 @@ class Solution(StructuralOutputs):
                 "`Solution.at` needs what the run kept for it: run with dense=True (and "
                 "save_every=1)"
             )
-        times = np.asarray(t, dtype=np.float64)
+        times = real_array(t, "t")  # a string is refused, not converted
         flat = np.atleast_1d(times).ravel()
         lo, hi = float(self._dense.t[0]), self._dense.end
         if flat.size and not (np.all(np.isfinite(flat)) and flat.min() >= lo and flat.max() <= hi):
@@ -466,7 +467,7 @@ class Solution(StructuralOutputs):
             import matplotlib.pyplot as plt
         except ImportError as exc:  # pragma: no cover - depends on the install
             raise ImportError("plotting needs matplotlib: pip install 'duhamel[plot]'") from exc
-        if quantity not in ("x", "v", "a"):
+        if not isinstance(quantity, str) or quantity not in ("x", "v", "a"):
             raise ValueError(f"`quantity` must be 'x', 'v' or 'a', got {quantity!r}")
         data = getattr(self, quantity)
         wanted = list(self.dofs[:4]) if dofs is None else list(np.atleast_1d(dofs))

@@ -157,7 +157,15 @@ def drifts(
     out = np.take_along_axis(d, pick[:, :, None], axis=2)[:, :, 0]
     if heights is None:
         return out
-    h = np.broadcast_to(np.asarray(heights, dtype=np.float64), (len(groups),))
+    from duhamel.results.forces import real_array
+
+    h = real_array(heights, "heights")
+    if h.ndim > 1 or h.size not in (1, len(groups)):
+        raise ValueError(
+            f"`heights` must be one storey height or one per floor ({len(groups)}), got shape "
+            f"{h.shape}"
+        )
+    h = np.broadcast_to(h, (len(groups),))
     if not np.all(np.isfinite(h)) or np.any(h <= 0):
         raise ValueError(f"`heights` must be positive storey heights, got {heights!r}")
     return out / h

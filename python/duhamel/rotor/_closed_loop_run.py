@@ -23,7 +23,6 @@ from numpy.typing import NDArray
 
 from duhamel import _core
 from duhamel._core import Element
-from duhamel._engine import specs
 from duhamel._engine.run import raise_failure
 from duhamel._engine.validate import positive_float, positive_int
 
@@ -56,7 +55,7 @@ def transient_with_elements(
     for e in elements:
         if not isinstance(e, Element):
             raise TypeError(f"`elements` must hold duhamel elements, got {type(e).__name__}")
-    core_elements = specs.elements(elements)
+    core_elements = list(elements)
     _, (scale, _) = scipy.linalg.matrix_balance(A, permute=False, separate=True)
     Ab = A * scale[None, :] / scale[:, None]
     lam, V = scipy.linalg.eig(Ab, check_finite=False)
@@ -87,7 +86,9 @@ def transient_with_elements(
     for k, j in enumerate(dofs):
         pattern = np.zeros(n)
         pattern[int(j)] = 1.0
-        loads.append(specs.load(pattern, "table", (t, forces[:, k], True)))
+        values = np.ascontiguousarray(forces[:, k], dtype=np.float64)
+        time = _core.TimeFunction.table(np.ascontiguousarray(t, dtype=np.float64), values, True)
+        loads.append(_core.Load(pattern, time))
     model = _core.ModalModel(np.ones(n), np.zeros(n), np.eye(n), loads, route)
     h = float(t[1] - t[0])
     eta = Wk @ s0

@@ -8,13 +8,15 @@ loads passed to it.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import KW_ONLY, dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel import _core
 from duhamel._engine.protocols import Model
+from duhamel._engine.spellings import old_spellings
 from duhamel._engine.validate import as_float_array, finite_float, positive_float
 from duhamel.constants import STANDARD_GRAVITY
 from duhamel.loads import Load, Step
@@ -34,9 +36,11 @@ class RotorLoad:
         raise NotImplementedError
 
 
+@old_spellings(positional=("vector", "t0"))
 @dataclass(frozen=True, eq=False)
 class VectorStep(Load):
-    """A fixed load vector switched on at `t0` (a :class:`duhamel.loads.Load`).
+    """A fixed load vector switched on at `t0` (a :class:`duhamel.loads.Load`):
+    ``VectorStep(vector, *, t0=0.0)``.
 
     Examples
     --------
@@ -48,6 +52,7 @@ class VectorStep(Load):
     """
 
     vector: NDArray[np.float64]
+    _: KW_ONLY
     t0: float = 0.0
 
     def __post_init__(self) -> None:
@@ -61,8 +66,8 @@ class VectorStep(Load):
             )
         return self.vector
 
-    def _time(self) -> tuple[str, tuple]:
-        return "step", (float(self.t0),)
+    def _time(self) -> _core.TimeFunction:
+        return _core.TimeFunction.step(float(self.t0))
 
     def _scalar(self, t: NDArray) -> NDArray:
         return (t >= self.t0).astype(np.float64)
@@ -124,7 +129,7 @@ class Unbalance(RotorLoad):
     >>> run_up = duhamel.speed.LinearRunUp(omega0=0.0, omega1=rpm(6000), t1=1.0)
     >>> system = rotor.system(run_up, [Unbalance(1, m_e=1e-4)])
     >>> load = system.loads[0]
-    >>> (load.dof_x, load.dof_y), load.speed is run_up
+    >>> load.dofs, load.speed is run_up
     ((4, 5), True)
     """
 
@@ -156,12 +161,12 @@ class Unbalance(RotorLoad):
         (a constant, or the law of a run-up).
 
         At constant speed it equals the two harmonic loads
-        ``Harmonic(dof_x, m_e W^2, W, phase + pi/2)`` and ``Harmonic(dof_y, m_e W^2, W,
-        phase)`` (docs/speed.md).
+        ``Harmonic(dof_x, amplitude=m_e W^2, omega=W, phase=phase + pi/2)`` and
+        ``Harmonic(dof_y, amplitude=m_e W^2, omega=W, phase=phase)`` (docs/speed.md).
         """
         w = _resolve_speed(self.speed, speed)
         dx, dy = rotor.dof(self.node, "x"), rotor.dof(self.node, "y")
-        return [UnbalanceLoad(dx, dy, self.m_e, w, self.phase)]
+        return [UnbalanceLoad((dx, dy), m_e=self.m_e, speed=w, phase=self.phase)]
 
 
 @dataclass(frozen=True)
@@ -203,7 +208,7 @@ class Gravity(RotorLoad):
 
     def loads(self, rotor: RotorModel, speed: Any = None) -> list[Load]:
         """One :class:`VectorStep` with :meth:`vector`."""
-        return [VectorStep(self.vector(rotor), self.t0)]
+        return [VectorStep(self.vector(rotor), t0=self.t0)]
 
 
 @dataclass(frozen=True)
@@ -236,5 +241,5 @@ class SuddenForce(RotorLoad):
         out: list[Load] = []
         for direction, amplitude in (("x", self.fx), ("y", self.fy)):
             if amplitude != 0.0:
-                out.append(Step(rotor.dof(self.node, direction), amplitude, self.t0))
+                out.append(Step(rotor.dof(self.node, direction), amplitude=amplitude, t0=self.t0))
         return out

@@ -17,8 +17,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from duhamel import _core
 from duhamel._engine.protocols import Model
-from duhamel._engine.specs import time_function
 from duhamel._engine.validate import (
     _int_scalar,
     as_float_array,
@@ -30,7 +30,7 @@ from duhamel.loads import Load
 from duhamel.rotor._protocols import RotorModel
 from duhamel.rotor._speed import speed_or_law
 from duhamel.rotor.loads import RotorLoad
-from duhamel.speed import as_speed_law
+from duhamel.speed import SpeedLaw, as_speed_law
 
 __all__ = ["CouplingMisalignment"]
 
@@ -43,11 +43,16 @@ _SIGN = np.array([1.0, 1.0, -1.0])
 
 @dataclass(frozen=True, eq=False)
 class _CouplingForce(Load):
-    """One component of the coupling's force, ``+F`` on `dof_a`, ``-F`` on `dof_b`."""
+    """One component (`axis`) of the coupling's force, ``+F`` on `dof_a`, ``-F`` on `dof_b`,
+    at the angle of the speed law `law` (`radius`, `parallel`, `angular`: the core's
+    coupling, :meth:`CouplingMisalignment._parts`)."""
 
     dof_a: int
     dof_b: int
-    params: tuple
+    law: SpeedLaw
+    radius: float
+    parallel: tuple[float, float, float]
+    angular: tuple[float, float]
     axis: str
 
     def _pattern(self, system: Model) -> NDArray[np.float64]:
@@ -55,12 +60,13 @@ class _CouplingForce(Load):
         p[self.dof_a], p[self.dof_b] = 1.0, -1.0
         return p
 
-    def _time(self) -> tuple[str, tuple]:
-        return "misalignment", (*self.params, self.axis)
+    def _time(self) -> _core.TimeFunction:
+        return _core.TimeFunction.misalignment(
+            self.law._law(), self.radius, self.parallel, self.angular, self.axis
+        )
 
     def _scalar(self, t: NDArray[np.float64]) -> NDArray[np.float64]:
-        kind, params = self._time()
-        return np.asarray(time_function(kind, params).values(np.ascontiguousarray(t, float)))
+        return np.asarray(self._time().values(np.ascontiguousarray(t, float)))
 
 
 @dataclass(frozen=True)
@@ -152,7 +158,9 @@ class CouplingMisalignment(RotorLoad):
         if self.speed is not None:
             object.__setattr__(self, "speed", speed_or_law(self.speed))
 
-    def _parts(self, radius: float) -> tuple[float, tuple, tuple]:
+    def _parts(
+        self, radius: float
+    ) -> tuple[float, tuple[float, float, float], tuple[float, float]]:
         """The core's `(radius, parallel, angular)` with the unused part zeroed."""
         parallel = (self.mis_distance_x, self.mis_distance_y, self.radial_stiffness)
         angular = (self.mis_angle, self.bending_stiffness)
@@ -205,8 +213,10 @@ class CouplingMisalignment(RotorLoad):
                 "give the speed once (CouplingMisalignment(speed=None) takes the rotor's)"
             )
         law = as_speed_law(own if own is not None else given, "speed")
-        params = (law._spec(), *self._parts(radius))
-        return [_CouplingForce(rotor.dof(left, d), rotor.dof(right, d), params, d) for d in "xy"]
+        parts = self._parts(radius)
+        return [
+            _CouplingForce(rotor.dof(left, d), rotor.dof(right, d), law, *parts, d) for d in "xy"
+        ]
 
     def force(
         self, theta: ArrayLike, rotor: RotorModel | None = None
@@ -214,8 +224,10 @@ class CouplingMisalignment(RotorLoad):
         """The force ``(F_x, F_y)`` (N) at the rotor angles `theta` (rad), as the core
         evaluates it during a run (the radius: `radius`, or shaft `n`'s of `rotor`)."""
         th = np.ascontiguousarray(as_float_array(theta, "theta", ndim=1))
-        params = (as_speed_law(1.0, "speed")._spec(), *self._parts(self._radius(rotor)))
-        fx, fy = (np.asarray(time_function("misalignment", (*params, a)).values(th)) for a in "xy")
+        law = as_speed_law(1.0, "speed")._law()
+        radius, parallel, angular = self._parts(self._radius(rotor))
+        time = _core.TimeFunction.misalignment
+        fx, fy = (np.asarray(time(law, radius, parallel, angular, a).values(th)) for a in "xy")
         return fx, fy
 
     def harmonics(

@@ -7,10 +7,8 @@ rotations are right-handed about the fixed x and y axes (so ``theta_y = dx/dz`` 
 whirl is an orbit in the sense of the spin, from +x towards +y. This is the convention of
 Friswell, Penny, Garvey and Lees, *Dynamics of Rotating Machines* (2010), chapter 5.
 
-Each component (shaft, disk, bearing) owns its matrices and dof mapping; assembly, modes,
-Campbell diagram and transient System live in modules of those names; :class:`Rotor` ties
-them together.
-"""
+Each component owns its matrices and dof mapping; assembly, modes, Campbell diagram and
+transient System live in modules of those names; :class:`Rotor` ties them together."""
 
 from __future__ import annotations
 

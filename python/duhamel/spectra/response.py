@@ -166,7 +166,7 @@ def response_spectrum(
     >>> bool(np.all(top.sd >= response_spectrum((t, np.sin(6.0 * t)), [0.02, 1.0]).sd))
     True
     """
-    if peaks not in ("sampled", "exact"):
+    if not isinstance(peaks, str) or peaks not in ("sampled", "exact"):
         raise ValueError(f"`peaks` must be 'sampled' or 'exact', got {peaks!r}")
     ms = _motions(motions)
     p, z = _periods(periods), _dampings(damping)

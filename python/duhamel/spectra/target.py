@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from duhamel._engine.validate import as_float_array
+from duhamel._engine.validate import as_float_array, finite_float, flag
 from duhamel.records.motion import G
 
 __all__ = ["TargetSpectrum", "asce7", "asce7_multi_period", "eurocode8"]
@@ -21,13 +21,29 @@ Formula = Callable[[NDArray[np.float64]], NDArray[np.float64]]
 
 
 def _positive(value: Any, name: str) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise TypeError(f"`{name}` must be a number, got {value!r}") from None
-    if not (np.isfinite(v) and v > 0.0):
+    """`value` as a positive finite float; a string or another non-number is a TypeError."""
+    v = finite_float(value, name)
+    if not v > 0.0:
         raise ValueError(f"`{name}` must be a positive finite number, got {value!r}")
     return v
+
+
+def _ratio(value: Any, name: str) -> float:
+    """A damping ratio in [0, 1)."""
+    z = finite_float(value, name)
+    if not 0.0 <= z < 1.0:
+        raise ValueError(f"`{name}` must be a ratio in [0, 1), got {value!r}")
+    return z
+
+
+def check_target(target: Any, name: str = "target") -> None:
+    """TypeError unless `target` is a :class:`TargetSpectrum` (a string such as ``'asce7'``
+    names no spectrum: the code spectra are built by their functions)."""
+    if not isinstance(target, TargetSpectrum):
+        raise TypeError(
+            f"`{name}` must be a duhamel.spectra.TargetSpectrum (e.g. asce7(sds, sd1, tl), "
+            f"eurocode8(ag, ground_type) or a table), got {type(target).__name__}"
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -82,9 +98,7 @@ class TargetSpectrum:
             raise ValueError("`periods` must be >= 0 and strictly increasing")
         if np.any(s <= 0.0):
             raise ValueError("`sa` must be > 0 at every period")
-        z = float(self.damping)
-        if not (0.0 <= z < 1.0):
-            raise ValueError(f"`damping` must be a ratio in [0, 1), got {self.damping!r}")
+        z = _ratio(self.damping, "damping")
         for a in (p, s):
             a.setflags(write=False)
         object.__setattr__(self, "periods", p)
@@ -211,6 +225,7 @@ def asce7(
     """
     sds, sd1, tl = _positive(sds, "sds"), _positive(sd1, "sd1"), _positive(tl, "tl")
     t_max = _positive(t_max, "t_max")
+    mce = flag(mce, "mce")
     t0, ts = 0.2 * sd1 / sds, sd1 / sds
     if tl < ts:
         raise ValueError(f"`tl` ({tl:g} s) must be >= TS = SD1/SDS = {ts:g} s")
@@ -243,6 +258,7 @@ def asce7_multi_period(
     """
     p = as_float_array(periods, "periods", ndim=1)
     s = as_float_array(sa_mce, "sa_mce", ndim=1)
+    mce = flag(mce, "mce")
     factor = 1.0 if mce else 2.0 / 3.0
     label = name or f"ASCE 7-22 multi-period {'MCE_R' if mce else 'design'}"
     return TargetSpectrum(p, factor * G * s, 0.05, label, None, {"mce": bool(mce)})
@@ -309,12 +325,15 @@ def eurocode8(
     """
     ag = _positive(ag, "ag")
     importance = _positive(importance, "importance")
-    xi = float(damping)
-    if not (0.0 <= xi < 1.0):
-        raise ValueError(f"`damping` must be a ratio in [0, 1), got {damping!r}")
-    if spectrum_type not in EC8_GROUND:
+    xi = _ratio(damping, "damping")
+    if (
+        isinstance(spectrum_type, bool)
+        or not isinstance(spectrum_type, int | np.integer)
+        or int(spectrum_type) not in EC8_GROUND
+    ):
         raise ValueError(f"`spectrum_type` must be 1 or 2, got {spectrum_type!r}")
     key = str(ground_type).strip().upper()
+    spectrum_type = int(spectrum_type)
     if key not in EC8_GROUND[spectrum_type]:
         raise ValueError(
             f"`ground_type` must be one of 'A'..'E' (S1 and S2 need a site study), got "

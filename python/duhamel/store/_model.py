@@ -16,19 +16,18 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from duhamel import _core
 from duhamel._core import Callable as PythonElement
 from duhamel._core import Element
 from duhamel._engine import dispatch
 from duhamel._engine.background import LinearPart, background
 from duhamel._engine.coupled import FirstOrderModes
-from duhamel._engine.plan import Couplings, Plan, plan
-from duhamel._engine.specs import ScaledSpec, speed_law
-from duhamel._engine.specs import load as core_load
-from duhamel._engine.specs import mass as core_mass
+from duhamel._engine.plan import Couplings, Plan, ScaledSpec, plan
 from duhamel._engine.validate import as_float_array
 from duhamel.couplings import LinearCoupling
 from duhamel.integrators import Semianalytic
 from duhamel.loads import BaseAcceleration, Callable
+from duhamel.store import _legacy
 from duhamel.store._codec import StoreError
 from duhamel.system import System
 
@@ -51,19 +50,22 @@ class Basis:
 
 @dataclass
 class Model:
-    """A modal run as data (see the module docstring); ``loads`` are ``(modal pattern, kind,
-    params)``, ``elements`` the elements a run evaluates (``{"element": data, "remainder":
-    c0}``: an element's definition as data, and when the background took its linear part, the
-    damping taken out with it), ``devices`` the force elements' data (for the element
-    histories). A store written by the previous release holds ``_spec`` tuples and
-    ``{"class", "fields"}`` records instead; both are read (:func:`run_elements`)."""
+    """A modal run as data (see the module docstring); ``loads`` are ``{"pattern": modal
+    pattern, "time": data}`` (the core time function's data, ``_core.TimeFunction.
+    _to_value``), ``elements`` the elements a run evaluates (``{"element": data,
+    "remainder": c0}``: an element's definition as data, and when the background took its
+    linear part, the damping taken out with it), ``devices`` the force elements' data (for
+    the element histories); ``scaled`` and ``mass`` hold their laws as data too. A store
+    written by the previous release holds ``(kind, params)`` tuples and ``{"class",
+    "fields"}`` records instead; both are read (:func:`run_elements`, :func:`load_terms`,
+    ``duhamel.store._legacy``)."""
 
     route: str
     coupling: str | None
     basis: Basis
     q0: NDArray[np.float64]
     v0: NDArray[np.float64]
-    loads: list[tuple[NDArray[np.float64], str, Any]]
+    loads: list[Any]
     elements: list[Any]
     integrator: dict[str, Any]
     coupling_k: NDArray[np.float64] | None = None
@@ -97,7 +99,7 @@ class Model:
         tree["basis"] = Basis(**tree["basis"])
         if tree["modes"] is not None:
             tree["modes"] = FirstOrderModes(**tree["modes"])
-        tree["loads"] = [tuple(x) for x in tree["loads"]]
+        tree["loads"] = [x if isinstance(x, dict) else tuple(x) for x in tree["loads"]]
         tree["scaled"] = [tuple(x) for x in tree["scaled"]]
         tree["base"] = [tuple(x) for x in tree["base"]]
         return cls(**tree)
@@ -109,7 +111,7 @@ class Model:
 
     def plan(self) -> Plan:
         """The route, as :func:`duhamel._engine.output.physical` reads it."""
-        scaled = [ScaledSpec(k, c, speed_law(law)) for k, c, law in self.scaled]
+        scaled = [ScaledSpec(k, c, _speed_law(law)) for k, c, law in self.scaled]
         return Plan(
             self.route,
             self.basis,  # type: ignore[arg-type]
@@ -125,7 +127,7 @@ class Model:
         """The modal load patterns as columns."""
         if not self.loads:
             return np.zeros((self.basis.n_modes, 0))
-        return np.stack([p for p, _, _ in self.loads], axis=1)
+        return np.stack([_pattern(item) for item in self.loads], axis=1)
 
     def initial_state(self) -> NDArray[np.float64]:
         """The state the run starts from: ``q0 | v0``, or ``Re eta0 | Im eta0``."""
@@ -138,12 +140,15 @@ class Model:
     def core(self, route: Plan) -> Any:
         """The core's model of this run (``_core.ModalModel``), as :func:`duhamel.prepare`
         builds it."""
-        loads = [core_load(p, kind, params) for p, kind, params in self.loads]
-        mass = None
-        if self.mass is not None:
-            law = self.mass
-            mass = core_mass(law["law"], law["form"], law["scale_stiffness"], law["treatment"])
-        return dispatch.modal_model(route, loads, self.semianalytic(), mass)
+        return dispatch.modal_model(route, load_terms(self), self.semianalytic(), self.core_mass())
+
+    def core_mass(self) -> _core.Mass | None:
+        """The run's mass law as the core takes it (None: constant mass)."""
+        if self.mass is None:
+            return None
+        m, law = self.mass, self.mass["law"]
+        law = _core.MassLaw._from_value(law) if isinstance(law, str) else _legacy.mass_law(law)
+        return _core.Mass(law, m["form"], bool(m["scale_stiffness"]), m["treatment"])
 
     def element_objects(self) -> list[Any]:
         """The force elements, rebuilt from their data (a stand-in naming the element when it
@@ -152,7 +157,7 @@ class Model:
 
     def base_loads(self) -> list[BaseAcceleration]:
         """The support accelerations (for ``Solution.a_absolute``)."""
-        return [BaseAcceleration(r, t, v) for r, t, v in self.base]
+        return [BaseAcceleration(r, t=t, values=v) for r, t, v in self.base]
 
 
 @dataclass(frozen=True)
@@ -198,22 +203,24 @@ def capture(
     run = background(system, integrator.linear_parts)  # (cached by plan)
     basis = route.basis
     phi = np.ascontiguousarray(basis.phi)
-    loads = []
-    for load in system.loads:
-        for physical, kind, params in load._specs(system):
-            loads.append((np.ascontiguousarray(phi.T @ physical), kind, params))
+    loads = [
+        {"pattern": np.ascontiguousarray(phi.T @ term.pattern), "time": term.time._to_value()}
+        for load in system.loads
+        for term in load._terms(system)
+    ]
     forces = [e for e in system.elements if not isinstance(e, LinearCoupling)]
     varying = [
         e for e in system.elements if isinstance(e, LinearCoupling) and e.constant_factor() is None
     ]
     scaled = [
-        (s.k, s.c, e.scale._spec()) for s, e in zip(route.couplings.scaled, varying, strict=True)
+        (s.k, s.c, e.scale._to_value())
+        for s, e in zip(route.couplings.scaled, varying, strict=True)
     ]
     attached = system.mass_law
     mass = None
     if attached is not None:
         mass = {
-            "law": attached.law._spec(),
+            "law": attached.law._law()._to_value(),
             "form": attached.form,
             "scale_stiffness": bool(attached.scale_stiffness),
             "treatment": integrator.mass_treatment,
@@ -249,6 +256,28 @@ def capture(
         labels=system.dof_labels,
         passive=route.passive,
     )
+
+
+def _pattern(item: Any) -> NDArray[np.float64]:
+    """A stored load's modal pattern (this release's record or a previous one's tuple)."""
+    return item["pattern"] if isinstance(item, dict) else item[0]
+
+
+def _speed_law(law: Any) -> _core.SpeedLaw:
+    """A stored speed law: its data, or a previous release's ``(kind, params)``."""
+    return _core.SpeedLaw._from_value(law) if isinstance(law, str) else _legacy.speed_law(law)
+
+
+def load_terms(model: Model) -> list[_core.Load]:
+    """The core loads of a stored run (modal patterns), as the run built them."""
+    out = []
+    for item in model.loads:
+        if isinstance(item, dict):
+            time = _core.TimeFunction._from_value(item["time"])
+        else:
+            time = _legacy.time_function(item[1], item[2])
+        out.append(_core.Load(np.ascontiguousarray(_pattern(item), dtype=np.float64), time))
+    return out
 
 
 def _run_element(e: Any) -> dict[str, Any]:

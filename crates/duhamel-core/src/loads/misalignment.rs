@@ -33,7 +33,8 @@ use std::cmp::Ordering;
 use crate::error::CoreError;
 
 /// A flexible coupling's misalignment: geometry and stiffnesses.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Coupling {
     /// Shaft radius at the coupling (m), `> 0`.
     pub radius: f64,

@@ -8,15 +8,18 @@ use super::misalignment::Coupling;
 use super::steps::Steps;
 use super::table::{table_at, table_before, table_eval};
 
-/// A direction in the plane of a rotor's cross-section.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// A direction in the plane of a rotor's cross-section (serialised as `"x"`, `"y"`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Axis {
     X,
     Y,
 }
 
-/// A scalar function of time.
-#[derive(Debug, Clone, PartialEq)]
+/// A scalar function of time. Serialised (a stored run's loads) as `{"step": {"t0": ...}}`,
+/// `{"harmonic": {...}}`, `{"table": {"t": [...], "v": [...], "hold": ...}}`, ...
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum TimeFunction {
     /// Heaviside step `H(t - t0)` (1 for `t >= t0`). Integrated exactly, also when `t0` falls
     /// inside a step.

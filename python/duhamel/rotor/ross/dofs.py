@@ -175,13 +175,19 @@ class RossDofs:
             raise ValueError(
                 f"`F` loads ROSS dof {int(bad[0])}, an axial or torsional dof that from_ross drops"
             )
-        return [Tabulated(i, ts, f[:, j]) for i, j in enumerate(self.ross_index) if np.any(f[:, j])]
+        return [
+            Tabulated(i, t=ts, values=f[:, j])
+            for i, j in enumerate(self.ross_index)
+            if np.any(f[:, j])
+        ]
 
     def unbalance(self, node: int, m_e: float, speed: Any, phase: float = 0.0) -> Load:
         """The unbalance ``m_e`` (kg m) at ROSS node `node` as a
         :class:`duhamel.loads.Unbalance`: ``m_e speed^2 (cos(speed t + phase), sin(speed t +
         phase))`` on the node's ``(x, y)``, the force of ROSS's unbalance response."""
-        return UnbalanceLoad(self.index(node, "x"), self.index(node, "y"), m_e, speed, phase)
+        return UnbalanceLoad(
+            (self.index(node, "x"), self.index(node, "y")), m_e=m_e, speed=speed, phase=phase
+        )
 
 
 def _values(values: ArrayLike) -> NDArray[Any]:

@@ -98,21 +98,22 @@ def cancelling(elements: list[Any], dof_x: int, dof_y: int) -> Any:
     """The exact negative of the speed-table element on ``(dof_x, dof_y)`` among
     `elements` (the same table and law, every coefficient negated: their forces cancel bit
     for bit), to take a swapped bearing out of a run-up."""
-    from duhamel.rotor._speed_table import SpeedTableElement
+    from duhamel.elements import SpeedTableBearing
 
     found = [
         e
         for e in elements
-        if isinstance(e, SpeedTableElement) and (e.dof_x, e.dof_y) == (dof_x, dof_y)
+        if isinstance(e, SpeedTableBearing) and tuple(e.dofs) == (dof_x, dof_y)
     ]
     if len(found) != 1:
         raise ValueError(
             f"the run-up has {len(found)} speed tables at dofs ({dof_x}, {dof_y}) to cancel"
         )
     e = found[0]
-    b = e.bearing
-    negated = RossTable(
-        b.node, speeds=list(b.speeds), **{n: [-v for v in getattr(b, n)] for n in _NAMES}
+
+    def negated(rows: Any) -> Any:
+        return None if rows is None else [[-v for v in row] for row in rows]
+
+    return e.replace(
+        values=negated(e.values), slopes=negated(e.slopes), k0=negated(e.k0), c0=negated(e.c0)
     )
-    flip = lambda m: tuple(tuple(-v for v in row) for row in m)  # noqa: E731
-    return SpeedTableElement(dof_x, dof_y, negated, e.law, flip(e.k0), flip(e.c0))

@@ -27,6 +27,11 @@
 //! `B(u) = min(max(k u, F_lower(u)), F_upper(u))` (`k u` below yield, then slope `alpha k`).
 //! [`Element::eval`] (no history) returns the same backbone.
 //!
+//! **A given initial state** `(u0, F0)` at `x = 0` (e.g. after a gravity analysis): the
+//! element works in the deformation and force measured from it, `u' = u - u0`, `F' = F - F0`
+//! (its internal variables too), with the band's distances from `F0` at `u0`; the force on
+//! the equations is `F'`.
+//!
 //! A symmetric cycle between `+-u_max > uy` dissipates `4 (1 - alpha) fy (u_max - uy)`.
 
 use serde::{Deserialize, Serialize};
@@ -46,11 +51,29 @@ pub struct BilinearDef {
     pub k: f64,
     pub fy: f64,
     pub alpha: f64,
+    #[serde(default)]
+    pub initial_deformation: f64,
+    #[serde(default)]
+    pub initial_force: Option<f64>,
+}
+
+impl BilinearDef {
+    /// The initial state `(u0, F0)` when one is given (None: virgin at `x = 0`).
+    fn initial(&self) -> Option<(f64, f64)> {
+        if self.initial_deformation == 0.0 && self.initial_force.is_none() {
+            return None;
+        }
+        Some((
+            self.initial_deformation,
+            self.initial_force.unwrap_or(f64::NAN),
+        ))
+    }
 }
 
 impl Definition for BilinearDef {
     const NAME: &'static str = "Bilinear";
-    const SIGNATURE: &'static str = "(i, j=None, *, k, fy, alpha)";
+    const SIGNATURE: &'static str =
+        "(i, j=None, *, k, fy, alpha, initial_deformation=0.0, initial_force=None)";
     const DOC: &'static str = r#"Bilinear elastoplastic spring with kinematic hardening (OpenSees ``Steel01`` without
 isotropic hardening) on the deformation ``u = x_i - x_j`` (``j=None``: to the ground):
 elastic stiffness `k`, yield force `fy`, post-yield stiffness ``alpha k`` (0:
@@ -58,6 +81,14 @@ elastic-perfectly plastic, negative: softening). The force stays between the lin
 ``alpha k u +- (1 - alpha) fy``; the return mapping is exact for any increment. The element
 starts virgin at ``u = 0`` (an initial deformation is taken as reached monotonically). A
 symmetric cycle of amplitude ``u_max > fy / k`` dissipates ``4 (1 - alpha) fy (u_max - fy / k)``.
+
+**Initial state** (a model whose ``x = 0`` is a loaded state, e.g. after a gravity
+analysis, :func:`duhamel.opensees.from_opensees`): at ``x = 0`` the element is at the
+deformation `initial_deformation` ``u0`` with the force `initial_force` ``F0`` (a state
+reached on any path: ``|F0 - alpha k u0| <= (1 - alpha) fy``; default: loaded monotonically,
+the backbone at ``u0``). Its deformation is then ``u0 + x_i - x_j`` and the force it adds to
+the equations is its change from ``F0`` (the loads that hold ``F0`` are not in the model:
+the element's total force is ``F0`` plus the one reported).
 
 Parameters
 ----------
@@ -69,6 +100,10 @@ fy : float
     Yield force, > 0.
 alpha : float
     Post-yield stiffness ratio, <= 1.
+initial_deformation : float, default 0.0
+    The deformation at ``x = 0``.
+initial_force : float, optional
+    The force at ``x = 0`` (default: the backbone's at `initial_deformation`).
 
 Examples
 --------
@@ -78,6 +113,13 @@ Examples
 >>> sol = duhamel.solve(sdof, duhamel.Semianalytic(), t_end=2.0, dt=0.01, v0=[1.0])
 >>> bool(abs(sol.elements[0].axial_force).max() <= 1.0 + 0.05 * 100 * 0.2)
 True
+
+A hinge yielded under gravity (``F0`` on the upper line) and unloaded from there:
+
+>>> hinge = duhamel.elements.Bilinear(0, k=100.0, fy=1.0, alpha=0.0,
+...                                   initial_deformation=0.03, initial_force=1.0)
+>>> duhamel.elements.drive(hinge, [0.0, 0.005, -0.01]).force.tolist()
+[0.0, 0.0, -1.5]
 "#;
     const LEGACY: &'static [&'static str] = &["i", "j", "k", "fy", "alpha"];
     const LEGACY_DEFAULTS: &'static [(&'static str, &'static str)] =
@@ -85,7 +127,11 @@ True
     type Runtime = Bilinear;
 
     fn build(&self) -> Result<Bilinear, CoreError> {
-        Bilinear::new(self.i, self.j, self.k, self.fy, self.alpha)
+        let e = Bilinear::new(self.i, self.j, self.k, self.fy, self.alpha)?;
+        match self.initial() {
+            None => Ok(e),
+            Some((u0, f0)) => e.starting_at(u0, self.initial_force.map(|_| f0)),
+        }
     }
 
     fn directions(&self) -> Option<Vec<Pair>> {
@@ -93,7 +139,8 @@ True
     }
 
     fn passive(&self) -> bool {
-        self.alpha >= 0.0
+        // an initial force is held by loads outside the model, whose work is not counted
+        self.alpha >= 0.0 && self.initial().is_none()
     }
 
     fn linear_stiffness(&self) -> Option<Vec<f64>> {
@@ -105,8 +152,23 @@ True
     }
 
     fn stored_energy(&self, _u: &[f64], f: &[f64]) -> f64 {
-        f[0] * f[0] / (2.0 * self.k)
+        match self.build().ok().and_then(|e| e.initial_force()) {
+            // measured from the initial state, as the force
+            Some(f0) => ((f[0] + f0).powi(2) - f0 * f0) / (2.0 * self.k),
+            None => f[0] * f[0] / (2.0 * self.k),
+        }
     }
+}
+
+/// An initial state: the force `F0` at `x = 0` and the distances `(c_up, c_down)` from it
+/// to the upper and lower bounding lines there. The element then works in the variables
+/// measured from that state (`u - u0`, `F - F0`: no cancellation of the large `F0` in the
+/// small increments), where the band is `alpha k u' - c_down <= F' <= alpha k u' + c_up`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Start {
+    f0: f64,
+    up: f64,
+    down: f64,
 }
 
 /// Bilinear kinematic-hardening spring between dofs `i` and `j` (or `i` and ground).
@@ -116,6 +178,8 @@ pub struct Bilinear {
     k: f64,
     fy: f64,
     alpha: f64,
+    /// The state at `x = 0` when one is given (None: virgin there).
+    initial: Option<Start>,
 }
 
 impl Bilinear {
@@ -132,7 +196,69 @@ impl Bilinear {
             k,
             fy,
             alpha,
+            initial: None,
         })
+    }
+
+    /// The same element in the state `(u0, F0)` at `x = 0` (`f0` None: the backbone's force
+    /// at `u0`): its deformation is `u0 + x_i - x_j` and its force the change from `F0`.
+    /// Errors: a non-finite `u0`/`F0` or a force outside the band at `u0` (named
+    /// `"initial_deformation"`, `"initial_force"`).
+    pub fn starting_at(mut self, u0: f64, f0: Option<f64>) -> Result<Self, CoreError> {
+        if !u0.is_finite() {
+            return Err(CoreError::InvalidInput {
+                name: "initial_deformation",
+                problem: format!("must be finite, got {u0}"),
+            });
+        }
+        let f0 = match f0 {
+            None => self.backbone(u0).0,
+            Some(f) => {
+                let line = self.alpha * self.k * u0;
+                let band = (1.0 - self.alpha) * self.fy;
+                // OpenSees' state read back: on the line to its round-off
+                let slack = 1e-9 * (band.abs() + line.abs());
+                if !f.is_finite() || (f - line).abs() > band + slack {
+                    return Err(CoreError::InvalidInput {
+                        name: "initial_force",
+                        problem: format!(
+                            "must lie between alpha k u0 -+ (1 - alpha) fy = {:.6e} and {:.6e} \
+                             at initial_deformation {u0:e} (a state the element can reach), got {f}",
+                            line - band,
+                            line + band
+                        ),
+                    });
+                }
+                f.clamp(line - band, line + band)
+            }
+        };
+        let line = self.alpha * self.k * u0;
+        let band = (1.0 - self.alpha) * self.fy;
+        self.initial = Some(Start {
+            f0,
+            up: (line + band - f0).max(0.0),
+            down: (f0 - line + band).max(0.0),
+        });
+        Ok(self)
+    }
+
+    /// The force and tangent from the initial state `s` (both measured from it): the
+    /// return mapping of [`Self::response`] in the shifted band.
+    fn shifted(&self, s: &Start, u_c: f64, f_c: f64, u: f64) -> (f64, f64) {
+        let trial = f_c + self.k * (u - u_c);
+        let line = self.alpha * self.k * u;
+        if trial > line + s.up {
+            (line + s.up, self.alpha * self.k)
+        } else if trial < line - s.down {
+            (line - s.down, self.alpha * self.k)
+        } else {
+            (trial, self.k)
+        }
+    }
+
+    /// The force `F0` at `x = 0` of an element with an initial state (None: virgin).
+    pub fn initial_force(&self) -> Option<f64> {
+        self.initial.map(|s| s.f0)
     }
 
     /// Elastic stiffness `k`.
@@ -197,7 +323,10 @@ impl Element for Bilinear {
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
-        let (f, kt) = self.backbone(relative(x));
+        let (f, kt) = match &self.initial {
+            None => self.backbone(relative(x)),
+            Some(s) => self.shifted(s, 0.0, 0.0, relative(x)),
+        };
         finite(t, &[f, kt])?;
         scatter(f, kt, r, tangent.map(|tg| tg.kx));
         Ok(())
@@ -218,7 +347,10 @@ impl Element for Bilinear {
     fn initial_state(&self, x: &[f64], _v: &[f64], state: &mut [f64]) {
         let u = relative(x);
         state[0] = u;
-        state[1] = self.backbone(u).0;
+        state[1] = match &self.initial {
+            None => self.backbone(u).0,
+            Some(s) => self.shifted(s, 0.0, 0.0, u).0,
+        };
     }
 
     #[inline]
@@ -232,7 +364,12 @@ impl Element for Bilinear {
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
         let u = relative(x);
-        let (f, kt) = self.response(history.committed[0], history.committed[1], u);
+        let (uc, fc) = (history.committed[0], history.committed[1]);
+        // with an initial state, the variables are measured from it
+        let (f, kt) = match &self.initial {
+            None => self.response(uc, fc, u),
+            Some(s) => self.shifted(s, uc, fc, u),
+        };
         finite(t, &[f, kt])?;
         history.trial[0] = u;
         history.trial[1] = f;
@@ -284,6 +421,50 @@ mod tests {
         assert!((f1 - (f - 3.0)).abs() < 1e-14 && k1 == 100.0);
         let (f2, k2) = b.response(0.05, f, 0.0);
         assert!((f2 - (-1.8)).abs() < 1e-14 && k2 == 10.0);
+    }
+
+    #[test]
+    fn an_initial_state_is_continued_as_the_total_return_mapping() {
+        // virgin, loaded to u0 = 0.05 (yielded), unloaded to 0.03: the state (u0, F0)
+        let b = Bilinear::new(0, None, 100.0, 2.0, 0.1).unwrap();
+        let (f1, _) = b.backbone(0.05);
+        let (f0, _) = b.response(0.05, f1, 0.03);
+        let s = b.clone().starting_at(0.03, Some(f0)).unwrap();
+        let (mut uc, mut fc) = (0.03, f0); // the total path
+        let mut state = [0.0; 2];
+        s.initial_state(&[0.0], &[0.0], &mut state);
+        for du in [0.01, 0.04, -0.02, -0.09, 0.03] {
+            let u = uc + du;
+            let (f, kt) = b.response(uc, fc, u);
+            let mut r = [0.0];
+            let mut kx = [0.0];
+            let mut trial = [0.0; 2];
+            let history = PathState {
+                committed: &state,
+                trial: &mut trial,
+            };
+            let tg = Tangent {
+                kx: &mut kx,
+                cv: &mut [0.0],
+            };
+            s.eval_path(&[u - 0.03], &[0.0], 0.0, history, &mut r, Some(tg))
+                .unwrap();
+            assert!(
+                (r[0] - (f - f0)).abs() < 1e-12 && kx[0] == kt,
+                "{du}: {r:?} {f} {f0}"
+            );
+            state = trial;
+            (uc, fc) = (u, f);
+        }
+        // a force the element cannot hold there is refused, named
+        let e = b.clone().starting_at(0.0, Some(2.5)).unwrap_err();
+        assert!(matches!(
+            e,
+            CoreError::InvalidInput {
+                name: "initial_force",
+                ..
+            }
+        ));
     }
 
     #[test]

@@ -39,6 +39,16 @@
 //!   (about `1e-8` in `z`: 9e-9 measured for `n = 1.5` at 40 steps a cycle). Past saturation (`xi` beyond
 //!   `2 z_max + 40 / (n c_+^(1/n))`) `w` sits at `z_max` to round-off: the integration stops
 //!   there, which bounds the work for huge increments.
+//! * **Bounded work** (`boucwen/substeps.rs`). A branch runs at most
+//!   [`substeps::MAX_SUBSTEPS`] substeps (`n > 16`: [`substeps::MAX_ADAPTIVE`] in all); it
+//!   ends early where `w` crosses 0 or stops moving (the substep's increment rounds away: the
+//!   substeps left change nothing). An increment
+//!   that needs more is refused with [`CoreError::OutOfDomain`] naming the element and the
+//!   count — parameters many orders of magnitude apart (`fy = 1e-300` with `beta = gamma =
+//!   1e-300`: `z` saturates at 3.5e180) — never integrated with longer substeps than the
+//!   bound on `lambda h` allows (before, they were stretched to fit 1e6, a million substeps
+//!   per evaluation), nor cut short. Ordinary parameters stay far below it (the default
+//!   shape needs at most `200 n + 4,000`).
 //!
 //! **Tangent.** The exact flow map satisfies `d w(xi) / d xi = g(w(xi))`, hence
 //! `dF/du = alpha k + (1 - alpha) k g(s z)` at the trial state — exact for `n = 1`, and
@@ -56,6 +66,7 @@ use crate::error::CoreError;
 use serde::{Deserialize, Serialize};
 
 mod adaptive;
+mod substeps;
 
 /// Above this exponent the substeps follow the local stiffness of `g` (see
 /// [`BoucWen::advance_adaptive`]): the uniform bound `lambda ~ n` would cost `100 n`
@@ -63,8 +74,6 @@ mod adaptive;
 const ADAPTIVE_N: f64 = 16.0;
 /// RK4 substep bound, `lambda h <= H0`.
 const H0: f64 = 0.01;
-/// Bound on the RK4 substeps of one branch (a saturated branch needs far fewer).
-const MAX_SUBSTEPS: f64 = 1e6;
 
 /// Bouc-Wen hysteretic spring between dofs `i` and `j` (or `i` and ground).
 #[derive(Debug, Clone, PartialEq)]
@@ -228,76 +237,11 @@ impl BoucWen {
         linear_flow(w, -cp, rest)
     }
 
-    fn rk4_step(&self, w: f64, h: f64, positive: bool) -> f64 {
-        let k1 = self.g(w, positive);
-        let k2 = self.g(w + 0.5 * h * k1, positive);
-        let k3 = self.g(w + 0.5 * h * k2, positive);
-        let k4 = self.g(w + h * k3, positive);
-        w + h / 6.0 * (k1 + 2.0 * (k2 + k3) + k4)
-    }
-
-    /// General `n`: `w` after `xi >= 0` from `w0`, by RK4 with the switch located.
-    fn advance_rk4(&self, w0: f64, xi: f64) -> f64 {
-        let (cm, cp) = (self.gamma - self.beta, self.beta + self.gamma);
-        let z_max = self.z_max();
-        let lambda = self.n * cm.abs().max(cp) * self.pow(z_max.max(1.0)) / z_max.max(1.0);
-        let h_max = H0 / lambda.max(1.0);
-        let substeps = |len: f64| (len / h_max).ceil().clamp(1.0, MAX_SUBSTEPS);
-        let (mut w, mut rest) = (w0, xi);
-        if w < 0.0 {
-            // g is monotone in |w|: at least g_min on the way up to 0, which is reached
-            // within |w0| / g_min when g_min > 0 (an admissible start)
-            let g_min = self.g(w, false).min(1.0);
-            let bound = if g_min > 0.0 {
-                -w / g_min
-            } else {
-                2.0 * (-w) + 40.0 / lambda.max(1.0)
-            };
-            let reaches = g_min > 0.0 && rest > bound;
-            let len = rest.min(bound);
-            let m = substeps(len);
-            let h = len / m;
-            let mut crossed = false;
-            for _ in 0..m as usize {
-                let next = self.rk4_step(w, h, false);
-                if next >= 0.0 {
-                    // xi to reach w = 0 from w: Simpson on dxi/dw = 1 / g(w) (g(0) = 1)
-                    let d =
-                        -w / 6.0 * (1.0 / self.g(w, false) + 4.0 / self.g(0.5 * w, false) + 1.0);
-                    rest -= d.clamp(0.0, h);
-                    crossed = true;
-                    break;
-                }
-                w = next;
-                rest -= h;
-            }
-            if !crossed {
-                if !reaches {
-                    return w;
-                }
-                // reached 0 at the end of `bound` (g constant) up to round-off
-                rest = rest.max(0.0);
-            }
-            w = 0.0;
-            rest = rest.max(0.0);
-        }
-        // past saturation the state no longer moves
-        let saturation = 2.0 * z_max.max(w) + 40.0 / (self.n * cp.powf(1.0 / self.n));
-        let len = rest.min(saturation);
-        if len <= 0.0 {
-            return w;
-        }
-        let m = substeps(len);
-        let h = len / m;
-        for _ in 0..m as usize {
-            w = self.rk4_step(w, h, true);
-        }
-        w
-    }
-
     /// The hysteretic variable and the force and consistent tangent `(z, F, dF/du)` at
-    /// deformation `u` reached from the committed `(u_c, z_c)`.
-    pub fn response(&self, u_c: f64, z_c: f64, u: f64) -> (f64, f64, f64) {
+    /// deformation `u` reached from the committed `(u_c, z_c)`; an increment that needs
+    /// more substeps than the bound is refused ([`CoreError::OutOfDomain`], naming the
+    /// element and the count).
+    pub fn response(&self, u_c: f64, z_c: f64, u: f64) -> Result<(f64, f64, f64), CoreError> {
         let uy = self.yield_deformation();
         let du = u - u_c;
         let s = if du > 0.0 || (du == 0.0 && z_c >= 0.0) {
@@ -311,15 +255,19 @@ impl BoucWen {
         } else if self.n == 1.0 {
             s * self.advance_linear(s * z_c, xi)
         } else if self.n > ADAPTIVE_N && self.g(s * z_c, s * z_c >= 0.0) > 0.0 {
-            s * self.advance_adaptive(s * z_c, xi)
+            s * self
+                .advance_adaptive(s * z_c, xi)
+                .map_err(|e| self.too_many(u_c, u, e))?
         } else {
-            s * self.advance_rk4(s * z_c, xi)
+            s * self
+                .advance_rk4(s * z_c, xi)
+                .map_err(|e| self.too_many(u_c, u, e))?
         };
         let w = s * z;
         let g = self.g(w, w >= 0.0);
         let f = self.alpha * self.k * u + (1.0 - self.alpha) * self.fy * z;
         let kt = self.k * (self.alpha + (1.0 - self.alpha) * g);
-        (z, f, kt)
+        Ok((z, f, kt))
     }
 }
 
@@ -336,7 +284,9 @@ impl Element for BoucWen {
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
-        let (_, f, kt) = self.response(0.0, 0.0, relative(x));
+        let (_, f, kt) = self
+            .response(0.0, 0.0, relative(x))
+            .map_err(|e| Self::at(e, t))?;
         finite(t, &[f, kt])?;
         scatter(f, kt, r, tangent.map(|tg| tg.kx));
         Ok(())
@@ -357,7 +307,9 @@ impl Element for BoucWen {
     fn initial_state(&self, x: &[f64], _v: &[f64], state: &mut [f64]) {
         let u = relative(x);
         state[0] = u;
-        state[1] = self.response(0.0, 0.0, u).0;
+        // an initial deformation beyond the substep bound: z is NaN, and the first
+        // evaluation reports the refusal (this trait method cannot)
+        state[1] = self.response(0.0, 0.0, u).map_or(f64::NAN, |r| r.0);
     }
 
     fn eval_path(
@@ -370,7 +322,12 @@ impl Element for BoucWen {
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
         let u = relative(x);
-        let (z, f, kt) = self.response(history.committed[0], history.committed[1], u);
+        let (u_c, z_c) = (history.committed[0], history.committed[1]);
+        if z_c.is_nan() && u_c.is_finite() {
+            // the initial state's loading from rest was refused (see `initial_state`)
+            self.response(0.0, 0.0, u_c).map_err(|e| Self::at(e, t))?;
+        }
+        let (z, f, kt) = self.response(u_c, z_c, u).map_err(|e| Self::at(e, t))?;
         finite(t, &[z, f, kt])?;
         history.trial[0] = u;
         history.trial[1] = z;

@@ -33,6 +33,8 @@ pub struct FrictionPendulumDef {
     pub delta_mu: f64,
     #[serde(default)]
     pub pressure_alpha: f64,
+    #[serde(default)]
+    pub initial_axial_force: Option<f64>,
 }
 
 fn default_yield() -> f64 {
@@ -89,6 +91,12 @@ impl FrictionPendulumDef {
         if self.contact_area.is_none() && (self.delta_mu != 0.0 || self.pressure_alpha != 0.0) {
             return Err(bad("delta_mu", "and `pressure_alpha` need `contact_area`"));
         }
+        if self.initial_axial_force.is_some() && !vertical {
+            return Err(bad(
+                "initial_axial_force",
+                "needs the vertical dof: dofs=(x, y, z) or (x, None, z)",
+            ));
+        }
         if self.contact_area.is_some() && !vertical {
             return Err(bad(
                 "contact_area",
@@ -103,7 +111,7 @@ impl Definition for FrictionPendulumDef {
     const NAME: &'static str = "FrictionPendulum";
     const SIGNATURE: &'static str = "(dofs, *, radius, mu, weight, yield_displacement=0.00025, \
         mu_slow=None, rate=0.0, vertical_stiffness=None, contact_area=None, delta_mu=0.0, \
-        pressure_alpha=0.0)";
+        pressure_alpha=0.0, initial_axial_force=None)";
     const DOC: &'static str = r#"Single friction pendulum isolator, bidirectional (coupled) on two horizontal dofs
 ``dofs=(x, y)`` or uniaxial on one (``dofs=x``: a plane model): restoring force
 ``(weight / radius) u`` plus friction bounded by ``|f| <= mu weight`` (a circle in two
@@ -127,7 +135,11 @@ state, e.g. ``x0`` with ``u_z = -W / k_v``). There the sliding speed of `mu_slow
 the speed on the surface, ``sqrt(|u'|^2 + (u . u' / R)^2)`` (as OpenSees), and friction may
 also depend on the contact pressure ``N / A`` (OpenSees ``VelPressureDep``): with
 `contact_area` ``A``, `delta_mu` and `pressure_alpha`, the high-speed coefficient is
-``mu - delta_mu tanh(pressure_alpha N / A)``.
+``mu - delta_mu tanh(pressure_alpha N / A)``. A model whose ``x = 0`` is the loaded state
+(an imported gravity state, :func:`duhamel.opensees.from_opensees`) gives the axial force
+there as `initial_axial_force` ``P0``: the vertical displacement is then measured from where
+the bearing carries ``P0`` and its vertical force on the model is the change from ``P0``
+(the weight is no load of the model then).
 
 Parameters
 ----------
@@ -148,6 +160,8 @@ vertical_stiffness : float, optional
     Axial stiffness, with the vertical dof.
 contact_area, delta_mu, pressure_alpha : float, optional
     Pressure-dependent friction, with the vertical dof.
+initial_axial_force : float, optional
+    The compressive axial force at ``x = 0``, with the vertical dof.
 
 Examples
 --------
@@ -195,6 +209,10 @@ Examples
                 .contact_area
                 .map(|a| (a, self.delta_mu, self.pressure_alpha));
             let e = AxialFrictionPendulum::on(&self.local(), self.radius, self.mu, nominal, kv)?;
+            let e = match self.initial_axial_force {
+                Some(p0) => e.with_axial_load(p0)?,
+                None => e,
+            };
             return Ok(PendulumElement::Axial(e.with_friction(velocity, pressure)?));
         }
         let e = match y {
@@ -237,7 +255,8 @@ Examples
         if self.dofs.get(2).copied().flatten().is_some() {
             // the axial spring's energy and the pendulum's N u^2 / (2 R) at the current axial
             // force (approximate: the coupled model has no separable potential)
-            let axial = -f[1];
+            // the last local force is the vertical one (-P, or its change from P0)
+            let axial = self.initial_axial_force.unwrap_or(0.0) - f[f.len() - 1];
             let kv = self.vertical_stiffness.unwrap_or(f64::INFINITY);
             return axial * axial / (2.0 * kv) + axial * (u[0] * u[0]) / (2.0 * self.radius);
         }

@@ -46,6 +46,8 @@ use law::{Coefficient, Law, Response};
 pub struct AxialFrictionPendulum {
     dofs: Vec<usize>,
     law: Law,
+    /// The axial force `P0` carried at `x = 0` (None: none, `x = 0` unloaded).
+    initial_axial: Option<f64>,
 }
 
 fn differ(dofs: &[usize]) -> Result<(), CoreError> {
@@ -143,7 +145,21 @@ impl AxialFrictionPendulum {
                 pressure: None,
             },
         };
-        Ok(Self { dofs, law })
+        Ok(Self {
+            dofs,
+            law,
+            initial_axial: None,
+        })
+    }
+
+    /// The same bearing carrying the compressive axial force `p0 >= 0` at `x = 0` (a loaded
+    /// state whose loads are not in the model, e.g. an imported gravity state): its vertical
+    /// displacement is `x_z - p0 / k_v` and its vertical force on the model the change from
+    /// `p0`. Errors name `"initial_axial_force"`.
+    pub fn with_axial_load(mut self, p0: f64) -> Result<Self, CoreError> {
+        check("initial_axial_force", p0, false)?;
+        self.initial_axial = Some(p0);
+        Ok(self)
     }
 
     /// The same bearing with velocity-dependent friction from `mu_fast = mu` down to
@@ -211,10 +227,14 @@ impl AxialFrictionPendulum {
 
     /// The local `(u, w, v)` of the element's `x`, `v`.
     fn local(&self, x: &[f64], v: &[f64]) -> ([f64; 2], f64, [f64; 2]) {
-        if self.horizontal() == 2 {
+        let (u, w, vel) = if self.horizontal() == 2 {
             ([x[0], x[1]], x[2], [v[0], v[1]])
         } else {
             ([x[0], 0.0], x[1], [v[0], 0.0])
+        };
+        match self.initial_axial {
+            None => (u, w, vel),
+            Some(p0) => (u, w - p0 / self.law.kv, vel),
         }
     }
 
@@ -266,7 +286,18 @@ impl AxialFrictionPendulum {
         for (ri, v) in r.iter_mut().zip(&res.shear[..m]) {
             *ri += v;
         }
-        r[m] -= res.axial;
+        match self.initial_axial {
+            None => r[m] -= res.axial,
+            // the change from the axial force at x = 0: in compression -P + p0 = k_v x_z,
+            // taken so (the small change without the cancellation of the large p0)
+            Some(p0) => {
+                r[m] += if res.axial > 0.0 {
+                    self.law.kv * x[m]
+                } else {
+                    p0
+                }
+            }
+        }
         if let Some(tg) = tangent {
             for (a, &i) in idx.iter().enumerate() {
                 // the vertical row is -P

@@ -2,11 +2,8 @@
 //! of `g`, so that the work per increment does not grow with `n` (see
 //! [`BoucWen::advance_adaptive`]).
 
+use super::substeps::{TooManySubsteps, MAX_ADAPTIVE};
 use super::{BoucWen, H0};
-
-/// Bound on the substeps of the adaptive integration of one increment (never reached by
-/// an admissible state: about `(len + 80) / H0`, whatever `n`).
-const MAX_ADAPTIVE: usize = 200_000;
 
 impl BoucWen {
     /// A bound of the `k`-th roots of the derivatives of `g` at `|w| <= a` for large `n`:
@@ -23,10 +20,12 @@ impl BoucWen {
     /// `n > 16` from an admissible state (`g(w0) > 0`): RK4 with substeps `H0 / rate(w)`
     /// following the local stiffness of `g` (tiny while `|w|^n` is, `~ n` near `z_max`),
     /// the crossing of `w = 0` located as in [`Self::advance_rk4`], and the integration
-    /// stopped once `g` is zero to the rounding of `|w|^n` (`w` at `z_max`). The work per
+    /// stopped once `g` is zero to the rounding of `|w|^n` (`w` at `z_max`) or a substep
+    /// no longer moves `w` (its increment `h g(w)` below half an ulp: the substeps that
+    /// would follow change nothing, where they ran to the bound before). The work per
     /// increment is then bounded whatever `n` (about `(len + 80) / H0` substeps), where the
     /// uniform substeps cost `100 n` per unit of `xi` (n = 1e6 took 30 s for 100 steps).
-    pub(super) fn advance_adaptive(&self, w0: f64, xi: f64) -> f64 {
+    pub(super) fn advance_adaptive(&self, w0: f64, xi: f64) -> Result<f64, TooManySubsteps> {
         let (mut w, mut rest) = (w0, xi);
         let settled = 64.0 * self.n * f64::EPSILON;
         // the substep keeps `h rate <= 2 H0` over its whole span (the rate grows with |w|)
@@ -46,6 +45,9 @@ impl BoucWen {
                 let h = step(w, false).min(rest);
                 let next = self.rk4_step(w, h, false);
                 count += 1;
+                if next == w {
+                    return Ok(w); // the increment h g(w) rounds away: w moves no more
+                }
                 if next >= 0.0 {
                     let d =
                         -w / 6.0 * (1.0 / self.g(w, false) + 4.0 / self.g(0.5 * w, false) + 1.0);
@@ -57,19 +59,35 @@ impl BoucWen {
                 rest -= h;
             }
             if w < 0.0 {
-                return w;
+                return self.settled_within(rest, count, w);
             }
         }
         while rest > 0.0 && count < MAX_ADAPTIVE {
             if self.g(w, true).abs() <= settled {
-                return w; // at z_max to round-off: the state no longer moves
+                return Ok(w); // at z_max to round-off: the state no longer moves
             }
             let h = step(w, true).min(rest);
-            w = self.rk4_step(w, h, true);
+            let next = self.rk4_step(w, h, true);
+            if next == w {
+                return Ok(w); // at z_max to the rounding of w + h g(w): no more motion
+            }
+            w = next;
             rest -= h;
             count += 1;
         }
-        w
+        self.settled_within(rest, count, w)
+    }
+
+    /// `w` when the increment was integrated whole (`rest <= 0`) within the bound; else
+    /// the refusal (the bound reached with `rest` of the increment left).
+    fn settled_within(&self, rest: f64, count: usize, w: f64) -> Result<f64, TooManySubsteps> {
+        if rest > 0.0 && count >= MAX_ADAPTIVE {
+            Err(TooManySubsteps {
+                needed: MAX_ADAPTIVE as f64,
+            })
+        } else {
+            Ok(w)
+        }
     }
 }
 
@@ -88,7 +106,10 @@ mod tests {
                 let zm = e.z_max();
                 for w0 in [-0.99 * zm, -0.5, 0.0, 0.3, 0.9 * zm, 0.999 * zm] {
                     for xi in [1e-3, 0.05, 0.4, 1.0, 2.5, 40.0] {
-                        let (a, b) = (e.advance_adaptive(w0, xi), e.advance_rk4(w0, xi));
+                        let (a, b) = (
+                            e.advance_adaptive(w0, xi).unwrap(),
+                            e.advance_rk4(w0, xi).unwrap(),
+                        );
                         assert!((a - b).abs() <= 1e-9, "n {n} w0 {w0} xi {xi}: {a} vs {b}");
                     }
                 }
@@ -97,9 +118,9 @@ mod tests {
         for n in [1e3, 1e6, 1e12] {
             let e = grounded([2.0, 1.0, 0.1, n, 0.5, 0.5]).unwrap();
             // z reaches 1 (z_max) after xi ~ 1 and stays; by 0.5 it is 0.5 exactly enough
-            let z = e.advance_adaptive(0.0, 0.5);
+            let z = e.advance_adaptive(0.0, 0.5).unwrap();
             assert!((z - 0.5).abs() < 1e-9, "n {n}: {z}");
-            let z = e.advance_adaptive(-0.5, 1e9);
+            let z = e.advance_adaptive(-0.5, 1e9).unwrap();
             assert!((z - 1.0).abs() < 1e-9, "n {n}: {z}");
         }
     }
