@@ -69,6 +69,11 @@ def _instants(t_eval: Any, name: str) -> NDArray[np.float64] | None:
     if t_eval is None:
         return None
     times = as_float_array(t_eval, name, ndim=1)
+    if times.size == 0:
+        raise ValueError(
+            f"`{name}` is empty: pass the instants to report (within the run), or leave it "
+            "out (None) for the saved steps"
+        )
     if np.any(np.diff(times) < 0):
         raise ValueError(f"`{name}` must be increasing")
     return times
