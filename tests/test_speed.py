@@ -470,7 +470,7 @@ BAD = [
             L.Unbalance((1, 1), m_e=1.0, speed=5.0)
         ),
         ValueError,
-        "`dof_y`",
+        "`dofs`",
     ),
     (
         "dof-range",
@@ -478,7 +478,7 @@ BAD = [
             L.Unbalance((2, 1), m_e=1.0, speed=5.0)
         ),
         ValueError,
-        "`dof_x`",
+        "`dofs[0]`",
     ),
     (
         "core-t1",

@@ -35,25 +35,15 @@ def _local_tangent(element: Any) -> NDArray[np.float64]:
 def _effective(element: Any, displacement: float) -> NDArray[np.float64]:
     """The element's local stiffness at the amplitude `displacement`: ``k_eff`` along each
     of its directions (a bearing's horizontal ones; its vertical dof at its tangent)."""
-    from duhamel.design import effective_properties
+    from duhamel.design.effective import effective_properties, horizontal_bearing
     from duhamel.elements import FrictionPendulum
 
     n = len(element._dofs)
     k = np.zeros((n, n))
     name = type(element).__name__
     if isinstance(element, FrictionPendulum) and len(element.dofs) == 3:
-        dofs = element.dofs
         # the horizontal loop under the axial force at x = 0 (its weight: nominal)
-        weight = element.initial_axial_force or element.weight
-        # the same initial stiffness k_i: its friction part k_i - N / R is mu N / Y there
-        k_i = element.mu * element.weight / element.yield_displacement
-        horizontal = FrictionPendulum(
-            tuple(d for d in dofs[:2] if d is not None),
-            radius=element.radius,
-            mu=element.mu,
-            weight=weight,
-            yield_displacement=element.mu * weight / (k_i - weight / element.radius),
-        )
+        horizontal = horizontal_bearing(element)
         keff = effective_properties(horizontal, displacement).stiffness
         m = n - 1
         k[:m, :m] = keff * np.eye(m)

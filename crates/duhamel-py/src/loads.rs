@@ -10,6 +10,7 @@ use crate::arrays::vec_of;
 use crate::error::core_err;
 use crate::guard::guarded;
 use crate::speed::speed_of;
+use crate::values::{from_json, to_json};
 
 /// A checked scalar function of time, `s(t)`, of a load `pattern * s(t)`.
 #[pyclass(frozen, name = "TimeFunction", module = "duhamel._core")]
@@ -101,16 +102,6 @@ impl TimeFunction {
     fn __repr__(&self) -> String {
         format!("{:?}", self.0)
     }
-}
-
-/// `value` as JSON text (floats written to round-trip exactly).
-pub(crate) fn to_json<T: serde::Serialize>(value: &T) -> PyResult<String> {
-    serde_json::to_string(value).map_err(|e| PyValueError::new_err(e.to_string()))
-}
-
-/// The value of JSON text written by [`to_json`]; `what` names it in the error.
-pub(crate) fn from_json<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> PyResult<T> {
-    serde_json::from_str(text).map_err(|e| PyValueError::new_err(format!("{what}'s data: {e}")))
 }
 
 fn axis_of(axis: &str) -> PyResult<Axis> {

@@ -5,7 +5,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use crate::arrays::vec_of;
-use crate::loads::{from_json, to_json};
+use crate::values::{from_json, to_json};
 
 /// A mass law `mu(t)` (checked against the run's span when the run starts).
 #[pyclass(frozen, name = "MassLaw", module = "duhamel._core")]

@@ -8,7 +8,7 @@ use pyo3::types::PyTuple;
 use crate::arrays::vec_of;
 use crate::error::core_err;
 use crate::guard::guarded;
-use crate::loads::{from_json, to_json};
+use crate::values::{from_json, to_json};
 
 /// A checked speed law `omega(t)`.
 #[pyclass(frozen, name = "SpeedLaw", module = "duhamel._core")]

@@ -289,7 +289,7 @@ def _reproduce(study: Any, command: str) -> Section:
         ["model digest (sha256)", digest["model"]],
         ["records digest (sha256)", digest["records"]],
         ["settings digest (sha256)", digest["settings"]],
-        ["runs", f"{stats['runs']} on {stats['workers']} {stats['where']} in "
+        ["runs", f"{stats.runs} on {stats.workers} {stats.where} in "
          f"{study.wall_time.get('runs', 0.0):.1f} s"],
         ["standard gravity", f"{STANDARD_GRAVITY} m/s^2"],
     ]  # fmt: skip

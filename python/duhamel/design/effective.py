@@ -78,13 +78,26 @@ def _local_axes(element: Any) -> int:
             f"{type(element).__name__}"
         )
     dofs = getattr(element, "dofs", None)
-    if dofs is not None and len(dofs) > 2:
-        raise TypeError(
-            "`element`: a friction pendulum with its vertical dof has a normal force from the "
-            "model; measure the same bearing on its horizontal dofs (its `weight` the axial "
-            "load)"
-        )
     return len(element._dofs) if dofs is not None else 1
+
+
+def horizontal_bearing(element: Any) -> Any:
+    """A friction pendulum with its vertical dof as the bearing on its horizontal dofs under
+    its axial force at ``x = 0`` (``initial_axial_force``, else its nominal ``weight``), with
+    the same initial stiffness ``k_i = mu W / u_y``; any other element unchanged."""
+    from duhamel.elements import FrictionPendulum
+
+    if not isinstance(element, FrictionPendulum) or len(element.dofs) != 3:
+        return element
+    weight = element.initial_axial_force or element.weight
+    k_i = element.mu * element.weight / element.yield_displacement
+    return FrictionPendulum(
+        tuple(d for d in element.dofs[:2] if d is not None),
+        radius=element.radius,
+        mu=element.mu,
+        weight=weight,
+        yield_displacement=element.mu * weight / (k_i - weight / element.radius),
+    )
 
 
 #: Parts an increment holding a kink of the loop is split into.
@@ -165,7 +178,8 @@ def effective_properties(
     Parameters
     ----------
     element : duhamel.elements element
-        A hysteretic element: ``FrictionPendulum`` (without ``dof_z``),
+        A hysteretic element: ``FrictionPendulum`` (with its vertical dof: measured on its
+        horizontal dofs under its initial axial force, the gravity state it starts from),
         ``TripleFrictionPendulum``, ``LeadRubberBearing``, ``Bilinear``, ``BoucWen``.
         Velocity-dependent friction is measured at the driver's pace (one point per unit
         time: the slow coefficient).
@@ -202,6 +216,7 @@ def effective_properties(
         raise ValueError(f"`cycles` must be an integer >= 1, got {cycles!r}")
     if isinstance(points, bool) or not isinstance(points, int) or points < 8 or points % 2:
         raise ValueError(f"`points` must be an even integer >= 8, got {points!r}")
+    element = horizontal_bearing(element)
     axes = _local_axes(element)
     path = cycle(d, cycles, points)
     reached, force = _forces(element, path, axes, d)

@@ -35,9 +35,9 @@ def damping(system: Any) -> str:
 
 def _placements(element: Any) -> list[tuple[int, int | None]]:
     """The (dof, other dof or None) pairs an isolator acts on, by its public names."""
-    if getattr(element, "dof_x", None) is not None:
-        dofs = [element.dof_x] + ([element.dof_y] if getattr(element, "dof_y", None) else [])
-        return [(int(d), None) for d in dofs]
+    dofs = getattr(element, "dofs", None)
+    if dofs is not None:  # a bearing: its horizontal dofs (a third one is its vertical dof)
+        return [(int(d), None) for d in dofs[:2] if d is not None]
     j = getattr(element, "j", None)
     return [(int(element.i), None if j is None else int(j))]
 

@@ -30,6 +30,7 @@ Examples
 from __future__ import annotations
 
 from duhamel.ensemble.bounds import property_bounds, solve_bounds
+from duhamel.ensemble.fragility import Fragility, fit_fragility
 from duhamel.ensemble.ida import IDA, fractiles, ida
 from duhamel.ensemble.run import Ensemble, EnsembleStats, solve_many
 
@@ -37,6 +38,8 @@ __all__ = [
     "IDA",
     "Ensemble",
     "EnsembleStats",
+    "Fragility",
+    "fit_fragility",
     "fractiles",
     "ida",
     "property_bounds",

@@ -1,5 +1,7 @@
 """Incremental dynamic analysis (:func:`~duhamel.ensemble.ida`): every motion scaled to
-every intensity, one run each through :func:`~duhamel.ensemble.solve_many`."""
+every intensity, one run each through :func:`~duhamel.ensemble.solve_many`; each record's
+collapse intensity (refined by bisection with ``tolerance=``) and the lognormal collapse
+fragility (:meth:`IDA.fragility`)."""
 
 from __future__ import annotations
 
@@ -10,6 +12,8 @@ from typing import Any
 import numpy as np
 
 from duhamel._engine.validate import as_float_array, finite_float, positive_float
+from duhamel.ensemble.collapse import first_collapse, outcome, refine
+from duhamel.ensemble.fragility import Fragility, fit_fragility
 from duhamel.ensemble.run import solve_many
 from duhamel.errors import SolverError
 from duhamel.events import Event
@@ -23,7 +27,14 @@ __all__ = ["IDA", "fractiles", "ida"]
 class IDA:
     """Incremental dynamic analysis curves: ``measures[i, j]`` is the response measure of
     motion ``i`` scaled to intensity ``intensities[j]``; ``inf`` where the run collapsed (it
-    stopped with :class:`duhamel.SolverError`, or met the `collapse` event)."""
+    stopped with :class:`duhamel.SolverError` and ``solver_error='collapse'``, or met the
+    `collapse` event).
+
+    ``collapse_intensities[i]`` is motion ``i``'s collapse intensity: its first collapse on
+    the grid, or, with ``tolerance=``, the upper end of the bracket ``collapse_brackets[i] =
+    (lower, upper)`` bisected until ``upper - lower <= tolerance * upper`` (no collapse at
+    `lower`, a collapse at `upper`); ``inf`` (and ``lower`` the largest intensity) for a
+    record that did not collapse on the grid."""
 
     intensities: np.ndarray
     measures: np.ndarray
@@ -32,6 +43,20 @@ class IDA:
     factors: np.ndarray
     #: With ``collapse=``: the instant each run met the collapse event (NaN: it did not).
     collapse_times: np.ndarray | None = None
+    #: Per motion, the lowest intensity found to collapse (``inf``: none on the grid).
+    collapse_intensities: np.ndarray | None = None
+    #: Per motion, ``(lower, upper)``: the intensity that did not collapse below the first
+    #: that did (0 when the first grid intensity collapsed).
+    collapse_brackets: np.ndarray | None = None
+    #: ``failed[i, j]``: the run stopped with SolverError (counted as a collapse).
+    failed: np.ndarray | None = None
+    #: The relative tolerance of the bisection (None: the grid's).
+    tolerance: float | None = None
+    #: Runs made by the bisection, beyond the grid's.
+    refinement_runs: int = 0
+    #: Per motion, the measure of the run at ``collapse_brackets[:, 0]`` (NaN when that is 0
+    #: or the motion did not collapse).
+    collapse_measures: np.ndarray | None = None
 
     def fractiles(self, q: Sequence[float] = (16, 50, 84)) -> np.ndarray:
         """Percentiles `q` of the measure over the motions at each intensity, shape
@@ -57,22 +82,73 @@ class IDA:
         """
         return fractiles(self.measures, q)
 
+    def fragility(self, method: str = "mle", *, mce: float | None = None) -> Fragility:
+        """The lognormal collapse fragility fitted to :attr:`collapse_intensities` (the
+        records that did not collapse are right-censored at the largest intensity): see
+        :func:`duhamel.ensemble.fit_fragility`; `mce` (``S_MT``, the units of the
+        intensities) gives FEMA P695's collapse margin ratio ``.cmr``.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from duhamel.ensemble import IDA
+        >>> inf = np.inf
+        >>> res = IDA(np.array([1.0, 2.0, 3.0]), np.array([[1, inf, inf], [1, 2, inf],
+        ...           [1, 2, 3.0]]), ["a", "b", "c"], "PGA", np.ones((3, 3)))
+        >>> res.collapse_intensities.tolist()
+        [2.0, 3.0, inf]
+        >>> frag = res.fragility(mce=1.0)                 # 'c' censored at 3
+        >>> bool(frag.median > np.sqrt(6.0)), bool(frag.cmr == frag.median)
+        (True, True)
+        """
+        if self.collapse_intensities is None:
+            raise ValueError("this IDA has no collapse intensities")
+        return fit_fragility(self.collapse_intensities, method,
+                             censored_at=float(self.intensities.max()), mce=mce)  # fmt: skip
+
+    def __post_init__(self) -> None:
+        if self.collapse_intensities is None and np.ndim(self.measures) == 2:
+            ims = np.asarray(self.intensities, dtype=np.float64)
+            lo, hi, at = first_collapse(np.asarray(self.measures, dtype=np.float64), ims)
+            object.__setattr__(self, "collapse_intensities", hi)
+            object.__setattr__(self, "collapse_brackets", np.stack([lo, hi], axis=1))
+            object.__setattr__(self, "collapse_measures", at)
+
     def plot(self, ax: Any = None, q: Sequence[float] = (16, 50, 84)) -> Any:
-        """The IDA curves (measure on x, intensity on y), one thin line per motion, and the
-        fractiles; returns the matplotlib Axes."""
+        """The IDA curves (measure on x, intensity on y), one thin line per motion, each
+        ending in a flat line (red) at its collapse intensity, and the fractiles; returns the
+        matplotlib Axes."""
         import matplotlib.pyplot as plt
 
         if ax is None:
             _, ax = plt.subplots(figsize=(6, 4.5))
         finite = np.where(np.isfinite(self.measures), self.measures, np.nan)
-        for row in finite:
-            ax.plot(row, self.intensities, color="0.75", lw=0.8)
+        caps, brackets, at = (
+            self.collapse_intensities,
+            self.collapse_brackets,
+            self.collapse_measures,
+        )
+        right = np.nanmax(np.r_[finite.ravel(), 0.0])
+        for i, row in enumerate(finite):
+            x, y = row, self.intensities
+            if (
+                caps is not None
+                and brackets is not None
+                and at is not None
+                and np.isfinite(caps[i])
+            ):
+                keep = y < brackets[i, 0]  # the grid below the last run without collapse
+                x, y = np.r_[row[keep], at[i]], np.r_[y[keep], brackets[i, 0]]
+                first = i == int(np.argmax(np.isfinite(caps)))
+                ax.plot([at[i], max(right, at[i]) * 1.05], [caps[i], caps[i]], color="C3",
+                        lw=0.8, label="collapse" if first else None)  # fmt: skip
+            ax.plot(x, y, color="0.6", lw=0.8)
         for qi, curve in zip(q, self.fractiles(q), strict=True):
             ax.plot(np.where(np.isfinite(curve), curve, np.nan), self.intensities, lw=2.2,
                     label=f"{qi:g} %")  # fmt: skip
         ax.set_xlabel("response measure")
         ax.set_ylabel(self.intensity)
-        ax.legend(title="fractiles", fontsize="small")
+        ax.legend(fontsize="small")
         ax.grid(True, alpha=0.3)
         return ax
 
@@ -135,21 +211,25 @@ def _ida_case(case: tuple[Any, Any, float]) -> Any:
     return factory(motion.scaled(factor))
 
 
-def _measure(result: Any, i: int, j: int) -> float:
-    """A run's measure: ``inf`` for a collapse, else the finite number `measure` gave."""
+def _measure(result: Any, where: str) -> float:
+    """A run's measure: ``inf`` for a collapse (a SolverError, or the collapse event met:
+    ``(inf, time)``), else the finite number `measure` gave."""
     if isinstance(result, SolverError):
         return np.inf
+    if isinstance(result, tuple):  # _Collapsed's (measure or inf, time or NaN)
+        if not np.isnan(result[1]):
+            return np.inf
+        result = result[0]
     try:
         value = float(result)
     except (TypeError, ValueError):
         raise TypeError(
-            f"`measure` must return a number, got {type(result).__name__} (motion {i}, "
-            f"intensity {j})"
+            f"`measure` must return a number, got {type(result).__name__} ({where})"
         ) from None
     if not np.isfinite(value):
         raise ValueError(
-            f"`measure` returned {value!r} for motion {i} at intensity {j}: a measure must be "
-            "finite (collapses are the runs that stop with SolverError)"
+            f"`measure` returned {value!r} for {where}: a measure must be finite (collapses "
+            "are the runs that stop with SolverError or meet the `collapse` event)"
         )
     return value
 
@@ -168,6 +248,8 @@ def ida(
     client: Any = None,
     workers: int | None = None,
     collapse: Event | None = None,
+    solver_error: str = "collapse",
+    tolerance: float | None = None,
 ) -> IDA:
     """Incremental dynamic analysis (Vamvatsikos and Cornell 2002): every motion scaled to
     every intensity, one run each, its response measure kept.
@@ -199,12 +281,53 @@ def ida(
         A terminal event that counts as collapse, e.g. ``duhamel.events.drift(i, j, 0.1,
         height, terminal=True)``: a run that meets it ends there (located inside its step)
         and its measure is ``inf``; ``collapse_times`` keeps when (docs/events.md). Runs
-        that fail with :class:`duhamel.SolverError` before it still count as collapsed.
+        that fail with :class:`duhamel.SolverError` before it still count as collapsed
+        (unless ``solver_error='raise'``).
+    solver_error : {'collapse', 'raise'}
+        A run that stops with :class:`duhamel.SolverError` (no equilibrium in a step, a
+        diverging state): a collapse (the default, as before; for a deteriorating model
+        whose lateral strength is lost, state it), marked in ``failed``; or ``'raise'``: the
+        error is raised with a note naming the motion and intensity (a model that should not
+        fail).
+    tolerance : float, optional
+        Refine each record's collapse intensity by bisection on its scale factor, between
+        the last grid intensity that did not collapse and the first that did, until the
+        bracket is within `tolerance` (relative, in (0, 1)) of its upper end; the records
+        in parallel threads (`workers`), each run as on the grid. Default: the grid's
+        resolution.
 
     Returns
     -------
     IDA
-        ``measures`` of shape ``(n_motions, n_intensities)``, ``fractiles()``, ``plot()``.
+        ``measures`` of shape ``(n_motions, n_intensities)``, ``fractiles()``, ``plot()``,
+        ``collapse_intensities``, ``fragility()``.
+
+    Examples
+    --------
+    An elastic-perfectly-plastic SDOF whose P-Delta (a leaning column) makes its post-yield
+    stiffness negative, under three records; collapse at a drift of 10 %:
+
+    >>> import numpy as np, duhamel
+    >>> from duhamel.ensemble import ida
+    >>> from duhamel.records import GroundMotion
+    >>> t = np.arange(0.0, 8.0, 0.02)
+    >>> motions = [GroundMotion(np.sin(w * t) * np.exp(-0.3 * t), 0.02, name=f"w{w}")
+    ...            for w in (4.0, 6.0, 8.0)]
+    >>> def sdof(motion):
+    ...     s = duhamel.System(np.eye(1), [[4.0]], zeta=0.05)  # 4: the elastic column
+    ...     s.add(duhamel.elements.PDelta(0, None, P=4.0, height=1.0))
+    ...     s.add(duhamel.elements.Bilinear(0, k=36.0, fy=0.9, alpha=-0.05))
+    ...     return s.add_load(motion.as_load([1.0]))
+    >>> drift = lambda sol: float(np.abs(sol.x).max())
+    >>> stop = duhamel.events.drift(0, None, 0.1, height=1.0, terminal=True)
+    >>> res = ida(sdof, motions, [0.5, 1.0, 2.0, 4.0], drift, intensity="pga",
+    ...           collapse=stop, solver_error="raise", tolerance=0.01, workers=1)
+    >>> lo, hi = res.collapse_brackets.T
+    >>> bool(np.all((hi - lo <= 0.01 * hi) & (hi <= 4.0)))
+    True
+    >>> frag = res.fragility(mce=0.5)
+    >>> bool(0.5 < frag.median < 4.0)
+    True
     """
     from duhamel.integrators import Semianalytic
 
@@ -218,6 +341,19 @@ def ida(
         raise ValueError(f"`damping` must be a ratio in [0, 1), got {damping!r}")
     if dt is not None:
         dt = positive_float(dt, "dt")
+    if not isinstance(solver_error, str) or solver_error not in ("collapse", "raise"):
+        raise ValueError(f"`solver_error` must be 'collapse' or 'raise', got {solver_error!r}")
+    if tolerance is not None:
+        tolerance = finite_float(tolerance, "tolerance")
+        if not 0.0 < tolerance < 1.0:
+            raise ValueError(
+                f"`tolerance` must be a relative tolerance in (0, 1), got {tolerance!r}"
+            )
+        if collapse is None and solver_error == "raise":
+            raise ValueError(
+                "`tolerance` refines collapse intensities, but there is no collapse criterion: "
+                "give a terminal `collapse` event or solver_error='collapse'"
+            )
     if intensity == "sa":
         if period is None:
             raise ValueError("`period` must be a positive period (s) for intensity='sa', got None")
@@ -254,21 +390,45 @@ def ida(
             )
         extra = {"events": [collapse]}
     reduce = measure if collapse is None else _Collapsed(measure)
-    rows, times = [], []
+    rows, times, failed = [], [], []
     for i, m in enumerate(motions):
         cases = [(system_factory, m, float(f)) for f in factors[i]]
         ens = solve_many(
             _ida_case, cases, integ, t_end=m.duration, dt=dt or m.dt, reduce=reduce,
             client=client, workers=workers, on_error="keep", **extra,
         )  # fmt: skip
-        if collapse is None:
-            rows.append([_measure(r, i, j) for j, r in enumerate(ens.results)])
-        else:
-            out = [(np.inf, np.nan) if isinstance(r, SolverError) else r for r in ens.results]
-            rows.append([float(r[0]) for r in out])
-            times.append([float(r[1]) for r in out])
+        failed.append([isinstance(r, SolverError) for r in ens.results])
+        where = [f"motion {i} ({m.name!r}) at intensity {im:g}" for im in ims]
+        for j, r in enumerate(ens.results):
+            if isinstance(r, SolverError):  # raises with solver_error='raise'
+                outcome(r, solver_error, where[j])
+        rows.append([_measure(r, where[j]) for j, r in enumerate(ens.results)])
+        if collapse is not None:
+            times.append([np.nan if isinstance(r, SolverError) else float(r[1])
+                          for r in ens.results])  # fmt: skip
+    measures = np.array(rows)
+    lower, upper, at_lower = first_collapse(measures, ims)
+    n_refined = 0
+    if tolerance is not None:
+
+        def collapses(motion: GroundMotion, factor: float) -> tuple[bool, float]:
+            ens = solve_many(
+                _ida_case, [(system_factory, motion, factor)], integ, t_end=motion.duration,
+                dt=dt or motion.dt, reduce=reduce, client=client, workers=1, on_error="keep",
+                **extra,
+            )  # fmt: skip
+            where = f"motion {motion.name!r} at scale factor {factor:g}"
+            if isinstance(ens.results[0], SolverError):
+                return outcome(ens.results[0], solver_error, where)
+            value = _measure(ens.results[0], where)
+            return not np.isfinite(value), value
+
+        lower, upper, at_lower, n_refined = refine(
+            collapses, motions, unit, lower, upper, at_lower, tolerance, workers
+        )
     label = "PGA [m/s^2]" if intensity == "pga" else f"Sa(T = {period:g} s) [m/s^2]"
     return IDA(
-        ims, np.array(rows), [m.name for m in motions], label, factors,
-        None if collapse is None else np.array(times),
+        ims, measures, [m.name for m in motions], label, factors,
+        None if collapse is None else np.array(times), upper, np.stack([lower, upper], axis=1),
+        np.array(failed), tolerance, n_refined, at_lower,
     )  # fmt: skip

@@ -101,9 +101,7 @@ def cancelling(elements: list[Any], dof_x: int, dof_y: int) -> Any:
     from duhamel.elements import SpeedTableBearing
 
     found = [
-        e
-        for e in elements
-        if isinstance(e, SpeedTableBearing) and tuple(e.dofs) == (dof_x, dof_y)
+        e for e in elements if isinstance(e, SpeedTableBearing) and tuple(e.dofs) == (dof_x, dof_y)
     ]
     if len(found) != 1:
         raise ValueError(

@@ -328,7 +328,7 @@ impl Element for LeadRubberBearing {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LeadRubberBearingDef {
-    pub dofs: Vec<usize>,
+    pub dofs: Vec<Option<usize>>,
     pub k: f64,
     pub fy: f64,
     pub alpha: f64,
@@ -358,16 +358,16 @@ pub(crate) fn rename_axes(old: &str) -> Option<(&'static str, Option<usize>)> {
     }
 }
 
-/// `dofs` as one dof (uniaxial) or two (bidirectional): `(dof_x, dof_y)`.
-pub(crate) fn horizontal(dofs: &[usize]) -> Result<(usize, Option<usize>), CoreError> {
+/// `dofs` as one dof (uniaxial: `(x,)` or `(x, None)`) or two (bidirectional):
+/// `(dof_x, dof_y)`.
+pub(crate) fn horizontal(dofs: &[Option<usize>]) -> Result<(usize, Option<usize>), CoreError> {
     match *dofs {
-        [x] => Ok((x, None)),
-        [x, y] => Ok((x, Some(y))),
+        [Some(x)] | [Some(x), None] => Ok((x, None)),
+        [Some(x), Some(y)] => Ok((x, Some(y))),
         _ => Err(CoreError::InvalidInput {
             name: "dofs",
             problem: format!(
-                "must be one dof (uniaxial) or two (dof_x, dof_y), got {}",
-                dofs.len()
+                "must be one dof (uniaxial: x or (x, None)) or two (x, y), got {dofs:?}"
             ),
         }),
     }
@@ -434,7 +434,7 @@ Examples
     }
 
     fn linear_stiffness(&self) -> Option<Vec<f64>> {
-        let n = self.dofs.len(); // the initial stiffness, in each direction
+        let n = self.dofs.iter().flatten().count(); // the initial stiffness, each direction
         Some(
             (0..n * n)
                 .map(|k| if k % (n + 1) == 0 { self.k } else { 0.0 })

@@ -12,7 +12,7 @@ use crate::error::CoreError;
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TripleFrictionPendulumDef {
-    pub dofs: Vec<usize>,
+    pub dofs: Vec<Option<usize>>,
     pub mu: [f64; 3],
     pub radius: [f64; 3],
     pub displacement_capacity: [f64; 3],
@@ -102,7 +102,7 @@ True
     fn linear_stiffness(&self) -> Option<Vec<f64>> {
         // the softest sliding stiffness W / (L2 + L3) (regime III) in each direction: the
         // remainder's tangent stays positive semidefinite in every regime
-        let n = self.dofs.len();
+        let n = self.dofs.iter().flatten().count();
         let k = self.weight / (self.radius[1] + self.radius[2]);
         Some(
             (0..n * n)
