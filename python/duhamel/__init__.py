@@ -42,6 +42,7 @@ from duhamel.integrators import (
 )
 from duhamel.prepared import Prepared, prepare, solve
 from duhamel.results import ModalHistory, Solution, SolveStats
+from duhamel.runs import RunSpec, SaveAt
 from duhamel.store import resume
 from duhamel.system import ModalBasis, System
 
@@ -67,6 +68,8 @@ __all__ = [
     "Newmark",
     "Prepared",
     "Rayleigh",
+    "RunSpec",
+    "SaveAt",
     "Semianalytic",
     "Solution",
     "SolveStats",

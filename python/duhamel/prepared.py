@@ -3,62 +3,29 @@ one-call form of a single run (``solve(...)`` is ``prepare(...).run(...)``)."""
 
 from __future__ import annotations
 
-import math
+import functools
 import os
 import time as _time
 from collections.abc import Sequence
 from typing import Any
 
-import numpy as np
 from numpy.typing import ArrayLike
 
-from duhamel._engine import caches, modal, run_inputs
+from duhamel._engine import caches, modal
 from duhamel._engine.direct_run import DirectSetup, prepare_direct
-from duhamel._engine.energy_run import check_energy
-from duhamel._engine.labels import resolve_list
-from duhamel._engine.locate import checked_events, checked_times, dense_run, terminal_check
+from duhamel._engine.pipeline import execute
+from duhamel._engine.request import Request, request
 from duhamel._engine.run import Progress
-from duhamel._engine.run_inputs import checked_loads, checked_models, massless_store_check
-from duhamel._engine.validate import (
-    MAX_COUNT,
-    dof_list,
-    finite_float,
-    positive_float,
-    positive_int,
-)
+from duhamel._engine.run_inputs import checked_models, massless_store_check
+from duhamel._engine.validate import positive_float, positive_int
 from duhamel.events import Event
 from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import Load
 from duhamel.results.solution import Solution
+from duhamel.runs import RunSpec, from_keywords
 from duhamel.system import System
 
 __all__ = ["Prepared", "prepare", "solve"]
-
-
-def _steps(t_end: Any, dt: float, t0: float) -> int:
-    t_end = finite_float(t_end, "t_end")
-    span = t_end - t0
-    if not span >= dt * (1.0 - 1e-9):
-        raise ValueError(
-            f"`t_end` ({t_end:g}) must be at least one step `dt` ({dt:g}) after `t0` ({t0:g})"
-        )
-    steps = span / dt * (1.0 + 1e-12) + 1e-9
-    if not steps <= MAX_COUNT:
-        raise ValueError(
-            f"`dt` = {dt:g} is too small for `t_end` - `t0` = {span:g}: that is {steps:.3g} "
-            f"steps, more than the {MAX_COUNT:.3g} a run can take; use a larger `dt` or a "
-            "shorter run"
-        )
-    # The step times t0 + n dt must be told apart: the grid's largest time resolves dt.
-    largest = max(abs(t0), abs(t_end))
-    if math.ulp(largest) > 1e-3 * dt:
-        raise ValueError(
-            f"`dt` = {dt:g} is below the resolution of the times around `t0` = {t0:g} "
-            f"(`t_end` = {t_end:g}): doubles there are {math.ulp(largest):.3g} apart, "
-            "so the step times would not be distinct; measure time from a nearer origin "
-            "(a smaller `t0`) or use a larger `dt`"
-        )
-    return max(1, math.floor(steps))
 
 
 def _fingerprint(system: System) -> tuple:
@@ -234,92 +201,63 @@ class Prepared:
         >>> bool(abs(sol.x[-1, 0] - np.cos(2.0)) < 1e-14)
         True
         """
-        return self._run(
+        started = _time.perf_counter()
+        spec = from_keywords(
             t_end=t_end, t0=t0, x0=x0, v0=v0, loads=loads, save_every=save_every, dofs=dofs,
-            store=store, checkpoint_every=checkpoint_every, progress=progress,
-            started=_time.perf_counter(), events=events, t_eval=t_eval, dense=dense,
-            energy=energy,
+            store=store, checkpoint_every=checkpoint_every, progress=progress, events=events,
+            t_eval=t_eval, dense=dense, energy=energy,
         )  # fmt: skip
+        return self.execute(spec, _started=started)
 
-    def _run(
-        self,
-        *,
-        t_end: float,
-        t0: float,
-        x0: ArrayLike | None,
-        v0: ArrayLike | None,
-        loads: list[Load] | None,
-        save_every: int,
-        dofs: ArrayLike | None,
-        store: Any,
-        checkpoint_every: int | None,
-        progress: bool | Progress | None,
-        started: float,
-        events: Sequence[Event] | None = None,
-        t_eval: ArrayLike | None = None,
-        dense: bool = False,
-        energy: bool = False,
-        _dense: bool = False,
-        _stop: Any = None,
-    ) -> Solution:
-        dt = self.dt
-        t0 = finite_float(t0, "t0")
-        n_steps = _steps(t_end, dt, t0)
-        # A stride beyond the run keeps its first and last instants, as the run's length does.
-        save_every = min(positive_int(save_every, "save_every", maximum=2**64), n_steps)
-        checkpoint_every = run_inputs.checked_checkpoint_every(checkpoint_every, store)
+    def execute(self, spec: RunSpec, *, _started: float | None = None) -> Solution:
+        """Runs the prepared model as `spec` describes the run (what :meth:`run` takes as
+        keywords, as values: :class:`duhamel.RunSpec` with its :class:`duhamel.SaveAt`).
+
+        Parameters
+        ----------
+        spec : RunSpec
+            The run: its span and start, its loads, what it keeps and where it goes.
+
+        Returns
+        -------
+        Solution
+            As :meth:`run` returns it for the same run given as keywords (bit for bit).
+
+        Raises
+        ------
+        ValueError, TypeError, SolverError, KeyboardInterrupt
+            As :func:`duhamel.solve`.
+
+        Examples
+        --------
+        >>> import numpy as np, duhamel
+        >>> s = duhamel.System(np.eye(2), np.array([[2.0, -1.0], [-1.0, 1.0]]), zeta=0.05)
+        >>> p = duhamel.prepare(s, duhamel.Semianalytic(), dt=0.01)
+        >>> runs = [duhamel.RunSpec(t_end=2.0, x0=[0.0, a], saveat=duhamel.SaveAt(every=50))
+        ...         for a in (1.0, 2.0)]
+        >>> peaks = [np.abs(p.execute(r).x).max() for r in runs]
+        >>> float(round(peaks[1] / peaks[0], 12))
+        2.0
+        """
+        started = _time.perf_counter() if _started is None else _started
+        if not isinstance(spec, RunSpec):
+            raise TypeError(f"`spec` must be a duhamel.RunSpec, got {type(spec).__name__}")
+        req = request(self.system, self.dt, self.route, spec, started)
+        engine = self._direct if self._modal is None else self._modal
+        assert engine is not None
+        store = spec.store
+        if store is None or req.located:
+            return execute(engine, req)
+        return execute(engine, req, functools.partial(self._stored, store))
+
+    def _stored(self, store: Any, req: Request) -> Solution:
+        """The run of `req` streamed into `store` (``duhamel.store``)."""
+        from duhamel.store._run import run_stored
+
         system = self.system
-        dofs = resolve_list(system, dofs, "dofs")  # labels as indices
-        out_dofs = None if dofs is None else dof_list(dofs, "dofs", system.n_dof)
-        if loads is not None:
-            loads = checked_loads(loads, system)
-        check_energy(energy, self.route, save_every, out_dofs, store)
-        if events is not None or t_eval is not None or dense:
-            evs = [] if events is None else checked_events(events)
-            times = None if t_eval is None else checked_times(t_eval, t0, t0 + n_steps * dt)
-            if store is not None or save_every != 1:
-                raise ValueError(
-                    "`events`, `t_eval` and `dense` need every step kept in memory: "
-                    "`save_every` must be 1 and `store` None"
-                )
-            args = dict(t_end=t_end, t0=t0, x0=x0, v0=v0, loads=loads, save_every=1,
-                        dofs=dofs, store=None, checkpoint_every=None, progress=progress,
-                        started=started, _dense=True, _stop=terminal_check(evs))  # fmt: skip
-            return dense_run(lambda: self._run(**args), evs, times, bool(dense))
-        if store is not None:
-            from duhamel.store._run import run_stored
-
-            target = system if loads is None else _with_loads(system, loads)
-            massless_store_check(target)
-            chosen = np.arange(system.n_dof) if out_dofs is None else out_dofs
-            return run_stored(
-                target, self.integrator, store=store, checkpoint_every=checkpoint_every,
-                t0=t0, dt=dt, n_steps=n_steps, save_every=save_every, out_dofs=chosen, x0=x0,
-                v0=v0, threads=self.threads, progress=progress, started=started,
-                energy=energy,
-            )  # fmt: skip
-        if self._direct is not None:
-            return self._direct.run(
-                t0=t0, dt=dt, n_steps=n_steps, save_every=save_every, dofs=out_dofs,
-                x0=x0, v0=v0, loads=loads, progress=progress, started=started, energy=energy,
-            )  # fmt: skip
-        assert self._modal is not None
-        opts = modal.RunOptions(
-            t0,
-            dt,
-            n_steps,
-            save_every,
-            out_dofs,
-            x0,
-            v0,
-            loads,
-            progress,
-            started,
-            _dense,
-            _stop,
-            energy,
-        )
-        return modal.run(self._modal, opts)
+        target = system if req.loads is None else _with_loads(system, req.loads)
+        massless_store_check(target)
+        return run_stored(target, self.integrator, store, req, self.threads)
 
 
 def prepare(
@@ -493,8 +431,9 @@ def solve(
     """
     started = _time.perf_counter()
     prepared = prepare(system, integrator, dt=dt, threads=threads)
-    return prepared._run(
+    spec = from_keywords(
         t_end=t_end, t0=t0, x0=x0, v0=v0, loads=loads, save_every=save_every, dofs=dofs,
-        store=store, checkpoint_every=checkpoint_every, progress=progress, started=started,
-        events=events, t_eval=t_eval, dense=dense, energy=energy,
+        store=store, checkpoint_every=checkpoint_every, progress=progress, events=events,
+        t_eval=t_eval, dense=dense, energy=energy,
     )  # fmt: skip
+    return prepared.execute(spec, _started=started)

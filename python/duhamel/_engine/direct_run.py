@@ -15,7 +15,8 @@ from duhamel._engine import dispatch
 from duhamel._engine.direct import _check_central, physical_matrices
 from duhamel._engine.energy_run import direct_energy_model, energy_spec
 from duhamel._engine.plan import core_elements, mass, modal_loads
-from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
+from duhamel._engine.request import Request
+from duhamel._engine.run import ModalCallable, overflow_error, raise_failure, watch
 from duhamel._engine.structure import structure_model
 from duhamel._engine.validate import as_float_array, issparse
 from duhamel.integrators import CentralDifference, CubicHermite, DirectIntegrator
@@ -41,25 +42,13 @@ class DirectSetup:
     loads: list[Any]
     fns: list[Any]
 
-    def run(
-        self,
-        *,
-        t0: float,
-        dt: float,
-        n_steps: int,
-        save_every: int,
-        dofs: NDArray[np.int64] | None,
-        x0: Any,
-        v0: Any,
-        loads: list[Any] | None,
-        progress: bool | Progress | None,
-        started: float,
-        a0: NDArray[np.float64] | None = None,
-        energy: bool = False,
-    ) -> Solution:
-        """One run (see :meth:`duhamel.Prepared.run`); `a0` overrides the initial
-        acceleration (see :func:`step_matrix`); `energy` accumulates the energy integrals."""
+    def run(self, req: Request, a0: NDArray[np.float64] | None = None) -> Solution:
+        """One run of `req`, kept in memory; `a0` overrides the initial acceleration (see
+        :func:`step_matrix`)."""
         system, integrator = self.system, self.integrator
+        t0, dt, n_steps, save_every = req.t0, req.dt, req.n_steps, req.save_every
+        x0, v0, loads, dofs = req.x0, req.v0, req.loads, req.dofs
+        progress, started, energy = req.progress, req.started, req.energy
         n = system.n_dof
         x0 = np.zeros(n) if x0 is None else as_float_array(x0, "x0", ndim=1, shape=(n,))
         v0 = np.zeros(n) if v0 is None else as_float_array(v0, "v0", ndim=1, shape=(n,))
@@ -255,11 +244,8 @@ def step_matrix(system: System, integrator: DirectIntegrator, dt: float) -> NDAr
     for j in range(size):
         e = np.zeros(size)
         e[j] = 1.0
-        sol = setup.run(
-            t0=0.0, dt=dt, n_steps=1, save_every=1, dofs=None, x0=e[:n], v0=e[n : 2 * n],
-            loads=[], progress=None, started=_time.perf_counter(),
-            a0=e[2 * n :] if alpha else None,
-        )  # fmt: skip
+        req = Request(0.0, dt, 1, 1, None, e[:n], e[n : 2 * n], [], None, _time.perf_counter())
+        sol = setup.run(req, a0=e[2 * n :] if alpha else None)
         parts = (sol.x[-1], sol.v[-1], sol.a[-1]) if alpha else (sol.x[-1], sol.v[-1])
         out[:, j] = np.concatenate(parts)
     return out

@@ -23,18 +23,12 @@ from duhamel.loads import BaseAcceleration, Callable
 from duhamel.results.forces import StructureModel
 
 __all__ = [
-    "ACCUMULATED",
     "EnergyModel",
-    "check_energy",
     "direct_energy_model",
     "energy_model",
     "energy_spec",
     "stepwise",
 ]
-
-#: The routes whose runs accumulate the energy in the core: the pseudo-force route, the
-#: uncoupled route stepped one step at a time (:func:`stepwise`), the direct integrators.
-ACCUMULATED = ("pseudo-force", "uncoupled", "direct", "first-order")
 
 
 @dataclass(frozen=True, eq=False)
@@ -164,20 +158,6 @@ def energy_spec(
     flat = None if back is None else np.ascontiguousarray(back, dtype=np.float64).ravel()
     base = (model.base_loads, model.base_w.ravel(), model.base_rr.ravel())
     return _core.EnergySpec(model.cm.ravel(), base, vg, model.linear, flat)
-
-
-def check_energy(energy: Any, route: str, save_every: int, dofs: Any, store: Any) -> None:
-    """Refuses ``energy=True`` where the balance cannot be accumulated during the run and
-    the run would not keep what the after-run balance needs."""
-    if not isinstance(energy, bool | np.bool_):
-        raise TypeError(f"`energy` must be True or False, got {type(energy).__name__}")
-    if energy and route not in ACCUMULATED and (save_every != 1 or dofs is not None or store):
-        raise ValueError(
-            "`energy`: the work integrals are accumulated during the run on the pseudo-force "
-            f"and uncoupled routes only; this run's route is {route!r}, whose energy balance "
-            "is computed after the run from every step and dof: solve with `save_every=1`, "
-            "`dofs=None` and no `store`"
-        )
 
 
 def stepwise(route: Any, loads: list[Any], integrator: Any) -> Any:

@@ -11,45 +11,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._engine.dense import Dense, hermite
-from duhamel._engine.validate import as_float_array
 from duhamel.events import Event, Occurrence
 from duhamel.results.solution import ModalHistory, Solution
 from duhamel.results.structural import ElementHistory
 
-__all__ = ["checked_events", "checked_times", "finish", "locate", "terminal_check"]
+__all__ = ["dense_run", "finish", "locate", "terminal_check"]
 
 #: Root-finding tolerance, as a fraction of the step.
 XTOL = 1e-12
-
-
-def checked_events(events: Any) -> list[Event]:
-    """`events` as a list of :class:`duhamel.Event`, or TypeError naming the parameter."""
-    if isinstance(events, Event):
-        events = [events]
-    if not isinstance(events, list | tuple):
-        raise TypeError(f"`events` must be a list of duhamel.Event, got {type(events).__name__}")
-    for k, ev in enumerate(events):
-        if not isinstance(ev, Event):
-            raise TypeError(f"`events[{k}]` must be a duhamel.Event, got {type(ev).__name__}")
-    return list(events)
-
-
-def checked_times(t_eval: Any, t0: float, t_end: float) -> NDArray[np.float64]:
-    """`t_eval` as a 1-D increasing array within ``[t0, t_end]``."""
-    times = as_float_array(t_eval, "t_eval", ndim=1)
-    if times.size == 0:
-        raise ValueError(
-            "`t_eval` is empty: pass the instants to report (within the run), or leave it "
-            "out (None) for the saved steps"
-        )
-    if times[0] < t0 or times[-1] > t_end:
-        raise ValueError(
-            f"`t_eval` must lie within the run, [{t0:g}, {t_end:g}]; got "
-            f"[{times[0]:g}, {times[-1]:g}]"
-        )
-    if np.any(np.diff(times) < 0):
-        raise ValueError("`t_eval` must be increasing")
-    return times
 
 
 def _crossings(g: NDArray[np.float64], direction: int) -> NDArray[np.int64]:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import functools
 import time as _time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -19,11 +19,9 @@ from numpy.typing import NDArray
 from duhamel._engine import dispatch
 from duhamel._engine.accuracy import attach_estimate, to_tolerance
 from duhamel._engine.background import background
-from duhamel._engine.chunks import chunked, steps_of
 from duhamel._engine.correction import substeps
 from duhamel._engine.dense import ExactSteps, State
 from duhamel._engine.energy_run import (
-    ACCUMULATED,
     EnergyModel,
     energy_model,
     energy_spec,
@@ -33,7 +31,9 @@ from duhamel._engine.massless import load_terms
 from duhamel._engine.output import check_memory, physical
 from duhamel._engine.plan import Plan, mass, modal_loads, plan
 from duhamel._engine.relaxation import check_loads, check_state
-from duhamel._engine.run import ModalCallable, Progress, overflow_error, raise_failure, watch
+from duhamel._engine.request import ACCUMULATED, Request
+from duhamel._engine.run import ModalCallable, overflow_error, raise_failure, watch
+from duhamel._engine.segments import Grid, chunked
 from duhamel._engine.structure import structure_model
 from duhamel._engine.validate import as_float_array
 from duhamel.errors import SolverError
@@ -116,6 +116,10 @@ class ModalSetup:
         q[m:] = extra.initial @ x
         return q
 
+    def run(self, req: Request) -> Solution:
+        """One run of `req`, kept in memory (:func:`run`)."""
+        return run(self, req)
+
     def outputs(self, dofs: NDArray[np.int64] | None, n_loads: int) -> Outputs:
         """The output maps of `dofs` (None: all), made once per choice of dofs."""
         key = (None if dofs is None else dofs.tobytes(), n_loads)
@@ -150,31 +154,8 @@ def setup(system: System, integrator: Semianalytic, threads: int | None = None) 
     return ModalSetup(system, integrator, route, model, loads, fns, patterns, forces, threads)
 
 
-@dataclass(frozen=True)
-class RunOptions:
-    """One run's grid and state (checked by the caller)."""
-
-    t0: float
-    dt: float
-    n_steps: int
-    save_every: int
-    dofs: NDArray[np.int64] | None
-    x0: Any
-    v0: Any
-    loads: list[Any] | None
-    progress: bool | Progress | None
-    started: float
-    dense: bool = False  # keep what the exact interpolant of a linear route needs
-    #: ``stop(solution)``: whether a chunk's solution holds a terminal event's crossing (the
-    #: run then stops after that chunk, :mod:`duhamel._engine.chunks`).
-    stop: Any = None
-    #: ``solve(..., energy=True)``: the work integrals accumulated in the core (pseudo-force
-    #: route; the others compute the balance after the run).
-    energy: bool = False
-
-
-def run(prep: ModalSetup, opts: RunOptions) -> Solution:
-    """A run of a prepared modal model, up to its :class:`duhamel.Solution`: one, or with
+def run(prep: ModalSetup, opts: Request) -> Solution:
+    """One run of a prepared modal model, up to its :class:`duhamel.Solution`: one, or with
     ``Semianalytic(rtol=...)`` as many as the tolerance needs (:func:`to_tolerance`)."""
     if getattr(prep.integrator, "rtol", None) is not None:
         solution: Solution = to_tolerance(_run_once, prep, opts)
@@ -182,7 +163,7 @@ def run(prep: ModalSetup, opts: RunOptions) -> Solution:
     return _run_once(prep, opts)
 
 
-def _run_once(prep: ModalSetup, opts: RunOptions) -> Solution:
+def _run_once(prep: ModalSetup, opts: Request) -> Solution:
     """One run of a prepared modal model."""
     route = prep.route
     system = prep.system
@@ -202,20 +183,19 @@ def _run_once(prep: ModalSetup, opts: RunOptions) -> Solution:
     # Static-correction coordinates under nonlinear elements are resolved in time: `sub`
     # internal steps per step, the saved instants unchanged.
     sub = prep.substeps(opts.dt)
-    grid = dispatch.grid(
-        opts.t0, opts.dt / sub, opts.n_steps * sub, opts.save_every * sub, 0, prep.threads
-    )
+    grid = Grid(
+        route, opts.t0, opts.dt / sub, opts.n_steps * sub, opts.save_every * sub, prep.threads,
+        *state,
+    )  # fmt: skip
     emodel = _energy_model(prep, opts, patterns, bool(fns))
     back = None if route.modes is None else route.modes.back
-    spec = dispatch.run_spec(
-        route, grid, state, energy=None if emodel is None else energy_spec(emodel, None, back)
-    )
+    spec = grid.whole(None if emodel is None else energy_spec(emodel, None, back))
     forcing = ModalCallable(fns, system.n_dof) if fns else None
     if opts.stop is not None and (opts.progress is None or opts.progress is False):
-        stopped = _stopping(prep, opts, state, sub, loads, out, forcing, patterns, base)
+        stopped = _stopping(prep, opts, grid, sub, loads, out, forcing, patterns, base)
         if stopped is not None:
             sol, joined = stopped
-            if opts.dense:
+            if opts.interpolant:
                 sol._exact = exact_steps(prep, loads, out, patterns, forcing, joined)
             return sol
     model = prep.model if emodel is None else prep.stepwise()
@@ -229,13 +209,13 @@ def _run_once(prep: ModalSetup, opts: RunOptions) -> Solution:
             result = model.run(spec, loads, out.maps, forcing, report)
             wall = _time.perf_counter() - loop_start
     sol = solution(prep, result, out, patterns, opts, wall, base, sub, emodel)
-    if opts.dense:
+    if opts.interpolant:
         sol._exact = exact_steps(prep, loads, out, patterns, forcing, result)
     return sol
 
 
 def _stopping(
-    prep: ModalSetup, opts: RunOptions, state: Any, sub: int, loads: Any, out: Outputs,
+    prep: ModalSetup, opts: Request, grid: Grid, sub: int, loads: Any, out: Outputs,
     forcing: Any, patterns: NDArray[np.float64], base: Any,
 ) -> tuple[Solution, Any] | None:  # fmt: skip
     """The run in chunks, stopped after the chunk where ``opts.stop`` fires (None: a chunk
@@ -246,20 +226,22 @@ def _stopping(
 
     def seen(result: Any, steps: int) -> bool:
         part = solution(
-            prep, result, out, patterns, steps_of(opts, steps), 0.0, base, sub, estimate=False
+            prep, result, out, patterns, replace(opts, n_steps=steps), 0.0, base, sub,
+            estimate=False,
         )
         return bool(opts.stop(part))
 
     loop_start = _time.perf_counter()
     try:
-        done = chunked(prep, opts, state, sub, one, seen)
+        done = chunked(grid, sub, one, seen)
     except (ArithmeticError, SolverError):  # an overflow: the whole run raises it
         return None
     if done is None:
         return None
     joined, steps = done
     wall = _time.perf_counter() - loop_start
-    return solution(prep, joined, out, patterns, steps_of(opts, steps), wall, base, sub), joined
+    done_opts = replace(opts, n_steps=steps)
+    return solution(prep, joined, out, patterns, done_opts, wall, base, sub), joined
 
 
 def exact_steps(
@@ -311,7 +293,7 @@ def solution(
     result: Any,
     out: Outputs,
     patterns: NDArray[np.float64],
-    opts: RunOptions,
+    opts: Request,
     wall: float,
     base: list[Any] | None,
     sub: int = 1,
@@ -326,14 +308,16 @@ def solution(
     t = result.t if kept == result.t.size else result.t[:kept]
     # The static part is K_ss^-1 f_s of the background the run integrated: elements' linear
     # parts at massless dofs moved into it (`linear_parts="auto"/"background"`) belong to K_ss.
-    terms = load_terms(
-        background(prep.system, prep.integrator.linear_parts).system,
-        prep.system.loads if base is None else base,
-        t,
-        out.dofs,
-        opts.dt,
-        route.carried,
-    )
+    terms = None
+    if prep.system._condensation is not None:  # massless dofs (the same in the background)
+        terms = load_terms(
+            background(prep.system, prep.integrator.linear_parts).system,
+            prep.system.loads if base is None else base,
+            t,
+            out.dofs,
+            opts.dt,
+            route.carried,
+        )
     if terms is not None:  # loads at massless dofs: their static part, which no mode carries
         x, vel = x + terms[0], vel + terms[1]
         acc = _plus(acc, terms[2])
@@ -368,7 +352,7 @@ def solution(
         },
         elements=(
             (lambda: element_histories(prep.forces, t, result, kept, route.linear))
-            if prep.forces
+            if prep.forces and opts.elements
             else ()
         ),
         base=out.base if base is None else support_terms(base, out.dofs),
@@ -408,7 +392,7 @@ def solution(
 
 
 def _energy_model(
-    prep: ModalSetup, opts: RunOptions, patterns: NDArray[np.float64], python_loads: bool
+    prep: ModalSetup, opts: Request, patterns: NDArray[np.float64], python_loads: bool
 ) -> EnergyModel | None:
     """The energy model of a run that accumulates its energy in the core (None: not asked
     for, or a run that computes it after the run: a first-order one with elements or

@@ -7,13 +7,10 @@ from typing import Any
 
 import numpy as np
 
-from duhamel._engine.labels import resolve_fields
-from duhamel._engine.validate import positive_int
 from duhamel.integrators import DirectIntegrator, Semianalytic
-from duhamel.loads import Load
 from duhamel.system import System
 
-__all__ = ["checked_checkpoint_every", "checked_loads", "checked_models", "massless_store_check"]
+__all__ = ["checked_models", "massless_store_check"]
 
 
 def massless_store_check(system: System) -> None:
@@ -43,42 +40,6 @@ def massless_store_check(system: System) -> None:
             f"massless dofs (dofs {c.s.tolist()[:8]}...: their first-order coordinates); run "
             "without `store`"
         )
-
-
-def checked_checkpoint_every(value: Any, store: Any) -> int | None:
-    """`checkpoint_every` as a positive int (None: the default), refused without `store`
-    (there is nothing to checkpoint into: the value would be ignored)."""
-    if value is None:
-        return None
-    out = positive_int(value, "checkpoint_every")
-    if store is None:
-        raise ValueError(
-            f"`checkpoint_every` = {out} needs `store` (checkpoints are written into a "
-            "streamed run's store); pass `store=` or leave `checkpoint_every` out"
-        )
-    return out
-
-
-def checked_loads(loads: Any, system: System) -> list[Load]:
-    """A run's `loads`, each checked against `system`."""
-    if isinstance(loads, Load) or not isinstance(loads, list | tuple):
-        raise TypeError(
-            f"`loads` must be a list of duhamel.loads loads (or None for the system's own), "
-            f"got {type(loads).__name__}"
-        )
-    loads = [resolve_fields(system, load) for load in loads]
-    for i, load in enumerate(loads):
-        if not isinstance(load, Load):
-            raise TypeError(
-                f"`loads[{i}]` must be a duhamel.loads load (Step, Harmonic, Tabulated, "
-                f"BaseAcceleration, Unbalance, Callable), got {type(load).__name__}"
-            )
-        try:
-            load._validate(system)
-        except (TypeError, ValueError) as exc:
-            exc.add_note(f"in `loads[{i}]` ({type(load).__name__}) of Prepared.run")
-            raise
-    return list(loads)
 
 
 def checked_models(system: Any, integrator: Any) -> None:

@@ -17,13 +17,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel._engine.request import steps
 from duhamel._engine.spellings import deprecated
 from duhamel._engine.validate import finite_float, positive_float, positive_int
 from duhamel.ensemble.statistics import statistics
 from duhamel.ensemble.zarr import ZarrWriter, stack
 from duhamel.errors import SolverError
 from duhamel.modal import ModalBasis
-from duhamel.prepared import Prepared, _steps, prepare
+from duhamel.prepared import Prepared, prepare
 from duhamel.results.solution import Solution
 
 __all__ = ["Ensemble", "EnsembleStats", "solve_many"]
@@ -430,7 +431,11 @@ def solve_many(
     if workers is not None:
         workers = positive_int(workers, "workers", MAX_WORKERS)
     # the study's grid, checked as solve checks it, also when there are no cases
-    _steps(t_end, positive_float(dt, "dt"), finite_float(solve_options.get("t0", 0.0), "t0"))
+    steps(
+        finite_float(t_end, "t_end"),
+        positive_float(dt, "dt"),
+        finite_float(solve_options.get("t0", 0.0), "t0"),
+    )
     try:
         if isinstance(params, str | bytes):
             raise TypeError

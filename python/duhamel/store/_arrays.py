@@ -16,15 +16,20 @@ def _crc32c() -> Any:
     return Crc32cCodec()
 
 
-def _columns(result: Any, x: NDArray, v: NDArray, a: NDArray, modal: bool) -> dict[str, NDArray]:
-    """The arrays of a segment kept in the store, by name."""
+def _columns(
+    result: Any, x: NDArray, v: NDArray, a: NDArray, modal: bool, elements: bool = True
+) -> dict[str, NDArray]:
+    """The arrays of a segment kept in the store, by name (the modal history if `modal`,
+    the element histories if `elements`)."""
     out = {"t": result.t, "x": x, "v": v, "a": a}
-    elements = {
+    if not elements:
+        result = _NoElements(result)
+    histories = {
         "element_x": result.element_x,
         "element_v": result.element_v,
         "element_force": result.element_force,
     }
-    out.update({name: value for name, value in elements.items() if value is not None})
+    out.update({name: value for name, value in histories.items() if value is not None})
     if not modal:
         return out
     out["load_values"] = result.load_values
@@ -35,6 +40,18 @@ def _columns(result: Any, x: NDArray, v: NDArray, a: NDArray, modal: bool) -> di
     extra = {"pseudo": result.pseudo, "forcing": result.forcing}
     out.update({name: value for name, value in extra.items() if value is not None})
     return out
+
+
+class _NoElements:
+    """A core result read without its element histories."""
+
+    element_x = element_v = element_force = None
+
+    def __init__(self, result: Any) -> None:
+        self._result = result
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._result, name)
 
 
 def _write(

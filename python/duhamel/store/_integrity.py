@@ -83,8 +83,9 @@ def check_grid(grid: dict, n_dof: int) -> None:
         or not all(type(d) is int and 0 <= d < n_dof for d in dofs)
     ):
         raise ValueError(f"grid 'dofs' = {dofs!r} are not dofs of the model's {n_dof}")
-    if not isinstance(grid.get("modal"), bool):
-        raise ValueError(f"grid 'modal' = {grid.get('modal')!r} is not a bool")
+    for key, default in (("modal", None), ("elements", True)):
+        if not isinstance(grid.get(key, default), bool):
+            raise ValueError(f"grid {key!r} = {grid.get(key)!r} is not a bool")
     correction = grid.get("correction", [])
     if not isinstance(correction, list) or not all(type(w) in (int, float) for w in correction):
         raise ValueError("grid 'correction' is not a list of numbers")

@@ -30,27 +30,7 @@ from duhamel.store import _legacy
 from duhamel.store._codec import StoreError
 from duhamel.system import System
 
-__all__ = ["Basis", "Model", "Segment", "capture"]
-
-
-@dataclass(frozen=True)
-class Segment:
-    """A segment of a stored run: `n_steps` from grid point `step0` of `grid` (the store's
-    grid record, with ``threads``), from `state` (``q | v``, or ``Re eta | Im eta``) and the
-    elements' committed variables `element_state`; `outputs` the first-order route's maps,
-    `report` the progress function; `guard_state` the growth guard's bounds carried from the
-    segment before (None: counted from this segment's start, after a resume)."""
-
-    grid: dict[str, Any]
-    step0: int
-    n_steps: int
-    state: NDArray[np.float64]
-    element_state: NDArray[np.float64] | None
-    outputs: Any
-    report: Any
-    guard_state: NDArray[np.float64] | None = None
-    #: The energy integrals to accumulate (a ``_core.EnergySpec``), or None.
-    energy: Any = None
+__all__ = ["Basis", "Model", "capture"]
 
 
 @dataclass(frozen=True)
@@ -156,12 +136,6 @@ class Model:
             return np.concatenate([eta0.real, eta0.imag])
         return np.concatenate([self.q0, self.v0])
 
-    def end_state(self, result: Any) -> NDArray[np.float64]:
-        """The state at the end of a core run (the last saved row)."""
-        if result.eta is not None:
-            return np.array(result.eta[-1], dtype=np.float64)
-        return np.concatenate([result.q[-1], result.v[-1]])
-
     def core(self, route: Plan) -> Any:
         """The core's model of this run (``_core.ModalModel``), as :func:`duhamel.prepare`
         builds it."""
@@ -174,33 +148,6 @@ class Model:
         m, law = self.mass, self.mass["law"]
         law = _core.MassLaw._from_value(law) if isinstance(law, str) else _legacy.mass_law(law)
         return _core.Mass(law, m["form"], bool(m["scale_stiffness"]), m["treatment"])
-
-    def run(self, core: Any, route: Plan, segment: Segment) -> Any:
-        """Runs `segment` of the grid in the core (as ``duhamel.solve`` runs a whole route);
-        returns its ``RunResult``."""
-        grid = segment.grid
-        m = self.basis.n_modes
-        state = segment.state
-        run_grid = dispatch.grid(
-            grid["t0"], grid["dt"], segment.n_steps, grid["save_every"], segment.step0,
-            grid.get("threads"),
-        )  # fmt: skip
-        if self.route == "first-order":
-            spec = dispatch.run_spec(
-                route,
-                run_grid,
-                (self.q0, self.v0),
-                segment.element_state,
-                eta=state,
-                guard_state=segment.guard_state,
-            )
-        else:
-            halves = (np.ascontiguousarray(state[:m]), np.ascontiguousarray(state[m:]))
-            spec = dispatch.run_spec(
-                route, run_grid, halves, segment.element_state, guard_state=segment.guard_state,
-                energy=segment.energy,
-            )  # fmt: skip
-        return core.run(spec, None, segment.outputs, None, segment.report)
 
     def element_objects(self) -> list[Any]:
         """The force elements, rebuilt from their data (a stand-in naming the element when it

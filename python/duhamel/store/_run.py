@@ -10,7 +10,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
 
 from duhamel._core import __version__
 from duhamel._engine import dispatch
@@ -18,15 +17,17 @@ from duhamel._engine.correction import substeps
 from duhamel._engine.modal import failure_note
 from duhamel._engine.output import ROW_BLOCK, physical
 from duhamel._engine.plan import plan
+from duhamel._engine.request import Request
 from duhamel._engine.run import Progress, overflow_error, raise_failure, watch
+from duhamel._engine.segments import Carry, Grid, segments
 from duhamel._engine.validate import positive_int
 from duhamel.integrators import DirectIntegrator, Semianalytic
 from duhamel.loads import support_terms
 from duhamel.results.solution import Solution
 from duhamel.store._arrays import _columns, _write
 from duhamel.store._codec import Checkpoint, dumps, encode
+from duhamel.store._energy import Carry as Totals
 from duhamel.store._energy import (
-    Carry,
     energy_record,
     load_carry,
     save_carry,
@@ -36,7 +37,7 @@ from duhamel.store._energy import (
 )
 from duhamel.store._integrity import damaged, digest
 from duhamel.store._ledger import Ledger, new_identity
-from duhamel.store._model import Model, Segment, capture
+from duhamel.store._model import Model, capture
 from duhamel.store._open import FORMAT, KEY, checkpoint, latest, open_store, start, zarr
 from duhamel.store._solution import _shifted, _solution
 from duhamel.system import System
@@ -65,6 +66,9 @@ class Store:
     segment_bytes : int
         Memory budget of one segment's saved rows (engine history and physical outputs).
         A segment holds a multiple of 1024 saved rows, at least 1024.
+    checkpoint_every : int
+        A checkpoint every this many segments (``checkpoint_every`` of :func:`duhamel.solve`
+        sets it).
 
     Examples
     --------
@@ -81,12 +85,15 @@ class Store:
     path: str | os.PathLike[str]
     modal: bool = True
     segment_bytes: int = SEGMENT_BYTES
+    checkpoint_every: int = 1
 
     def __post_init__(self) -> None:
         _path(self.path)
         if not isinstance(self.modal, bool):
             raise TypeError(f"`modal` must be True or False, got {self.modal!r}")
         object.__setattr__(self, "segment_bytes", positive_int(self.segment_bytes, "segment_bytes"))
+        every = positive_int(self.checkpoint_every, "checkpoint_every")
+        object.__setattr__(self, "checkpoint_every", every)
 
 
 def _path(store: Any, name: str = "store") -> str:
@@ -118,23 +125,12 @@ def _grid(
 def run_stored(
     system: System,
     integrator: Semianalytic | DirectIntegrator,
-    *,
-    store: str | os.PathLike[str] | Store,
-    checkpoint_every: int | None,
-    t0: float,
-    dt: float,
-    n_steps: int,
-    save_every: int,
-    out_dofs: NDArray[np.int64],
-    x0: ArrayLike | None,
-    v0: ArrayLike | None,
+    options: Store,
+    req: Request,
     threads: int | None,
-    progress: bool | Progress | None,
-    started: float,
-    energy: bool = False,
 ) -> Solution:
-    """``duhamel.solve(..., store=...)``: creates the store and runs into it."""
-    options = store if isinstance(store, Store) else Store(_path(store))
+    """``duhamel.solve(..., store=...)``: creates the store `options` describes and runs
+    `req` into it (the run's loads are `system`'s)."""
     path = os.fspath(options.path)
     if isinstance(integrator, DirectIntegrator):
         raise ValueError(
@@ -142,9 +138,11 @@ def run_stored(
             f"not for {type(integrator).__name__} (direct integrators keep their state "
             "outside the engine's checkpoints); solve without `store`"
         )
-    every = 1 if checkpoint_every is None else positive_int(checkpoint_every, "checkpoint_every")
+    every = options.checkpoint_every
+    t0, dt, n_steps, save_every = req.t0, req.dt, req.n_steps, req.save_every
+    out_dofs = np.arange(system.n_dof) if req.dofs is None else req.dofs
     z = zarr()
-    model = capture(system, integrator, x0, v0)
+    model = capture(system, integrator, req.x0, req.v0)
     # As duhamel.solve: static-correction coordinates under nonlinear elements resolved in
     # time (the store holds the internal grid, its saved instants unchanged).
     route = plan(system, integrator)
@@ -157,7 +155,9 @@ def run_stored(
     grid["correction"] = [float(w) for w in correction]
     grid["checkpoint_every"] = every
     grid["modal"] = options.modal
-    if energy:
+    if not req.elements:
+        grid["elements"] = False
+    if req.energy:
         if model.route == "uncoupled":  # stepped one step at a time (energy_run.stepwise)
             model.route = "pseudo-force"
         grid["energy"] = energy_record(system, model)
@@ -188,8 +188,8 @@ def run_stored(
         start(model),
         Ledger(path, group, grid, identity),
         threads,
-        progress,
-        started,
+        req.progress,
+        req.started,
         elements=forces,
         base=support_terms(system.loads, np.asarray(out_dofs, dtype=np.int64)),
     )
@@ -278,68 +278,59 @@ def _proceed(
     core = model.core(route)
     maps = dispatch.outputs(route, phi_out, patterns.shape[1])
     data = group.require_group("data")
-    run_grid = {**grid, "threads": threads}
-    em, carry = None, None
+    em, totals = None, None
     if "energy" in grid:
         em = stored_model(grid["energy"])
         nb, n_cols = em.base_loads.size, 3 + em.base_loads.size + grid["energy"]["n_elements"]
         if at.step == 0:
-            carry = Carry(n_cols, nb)
-        elif ledger is None:  # format 2: the carry beside the checkpoint
-            carry = load_carry(group, at.seq, n_cols, nb)
+            totals = Totals(n_cols, nb)
+        elif ledger is None:  # format 2: the totals beside the checkpoint
+            totals = load_carry(group, at.seq, n_cols, nb)
         elif at.carry is not None and at.carry.size == n_cols:
-            carry = Carry(n_cols, nb, at.carry)
+            totals = Totals(n_cols, nb, at.carry)
         else:
             raise damaged(str(ledger.path), "its checkpoint's energy totals do not fit its grid")
-        if carry is None:  # the checkpoint's energy is lost: the run starts again
-            at, carry = start(model), Carry(n_cols, nb)
-    step, rows, state, element_state = at.step, at.rows, at.state, at.element_state
+        if totals is None:  # the checkpoint's energy is lost: the run starts again
+            at, totals = start(model), Totals(n_cols, nb)
+    rows = at.rows
     # The growth guard's bounds are carried from segment to segment in memory (a resumed run
     # counts them from the checkpoint it resumes at).
-    guard_state = None
+    first = Carry(at.state, at.element_state)
+    steps = Grid(route, grid["t0"], grid["dt"], n_steps, s, threads, model.q0, model.v0)
     counts = np.array(
-        [
-            at.newton_iterations,
-            at.closed_form_steps,
-            at.factorizations,
-            at.subdivided_steps,
-        ],
+        [at.newton_iterations, at.closed_form_steps, at.factorizations, at.subdivided_steps],
         dtype=np.int64,
     )
     depth, wall, seq, pending = at.subdivision_depth, at.wall_time, at.seq + 1, 0
     with watch(progress, n_steps) as report:
-        while step < n_steps:
-            n = min(seg_steps, n_steps - step)
-            final = step + n == n_steps
 
-            def seg_report(k: int, _total: int, t: float, _at: int = step) -> Any:
+        def advance(step: int, n: int, carry: Carry) -> Any:
+            nonlocal wall
+
+            def seg_report(k: int, _total: int, t: float) -> Any:
                 assert report is not None
-                return report(_at + k, n_steps, t)
+                return report(step + k, n_steps, t)
 
             loop_start = _time.perf_counter()
-            segment = Segment(
-                run_grid,
-                step,
-                n,
-                state,
-                element_state,
-                maps,
-                None if report is None else seg_report,
-                guard_state,
-                None if em is None or carry is None else spec_of(em, carry),
-            )
-            result = model.run(core, route, segment)
+            energy = None if em is None or totals is None else spec_of(em, totals)
+            spec = steps.spec(step, n, carry, energy)
+            result = core.run(spec, None, maps, None, None if report is None else seg_report)
             wall += _time.perf_counter() - loop_start
+            return result
+
+        for part in segments(n_steps, seg_steps, first, advance, at.step):
+            result, step, n = part.result, part.step0, part.n
+            final = step + n == n_steps
             kept, x, v, a, _ = physical(result, route, phi_out, patterns)
             size = result.t.size
             failed = result.error is not None or kept < size
             keep = kept if failed else (size if final else size - 1)
             if not failed:
                 a = a()  # type: ignore[operator]
-            arrays = _columns(result, x, v, a, grid["modal"])
-            ended = carry
-            if em is not None and carry is not None and result.energy is not None:
-                arrays["energy"], ended = segment_energy(result, em, carry)
+            arrays = _columns(result, x, v, a, grid["modal"], grid.get("elements", True))
+            ended = totals
+            if em is not None and totals is not None and result.energy is not None:
+                arrays["energy"], ended = segment_energy(result, em, totals)
             written = _write(data, grid, arrays, rows, keep, result.element_widths)
             if ledger is not None and keep:
                 ledger.record(written, rows // grid["chunk_rows"])
@@ -349,26 +340,10 @@ def _proceed(
                 )
                 if result.error is None:
                     raise overflow_error(result.t, kept, grid["dt"], grid["t0"], partial)
-                error = _shifted(result.error, step)
-                sub = int(grid.get("substeps", 1))
-                note = failure_note(
-                    error,
-                    partial.modal,
-                    forces=bool(model.devices),
-                    route=model.route,
-                    omega=model.basis.omega,
-                    correction=np.asarray(grid.get("correction", []), dtype=np.float64),
-                    subdivisions=model.semianalytic().subdivisions,
-                    dt=grid["dt"],
-                    sub=sub,
-                )
-                user_step = None if sub == 1 else -(-error.step // sub)
-                raise_failure(error, partial, note, user_step)
-            step, rows = step + n, rows + keep
+                _fail(result.error, step, partial, model, grid)
+            rows += keep
             if em is not None:
-                carry = ended
-            state, element_state = model.end_state(result), result.element_state
-            guard_state = None if result.guard_state is None else np.asarray(result.guard_state)
+                totals = ended
             counts += [
                 result.newton_iterations,
                 result.closed_form_steps,
@@ -378,25 +353,39 @@ def _proceed(
             depth = max(depth, int(result.subdivision_depth))
             pending += 1
             if final or pending >= every:
+                end = part.carry()
                 c = Checkpoint(
-                    seq,
-                    step,
-                    rows,
-                    state,
-                    None if element_state is None else np.asarray(element_state),
-                    *(int(k) for k in counts),
-                    depth,
-                    wall,
-                )
+                    seq, step + n, rows, end.state, end.element_state,
+                    *(int(k) for k in counts), depth, wall,
+                )  # fmt: skip
                 if ledger is not None:  # format 3: bound to the store and the rows written
-                    values = None if carry is None else carry.values()
+                    values = None if totals is None else totals.values()
                     chain = ledger.chain(rows)
                     c = dataclasses.replace(c, store=ledger.key, chain=chain, carry=values)
-                elif carry is not None:
-                    save_carry(group, seq, carry)
+                elif totals is not None:
+                    save_carry(group, seq, totals)
                 checkpoint(group, c)
                 seq, pending = seq + 1, 0
     return _solution(
         group, model, grid, rows, wall, counts, depth, started, elements=elements, base=base,
         ledger=ledger,
     )  # fmt: skip
+
+
+def _fail(error: Any, step0: int, partial: Solution, model: Model, grid: dict) -> None:
+    """Raises the failure of the segment from grid point `step0` (its step counted from the
+    run's start, the user's step when the run took internal steps)."""
+    error = _shifted(error, step0)
+    sub = int(grid.get("substeps", 1))
+    note = failure_note(
+        error,
+        partial.modal,
+        forces=bool(model.devices),
+        route=model.route,
+        omega=model.basis.omega,
+        correction=np.asarray(grid.get("correction", []), dtype=np.float64),
+        subdivisions=model.semianalytic().subdivisions,
+        dt=grid["dt"],
+        sub=sub,
+    )
+    raise_failure(error, partial, note, None if sub == 1 else -(-error.step // sub))

@@ -23,7 +23,7 @@ use super::energy::FirstOrderTap;
 use crate::energy::EnergySpec;
 use num_complex::Complex64;
 
-use crate::driver::{drive, finish, Control, Route, StepFailure};
+use crate::driver::{drive_modal, finish, Control, ModalRoute, StepFailure};
 use crate::error::CoreError;
 use crate::history::{size, zeroed, Coordinates, Failure, History, Stats};
 use crate::kernel::cphi;
@@ -308,7 +308,7 @@ impl<'s> FirstOrder<'s, '_> {
     }
 }
 
-impl<'s> Route for FirstOrder<'s, '_> {
+impl<'s> ModalRoute for FirstOrder<'s, '_> {
     fn block(&mut self, problem: &ModalProblem, loads: &BlockLoads) -> Result<(), StepFailure> {
         let rows = loads.slot.iter().flatten().count();
         let row0 = loads.slot.iter().flatten().next().copied().unwrap_or(0);
@@ -465,7 +465,7 @@ pub fn integrate_with(
             mapper,
             energy: tap,
         };
-        let (loads, ending) = drive(problem, &mut route, loads, forcing, control);
+        let (loads, ending) = drive_modal(problem, &mut route, loads, forcing, control);
         let stats = route
             .corrector
             .as_ref()

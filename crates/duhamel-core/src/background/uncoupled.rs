@@ -9,7 +9,7 @@
 
 use rayon::prelude::*;
 
-use crate::driver::{drive, finish, Control, Route, StepFailure};
+use crate::driver::{drive_modal, finish, Control, ModalRoute, StepFailure};
 use crate::error::CoreError;
 use crate::history::{size, zeroed, Coordinates, Failure, History};
 use crate::kernel::oscillator::Transfer;
@@ -285,7 +285,7 @@ struct Uncoupled {
     pool: Option<std::sync::Arc<rayon::ThreadPool>>,
 }
 
-impl Route for Uncoupled {
+impl ModalRoute for Uncoupled {
     fn block(&mut self, problem: &ModalProblem, loads: &BlockLoads) -> Result<(), StepFailure> {
         let shared = Shared {
             n_loads: problem.loads.len(),
@@ -373,7 +373,7 @@ pub fn integrate(
         coef: Coefficients::new(problem),
         pool,
     };
-    let (loads, ending) = drive(problem, &mut route, loads, forcing, control);
+    let (loads, ending) = drive_modal(problem, &mut route, loads, forcing, control);
     // The chunks' writers point into `hq`, `hv`: drop them before the buffers move.
     drop(route);
     let kept = History {

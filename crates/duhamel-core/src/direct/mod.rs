@@ -3,9 +3,11 @@
 //! `mu(t) M x'' + [momentum] mu'(t) M x' + C x' + s(t) K x + Kc x
 //! + sum_j w_j(t) (K_j x + C_j x') + r(x, x', t) = f(t)`
 //!
-//! (`w_j` speed laws scaling linear couplings), on the same elements, loads and mass laws as the semi-analytic integrator: the reference
-//! methods users compare against. Two families share the problem, the assembly (dense or
-//! sparse, [`assembly`]) and the driver here:
+//! (`w_j` speed laws scaling linear couplings), on the same elements, loads and mass laws as
+//! the semi-analytic integrator: the reference methods users compare against. Two families
+//! share the problem, the assembly (dense or sparse, [`assembly`]) and the route here, a
+//! [`crate::driver::Route`] that the one driver ([`crate::driver::drive`]) runs as it runs
+//! every modal route:
 //!
 //! * the generalized-alpha family ([`Method::Alpha`]: Newmark, HHT, Chung-Hulbert, central
 //!   difference), one step equation for the end acceleration;
@@ -29,12 +31,12 @@ mod stepper;
 pub use crate::speed::ScaledCoupling;
 pub use problem::{AlphaParams, DirectHistory, DirectProblem, Method};
 
-use crate::driver::{Control, Pacer};
+use crate::driver::{drive, Clock, Control, Forcing, Halt, Route, StepFailure};
 use crate::error::CoreError;
 use crate::history::{reserve, size, zeroed, Failure, Stats};
 use crate::loads::ModalForcing;
 use crate::problem::SaveGrid;
-use assembly::IterationMatrix;
+use assembly::{Factorization, IterationMatrix};
 use energy::DirectTap;
 use model::{Model, State};
 use problem::validate;
@@ -73,9 +75,120 @@ impl Recorder {
     }
 }
 
+/// A direct integrator as the driver runs it: the model, the method's stepper, the state
+/// and what is saved of it.
+struct Direct<'a> {
+    p: &'a DirectProblem<'a>,
+    model: Model<'a>,
+    stepper: Box<dyn Stepper + 'a>,
+    rec: Recorder,
+    tap: Option<DirectTap>,
+    x: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    /// The saved acceleration (from the equation of motion where the method asks for it).
+    a_out: Vec<f64>,
+    f: Vec<f64>,
+    /// The mass matrix, factorised once when it is needed.
+    m_lu: Option<Factorization>,
+    stats: Stats,
+}
+
+/// The mass matrix of `problem`, factorised.
+fn factor_mass(problem: &DirectProblem, n: usize) -> Result<Factorization, CoreError> {
+    let mut mm = IterationMatrix::new(n, 1, &[problem.m], &[])?;
+    mm.add_matrix(0, (0, 0), 1.0);
+    mm.factorize()
+}
+
+impl Direct<'_> {
+    fn time(&self, n: usize) -> f64 {
+        self.p.t0 + n as f64 * self.p.dt
+    }
+
+    /// Saves the state at grid point `step` (its acceleration from the equation of motion
+    /// where the method's state holds only a predictor).
+    fn save(&mut self, step: usize, forcing: Forcing) -> Result<(), CoreError> {
+        let t = self.time(step);
+        let (x, v) = (&self.x, &self.v);
+        if self.stepper.equation_acceleration() && step > 0 {
+            let k = self.model.coefs(t, true);
+            self.model.external(&[t], forcing, &mut self.f)?;
+            let lu = match &mut self.m_lu {
+                Some(lu) => lu,
+                slot => slot.insert(factor_mass(self.p, self.model.n)?),
+            };
+            let state = State { x, v, t };
+            self.model
+                .acceleration(lu, state, k, &self.f, &mut self.a_out)?;
+        } else {
+            self.a_out.copy_from_slice(&self.a);
+        }
+        if let Some(tap) = self.tap.as_mut() {
+            tap.save(&mut self.model, self.rec.next, (x, v), t)?;
+        }
+        self.rec.push(self.p.out_dofs, t, x, v, &self.a_out);
+        Ok(())
+    }
+}
+
+impl Route for Direct<'_> {
+    fn block(&mut self, n0: usize, len: usize, mut forcing: Forcing) -> Result<(), Halt> {
+        for step in n0..n0 + len {
+            if self.rec.wants(step) {
+                self.save(step, forcing.as_deref_mut())
+                    .map_err(StepFailure::at(step))?;
+            }
+            let t = self.time(step);
+            let end = StepFailure::at(step + 1);
+            let iters = self
+                .stepper
+                .step(
+                    &mut self.model,
+                    forcing.as_deref_mut(),
+                    t,
+                    [&mut self.x, &mut self.v, &mut self.a],
+                )
+                .map_err(StepFailure::at(step + 1))?;
+            let t1 = self.time(step + 1);
+            self.model.commit(&self.x, &self.v, t1).map_err(end)?;
+            if let Some(tap) = self.tap.as_mut() {
+                let span = (t, self.p.dt);
+                tap.step(
+                    &mut self.model,
+                    forcing.as_deref_mut(),
+                    span,
+                    (&self.x, &self.v),
+                )
+                .map_err(StepFailure::at(step + 1))?;
+            }
+            self.stats.newton_iterations += iters;
+            self.stats.factorizations = self.stepper.factorizations();
+            let state = self.x.iter().chain(&self.v).chain(&self.a);
+            if !state.into_iter().all(|u| u.is_finite()) {
+                let e = CoreError::NonFinite {
+                    time: 0.0,
+                    step: 0,
+                    last_good_time: None,
+                };
+                return Err(StepFailure::at(step + 1)(e).into());
+            }
+        }
+        Ok(())
+    }
+
+    fn save_end(&mut self, n: usize, forcing: Forcing) -> Result<(), CoreError> {
+        if self.rec.wants(n) {
+            self.save(n, forcing)?;
+        }
+        Ok(())
+    }
+}
+
 /// Integrates the problem; `forcing` adds physical loads computed outside the engine (its
 /// rows have `n_dof` entries); `control` may stop or watch the run (checked about every
-/// [`crate::driver::CHECK_INTERVAL`]).
+/// [`crate::driver::CHECK_INTERVAL`]). The steps run in the driver ([`drive`]), as every
+/// modal route's do.
 pub fn integrate(
     problem: &DirectProblem,
     mut forcing: Option<&mut dyn ModalForcing>,
@@ -89,7 +202,7 @@ pub fn integrate(
     reserve(grid.count().saturating_mul(3 * n_out + 1)).map_err(fail)?;
     let cells = size(grid.count(), n_out, "the history").map_err(fail)?;
     let buffer = |what| zeroed(cells, what).map_err(fail);
-    let mut rec = Recorder {
+    let rec = Recorder {
         h: DirectHistory {
             n_out,
             t: Vec::new(),
@@ -102,158 +215,94 @@ pub fn integrate(
         next: 0,
     };
     let mut model = Model::new(problem);
-    let mut stats = Stats::default();
-    let dt = problem.dt;
-    let time = |n: usize| problem.t0 + n as f64 * dt;
-    let mut tap: Option<DirectTap> = None;
-
-    let outcome = (|| -> Result<(), (CoreError, usize)> {
-        let at0 = |e| (e, 0);
-        let t0 = time(0);
-        // The mass matrix, factorised once when it is needed: the initial acceleration
-        // (unless given: a singular mass with massless dofs has none from the equation of
-        // motion) and the saved ones of the Hermite element.
-        let factor_mass = || -> Result<_, CoreError> {
-            let mut mm = IterationMatrix::new(n, 1, &[problem.m], &[])?;
-            mm.add_matrix(0, (0, 0), 1.0);
-            mm.factorize()
-        };
-        let mut m_lu = None;
-        let (mut x, mut v, mut a) = (problem.x0.to_vec(), problem.v0.to_vec(), vec![0.0; n]);
+    let t0 = problem.t0;
+    // The initial state: its load, the elements started there, the initial acceleration
+    // (unless given: a singular mass with massless dofs has none from the equation of
+    // motion), the energy integrals' start and the method's stepper. Failures here keep
+    // their own times (step 0).
+    let start = (|| -> Result<_, CoreError> {
+        let (x, v) = (problem.x0.to_vec(), problem.v0.to_vec());
+        let mut a = vec![0.0; n];
         let mut f = vec![0.0; n];
-        model
-            .external(&[t0], forcing.as_deref_mut(), &mut f)
-            .map_err(at0)?;
+        model.external(&[t0], forcing.as_deref_mut(), &mut f)?;
         let k0 = model.coefs(t0, false);
         model.start(&x, &v, t0);
+        let mut m_lu = None;
         match problem.a0 {
             Some(a0) => a.copy_from_slice(a0),
-            None => model
-                .acceleration(
-                    m_lu.insert(factor_mass().map_err(at0)?),
-                    State {
-                        x: &x,
-                        v: &v,
-                        t: t0,
-                    },
-                    k0,
-                    &f,
-                    &mut a,
-                )
-                .map_err(at0)?,
+            None => {
+                let lu = m_lu.insert(factor_mass(problem, n)?);
+                let state = State {
+                    x: &x,
+                    v: &v,
+                    t: t0,
+                };
+                model.acceleration(lu, state, k0, &f, &mut a)?;
+            }
         }
         if !a.iter().all(|u| u.is_finite()) {
-            return Err(at0(CoreError::NonFinite {
+            return Err(CoreError::NonFinite {
                 time: t0,
                 step: 0,
                 last_good_time: None,
-            }));
+            });
         }
-        if let Some(spec) = &problem.energy {
-            let mut t = DirectTap::new(spec, &model, rec.grid.count()).map_err(at0)?;
-            t.start(&mut model, forcing.as_deref_mut(), (&x, &v), t0)
-                .map_err(at0)?;
-            tap = Some(t);
-        }
-        let mut stepper: Box<dyn Stepper> = match problem.method {
-            Method::Alpha(par) => {
-                Box::new(alpha::Alpha::new(&mut model, par, [&x, &v, &a], &f).map_err(at0)?)
+        let tap = match &problem.energy {
+            Some(spec) => {
+                let mut t = DirectTap::new(spec, &model, rec.grid.count())?;
+                t.start(&mut model, forcing.as_deref_mut(), (&x, &v), t0)?;
+                Some(t)
             }
-            Method::CubicHermite { points } => {
-                Box::new(hermite::Hermite::new(&model, points).map_err(at0)?)
-            }
+            None => None,
         };
-        let mut a_out = a.clone();
-        let mut pacer = Pacer::default();
-        let (mut block_end, mut block_len) = (0, 0);
-        for step in 0..=problem.n_steps {
-            let t = time(step);
-            if rec.wants(step) {
-                if stepper.equation_acceleration() && step > 0 {
-                    let k = model.coefs(t, true);
-                    model
-                        .external(&[t], forcing.as_deref_mut(), &mut f)
-                        .map_err(|e| (e, step))?;
-                    model
-                        .acceleration(
-                            match &mut m_lu {
-                                Some(lu) => lu,
-                                slot => slot.insert(factor_mass().map_err(|e| (e, step))?),
-                            },
-                            State { x: &x, v: &v, t },
-                            k,
-                            &f,
-                            &mut a_out,
-                        )
-                        .map_err(|e| (e, step))?;
-                } else {
-                    a_out.copy_from_slice(&a);
-                }
-                if let Some(tap) = tap.as_mut() {
-                    tap.save(&mut model, rec.next, (&x, &v), t)
-                        .map_err(|e| (e, step))?;
-                }
-                rec.push(problem.out_dofs, t, &x, &v, &a_out);
-            }
-            if step == block_end {
-                // A block boundary: watch, and stop if asked.
-                control.progress(step, problem.n_steps, t);
-                if step > 0 {
-                    pacer.done(block_len);
-                }
-                if step == problem.n_steps {
-                    break;
-                }
-                if step > 0 && control.interrupted() {
-                    let e = CoreError::Interrupted { time: 0.0, step: 0 };
-                    return Err((e, step + 1));
-                }
-                block_len = pacer.next(problem.n_steps - step);
-                block_end = step + block_len;
-            }
-            let iters = stepper
-                .step(
-                    &mut model,
-                    forcing.as_deref_mut(),
-                    t,
-                    [&mut x, &mut v, &mut a],
-                )
-                .map_err(|e| (e, step + 1))?;
-            model
-                .commit(&x, &v, time(step + 1))
-                .map_err(|e| (e, step + 1))?;
-            if let Some(tap) = tap.as_mut() {
-                tap.step(&mut model, forcing.as_deref_mut(), (t, dt), (&x, &v))
-                    .map_err(|e| (e, step + 1))?;
-            }
-            stats.newton_iterations += iters;
-            stats.factorizations = stepper.factorizations();
-            if !x.iter().chain(&v).chain(&a).all(|u| u.is_finite()) {
-                let e = CoreError::NonFinite {
-                    time: 0.0,
-                    step: 0,
-                    last_good_time: None,
-                };
-                return Err((e, step + 1));
-            }
-        }
-        Ok(())
+        let stepper: Box<dyn Stepper> = match problem.method {
+            Method::Alpha(par) => Box::new(alpha::Alpha::new(&mut model, par, [&x, &v, &a], &f)?),
+            Method::CubicHermite { points } => Box::new(hermite::Hermite::new(&model, points)?),
+        };
+        Ok((x, v, a, f, m_lu, tap, stepper))
     })();
-    let finish = |rec: Recorder| {
-        let mut h = rec.finish();
-        h.energy = tap.map(|tap| tap.into_rows(h.t.len()));
-        h
+    let (x, v, a, f, m_lu, tap, stepper) = match start {
+        Ok(s) => s,
+        Err(error) => {
+            return Err(Box::new(Failure {
+                error,
+                partial: rec.finish(),
+                stats: Stats::default(),
+            }))
+        }
     };
-    match outcome {
-        Ok(()) => Ok((finish(rec), stats)),
-        Err((error, step)) => Err(Box::new(Failure {
-            // Failures of the initial state (step 0) keep their own times.
-            error: if step > 0 {
-                error.located(step, time)
-            } else {
-                error
-            },
-            partial: finish(rec),
+    let mut route = Direct {
+        p: problem,
+        model,
+        stepper,
+        rec,
+        tap,
+        a_out: a.clone(),
+        x,
+        v,
+        a,
+        f,
+        m_lu,
+        stats: Stats::default(),
+    };
+    let clock = Clock {
+        t0,
+        step0: 0,
+        dt: problem.dt,
+        n_steps: problem.n_steps,
+        save_every: problem.save_every,
+    };
+    let ending = drive(&clock, &mut route, forcing, control);
+    let Direct {
+        rec, tap, stats, ..
+    } = route;
+    let mut h = rec.finish();
+    h.energy = tap.map(|tap| tap.into_rows(h.t.len()));
+    match ending {
+        None => Ok((h, stats)),
+        Some((error, _)) => Err(Box::new(Failure {
+            error,
+            partial: h,
             stats,
         })),
     }

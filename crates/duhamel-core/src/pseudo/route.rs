@@ -11,7 +11,7 @@ use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
 use super::stiff_rule::Watch;
 use super::subdivide::{level_rules, retriable, Subdivider};
-use crate::driver::{drive, finish, Control, Route, StepFailure};
+use crate::driver::{drive_modal, finish, Control, ModalRoute, StepFailure};
 use crate::energy::EnergyTap;
 use crate::error::CoreError;
 use crate::history::{size, zeroed, Coordinates, ElementRows, Failure, History, Stats};
@@ -348,7 +348,7 @@ impl PseudoRoute<'_, '_> {
     }
 }
 
-impl Route for PseudoRoute<'_, '_> {
+impl ModalRoute for PseudoRoute<'_, '_> {
     fn block(&mut self, problem: &ModalProblem, loads: &BlockLoads) -> Result<(), StepFailure> {
         self.steps(problem, loads)
     }
@@ -466,7 +466,7 @@ pub fn integrate(
         he,
         stats: Stats::default(),
     };
-    let (loads, ending) = drive(base, &mut route, loads, forcing, control);
+    let (loads, ending) = drive_modal(base, &mut route, loads, forcing, control);
     let kept = History {
         n_modes: n,
         coordinates: Coordinates::Modal {
