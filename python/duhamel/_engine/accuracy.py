@@ -162,10 +162,10 @@ def _decaying_max(x: NDArray[np.float64], decay: NDArray[np.float64]) -> NDArray
 
 
 def _relative(bound: NDArray[np.float64], response: NDArray[np.float64]) -> float:
-    worst = float(np.max(bound)) if bound.size else 0.0
+    worst = float(bound.max()) if bound.size else 0.0  # the methods: np.max's dispatch costs
     if worst == 0.0:
         return 0.0
-    peak = float(np.max(np.abs(response))) if response.size else 0.0
+    peak = float(np.abs(response).max()) if response.size else 0.0
     return worst / peak if peak > 0.0 else float("inf")
 
 
