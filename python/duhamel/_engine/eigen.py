@@ -29,7 +29,7 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel._engine.memory import check_fits
+from duhamel._engine.memory import SMALL_ALLOCATION, check_fits
 from duhamel._engine.validate import check_semidefinite, issparse, symmetric_lu
 
 __all__ = ["DENSE_EIGH_ARRAYS", "NEG_EIG_RTOL", "SHIFT_RTOL", "ZERO_EIG_RTOL", "Modes"]
@@ -170,22 +170,24 @@ class Modes:
         import scipy.linalg as la
 
         n = int(self._M.shape[0])
-        advice = (
-            "ask for the lowest modes only (`duhamel.Semianalytic(modes=...)`), which a sparse "
-            "model (scipy.sparse M and K) computes by shift-invert Lanczos"
-        )
-        if self._sparse:
-            advice += (
-                "; with modal damping (`zeta`) on a direct integrator use Rayleigh damping "
-                "(`rayleigh=(alpha, beta)`), which keeps the model sparse"
+        need = DENSE_EIGH_ARRAYS * 8.0 * n * n
+        if need > SMALL_ALLOCATION:  # the messages only where the check may refuse
+            advice = (
+                "ask for the lowest modes only (`duhamel.Semianalytic(modes=...)`), which a "
+                "sparse model (scipy.sparse M and K) computes by shift-invert Lanczos"
             )
-        wanted = self.count + k
-        check_fits(
-            DENSE_EIGH_ARRAYS * 8.0 * n * n,
-            f"`modes` = {wanted:,} of the {n:,}-dof model asks for a full dense "
-            f"eigendecomposition (scipy.linalg.eigh of {n:,} x {n:,} matrices), which",
-            advice,
-        )
+            if self._sparse:
+                advice += (
+                    "; with modal damping (`zeta`) on a direct integrator use Rayleigh damping "
+                    "(`rayleigh=(alpha, beta)`), which keeps the model sparse"
+                )
+            wanted = self.count + k
+            check_fits(
+                need,
+                f"`modes` = {wanted:,} of the {n:,}-dof model asks for a full dense "
+                f"eigendecomposition (scipy.linalg.eigh of {n:,} x {n:,} matrices), which",
+                advice,
+            )
 
         def dense(a: Any) -> Array:
             return a.toarray() if issparse(a) else np.asarray(a)
