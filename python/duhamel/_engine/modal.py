@@ -226,7 +226,14 @@ def _stopping(
 
     def seen(result: Any, steps: int) -> bool:
         part = solution(
-            prep, result, out, patterns, replace(opts, n_steps=steps), 0.0, base, sub,
+            prep,
+            result,
+            out,
+            patterns,
+            replace(opts, n_steps=steps),
+            0.0,
+            base,
+            sub,
             estimate=False,
         )
         return bool(opts.stop(part))
