@@ -17,7 +17,7 @@ floor). Each storey is
   unloading-stiffness deterioration, as in their calibrations), capping strength
   ``Mc/My = 1.1``, residual strength ``0.4 My`` and ultimate rotation ``theta_u = 0.2``
   (their recommended values); yield at 1 % drift. With the columns and the leaning column
-  the storeys' post-capping stiffness is -1.3 %, -0.5 % and +0.4 % of the elastic one
+  the storeys' post-capping stiffness is -1.3 %, -0.6 % and +0.4 % of the elastic one
   (first to third); the cyclic deterioration lowers the strength further;
 * a leaning column (``PDelta``) carrying the gravity of the floors above, 1.5 times the
   seismic weight (the gravity frames' share).
