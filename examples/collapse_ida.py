@@ -1,28 +1,33 @@
-"""Collapse IDA of a 3-storey steel moment frame with capping hinges and a leaning P-Delta
-column: each record's collapse intensity (10 % storey drift, bisected to 2 % of Sa), the
-lognormal collapse fragility and FEMA P695's collapse margin ratio.
+"""Collapse IDA of a 3-storey steel moment frame with deteriorating hinges and a leaning
+P-Delta column: each record's collapse intensity (10 % storey drift, bisected to 2 % of Sa),
+the lognormal collapse fragility and FEMA P695's collapse margin ratio.
 
 The frame is a shear building (one lateral dof per floor, storey height 4 m, 4e5 kg per
 floor). Each storey is
 
 * an elastic part in ``K`` (the continuous columns, 10 % of the storey stiffness),
-* its beam hinges lumped into a storey spring with a trilinear backbone: yield at 1 %
-  drift, hardening to a capping point at 4 % drift, then a negative post-capping stiffness
-  (8 % of the elastic storey stiffness, P-Delta included). It is two ``Bilinear`` elements
-  in parallel: an elastic-perfectly-plastic one (87 %) that yields at 1 %, and a stiff-
-  softening one (3 %, ``alpha < 0``) that "caps" at 4 %;
+* its beam hinges lumped into one ``ModIMKPeakOriented`` storey spring (90 % of the storey
+  stiffness, the deformation its drift, so the hinge rotation is the drift ratio) with the
+  median parameters of Lignos & Krawinkler (2011), J. Struct. Eng. 137(11) 1291-1302,
+  eqs. for W-sections other than RBS, evaluated for a W27x94-like beam (h/tw = 45,
+  bf/2tf = 6.7, d = 683 mm, L/d = 8, Fy = 355 MPa): pre-capping plastic rotation
+  ``theta_p = 0.028``, post-capping rotation ``theta_pc = 0.13``, reference cumulative
+  plastic rotation ``Lambda = 1.0`` (``E_t = Lambda My``, for the strength and the
+  post-capping deterioration, exponent ``c = 1``, ``D = 1``; no accelerated reloading or
+  unloading-stiffness deterioration, as in their calibrations), capping strength
+  ``Mc/My = 1.1``, residual strength ``0.4 My`` and ultimate rotation ``theta_u = 0.2``
+  (their recommended values); yield at 1 % drift. With the columns and the leaning column
+  the storeys' post-capping stiffness is -1.3 %, -0.6 % and +0.4 % of the elastic one
+  (first to third); the cyclic deterioration lowers the strength further;
 * a leaning column (``PDelta``) carrying the gravity of the floors above, 1.5 times the
   seismic weight (the gravity frames' share).
-
-The deteriorating hinge of practice, ``ModIMKPeakOriented``, is a material on main
-(``duhamel._core.drive_material``) but not yet an element of a ``System``; this frame has
-its backbone's capping and post-capping branch (monotonic), without its cyclic deterioration.
 
 The records are synthetic (band-passed noise, as examples/ida.py), so nothing is downloaded;
 intensity Sa(T1, 5 %); S_MT = S_M1 / T1 with S_M1 = 0.9 g (FEMA P695, SDC Dmax).
 
     python examples/collapse_ida.py                 # prints, shows the figure
     python examples/collapse_ida.py --save docs/figures/collapse_ida.png
+    python examples/collapse_ida.py --integrator newmark --tolerance 0.002 --no-plot
 """
 
 from __future__ import annotations
@@ -41,8 +46,11 @@ H = 4.0  # storey height, m
 MASS = 4.0e5  # kg per floor
 K_STOREY = np.array([1.2e8, 1.0e8, 0.75e8])  # elastic storey stiffness, N/m
 GRAVITY = 1.5  # leaning-column gravity per floor / the floor's seismic weight
-LINEAR, EPP, CAP = 0.10, 0.87, 0.03  # shares of the storey stiffness
-YIELD_DRIFT, CAP_DRIFT, POST_CAP = 0.01, 0.03, -0.03
+LINEAR, HINGE = 0.10, 0.90  # shares of the storey stiffness
+YIELD_DRIFT = 0.01  # the hinge's yield drift (My = HINGE k YIELD_DRIFT H)
+# ModIMK hinge (Lignos & Krawinkler 2011, see the module docstring); rotations = drift ratios
+THETA_P, THETA_PC, THETA_U = 0.028, 0.13, 0.20
+LAMBDA, CAPPING, RESIDUAL = 1.0, 1.1, 0.4  # E_t = LAMBDA My (rad), Mc / My, Mr / My
 COLLAPSE_DRIFT = 0.10  # FEMA P695's non-simulated collapse limit
 DT = 0.01
 
@@ -72,18 +80,29 @@ def storey_matrix(k: np.ndarray) -> np.ndarray:
     return np.diag(k + np.r_[k[1:], 0.0]) - np.diag(k[1:], 1) - np.diag(k[1:], -1)
 
 
+def hinge(i: int, j: int | None, k: float) -> duhamel.elements.ModIMKPeakOriented:
+    """The storey's hinge spring: ModIMKPeakOriented in storey displacement (m)."""
+    k0 = HINGE * k
+    my = k0 * YIELD_DRIFT * H
+    a_s = (CAPPING - 1.0) * YIELD_DRIFT / THETA_P  # hardening to Mc at theta_p
+    side = {"plus": 1.0, "neg": -1.0}
+    kw = {}
+    for name, sign in side.items():
+        kw |= {f"as_{name}": a_s, f"My_{name}": sign * my, f"theta_p_{name}": THETA_P * H,
+               f"theta_pc_{name}": THETA_PC * H, f"res_{name}": RESIDUAL,
+               f"theta_u_{name}": THETA_U * H, f"D_{name}": 1.0}  # fmt: skip
+    return duhamel.elements.ModIMKPeakOriented(
+        i, j, K0=k0, lambda_s=LAMBDA * H, lambda_c=LAMBDA * H, lambda_a=0.0, lambda_k=0.0,
+        c_s=1.0, c_c=1.0, c_a=1.0, c_k=1.0, **kw)  # fmt: skip
+
+
 def frame(motion: GroundMotion | None = None) -> duhamel.System:
     """The frame (loaded by `motion` when given)."""
     s = duhamel.System(MASS * np.eye(3), storey_matrix(LINEAR * K_STOREY), zeta=0.03)
     for storey, (k, p) in enumerate(zip(K_STOREY, leaning_load(), strict=True)):
         j = None if storey == 0 else storey - 1
         s.add(duhamel.elements.PDelta(storey, j, P=p, height=H))
-        s.add(duhamel.elements.Bilinear(storey, j, k=EPP * k, fy=EPP * k * YIELD_DRIFT * H,
-                                        alpha=0.0))  # fmt: skip
-        # post-capping: LINEAR k - p/H + alpha CAP k = POST_CAP k
-        alpha = (POST_CAP - LINEAR + p / H / k) / CAP
-        s.add(duhamel.elements.Bilinear(storey, j, k=CAP * k, fy=CAP * k * CAP_DRIFT * H,
-                                        alpha=alpha))  # fmt: skip
+        s.add(hinge(storey, j, k))
     if motion is not None:
         s.add_load(motion.as_load(np.ones(3)))
     return s
@@ -113,7 +132,7 @@ def collapse_event() -> duhamel.Event:
 
 def first_period() -> float:
     s = frame()
-    k = s.K + storey_matrix((EPP + CAP) * K_STOREY)  # the hinges' initial stiffness
+    k = s.K + storey_matrix(HINGE * K_STOREY)  # the hinges' initial stiffness
     w2 = np.linalg.eigvalsh(np.linalg.solve(s.M, k))
     return float(2 * np.pi / np.sqrt(w2[0]))
 
@@ -124,13 +143,18 @@ def main(argv: list[str] | None = None) -> dict:
     parser.add_argument("--records", type=int, default=11)
     parser.add_argument("--steps", type=int, default=12, help="intensities of the grid")
     parser.add_argument("--tolerance", type=float, default=0.02)
+    parser.add_argument("--integrator", choices=["semianalytic", "newmark"],
+                        default="semianalytic")  # fmt: skip
+    parser.add_argument("--dt", type=float, help="step (default: the records' sampling)")
+    parser.add_argument("--no-plot", action="store_true", help="print only")
     args = parser.parse_args(argv)
     t1 = first_period()
     s_mt = 0.9 * G / t1  # FEMA P695 SDC Dmax: S_M1 = 0.9 g, T1 > T_s
     intensities = G * np.linspace(0.25, 3.0, args.steps)
     started = time.perf_counter()
-    res = ida(frame, records(args.records), intensities, peak_drift_ratio, period=t1,
-              damping=0.05, collapse=collapse_event(), solver_error="raise",
+    integrator = duhamel.Newmark() if args.integrator == "newmark" else duhamel.Semianalytic()
+    res = ida(frame, records(args.records), intensities, peak_drift_ratio, integrator,
+              period=t1, damping=0.05, dt=args.dt, collapse=collapse_event(), solver_error="raise",
               tolerance=args.tolerance)  # fmt: skip
     seconds = time.perf_counter() - started
     frag = res.fragility(mce=s_mt)
@@ -141,6 +165,9 @@ def main(argv: list[str] | None = None) -> dict:
         print(f"{name}   {hi / G:6.3f}   (no collapse at {lo / G:.3f})")
     print(f"fragility (MLE): median {frag.median / G:.3f} g, beta {frag.beta:.3f}; "
           f"S_MT = {s_mt / G:.3f} g, CMR = {frag.cmr:.2f}")  # fmt: skip
+    out = {"ida": res, "fragility": frag, "t1": t1, "s_mt": s_mt, "seconds": seconds}
+    if args.no_plot:
+        return out
     import matplotlib
 
     if args.save:
@@ -161,7 +188,7 @@ def main(argv: list[str] | None = None) -> dict:
         fig.savefig(args.save, dpi=100, bbox_inches="tight")
     else:
         plt.show()
-    return {"ida": res, "fragility": frag, "t1": t1, "s_mt": s_mt, "seconds": seconds}
+    return out
 
 
 if __name__ == "__main__":
