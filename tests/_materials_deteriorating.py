@@ -14,7 +14,7 @@ def load_opensees() -> ModuleType:
     try:  # the wheel needs the system BLAS/LAPACK (libblas3, liblapack3)
         import openseespy.opensees as opensees
     except Exception as exc:  # pragma: no cover - depends on the machine
-        pytest.skip(f"openseespy cannot be loaded: {exc}")
+        pytest.skip(reason=f"openseespy cannot be loaded: {exc}")
     return opensees
 
 

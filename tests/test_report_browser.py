@@ -36,7 +36,7 @@ def _browser() -> str:
             return path
     reason = "no chromium on PATH (.ci/run installs Debian's chromium; apt-get install chromium)"
     print(f"\nskipped: {reason}")
-    pytest.skip(reason)
+    pytest.skip(reason=reason)
 
 
 def _run(browser: str, args: list[str], tmp: Path) -> subprocess.CompletedProcess:
@@ -52,11 +52,11 @@ def _run(browser: str, args: list[str], tmp: Path) -> subprocess.CompletedProces
     except (OSError, subprocess.TimeoutExpired) as exc:
         reason = f"chromium could not run here: {exc}"
         print(f"\nskipped: {reason}")
-        pytest.skip(reason)
+        pytest.skip(reason=reason)
     if out.returncode != 0:
         reason = f"chromium could not run here (exit {out.returncode}): {out.stderr[-600:]}"
         print(f"\nskipped: {reason}")
-        pytest.skip(reason)
+        pytest.skip(reason=reason)
     return out
 
 

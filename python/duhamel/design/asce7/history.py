@@ -7,13 +7,16 @@ section 16.4.1.2 with Table 12.12-1 for chapter 16's analyses), each check retur
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from duhamel._engine.validate import as_float_array, positive_float
 from duhamel.design.checks import Check
+
+if TYPE_CHECKING:
+    from duhamel.design.asce7.elf import IsolatedELF
 
 __all__ = [
     "MIN_RECORDS",
@@ -191,7 +194,7 @@ def isolated_drift_check(drift_ratios: ArrayLike, *, limit: float = 0.020) -> Ch
 
 
 def lower_limit_checks(
-    values: Mapping[str, float], elf: Any, *, regular: bool = True
+    values: Mapping[str, float], elf: IsolatedELF, *, regular: bool = True
 ) -> list[Check]:
     """The lower limits of ASCE 7-22 section 17.6.4 on the response-history design values,
     relative to the equivalent lateral force values (:func:`isolated_elf`'s governing ones):
@@ -221,9 +224,11 @@ def lower_limit_checks(
 
     Examples
     --------
-    >>> from types import SimpleNamespace
-    >>> from duhamel.design.asce7 import lower_limit_checks
-    >>> elf = SimpleNamespace(d_tm=0.5, v_b=2e6, v_s=6e5, r_i=2.0)
+    >>> from duhamel.design.asce7 import ELFBound, IsolatedELF, lower_limit_checks
+    >>> bound = ELFBound("nominal", d_m=0.43, t_m=3.0, beta_m=0.2, b_m=1.5, k_m=1e7,
+    ...                  d_tm=0.5, v_b=2e6, v_st=1.5e6, v_s=6e5, activation=1e5,
+    ...                  isolators=(), evaluations=1, amplitude=0.43, residual=0.0)
+    >>> elf = IsolatedELF({"nominal": bound}, sm1=1.0, weight=1e7, weight_above=9e6, r_i=2.0)
     >>> checks = lower_limit_checks({"isolator_displacement": 0.45, "base_shear_above": 6e5}, elf)
     >>> [(c.value, round(c.limit, 6), c.verdict) for c in checks]  # V_s: 6e5 / R_I, 0.6 V_s
     [(0.45, 0.4, 'pass'), (300000.0, 360000.0, 'fail')]

@@ -1,6 +1,6 @@
 use super::*;
 use crate::elements::materials::multilinear::MultiLinear;
-use crate::elements::materials::steel02::Steel02;
+use crate::elements::materials::steel02::{Steel02, Transition};
 use crate::elements::materials::testing::drive;
 
 fn steel() -> Box<dyn Material> {
@@ -9,9 +9,11 @@ fn steel() -> Box<dyn Material> {
             10.0,
             1000.0,
             0.05,
-            20.0,
-            0.925,
-            0.15,
+            Transition {
+                r0: 20.0,
+                cr1: 0.925,
+                cr2: 0.15,
+            },
             [0.0, 1.0, 0.0, 1.0],
             0.0,
         )

@@ -1,6 +1,6 @@
 use super::*;
 use crate::elements::materials::elastic_multilinear::ElasticMultiLinear;
-use crate::elements::materials::steel02::Steel02;
+use crate::elements::materials::steel02::{Steel02, Transition};
 use crate::elements::materials::takeda::Takeda;
 use crate::elements::materials::testing::{drive, random_walk, tangent_error};
 
@@ -11,9 +11,11 @@ fn parts() -> Vec<Box<dyn Material>> {
                 10.0,
                 1000.0,
                 0.05,
-                20.0,
-                0.925,
-                0.15,
+                Transition {
+                    r0: 20.0,
+                    cr1: 0.925,
+                    cr2: 0.15,
+                },
                 [0.0, 1.0, 0.0, 1.0],
                 0.0,
             )

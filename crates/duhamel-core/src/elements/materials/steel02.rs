@@ -71,16 +71,12 @@ impl UniaxialDefinition for Steel02Def {
     }
     fn law(&self) -> Result<Steel02, CoreError> {
         let a = [self.a1, self.a2, self.a3, self.a4];
-        Steel02::new(
-            self.fy,
-            self.e,
-            self.b,
-            self.r0,
-            self.cr1,
-            self.cr2,
-            a,
-            self.sig_init,
-        )
+        let transition = Transition {
+            r0: self.r0,
+            cr1: self.cr1,
+            cr2: self.cr2,
+        };
+        Steel02::new(self.fy, self.e, self.b, transition, a, self.sig_init)
     }
 }
 
@@ -155,21 +151,28 @@ const SIG: usize = 9;
 const TANGENT: usize = 10;
 const LEN: usize = 11;
 
+/// Menegotto-Pinto's transition between the elastic and the plastic asymptote, which
+/// travels as one value: `R = R0 - cR1 xi / (cR2 + xi)` (OpenSees' `R0 cR1 cR2`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Transition {
+    pub r0: f64,
+    pub cr1: f64,
+    pub cr2: f64,
+}
+
 impl Steel02 {
     /// OpenSees' `uniaxialMaterial Steel02 tag fy E b R0 cR1 cR2 a1 a2 a3 a4 sigInit`
     /// (OpenSees' defaults: `R0 = 15, cR1 = 0.925, cR2 = 0.15`, no isotropic hardening
     /// `a = [0, 1, 0, 1]`, `sig_init = 0`). Errors name the parameter.
-    #[allow(clippy::too_many_arguments)]
     pub fn new(
         fy: f64,
         e: f64,
         b: f64,
-        r0: f64,
-        cr1: f64,
-        cr2: f64,
+        transition: Transition,
         a: [f64; 4],
         sig_init: f64,
     ) -> Result<Self, CoreError> {
+        let Transition { r0, cr1, cr2 } = transition;
         check("fy", fy, true)?;
         check("E", e, true)?;
         if !(b.is_finite() && (0.0..1.0).contains(&b)) {

@@ -6,7 +6,7 @@ const E: f64 = 2.0e5;
 const NO_HARDENING: [f64; 4] = [0.0, 1.0, 0.0, 1.0];
 
 fn steel(b: f64, r0: f64, cr1: f64, a: [f64; 4], sig_init: f64) -> Steel02 {
-    Steel02::new(FY, E, b, r0, cr1, 0.15, a, sig_init).unwrap()
+    Steel02::new(FY, E, b, Transition { r0, cr1, cr2: 0.15 }, a, sig_init).unwrap()
 }
 
 /// Menegotto-Pinto's first branch: `s = fy (b x + (1 - b) x / (1 + |x|^R)^(1/R))`, `x =
@@ -104,7 +104,8 @@ fn initial_stress_is_kept_until_the_first_increment() {
 
 #[test]
 fn bad_parameters_are_named() {
-    let ok = |fy, e, b, r0, cr1, cr2, a, s| Steel02::new(fy, e, b, r0, cr1, cr2, a, s);
+    let ok =
+        |fy, e, b, r0, cr1, cr2, a, s| Steel02::new(fy, e, b, Transition { r0, cr1, cr2 }, a, s);
     let name = |r: Result<Steel02, CoreError>| match r {
         Err(CoreError::InvalidInput { name, .. }) => name,
         other => panic!("expected an input error, got {other:?}"),
