@@ -5,11 +5,13 @@ python/duhamel has its folder (``engine`` for ``_engine``) and every other folde
 the few named here for what it mirrors; every folder is a Python package, so that pytest
 imports ``tests/rotor/test_rotor.py`` as ``tests.rotor.test_rotor`` and two folders may hold
 files of the same name; the shared helpers live in ``tests/_support`` (on pytest's
-``pythonpath``), which holds no tests.
+``pythonpath``), which holds no tests. A test file named anywhere (docs, README, benchmarks,
+the library's comments, the tests themselves) is named by its path in the folders.
 """
 
 from __future__ import annotations
 
+import re
 import tomllib
 from pathlib import Path
 
@@ -70,3 +72,28 @@ def test_the_helpers_are_on_pytests_path_and_hold_no_tests():
     assert not (support / "__init__.py").exists(), "the helpers import as `_models`, not a package"
     config = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
     assert f"tests/{SUPPORT}" in config["tool"]["pytest"]["ini_options"]["pythonpath"]
+
+
+def test_every_test_path_named_in_the_repository_exists():
+    """``tests/.../test_x.py`` in a page, a benchmark or a comment names a file that exists."""
+    texts = [ROOT / name for name in ("README.md", "BENCHMARKS.md", "pyproject.toml", "Makefile")]
+    texts += [ROOT / ".ci" / "run"]
+    for tree, suffixes in (
+        ("docs", {".md"}),
+        ("benchmarks", {".py"}),
+        ("examples", {".py"}),
+        ("python", {".py", ".pyi"}),
+        ("tests", {".py"}),
+        ("crates", {".rs"}),
+    ):
+        texts += [p for p in (ROOT / tree).rglob("*") if p.suffix in suffixes]
+    path = re.compile(r"(?<![\w/.-])tests/[\w/]*\w\.py")
+    named = {
+        (text.relative_to(ROOT).as_posix(), found)
+        for text in texts
+        if text.is_file()
+        for found in path.findall(text.read_text(encoding="utf-8"))
+    }
+    assert ("docs/architecture.md", "tests/project/test_stub.py") in named  # the scan reads
+    missing = sorted(f"{where}: {found}" for where, found in named if not (ROOT / found).is_file())
+    assert not missing, "test files named by their old path:\n" + "\n".join(missing)
