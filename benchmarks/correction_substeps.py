@@ -27,7 +27,7 @@ import sys  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests"))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests", "rotor"))
 import _section  # noqa: E402
 
 W0, W1, T1, DT = 100.0, 1050.0, 1.0, 1e-4

@@ -13,7 +13,7 @@ the Rust registry's list); ``_spec`` names; switches on type names (a ``__name__
 with, or tested for membership in, string literals, directly or through a variable bound to
 it; in Rust a match arm or comparison on an element's name as a string literal); the files
 that special-case ``LinearCoupling`` (``isinstance``/``issubclass`` with it, ``type(x) is``
-it, or its name compared); the files mentioning energy. ``tests/test_layout_counts.py``
+it, or its name compared); the files mentioning energy. ``tests/project/test_layout_counts.py``
 checks the code measures against the acceptance.
 
 Run: ``PYTHONPATH=python python benchmarks/counts.py``

@@ -85,7 +85,7 @@ def _row(name: str, error: float, sol: duhamel.Solution, element: float | None =
 
 def table() -> None:
     """The rows of docs/accuracy.md's table."""
-    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests"))
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests", "engine"))
     from test_accuracy_estimate import (  # the test family
         B3,
         _cubic_reference,

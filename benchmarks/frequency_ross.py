@@ -3,7 +3,7 @@
 Both compute every lateral receptance (all inputs, all outputs) at each frequency with the
 spin speed equal to the frequency (ROSS's convention; duhamel ``speed="synchronous"`` on a
 ``from_ross`` model, ROSS's ``K`` and ``C`` evaluated at each frequency by both): ROSS's example
-rotor with the damped, cross-coupled bearings of tests/test_ross.py (28 lateral dofs) at 1000
+rotor with the damped, cross-coupled bearings of tests/rotor/test_ross.py (28 lateral dofs) at 1000
 frequencies, every lateral pair (the worst case for duhamel: ROSS inverts the whole matrix
 anyway), and ROSS's compressor (frequency-dependent seals, 224 lateral dofs; ROSS keeps three
 ``ndof x ndof x n`` complex arrays, so 40 frequencies) for the pairs one usually wants: x and y
@@ -33,7 +33,7 @@ import warnings  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests"))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests", "rotor"))
 import _section  # noqa: E402
 
 

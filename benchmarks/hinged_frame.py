@@ -1,7 +1,7 @@
 """The hinged frame of issue 36: duhamel against OpenSees on the same model, time to equal
 accuracy and where duhamel's step time goes.
 
-The frame (``tests/_hinged.py``): 4 storeys, 2 bays, elastic beam-columns, floor masses at
+The frame (``tests/_support/_hinged.py``): 4 storeys, 2 bays, elastic beam-columns, floor masses at
 the column nodes, rotational ``zeroLength`` ``Steel01`` hinges at the 16 beam ends (52 dofs
 in duhamel: 24 with mass, 28 massless rotations), Rayleigh damping 5 % at 0.6 s and 0.1 s on
 the current tangent (``betaK``: the massless rotations are first-order), no gravity; 6 s of
@@ -43,7 +43,9 @@ import duhamel  # noqa: E402
 import duhamel.opensees  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-_spec = importlib.util.spec_from_file_location("_hinged", ROOT / "tests" / "_hinged.py")
+_spec = importlib.util.spec_from_file_location(
+    "_hinged", ROOT / "tests" / "_support" / "_hinged.py"
+)
 assert _spec is not None and _spec.loader is not None
 hf = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(hf)

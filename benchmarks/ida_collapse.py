@@ -2,7 +2,7 @@
 same run taken to the end and shortened afterwards.
 
 Two storeys, a bilinear first storey, two 40 s records (sinusoids with a slow build-up and
-decay, like tests/test_ensemble.py's), 12 intensities, most of which collapse (drift limit
+decay, like tests/ensemble/test_ensemble.py's), 12 intensities, most of which collapse (drift limit
 2 %); one worker. The "to the end" contender is the previous implementation: the terminal
 events' check of the chunked run switched off (``duhamel.prepared.terminal_check``
 returning None), so the run goes to ``t_end`` and is ended at the event afterwards. Both

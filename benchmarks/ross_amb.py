@@ -97,8 +97,8 @@ def markdown(r: dict) -> list[str]:
         f"({datetime.date.today().isoformat()}), one core, {r['repeats']} interleaved "
         f"repeats; 1-min load average before {r['load'][0]:.2f}, after {r['load'][1]:.2f}. "
         "ROSS's `rotor_amb_example` with a stable PID, 60 speeds; the difference is ROSS's "
-        "smoothing spline through its bearings' coefficient table (tests/test_ross_magnetic.py: "
-        "on the spline's coefficients the two agree to 1e-8).",
+        "smoothing spline through its bearings' coefficient table "
+        "(tests/rotor/test_ross_magnetic.py: on the spline's coefficients the two agree to 1e-8).",
         "",
         "| ROSS best / median [s] | duhamel best / median [s] | ratio (best) | difference |",
         "|---:|---:|---:|---:|",

@@ -1,7 +1,7 @@
 """What the stiff-element substep rule costs (issue 23): two builds, interleaved, on the
-family of tests/test_stiff_elements.py, the issue's stop and the coupled (first-order) route's
-family of tests/test_stiff_coupled.py (``coupled-*``: Newmark at half that step as the
-reference), per run the loop time
+family of tests/engine/test_stiff_elements.py, the issue's stop and the coupled (first-order)
+route's family of tests/engine/test_stiff_coupled.py (``coupled-*``: Newmark at half that step as
+the reference), per run the loop time
 (``Solution.stats.wall_time``, best of the repeats) and the error against Newmark at
 ``omega_c dt = 0.01`` (at most 1e-3), as a fraction of the peak::
 

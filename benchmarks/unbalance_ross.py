@@ -3,7 +3,7 @@
 ``run_unbalance_response`` (issue 15).
 
 ROSS's example rotor (``ross.rotor_example()``: 6 Timoshenko shaft elements, 2 disks, 2
-bearings, 28 lateral dofs), with the damped, cross-coupled bearings of tests/test_ross.py so
+bearings, 28 lateral dofs), with the damped, cross-coupled bearings of tests/rotor/test_ross.py so
 that the curve is finite everywhere; unbalance 1e-3 kg m at node 2; speeds 0-1000 rad/s.
 Contenders interleaved, best and median of repeats; the two answers are compared at every
 speed and dof.
@@ -30,7 +30,7 @@ import warnings  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests"))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests", "rotor"))
 import _section  # noqa: E402
 
 
@@ -126,8 +126,8 @@ def markdown(r: dict) -> list[str]:
         f"{len(r['long']['times']['dense'])}), "
         f"{min(r['long']['times']['dense']) / min(r['long']['times']['banded']):.0f}x; the two "
         f"differ by {r['long']['diff']:.1e} (both backward stable to 1e-15, "
-        "tests/test_rotor_unbalance.py). Modal (`zeta`) structural damping fills the matrices "
-        "and keeps the dense solve.",
+        "tests/rotor/test_rotor_unbalance.py). Modal (`zeta`) structural damping fills the "
+        "matrices and keeps the dense solve.",
     ]
 
 

@@ -10,7 +10,7 @@ wrong type, dtype or layout when made (and a value it can check alone: an unknow
 non-finite load pattern); sizes, ranges and finiteness against the model are checked when
 the run starts; either way with a ``TypeError`` or ``ValueError`` naming the value (for a
 wrong type, in the exception's note). Nothing is read from the attributes of Python objects
-(``duhamel._engine.dispatch`` builds these inputs). ``tests/test_stub.py`` checks that this
+(``duhamel._engine.dispatch`` builds these inputs). ``tests/project/test_stub.py`` checks that this
 stub names every binding with its parameters, and nothing else."""
 
 from collections.abc import Callable, Iterable, Sequence

@@ -32,7 +32,7 @@ __all__ = ["CONDITION_LIMIT", "FirstOrderModes", "first_order_modes"]
 #: Largest eigenvector condition number ``kappa`` for which the first-order modes are used.
 #: Near a defective (Jordan) block the eigenvalues themselves are only accurate to about
 #: ``kappa * eps`` relative, and the error of the response grows like ``kappa^2 * eps``
-#: (measured in tests/test_coupled_exact.py: about ``1e-17 kappa^2`` relative to the peak);
+#: (measured in tests/engine/test_coupled_exact.py: about ``1e-17 kappa^2`` relative to the peak);
 #: at this limit that is about 1e-9. Above it the couplings are integrated as pseudo-forces.
 CONDITION_LIMIT = 1e4
 

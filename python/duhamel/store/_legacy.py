@@ -3,7 +3,7 @@
 
 This release writes each of them as the core value's data (``_to_value()``, serde: the
 same classes a run builds); these readers are kept so that a store written before still
-resumes, bit for bit (``tests/test_store_legacy_loads.py``).
+resumes, bit for bit (``tests/store/test_store_legacy_loads.py``).
 """
 
 from __future__ import annotations

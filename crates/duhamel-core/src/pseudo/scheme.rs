@@ -16,7 +16,7 @@ pub enum Scheme {
     /// `x` the cubic Hermite interpolant of `(x0, v0)` and `(x1, v1)`, `x'` its derivative:
     /// interpolation error `O(dt^4)` in `x` (and `O(dt^3)` in `x'`, odd about the middle of
     /// the step). With the parabolic quadrature (nodes 0, 1/2, 1) the step is of order 4
-    /// (slopes measured in tests/test_fourth_order.py) and its amplification on
+    /// (slopes measured in tests/integrators/test_fourth_order.py) and its amplification on
     /// `x'' + omega^2 x = -alpha omega^2 x` (the whole force a pseudo-force) has spectral
     /// radius at most 1 as far as measured (`alpha` up to 1e4, `omega_c dt` up to the
     /// stiffness watch's 2); the Python side pairs it with no other quadrature.

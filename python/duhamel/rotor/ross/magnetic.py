@@ -20,7 +20,7 @@ duhamel's :class:`MagneticBearing` pushes with ``f = k_s' x - k_i' C'(s) x``, so
 with ``C(s)`` ROSS's PID as :class:`~duhamel.rotor.PID` ``(k_p, k_i,pid, k_d, tau = 1 /
 n_f)``, or ROSS's transfer function as a :class:`~duhamel.rotor.StateSpace` (its controllable
 canonical form, ``scipy.signal.tf2ss``). Then ``k_i' C'(i w) - k_s'`` is ROSS's ``k_eq +
-i w c_eq`` at every frequency (tests/test_ross_magnetic.py, 1e-12 on ROSS's grid), while
+i w c_eq`` at every frequency (tests/rotor/test_ross_magnetic.py, 1e-12 on ROSS's grid), while
 the closed loop's modes come from the controller's states, not from its value at the spin
 frequency as ROSS's ``run_modal`` takes it. The sensor-axis rotation of ROSS's element
 turns isotropic coefficients into themselves and is not needed. Per-axis gains or bias

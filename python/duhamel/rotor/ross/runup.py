@@ -5,7 +5,7 @@ Each ROSS ``BearingElement``/``SealElement`` whose coefficients depend on the fr
 sampled with ROSS's own interpolants (``kxx_interpolated`` ...) at :data:`TABLE_POINTS`
 speeds over the range the law reaches and becomes a duhamel :class:`Bearing` table (PCHIP
 between the samples: the difference from ROSS's smooth spline is of order ``h^3``, checked
-against ROSS below 1e-6 in tests/test_ross.py); the background carries ROSS's ``K`` and
+against ROSS below 1e-6 in tests/rotor/test_ross.py); the background carries ROSS's ``K`` and
 ``C`` at the initial speed, and the change along the law is the Rust ``SpeedTableBearing``
 element."""
 

@@ -1,5 +1,6 @@
 //! Properties of the deteriorating and pinching materials (their agreement with OpenSees is
-//! tested from Python, tests/test_materials_imk.py and tests/test_materials_pinching.py):
+//! tested from Python, tests/elements/test_materials_imk.py and
+//! tests/elements/test_materials_pinching.py):
 //! backbones against their closed forms, the strength reaching zero past the ultimate
 //! deformation, the energy-based deterioration against its formula, and each tangent
 //! against central differences of the force at fixed committed variables.

@@ -1,0 +1,1 @@
+"""Tests of duhamel._engine: the runs of solve on every route."""

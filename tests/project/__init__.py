@@ -1,0 +1,1 @@
+"""Repo-wide checks: layout, architecture page, stub, types, README, benchmarks page."""

@@ -1,0 +1,1 @@
+"""The robustness contract over the whole public API: faults, property tests, panics."""

@@ -1,0 +1,1 @@
+"""Tests of duhamel.rotor (and duhamel.rotor.ross against ROSS)."""
