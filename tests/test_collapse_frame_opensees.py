@@ -3,8 +3,9 @@ OpenSees (issue 37's acceptance: on a frame, the same model, collapse criterion 
 steps; each record's collapse intensity within one intensity step; the fragility fit checked
 against ``scipy.stats``).
 
-The models, damping (Rayleigh 3 %, the same constant matrix in both), records, grid and
-criterion (10 % storey drift or no convergence): tests/_collapse_frame.py. Five of the
+The models, damping (Rayleigh 3 % on the mass and the initial stiffness, the same constant
+matrix in both: OpenSees' ``betaKinit``), records, grid and criterion (10 % storey drift or no
+convergence): tests/_collapse_frame.py. Five of the
 example's records (those that collapse below 2.5 g, to keep the run short), the example's grid
 of 12 Sa(T1) intensities from 0.25 g to 3 g (step 0.25 g). OpenSees hunts up the grid to the
 first collapse, then bisects that bracket on the intensity to 1 %; duhamel's ``ida`` does the
@@ -29,6 +30,10 @@ except Exception as exc:  # pragma: no cover - depends on the machine
 
 import _collapse_frame as cf
 
+# At the records' step (0.01 s, the step OpenSees runs) Semianalytic's error bound at the
+# hinges is 0.5-2.2 % of their peaks; the true errors against dt/8 are 0.37-0.67 % (record
+# syn09 at 1.25 g): the comparison is at this step on purpose, the warning is expected.
+pytestmark = pytest.mark.filterwarnings("ignore::duhamel.errors.AccuracyWarning")
 RECORDS = (1, 2, 4, 6, 9)  # of the example's 11
 TOLERANCE = 0.01
 STEP = cf.GRID[1] - cf.GRID[0]
@@ -116,11 +121,10 @@ def test_frame_fragility_against_scipy(opensees_result) -> None:
 
 def test_opensees_nonconvergence_is_a_collapse(monkeypatch: pytest.MonkeyPatch) -> None:
     """A run in which OpenSees finds no equilibrium counts as a collapse in the hunt up the
-    grid, as duhamel's ``SolverError`` does with ``solver_error='collapse'``: with a
-    displacement tolerance OpenSees' Newton cannot reach (1e-13 m, where the record's run
-    otherwise stays below the drift limit) a step fails, and the first intensity is the
-    collapse."""
-    monkeypatch.setattr(cf, "TOL", 1e-13)
+    grid, as duhamel's ``SolverError`` does with ``solver_error='collapse'``: with one Newton
+    iteration per step allowed (the first displacement increment above the tolerance fails
+    the step) a step fails, and the first intensity is the collapse."""
+    monkeypatch.setattr(cf, "ITERATIONS", 1)
     motion = cf.records(1)[0]
     im, runs = cf.opensees_first_collapse(ops, motion, cf.GRID)
     ops.wipe()
