@@ -6,7 +6,10 @@ tests/_collapse_frame.py (examples/collapse_ida.py's frame with Rayleigh 3 % as 
 matrix in both programs; ``ModIMKPeakOriented`` storey hinges, leaning column; collapse at a
 storey drift ratio of 10 % or when a step finds no equilibrium): 11 records x 15 intensities
 Sa(T1) = 0.2 g ... 3.0 g, every one of the 165 runs made (as ``ida`` makes them), each run
-stopped at its collapse.
+stopped at its collapse. ``--damping initial`` (the default): Rayleigh on the mass and the
+initial stiffness (OpenSees' ``betaKinit``), classical in duhamel's modes; ``--damping
+storeys``: on the storeys' stiffness without the geometric one (OpenSees: storey dashpots),
+not classical in duhamel's modes (its first-order route).
 
 * duhamel: ``ida(..., workers=1)`` with ``Semianalytic()`` and with ``Newmark()`` at the
   records' step (the collapse event located inside the step); timed: the whole call (the
@@ -22,7 +25,7 @@ each run. The first collapse on the grid per record is compared between the prog
 
 Usage::
 
-    python benchmarks/ida_frame_opensees.py [--repeats 3] [--append BENCHMARKS.md]
+    python benchmarks/ida_frame_opensees.py [--repeats 3] [--damping storeys] [--append FILE]
     python benchmarks/ida_frame_opensees.py --quick  # 3 records x 4 intensities (1 g to 2.5 g)
 """
 
@@ -34,11 +37,13 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 import argparse  # noqa: E402
+import functools  # noqa: E402
 import importlib.util  # noqa: E402
 import json  # noqa: E402
 import subprocess  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
+import warnings  # noqa: E402
 from datetime import UTC, datetime  # noqa: E402
 from pathlib import Path  # noqa: E402
 
@@ -69,7 +74,7 @@ def _first(hit: np.ndarray, grid: np.ndarray) -> list[float]:
     return [float(grid[row.argmax()]) if row.any() else float("inf") for row in hit]
 
 
-def contender(name: str, quick: bool) -> dict:
+def contender(name: str, quick: bool, damping: str) -> dict:
     """One contender's IDA in this process: its time, runs, collapses and first collapses."""
     cf = _frame_module()
     n, grid = _grid(quick)
@@ -80,7 +85,9 @@ def contender(name: str, quick: bool) -> dict:
         from duhamel.ensemble import ida
 
         scheme = duhamel.Newmark() if name.endswith("Newmark") else duhamel.Semianalytic()
-        res = ida(cf.frame, motions, grid, cf.ex.peak_drift_ratio, scheme, period=cf.T1,
+        warnings.simplefilter("ignore", duhamel.errors.AccuracyWarning)  # at the record step
+        factory = functools.partial(cf.frame, damping=damping)
+        res = ida(factory, motions, grid, cf.ex.peak_drift_ratio, scheme, period=cf.T1,
                   damping=0.05, collapse=cf.ex.collapse_event(), solver_error="collapse",
                   workers=1)  # fmt: skip
         seconds = time.perf_counter() - started
@@ -94,7 +101,7 @@ def contender(name: str, quick: bool) -> dict:
         for i, m in enumerate(motions):
             unit = cf.sa1(m)
             for j, im in enumerate(grid):
-                kind, _ = cf.opensees_run(ops, m.scaled(im / unit).a, m.dt)
+                kind, _ = cf.opensees_run(ops, m.scaled(im / unit).a, m.dt, damping)
                 hit[i, j] = kind != "none"
                 kinds["collapse" if kind == "drift" else "failed"] += kind != "none"
         seconds = time.perf_counter() - started
@@ -102,9 +109,10 @@ def contender(name: str, quick: bool) -> dict:
     return {"seconds": seconds, "runs": int(hit.size), "first": _first(hit, grid), **kinds}
 
 
-def _spawn(name: str, quick: bool) -> tuple[dict, float, float]:
+def _spawn(name: str, quick: bool, damping: str) -> tuple[dict, float, float]:
     before = os.getloadavg()[0]
-    cmd = [sys.executable, __file__, "--contender", name] + (["--quick"] if quick else [])
+    cmd = [sys.executable, __file__, "--contender", name, "--damping", damping]
+    cmd += ["--quick"] if quick else []
     out = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout
     line = [x for x in out.splitlines() if x.startswith("{")][-1]
     return json.loads(line), before, os.getloadavg()[0]
@@ -115,10 +123,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--append", help="append the section to this markdown file")
     parser.add_argument("--quick", action="store_true", help="3 records x 4 intensities, once")
+    parser.add_argument("--damping", choices=("initial", "storeys"), default="initial",
+                        help="the Rayleigh stiffness term (tests/_collapse_frame.py)")  # fmt: skip
     parser.add_argument("--contender", choices=CONTENDERS, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.contender:
-        print(json.dumps(contender(args.contender, args.quick)))
+        print(json.dumps(contender(args.contender, args.quick, args.damping)))
         return 0
     repeats = 1 if args.quick else args.repeats
     times: dict[str, list[float]] = {c: [] for c in CONTENDERS}
@@ -126,7 +136,7 @@ def main(argv: list[str] | None = None) -> int:
     for r in range(repeats):  # interleaved, the order turned each repeat
         order = CONTENDERS if r % 2 == 0 else CONTENDERS[::-1]
         for name in order:
-            res, before, after = _spawn(name, args.quick)
+            res, before, after = _spawn(name, args.quick, args.damping)
             times[name].append(res["seconds"])
             loads += [before, after]
             results[name] = res
@@ -141,6 +151,7 @@ def main(argv: list[str] | None = None) -> int:
     n, grid = _grid(args.quick)
     cmd = "python benchmarks/ida_frame_opensees.py" + (" --quick" if args.quick else
                                                       f" --repeats {repeats}")  # fmt: skip
+    cmd += " --damping storeys" if args.damping == "storeys" else ""
     lines = [
         f"`{cmd}` · {when} · `{rev}` · load {min(loads):.2f} to {max(loads):.2f}"
         + (" · **under load**" if max(loads) > 2 else "")
