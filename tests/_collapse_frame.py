@@ -110,13 +110,9 @@ def sa1(motion: GroundMotion) -> float:
     return float(response_spectrum(motion, [T1], 0.05, threads=1).psa[0, 0, 0])
 
 
-def opensees_run(
-    ops: Any, accel: np.ndarray, dt: float, damping: str = "initial"
-) -> tuple[str, float]:
-    """One OpenSees transient of the frame under the base acceleration `accel` (m/s^2):
-    ``('drift', t)`` when a storey drift ratio reached the collapse limit at time t,
-    ``('nonconvergence', t)`` when a step found no equilibrium, else ``('none', peak
-    storey drift ratio)``."""
+def opensees_model(ops: Any, accel: np.ndarray, dt: float, damping: str = "initial") -> None:
+    """The frame in OpenSees, loaded by the base acceleration `accel` (m/s^2, sampled at
+    `dt`), its transient analysis defined."""
     a0, a1 = rayleigh(damping)
     ops.wipe()
     ops.model("basic", "-ndm", 1, "-ndf", 1)
@@ -150,6 +146,16 @@ def opensees_run(
     ops.algorithm("Newton")
     ops.integrator("Newmark", 0.5, 0.25)
     ops.analysis("Transient")
+
+
+def opensees_run(
+    ops: Any, accel: np.ndarray, dt: float, damping: str = "initial"
+) -> tuple[str, float]:
+    """One OpenSees transient of the frame under the base acceleration `accel` (m/s^2):
+    ``('drift', t)`` when a storey drift ratio reached the collapse limit at time t,
+    ``('nonconvergence', t)`` when a step found no equilibrium, else ``('none', peak
+    storey drift ratio)``."""
+    opensees_model(ops, accel, dt, damping)
     peak = 0.0
     for step in range(1, accel.size):
         if ops.analyze(1, dt) != 0:
@@ -160,6 +166,20 @@ def opensees_run(
             return "drift", step * dt
         peak = max(peak, drift)
     return "none", peak
+
+
+def opensees_history(
+    ops: Any, accel: np.ndarray, dt: float, damping: str = "initial"
+) -> np.ndarray:
+    """The floors' displacements (m) of one OpenSees transient at every step, from rest
+    (``(accel.size, 3)``); RuntimeError if a step finds no equilibrium."""
+    opensees_model(ops, accel, dt, damping)
+    x = np.zeros((accel.size, 3))
+    for step in range(1, accel.size):
+        if ops.analyze(1, dt) != 0:
+            raise RuntimeError(f"OpenSees found no equilibrium at t = {step * dt:g} s")
+        x[step] = [ops.nodeDisp(n, 1) for n in (1, 2, 3)]
+    return x
 
 
 def opensees_first_collapse(
