@@ -16,8 +16,8 @@ command for): Rayleigh 3 %, a constant matrix ``C = a0 M + a1 K_d`` in both prog
 * ``damping='initial'`` (the default): ``K_d`` the initial stiffness (columns, hinges elastic
   and the geometric stiffness), OpenSees' ``rayleigh a0 0 a1 0`` (``betaKinit``: each
   element's initial tangent; the ``zeroLength`` elements with ``-doRayleigh 1``, without
-  which they are not damped). Classical in duhamel's modes (those of ``K`` and the hinges'
-  initial stiffness);
+  which they get no stiffness-proportional damping). Classical in duhamel's modes (those of
+  ``K`` and the hinges' initial stiffness);
 * ``damping='storeys'``: ``K_d`` the storeys' initial stiffness without the geometric
   stiffness, in OpenSees ``rayleigh a0 0 0 0`` and storey dashpots ``Viscous(a1 k, 1)`` (which
   assemble to ``a1 K_d`` exactly). Not classical in duhamel's modes: its first-order route.
