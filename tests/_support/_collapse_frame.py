@@ -1,6 +1,6 @@
 """The 3-storey hinged frame of examples/collapse_ida.py in duhamel and in OpenSees, with the
 same damping, records, intensity grid and collapse criterion (issue 37's collapse and speed
-acceptance; tests/test_collapse_frame_opensees.py, benchmarks/ida_frame_opensees.py).
+acceptance; tests/ensemble/test_collapse_frame_opensees.py, benchmarks/ida_frame_opensees.py).
 
 The model is the example's: one lateral dof per floor (4e5 kg), each storey an elastic part
 (the columns, 10 % of the storey stiffness), the example's ``ModIMKPeakOriented`` storey hinge
@@ -44,7 +44,7 @@ import duhamel
 from duhamel.records import G, GroundMotion
 from duhamel.spectra import response_spectrum
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 ZETA = 0.03
 TOL, ITERATIONS = 1e-8, 50  # OpenSees: NormDispIncr (m), its iterations
 #: the example's grid (0.25 g to 3 g, 12 intensities), m/s^2

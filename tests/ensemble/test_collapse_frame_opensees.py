@@ -5,7 +5,7 @@ against ``scipy.stats``).
 
 The models, damping (Rayleigh 3 % on the mass and the initial stiffness, the same constant
 matrix in both: OpenSees' ``betaKinit``), records, grid and criterion (10 % storey drift or no
-convergence): tests/_collapse_frame.py. Five of the example's records (those that collapse
+convergence): tests/_support/_collapse_frame.py. Five of the example's records (those that collapse
 below 2.5 g, to keep the run short), the example's grid of 12 Sa(T1) intensities from 0.25 g
 to 3 g (step 0.25 g). OpenSees hunts up the grid to the first collapse, then bisects that
 bracket on the intensity to 1 %; duhamel's ``ida`` does the same with ``tolerance=0.01``, with
