@@ -2,9 +2,9 @@
 frame (issue 37's speed acceptance).
 
 The frame, damping, records, scaling and collapse criterion are those of
-tests/_support/_collapse_frame.py (examples/collapse_ida.py's frame with Rayleigh 3 % as one constant
-matrix in both programs; ``ModIMKPeakOriented`` storey hinges, leaning column; collapse at a
-storey drift ratio of 10 % or when a step finds no equilibrium): 11 records x 15 intensities
+tests/_support/_collapse_frame.py (examples/collapse_ida.py's frame with Rayleigh 3 % as one
+constant matrix in both programs; ``ModIMKPeakOriented`` storey hinges, leaning column; collapse
+at a storey drift ratio of 10 % or when a step finds no equilibrium): 11 records x 15 intensities
 Sa(T1) = 0.2 g ... 3.0 g, every one of the 165 runs made (as ``ida`` makes them), each run
 stopped at its collapse. ``--damping initial`` (the default): Rayleigh on the mass and the
 initial stiffness (OpenSees' ``betaKinit``), classical in duhamel's modes; ``--damping
@@ -124,7 +124,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--append", help="append the section to this markdown file")
     parser.add_argument("--quick", action="store_true", help="3 records x 4 intensities, once")
     parser.add_argument("--damping", choices=("initial", "storeys"), default="initial",
-                        help="the Rayleigh stiffness term (tests/_support/_collapse_frame.py)")  # fmt: skip
+                        help="the Rayleigh stiffness term (see tests/_support)")  # fmt: skip
     parser.add_argument("--contender", choices=CONTENDERS, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.contender:
