@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import replace
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -58,12 +58,18 @@ def residual_model(system: Any, kept: Any, blocks: int) -> list[tuple[Array, Arr
     :class:`duhamel.modal.ModalBasis` of `system`'s lowest modes) leaves out: ``(omega2, c,
     psi)``, the squared circular frequencies, modal damping and M-orthonormal shapes
     (columns) of the Rayleigh-Ritz modes on the first ``j`` Krylov blocks."""
+    from duhamel._engine import caches
     from duhamel._engine.correction import _damping, _m_orthonormal, _static, force_directions
     from duhamel.modal import damped
 
     b = force_directions(system)
+    key = (kept.n_modes, blocks, b.shape[1], b.tobytes())
+    cache = caches.of(system).setdefault("truncation", {})
+    if key in cache:
+        return cast(list[tuple[Array, Array, Array]], cache[key])
     phi = np.asarray(kept.phi)
     out: list[tuple[Array, Array, Array]] = []
+    cache[key] = out  # filled below (in place)
     if b.shape[1] == 0 or kept.n_modes >= system.n_mass:
         return out
     space = np.zeros((system.n_dof, 0))
