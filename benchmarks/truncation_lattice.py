@@ -133,7 +133,10 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--shape", default="12x12x14")
     parser.add_argument("--reference", choices=("full", "newmark"), default="full")
     parser.add_argument("--loads", default="pulse,harmonic")
+    parser.add_argument("--t-end", type=float, default=2.0, help="run length [s]")
     args = parser.parse_args(argv)
+    global T_END
+    T_END = args.t_end
     shape = tuple(int(a) for a in args.shape.split("x"))
     for load in args.loads.split(","):
         system, saved = model(shape, load)  # type: ignore[arg-type]
@@ -141,7 +144,7 @@ def main(argv: list[str] | None = None) -> None:
         full = reference(system, saved, args.reference)
         print(
             f"\n### {args.shape} lattice ({system.n_dof:,} dofs), {load}; full model: "
-            f"{args.reference} ({time.perf_counter() - started:.0f} s); load average "
+            f"{args.reference} ({time.perf_counter() - started:.0f} s); {T_END:g} s; load average "
             f"{os.getloadavg()[0]:.1f}; {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}\n",
             flush=True,
         )
