@@ -133,3 +133,26 @@ def test_summary_and_silence() -> None:
     assert "estimated basis truncation error" in sol.summary()
     with pytest.warns(duhamel.AccuracyWarning, match="reduced basis .5 modes"):
         duhamel.solve(system, duhamel.Semianalytic(modes=5), t_end=0.3, dt=DT, dofs=saved)
+
+
+def test_chain_under_a_step_against_newmark() -> None:
+    """Another family: docs/basis.md's 5,000-dof chain (Rayleigh damping) under a step at
+    its free end (a wave front the low modes cannot hold), against Newmark at dt/10."""
+    n = 5000
+    k = sp.diags_array(
+        [-np.ones(n - 1), np.r_[np.full(n - 1, 2.0), 1.0], -np.ones(n - 1)],
+        offsets=[-1, 0, 1],
+        format="csr",
+    )
+    system = duhamel.System(sp.identity(n, format="csr"), 1e6 * k, rayleigh=(0.1, 1e-5))
+    system.add_load(L.Step(dof=n - 1, amplitude=1e3))
+    dofs = [n - 1, n - 10, n - 50]
+    ref = duhamel.solve(system, duhamel.Newmark(), t_end=0.1, dt=1e-4, save_every=10, dofs=dofs)
+    for modes in (40, 200):  # (1000: 0.009 / 0.009 and 0.006 / 0.008, docs/accuracy.md)
+        for correct in (False, True):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", duhamel.AccuracyWarning)
+                run = duhamel.Semianalytic(modes=modes, static_correction=correct)
+                sol = duhamel.solve(system, run, t_end=0.1, dt=DT, dofs=dofs)
+            true = float(np.abs(sol.x - ref.x).max() / np.abs(ref.x).max())
+            assert 1.0 / 3.0 <= sol.stats.truncation_estimate / true <= 3.0, (modes, correct)
