@@ -29,7 +29,10 @@ class AccuracyWarning(UserWarning):
     dofs, ``sol.stats.element_error_estimate`` at the elements, relative to their peaks)
     exceeds the integrator's ``error_warning`` (default 1 %): the step is too long for the
     response's nonlinearity. Reduce ``dt`` (the error falls like ``dt**2``); see
-    docs/accuracy.md for how the estimate is made and when it is reliable."""
+    docs/accuracy.md for how the estimate is made and when it is reliable. A reduced run
+    (``modes=n``) also warns when the error its basis's truncation is estimated to cause
+    (``sol.stats.truncation_estimate``, ``element_truncation_estimate``) exceeds the same
+    threshold: keep more modes (the message says so)."""
 
 
 class InternalError(DuhamelError, RuntimeError):

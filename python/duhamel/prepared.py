@@ -52,6 +52,7 @@ def _with_loads(system: System, loads: list[Load]) -> System:
     other.couplings = list(system.couplings)
     caches.share(system, other, "background")
     caches.share(system, other, "corrected", {})
+    caches.share(system, other, "truncation", {})
     return other
 
 

@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 
 from duhamel._engine import dispatch
 from duhamel._engine.accuracy import attach_estimate, to_tolerance
+from duhamel._engine.truncation import attach_truncation
 from duhamel._engine.background import background
 from duhamel._engine.correction import substeps
 from duhamel._engine.dense import ExactSteps, State
@@ -376,6 +377,7 @@ def solution(
     if estimate and error is None and kept == result.t.size:
         warn = getattr(prep.integrator, "rtol", None) is None  # else the tolerance decides
         attach_estimate(solution, prep, opts, sub, out.phi_out, warn)
+        attach_truncation(solution, prep, opts, warn)
     if error is None and kept < result.t.size:
         raise overflow_error(result.t, kept, opts.dt, opts.t0, solution)
     if error is not None:

@@ -137,7 +137,9 @@ class Semianalytic(Integrator):
         (``sol.stats.error_estimate`` at the saved dofs, ``element_error_estimate`` at the
         elements, each relative to its peak; docs/accuracy.md) and warns with a
         :class:`duhamel.AccuracyWarning` when it exceeds `error_warning`. Default 0.01 (1 %
-        of the peak); None: no warning (the estimate is still made).
+        of the peak); None: no warning (the estimate is still made). A reduced run also
+        estimates its basis's truncation (``sol.stats.truncation_estimate``,
+        ``element_truncation_estimate``) and warns above the same threshold.
     rtol, atol : float or None, float
         Steps chosen by tolerance: with `rtol`, the run is repeated in steps of
         ``dt / 2**k``, ``k`` raised as the error estimate requires, until the estimate is

@@ -67,6 +67,14 @@ class SolveStats:
         (:class:`duhamel.AccuracyWarning`).
     element_error_estimate : tuple of float
         The same per element (its deformation, relative to its peak deformation).
+    truncation_estimate : float or None
+        Semi-analytic integrator with a reduced basis (``modes=n``): the estimated error of
+        the saved displacements that the modes left out cause (relative to their peak;
+        with ``static_correction``, the dynamic part the correction does not represent;
+        docs/accuracy.md); 0 when nothing is left out; None where it is not estimated.
+        Above ``error_warning`` the run warns (:class:`duhamel.AccuracyWarning`).
+    element_truncation_estimate : tuple of float
+        The same per element.
     """
 
     steps: int
@@ -84,6 +92,8 @@ class SolveStats:
     substeps: int = 1
     error_estimate: float | None = None
     element_error_estimate: tuple[float, ...] = ()
+    truncation_estimate: float | None = None
+    element_truncation_estimate: tuple[float, ...] = ()
 
     @property
     def mode_steps_per_second(self) -> float:
@@ -121,4 +131,10 @@ def summary(sol: Any) -> str:
         "estimated error at the elements: "
         + ("none" if worst is None else f"{worst:.2e} of the peak deformation (worst)")
     )
+    if st.truncation_estimate is not None:
+        worst = max(st.element_truncation_estimate, default=0.0)
+        lines.append(
+            f"estimated basis truncation error: {_fraction(st.truncation_estimate)} at the "
+            f"saved dofs, {worst:.2e} of the peak deformation at the elements (worst)"
+        )
     return "\n".join(lines)
