@@ -68,8 +68,6 @@ use serde::{Deserialize, Serialize};
 mod adaptive;
 mod substeps;
 
-use substeps::at;
-
 /// Above this exponent the substeps follow the local stiffness of `g` (see
 /// [`Flow::advance_adaptive`]): the uniform bound `lambda ~ n` would cost `100 n`
 /// substeps per unit of `xi`.
@@ -245,6 +243,24 @@ impl BoucWen {
         let f = self.alpha * self.k * u + (1.0 - self.alpha) * self.fy * z;
         let kt = self.k * (self.alpha + (1.0 - self.alpha) * g);
         Ok((z, f, kt))
+    }
+}
+
+/// `error` at time `t` (an element does not know its step: the driver locates it).
+fn at(error: CoreError, t: f64) -> CoreError {
+    match error {
+        CoreError::OutOfDomain {
+            message,
+            step,
+            last_good_time,
+            ..
+        } => CoreError::OutOfDomain {
+            message,
+            time: t,
+            step,
+            last_good_time,
+        },
+        other => other,
     }
 }
 

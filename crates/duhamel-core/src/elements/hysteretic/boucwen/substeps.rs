@@ -22,24 +22,6 @@ pub(super) struct TooManySubsteps {
     pub(super) needed: f64,
 }
 
-/// `error` at time `t` (an element does not know its step: the driver locates it).
-pub(super) fn at(error: CoreError, t: f64) -> CoreError {
-    match error {
-        CoreError::OutOfDomain {
-            message,
-            step,
-            last_good_time,
-            ..
-        } => CoreError::OutOfDomain {
-            message,
-            time: t,
-            step,
-            last_good_time,
-        },
-        other => other,
-    }
-}
-
 impl Flow {
     pub(super) fn rk4_step(&self, w: f64, h: f64, positive: bool) -> f64 {
         let k1 = self.g(w, positive);
