@@ -8,6 +8,11 @@ In the library (``python/duhamel`` and ``crates/*/src``; the OpenSees importer
   character literals;
 * **raw**: a whole-word grep of the files (comments, docstrings and messages included).
 
+A Python name that is not the element is not counted in the code measure: a class a module
+defines under an element's name (the rotor's controller ``Series``) and that name where
+other modules import it from there (``python_homonyms``; they are printed). Rust homonyms
+are not recognised: they are given names of their own.
+
 Counted: the files naming each built-in element class (``duhamel._core.element_names()``,
 the Rust registry's list); ``_spec`` names; switches on type names (a ``__name__`` compared
 with, or tested for membership in, string literals, directly or through a variable bound to
@@ -16,7 +21,7 @@ that special-case ``LinearCoupling`` (``isinstance``/``issubclass`` with it, ``t
 it, or its name compared); the files mentioning energy. ``tests/project/test_layout_counts.py``
 checks the code measures against the acceptance.
 
-Run: ``PYTHONPATH=python python benchmarks/counts.py``
+Run: ``PYTHONPATH=python python benchmarks/counts.py`` (``-v``: the files naming each element)
 """
 
 from __future__ import annotations
@@ -122,6 +127,51 @@ def rust_code_names(text: str) -> set[str]:
 def code_names(path: Path) -> set[str]:
     text = path.read_text(encoding="utf-8")
     return rust_code_names(text) if path.suffix == ".rs" else python_code_names(text)
+
+
+def module_name(path: Path) -> str:
+    """The dotted module name of a library Python file (``duhamel.rotor.controllers``)."""
+    parts = list(path.relative_to(ROOT / "python").with_suffix("").parts)
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+#: The modules through which a Python file takes a built-in element itself.
+ELEMENT_MODULES = ("duhamel", "duhamel.elements", "duhamel._core")
+
+
+def python_homonyms(texts: dict[str, str], classes: set[str]) -> dict[str, set[str]]:
+    """Per module (``{module: source}``), the element names it binds to something else: a
+    class it defines under that name (the rotor's controller ``Series``), or a name it
+    imports from a module that binds it so, until no more are found. Such a name in that
+    file is the homonym, not the element, unless the file also takes the element itself (an
+    import from ``duhamel``, ``duhamel.elements`` or ``duhamel._core``, or an attribute
+    ``x.Name``)."""
+    trees = {m: ast.parse(t) for m, t in texts.items()}
+    bound: dict[str, set[str]] = {
+        m: {n.name for n in tree.body if isinstance(n, ast.ClassDef)} & classes
+        for m, tree in trees.items()
+    }
+    changed = True
+    while changed:
+        changed = False
+        for m, tree in trees.items():
+            for n in ast.walk(tree):
+                if isinstance(n, ast.ImportFrom) and n.module in bound and n.level == 0:
+                    found = {a.name for a in n.names} & bound[n.module] - bound[m]
+                    if found:
+                        bound[m] |= found
+                        changed = True
+    out: dict[str, set[str]] = {}
+    for m, names in bound.items():
+        element = set()
+        for n in ast.walk(trees[m]):
+            if isinstance(n, ast.ImportFrom) and n.module in ELEMENT_MODULES:
+                element |= {a.name for a in n.names}
+            elif isinstance(n, ast.Attribute):
+                element.add(n.attr)
+        if names - element:
+            out[m] = names - element
+    return out
 
 
 def rel(path: Path) -> str:
@@ -261,6 +311,7 @@ class Counts:
     """Every count, both measures (file lists, or ``path:line`` sites)."""
 
     n_files: int
+    homonyms: dict[str, set[str]]
     elements: dict[str, list[str]]
     elements_raw: dict[str, list[str]]
     spec: list[str]
@@ -290,6 +341,10 @@ def measure() -> Counts:
     names = {p: code_names(p) for p in files}
     python = [p for p in files if p.suffix != ".rs"]
     classes = element_names()
+    modules = {module_name(p): p for p in python if p.suffix == ".py"}
+    homonyms = python_homonyms({m: texts[p] for m, p in modules.items()}, set(classes))
+    for m, found in homonyms.items():
+        names[modules[m]] -= found
     switches: dict[str, list[tuple[int, list[str]]]] = {}
     coupling: dict[str, list[int]] = {}
     for p in python:
@@ -302,6 +357,7 @@ def measure() -> Counts:
             switches[rel(p)] = [(line, [name]) for line, name in arms]
     return Counts(
         n_files=len(files),
+        homonyms={rel(modules[m]): found for m, found in homonyms.items()},
         elements={n: files_naming(n, files, names) for n in classes},
         elements_raw={n: raw_files_naming(n, files) for n in classes},
         spec=files_naming("_spec", files, names),
@@ -324,6 +380,7 @@ def main() -> None:
     print(f"{'':<36}   identifiers outside comments, strings, test modules; raw: grep -lw)")
     for name, found in m.elements.items():
         print(f"{name:<24}{len(found):>6}{len(m.elements_raw[name]):>6}")
+    print(f"not counted, homonyms (the file's own class or one imported from it): {m.homonyms}")
     print(f"_spec: code {len(m.spec)} files, raw {len(m.spec_raw)} files")
     print(f"switches on type names (code): {sum(map(len, m.switches.values()))} {m.switches}")
     print(f"  raw, lines comparing a __name__: {len(m.switches_raw)} {m.switches_raw}")

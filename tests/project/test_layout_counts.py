@@ -50,6 +50,15 @@ def test_the_measure_sees_code_and_not_text():
     assert counts.python_type_switches(message) == []
     arm = 'match name {\n    "Gap" => 1,\n    _ => 0,\n}\n'
     assert counts.rust_type_switches(arm, ["Gap"]) == [(2, "Gap")]
+    modules = {
+        "pkg.blocks": "class Series:\n    pass\n",
+        "pkg.user": "from pkg.blocks import Series\nc = Series()\n",
+        "pkg.again": "from pkg.user import Series\n",
+        "pkg.both": "from pkg.blocks import Series\nimport duhamel\ne = duhamel.elements.Series\n",
+        "pkg.element": "from duhamel.elements import Series\n",
+    }
+    homonyms = counts.python_homonyms(modules, {"Series", "Gap"})
+    assert homonyms == {m: {"Series"} for m in ("pkg.blocks", "pkg.user", "pkg.again")}
     coupled = "if isinstance(e, Element | LinearCoupling): pass\n"
     assert counts.coupling_special_cases(coupled) == [1]
 
@@ -63,13 +72,6 @@ def test_element_names_are_the_registry(measured):
         assert issubclass(getattr(duhamel.elements, name), duhamel.elements.Element)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="Rust unchanged on this branch: each element's type is re-exported by "
-    "crates/duhamel-core/src/elements/mod.rs (and hysteretic/mod.rs), besides its own file, "
-    "the registry, the stub and the export list; spectra::Bilinear and pseudo::scalar::Cubic "
-    "are Rust homonyms",
-)
 def test_each_element_named_in_at_most_five_files(measured):
     over = {n: f for n, f in measured.elements.items() if len(f) > 5}
     assert not over, "\n".join(f"{n} ({len(f)}): {f}" for n, f in over.items())

@@ -1,7 +1,8 @@
 //! Times the single-mode closed-form path on the paper's Duffing oscillator:
 //! `cargo run --release --example duffing [steps] [auto|newton]`.
 
-use duhamel_core::elements::{Element, Polynomial};
+use duhamel_core::elements::polynomial::Polynomial;
+use duhamel_core::elements::Element;
 use duhamel_core::pseudo::{integrate, NonlinearProblem, Options, Quadrature, Scheme, Solver};
 use duhamel_core::{ModalProblem, Unattended};
 

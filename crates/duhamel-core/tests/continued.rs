@@ -1,7 +1,9 @@
 //! A run continued from an intermediate state at grid point `step0` reproduces the
 //! uninterrupted run bit for bit (the hooks of checkpointed, streamed runs).
 
-use duhamel_core::elements::{Element, Polynomial, Spring};
+use duhamel_core::elements::polynomial::Polynomial;
+use duhamel_core::elements::spring::Spring;
+use duhamel_core::elements::Element;
 use duhamel_core::loads::{ModalLoad, TimeFunction};
 use duhamel_core::pseudo::{integrate, NonlinearProblem, Options, Quadrature, Scheme, Solver};
 use duhamel_core::{History, ModalProblem, Unattended};

@@ -2,7 +2,8 @@
 
 use duhamel_core::direct::assembly::Matrix;
 use duhamel_core::direct::{self, AlphaParams, DirectHistory, DirectProblem, Method};
-use duhamel_core::elements::{Element, Spring};
+use duhamel_core::elements::spring::Spring;
+use duhamel_core::elements::Element;
 use duhamel_core::loads::ModalForcing;
 use duhamel_core::loads::{ModalLoad, TimeFunction};
 use duhamel_core::{CoreError, Failure, Stats, Unattended};

@@ -1,7 +1,10 @@
 //! Force elements: known values, exact tangents against central differences, additivity of
 //! `eval`, and parameter validation.
 
-use duhamel_core::elements::{Contact, Damper, Element, Polynomial, Spring, Tangent};
+use duhamel_core::elements::contact::Contact;
+use duhamel_core::elements::polynomial::Polynomial;
+use duhamel_core::elements::spring::{Damper, Spring};
+use duhamel_core::elements::{Element, Tangent};
 use duhamel_core::CoreError;
 
 /// Deterministic uniform numbers in `[-1, 1)`.

@@ -3,10 +3,12 @@
 //! pendulum's square loop and circular orbit, dissipated energies, the power-law damper and
 //! the gap; consistent tangents against central differences of `eval_path`; trial/commit.
 
-use duhamel_core::elements::{
-    Bilinear, BoucWen, BoucWenParams, Element, FrictionPendulum, Gap, PathState, Tangent,
-    ViscousDamper,
-};
+use duhamel_core::elements::hysteretic::bilinear::Bilinear;
+use duhamel_core::elements::hysteretic::boucwen::{BoucWen, BoucWenParams};
+use duhamel_core::elements::hysteretic::friction::FrictionPendulum;
+use duhamel_core::elements::hysteretic::gap::Gap;
+use duhamel_core::elements::hysteretic::viscous::ViscousDamper;
+use duhamel_core::elements::{Element, PathState, Tangent};
 use duhamel_core::CoreError;
 use std::f64::consts::PI;
 

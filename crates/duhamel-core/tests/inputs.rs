@@ -2,7 +2,8 @@
 //! `InvalidInput`/`LengthMismatch` naming the parameter.
 
 use duhamel_core::background::first_order::{integrate, FirstOrderModes};
-use duhamel_core::elements::{Element, Spring};
+use duhamel_core::elements::spring::Spring;
+use duhamel_core::elements::Element;
 use duhamel_core::loads::TimeFunction;
 use duhamel_core::output::Outputs;
 use duhamel_core::problem::SaveGrid;

@@ -1,7 +1,7 @@
 //! Response spectra (`duhamel.spectra`): records arrive as float64 arrays (validated in
 //! Python), the loops run in the core with the GIL released.
 
-use duhamel_core::spectra::{self, Bilinear, Record};
+use duhamel_core::spectra::{self, BilinearOscillator, Record};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 
@@ -124,7 +124,7 @@ pub(crate) fn bilinear_peak(
 ) -> PyResult<f64> {
     guarded(|| {
         let a = vec_of(acc, "motions")?;
-        let o = Bilinear { omega, zeta, alpha };
+        let o = BilinearOscillator { omega, zeta, alpha };
         py.detach(|| spectra::inelastic::peak_displacement(&o, uy, Record { acc: &a, dt }))
             .map_err(core_err)
     })

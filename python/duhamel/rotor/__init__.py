@@ -18,6 +18,7 @@ Examples
 (501, 20)
 """
 
+from duhamel.elements import BreathingCrack
 from duhamel.rotor._plot_response import (
     plot_bode,
     plot_mode_shape,
@@ -41,7 +42,6 @@ from duhamel.rotor.controllers import (
 from duhamel.rotor.critical_map import CriticalSpeedMap, Intersection
 from duhamel.rotor.disk import Disk
 from duhamel.rotor.dofs import DIRECTIONS
-from duhamel.rotor.faults import BreathingCrack
 from duhamel.rotor.frequency import FrequencyResponse, FrequencyResponseMap
 from duhamel.rotor.journal import ShortJournalBearing
 from duhamel.rotor.loads import Gravity, RotorLoad, SuddenForce, Unbalance, VectorStep

@@ -253,7 +253,7 @@ pub(crate) fn numeric_tangent(
 #[cfg(test)]
 mod tests {
     use super::Evaluation;
-    use crate::elements::hysteretic::Bilinear;
+    use crate::elements::hysteretic::bilinear::Bilinear;
 
     /// Along a path through yield and reversal: a commit that keeps the trial variables of
     /// the evaluation at the committed state leaves the same committed variables as one

@@ -214,7 +214,8 @@ impl<E: ?Sized + Element + 'static> Element for Shifted<E> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::elements::{Bilinear, Spring};
+    use crate::elements::hysteretic::bilinear::Bilinear;
+    use crate::elements::spring::Spring;
 
     #[test]
     fn spring_minus_its_linear_part_is_its_cubic() {

@@ -2,7 +2,7 @@
 //! of degree <= 3, the step equation and every node's pseudo-force are cubics in the unknown.
 
 use super::force::PseudoForce;
-use super::scalar::{compose, eval, shift, Cubic};
+use super::scalar::{compose, eval, shift, CubicPoly};
 use super::scheme::{Rule, Scheme, StepInput, Unknown};
 use crate::cubic::nearest_root;
 use crate::elements::ModalCubic;
@@ -72,7 +72,7 @@ impl ScalarPlan {
 
     /// `rho` along `q = qa + qb u`, `v = va + vb u`, as a cubic in `u`.
     #[inline(always)]
-    pub(super) fn along(&self, qa: f64, qb: f64, va: f64, vb: f64) -> Cubic {
+    pub(super) fn along(&self, qa: f64, qb: f64, va: f64, vb: f64) -> CubicPoly {
         match self.q_only {
             Some([p0, p1, p2, p3]) => {
                 // Taylor expansion at u = 0
@@ -102,7 +102,7 @@ pub(super) fn scalar_step(
     let on_v = unknown == Unknown::V1;
     let mass = pf.has_mass();
     let mut cubics = [[0.0; 4]; 4];
-    let mut r: Cubic = [0.0; 4];
+    let mut r: CubicPoly = [0.0; 4];
     for (node, cubic) in plan.nodes.iter().zip(cubics.iter_mut()) {
         let qa = node.cq[0] * q0 + node.cq[1] * v0;
         let va = node.cv[0] * q0 + node.cv[1] * v0;

@@ -3,10 +3,10 @@
 use crate::elements::ModalCubic;
 
 /// `c[0] + c[1] u + c[2] u^2 + c[3] u^3`.
-pub type Cubic = [f64; 4];
+pub type CubicPoly = [f64; 4];
 
 /// Product of two cubics, truncated at degree 3 (exact when the true degree is <= 3).
-fn mul(a: &Cubic, b: &Cubic) -> Cubic {
+fn mul(a: &CubicPoly, b: &CubicPoly) -> CubicPoly {
     let mut c = [0.0; 4];
     for i in 0..4 {
         for j in 0..4 - i {
@@ -18,7 +18,7 @@ fn mul(a: &Cubic, b: &Cubic) -> Cubic {
 
 /// `rho(q(u), v(u))` for `rho = sum a[i][j] q^i v^j` and affine `q = qa + qb u`,
 /// `v = va + vb u`; only the powers that non-zero coefficients need are formed.
-pub fn compose(a: &ModalCubic, q: [f64; 2], v: [f64; 2]) -> Cubic {
+pub fn compose(a: &ModalCubic, q: [f64; 2], v: [f64; 2]) -> CubicPoly {
     let (qi_max, vj_max) = degrees(a);
     let mut qp = [[1.0, 0.0, 0.0, 0.0]; 4];
     let mut vp = [[1.0, 0.0, 0.0, 0.0]; 4];
@@ -63,13 +63,13 @@ fn degrees(a: &ModalCubic) -> (usize, usize) {
 }
 
 /// Value at `u` (Horner).
-pub fn eval(c: &Cubic, u: f64) -> f64 {
+pub fn eval(c: &CubicPoly, u: f64) -> f64 {
     ((c[3] * u + c[2]) * u + c[1]) * u + c[0]
 }
 
 /// The cubic in `d` of `c(u0 + h d)` (Taylor shift), so that roots near `u0` are found on a
 /// well-scaled polynomial.
-pub fn shift(c: &Cubic, u0: f64, h: f64) -> Cubic {
+pub fn shift(c: &CubicPoly, u0: f64, h: f64) -> CubicPoly {
     let d1 = (3.0 * c[3] * u0 + 2.0 * c[2]) * u0 + c[1];
     let d2 = 3.0 * c[3] * u0 + c[2];
     [eval(c, u0), d1 * h, d2 * h * h, c[3] * h * h * h]

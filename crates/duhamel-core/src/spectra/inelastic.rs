@@ -22,7 +22,7 @@ const EVENT_TOL: f64 = 1e-14;
 /// A bilinear oscillator: natural frequency `omega` (rad/s, of the elastic branch), damping
 /// ratio `zeta` and post-yield stiffness ratio `alpha` (0 <= alpha < 1).
 #[derive(Debug, Clone, Copy)]
-pub struct Bilinear {
+pub struct BilinearOscillator {
     pub omega: f64,
     pub zeta: f64,
     pub alpha: f64,
@@ -84,7 +84,7 @@ fn event(g: impl Fn(f64) -> (f64, f64), h: f64, g0: f64) -> Option<f64> {
 }
 
 /// Peak `|u|` (at the samples) of the bilinear oscillator `o` with yield displacement `uy` under `-acc`.
-pub fn peak_displacement(o: &Bilinear, uy: f64, rec: Record) -> Result<f64, CoreError> {
+pub fn peak_displacement(o: &BilinearOscillator, uy: f64, rec: Record) -> Result<f64, CoreError> {
     let k = o.omega * o.omega;
     let c = 2.0 * o.zeta * o.omega;
     let elastic = Branch { stiffness: k, c };
@@ -227,7 +227,7 @@ pub fn ductility_spectrum(
         .flat_map(|d| (0..periods.len()).map(move |p| (d, p)))
         .collect();
     let task = |&(d, p): &(usize, usize)| -> Result<f64, CoreError> {
-        let o = Bilinear {
+        let o = BilinearOscillator {
             omega: 2.0 * std::f64::consts::PI / periods[p],
             zeta,
             alpha,
@@ -290,7 +290,7 @@ mod tests {
             acc: &acc,
             dt: 0.01,
         };
-        let o = Bilinear {
+        let o = BilinearOscillator {
             omega: 5.0,
             zeta: 0.05,
             alpha: 0.1,
@@ -316,7 +316,7 @@ mod tests {
             dt: 0.01,
         };
         let sd = elastic(&[rec], &[1.0], &[0.02], Some(1)).unwrap().sd[0];
-        let o = Bilinear {
+        let o = BilinearOscillator {
             omega: 2.0 * std::f64::consts::PI,
             zeta: 0.02,
             alpha: 1.0 - 1e-9,
@@ -335,7 +335,7 @@ mod tests {
         let periods = [0.3, 1.0];
         let uy = ductility_spectrum(rec, &periods, 0.05, 0.0, &[2.0, 4.0], Some(1)).unwrap();
         for (i, &y) in uy.iter().enumerate() {
-            let o = Bilinear {
+            let o = BilinearOscillator {
                 omega: 2.0 * std::f64::consts::PI / periods[i % 2],
                 zeta: 0.05,
                 alpha: 0.0,

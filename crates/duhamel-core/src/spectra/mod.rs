@@ -27,5 +27,5 @@ pub mod rotd;
 pub use common::Record;
 pub use elastic::{elastic, Peaks};
 pub use exact::elastic_exact;
-pub use inelastic::{ductility_spectrum, Bilinear};
+pub use inelastic::{ductility_spectrum, BilinearOscillator};
 pub use rotd::rotd;

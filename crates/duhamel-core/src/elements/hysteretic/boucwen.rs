@@ -69,7 +69,7 @@ mod adaptive;
 mod substeps;
 
 /// Above this exponent the substeps follow the local stiffness of `g` (see
-/// [`BoucWen::advance_adaptive`]): the uniform bound `lambda ~ n` would cost `100 n`
+/// [`Flow::advance_adaptive`]): the uniform bound `lambda ~ n` would cost `100 n`
 /// substeps per unit of `xi`.
 const ADAPTIVE_N: f64 = 16.0;
 /// RK4 substep bound, `lambda h <= H0`.
@@ -82,6 +82,14 @@ pub struct BoucWen {
     k: f64,
     fy: f64,
     alpha: f64,
+    flow: Flow,
+}
+
+/// The flow of the scaled hysteretic variable, `dw/dxi = g(w)` (see the module
+/// documentation), and its integration over an increment: exact for `n = 1` (here), by RK4
+/// substeps (`boucwen/substeps.rs`) or, for `n > 16`, adaptive ones (`boucwen/adaptive.rs`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Flow {
     n: f64,
     beta: f64,
     gamma: f64,
@@ -163,10 +171,12 @@ impl BoucWen {
             k,
             fy,
             alpha,
-            n,
-            beta,
-            gamma,
-            int_n,
+            flow: Flow {
+                n,
+                beta,
+                gamma,
+                int_n,
+            },
         })
     }
 
@@ -187,7 +197,7 @@ impl BoucWen {
 
     /// The exponent `n` and the shape parameters `(beta, gamma)`.
     pub fn shape(&self) -> (f64, f64, f64) {
-        (self.n, self.beta, self.gamma)
+        (self.flow.n, self.flow.beta, self.flow.gamma)
     }
 
     /// Yield deformation `uy = fy / k`.
@@ -197,6 +207,66 @@ impl BoucWen {
 
     /// The saturation value `z_max = (beta + gamma)^(-1/n)` of `|z|`.
     pub fn z_max(&self) -> f64 {
+        self.flow.z_max()
+    }
+
+    /// The hysteretic variable and the force and consistent tangent `(z, F, dF/du)` at
+    /// deformation `u` reached from the committed `(u_c, z_c)`; an increment that needs
+    /// more substeps than the bound is refused ([`CoreError::OutOfDomain`], naming the
+    /// element and the count).
+    pub fn response(&self, u_c: f64, z_c: f64, u: f64) -> Result<(f64, f64, f64), CoreError> {
+        let uy = self.yield_deformation();
+        let du = u - u_c;
+        let s = if du > 0.0 || (du == 0.0 && z_c >= 0.0) {
+            1.0
+        } else {
+            -1.0
+        };
+        let xi = du.abs() / uy;
+        let z = if xi == 0.0 {
+            z_c
+        } else if self.flow.n == 1.0 {
+            s * self.flow.advance_linear(s * z_c, xi)
+        } else if self.flow.n > ADAPTIVE_N && self.flow.g(s * z_c, s * z_c >= 0.0) > 0.0 {
+            s * self
+                .flow
+                .advance_adaptive(s * z_c, xi)
+                .map_err(|e| self.flow.too_many(&self.dofs, uy, u_c, u, e))?
+        } else {
+            s * self
+                .flow
+                .advance_rk4(s * z_c, xi)
+                .map_err(|e| self.flow.too_many(&self.dofs, uy, u_c, u, e))?
+        };
+        let w = s * z;
+        let g = self.flow.g(w, w >= 0.0);
+        let f = self.alpha * self.k * u + (1.0 - self.alpha) * self.fy * z;
+        let kt = self.k * (self.alpha + (1.0 - self.alpha) * g);
+        Ok((z, f, kt))
+    }
+}
+
+/// `error` at time `t` (an element does not know its step: the driver locates it).
+fn at(error: CoreError, t: f64) -> CoreError {
+    match error {
+        CoreError::OutOfDomain {
+            message,
+            step,
+            last_good_time,
+            ..
+        } => CoreError::OutOfDomain {
+            message,
+            time: t,
+            step,
+            last_good_time,
+        },
+        other => other,
+    }
+}
+
+impl Flow {
+    /// The saturation value `z_max = (beta + gamma)^(-1/n)` of `|w|`.
+    fn z_max(&self) -> f64 {
         (self.beta + self.gamma).powf(-1.0 / self.n)
     }
 
@@ -236,39 +306,6 @@ impl BoucWen {
         }
         linear_flow(w, -cp, rest)
     }
-
-    /// The hysteretic variable and the force and consistent tangent `(z, F, dF/du)` at
-    /// deformation `u` reached from the committed `(u_c, z_c)`; an increment that needs
-    /// more substeps than the bound is refused ([`CoreError::OutOfDomain`], naming the
-    /// element and the count).
-    pub fn response(&self, u_c: f64, z_c: f64, u: f64) -> Result<(f64, f64, f64), CoreError> {
-        let uy = self.yield_deformation();
-        let du = u - u_c;
-        let s = if du > 0.0 || (du == 0.0 && z_c >= 0.0) {
-            1.0
-        } else {
-            -1.0
-        };
-        let xi = du.abs() / uy;
-        let z = if xi == 0.0 {
-            z_c
-        } else if self.n == 1.0 {
-            s * self.advance_linear(s * z_c, xi)
-        } else if self.n > ADAPTIVE_N && self.g(s * z_c, s * z_c >= 0.0) > 0.0 {
-            s * self
-                .advance_adaptive(s * z_c, xi)
-                .map_err(|e| self.too_many(u_c, u, e))?
-        } else {
-            s * self
-                .advance_rk4(s * z_c, xi)
-                .map_err(|e| self.too_many(u_c, u, e))?
-        };
-        let w = s * z;
-        let g = self.g(w, w >= 0.0);
-        let f = self.alpha * self.k * u + (1.0 - self.alpha) * self.fy * z;
-        let kt = self.k * (self.alpha + (1.0 - self.alpha) * g);
-        Ok((z, f, kt))
-    }
 }
 
 impl Element for BoucWen {
@@ -284,9 +321,7 @@ impl Element for BoucWen {
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
-        let (_, f, kt) = self
-            .response(0.0, 0.0, relative(x))
-            .map_err(|e| Self::at(e, t))?;
+        let (_, f, kt) = self.response(0.0, 0.0, relative(x)).map_err(|e| at(e, t))?;
         finite(t, &[f, kt])?;
         scatter(f, kt, r, tangent.map(|tg| tg.kx));
         Ok(())
@@ -325,9 +360,9 @@ impl Element for BoucWen {
         let (u_c, z_c) = (history.committed[0], history.committed[1]);
         if z_c.is_nan() && u_c.is_finite() {
             // the initial state's loading from rest was refused (see `initial_state`)
-            self.response(0.0, 0.0, u_c).map_err(|e| Self::at(e, t))?;
+            self.response(0.0, 0.0, u_c).map_err(|e| at(e, t))?;
         }
-        let (z, f, kt) = self.response(u_c, z_c, u).map_err(|e| Self::at(e, t))?;
+        let (z, f, kt) = self.response(u_c, z_c, u).map_err(|e| at(e, t))?;
         finite(t, &[z, f, kt])?;
         history.trial[0] = u;
         history.trial[1] = z;

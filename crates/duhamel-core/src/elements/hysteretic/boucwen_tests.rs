@@ -22,8 +22,8 @@ fn rk4_matches_the_exact_linear_flow() {
         let e = grounded([1.0, 1.0, 0.0, 1.0, beta, gamma]).unwrap();
         for w0 in [-0.95 / (beta + gamma), -0.3, 0.0, 0.4] {
             for xi in [1e-3, 0.05, 0.3, 1.0, 2.5, 40.0] {
-                let exact = e.advance_linear(w0, xi);
-                let rk4 = e.advance_rk4(w0, xi).unwrap();
+                let exact = e.flow.advance_linear(w0, xi);
+                let rk4 = e.flow.advance_rk4(w0, xi).unwrap();
                 assert!(
                     (exact - rk4).abs() < 1e-10,
                     "beta {beta} gamma {gamma} w0 {w0} xi {xi}: {exact} vs {rk4}"

@@ -2,7 +2,7 @@
 //!
 //! On the horizontal deformation `u = (x, y)` (or `x` alone: uniaxial) of the bearing, with
 //! initial stiffness `k`, yield force `fy` and post-yield stiffness ratio `alpha` (as
-//! [`super::Bilinear`]: characteristic strength `Qd = (1 - alpha) fy`, yield displacement
+//! [`super::bilinear::Bilinear`]: characteristic strength `Qd = (1 - alpha) fy`, yield displacement
 //! `uy = fy / k`), the restoring force is
 //!
 //! ```text

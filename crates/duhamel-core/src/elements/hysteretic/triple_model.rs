@@ -22,7 +22,7 @@ pub struct TripleFrictionPendulumDef {
 }
 
 fn default_yield() -> f64 {
-    super::DEFAULT_YIELD_DISPLACEMENT
+    super::friction::DEFAULT_YIELD_DISPLACEMENT
 }
 
 impl Definition for TripleFrictionPendulumDef {

@@ -5,11 +5,12 @@
 //! deformation, the energy-based deterioration against its formula, and each tangent
 //! against central differences of the force at fixed committed variables.
 
-use super::hysteretic::HystState;
+use super::hysteretic::{HystState, Hysteretic, HystereticParams};
 use super::imk::ModImkPeakOriented;
 use super::imk_bilin::{BilinState, ImkBilin, ImkBilinParams};
 use super::imk_params::{ImkState, ModImkParams};
-use super::{Hysteretic, HystereticParams, Material, Pinching4, Pinching4Damage, Pinching4Params};
+use super::pinching4_def::{Pinching4, Pinching4Damage, Pinching4Params};
+use super::Material;
 use crate::error::CoreError;
 
 fn imk(n_factor: f64) -> ModImkParams {

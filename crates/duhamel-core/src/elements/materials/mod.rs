@@ -12,20 +12,21 @@
 //!
 //! One file per material; wrappers (`MinMax`, `Parallel`, `Series`) hold other materials.
 
-// The materials of the first set are public modules, not re-exported here: each uses this
-// module's trait, and a re-export would make this module depend on them (an import cycle).
+// The materials are public modules, not re-exported here: each uses this module's trait, and
+// a re-export would make this module depend on them (an import cycle); and a material is
+// named in its own files and the registry only.
 #[cfg(test)]
 mod deterioration_tests;
 pub mod elastic_multilinear;
-mod hysteretic;
+pub mod hysteretic;
 pub mod hysteretic_def;
-mod imk;
-mod imk_bilin;
+pub mod imk;
+pub mod imk_bilin;
 mod imk_bilin_backbone;
 pub mod imk_bilin_def;
 pub mod imk_def;
 mod imk_envelope;
-mod imk_params;
+pub mod imk_params;
 mod imk_update;
 pub mod material;
 pub mod minmax;
@@ -35,7 +36,6 @@ mod pinching4;
 mod pinching4_damage;
 pub mod pinching4_def;
 mod pinching4_paths;
-mod pinching4_state;
 mod points;
 pub mod series;
 mod state;
@@ -43,12 +43,7 @@ pub mod steel02;
 pub mod takeda;
 pub mod uniaxial;
 
-pub use hysteretic::{Hysteretic, HystereticParams};
-pub use imk::ModImkPeakOriented;
-pub use imk_bilin::{ImkBilin, ImkBilinParams};
-pub use imk_params::ModImkParams;
 pub use material::Material;
-pub use pinching4_state::{Pinching4, Pinching4Damage, Pinching4Params};
 
 #[cfg(test)]
 pub(crate) mod testing;

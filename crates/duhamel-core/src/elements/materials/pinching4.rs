@@ -9,8 +9,8 @@
 //! internal variables here. The committed deformation rate of a step whose increment is
 //! below 1e-12 is 0 (OpenSees' `TstrainRate` after its last revert).
 
+use super::pinching4_def::{P4State, Pinching4, Pinching4Params, Work};
 use super::pinching4_paths::{path3, path4, piecewise};
-use super::pinching4_state::{P4State, Pinching4, Pinching4Params, Work};
 use super::state::require;
 use super::Material;
 use crate::error::CoreError;

@@ -4,7 +4,7 @@
 //! capped by `gamma_lim` and, for the unloading stiffness, by the secant to the largest
 //! deformation — OpenSees' `updateDmg`, line for line.
 
-use super::pinching4_state::{Pinching4Damage, Work};
+use super::pinching4_def::{Pinching4Damage, Work};
 
 impl Work<'_> {
     /// OpenSees' `updateDmg`: the trial damage indices.

@@ -5,7 +5,7 @@
 //! line for line (they are not mirror images of each other, so both are kept), and
 //! `Envlp3Stress`/`Envlp3Tangent` ([`piecewise`]).
 
-use super::pinching4_state::Work;
+use super::pinching4_def::Work;
 
 type Path = ([f64; 4], [f64; 4]);
 

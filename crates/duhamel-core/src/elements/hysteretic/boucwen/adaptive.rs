@@ -1,11 +1,11 @@
 //! Bouc-Wen with a large exponent (`n > 16`): RK4 substeps that follow the local stiffness
 //! of `g`, so that the work per increment does not grow with `n` (see
-//! [`BoucWen::advance_adaptive`]).
+//! [`Flow::advance_adaptive`]).
 
 use super::substeps::{TooManySubsteps, MAX_ADAPTIVE};
-use super::{BoucWen, H0};
+use super::{Flow, H0};
 
-impl BoucWen {
+impl Flow {
     /// A bound of the `k`-th roots of the derivatives of `g` at `|w| <= a` for large `n`:
     /// `|g^(k)| ~ c n^k |w|^(n - k)`, whose `k`-th root is at most `max(c, 1) n
     /// |w|^(n / 4 - 1)` for `k <= 4` and `|w| <= 1` (and grows with `|w|` beyond).
@@ -107,8 +107,8 @@ mod tests {
                 for w0 in [-0.99 * zm, -0.5, 0.0, 0.3, 0.9 * zm, 0.999 * zm] {
                     for xi in [1e-3, 0.05, 0.4, 1.0, 2.5, 40.0] {
                         let (a, b) = (
-                            e.advance_adaptive(w0, xi).unwrap(),
-                            e.advance_rk4(w0, xi).unwrap(),
+                            e.flow.advance_adaptive(w0, xi).unwrap(),
+                            e.flow.advance_rk4(w0, xi).unwrap(),
                         );
                         assert!((a - b).abs() <= 1e-9, "n {n} w0 {w0} xi {xi}: {a} vs {b}");
                     }
@@ -118,9 +118,9 @@ mod tests {
         for n in [1e3, 1e6, 1e12] {
             let e = grounded([2.0, 1.0, 0.1, n, 0.5, 0.5]).unwrap();
             // z reaches 1 (z_max) after xi ~ 1 and stays; by 0.5 it is 0.5 exactly enough
-            let z = e.advance_adaptive(0.0, 0.5).unwrap();
+            let z = e.flow.advance_adaptive(0.0, 0.5).unwrap();
             assert!((z - 0.5).abs() < 1e-9, "n {n}: {z}");
-            let z = e.advance_adaptive(-0.5, 1e9).unwrap();
+            let z = e.flow.advance_adaptive(-0.5, 1e9).unwrap();
             assert!((z - 1.0).abs() < 1e-9, "n {n}: {z}");
         }
     }

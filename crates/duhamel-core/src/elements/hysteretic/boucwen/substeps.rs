@@ -1,8 +1,8 @@
-//! Bouc-Wen's uniform RK4 substeps (`1 <= n <= 16`, see [`BoucWen::advance_rk4`]), the bound
+//! Bouc-Wen's uniform RK4 substeps (`1 <= n <= 16`, see [`Flow::advance_rk4`]), the bound
 //! on the substeps of one increment and the refusal of an increment that needs more (the
 //! module documentation of [`super`], "Bounded work").
 
-use super::{BoucWen, ADAPTIVE_N, H0};
+use super::{Flow, ADAPTIVE_N, H0};
 use crate::error::CoreError;
 
 /// Bound on the RK4 substeps of one branch (a saturated branch needs far fewer): an
@@ -10,7 +10,7 @@ use crate::error::CoreError;
 pub(super) const MAX_SUBSTEPS: f64 = 1e6;
 
 /// Bound on the substeps of the adaptive integration of one increment (`n > 16`, see
-/// [`BoucWen::advance_adaptive`]; never reached by an admissible state: about
+/// [`Flow::advance_adaptive`]; never reached by an admissible state: about
 /// `(len + 80) / H0`, whatever `n`); an increment that reaches it is refused rather than cut
 /// short.
 pub(super) const MAX_ADAPTIVE: usize = 200_000;
@@ -22,25 +22,7 @@ pub(super) struct TooManySubsteps {
     pub(super) needed: f64,
 }
 
-impl BoucWen {
-    /// `error` at time `t` (an element does not know its step: the driver locates it).
-    pub(super) fn at(error: CoreError, t: f64) -> CoreError {
-        match error {
-            CoreError::OutOfDomain {
-                message,
-                step,
-                last_good_time,
-                ..
-            } => CoreError::OutOfDomain {
-                message,
-                time: t,
-                step,
-                last_good_time,
-            },
-            other => other,
-        }
-    }
-
+impl Flow {
     pub(super) fn rk4_step(&self, w: f64, h: f64, positive: bool) -> f64 {
         let k1 = self.g(w, positive);
         let k2 = self.g(w + 0.5 * h * k1, positive);
@@ -126,9 +108,16 @@ impl BoucWen {
         Ok(w)
     }
 
-    /// The refusal of an increment from `u_c` to `u` that needs `too_many` substeps.
-    pub(super) fn too_many(&self, u_c: f64, u: f64, too_many: TooManySubsteps) -> CoreError {
-        let uy = self.yield_deformation();
+    /// The refusal of an increment from `u_c` to `u` (yield deformation `uy`) of the element
+    /// on `dofs` that needs `too_many` substeps.
+    pub(super) fn too_many(
+        &self,
+        dofs: &[usize],
+        uy: f64,
+        u_c: f64,
+        u: f64,
+        too_many: TooManySubsteps,
+    ) -> CoreError {
         let needed = if self.n > ADAPTIVE_N {
             format!(
                 "more than the bound of {} adaptive RK4 substeps",
@@ -151,7 +140,7 @@ impl BoucWen {
                  hysteretic variable (n = {}, beta = {:e}, gamma = {:e}: z saturates at \
                  {:e}); check `fy`, `k`, `beta` and `gamma` (values many orders of magnitude \
                  apart), or reduce `dt`",
-                self.dofs,
+                dofs,
                 (u - u_c).abs() / uy,
                 self.n,
                 self.beta,
