@@ -14,7 +14,7 @@ from numpy.typing import ArrayLike, NDArray
 from duhamel.rotor._speed import constant_speed
 from duhamel.rotor.campbell import Campbell, campbell
 from duhamel.rotor.critical import HEAVY_DAMPING, CriticalSpeeds, critical_speeds
-from duhamel.rotor.modes import Modes, complex_modes
+from duhamel.rotor.modes import Modes, complex_modes, modes_of
 from duhamel.rotor.stability import Level1Stability, level1_stability
 
 __all__ = ["LEVEL1_MODES", "EigenAnalyses"]
@@ -52,18 +52,42 @@ class EigenAnalyses:
         window = int(n_modes) + 4
         return window if sparse_worth(int(self.n_dof), window) else None
 
-    def _modes_below(self, speed: float, frequency: float) -> int | None:
+    def _modes_below(self, speed: float, frequency: float, modes: Any = None) -> int | None:
         """How many modes of a large model lie below `frequency` at `speed`, plus two (the
-        shift-invert path asked for more until one is above it); None for small models."""
+        shift-invert path asked for more until one is above it); None for small models.
+        `modes`: where the modes come from (default :meth:`modes`)."""
         from duhamel.rotor._sparse_modes import sparse_worth
 
+        modes_at = self.modes if modes is None else modes
         n = 12
         while sparse_worth(int(self.n_dof), n + 4):
-            f = self.modes(speed, n + 4).frequencies
+            f = modes_at(speed, n + 4).frequencies
             if f.size < n + 4 or f[-1] > frequency:
                 return int(np.count_nonzero(f <= frequency)) + 2
             n *= 2
         return None
+
+    def _modes_near(self, speed: float, sigma: complex, k: int = 6) -> Modes | None:
+        """The oscillatory modes among the `k` eigenvalues nearest `sigma` at `speed` (a
+        large model's shift-invert path, :func:`~duhamel.rotor._sparse_modes.modes_near`),
+        ascending; None where that path does not apply (magnetic bearings' closed loops,
+        small or massless models)."""
+        from duhamel.rotor._sparse_modes import modes_near, sparse_worth
+
+        if self.magnetic or not sparse_worth(int(self.n_dof), k):
+            return None
+        w = constant_speed(speed)
+        M, K, C, G = self.matrices(w)
+        found = modes_near(M, C + w * G, K, sigma, k)
+        if found is None:
+            return None
+        lam, vec = found
+        up = lam.imag > 0.0
+        order = np.argsort(lam.imag[up], kind="stable")
+        if not order.size:
+            return None
+        return modes_of(lam[up][order], vec[:, up][:, order], np.zeros(0, dtype=complex),
+                        speed=w, length_scale=self._length_scale(), layout=self.layout)  # fmt: skip
 
     def _modes_of(
         self, M: NDArray, D: NDArray, K: NDArray, speed: float, n: int | None = None

@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._engine.validate import finite_float
-from duhamel.rotor._crossings import Crossing, crossings
+from duhamel.rotor._crossings import Crossing, Memo, crossings
 from duhamel.rotor.unbalance import _margins
 
 __all__ = ["HEAVY_DAMPING", "CriticalSpeed", "CriticalSpeeds", "critical_speeds"]
@@ -236,6 +236,7 @@ def critical_speeds(
         raise ValueError(f"`max_damping` must be a damping ratio in (0, 1], got {limit!r}")
     if probe is not None and (isinstance(probe, bool) or not isinstance(probe, int | np.integer)):
         raise TypeError(f"`probe` must be a node number, got {probe!r}")
+    analyses = Memo(analyses)
     n_modes, window = _windows(analyses, speeds, harmonic, n_modes)
     found = crossings(analyses, speeds, harmonic, whirl, n_modes, window)
     h = float(harmonic)
@@ -292,7 +293,7 @@ def _windows(
         return n_modes, None  # the crossings' own checks name what is wrong
     if n_modes is None and ws.size and np.all(np.isfinite(ws)) and h > 0.0:
         top = 1.25 * h * float(np.max(np.abs(ws)))
-        counts = [below(float(w), top) for w in (float(ws.min()), float(ws.max()))]
+        counts = [below(float(w), top, analyses.modes) for w in (float(ws.min()), float(ws.max()))]
         if all(c is not None for c in counts):
             n_modes = max(counts)  # type: ignore[type-var]
     return n_modes, analyses._window(n_modes)
