@@ -21,7 +21,7 @@ both ``duhamel.loads.Tabulated``.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -58,7 +58,8 @@ class TorsionalCoupling:
 
     i: int
     j: int | None = None
-    stiffness: float = 0.0
+    _: KW_ONLY
+    stiffness: float
     damping: float = 0.0
 
     def __post_init__(self) -> None:
