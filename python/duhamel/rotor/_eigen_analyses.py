@@ -59,7 +59,7 @@ class EigenAnalyses:
         from duhamel.rotor._sparse_modes import sparse_worth
 
         modes_at = self.modes if modes is None else modes
-        n = 12
+        n = 5  # probes 9, 14, 24, ... modes; 9 is the Campbell window (count + 6) of 3 below
         while sparse_worth(int(self.n_dof), n + 4):
             f = modes_at(speed, n + 4).frequencies
             if f.size < n + 4 or f[-1] > frequency:

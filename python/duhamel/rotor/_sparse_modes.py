@@ -49,6 +49,16 @@ def _scale(M: Any, K: Any) -> float:
     return float(np.sqrt(top)) if top > 0.0 else 1.0
 
 
+def _csc(a: NDArray[np.float64], rows: NDArray[np.intp], cols: NDArray[np.intp]) -> Any:
+    """``scipy.sparse.csc_matrix(a)`` (the same arrays) from the nonzero entries of `a` among
+    those at ``(rows, cols)`` (row-major, a superset of its nonzeros)."""
+    import scipy.sparse as sp
+
+    v = a[rows, cols]
+    keep = v != 0.0
+    return sp.csc_matrix((v[keep], (rows[keep], cols[keep])), shape=a.shape)
+
+
 def lowest_modes(
     M: NDArray[np.float64],
     D: NDArray[np.float64],
@@ -67,7 +77,8 @@ def lowest_modes(
     nd = M.shape[0]
     if np.any(np.diag(M) <= 0.0):
         return None  # massless dofs: infinite eigenvalues, the dense QZ path
-    Ms, Ds, Ks = (sp.csc_matrix(a) for a in (M, D, K))
+    rows, cols = np.nonzero((M != 0.0) | (D != 0.0) | (K != 0.0))  # one scan of the band
+    Ms, Ds, Ks = (_csc(a, rows, cols) for a in (M, D, K))
     scale = _scale(Ms, Ks)
     sigma = 0.0
     try:
