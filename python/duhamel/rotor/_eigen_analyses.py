@@ -312,14 +312,17 @@ class EigenAnalyses:
 
         The tracked :meth:`campbell` on `speeds` brackets each crossing; each is then refined
         on the eigenproblem itself (Brent's method to 1e-12 relative, following the branch by
-        its shape), so the result does not depend on the grid once the grid separates the
-        crossings. A crossing whose mode's damping ratio exceeds `max_damping` (0.2: ``AF``
-        about ``1 / (2 zeta) = 2.5``, API 684's critically damped limit) is not a critical
-        speed to keep away from: it goes to ``heavily_damped``. For each other synchronous
+        its shape: on a large model among the few modes nearest the branch's last
+        eigenvalue, by a complex shift-invert), so the result does not depend on the grid
+        once the grid separates the crossings. A crossing whose mode's damping ratio
+        exceeds `max_damping` (0.2: ``AF`` about ``1 / (2 zeta) = 2.5``, API 684's
+        critically damped limit) is not a critical speed to keep away from: it goes to
+        ``heavily_damped``. For each other synchronous
         one (``harmonic = 1``) the unbalance response near it (an unbalance at the node of
         the mode's largest translation, read there; or `unbalances` read at `probe`) gives
-        the peak speed ``N_c`` and the half-power speeds ``N_1, N_2`` (each refined on the
-        response by Brent's method), ``AF = N_c / (N_2 - N_1)``, and with `operating` the
+        the peak speed ``N_c`` (Newton's method on the response's derivative) and the
+        half-power speeds ``N_1, N_2`` (Brent's method on the response),
+        ``AF = N_c / (N_2 - N_1)``, and with `operating` the
         separation margin and the one API 684 requires.
 
         Parameters
