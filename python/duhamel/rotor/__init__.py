@@ -54,6 +54,7 @@ from duhamel.rotor.plot import plot_campbell, plot_orbit
 from duhamel.rotor.ross import RossDofs, RossModel, RossRotor, from_ross
 from duhamel.rotor.shaft import Shaft, cowper_shear_coefficient
 from duhamel.rotor.stability import Level1Stability, Stage, anticipated_cross_coupling
+from duhamel.rotor.torsion import Torsion, TorsionalCoupling, TorsionalModes
 from duhamel.rotor.unbalance import Peak, UnbalanceResponse, unbalance_response
 
 __all__ = [
@@ -92,6 +93,9 @@ __all__ = [
     "Stage",
     "StateSpace",
     "SuddenForce",
+    "Torsion",
+    "TorsionalCoupling",
+    "TorsionalModes",
     "Unbalance",
     "UnbalanceResponse",
     "VectorStep",

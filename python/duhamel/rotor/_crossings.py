@@ -5,6 +5,7 @@ what is reported of each, :mod:`duhamel.rotor.critical`)."""
 from __future__ import annotations
 
 import itertools
+from dataclasses import replace
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -12,7 +13,14 @@ from numpy.typing import ArrayLike, NDArray
 
 from duhamel._engine.validate import as_float_array, positive_float
 
-__all__ = ["Crossing", "crossings"]
+__all__ = ["Crossing", "Memo", "crossings"]
+
+#: A refinement step follows its branch among the few modes nearest the branch's last
+#: eigenvalue (shift-invert with that shift) when one of them has at least this MAC with the
+#: branch's shape at the bracket's start; else among the whole window.
+NEAR_MAC = 0.9
+#: How many eigenvalues nearest the shift a refinement step takes.
+NEAR_MODES = 6
 
 
 class Crossing(NamedTuple):
@@ -71,10 +79,15 @@ def crossings(
             other = np.asarray(here.whirl) != diagram.whirl[p, j]
             ref = here.shapes[:, int(np.lexsort((other, gap))[0])]
 
-            def branch(w: float, ref: NDArray = ref, f0: float = freq[p, j]) -> float:
-                m = analyses.modes(w, window)
+            last = [complex(here.eigenvalues[int(np.lexsort((other, gap))[0])])]
+
+            def branch(w: float, ref: NDArray = ref, f0: float = freq[p, j],
+                       last: list[complex] = last) -> float:  # fmt: skip
+                m = _following(analyses, w, last[0], ref, window)
                 score = m.mac_with(ref) - 1e-9 * np.abs(m.frequencies - f0) / max(abs(f0), 1.0)
-                return float(m.frequencies[int(np.argmax(score))]) - h * w
+                k = int(np.argmax(score))
+                last[0] = complex(m.eigenvalues[k])
+                return float(m.frequencies[k]) - h * w
 
             if g[p] == 0.0:
                 root = a
@@ -89,6 +102,53 @@ def crossings(
             # pair): listed once, as the forward one that unbalance excites
             out.append(c)
     return out
+
+
+def _following(
+    analyses: Any, w: float, sigma: complex, ref: NDArray[np.complex128], window: int | None
+) -> Any:
+    """The modes at `w` among which a refinement step follows its branch: the few nearest
+    the branch's last eigenvalue `sigma` (large models), or the whole window when none of
+    those is the branch (MAC with `ref` below :data:`NEAR_MAC`) or that path does not apply."""
+    near = getattr(analyses, "_modes_near", None)
+    if window is not None and near is not None:
+        m = near(w, sigma, NEAR_MODES)
+        if m is not None and m.n_modes and float(np.max(m.mac_with(ref))) >= NEAR_MAC:
+            return m
+    return analyses.modes(w, window)
+
+
+class Memo:
+    """`analyses` whose modes at each speed are kept for one critical-speed search (the
+    bracketing Campbell diagram, the window's sizing and the brackets' starts ask for the
+    same speeds); fewer modes than kept are the kept ones' lowest."""
+
+    def __init__(self, analyses: Any):
+        self._analyses = analyses
+        self._kept: dict[float, list[tuple[int | None, Any]]] = {}
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._analyses, name)
+
+    def modes(self, speed: float, n: int | None = None) -> Any:
+        w = float(speed)
+        for have, m in self._kept.get(w, ()):
+            if have == n:
+                return m
+            if n is not None and have is not None and have >= n and m.n_modes >= n:
+                return replace(m, eigenvalues=m.eigenvalues[:n], shapes=m.shapes[:, :n],
+                               whirl=m.whirl[:n])  # fmt: skip
+        m = self._analyses.modes(w, n)
+        self._kept.setdefault(w, []).append((n, m))
+        return m
+
+    def campbell(self, speeds: ArrayLike, n_modes: int | None = None) -> Any:
+        window = getattr(self._analyses, "_window", None)
+        if window is None:
+            return self._analyses.campbell(speeds, n_modes)
+        from duhamel.rotor.campbell import campbell
+
+        return campbell(self.modes, speeds, n_modes, window=window(n_modes))
 
 
 def _mode_at(

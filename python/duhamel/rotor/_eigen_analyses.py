@@ -14,7 +14,7 @@ from numpy.typing import ArrayLike, NDArray
 from duhamel.rotor._speed import constant_speed
 from duhamel.rotor.campbell import Campbell, campbell
 from duhamel.rotor.critical import HEAVY_DAMPING, CriticalSpeeds, critical_speeds
-from duhamel.rotor.modes import Modes, complex_modes
+from duhamel.rotor.modes import Modes, complex_modes, modes_of
 from duhamel.rotor.stability import Level1Stability, level1_stability
 
 __all__ = ["LEVEL1_MODES", "EigenAnalyses"]
@@ -52,18 +52,42 @@ class EigenAnalyses:
         window = int(n_modes) + 4
         return window if sparse_worth(int(self.n_dof), window) else None
 
-    def _modes_below(self, speed: float, frequency: float) -> int | None:
+    def _modes_below(self, speed: float, frequency: float, modes: Any = None) -> int | None:
         """How many modes of a large model lie below `frequency` at `speed`, plus two (the
-        shift-invert path asked for more until one is above it); None for small models."""
+        shift-invert path asked for more until one is above it); None for small models.
+        `modes`: where the modes come from (default :meth:`modes`)."""
         from duhamel.rotor._sparse_modes import sparse_worth
 
-        n = 12
+        modes_at = self.modes if modes is None else modes
+        n = 5  # probes 9, 14, 24, ... modes; 9 is the Campbell window (count + 6) of 3 below
         while sparse_worth(int(self.n_dof), n + 4):
-            f = self.modes(speed, n + 4).frequencies
+            f = modes_at(speed, n + 4).frequencies
             if f.size < n + 4 or f[-1] > frequency:
                 return int(np.count_nonzero(f <= frequency)) + 2
             n *= 2
         return None
+
+    def _modes_near(self, speed: float, sigma: complex, k: int = 6) -> Modes | None:
+        """The oscillatory modes among the `k` eigenvalues nearest `sigma` at `speed` (a
+        large model's shift-invert path, :func:`~duhamel.rotor._sparse_modes.modes_near`),
+        ascending; None where that path does not apply (magnetic bearings' closed loops,
+        small or massless models)."""
+        from duhamel.rotor._sparse_modes import modes_near, sparse_worth
+
+        if self.magnetic or not sparse_worth(int(self.n_dof), k):
+            return None
+        w = constant_speed(speed)
+        M, K, C, G = self.matrices(w)
+        found = modes_near(M, C + w * G, K, sigma, k)
+        if found is None:
+            return None
+        lam, vec = found
+        up = lam.imag > 0.0
+        order = np.argsort(lam.imag[up], kind="stable")
+        if not order.size:
+            return None
+        return modes_of(lam[up][order], vec[:, up][:, order], np.zeros(0, dtype=complex),
+                        speed=w, length_scale=self._length_scale(), layout=self.layout)  # fmt: skip
 
     def _modes_of(
         self, M: NDArray, D: NDArray, K: NDArray, speed: float, n: int | None = None
@@ -288,14 +312,17 @@ class EigenAnalyses:
 
         The tracked :meth:`campbell` on `speeds` brackets each crossing; each is then refined
         on the eigenproblem itself (Brent's method to 1e-12 relative, following the branch by
-        its shape), so the result does not depend on the grid once the grid separates the
-        crossings. A crossing whose mode's damping ratio exceeds `max_damping` (0.2: ``AF``
-        about ``1 / (2 zeta) = 2.5``, API 684's critically damped limit) is not a critical
-        speed to keep away from: it goes to ``heavily_damped``. For each other synchronous
+        its shape: on a large model among the few modes nearest the branch's last
+        eigenvalue, by a complex shift-invert), so the result does not depend on the grid
+        once the grid separates the crossings. A crossing whose mode's damping ratio
+        exceeds `max_damping` (0.2: ``AF`` about ``1 / (2 zeta) = 2.5``, API 684's
+        critically damped limit) is not a critical speed to keep away from: it goes to
+        ``heavily_damped``. For each other synchronous
         one (``harmonic = 1``) the unbalance response near it (an unbalance at the node of
         the mode's largest translation, read there; or `unbalances` read at `probe`) gives
-        the peak speed ``N_c`` and the half-power speeds ``N_1, N_2`` (each refined on the
-        response by Brent's method), ``AF = N_c / (N_2 - N_1)``, and with `operating` the
+        the peak speed ``N_c`` (Newton's method on the response's derivative) and the
+        half-power speeds ``N_1, N_2`` (Brent's method on the response),
+        ``AF = N_c / (N_2 - N_1)``, and with `operating` the
         separation margin and the one API 684 requires.
 
         Parameters

@@ -49,6 +49,16 @@ def _scale(M: Any, K: Any) -> float:
     return float(np.sqrt(top)) if top > 0.0 else 1.0
 
 
+def _csc(a: NDArray[np.float64], rows: NDArray[np.intp], cols: NDArray[np.intp]) -> Any:
+    """``scipy.sparse.csc_matrix(a)`` (the same arrays) from the nonzero entries of `a` among
+    those at ``(rows, cols)`` (row-major, a superset of its nonzeros)."""
+    import scipy.sparse as sp
+
+    v = a[rows, cols]
+    keep = v != 0.0
+    return sp.csc_matrix((v[keep], (rows[keep], cols[keep])), shape=a.shape)
+
+
 def lowest_modes(
     M: NDArray[np.float64],
     D: NDArray[np.float64],
@@ -67,7 +77,8 @@ def lowest_modes(
     nd = M.shape[0]
     if np.any(np.diag(M) <= 0.0):
         return None  # massless dofs: infinite eigenvalues, the dense QZ path
-    Ms, Ds, Ks = (sp.csc_matrix(a) for a in (M, D, K))
+    rows, cols = np.nonzero((M != 0.0) | (D != 0.0) | (K != 0.0))  # one scan of the band
+    Ms, Ds, Ks = (_csc(a, rows, cols) for a in (M, D, K))
     scale = _scale(Ms, Ks)
     sigma = 0.0
     try:
@@ -103,3 +114,52 @@ def lowest_modes(
             return lam, Z, scale
         k = (3 * k) // 2
     return None
+
+
+def modes_near(
+    M: NDArray[np.float64],
+    D: NDArray[np.float64],
+    K: NDArray[np.float64],
+    sigma: complex,
+    k: int,
+) -> tuple[NDArray[np.complex128], NDArray[np.complex128]] | None:
+    """The `k` eigenvalues of ``lambda^2 M + lambda D + K`` nearest the complex shift
+    `sigma` and their shapes (the dofs' rows), by shift-invert Arnoldi with the complex
+    ``T(sigma) = K + sigma D + sigma^2 M`` (one LU, a few dozen solves): how a critical
+    speed's refinement follows one branch without the whole window of modes. None when it
+    does not apply (massless dofs, ``T(sigma)`` singular, no convergence)."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    nd = M.shape[0]
+    if np.any(np.diag(M) <= 0.0) or not 0 < k < 2 * nd - 1:
+        return None
+    s = complex(sigma)
+    rows, cols = np.nonzero((M != 0.0) | (D != 0.0) | (K != 0.0))  # one banded pattern
+
+    Mv, Dv, Kv = M[rows, cols], D[rows, cols], K[rows, cols]
+    T = sp.csc_matrix((Kv + s * Dv + (s * s) * Mv, (rows, cols)), shape=(nd, nd))
+    if not np.all(np.isfinite(T.data)):
+        return None
+    try:
+        lu = spla.splu(T)
+    except RuntimeError:  # exactly singular
+        return None
+    if not np.all(np.isfinite(lu.U.diagonal())):
+        return None  # (nearly singular is what a shift near an eigenvalue gives)
+    DsM = sp.csr_matrix((Dv + s * Mv, (rows, cols)), shape=(nd, nd))
+    Mr = sp.csr_matrix((Mv, (rows, cols)), shape=(nd, nd))
+
+    def apply(y: NDArray) -> NDArray:
+        z1 = -lu.solve(np.asarray(Mr @ y[nd:] + DsM @ y[:nd]))
+        return np.concatenate([z1, y[:nd] + s * z1])
+
+    op = spla.LinearOperator((2 * nd, 2 * nd), matvec=apply, dtype=complex)
+    try:
+        mu, Z = spla.eigs(op, k=k, which="LM", tol=0.0, v0=np.ones(2 * nd, dtype=complex))
+    except spla.ArpackNoConvergence:
+        return None
+    with np.errstate(divide="ignore"):
+        lam = s + 1.0 / mu
+    keep = np.isfinite(lam)
+    return lam[keep], Z[:nd, keep]
