@@ -62,32 +62,24 @@ pub fn mode_bounds(run: &ModalRun<'_>) -> Vec<f64> {
         return vec![0.0; n];
     }
     let (p, q) = (run.pseudo, run.q);
-    // |Q''| h^2 per internal step from the second differences (saved spacing k h), row by
-    // row (`(rows - 2, n)`, row-major: one pass over the history), and their sums per mode
+    // |Q''| h^2 per internal step from the second differences (saved spacing k h), summed
+    // per mode; the frequency at which a velocity error becomes a displacement error: the
+    // background stiffened by the part of the pseudo-force in phase with the mode (a secant
+    // over the run, never below omega); at least the drift over half the run for slow,
+    // rigid modes. One pass over the history, row by row (no copy of it).
     let len = rows - 2;
-    let mut second = vec![0.0; len * n];
-    let mut sums = vec![0.0; n];
-    for (i, out) in second.chunks_exact_mut(n).enumerate() {
-        let (a, b, c) = (
-            &p[i * n..(i + 1) * n],
-            &p[(i + 1) * n..(i + 2) * n],
-            &p[(i + 2) * n..(i + 3) * n],
-        );
-        for m in 0..n {
-            let v = ((c[m] + a[m]) - 2.0 * b[m]).abs();
-            out[m] = v;
-            sums[m] += v;
-        }
-    }
-    // the frequency at which a velocity error becomes a displacement error: the background
-    // stiffened by the part of the pseudo-force in phase with the mode (a secant over the
-    // run, never below omega); at least the drift over half the run for slow, rigid modes
-    let (mut qq, mut pq) = (vec![0.0; n], vec![0.0; n]);
+    let (mut sums, mut qq, mut pq) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     for r in 0..rows {
         let (pr, qr) = (&p[r * n..(r + 1) * n], &q[r * n..(r + 1) * n]);
         for m in 0..n {
             qq[m] += qr[m] * qr[m];
             pq[m] += pr[m] * qr[m];
+        }
+        if r < len {
+            let (b, c) = (&p[(r + 1) * n..(r + 2) * n], &p[(r + 2) * n..(r + 3) * n]);
+            for m in 0..n {
+                sums[m] += second(pr[m], b[m], c[m]);
+            }
         }
     }
     let floor = 2.0 / run.span.max(run.h);
@@ -125,12 +117,98 @@ pub fn mode_bounds(run: &ModalRun<'_>) -> Vec<f64> {
         }
     }
     let chosen: Vec<usize> = (0..n).filter(|&m| big[m]).collect();
-    let rates: Vec<f64> = chosen.iter().map(|&m| decay[m]).collect();
-    let top = decaying_max_rows(&second, n, &chosen, &rates);
+    let top = decaying_max_of_seconds(p, n, len, &chosen, &decay);
     for (&m, t) in chosen.iter().zip(top) {
         out[m] = scale[m] * t;
     }
     out
+}
+
+/// The magnitude of a second difference (the estimate's `|Q''| h^2` at the saved spacing).
+fn second(a: f64, b: f64, c: f64) -> f64 {
+    ((c + a) - 2.0 * b).abs()
+}
+
+/// [`decaying_max`] of the `modes`' second differences of the row-major history `p` (`n`
+/// columns, `len + 2` rows), computed as they are read, one pass over the rows for every
+/// mode at once (the same values, in the same order, as on the stored differences).
+fn decaying_max_of_seconds(
+    p: &[f64],
+    n: usize,
+    len: usize,
+    modes: &[usize],
+    decay: &[f64],
+) -> Vec<f64> {
+    let rate: Vec<f64> = modes
+        .iter()
+        .map(|&m| -decay[m].clamp(1e-300, 1.0).ln())
+        .collect();
+    let mut best = vec![0.0; modes.len()];
+    let most = |a: f64, b: f64| {
+        if a.is_nan() || b.is_nan() {
+            f64::NAN
+        } else {
+            a.max(b)
+        }
+    };
+    let (fast, slow): (Vec<usize>, Vec<usize>) = (0..modes.len()).partition(|&j| rate[j] > 0.5);
+    let fastest = slow.iter().map(|&j| rate[j]).fold(0.0_f64, f64::max);
+    let g = if fastest > 0.0 {
+        ((len as f64).min(floor_div(0.1, fastest)) as usize).max(1)
+    } else {
+        1 // undamped: running sums
+    };
+    let step: Vec<f64> = slow.iter().map(|&j| (-rate[j] * g as f64).exp()).collect();
+    let mut peak = vec![0.0_f64; fast.len()];
+    let (mut acc, mut top, mut sum) = (
+        vec![0.0_f64; slow.len()],
+        vec![0.0_f64; slow.len()],
+        vec![0.0_f64; slow.len()],
+    );
+    let mut push = |sum: &mut [f64]| {
+        for s in 0..sum.len() {
+            acc[s] = step[s] * acc[s] + sum[s];
+            top[s] = most(top[s], acc[s]);
+            sum[s] = 0.0;
+        }
+    };
+    let mut filled = 0;
+    for r in 0..len {
+        let (a, b, c) = (
+            &p[r * n..(r + 1) * n],
+            &p[(r + 1) * n..(r + 2) * n],
+            &p[(r + 2) * n..(r + 3) * n],
+        );
+        for (top, &j) in peak.iter_mut().zip(&fast) {
+            let m = modes[j];
+            *top = most(*top, second(a[m], b[m], c[m]));
+        }
+        for (sum, &j) in sum.iter_mut().zip(&slow) {
+            let m = modes[j];
+            *sum += second(a[m], b[m], c[m]);
+        }
+        filled += 1;
+        if filled == g {
+            push(&mut sum);
+            filled = 0;
+        }
+    }
+    if g >= 2 && !slow.is_empty() && len > 0 {
+        push(&mut sum); // the values left over after whole groups (none: a zero input)
+    }
+    for (t, &j) in peak.iter().zip(&fast) {
+        best[j] = t / (1.0 - decay[modes[j]]);
+    }
+    if len > 0 {
+        for (s, &j) in slow.iter().enumerate() {
+            best[j] = if g >= 2 {
+                top[s] * (rate[j] * g as f64).exp()
+            } else {
+                top[s]
+            };
+        }
+    }
+    best
 }
 
 /// One quantity of a run whose error is estimated relative to its peak: its components'
@@ -215,23 +293,9 @@ fn floor_div(a: f64, b: f64) -> f64 {
 /// `e^0.2` of the recurrence, `g` times fewer values.
 pub fn decaying_max(x: &[f64], len: usize, decay: &[f64]) -> Vec<f64> {
     let n = decay.len();
-    let mut rows = vec![0.0; len * n];
-    for (m, values) in x.chunks_exact(len.max(1)).take(n).enumerate() {
-        for (r, &v) in values.iter().enumerate() {
-            rows[r * n + m] = v;
-        }
-    }
-    let columns: Vec<usize> = (0..n).collect();
-    decaying_max_rows(&rows, n, &columns, decay)
-}
-
-/// [`decaying_max`] of the `columns` of a row-major matrix `x` of `width` columns (`decay`
-/// per chosen column): every chosen column's recurrence in one pass over the rows.
-fn decaying_max_rows(x: &[f64], width: usize, columns: &[usize], decay: &[f64]) -> Vec<f64> {
-    let n = columns.len();
-    let rows = x.len().checked_div(width).unwrap_or(0);
     let rate: Vec<f64> = decay.iter().map(|d| -d.clamp(1e-300, 1.0).ln()).collect();
     let mut best = vec![0.0; n];
+    let row = |m: usize| &x[m * len..(m + 1) * len];
     // maxima that keep a NaN (a history that is not finite is not estimated)
     let most = |a: f64, b: f64| {
         if a.is_nan() || b.is_nan() {
@@ -240,66 +304,46 @@ fn decaying_max_rows(x: &[f64], width: usize, columns: &[usize], decay: &[f64]) 
             a.max(b)
         }
     };
-    let (fast, slow): (Vec<usize>, Vec<usize>) = (0..n).partition(|&j| rate[j] > 0.5);
-    if !fast.is_empty() {
-        let mut top = vec![0.0_f64; fast.len()];
-        for row in x.chunks_exact(width.max(1)).take(rows) {
-            for (t, &j) in top.iter_mut().zip(&fast) {
-                *t = most(*t, row[columns[j]]);
-            }
-        }
-        for (t, &j) in top.iter().zip(&fast) {
-            best[j] = t / (1.0 - decay[j]);
+    let mut slow = Vec::with_capacity(n);
+    for m in 0..n {
+        if rate[m] > 0.5 {
+            best[m] = row(m).iter().fold(0.0_f64, |a, &b| most(a, b)) / (1.0 - decay[m]);
+        } else {
+            slow.push(m);
         }
     }
-    if slow.is_empty() || rows == 0 {
+    if slow.is_empty() || len == 0 {
         return best;
     }
-    let fastest = slow.iter().map(|&j| rate[j]).fold(0.0_f64, f64::max);
+    let fastest = slow.iter().map(|&m| rate[m]).fold(0.0_f64, f64::max);
     let g = if fastest > 0.0 {
-        (rows as f64).min(floor_div(0.1, fastest)) as usize
+        (len as f64).min(floor_div(0.1, fastest)) as usize
     } else {
         1 // undamped: running sums
     };
-    let g = g.max(1);
-    // groups of `g` rows summed (one row when g = 1), then the recurrence at the groups'
-    // ends; a last group of the rows left over (empty: a zero input)
-    let step: Vec<f64> = slow.iter().map(|&j| (-rate[j] * g as f64).exp()).collect();
-    let (mut acc, mut top, mut sum) = (
-        vec![0.0_f64; slow.len()],
-        vec![0.0_f64; slow.len()],
-        vec![0.0_f64; slow.len()],
-    );
-    let mut push = |sum: &mut [f64]| {
-        for s in 0..sum.len() {
-            acc[s] = step[s] * acc[s] + sum[s];
-            top[s] = most(top[s], acc[s]);
-            sum[s] = 0.0;
-        }
-    };
-    let add = |sum: &mut [f64], rows: &[f64]| {
-        for row in rows.chunks_exact(width) {
-            for (s, &j) in slow.iter().enumerate() {
-                sum[s] += row[columns[j]];
+    for m in slow {
+        let values = row(m);
+        let (mut acc, mut top) = (0.0_f64, 0.0_f64);
+        if g >= 2 {
+            // groups of `g` values summed, the recurrence at the groups' ends; a last group
+            // of the values left over (after whole groups: a zero input)
+            let step = (-rate[m] * g as f64).exp();
+            let whole = len / g * g;
+            for group in values[..whole].chunks_exact(g) {
+                acc = step * acc + group.iter().sum::<f64>();
+                top = most(top, acc);
             }
-        }
-    };
-    let whole = rows / g * g;
-    for group in x[..whole * width].chunks_exact(g * width) {
-        add(&mut sum, group);
-        push(&mut sum);
-    }
-    if g >= 2 {
-        // the rows left over (after whole groups: a zero input)
-        add(&mut sum, &x[whole * width..rows * width]);
-        push(&mut sum);
-    }
-    for (s, &j) in slow.iter().enumerate() {
-        best[j] = if g >= 2 {
-            top[s] * (rate[j] * g as f64).exp()
+            acc = step * acc + values[whole..].iter().sum::<f64>();
+            top = most(top, acc);
+            best[m] = top * (rate[m] * g as f64).exp();
         } else {
-            top[s]
-        };
+            let step = (-rate[m]).exp();
+            for &v in values {
+                acc = step * acc + v;
+                top = most(top, acc);
+            }
+            best[m] = top;
+        }
     }
     best
 }

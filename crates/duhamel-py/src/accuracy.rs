@@ -92,7 +92,7 @@ pub(crate) fn parabola_moments<'py>(
         }
         check_step(h, 1)?;
         let n = omega.len();
-        Ok(PyArray1::from_vec(py, accuracy::parabola_moments(omega, c, h)).reshape([n, 2])?)
+        PyArray1::from_vec(py, accuracy::parabola_moments(omega, c, h)).reshape([n, 2])
     })
 }
 

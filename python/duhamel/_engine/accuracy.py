@@ -17,8 +17,8 @@ sums the modes' bounds times the magnitude of their shapes there. See docs/accur
 
 from __future__ import annotations
 
-import functools
 import os
+import sys
 import warnings
 from dataclasses import replace
 from typing import Any
@@ -153,16 +153,27 @@ def warn_above(integrator: Any, dofs: float | None, elements: tuple[float, ...])
 def _caller_level() -> int:
     """The ``stacklevel`` of the first frame outside the duhamel package (the user's call
     of ``solve`` or ``Prepared.run``, whatever the path to here)."""
-    import sys
-
     frame: Any = sys._getframe(1)
     level = 1
-    while frame is not None and _inside_package(frame.f_code.co_filename):
+    inside = _INSIDE
+    while frame is not None:
+        filename = frame.f_code.co_filename
+        known = inside.get(filename)
+        if known is None:
+            if len(inside) >= 1024:
+                inside.clear()
+            known = inside[filename] = _inside_package(filename)
+        if not known:
+            break
         frame, level = frame.f_back, level + 1
     return level
 
 
-@functools.lru_cache(maxsize=256)
+#: Whether a code object's file is one of the package's, by file name (a dict: the frames
+#: of every warned run are looked up).
+_INSIDE: dict[str, bool] = {}
+
+
 def _inside_package(filename: str) -> bool:
     """Whether `filename` (a code object's) is a file of the duhamel package."""
     package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
