@@ -22,7 +22,6 @@ import numpy as np
 
 import duhamel
 import duhamel._engine.accuracy as accuracy
-import duhamel._engine.modal as modal
 
 _SPENT: list[float] = []
 _ESTIMATOR = accuracy.estimator
@@ -63,7 +62,7 @@ def _frame(n: int = 60) -> duhamel.System:
 
 
 def main(repeats: int = 7) -> None:
-    modal.estimator = _timed
+    accuracy.estimator = _timed
     warnings.simplefilter("ignore", duhamel.AccuracyWarning)
     cases = (
         ("Duffing, 100 periods, 200 steps a period", _duffing, dict(

@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 from duhamel import _core
 from duhamel.errors import AccuracyWarning
 
-__all__ = ["applies", "estimator", "mode_bounds", "parabola_moments", "warn_above"]
+__all__ = ["applies", "estimator", "mode_bounds", "parabola_moments", "run_estimate", "warn_above"]
 
 
 def parabola_moments(
@@ -117,18 +117,60 @@ def estimator(prep: Any, dofs: NDArray[np.int64]) -> Any:
     """The core's ``Estimator`` of runs of `prep` saving `dofs`: the modes, the magnitudes of
     the mode shapes at those dofs and along every element's deformation (``phi_i - phi_j``
     for a two-node element, the rows of its dofs otherwise; none for the elements when one
-    of them is not reached by the basis's rows)."""
+    of them is not reached by the basis's rows). Shared by the models whose basis arrays
+    are the same objects (systems with the same matrices share their first modal analysis,
+    ``_engine.shared``) and whose elements act on the same dofs."""
     basis = prep.route.basis
-    elements = [
-        (list(getattr(e, "_dofs", ())), getattr(e, "j", None) is not None) for e in prep.forces
-    ]
-    return _core.Estimator(
-        np.ascontiguousarray(basis.omega, dtype=np.float64),
-        np.ascontiguousarray(basis.c, dtype=np.float64),
-        np.ascontiguousarray(basis.phi, dtype=np.float64),
-        np.ascontiguousarray(dofs, dtype=np.int64),
-        elements,
+    omega, c, phi = basis.omega, basis.c, basis.phi
+    elements = tuple(
+        (tuple(getattr(e, "_dofs", ())), getattr(e, "j", None) is not None) for e in prep.forces
     )
+    key = (id(omega), id(c), id(phi), dofs.tobytes(), elements)
+    got = _ESTIMATORS.get(key)
+    if got is None or got[0] is not omega or got[1] is not c or got[2] is not phi:
+        core = _core.Estimator(
+            np.ascontiguousarray(omega, dtype=np.float64),
+            np.ascontiguousarray(c, dtype=np.float64),
+            np.ascontiguousarray(phi, dtype=np.float64),
+            np.ascontiguousarray(dofs, dtype=np.int64),
+            [(list(d), two_node) for d, two_node in elements],
+        )
+        if len(_ESTIMATORS) >= 16:
+            _ESTIMATORS.pop(next(iter(_ESTIMATORS)))  # the oldest
+        got = _ESTIMATORS[key] = (omega, c, phi, core)  # the arrays kept: ids not reused
+    return got[3]
+
+
+#: The last estimators made, by the identity of their basis arrays (held with them), the
+#: saved dofs and the elements' dofs (:func:`estimator`).
+_ESTIMATORS: dict[tuple[Any, ...], tuple[Any, Any, Any, Any]] = {}
+
+
+def run_estimate(
+    prep: Any,
+    dofs: NDArray[np.int64],
+    result: Any,
+    h: float,
+    k: int,
+    x: NDArray[np.float64],
+    elements: bool,
+) -> tuple[float | None, tuple[float, ...]] | None:
+    """``(error_estimate, element_error_estimate)`` of a whole successful core run `result`
+    of the prepared modal model `prep` (internal steps `h`, `k` of them between saved
+    instants; `x` the response of the saved `dofs`; `elements`: the element histories are
+    kept), or None where the run is not estimated (see :func:`applies`; a history that is
+    not finite)."""
+    estimated = prep._estimated
+    if estimated is None:
+        estimated = prep._estimated = applies(prep)
+    if not estimated or result.eta is not None:
+        return None
+    if result.pseudo is None and not prep.forces:
+        return 0.0, ()  # no pseudo-force and no element: nothing left out (exact)
+    core = estimator(prep, dofs)
+    keeps = elements and bool(prep.forces)
+    got = core.estimate(result, h, k, np.ascontiguousarray(x), keeps)
+    return None if got is None else (got[0], tuple(got[1]))
 
 
 def warn_above(integrator: Any, dofs: float | None, elements: tuple[float, ...]) -> None:

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._engine import dispatch
-from duhamel._engine.accuracy import applies, estimator, to_tolerance, warn_above
+from duhamel._engine.accuracy import run_estimate, to_tolerance, warn_above
 from duhamel._engine.background import background
 from duhamel._engine.correction import substeps
 from duhamel._engine.dense import ExactSteps, State
@@ -74,23 +74,7 @@ class ModalSetup:
     _zeros: NDArray[np.float64] | None = None
     _substeps: dict[float, int] = field(default_factory=dict)
     _stepwise: Any = None  # the uncoupled route's model stepped one step at a time
-    _estimators: dict[int, tuple[Outputs, Any]] = field(default_factory=dict)
-    _estimated: bool | None = None
-
-    def estimator(self, out: Outputs) -> Any:
-        """The core's error estimate of runs saving `out` (:func:`duhamel._engine.accuracy.
-        estimator`), made once per choice of dofs; None where this model's runs are not
-        estimated."""
-        if self._estimated is None:
-            self._estimated = applies(self)
-        if not self._estimated:
-            return None
-        got = self._estimators.get(id(out))
-        if got is None or got[0] is not out:
-            if len(self._estimators) >= 16:
-                self._estimators.clear()
-            got = self._estimators[id(out)] = (out, estimator(self, out.dofs))
-        return got[1]
+    _estimated: bool | None = None  # whether its runs are estimated (accuracy.applies)
 
     def stepwise(self) -> Any:
         """The core's model of a run that accumulates its energy (:func:`_engine.energy_run.
@@ -347,15 +331,10 @@ def solution(
         x, vel = x + terms[0], vel + terms[1]
         acc = _plus(acc, terms[2])
     # the error estimate of a whole successful run (issue 41), computed in the core
-    estimated = None
-    core = prep.estimator(out) if estimate and error is None else None
-    if core is not None and kept == result.t.size and result.eta is None:
-        keeps = bool(prep.forces) and opts.elements
-        got = core.estimate(
-            result, opts.dt / sub, opts.save_every * sub, np.ascontiguousarray(x), keeps
-        )
-        if got is not None:  # (None: a history that is not finite, not estimated)
-            estimated = (got[0], tuple(got[1]))
+    estimated = None  # the error estimate of a whole successful run (issue 41)
+    if estimate and error is None and kept == result.t.size:
+        h, k = opts.dt / sub, opts.save_every * sub
+        estimated = run_estimate(prep, out.dofs, result, h, k, x, opts.elements)
     solution = Solution(
         t=t,
         x=x,
