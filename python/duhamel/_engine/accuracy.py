@@ -167,7 +167,12 @@ def run_estimate(
         return None
     if result.pseudo is None and not prep.forces:
         return 0.0, ()  # no pseudo-force and no element: nothing left out (exact)
-    core = estimator(prep, dofs)
+    last = prep._estimator  # the last estimator of this model, by its saved dofs' array
+    if last is not None and last[0] is dofs:
+        core = last[1]
+    else:
+        core = estimator(prep, dofs)
+        prep._estimator = (dofs, core)
     keeps = elements and bool(prep.forces)
     got = core.estimate(result, h, k, np.ascontiguousarray(x), keeps)
     return None if got is None else (got[0], tuple(got[1]))

@@ -75,6 +75,7 @@ class ModalSetup:
     _substeps: dict[float, int] = field(default_factory=dict)
     _stepwise: Any = None  # the uncoupled route's model stepped one step at a time
     _estimated: bool | None = None  # whether its runs are estimated (accuracy.applies)
+    _estimator: tuple[Any, Any] | None = None  # (saved dofs, the core's Estimator)
 
     def stepwise(self) -> Any:
         """The core's model of a run that accumulates its energy (:func:`_engine.energy_run.
