@@ -149,3 +149,28 @@ def test_a_runs_estimates_are_its_bounds_over_its_peaks():
     along = float(np.abs(phi[0] - phi[1]) @ bounds) / np.abs(bilinear.deformation).max()
     at = float(np.abs(phi[3]) @ bounds) / np.abs(cubic.deformation).max()
     assert sol.stats.element_error_estimate == pytest.approx((along, at), rel=1e-10)
+
+
+def test_a_run_in_segments_has_the_estimate_of_the_whole_run():
+    """A run with a terminal event is taken in chunks and joined (no core ``RunResult``): its
+    estimate, from the joined history, is the whole run's when the event never fires."""
+    from duhamel import events
+
+    n = 3
+    k = 400.0 * (2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1))
+    k[-1, -1] = 400.0
+    system = duhamel.System(np.eye(n), k, zeta=0.03)
+    system.add(duhamel.elements.Bilinear(0, 1, k=300.0, fy=0.02, alpha=0.1))
+    system.add_load(duhamel.loads.Harmonic(n - 1, amplitude=5.0, omega=9.0))
+    prepared = duhamel.prepare(system, duhamel.Semianalytic(), dt=0.005)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", duhamel.AccuracyWarning)
+        whole = prepared.run(t_end=10.0)
+        never = [events.threshold(0, 1e6, terminal=True)]
+        joined = prepared.run(t_end=10.0, events=never)
+    assert np.array_equal(whole.x, joined.x)
+    assert whole.stats.error_estimate is not None and whole.stats.error_estimate > 0
+    assert joined.stats.error_estimate == pytest.approx(whole.stats.error_estimate, rel=1e-12)
+    assert joined.stats.element_error_estimate == pytest.approx(
+        whole.stats.element_error_estimate, rel=1e-12
+    )

@@ -174,8 +174,59 @@ def run_estimate(
         core = estimator(prep, dofs)
         prep._estimator = (dofs, core)
     keeps = elements and bool(prep.forces)
+    if not isinstance(result, _core.RunResult):  # a run joined from segments (stopped)
+        return _joined_estimate(prep, dofs, result, h, k, x, keeps)
     got = core.estimate(result, h, k, np.ascontiguousarray(x), keeps)
     return None if got is None else (got[0], tuple(got[1]))
+
+
+def _joined_estimate(
+    prep: Any,
+    dofs: NDArray[np.int64],
+    result: Any,
+    h: float,
+    k: int,
+    x: NDArray[np.float64],
+    keeps: bool,
+) -> tuple[float | None, tuple[float, ...]] | None:
+    """:func:`run_estimate` of a history joined from segments (a run stopped by a terminal
+    event): the same bounds (``_core.mode_bounds``) and ratios, from its arrays."""
+    basis = prep.route.basis
+    t = result.t
+    span = float(t[-1] - t[0]) if t.size else 0.0
+    if result.pseudo is None:
+        bounds = np.zeros(prep.n_modes)
+    else:
+        bounds = mode_bounds(result.pseudo, result.q, basis.omega, basis.c, h, k, span)
+    phi = np.asarray(basis.phi)
+    dofs_est = _relative(np.abs(phi[dofs]) @ bounds, x)
+    per_element: list[float] = []
+    widths = None if result.element_force is None else list(result.element_widths)
+    if keeps and widths is not None and len(widths) == len(prep.forces):
+        ex, at = np.asarray(result.element_x), 0
+        for element, width in zip(prep.forces, widths, strict=True):
+            dofs_e = list(getattr(element, "_dofs", ()))
+            if not dofs_e or max(dofs_e) >= phi.shape[0]:
+                per_element = []  # an element the basis's rows do not reach: none
+                break
+            rows, local = phi[dofs_e], ex[:, at : at + width]
+            two_node = getattr(element, "j", None) is not None
+            if len(dofs_e) == 2 and two_node:
+                rows = rows[:1] - rows[1:]
+            deformation = local[:, 0] - local[:, 1] if width == 2 and two_node else local
+            per_element.append(_relative(np.abs(rows) @ bounds, deformation))
+            at += width
+    if np.isnan(dofs_est) or any(np.isnan(e) for e in per_element):
+        return None  # not estimated rather than NaN (a non-finite history)
+    return dofs_est, tuple(per_element)
+
+
+def _relative(bound: NDArray[np.float64], response: NDArray[np.float64]) -> float:
+    worst = float(bound.max()) if bound.size else 0.0
+    if worst == 0.0:
+        return 0.0
+    peak = float(np.abs(response).max()) if response.size else 0.0
+    return worst / peak if peak > 0.0 else float("inf")
 
 
 def warn_above(integrator: Any, dofs: float | None, elements: tuple[float, ...]) -> None:
