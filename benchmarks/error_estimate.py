@@ -1,13 +1,14 @@
 """The error estimate of semi-analytic runs (issue 41): its cost against the run itself, and
 (``--table``) the table of docs/accuracy.md, estimate against true error.
 
-Each case is solved repeatedly; the time of ``duhamel._engine.accuracy.attach_estimate``
-(timed around the call) is compared with the whole ``duhamel.solve`` call, both in process
-CPU time (``time.process_time``: less sensitive to other processes than wall time), the
-minimum over the repeats. Run: ``python benchmarks/error_estimate.py [--table]`` (record
-the load average with the numbers). The references of the table: the exact ``cn`` solution
-(Duffing), DOP853 at ``rtol = 1e-12`` restarted at every record sample (cubic SDOF), the
-same run at ``dt / 64`` (the others).
+Each case is solved repeatedly; the time of the run's estimate (``_core.Estimator.estimate``,
+made by ``duhamel._engine.accuracy.estimator``, timed around the call) is compared with the
+whole ``duhamel.solve`` call, both in process CPU time (``time.process_time``: less
+sensitive to other processes than wall time), the minimum over the repeats. Run:
+``python benchmarks/error_estimate.py [--table]`` (record the load average with the
+numbers). The references of the table: the exact ``cn`` solution (Duffing), DOP853 at
+``rtol = 1e-12`` restarted at every record sample (cubic SDOF), the same run at ``dt / 64``
+(the others).
 """
 
 from __future__ import annotations
@@ -21,16 +22,26 @@ import numpy as np
 
 import duhamel
 import duhamel._engine.accuracy as accuracy
-import duhamel._engine.modal as modal
 
 _SPENT: list[float] = []
-_ATTACH = accuracy.attach_estimate
+_ESTIMATOR = accuracy.estimator
+
+
+class _Timed:
+    """The core's estimator, its estimate timed."""
+
+    def __init__(self, core):
+        self.core = core
+
+    def estimate(self, *args):
+        t0 = time.process_time()
+        got = self.core.estimate(*args)
+        _SPENT.append(time.process_time() - t0)
+        return got
 
 
 def _timed(*args, **kwargs):
-    t0 = time.process_time()
-    _ATTACH(*args, **kwargs)
-    _SPENT.append(time.process_time() - t0)
+    return _Timed(_ESTIMATOR(*args, **kwargs))
 
 
 def _duffing() -> duhamel.System:
@@ -51,7 +62,7 @@ def _frame(n: int = 60) -> duhamel.System:
 
 
 def main(repeats: int = 7) -> None:
-    modal.attach_estimate = _timed
+    accuracy.estimator = _timed
     warnings.simplefilter("ignore", duhamel.AccuracyWarning)
     cases = (
         ("Duffing, 100 periods, 200 steps a period", _duffing, dict(

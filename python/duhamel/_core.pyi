@@ -36,6 +36,40 @@ def transfer(omega: Array, zeta: Array, dt: float, moments: bool = False) -> tup
 def transfer_kc(k: Array, c: Array, dt: float, moments: bool = False) -> tuple[Array, Array]:
     """As :func:`transfer`, from modal stiffness ``k = omega^2`` and damping ``c``."""
 
+def mode_bounds(
+    pseudo: Array, q: Array, omega: Array, c: Array, h: float, k: int, span: float
+) -> Array:
+    """Per mode, the error estimate's accumulated bound of a run (``duhamel._engine.
+    accuracy.mode_bounds``): C-contiguous ``(rows, n)`` histories."""
+
+def parabola_moments(omega: Array, c: Array, h: float) -> Array:
+    """Per mode, the end state ``(q, v)`` of the parabola ``4 s (1 - s)`` over one step
+    ``h`` from rest, ``(n, 2)``: the ``DDp`` column of the exact step's load transfer."""
+
+def decaying_max(x: Array, decay: Array) -> Array:
+    """Per row of ``x``, the largest value of ``acc_{i+1} = decay acc_i + x_i`` from 0."""
+
+@final
+class Estimator:
+    """The error estimate of a prepared modal model's runs: its modes, the magnitudes of
+    its mode shapes ``phi`` at the saved `dofs` (None: not estimated) and along the
+    elements' deformations (per element its dofs and whether it is a two-node element;
+    None: not estimated)."""
+
+    def __new__(
+        cls,
+        omega: Array,
+        c: Array,
+        phi: Array,
+        dofs: Index | None,
+        elements: Sequence[tuple[Sequence[int], bool]] | None,
+    ) -> Self: ...
+    def estimate(
+        self, result: RunResult, h: float, k: int, x: Array, elements: bool
+    ) -> tuple[float | None, list[float]] | None:
+        """``(dofs, elements)`` estimates of a whole run, or None where one is not a
+        number."""
+
 @final
 class SpeedLaw:
     @staticmethod

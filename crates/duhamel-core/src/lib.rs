@@ -6,6 +6,7 @@
 //! [`background`] propagator, an optional corrector ([`pseudo`]) and an [`output`]; the
 //! reference integrators of [`direct`] step the physical equations.
 
+pub mod accuracy;
 pub mod background;
 pub mod cubic;
 pub mod dense;

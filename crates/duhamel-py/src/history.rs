@@ -8,8 +8,8 @@ use pyo3::prelude::*;
 
 use crate::error::RunError;
 
-type Array1 = Py<PyArray1<f64>>;
-type Array2 = Py<PyArray2<f64>>;
+pub(crate) type Array1 = Py<PyArray1<f64>>;
+pub(crate) type Array2 = Py<PyArray2<f64>>;
 
 /// The result of a run (complete, or partial with `error` set). Arrays are time-major,
 /// `(n_saved, width)`; those a route does not produce are None.
@@ -94,6 +94,30 @@ impl RunResult {
             "RunResult(error={})",
             if self.error.is_some() { "set" } else { "None" }
         )
+    }
+}
+
+/// What the error estimate reads of a run ([`crate::accuracy::Estimator`]).
+pub(crate) struct Estimated<'a> {
+    pub(crate) t: &'a Array1,
+    pub(crate) q: Option<&'a Array2>,
+    pub(crate) pseudo: Option<&'a Array2>,
+    pub(crate) element_x: Option<&'a Array2>,
+    pub(crate) element_force: bool,
+    pub(crate) element_widths: Option<&'a [usize]>,
+}
+
+impl RunResult {
+    /// The arrays the error estimate reads.
+    pub(crate) fn estimated(&self) -> Estimated<'_> {
+        Estimated {
+            t: &self.t,
+            q: self.q.as_ref(),
+            pseudo: self.pseudo.as_ref(),
+            element_x: self.element_x.as_ref(),
+            element_force: self.element_force.is_some(),
+            element_widths: self.element_widths.as_deref(),
+        }
     }
 }
 

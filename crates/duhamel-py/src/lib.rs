@@ -9,6 +9,7 @@
 //! the fields of the core's error; input errors raise `ValueError`/`TypeError` naming the
 //! parameter ([`error`]). A panic (a bug) raises `duhamel.errors.InternalError` ([`guard`]).
 
+mod accuracy;
 mod arguments;
 mod arrays;
 mod background;
@@ -158,6 +159,10 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     guard::install_hook();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(transfer, m)?)?;
+    m.add_function(wrap_pyfunction!(accuracy::mode_bounds, m)?)?;
+    m.add_function(wrap_pyfunction!(accuracy::decaying_max, m)?)?;
+    m.add_function(wrap_pyfunction!(accuracy::parabola_moments, m)?)?;
+    m.add_class::<accuracy::Estimator>()?;
     m.add_function(wrap_pyfunction!(transfer_kc, m)?)?;
     m.add_function(wrap_pyfunction!(direct::element_stiffness, m)?)?;
     m.add_function(wrap_pyfunction!(spectra::elastic_spectra, m)?)?;

@@ -17,8 +17,8 @@ sums the modes' bounds times the magnitude of their shapes there. See docs/accur
 
 from __future__ import annotations
 
-import functools
 import os
+import sys
 import warnings
 from dataclasses import replace
 from typing import Any
@@ -26,9 +26,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel import _core
 from duhamel.errors import AccuracyWarning
 
-__all__ = ["attach_estimate", "mode_bounds", "parabola_moments"]
+__all__ = ["applies", "estimator", "mode_bounds", "parabola_moments", "run_estimate", "warn_above"]
 
 
 def parabola_moments(
@@ -37,7 +38,9 @@ def parabola_moments(
     """Per mode, the end state ``(q, v)`` of ``q'' + c q' + omega^2 q = 4 s (1 - s)``,
     ``s = tau / h``, from rest over one step ``h`` (shape ``(n, 2)``): the exponential of
     the oscillator augmented with the polynomial's integrator chain (Van Loan). Zero for the
-    quasi-static coordinates of massless dofs (``omega = inf``)."""
+    quasi-static coordinates of massless dofs (``omega = inf``). The runs' estimate takes
+    these moments from the core's exact step (``_core.parabola_moments``, the ``DDp`` column
+    of its load transfer); this independent construction is its reference."""
     import scipy.linalg  # the solve path's, not `import duhamel`'s
 
     finite = np.isfinite(omega) & np.isfinite(c)
@@ -63,44 +66,6 @@ def parabola_moments(
     return end
 
 
-#: The moments of the last runs, by the content of ``(omega, c, h)``: a prepared model's
-#: basis and step are the same from run to run, and the batched ``expm`` is most of a short
-#: run's estimate (~0.1 ms for 10 modes).
-_MOMENTS: dict[tuple[bytes, bytes, float], NDArray[np.float64]] = {}
-_MOMENTS_KEPT = 16
-
-
-def _cached_moments(
-    omega: NDArray[np.float64], c: NDArray[np.float64], h: float
-) -> NDArray[np.float64]:
-    """:func:`parabola_moments`, kept for the last :data:`_MOMENTS_KEPT` contents (read-only:
-    shared between runs)."""
-    omega = np.ascontiguousarray(omega, dtype=np.float64)
-    c = np.ascontiguousarray(c, dtype=np.float64)
-    key = (omega.tobytes(), c.tobytes(), float(h))
-    got = _MOMENTS.get(key)
-    if got is None:
-        got = parabola_moments(omega, c, h)
-        got.flags.writeable = False
-        if len(_MOMENTS) >= _MOMENTS_KEPT:
-            _MOMENTS.pop(next(iter(_MOMENTS)))  # the oldest
-        _MOMENTS[key] = got
-    return got
-
-
-def effective_omega(
-    pseudo: NDArray[np.float64], q: NDArray[np.float64], omega: NDArray[np.float64]
-) -> NDArray[np.float64]:
-    """Per mode, the circular frequency of the background stiffened by the part of the
-    pseudo-force in phase with the mode's own displacement (a secant over the run; never
-    below ``omega``): the frequency at which a velocity error turns into a displacement
-    error."""
-    qq = np.einsum("ij,ij->j", q, q)
-    stiffening = -np.einsum("ij,ij->j", pseudo, q) / np.where(qq > 0.0, qq, 1.0)
-    result: NDArray[np.float64] = np.sqrt(omega**2 + np.maximum(stiffening, 0.0))
-    return result
-
-
 def mode_bounds(
     pseudo: NDArray[np.float64],
     q: NDArray[np.float64],
@@ -112,134 +77,168 @@ def mode_bounds(
 ) -> NDArray[np.float64]:
     """Per mode, the largest accumulated bound of the modal displacement error over the run:
     `pseudo` the saved modal pseudo-force, ``h`` the internal step, ``k`` internal steps
-    between saved instants, ``span`` the run's duration."""
-    rows, n = pseudo.shape
-    if rows < 3:
-        return np.zeros(n)
-    # |Q''| h^2 per internal step from the second differences (saved spacing k h), mode by
-    # mode in contiguous rows
-    pt = np.ascontiguousarray(pseudo.T)
-    second = pt[:, 2:] + pt[:, :-2]
-    second -= 2.0 * pt[:, 1:-1]
-    np.abs(second, out=second)
-    moments = _cached_moments(omega, c, h)
-    # velocity errors read as the displacement amplitude they carry (at least the drift
-    # they cause over half the run, for slow and rigid modes)
-    finite = np.where(np.isfinite(omega), omega, 0.0)  # massless dofs' coordinates: moments 0
-    w = np.maximum(effective_omega(pseudo, q, finite), 2.0 / max(span, h))
-    # |DDQ| = |Q''| h^2 / 8 per internal step, k of them per saved interval
-    scale = np.hypot(moments[:, 0], moments[:, 1] / w) / (8.0 * k)
-    decay = np.exp(-0.5 * np.where(np.isfinite(c) & (c > 0.0), c, 0.0) * k * h)
-    # the undamped sums bound the recurrence; the modes that make up 95 % of their total
-    # are run through it, the others keep their sum (a bound within 5 % of the total)
-    out = scale * second.sum(axis=1)
-    order = np.argsort(out)
-    small = order[np.cumsum(out[order]) <= 0.05 * out.sum()]
-    keep = np.ones(n, dtype=bool)
-    keep[small] = False
-    big = np.flatnonzero(keep)  # np.setdiff1d(np.arange(n), small), without its sort
-    out[big] = scale[big] * _decaying_max(second[big], decay[big])
-    result: NDArray[np.float64] = out
-    return result
+    between saved instants, ``span`` the run's duration (computed in the core,
+    ``duhamel_core::accuracy::mode_bounds``: the second differences of `pseudo`, the
+    effective frequencies, the parabola moments, the decaying accumulation of
+    :func:`_decaying_max`)."""
+    return _core.mode_bounds(
+        np.ascontiguousarray(pseudo, dtype=np.float64),
+        np.ascontiguousarray(q, dtype=np.float64),
+        np.ascontiguousarray(omega, dtype=np.float64),
+        np.ascontiguousarray(c, dtype=np.float64),
+        float(h),
+        int(k),
+        float(span),
+    )
 
 
 def _decaying_max(x: NDArray[np.float64], decay: NDArray[np.float64]) -> NDArray[np.float64]:
     """Per row ``m``, the largest ``acc_i`` of ``acc_{i+1} = decay[m] acc_i + x[m, i]`` from
-    ``acc_0 = 0``: ``acc_{s+i} = decay^i (acc_s + sum_{j<i} decay^(-1-j) x[s+j])`` over
-    blocks short enough for ``decay^-len`` to stay below ``e^50`` (all rows at once), of
-    groups of rows where the decay allows it (a bound within ``e^0.2``). Rows decaying
-    faster than ``e^-0.5`` a step take the bound ``max(x) / (1 - decay)``."""
-    n, rows = x.shape
-    rate = -np.log(np.clip(decay, 1e-300, 1.0))  # >= 0
-    best = np.zeros(n)
-    fast = rate > 0.5
-    if fast.any():
-        best[fast] = x[fast].max(axis=1, initial=0.0) / (1.0 - decay[fast])
-    slow = np.flatnonzero(~fast)
-    if slow.size == 0 or rows == 0:
-        return best
-    x, rate = x[slow], rate[slow]
-    if not rate.any():  # undamped: running sums
-        best[slow] = np.cumsum(x, axis=1).max(axis=1, initial=0.0)
-        return best
-    # Groups of `g` rows lumped at their ends (g rate <= 0.1): a bound within e^0.2 of the
-    # recurrence (an input moved later decays less: e^0.1; a group's inside is below its
-    # start plus its sum: e^0.1 more), `g` times fewer rows
-    g = int(min(rows, 0.1 // float(rate.max())))
-    if g >= 2:
-        whole = rows // g * g
-        x = np.concatenate(
-            [x[:, :whole].reshape(slow.size, -1, g).sum(axis=2), x[:, whole:].sum(axis=1)[:, None]],
-            axis=1,
+    ``acc_0 = 0`` (computed in the core): rows decaying faster than ``e^-0.5`` a step take
+    the bound ``max(x) / (1 - decay)``; the others, where the slowest-decaying of them
+    allows it, are lumped in groups of ``g`` values (``g rate <= 0.1``), a bound within
+    ``e^0.2`` of the recurrence."""
+    return _core.decaying_max(
+        np.ascontiguousarray(x, dtype=np.float64), np.ascontiguousarray(decay, dtype=np.float64)
+    )
+
+
+def applies(prep: Any) -> bool:
+    """Whether runs of `prep` are estimated: the uncoupled route, and the pseudo-force route
+    with the default step (scheme "b", "trapezoid" quadrature), for a run whose history is
+    second-order (not the first-order modes' coordinates: the caller checks)."""
+    integrator = prep.integrator
+    route = prep.route.route
+    default_step = integrator.scheme == "b" and integrator.quadrature == "trapezoid"
+    return bool(route == "uncoupled" or (route == "pseudo-force" and default_step))
+
+
+def estimator(prep: Any, dofs: NDArray[np.int64]) -> Any:
+    """The core's ``Estimator`` of runs of `prep` saving `dofs`: the modes, the magnitudes of
+    the mode shapes at those dofs and along every element's deformation (``phi_i - phi_j``
+    for a two-node element, the rows of its dofs otherwise; none for the elements when one
+    of them is not reached by the basis's rows). Shared by the models whose basis arrays
+    are the same objects (systems with the same matrices share their first modal analysis,
+    ``_engine.shared``) and whose elements act on the same dofs."""
+    basis = prep.route.basis
+    omega, c, phi = basis.omega, basis.c, basis.phi
+    elements = tuple(
+        (tuple(getattr(e, "_dofs", ())), getattr(e, "j", None) is not None) for e in prep.forces
+    )
+    key = (id(omega), id(c), id(phi), dofs.tobytes(), elements)
+    got = _ESTIMATORS.get(key)
+    if got is None or got[0] is not omega or got[1] is not c or got[2] is not phi:
+        core = _core.Estimator(
+            np.ascontiguousarray(omega, dtype=np.float64),
+            np.ascontiguousarray(c, dtype=np.float64),
+            np.ascontiguousarray(phi, dtype=np.float64),
+            np.ascontiguousarray(dofs, dtype=np.int64),
+            [(list(d), two_node) for d, two_node in elements],
         )
-        rate = rate * g
-        rows = x.shape[1]
-    length = int(min(rows, 50.0 // float(rate.max())))
-    grow = np.exp(np.outer(rate, np.arange(1, length + 1)))  # decay^-i
-    shrink = 1.0 / grow  # decay^i
-    carry, top = np.zeros(slow.size), np.zeros(slow.size)
-    for s in range(0, rows, length):
-        block = x[:, s : s + length]
-        width = block.shape[1]
-        acc = np.cumsum(block * grow[:, :width], axis=1)
-        acc += carry[:, None]
-        acc *= shrink[:, :width]
-        top = np.maximum(top, acc.max(axis=1))
-        carry = acc[:, -1]
-    best[slow] = top * np.exp(rate) if g >= 2 else top
-    return best
+        if len(_ESTIMATORS) >= 16:
+            _ESTIMATORS.pop(next(iter(_ESTIMATORS)))  # the oldest
+        got = _ESTIMATORS[key] = (omega, c, phi, core)  # the arrays kept: ids not reused
+    return got[3]
+
+
+#: The last estimators made, by the identity of their basis arrays (held with them), the
+#: saved dofs and the elements' dofs (:func:`estimator`).
+_ESTIMATORS: dict[tuple[Any, ...], tuple[Any, Any, Any, Any]] = {}
+
+
+def run_estimate(
+    prep: Any,
+    dofs: NDArray[np.int64],
+    result: Any,
+    h: float,
+    k: int,
+    x: NDArray[np.float64],
+    elements: bool,
+) -> tuple[float | None, tuple[float, ...]] | None:
+    """``(error_estimate, element_error_estimate)`` of a whole successful core run `result`
+    of the prepared modal model `prep` (internal steps `h`, `k` of them between saved
+    instants; `x` the response of the saved `dofs`; `elements`: the element histories are
+    kept), or None where the run is not estimated (see :func:`applies`; a history that is
+    not finite)."""
+    estimated = prep._estimated
+    if estimated is None:
+        estimated = prep._estimated = applies(prep)
+    if not estimated or result.eta is not None:
+        return None
+    if result.pseudo is None and not prep.forces:
+        return 0.0, ()  # no pseudo-force and no element: nothing left out (exact)
+    last = prep._estimator  # the last estimator of this model, by its saved dofs' array
+    if last is not None and last[0] is dofs:
+        core = last[1]
+    else:
+        core = estimator(prep, dofs)
+        prep._estimator = (dofs, core)
+    keeps = elements and bool(prep.forces)
+    if not isinstance(result, _core.RunResult):  # a run joined from segments (stopped)
+        return _joined_estimate(prep, dofs, result, h, k, x, keeps)
+    got = core.estimate(result, h, k, np.ascontiguousarray(x), keeps)
+    return None if got is None else (got[0], tuple(got[1]))
+
+
+def _joined_estimate(
+    prep: Any,
+    dofs: NDArray[np.int64],
+    result: Any,
+    h: float,
+    k: int,
+    x: NDArray[np.float64],
+    keeps: bool,
+) -> tuple[float | None, tuple[float, ...]] | None:
+    """:func:`run_estimate` of a history joined from segments (a run stopped by a terminal
+    event): the same bounds (``_core.mode_bounds``) and ratios, from its arrays."""
+    basis = prep.route.basis
+    t = result.t
+    span = float(t[-1] - t[0]) if t.size else 0.0
+    if result.pseudo is None:
+        bounds = np.zeros(prep.n_modes)
+    else:
+        bounds = mode_bounds(result.pseudo, result.q, basis.omega, basis.c, h, k, span)
+    phi = np.asarray(basis.phi)
+    dofs_est = _relative(np.abs(phi[dofs]) @ bounds, x)
+    per_element: list[float] = []
+    widths = None if result.element_force is None else list(result.element_widths)
+    if keeps and widths is not None and len(widths) == len(prep.forces):
+        ex, at = np.asarray(result.element_x), 0
+        for element, width in zip(prep.forces, widths, strict=True):
+            dofs_e = list(getattr(element, "_dofs", ()))
+            if not dofs_e or max(dofs_e) >= phi.shape[0]:
+                per_element = []  # an element the basis's rows do not reach: none
+                break
+            rows, local = phi[dofs_e], ex[:, at : at + width]
+            two_node = getattr(element, "j", None) is not None
+            if len(dofs_e) == 2 and two_node:
+                rows = rows[:1] - rows[1:]
+            deformation = local[:, 0] - local[:, 1] if width == 2 and two_node else local
+            per_element.append(_relative(np.abs(rows) @ bounds, deformation))
+            at += width
+    if np.isnan(dofs_est) or any(np.isnan(e) for e in per_element):
+        return None  # not estimated rather than NaN (a non-finite history)
+    return dofs_est, tuple(per_element)
 
 
 def _relative(bound: NDArray[np.float64], response: NDArray[np.float64]) -> float:
-    worst = float(bound.max()) if bound.size else 0.0  # the methods: np.max's dispatch costs
+    worst = float(bound.max()) if bound.size else 0.0
     if worst == 0.0:
         return 0.0
     peak = float(np.abs(response).max()) if response.size else 0.0
     return worst / peak if peak > 0.0 else float("inf")
 
 
-def attach_estimate(
-    solution: Any,
-    prep: Any,
-    opts: Any,
-    sub: int,
-    phi_out: NDArray[np.float64],
-    warn: bool = True,
-) -> None:
-    """Sets ``solution.stats.error_estimate`` (and per element) and warns above the
-    integrator's ``error_warning``; None where the estimate does not apply (see the module
-    docstring and docs/accuracy.md)."""
-    integrator = prep.integrator
-    modal = solution.modal
-    route = prep.route.route
-    default_step = integrator.scheme == "b" and integrator.quadrature == "trapezoid"
-    applies = (
-        modal is not None
-        and modal._first_order is None
-        and (route == "uncoupled" or (route == "pseudo-force" and default_step))
-    )
-    if not applies:
+def warn_above(integrator: Any, dofs: float | None, elements: tuple[float, ...]) -> None:
+    """Warns (:class:`duhamel.AccuracyWarning`, at the user's line) when the largest
+    estimate is above the integrator's ``error_warning``."""
+    limit = integrator.error_warning
+    if limit is None:
         return
-    h = opts.dt / sub
-    k = opts.save_every * sub
-    span = float(solution.t[-1] - solution.t[0]) if solution.t.size else 0.0
-    if modal.pseudo is None:
-        bounds = np.zeros(modal.omega.size)
-    else:
-        bounds = mode_bounds(modal.pseudo_force, modal.q, modal.omega, modal.c, h, k, span)
-    phi_out = np.asarray(phi_out)
-    dofs_est = None
-    if phi_out.ndim == 2 and phi_out.shape[1] == bounds.size:
-        dofs_est = _relative(np.abs(phi_out) @ bounds, solution.x)
-    elements = _element_estimates(solution, prep.route.basis.phi, bounds)
-    if (dofs_est is not None and np.isnan(dofs_est)) or any(np.isnan(e) for e in elements):
-        return  # not estimated rather than NaN (a non-finite pseudo-force history)
-    solution.stats = replace(
-        solution.stats, error_estimate=dofs_est, element_error_estimate=elements
-    )
-    limit = integrator.error_warning if warn else None
-    worst = max([e for e in (dofs_est, *elements) if e is not None], default=None)
-    if limit is not None and worst is not None and worst > limit:
+    worst = max(elements) if elements else None
+    if dofs is not None and (worst is None or dofs > worst):
+        worst = dofs
+    if worst is not None and worst > limit:
         warnings.warn(
             f"the run's estimated error is {worst:.2g} of the peak response (above "
             f"`error_warning`={limit:g}): reduce `dt` (the error falls like dt^2), see "
@@ -252,40 +251,31 @@ def attach_estimate(
 def _caller_level() -> int:
     """The ``stacklevel`` of the first frame outside the duhamel package (the user's call
     of ``solve`` or ``Prepared.run``, whatever the path to here)."""
-    import sys
-
     frame: Any = sys._getframe(1)
     level = 1
-    while frame is not None and _inside_package(frame.f_code.co_filename):
+    inside = _INSIDE
+    while frame is not None:
+        filename = frame.f_code.co_filename
+        known = inside.get(filename)
+        if known is None:
+            if len(inside) >= 1024:
+                inside.clear()
+            known = inside[filename] = _inside_package(filename)
+        if not known:
+            break
         frame, level = frame.f_back, level + 1
     return level
 
 
-@functools.lru_cache(maxsize=256)
+#: Whether a code object's file is one of the package's, by file name (a dict: the frames
+#: of every warned run are looked up).
+_INSIDE: dict[str, bool] = {}
+
+
 def _inside_package(filename: str) -> bool:
     """Whether `filename` (a code object's) is a file of the duhamel package."""
     package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     return os.path.abspath(filename).startswith(package)
-
-
-def _element_estimates(
-    solution: Any, phi: NDArray[np.float64], bounds: NDArray[np.float64]
-) -> tuple[float, ...]:
-    """Per element, the bound of its deformation's error relative to its peak deformation."""
-    phi = np.asarray(phi)
-    if phi.ndim != 2 or phi.shape[1] != bounds.size:
-        return ()
-    out = []
-    for history in solution.elements:
-        dofs = list(getattr(history.element, "_dofs", ()))
-        if not dofs or max(dofs) >= phi.shape[0]:
-            return ()  # an element the basis's rows do not reach: none rather than some
-        rows = phi[dofs]
-        if len(dofs) == 2 and getattr(history.element, "j", None) is not None:
-            rows = rows[:1] - rows[1:]
-        deformation = history.deformation
-        out.append(_relative(np.abs(rows) @ bounds, np.asarray(deformation)))
-    return tuple(out)
 
 
 def tolerance_ratio(solution: Any, rtol: float, atol: float) -> float | None:

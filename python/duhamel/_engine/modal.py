@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel._engine import dispatch
-from duhamel._engine.accuracy import attach_estimate, to_tolerance
+from duhamel._engine.accuracy import run_estimate, to_tolerance, warn_above
 from duhamel._engine.truncation import attach_truncation
 from duhamel._engine.background import background
 from duhamel._engine.correction import substeps
@@ -75,6 +75,8 @@ class ModalSetup:
     _zeros: NDArray[np.float64] | None = None
     _substeps: dict[float, int] = field(default_factory=dict)
     _stepwise: Any = None  # the uncoupled route's model stepped one step at a time
+    _estimated: bool | None = None  # whether its runs are estimated (accuracy.applies)
+    _estimator: tuple[Any, Any] | None = None  # (saved dofs, the core's Estimator)
 
     def stepwise(self) -> Any:
         """The core's model of a run that accumulates its energy (:func:`_engine.energy_run.
@@ -184,21 +186,22 @@ def _run_once(prep: ModalSetup, opts: Request) -> Solution:
     # Static-correction coordinates under nonlinear elements are resolved in time: `sub`
     # internal steps per step, the saved instants unchanged.
     sub = prep.substeps(opts.dt)
-    grid = Grid(
-        route, opts.t0, opts.dt / sub, opts.n_steps * sub, opts.save_every * sub, prep.threads,
-        *state,
-    )  # fmt: skip
+    h, n_steps, save_every = opts.dt / sub, opts.n_steps * sub, opts.save_every * sub
     emodel = _energy_model(prep, opts, patterns, bool(fns))
-    back = None if route.modes is None else route.modes.back
-    spec = grid.whole(None if emodel is None else energy_spec(emodel, None, back))
     forcing = ModalCallable(fns, system.n_dof) if fns else None
     if opts.stop is not None and (opts.progress is None or opts.progress is False):
+        grid = Grid(route, opts.t0, h, n_steps, save_every, prep.threads, *state)
         stopped = _stopping(prep, opts, grid, sub, loads, out, forcing, patterns, base)
         if stopped is not None:
             sol, joined = stopped
             if opts.interpolant:
                 sol._exact = exact_steps(prep, loads, out, patterns, forcing, joined)
             return sol
+    # the whole grid from the run's start (what `Grid.whole` makes, without the Grid)
+    back = None if route.modes is None else route.modes.back
+    energy = None if emodel is None else energy_spec(emodel, None, back)
+    run_grid = dispatch.grid(opts.t0, h, n_steps, save_every, 0, prep.threads)
+    spec = dispatch.run_spec(route, run_grid, state, energy=energy)
     model = prep.model if emodel is None else prep.stepwise()
     if opts.progress is None or opts.progress is False:
         loop_start = _time.perf_counter()
@@ -329,6 +332,11 @@ def solution(
     if terms is not None:  # loads at massless dofs: their static part, which no mode carries
         x, vel = x + terms[0], vel + terms[1]
         acc = _plus(acc, terms[2])
+    # the error estimate of a whole successful run (issue 41), computed in the core
+    estimated = None  # the error estimate of a whole successful run (issue 41)
+    if estimate and error is None and kept == result.t.size:
+        h, k = opts.dt / sub, opts.save_every * sub
+        estimated = run_estimate(prep, out.dofs, result, h, k, x, opts.elements)
     solution = Solution(
         t=t,
         x=x,
@@ -350,6 +358,8 @@ def solution(
             eigenvector_condition=None if route.modes is None else route.modes.condition,
             loop_time=float(result.loop_time),
             substeps=sub,
+            error_estimate=None if estimated is None else estimated[0],
+            element_error_estimate=() if estimated is None else estimated[1],
         ),
         meta={
             "dt": opts.dt,
@@ -376,7 +386,8 @@ def solution(
         solution._energy_run = (result.energy[:kept], emodel)
     if estimate and error is None and kept == result.t.size:
         warn = getattr(prep.integrator, "rtol", None) is None  # else the tolerance decides
-        attach_estimate(solution, prep, opts, sub, out.phi_out, warn)
+        if warn and estimated is not None:
+            warn_above(prep.integrator, *estimated)
         attach_truncation(solution, prep, opts, warn)
     if error is None and kept < result.t.size:
         raise overflow_error(result.t, kept, opts.dt, opts.t0, solution)
