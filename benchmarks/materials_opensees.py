@@ -113,7 +113,7 @@ def run_duhamel(name: str, a: np.ndarray, k: int) -> np.ndarray:
     c = A0 + A1 * K_INIT.get(name, K0)  # Rayleigh on the initial stiffness, as OpenSees'
     s = duhamel.System(np.eye(1), np.zeros((1, 1)), c * np.eye(1))
     s.add(material(name))
-    s.add_load(L.BaseAcceleration(np.ones(1), t, a))
+    s.add_load(L.BaseAcceleration(np.ones(1), t=t, values=a))
     sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=t[-1], dt=DT_REC / k, save_every=k)
     return sol.x[:, 0]
 

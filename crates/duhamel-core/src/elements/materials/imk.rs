@@ -372,6 +372,12 @@ impl ModImkPeakOriented {
 }
 
 impl Material for ModImkPeakOriented {
+    /// A zero increment leaves the committed variables and force as they are (checked in
+    /// `restart_tests.rs`).
+    fn restarts_exactly(&self) -> bool {
+        true
+    }
+
     fn state_len(&self) -> usize {
         ImkState::LEN
     }

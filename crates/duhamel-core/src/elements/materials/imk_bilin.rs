@@ -326,6 +326,12 @@ pub(crate) fn beta(ei: f64, e_ref: f64, e_acc: f64, c: f64) -> (f64, bool) {
 }
 
 impl Material for ImkBilin {
+    /// A zero increment leaves the committed variables and force as they are (checked in
+    /// `restart_tests.rs`).
+    fn restarts_exactly(&self) -> bool {
+        true
+    }
+
     fn state_len(&self) -> usize {
         BilinState::LEN
     }

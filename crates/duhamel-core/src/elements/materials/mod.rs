@@ -37,6 +37,8 @@ pub mod pinching4_def;
 mod pinching4_paths;
 mod pinching4_state;
 mod points;
+#[cfg(test)]
+mod restart_tests;
 pub mod series;
 mod state;
 pub mod steel02;
