@@ -1,7 +1,7 @@
 """The uniaxial materials of issue 37 on an SDOF: duhamel against OpenSees at equal accuracy
 (issue 37's speed acceptance, issue 42's first rows).
 
-The SDOF of ``tests/_materials_system.py`` (mass 1, initial period 1 s, yield deformation
+The SDOF of ``tests/_support/_materials_system.py`` (mass 1, initial period 1 s, yield deformation
 0.02, Rayleigh damping 5 % at 1 Hz on the mass and the initial stiffness) with one material
 to the ground, each built with that file's parameters in both codes (OpenSees: the material
 of the same name in a ``zeroLength`` with ``-doRayleigh 1``):
@@ -47,7 +47,9 @@ import sys
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests"))
+# the SDOF's materials: tests/_support/_materials_system.py (tests/ before the tests' layout)
+for _dir in ("tests", os.path.join("tests", "_support")):
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", _dir))
 
 import tempfile  # noqa: E402
 from typing import Any  # noqa: E402
@@ -216,7 +218,7 @@ def markdown(r: dict) -> list[str]:
     out = [
         "### Materials on an SDOF (issue 37)",
         "`python benchmarks/materials_opensees.py` · load "
-        f"{r['load'][0]:.2f} → {r['load'][1]:.2f}. The SDOF of tests/_materials_system.py "
+        f"{r['load'][0]:.2f} → {r['load'][1]:.2f}. The SDOF of tests/_support/_materials_system.py "
         f"(T = 1 s, uy = 0.02, Rayleigh 5 %), {r['n']} samples at 200 Hz (PGA 0.4 g), one "
         "material to the ground in both codes (OpenSees: the material of the same name in a "
         "`zeroLength`). Ratio: OpenSees time over duhamel's, the whole call, each code's "

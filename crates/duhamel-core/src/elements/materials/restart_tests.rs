@@ -2,7 +2,7 @@
 //! walks and small cycles after a large excursion, the force at each committed deformation,
 //! evaluated again from the committed variables, is bit for bit the force that committed
 //! them, for each law that says so (with the parameters of the Python SDOF tests,
-//! `tests/_materials_system.py`, and of the OpenSees comparisons).
+//! `tests/_support/_materials_system.py`, and of the OpenSees comparisons).
 
 use super::testing::{cycles, random_walk};
 use super::Material;
