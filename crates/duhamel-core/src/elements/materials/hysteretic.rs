@@ -55,9 +55,13 @@ pub struct Hysteretic {
 }
 
 material_state! {
-    /// OpenSees' committed members of `HystereticMaterial`, and its last tangent.
+    /// OpenSees' committed members of `HystereticMaterial`, its last tangent, and the
+    /// unloading-stiffness factors `(kp, kn)` of its peaks `rot_max`, `rot_min`
+    /// ([`Hysteretic::degradation`], kept so that a call computes its two powers only when a
+    /// peak moves).
     HystState {
         rot_max, rot_min, rot_pu, rot_nu, energy_d, load_indicator, stress, strain, tangent,
+        kp, kn,
     }
 }
 
@@ -217,7 +221,7 @@ impl Hysteretic {
     /// OpenSees' `positiveIncrement` (`sign` +1) and `negativeIncrement` (-1), written once
     /// for both directions: `c` committed, `t` trial.
     fn increment(&self, c: &HystState, t: &mut HystState, d_strain: f64, sign: f64) {
-        let (kp, kn) = self.degradation(c);
+        let (kp, kn) = (c.kp, c.kn);
         // "this" side is the one being loaded, "other" the one being left
         let (this, other) = if sign > 0.0 {
             (&self.pos, &self.neg)
@@ -341,15 +345,22 @@ impl Hysteretic {
 }
 
 impl Material for Hysteretic {
+    /// A zero increment leaves the committed variables and force as they are (checked in
+    /// `restart_tests.rs`).
+    fn restarts_exactly(&self) -> bool {
+        true
+    }
+
     fn state_len(&self) -> usize {
         HystState::LEN
     }
 
     fn initial_state(&self, state: &mut [f64]) {
-        let s = HystState {
+        let mut s = HystState {
             tangent: self.pos.e[0],
             ..HystState::default()
         };
+        (s.kp, s.kn) = self.degradation(&s);
         s.store(state);
     }
 
@@ -363,6 +374,10 @@ impl Material for Hysteretic {
         let c = HystState::load(committed);
         let mut t = c;
         self.trial(u, &c, &mut t);
+        if t.rot_max.to_bits() != c.rot_max.to_bits() || t.rot_min.to_bits() != c.rot_min.to_bits()
+        {
+            (t.kp, t.kn) = self.degradation(&t);
+        }
         t.store(trial);
         Ok((t.stress, t.tangent))
     }
@@ -373,7 +388,7 @@ impl Material for Hysteretic {
 
     fn stored_energy(&self, state: &[f64], _u: f64, force: f64) -> f64 {
         let s = HystState::load(state);
-        let (kp, kn) = self.degradation(&s);
+        let (kp, kn) = (s.kp, s.kn);
         let k = if force > 0.0 {
             self.eup * kp
         } else {

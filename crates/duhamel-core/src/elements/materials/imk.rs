@@ -371,6 +371,8 @@ impl ModImkPeakOriented {
     }
 }
 
+// Not `restarts_exactly`: along restart_tests.rs's growing cycles past the ultimate
+// deformation one zero increment gave another force than the one committed.
 impl Material for ModImkPeakOriented {
     fn state_len(&self) -> usize {
         ImkState::LEN

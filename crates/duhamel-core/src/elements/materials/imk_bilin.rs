@@ -325,6 +325,8 @@ pub(crate) fn beta(ei: f64, e_ref: f64, e_acc: f64, c: f64) -> (f64, bool) {
     (b.clamp(0.0, 1.0), b > 1.0)
 }
 
+// Not `restarts_exactly` (not shown to hold: ModIMKPeakOriented's zero increment can change
+// its force past the ultimate deformation, and this law shares its bookkeeping).
 impl Material for ImkBilin {
     fn state_len(&self) -> usize {
         BilinState::LEN

@@ -38,6 +38,15 @@ pub trait Material: Send + Sync + std::fmt::Debug {
         None
     }
 
+    /// Whether the force at a committed deformation, evaluated again from the committed
+    /// variables, is bit for bit the force of the evaluation that committed them (a zero
+    /// increment changes nothing): the integrators then reuse that force as the next step's
+    /// start ([`Element::restarts_exactly`](crate::elements::element::Element)). False by
+    /// default; a law that says true is checked along its histories (`restart_tests.rs`).
+    fn restarts_exactly(&self) -> bool {
+        false
+    }
+
     /// Whether the law only stores or dissipates the work done on it (true of every
     /// rate-independent hysteretic law whose stored energy is bounded below).
     fn passive(&self) -> bool {
@@ -81,6 +90,9 @@ impl<M: Material + ?Sized> Material for Box<M> {
     }
     fn tangent_bound(&self) -> Option<f64> {
         (**self).tangent_bound()
+    }
+    fn restarts_exactly(&self) -> bool {
+        (**self).restarts_exactly()
     }
     fn passive(&self) -> bool {
         (**self).passive()

@@ -113,6 +113,11 @@ impl MinMax {
 }
 
 impl Material for MinMax {
+    /// Failed, the force is 0; else the inner law's.
+    fn restarts_exactly(&self) -> bool {
+        self.inner.restarts_exactly()
+    }
+
     fn state_len(&self) -> usize {
         1 + self.inner.state_len()
     }

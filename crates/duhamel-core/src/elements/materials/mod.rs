@@ -37,6 +37,8 @@ mod pinching4_damage;
 pub mod pinching4_def;
 mod pinching4_paths;
 mod points;
+#[cfg(test)]
+mod restart_tests;
 pub mod series;
 mod state;
 pub mod steel02;

@@ -123,6 +123,12 @@ fn at(k: usize, col: usize) -> usize {
 }
 
 impl Material for MultiLinear {
+    /// A zero increment leaves the committed variables and force as they are (checked in
+    /// `restart_tests.rs`).
+    fn restarts_exactly(&self) -> bool {
+        true
+    }
+
     fn state_len(&self) -> usize {
         HEAD + 4 * self.n()
     }

@@ -137,6 +137,11 @@ fn offsets(parts: &[Box<dyn Material>]) -> Vec<usize> {
 }
 
 impl Material for Parallel {
+    /// The same sums of the parts' forces.
+    fn restarts_exactly(&self) -> bool {
+        self.parts.iter().all(|p| p.restarts_exactly())
+    }
+
     fn state_len(&self) -> usize {
         self.offsets[self.parts.len()]
     }

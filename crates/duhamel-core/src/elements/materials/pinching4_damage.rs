@@ -31,10 +31,17 @@ impl Work<'_> {
         let (rp, rn) = (kmin_p / m.k_elastic_pos, kmin_n / m.k_elastic_neg);
         let (gk, gd, gf) = (&m.p.gk, &m.p.gd, &m.p.gf);
         if self.t.energy < m.energy_capacity {
-            let ratio = umax_abs / uult_abs;
-            let mut g_k = gk[0] * ratio.powf(gk[2]);
-            let mut g_d = gd[0] * ratio.powf(gd[2]);
-            let mut g_f = gf[0] * ratio.powf(gf[2]);
+            // the deformation terms: the committed ones while u_max stays (bit for bit)
+            if umax_abs.to_bits() != self.t.powers_of.to_bits() {
+                let ratio = umax_abs / uult_abs;
+                self.t.powers_of = umax_abs;
+                self.t.power_k = ratio.powf(gk[2]);
+                self.t.power_d = ratio.powf(gd[2]);
+                self.t.power_f = ratio.powf(gf[2]);
+            }
+            let mut g_k = gk[0] * self.t.power_k;
+            let mut g_d = gd[0] * self.t.power_d;
+            let mut g_f = gf[0] * self.t.power_f;
             let measure = match m.p.damage {
                 Pinching4Damage::Energy if self.t.energy > elastic_energy => {
                     Some((self.t.energy - elastic_energy) / m.energy_capacity)

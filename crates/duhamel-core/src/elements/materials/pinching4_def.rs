@@ -271,11 +271,14 @@ pub struct Pinching4 {
 }
 
 material_state! {
-    /// OpenSees' committed members of `Pinching4Material` and the damage indices in use.
+    /// OpenSees' committed members of `Pinching4Material`, the damage indices in use, and
+    /// the deformation terms `(u_max/u_ult)^gamma_3` of the three damage indices with the
+    /// `u_max` they are for (-1: none yet), kept so that a trial computes those powers only
+    /// when the largest deformation moves.
     P4State {
         state, strain, stress, strain_rate, low_strain, low_stress, hgh_strain, hgh_stress,
         min_dmnd, max_dmnd, energy, gamma_k, gamma_d, gamma_f, n_cycle,
-        gamma_k_used, gamma_f_used,
+        gamma_k_used, gamma_f_used, powers_of, power_k, power_d, power_f,
     }
 }
 

@@ -121,6 +121,9 @@ pub struct Series {
 const HEAD: usize = 3;
 
 /// OpenSees' flexibility (or stiffness) of a tangent (or flexibility sum) near zero.
+/// The most parts whose scratch the response keeps on the stack.
+const STACK_PARTS: usize = 8;
+
 fn inverse(k: f64) -> f64 {
     if k.abs() > 1.0e-12 {
         1.0 / k
@@ -171,6 +174,11 @@ impl Series {
 }
 
 impl Material for Series {
+    /// A deformation within `EPSILON` of the committed one returns the committed force.
+    fn restarts_exactly(&self) -> bool {
+        true
+    }
+
     fn state_len(&self) -> usize {
         self.offsets[self.parts.len()]
     }
@@ -200,8 +208,17 @@ impl Material for Series {
         }
         let n = self.parts.len();
         let mut stress = c[1] + c[2] * (u - c[0]);
-        let mut flex = vec![0.0; n];
-        let mut change = vec![0.0; n];
+        // the parts' flexibilities and deformation changes: on the stack for a few parts
+        // (no allocation per evaluation)
+        let mut stack = [0.0; 2 * STACK_PARTS];
+        let mut heap = Vec::new();
+        let buf: &mut [f64] = if n <= STACK_PARTS {
+            &mut stack[..2 * n]
+        } else {
+            heap.resize(2 * n, 0.0);
+            &mut heap
+        };
+        let (flex, change) = buf.split_at_mut(n);
         // the force scale of the step: the committed forces too (a step from rest is tiny)
         let mut scale = stress.abs().max(c[1].abs());
         for i in 0..n {

@@ -222,6 +222,12 @@ fn invalid(name: &'static str, problem: String) -> CoreError {
 }
 
 impl Material for Steel02 {
+    /// A zero increment leaves the committed variables and force as they are (checked in
+    /// `restart_tests.rs`).
+    fn restarts_exactly(&self) -> bool {
+        true
+    }
+
     fn state_len(&self) -> usize {
         LEN
     }

@@ -250,6 +250,12 @@ impl Takeda {
 }
 
 impl Material for Takeda {
+    /// A zero increment leaves the committed variables and force as they are (checked in
+    /// `restart_tests.rs`).
+    fn restarts_exactly(&self) -> bool {
+        true
+    }
+
     fn state_len(&self) -> usize {
         LEN
     }

@@ -133,6 +133,11 @@ impl<M: Material + 'static> Element for Uniaxial<M> {
     fn path_reads(&self) -> Option<(bool, bool)> {
         Some((self.material.uses_rate(), false))
     }
+
+    /// A rate-free law whose zero increment changes nothing ([`Material::restarts_exactly`]).
+    fn restarts_exactly(&self) -> bool {
+        self.material.restarts_exactly() && !self.material.uses_rate()
+    }
 }
 
 /// A material element's definition: where it acts and its law.
