@@ -74,6 +74,9 @@ impl ElementSpace<'_> {
                     sum.sqrt()
                 }
             };
+            if !(lambda > 0.0 && lambda.is_finite()) {
+                continue; // adds nothing (a zero tangent: an FNA element in its linear range)
+            }
             // the background it loads: the modal stiffness weighted by the element's share
             // |diag(Phi_e^T K_e Phi_e)| in each mode (one dof: |k| phi^2, so |k| times sums
             // fixed for the run)
