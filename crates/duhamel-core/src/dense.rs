@@ -1,8 +1,5 @@
 //! Small dense linear solves for the Newton step equations (faer, partial pivoting LU).
 
-use faer::linalg::solvers::Solve;
-use faer::Mat;
-
 use crate::dense_fixed as fixed;
 
 /// `a . b` over the shorter length, in four interleaved partial sums (which the compiler
@@ -44,7 +41,7 @@ pub fn dot3(r: &[f64], x: [&[f64]; 3]) -> (f64, f64, f64) {
 }
 
 /// Largest system solved by the in-place elimination below; faer above.
-const SMALL: usize = 32;
+pub(crate) const SMALL: usize = 32;
 
 /// Solves `a x = b` in place of `b` for a row-major `n x n` matrix `a`. Returns `false` when
 /// the matrix is numerically singular (a zero or non-finite pivot).
@@ -84,14 +81,7 @@ pub fn solve_overwriting(n: usize, a: &mut [f64], b: &mut [f64]) -> bool {
 
 /// faer's LU with partial pivoting, for the systems above [`SMALL`].
 fn lu_solve(n: usize, a: &[f64], b: &mut [f64]) -> bool {
-    let m = Mat::from_fn(n, n, |i, j| a[i * n + j]);
-    let lu = m.partial_piv_lu();
-    let rhs = Mat::from_fn(n, 1, |i, _| b[i]);
-    let x = lu.solve(&rhs);
-    for (i, bi) in b.iter_mut().enumerate() {
-        *bi = x[(i, 0)];
-    }
-    b.iter().all(|v| v.is_finite())
+    crate::dense_kept::KeptLu::factor(n, a).solve(b)
 }
 
 /// Gaussian elimination with partial pivoting, in place: `m` (row-major `n x n`) is
@@ -145,7 +135,7 @@ fn eliminate_sized(n: usize, m: &mut [f64], b: &mut [f64]) -> bool {
 /// The row at or below `k` with the largest entry in column `k` (partial pivoting), or None
 /// when that entry is zero or not finite (a numerically singular matrix).
 #[inline(always)]
-fn pivot_row(m: &[f64], n: usize, k: usize) -> Option<usize> {
+pub(crate) fn pivot_row(m: &[f64], n: usize, k: usize) -> Option<usize> {
     let (p, pivot) = (k..n)
         .map(|i| (i, m[i * n + k].abs()))
         .fold((k, -1.0), |best, c| if c.1 > best.1 { c } else { best });

@@ -11,6 +11,7 @@ pub mod background;
 pub mod cubic;
 pub mod dense;
 mod dense_fixed;
+pub mod dense_kept;
 pub mod direct;
 pub mod driver;
 pub mod elements;

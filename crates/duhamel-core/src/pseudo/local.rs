@@ -48,6 +48,10 @@ struct Member<'a> {
     /// share of the background per unit tangent (fixed for the run's modal stiffnesses;
     /// formed at the first watch instead of a pass over the modes at every step).
     share: Option<(f64, f64)>,
+    /// Wider elements: the coordinates without mass (modal stiffness `+inf`) their dofs'
+    /// mode-shape rows reach, formed with `share`. Where the element's tangent loads one of
+    /// them, its background is infinite and it never dominates: the watch stops there.
+    massless: Option<Vec<usize>>,
 }
 
 /// The element dofs `D`, their mode-shape rows and the elements acting on them.
@@ -103,6 +107,7 @@ impl<'a> ElementSpace<'a> {
                     at,
                     gram,
                     share: None,
+                    massless: None,
                 }
             })
             .collect::<Vec<Member>>();
@@ -121,6 +126,11 @@ impl<'a> ElementSpace<'a> {
     }
 
     /// How many times the committed variables were set so far.
+    /// Whether an element reads the velocity of its dofs.
+    pub fn uses_velocity(&self) -> bool {
+        self.members.iter().any(|m| m.eval.uses_velocity())
+    }
+
     pub fn generation(&self) -> u64 {
         self.generation
     }

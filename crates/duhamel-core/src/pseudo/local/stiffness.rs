@@ -74,6 +74,9 @@ impl ElementSpace<'_> {
                     sum.sqrt()
                 }
             };
+            if !(lambda > 0.0 && lambda.is_finite()) {
+                continue; // adds nothing (a zero tangent: an FNA element in its linear range)
+            }
             // the background it loads: the modal stiffness weighted by the element's share
             // |diag(Phi_e^T K_e Phi_e)| in each mode (one dof: |k| phi^2, so |k| times sums
             // fixed for the run)
@@ -92,6 +95,32 @@ impl ElementSpace<'_> {
                 let a = e.kx[0].abs();
                 (a * s, a * w)
             } else {
+                if fresh {
+                    m.massless = None;
+                }
+                let at = &m.at;
+                let touched = m.massless.get_or_insert_with(|| {
+                    let reaches = |mode: usize| at.iter().any(|&a| phi[a * n + mode] != 0.0);
+                    (0..n)
+                        .filter(|&mode| modal_k[mode] == f64::INFINITY && reaches(mode))
+                        .collect()
+                });
+                // `d != 0` on a coordinate without mass: the sum below would be infinite
+                // (or NaN: not positive) and the element skipped; skipped without it.
+                let d_at = |mode: usize| {
+                    let mut d = 0.0f64;
+                    for i in 0..nl {
+                        for j in 0..nl {
+                            d += k_sym(&e.kx, nl, i, j)
+                                * phi[at[i] * n + mode]
+                                * phi[at[j] * n + mode];
+                        }
+                    }
+                    d
+                };
+                if touched.iter().any(|&mode| d_at(mode) != 0.0) {
+                    continue;
+                }
                 let (mut share, mut weighted) = (0.0, 0.0);
                 for (mode, &km) in modal_k.iter().enumerate() {
                     let mut d = 0.0f64;

@@ -159,7 +159,16 @@ impl<'r> StepSolver<'r> {
             None if solver != Solver::ModalNewton && Few::<3>::applies(&set, pf) => {
                 Strategy::ThreeModes(Box::new(Few::new(&set)))
             }
-            None => Strategy::ModalNewton(modal()),
+            None => {
+                let mut modal = modal();
+                // Affine without a mass law or a varying coupling: the same tangents, weights
+                // and so matrix at every step.
+                modal.constant_matrix = set.linear
+                    && !pf.has_mass()
+                    && !pf.varying_couplings()
+                    && set.unknown != Unknown::Both;
+                Strategy::ModalNewton(modal)
+            }
         };
         Ok(StepSolver {
             set,

@@ -7,6 +7,7 @@ use super::super::scheme::{StepInput, Unknown};
 use super::damping::backtrack;
 use super::setting::Setting;
 use crate::dense::solve_overwriting;
+use crate::dense_kept::KeptLu;
 use crate::error::CoreError;
 
 /// Which nodes to evaluate.
@@ -47,6 +48,10 @@ pub(super) struct Modal {
     /// Newton's buffers, kept between steps.
     pub(super) z0: Vec<f64>,
     pub(super) delta: Vec<f64>,
+    /// Whether Newton's matrix is the same at every step (a linear pseudo-force with
+    /// constant couplings and no mass law): then factorised once and kept.
+    pub(super) constant_matrix: bool,
+    kept: Option<KeptLu>,
 }
 
 impl Modal {
@@ -66,6 +71,8 @@ impl Modal {
             mat: vec![0.0; m * m],
             z0: Vec::with_capacity(m),
             delta: vec![0.0; m],
+            constant_matrix: false,
+            kept: None,
         }
     }
 
@@ -324,8 +331,12 @@ impl Modal {
         let m = self.res.len();
         let mut norm = f64::INFINITY;
         let mut last: Option<f64> = None;
+        // A constant matrix above the small sizes: faer's factors of the first step, kept
+        // (the same solution, bit for bit, as factorising it again; no tangents needed).
+        let keep = self.constant_matrix && KeptLu::applies(m);
         for iter in 1..=set.max_iter {
-            self.nodes(set, pf, inp, true, Nodes::Varying)?;
+            let tangents = !(keep && self.kept.is_some());
+            self.nodes(set, pf, inp, tangents, Nodes::Varying)?;
             norm = self.residual(set, inp);
             if let Some(prev) = last {
                 norm = backtrack(prev, norm, scale0, |lambda| {
@@ -334,12 +345,22 @@ impl Modal {
                     Ok(self.residual(set, inp))
                 })?;
             }
-            self.jacobian(set);
             for (d, r) in delta.iter_mut().zip(&self.res) {
                 *d = -r;
             }
-            if !solve_overwriting(m, &mut self.mat, delta) {
-                break;
+            if keep {
+                if self.kept.is_none() {
+                    self.jacobian(set);
+                    self.kept = Some(KeptLu::factor(m, &self.mat));
+                }
+                if !self.kept.as_ref().is_some_and(|lu| lu.solve(delta)) {
+                    break;
+                }
+            } else {
+                self.jacobian(set);
+                if !solve_overwriting(m, &mut self.mat, delta) {
+                    break;
+                }
             }
             self.get_z(set, z0);
             self.set_z(set, z0, delta, 1.0);

@@ -244,9 +244,18 @@ impl LocalNewton {
         }
         let shared = self.kc.len() == 1 && !self.kc[0].is_empty();
         if shared {
+            // a coupling absent is a zero matrix: its product, zeros, without the pass
             let (kz, cz) = self.prod.split_at_mut(5);
-            matvec(&self.kc[0], z, &mut kz[4]);
-            matvec(&self.cc[0], z, &mut cz[0]);
+            if self.has_kc.0 {
+                matvec(&self.kc[0], z, &mut kz[4]);
+            } else {
+                kz[4].fill(0.0);
+            }
+            if self.has_kc.1 {
+                matvec(&self.cc[0], z, &mut cz[0]);
+            } else {
+                cz[0].fill(0.0);
+            }
         }
         w.copy_from_slice(w_lin);
         for (i, node) in self.map.iter().enumerate() {

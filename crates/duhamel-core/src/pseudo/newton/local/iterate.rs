@@ -4,7 +4,7 @@ use super::super::super::local::{zero, ElementSpace};
 use super::super::super::scheme::StepInput;
 use super::super::damping::backtrack;
 use super::{LocalNewton, Setting};
-use crate::dense::{dot, eliminate};
+use crate::dense::dot;
 use crate::error::CoreError;
 
 impl LocalNewton {
@@ -77,6 +77,54 @@ impl LocalNewton {
         }
     }
 
+    /// Whether the kept elimination is that of the matrix [`LocalNewton::jacobian`] would
+    /// form now: the same `G_i` (no rebuild since), and the varying nodes' tangents bit for
+    /// bit those it was formed with on every entry the matrix reads.
+    fn same_tangents(&self) -> bool {
+        if !self.kept.valid {
+            return false;
+        }
+        let nd = self.nd;
+        let mut slot = 0;
+        for i in 0..self.map.len() {
+            if self.map[i].constant {
+                continue;
+            }
+            let (kt, ct, kk, ck) = (
+                &self.kt[i],
+                &self.ct[i],
+                &self.kept_kt[slot],
+                &self.kept_ct[slot],
+            );
+            for (c, cols) in self.pattern.iter().enumerate() {
+                for &b in cols {
+                    let e = c * nd + b;
+                    if kt[e].to_bits() != kk[e].to_bits() || ct[e].to_bits() != ck[e].to_bits() {
+                        return false;
+                    }
+                }
+            }
+            slot += 1;
+        }
+        true
+    }
+
+    /// Keeps the varying nodes' tangents the matrix is formed with.
+    fn keep_tangents(&mut self) {
+        let varying = self.map.iter().filter(|m| !m.constant).count();
+        self.kept_kt.resize(varying, Vec::new());
+        self.kept_ct.resize(varying, Vec::new());
+        let mut slot = 0;
+        for i in 0..self.map.len() {
+            if self.map[i].constant {
+                continue;
+            }
+            self.kept_kt[slot].clone_from(&self.kt[i]);
+            self.kept_ct[slot].clone_from(&self.ct[i]);
+            slot += 1;
+        }
+    }
+
     /// Newton's method on `F(y) = 0`, damped by the modal one's [`backtrack`].
     pub(super) fn newton(
         &mut self,
@@ -97,12 +145,20 @@ impl LocalNewton {
                     self.residual(space, set, inp, true)
                 })?;
             }
-            self.jacobian();
             for (d, r) in self.delta.iter_mut().zip(&self.res) {
                 *d = -r;
             }
-            if !eliminate(self.nd, &mut self.mat, &mut self.delta) {
-                break;
+            if self.same_tangents() {
+                // the matrix bit for bit the last one's: its elimination repeated
+                if !self.kept.solve(&mut self.delta) {
+                    break;
+                }
+            } else {
+                self.jacobian();
+                self.keep_tangents();
+                if !self.kept.eliminate(self.nd, &mut self.mat, &mut self.delta) {
+                    break;
+                }
             }
             self.y_prev.copy_from_slice(&self.y);
             for (y, d) in self.y.iter_mut().zip(&self.delta) {

@@ -41,6 +41,7 @@ use super::super::local::ElementSpace;
 use super::super::scheme::{StepInput, Unknown};
 use super::setting::Setting;
 use crate::dense::DenseLu;
+use crate::dense_kept::Eliminated;
 use crate::error::CoreError;
 
 /// What the rule says about node `i`'s state, `q_i = cq.0 q0 + cq.1 v0 + alpha z`,
@@ -130,6 +131,11 @@ pub(in super::super) struct LocalNewton {
     ud: Vec<f64>,
     /// The sparsity of the tangents' rows ([`ElementSpace::pattern`]).
     pattern: Vec<Vec<usize>>,
+    /// The last elimination of Newton's matrix, and the varying nodes' tangents it was
+    /// formed with (reused while they stay the same bit for bit and `G_i` is not rebuilt).
+    kept: Eliminated,
+    kept_kt: Vec<Vec<f64>>,
+    kept_ct: Vec<Vec<f64>>,
 }
 
 impl LocalNewton {
@@ -142,6 +148,10 @@ impl LocalNewton {
         let square = if coupled { n * n } else { 0 };
         let coupling_nodes = if pf.varying_couplings() { nodes } else { 1 };
         let affine = coupled || pf.has_mass();
+        // A node whose element states do not depend on the unknown is evaluated once per
+        // step: the affine terms (couplings, mass law) are in `A`, so only the elements'
+        // reading of the velocity counts here (a damping coupling alone leaves it constant).
+        let elements_velocity = space.uses_velocity();
         let map = set
             .rule
             .nodes
@@ -161,7 +171,12 @@ impl LocalNewton {
                     cv: (v_q0, v_v0),
                     alpha,
                     beta,
-                    constant: set.constant[i],
+                    constant: set.constant[i]
+                        || match set.unknown {
+                            Unknown::Q1 => dqq == 0.0 && (dvq == 0.0 || !elements_velocity),
+                            Unknown::V1 => dqv == 0.0 && (dvv == 0.0 || !elements_velocity),
+                            Unknown::Both => false,
+                        },
                 }
             })
             .collect();
@@ -211,6 +226,9 @@ impl LocalNewton {
             u: vec![0.0; nd],
             ud: vec![0.0; nd],
             pattern: space.pattern(),
+            kept: Eliminated::default(),
+            kept_kt: Vec::new(),
+            kept_ct: Vec::new(),
         }
     }
 
@@ -260,6 +278,7 @@ impl LocalNewton {
             self.affine_terms(pf, set, inp);
         }
         if rebuild {
+            self.kept.valid = false; // G_i change
             if self.scaled_applies(pf.has_mass()) {
                 self.assemble_scaled(set);
                 self.prepare_scaled(pf.space())?;
