@@ -53,7 +53,7 @@ class Feedback(LinearCoupling):
     >>> from duhamel.feedback import Feedback
     >>> system = duhamel.System(np.eye(1), np.array([[100.0]]), np.array([[20.0]]))
     >>> _ = system.add(Feedback(K=[[50.0]], A=[[0.0]], B=[[1.0]], F=[[400.0]]))
-    >>> _ = system.add_load(duhamel.loads.Step(0, 1.0))
+    >>> _ = system.add_load(duhamel.loads.Step(0, amplitude=1.0))
     >>> sol = duhamel.solve(system, duhamel.Semianalytic(), t_end=30.0, dt=0.01)
     >>> bool(abs(sol.x[-1, 0]) < 1e-6)   # the integrator removes the static offset
     True

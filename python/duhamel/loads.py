@@ -453,7 +453,7 @@ def support_terms(loads: Sequence[Load], dofs: NDArray[np.int64]) -> list[tuple[
     Examples
     --------
     >>> import numpy as np, duhamel
-    >>> quake = duhamel.loads.BaseAcceleration(np.ones(3), [0.0, 1.0], [0.0, 2.0])
+    >>> quake = duhamel.loads.BaseAcceleration(np.ones(3), t=[0.0, 1.0], values=[0.0, 2.0])
     >>> [(r.tolist(), ag(np.array([0.5])).tolist()) for r, ag in
     ...  support_terms([quake], np.array([0, 2]))]
     [([1.0, 1.0], [1.0])]

@@ -91,8 +91,8 @@ class Prepared:
     >>> import numpy as np, duhamel
     >>> frame = duhamel.System(np.eye(2), np.array([[2.0, -1.0], [-1.0, 1.0]]), zeta=0.05)
     >>> run = duhamel.prepare(frame, duhamel.Semianalytic(), dt=0.05)
-    >>> records = [duhamel.loads.BaseAcceleration(np.ones(2), [0.0, 1.0, 2.0], [0.0, s, 0.0])
-    ...            for s in (1.0, 2.0)]
+    >>> records = [duhamel.loads.BaseAcceleration(np.ones(2), t=[0.0, 1.0, 2.0],
+    ...                                           values=[0.0, s, 0.0]) for s in (1.0, 2.0)]
     >>> peaks = [np.abs(run.run(t_end=5.0, loads=[r]).x).max() for r in records]
     >>> float(round(peaks[1] / peaks[0], 12))   # linear: twice the record, twice the response
     2.0

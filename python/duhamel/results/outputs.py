@@ -82,7 +82,7 @@ class StructuralOutputs:
         >>> import numpy as np, duhamel
         >>> t = np.linspace(0.0, 2.0, 201)
         >>> s = duhamel.System(np.eye(1), 100.0 * np.eye(1))
-        >>> s = s.add_load(duhamel.loads.BaseAcceleration(np.ones(1), t, np.sin(5 * t)))
+        >>> s = s.add_load(duhamel.loads.BaseAcceleration(np.ones(1), t=t, values=np.sin(5 * t)))
         >>> sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=1.0, dt=0.01)
         >>> bool(np.allclose(sol.base_shear(), -sol.a_absolute[:, 0]))
         True
@@ -101,7 +101,7 @@ class StructuralOutputs:
         >>> import numpy as np, duhamel
         >>> t = np.linspace(0.0, 2.0, 201)
         >>> s = duhamel.System(np.eye(1), 100.0 * np.eye(1), zeta=0.05)
-        >>> s = s.add_load(duhamel.loads.BaseAcceleration(np.ones(1), t, np.sin(5 * t)))
+        >>> s = s.add_load(duhamel.loads.BaseAcceleration(np.ones(1), t=t, values=np.sin(5 * t)))
         >>> sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=1.0, dt=0.01)
         >>> sol.floor_spectra([0], periods=[0.1, 0.5]).sa.shape
         (1, 1, 2)

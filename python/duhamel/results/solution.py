@@ -281,7 +281,8 @@ class Solution(StructuralOutputs):
         >>> import numpy as np, duhamel
         >>> t = np.linspace(0.0, 2.0, 201)  # the record outlasts the run
         >>> sys = duhamel.System(np.eye(1), 100.0 * np.eye(1), zeta=0.05)
-        >>> sys = sys.add_load(duhamel.loads.BaseAcceleration(np.ones(1), t, np.sin(5 * t)))
+        >>> quake = duhamel.loads.BaseAcceleration(np.ones(1), t=t, values=np.sin(5 * t))
+        >>> sys = sys.add_load(quake)
         >>> sol = duhamel.solve(sys, duhamel.Semianalytic(), t_end=1.0, dt=0.01)
         >>> bool(np.allclose(sol.a_absolute[:, 0], sol.a[:, 0] + np.sin(5 * sol.t)))
         True

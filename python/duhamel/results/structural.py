@@ -38,7 +38,7 @@ class ElementHistory:
     --------
     >>> import numpy as np, duhamel
     >>> system = duhamel.System(np.eye(1), 4.0 * np.eye(1), zeta=0.02)
-    >>> system.add(duhamel.elements.Cubic(0, 1.0))
+    >>> system.add(duhamel.elements.Cubic(0, k3=1.0))
     System(n_dof=1, damping='zeta', loads=0, elements=1)
     >>> sol = duhamel.solve(system, duhamel.Semianalytic(), t_end=1.0, dt=0.01, x0=[0.1])
     >>> spring = sol.elements[0]

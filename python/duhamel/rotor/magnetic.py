@@ -261,7 +261,9 @@ class ClosedLoop:
         >>> rotor = Rotor([Shaft(0.25, 0.05, material=STEEL)] * 4, [Disk(2, 20.0, 0.3, 0.15)])
         >>> amb = [MagneticBearing(n, 100.0, 1e6, PID(3e4, 1e5, 30.0, 1e-4)) for n in (0, 4)]
         >>> loop = rotor.closed_loop(400.0, amb)
-        >>> rub = duhamel.elements.Contact(rotor.dof(2, "x"), rotor.dof(2, "y"), 1e-5, 1e8)
+        >>> rub = duhamel.elements.Contact(
+        ...     (rotor.dof(2, "x"), rotor.dof(2, "y")), clearance=1e-5, stiffness=1e8
+        ... )
         >>> t = np.linspace(0.0, 0.02, 801)  # the route stops beyond omega_c dt = 0.5
         >>> f = np.full((t.size, 1), 2e3)
         >>> s = loop.transient(t, f, [rotor.dof(2, "x")], elements=[rub])
