@@ -21,14 +21,20 @@ def of(model: Any) -> dict[str, Any]:
     return found
 
 
-def share(source: Any, copy: Any, name: str, default: Any = None) -> None:
+def share(source: Any, copy: Any, name: str, default: Any = None, *more: tuple[str, Any]) -> None:
     """`copy` takes the cache `name` of `source` (the same object; `default` is first
-    given to `source` when it has none, None: nothing to share)."""
+    given to `source` when it has none, None: nothing to share), and so for each further
+    ``(name, default)`` pair of `more` (one look-up of each model's caches for them all)."""
     caches = of(source)
-    if name not in caches and default is not None:
-        caches[name] = default
-    if name in caches:
-        of(copy)[name] = caches[name]
+    taken = None
+    for key, fallback in ((name, default), *more):
+        if key not in caches:
+            if fallback is None:
+                continue
+            caches[key] = fallback
+        if taken is None:
+            taken = of(copy)
+        taken[key] = caches[key]
 
 
 def forget(model: Any) -> None:

@@ -18,7 +18,6 @@ from numpy.typing import NDArray
 
 from duhamel._engine import dispatch
 from duhamel._engine.accuracy import run_estimate, to_tolerance, warn_above
-from duhamel._engine.truncation import attach_truncation
 from duhamel._engine.background import background
 from duhamel._engine.correction import substeps
 from duhamel._engine.dense import ExactSteps, State
@@ -36,6 +35,7 @@ from duhamel._engine.request import ACCUMULATED, Request
 from duhamel._engine.run import ModalCallable, overflow_error, raise_failure, watch
 from duhamel._engine.segments import Grid, chunked
 from duhamel._engine.structure import structure_model
+from duhamel._engine.truncation import attach_truncation
 from duhamel._engine.validate import as_float_array
 from duhamel.errors import SolverError
 from duhamel.integrators import Semianalytic
