@@ -101,8 +101,12 @@ class Load:
     def _terms(self, system: Model) -> list[_core.Load]:
         """The load as the core's terms ``pattern * s(t)``, physical patterns (one for a
         pattern times one time function; :class:`Unbalance` has two)."""
-        pattern = np.ascontiguousarray(self._pattern(system), dtype=np.float64)
-        return [_core.Load(pattern, self._time())]
+        return [_core.Load(pattern, time) for pattern, time in self._parts(system)]
+
+    def _parts(self, system: Model) -> list[tuple[NDArray[np.float64], _core.TimeFunction]]:
+        """:meth:`_terms` as ``(pattern, time function)`` pairs, before the core's ``Load``
+        is made (what a projection on the modes reads)."""
+        return [(np.ascontiguousarray(self._pattern(system), dtype=np.float64), self._time())]
 
     def evaluate(self, system: Model, t: ArrayLike) -> NDArray[np.float64]:
         """The load vectors at times `t`, shape ``(len(t), n_dof)`` (or ``(n_dof,)``).
@@ -426,13 +430,13 @@ class Unbalance(Load):
     def _validate(self, system: Model) -> None:
         self._indices(system)
 
-    def _terms(self, system: Model) -> list[_core.Load]:
+    def _parts(self, system: Model) -> list[tuple[NDArray[np.float64], _core.TimeFunction]]:
         law = self.speed._law()  # type: ignore[union-attr]  # a law since __post_init__
         out = []
         for dof, axis in zip(self._indices(system), ("x", "y"), strict=True):
             pattern = np.zeros(system.n_dof)
             pattern[dof] = self.m_e
-            out.append(_core.Load(pattern, _core.TimeFunction.unbalance(law, self.phase, axis)))
+            out.append((pattern, _core.TimeFunction.unbalance(law, self.phase, axis)))
         return out
 
     def evaluate(self, system: Model, t: ArrayLike) -> NDArray[np.float64]:

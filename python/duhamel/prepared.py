@@ -50,9 +50,7 @@ def _with_loads(system: System, loads: list[Load]) -> System:
     other.loads = list(loads)
     other.elements = list(system.elements)
     other.couplings = list(system.couplings)
-    caches.share(system, other, "background")
-    caches.share(system, other, "corrected", {})
-    caches.share(system, other, "truncation", {})
+    caches.share(system, other, "background", None, ("corrected", {}), ("truncation", {}))
     return other
 
 

@@ -129,18 +129,19 @@ def modal_loads(
         if isinstance(item, Callable):
             fns.append(item.fn)
             continue
-        for term in item._terms(system):
-            if phi is None:
-                terms.append(term)
-                continue
-            pattern = phi.T @ term.pattern
+        if phi is None:
+            terms.extend(item._terms(system))
+            continue
+        for physical, time in item._parts(system):
+            pattern = phi.T @ physical
             if not np.all(np.isfinite(pattern)):
+                _core.Load(physical, time)  # a physical pattern not finite: the core's error
                 raise ValueError(
                     f"the load {type(item).__name__} projects on the modes beyond the double "
                     "range (a huge amplitude on tiny masses: the mass-normalised modes scale "
                     "as 1/sqrt(`M`)): check its amplitude, `M` and the model's units"
                 )
-            terms.append(_core.Load(np.ascontiguousarray(pattern, dtype=np.float64), term.time))
+            terms.append(_core.Load(np.ascontiguousarray(pattern, dtype=np.float64), time))
     return terms, fns
 
 

@@ -90,13 +90,17 @@ def old_spellings(
         n_positional = len(new_positional)
         shown = _unannotated(cls.__name__, params)
         gathered = {old: new for new, group in merges.items() for old in group}
+        # the old keywords and the required ones, as sets: a call in the new spelling is
+        # told apart by two set operations (no generator per call)
+        watched = frozenset(renames) | frozenset(gathered)
+        needed = frozenset(required)
 
         @functools.wraps(init)
         def __init__(self: Any, *args: Any, **kwargs: Any) -> None:
             if (
                 len(args) > n_positional
-                or any(k in renames or k in gathered for k in kwargs)
-                or any(k not in kwargs for k in required)
+                or (watched and not watched.isdisjoint(kwargs))
+                or (needed and not needed <= kwargs.keys())
             ):
                 kwargs = _translate(cls.__name__, shown, args, kwargs, positional, renames,
                                     merges, required, new_positional)  # fmt: skip

@@ -224,11 +224,11 @@ def attach_truncation(solution: Any, prep: Any, opts: Any, warn: bool = True) ->
     ``element_truncation_estimate`` (per element) for a reduced run and warns above the
     integrator's ``error_warning``; leaves them None / empty where not estimated (see the
     module docstring and docs/accuracy.md)."""
+    if prep.integrator.modes is None or solution.modal is None:
+        return  # all modes kept: nothing left out, and no per-call cost for it
     from duhamel._engine import caches
     from duhamel._engine.background import background
 
-    if prep.integrator.modes is None or solution.modal is None:
-        return  # all modes kept: nothing left out, and no per-call cost for it
     system = background(prep.system, prep.integrator.linear_parts).system
     if not _applies(solution, prep, system):
         return
