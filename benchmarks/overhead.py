@@ -52,7 +52,7 @@ INTEGRATOR = duhamel.Semianalytic()
 
 def fresh(element, stiffness=K):
     s = duhamel.System(M, stiffness, zeta=0.05)
-    s.add_load(L.Harmonic(N - 1, 10.0, 12.0))
+    s.add_load(L.Harmonic(N - 1, amplitude=10.0, omega=12.0))  # both builds take keywords
     if element:
         s.add(E.Bilinear(3, 4, k=5e3, fy=0.02, alpha=0.05))
     return s
