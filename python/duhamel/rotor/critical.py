@@ -401,6 +401,9 @@ def _with_response(
     nc, peak = _vertex(amp, ws, a, k, w0)
     level = peak / np.sqrt(2.0)
 
+    def above(w: float) -> float:
+        return float(amp(w)[0]) - level
+
     def side(step: int) -> float:
         i = k
         while 0 <= i + step < ws.size and a[i + step] > level:
@@ -408,10 +411,17 @@ def _with_response(
         j = i + step
         if not 0 <= j < ws.size:  # the response does not fall to half power near here
             return np.nan
-        lo, hi = sorted((float(ws[i]), float(ws[j])))
-        lo, hi = (max(lo, nc), hi) if step > 0 else (lo, min(hi, nc))
-        return float(brentq(lambda w: float(amp(w)[0]) - level, lo, hi,
-                            xtol=1e-13 * w0, rtol=1e-13))  # fmt: skip
+        inner = max(float(ws[i]), nc) if step > 0 else min(float(ws[i]), nc)
+        if not above(inner) > 0.0:  # a sample next to the level, re-evaluated on the other
+            inner = nc  # side of it by rounding: bracket from the peak (above the level)
+        outer = float(ws[j])
+        while above(outer) > 0.0:  # the same at the outer sample: the next one out
+            j += step
+            if not 0 <= j < ws.size:
+                return np.nan
+            outer = float(ws[j])
+        lo, hi = sorted((inner, outer))
+        return float(brentq(above, lo, hi, xtol=1e-13 * w0, rtol=1e-13))
 
     n1, n2 = side(-1), side(1)
     af = nc / (n2 - n1) if np.isfinite(n1) and np.isfinite(n2) and n2 > n1 else np.nan
