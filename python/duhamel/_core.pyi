@@ -37,10 +37,11 @@ def transfer_kc(k: Array, c: Array, dt: float, moments: bool = False) -> tuple[A
     """As :func:`transfer`, from modal stiffness ``k = omega^2`` and damping ``c``."""
 
 def mode_bounds(
-    pseudo: Array, q: Array, omega: Array, c: Array, h: float, k: int, span: float
+    pseudo: Array, q: Array, omega: Array, c: Array, step: tuple[float, int, float]
 ) -> Array:
     """Per mode, the error estimate's accumulated bound of a run (``duhamel._engine.
-    accuracy.mode_bounds``): C-contiguous ``(rows, n)`` histories."""
+    accuracy.mode_bounds``): C-contiguous ``(rows, n)`` histories, ``step`` the run's
+    ``(h, k, span)``."""
 
 def parabola_moments(omega: Array, c: Array, h: float) -> Array:
     """Per mode, the end state ``(q, v)`` of the parabola ``4 s (1 - s)`` over one step

@@ -47,20 +47,19 @@ fn shape_error(name: &str, want: String, got: &[usize]) -> PyErr {
 
 /// Per mode, the largest accumulated bound of the modal displacement error over a run:
 /// `pseudo` and `q` the saved modal pseudo-force and displacements `(rows, n)`, `omega` and
-/// `c` per mode, `h` the internal step, `k` internal steps between saved instants, `span`
-/// the run's duration.
+/// `c` per mode, `step` the run's stepping `(h, k, span)`: the internal step, the internal
+/// steps between saved instants and the run's duration (they travel together, as in
+/// [`bounds_of`]).
 #[pyfunction]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn mode_bounds<'py>(
     py: Python<'py>,
     pseudo: &Bound<'py, PyAny>,
     q: &Bound<'py, PyAny>,
     omega: &Bound<'py, PyAny>,
     c: &Bound<'py, PyAny>,
-    h: f64,
-    k: usize,
-    span: f64,
+    step: (f64, usize, f64),
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let (h, k, _) = step;
     guarded(|| {
         let (pseudo, q) = (matrix(pseudo, "pseudo")?, matrix(q, "q")?);
         let (omega, c) = (f64_array1(omega, "omega")?, f64_array1(c, "c")?);
@@ -70,7 +69,7 @@ pub(crate) fn mode_bounds<'py>(
         }
         check_step(h, k)?;
         let moments = accuracy::parabola_moments(omega, c, h);
-        let bounds = bounds_of(&pseudo, &q, omega, c, &moments, (h, k, span))?;
+        let bounds = bounds_of(&pseudo, &q, omega, c, &moments, step)?;
         Ok(PyArray1::from_vec(py, bounds))
     })
 }

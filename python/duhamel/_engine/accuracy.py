@@ -86,9 +86,7 @@ def mode_bounds(
         np.ascontiguousarray(q, dtype=np.float64),
         np.ascontiguousarray(omega, dtype=np.float64),
         np.ascontiguousarray(c, dtype=np.float64),
-        float(h),
-        int(k),
-        float(span),
+        (float(h), int(k), float(span)),
     )
 
 
