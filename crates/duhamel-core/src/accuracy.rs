@@ -13,6 +13,10 @@
 
 use crate::kernel::oscillator::Transfer;
 
+mod passes;
+
+use passes::{decaying_max_of_seconds, first_sums, floor_div, peak_of};
+
 /// The run's history and step for [`mode_bounds`]: row-major `(rows, n)` arrays.
 #[derive(Debug, Clone, Copy)]
 pub struct ModalRun<'a> {
@@ -68,20 +72,7 @@ pub fn mode_bounds(run: &ModalRun<'_>) -> Vec<f64> {
     // over the run, never below omega); at least the drift over half the run for slow,
     // rigid modes. One pass over the history, row by row (no copy of it).
     let len = rows - 2;
-    let (mut sums, mut qq, mut pq) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    for r in 0..rows {
-        let (pr, qr) = (&p[r * n..(r + 1) * n], &q[r * n..(r + 1) * n]);
-        for m in 0..n {
-            qq[m] += qr[m] * qr[m];
-            pq[m] += pr[m] * qr[m];
-        }
-        if r < len {
-            let (b, c) = (&p[(r + 1) * n..(r + 2) * n], &p[(r + 2) * n..(r + 3) * n]);
-            for m in 0..n {
-                sums[m] += second(pr[m], b[m], c[m]);
-            }
-        }
-    }
+    let (sums, qq, pq) = first_sums(p, q, n, rows);
     let floor = 2.0 / run.span.max(run.h);
     let k = run.k as f64;
     let mut scale = vec![0.0; n];
@@ -122,93 +113,6 @@ pub fn mode_bounds(run: &ModalRun<'_>) -> Vec<f64> {
         out[m] = scale[m] * t;
     }
     out
-}
-
-/// The magnitude of a second difference (the estimate's `|Q''| h^2` at the saved spacing).
-fn second(a: f64, b: f64, c: f64) -> f64 {
-    ((c + a) - 2.0 * b).abs()
-}
-
-/// [`decaying_max`] of the `modes`' second differences of the row-major history `p` (`n`
-/// columns, `len + 2` rows), computed as they are read, one pass over the rows for every
-/// mode at once (the same values, in the same order, as on the stored differences).
-fn decaying_max_of_seconds(
-    p: &[f64],
-    n: usize,
-    len: usize,
-    modes: &[usize],
-    decay: &[f64],
-) -> Vec<f64> {
-    let rate: Vec<f64> = modes
-        .iter()
-        .map(|&m| -decay[m].clamp(1e-300, 1.0).ln())
-        .collect();
-    let mut best = vec![0.0; modes.len()];
-    let most = |a: f64, b: f64| {
-        if a.is_nan() || b.is_nan() {
-            f64::NAN
-        } else {
-            a.max(b)
-        }
-    };
-    let (fast, slow): (Vec<usize>, Vec<usize>) = (0..modes.len()).partition(|&j| rate[j] > 0.5);
-    let fastest = slow.iter().map(|&j| rate[j]).fold(0.0_f64, f64::max);
-    let g = if fastest > 0.0 {
-        ((len as f64).min(floor_div(0.1, fastest)) as usize).max(1)
-    } else {
-        1 // undamped: running sums
-    };
-    let step: Vec<f64> = slow.iter().map(|&j| (-rate[j] * g as f64).exp()).collect();
-    let mut peak = vec![0.0_f64; fast.len()];
-    let (mut acc, mut top, mut sum) = (
-        vec![0.0_f64; slow.len()],
-        vec![0.0_f64; slow.len()],
-        vec![0.0_f64; slow.len()],
-    );
-    let mut push = |sum: &mut [f64]| {
-        for s in 0..sum.len() {
-            acc[s] = step[s] * acc[s] + sum[s];
-            top[s] = most(top[s], acc[s]);
-            sum[s] = 0.0;
-        }
-    };
-    let mut filled = 0;
-    for r in 0..len {
-        let (a, b, c) = (
-            &p[r * n..(r + 1) * n],
-            &p[(r + 1) * n..(r + 2) * n],
-            &p[(r + 2) * n..(r + 3) * n],
-        );
-        for (top, &j) in peak.iter_mut().zip(&fast) {
-            let m = modes[j];
-            *top = most(*top, second(a[m], b[m], c[m]));
-        }
-        for (sum, &j) in sum.iter_mut().zip(&slow) {
-            let m = modes[j];
-            *sum += second(a[m], b[m], c[m]);
-        }
-        filled += 1;
-        if filled == g {
-            push(&mut sum);
-            filled = 0;
-        }
-    }
-    if g >= 2 && !slow.is_empty() && len > 0 {
-        push(&mut sum); // the values left over after whole groups (none: a zero input)
-    }
-    for (t, &j) in peak.iter().zip(&fast) {
-        best[j] = t / (1.0 - decay[modes[j]]);
-    }
-    if len > 0 {
-        for (s, &j) in slow.iter().enumerate() {
-            best[j] = if g >= 2 {
-                top[s] * (rate[j] * g as f64).exp()
-            } else {
-                top[s]
-            };
-        }
-    }
-    best
 }
 
 /// One quantity of a run whose error is estimated relative to its peak: its components'
@@ -253,35 +157,11 @@ pub fn relative(
     if quantity.rows.is_empty() || worst == 0.0 {
         return 0.0;
     }
-    let mut peak = 0.0_f64;
-    if width > 0 {
-        for row in history.chunks_exact(width) {
-            for &(a, b) in &quantity.columns {
-                let value = match b {
-                    Some(b) => row[a] - row[b],
-                    None => row[a],
-                };
-                peak = most(peak, value.abs());
-            }
-        }
-    }
+    let peak = peak_of(&quantity.columns, history, width);
     if peak > 0.0 {
         worst / peak
     } else {
         f64::INFINITY // also for a NaN peak (then the caller's check of the bounds decides)
-    }
-}
-
-/// Python's `a // b` for positive floats (`float.__floordiv__`: from `fmod`, not the
-/// rounded quotient), so that the grouping below is the one the estimate was defined with.
-fn floor_div(a: f64, b: f64) -> f64 {
-    let rem = a % b;
-    let div = (a - rem) / b;
-    let floor = div.floor();
-    if div - floor > 0.5 {
-        floor + 1.0
-    } else {
-        floor
     }
 }
 
