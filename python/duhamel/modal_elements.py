@@ -62,10 +62,11 @@ def _effective(element: Any, displacement: float) -> NDArray[np.float64]:
 
 
 def element_stiffness(
-    system: Any, elements: str, displacement: float | None = None
+    system: Any, elements: str, displacement: float | None = None, nonsymmetric: bool = False
 ) -> NDArray[np.float64]:
     """``K`` plus the system's force elements' stiffness (``elements`` ``"initial"`` or
-    ``"effective"`` at `displacement`), dense, symmetric."""
+    ``"effective"`` at `displacement`), dense; symmetric, or with `nonsymmetric` the
+    elements' tangents that are not symmetric added as they are."""
     if elements not in ("initial", "effective"):
         raise ValueError(f"`elements` must be 'initial' or 'effective', got {elements!r}")
     if elements == "effective":
@@ -81,10 +82,17 @@ def element_stiffness(
 
     K = system.K.toarray() if issparse(system.K) else np.array(system.K, dtype=np.float64)
     for element in system.elements:
-        if isinstance(element, Callable):
+        if isinstance(element, Callable) and (
+            elements == "effective" or element.parameters.get("jacobian") is None
+        ):
             raise ValueError(
-                f"`elements`: {type(element).__name__} defines no stiffness to add (a "
-                "Callable): compute these modes from a stiffness of your own"
+                f"`elements`: a Callable defines no {elements} stiffness to add"
+                + (
+                    " (give it a `jacobian`: its tangent at x = 0 is then its initial stiffness)"
+                    if elements == "initial"
+                    else ""
+                )
+                + ": compute these modes from a stiffness of your own"
             )
         dofs = list(element._dofs)
         k = (
@@ -95,12 +103,46 @@ def element_stiffness(
         if not np.all(np.isfinite(k)):
             raise ValueError(f"`elements`: {type(element).__name__}'s stiffness is not finite")
         if np.abs(k - k.T).max(initial=0.0) > 1e-9 * np.abs(k).max(initial=0.0):
-            raise ValueError(
-                f"`elements`: {type(element).__name__}'s stiffness there is not symmetric "
-                "(no undamped modes with it)"
-            )
-        K[np.ix_(dofs, dofs)] += 0.5 * (k + k.T)
+            if not nonsymmetric:
+                raise ValueError(
+                    f"`elements`: {type(element).__name__}'s stiffness there is not symmetric "
+                    "(no undamped modes with it)"
+                )
+            K[np.ix_(dofs, dofs)] += k  # as it is (a P-Delta tangent: the caller's modes)
+        else:
+            K[np.ix_(dofs, dofs)] += 0.5 * (k + k.T)
     return K
+
+
+def _nonsymmetric_modes(system: Any, K: NDArray[np.float64], n_modes: int | None) -> Any:
+    """The modes of ``(K, M)`` for a `K` that is not symmetric (an element's initial tangent
+    that is not, such as the P-Delta moments of an imported elastomeric bearing): the real
+    eigenvalues of the general problem (massless dofs give infinite ones, left out), the right
+    eigenvectors mass-normalised, as OpenSees' ``eigen`` computes them on its tangent. Refused
+    when an eigenvalue of the modes kept is complex or not positive."""
+    import scipy.linalg
+
+    from duhamel._engine.validate import issparse
+    from duhamel.modal import damped
+
+    M = system.M.toarray() if issparse(system.M) else np.asarray(system.M, dtype=np.float64)
+    (alpha, beta), right = scipy.linalg.eig(K, M, right=True, homogeneous_eigvals=True)
+    finite = np.abs(beta) > 1e-12 * np.abs(alpha)
+    lam = alpha[finite] / beta[finite]
+    phi = right[:, finite]
+    order = np.argsort(lam.real)
+    n = lam.size if n_modes is None else int(n_modes)
+    if not 1 <= n <= lam.size:
+        raise ValueError(f"`n_modes` must be in [1, {lam.size}], got {n_modes!r}")
+    lam, phi = lam[order[:n]], phi[:, order[:n]]
+    if np.any(np.abs(lam.imag) > 1e-8 * np.abs(lam.real)) or np.any(lam.real <= 0.0):
+        raise ValueError(
+            "`elements`: the stiffness with the elements' initial tangent is not symmetric "
+            "and its lowest modes are not real and positive (no undamped modes with it)"
+        )
+    lam, phi = lam.real, phi.real
+    phi = phi / np.sqrt(np.einsum("ij,ij->j", phi, M @ phi))
+    return damped(lam, phi, system)
 
 
 def modal_with_elements(
@@ -108,7 +150,15 @@ def modal_with_elements(
 ) -> Any:
     """The modes of ``(K + the elements' stiffness, M)``, the statement of that stiffness
     in the basis (:meth:`duhamel.ModalBasis.summary`)."""
-    K = element_stiffness(system, elements, displacement)
+    K = element_stiffness(system, elements, displacement, nonsymmetric=elements == "initial")
+    if np.abs(K - K.T).max(initial=0.0) > 1e-12 * np.abs(K).max(initial=0.0):
+        basis = _nonsymmetric_modes(system, K, n_modes)
+        what = (
+            "K + the force elements' initial stiffness (their tangent at x = 0), not "
+            "symmetric: the right eigenvectors of the general problem, mass-normalised but "
+            "not mass-orthogonal (OpenSees' eigen on its tangent)"
+        )
+        return replace(basis, stiffness=what)
     basis = system._with_stiffness(K).modal(n_modes)
     what = (
         "K + the force elements' initial stiffness (their tangent at x = 0)"

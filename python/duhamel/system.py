@@ -395,8 +395,9 @@ class System:
             only the additional ones; a basis given to :meth:`use_basis` is used instead.
         elements : {"initial", "effective"}, optional
             Default: the modes of ``K`` alone, as the integrators use them. ``"initial"``: of
-            ``K`` plus the force elements' tangent at ``x = 0`` (OpenSees' ``eigen`` of an
-            imported model); ``"effective"``: plus their ASCE 7 ``k_eff`` at `displacement`
+            ``K`` plus the force elements' tangent at ``x = 0`` (OpenSees' ``eigen``; not
+            symmetric: the real modes of the general problem, not mass-orthogonal);
+            ``"effective"``: plus their ASCE 7 ``k_eff`` at `displacement`
             (:mod:`duhamel.modal_elements`). The basis's ``summary()`` says which.
         displacement : float, optional
             The amplitude of ``elements="effective"``.
