@@ -285,12 +285,20 @@ def _threads(job: _Job, ps: list, n: int, basis: Any) -> Iterator[Any]:
             yield pending.pop(i).result()
 
 
+def _chunk(cases: Sequence[tuple[int, Any]], job: _Job, basis: ModalBasis | None) -> list:
+    """A Dask task: `job`'s runs of `cases` (`job` and `basis` arrive once per worker)."""
+    return job.chunk(cases, basis)
+
+
 def _dask(job: _Job, ps: list, client: Any, size: int, basis: Any) -> Iterator[Any]:
-    """The results in order from chunked tasks on the cluster (the basis scattered once)."""
+    """The results in order from chunked tasks on the cluster: the study's job (its
+    `make_system` with what it holds, a model or records) and the basis scattered to every
+    worker once, each task carrying only its cases' parameters."""
     shared = None if basis is None else client.scatter(basis, broadcast=True)
+    shipped = client.scatter(job, broadcast=True, hash=False)
     indexed = list(enumerate(ps))
     chunks = [indexed[i : i + size] for i in range(0, len(indexed), size)]
-    futures = client.map(job.chunk, chunks, basis=shared, pure=False)
+    futures = client.map(_chunk, chunks, job=shipped, basis=shared, pure=False)
     for k in range(len(futures)):
         chunk = futures[k].result()
         futures[k] = None  # the cluster can forget it
