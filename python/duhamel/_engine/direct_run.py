@@ -43,8 +43,15 @@ class DirectSetup:
     fns: list[Any]
 
     def run(self, req: Request, a0: NDArray[np.float64] | None = None) -> Solution:
-        """One run of `req`, kept in memory; `a0` overrides the initial acceleration (see
+        """One run of `req`, kept in memory (with the integrator's `rtol`, the run whose
+        steps meet it: :func:`_to_tolerance`); `a0` overrides the initial acceleration (see
         :func:`step_matrix`)."""
+        if getattr(self.integrator, "rtol", None) is None:
+            return self._run_once(req, a0)
+        return _to_tolerance(self, req, a0)
+
+    def _run_once(self, req: Request, a0: NDArray[np.float64] | None = None) -> Solution:
+        """One run of `req` in steps of its `dt`."""
         system, integrator = self.system, self.integrator
         t0, dt, n_steps, save_every = req.t0, req.dt, req.n_steps, req.save_every
         x0, v0, loads, dofs = req.x0, req.v0, req.loads, req.dofs
@@ -119,6 +126,50 @@ class DirectSetup:
                 error = error.kept_until(float(result.t[kept - 1]) if kept else None)
             raise_failure(error, solution)
         return solution
+
+
+def _to_tolerance(setup: DirectSetup, req: Request, a0: NDArray[np.float64] | None) -> Solution:
+    """The run of `req` in steps of ``dt / 2^k``, ``k = 1, 2, ...`` up to the integrator's
+    `subdivisions`, until two successive runs differ by at most ``atol + rtol * peak`` at the
+    saved displacements (the difference bounds the finer run's error for a method of order
+    1 or more once its steps resolve the response: order p leaves ``1 / (2^p - 1)`` of it);
+    the finer run is returned at the user's saved instants. Beyond `subdivisions` a
+    ``SolverError(reason="tolerance")`` holding the finest run."""
+    from dataclasses import replace
+
+    from duhamel.errors import SolverError
+
+    integrator: Any = setup.integrator  # a member of the generalized-alpha family
+    rtol, atol, depth = integrator.rtol, integrator.atol, integrator.subdivisions
+    if req.located:
+        raise ValueError(
+            "`rtol` of a direct integrator refines whole runs: not with `events`, `t_eval` or "
+            "`dense` (run with the `dt` it chose, `sol.meta['dt'] / sol.stats.substeps`)"
+        )
+    coarse = setup._run_once(req, a0)
+    for level in range(1, depth + 1):
+        k = 2**level
+        grid = {"dt": req.dt / k, "n_steps": req.n_steps * k, "save_every": req.save_every * k}
+        fine = setup._run_once(replace(req, **grid), a0)
+        diff = float(np.abs(fine.x - coarse.x).max(initial=0.0))
+        peak = float(np.abs(fine.x).max(initial=0.0))
+        estimate = diff / peak if peak > 0.0 else (0.0 if diff == 0.0 else float("inf"))
+        fine.meta["dt"], fine.meta["save_every"] = req.dt, req.save_every
+        fine.stats = replace(
+            fine.stats, steps=fine.stats.steps // k, substeps=k, error_estimate=estimate
+        )
+        if diff <= atol + rtol * peak:
+            return fine
+        coarse = fine
+    raise SolverError(
+        f"the run cannot meet `rtol`={rtol:g} (`atol`={atol:g}): its runs in steps of "
+        f"dt/2^{depth - 1} and dt/2^{depth} = {req.dt / 2**depth:.4g} still differ by "
+        f"{diff:.3g} at the saved displacements, {diff / (atol + rtol * peak):.3g} times the "
+        f"tolerance (`subdivisions`={depth}); raise `subdivisions` or loosen `rtol`",
+        time=float(fine.t[-1]) if fine.t.size else req.t0,
+        reason="tolerance",
+        partial=fine,
+    )
 
 
 def _massless_start(

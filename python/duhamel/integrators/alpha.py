@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from duhamel import _core
-from duhamel.integrators.base import DirectIntegrator, newton_options, real
+from duhamel.integrators.base import DirectIntegrator, newton_options, real, tolerance_options
 
 __all__ = ["HHT", "CentralDifference", "GeneralizedAlpha", "Newmark"]
 
@@ -51,6 +51,16 @@ class Newmark(_AlphaFamily):
         ``max(|a1|, |v1|/dt, |x1|/dt^2)``).
     max_iter : int
         Newton iterations per step before the run stops with a :class:`duhamel.SolverError`.
+    rtol, atol, subdivisions : float or None, float, int
+        Steps chosen by tolerance (every member of the family): with `rtol`, the run is
+        repeated in steps of ``dt / 2**k``, ``k = 1, 2, ...``, until two successive runs
+        differ by at most ``atol + rtol * peak`` at the saved dofs' displacements (their
+        difference bounds the finer run's error for a method of order 1 or more once the
+        steps resolve the response); the finer run is returned, the saved instants the
+        user's, its ``stats.error_estimate`` that difference over the peak and
+        ``stats.substeps`` ``2**k``. ``k`` stops at `subdivisions` (default 4): a run still
+        above raises :class:`duhamel.SolverError` with ``reason="tolerance"``. Default
+        None (the run at `dt`), `atol` 0.
 
     Examples
     --------
@@ -69,11 +79,15 @@ class Newmark(_AlphaFamily):
     beta: float = 0.25
     tol: float = 1e-10
     max_iter: int = 25
+    rtol: float | None = None
+    atol: float = 0.0
+    subdivisions: int = 4
 
     def __post_init__(self) -> None:
         real(self.gamma, "gamma", 0.0)
         real(self.beta, "beta", 0.0)
         newton_options(self.tol, self.max_iter)
+        tolerance_options(self)
 
     def _params(self) -> tuple[float, float, float, float]:
         return (0.0, 0.0, float(self.gamma), float(self.beta))
@@ -94,7 +108,7 @@ class HHT(_AlphaFamily):
     ----------
     alpha : float
         In ``[-1/3, 0]``.
-    tol, max_iter
+    tol, max_iter, rtol, atol, subdivisions
         As for :class:`Newmark`.
 
     Examples
@@ -108,10 +122,14 @@ class HHT(_AlphaFamily):
     alpha: float
     tol: float = 1e-10
     max_iter: int = 25
+    rtol: float | None = None
+    atol: float = 0.0
+    subdivisions: int = 4
 
     def __post_init__(self) -> None:
         real(self.alpha, "alpha", -1.0 / 3.0, 0.0)
         newton_options(self.tol, self.max_iter)
+        tolerance_options(self)
 
     def _params(self) -> tuple[float, float, float, float]:
         a = float(self.alpha)
@@ -133,7 +151,7 @@ class GeneralizedAlpha(_AlphaFamily):
     ----------
     rho_inf : float
         Spectral radius at infinite ``dt/T``, in ``[0, 1]``.
-    tol, max_iter
+    tol, max_iter, rtol, atol, subdivisions
         As for :class:`Newmark`.
 
     Examples
@@ -147,10 +165,14 @@ class GeneralizedAlpha(_AlphaFamily):
     rho_inf: float
     tol: float = 1e-10
     max_iter: int = 25
+    rtol: float | None = None
+    atol: float = 0.0
+    subdivisions: int = 4
 
     def __post_init__(self) -> None:
         real(self.rho_inf, "rho_inf", 0.0, 1.0)
         newton_options(self.tol, self.max_iter)
+        tolerance_options(self)
 
     def _params(self) -> tuple[float, float, float, float]:
         r = float(self.rho_inf)
@@ -182,6 +204,8 @@ class CentralDifference(_AlphaFamily):
         Run even above the stability limit (the response then grows without bound).
     tol, max_iter
         As for :class:`Newmark` (Newton on the end velocity with velocity-dependent elements).
+    rtol, atol, subdivisions
+        As for :class:`Newmark` (each finer run must also keep within the stability limit).
 
     Examples
     --------
@@ -198,11 +222,15 @@ CentralDifference(allow_unstable=True)
     allow_unstable: bool = False
     tol: float = 1e-10
     max_iter: int = 25
+    rtol: float | None = None
+    atol: float = 0.0
+    subdivisions: int = 4
 
     def __post_init__(self) -> None:
         if not isinstance(self.allow_unstable, bool):
             raise TypeError(f"`allow_unstable` must be a bool, got {self.allow_unstable!r}")
         newton_options(self.tol, self.max_iter)
+        tolerance_options(self)
 
     def _params(self) -> tuple[float, float, float, float]:
         return (0.0, 0.0, 0.5, 0.0)

@@ -9,7 +9,14 @@ import numpy as np
 
 from duhamel._engine.validate import finite_float, positive_int
 
-__all__ = ["MAX_ITER", "DirectIntegrator", "Integrator", "newton_options", "real"]
+__all__ = [
+    "MAX_ITER",
+    "DirectIntegrator",
+    "Integrator",
+    "newton_options",
+    "real",
+    "tolerance_options",
+]
 
 
 class Integrator:
@@ -41,6 +48,23 @@ def real(value: object, name: str, lo: float | None = None, hi: float | None = N
         hi_s = "inf" if hi is None else f"{hi:g}"
         raise ValueError(f"`{name}` must be in [{lo_s}, {hi_s}], got {out!r}")
     return out
+
+
+def tolerance_options(integrator: Any) -> None:
+    """Checks a direct integrator's steps-by-tolerance options: `rtol` None or a number in
+    (0, 1), `atol` a finite number >= 0, `subdivisions` an integer in [1, 20]; stores
+    `rtol` and `atol` as floats."""
+    rtol = integrator.rtol
+    if rtol is not None:
+        rtol = finite_float(rtol, "rtol")
+        if not 0.0 < rtol < 1.0:
+            raise ValueError(f"`rtol` must be a number in (0, 1) (or None), got {rtol}")
+        object.__setattr__(integrator, "rtol", rtol)
+    atol = finite_float(integrator.atol, "atol")
+    if atol < 0.0:
+        raise ValueError(f"`atol` must be >= 0, got {atol}")
+    object.__setattr__(integrator, "atol", atol)
+    positive_int(integrator.subdivisions, "subdivisions", 20)
 
 
 def newton_options(tol: object, max_iter: object) -> None:
