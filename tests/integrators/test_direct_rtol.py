@@ -43,6 +43,7 @@ INTEGRATORS = {
     "hht": lambda **k: duhamel.HHT(-0.1, **k),
     "generalized-alpha": lambda **k: duhamel.GeneralizedAlpha(0.8, **k),
     "newmark-first-order": lambda **k: duhamel.Newmark(gamma=0.6, beta=0.3025, **k),
+    "cubic-hermite": lambda **k: duhamel.CubicHermite(**k),
 }
 
 

@@ -139,7 +139,7 @@ def _to_tolerance(setup: DirectSetup, req: Request, a0: NDArray[np.float64] | No
 
     from duhamel.errors import SolverError
 
-    integrator: Any = setup.integrator  # a member of the generalized-alpha family
+    integrator: Any = setup.integrator  # one with `rtol` (alpha family, CubicHermite)
     rtol, atol, depth = integrator.rtol, integrator.atol, integrator.subdivisions
     if req.located:
         raise ValueError(
