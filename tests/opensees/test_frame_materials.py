@@ -133,3 +133,10 @@ def test_modimk_hinges_after_gravity_bring_no_damping() -> None:
     imk = imported("ModIMKPeakOriented")
     assert np.abs(np.asarray(imk.C) - steel).max() <= 1e-12 * np.abs(steel).max()
     assert any("ModIMKPeakOriented" in note for note in imk.opensees.notes)
+
+
+def test_a_wrapper_of_modimk_after_gravity_is_refused_naming_it() -> None:
+    """Inside a wrapper the term cannot be separated: refused, not imported as a dashpot."""
+    hm.build([hm.IMK, ("MinMax", 1, "-min", -0.06, "-max", 0.06)])
+    with pytest.raises(ValueError, match=r"element 510: a MinMax with a ModIMKPeakOriented part"):
+        duhamel.opensees.from_opensees()

@@ -148,7 +148,7 @@ def material_element(
     )
 
 
-def _parts(element: Element) -> list[Element]:
+def _inner(element: Element) -> list[Element]:
     p = element.parameters  # type: ignore[attr-defined]
     return [p["material"]] if "material" in p else list(p.get("materials", ()))
 
@@ -177,7 +177,7 @@ def newton_damping(
                 p = element.parameters  # type: ignore[attr-defined]
                 out.append(_pair(p["i"], p["j"], p["K0"] * (1.0 + p["n_factor"])))
                 continue
-            stack = _parts(element)
+            stack = _inner(element)
             while stack:
                 part = stack.pop()
                 if isinstance(part, ModIMKPeakOriented):
@@ -188,5 +188,5 @@ def newton_damping(
                         "import cannot separate inside a wrapper); define the hinge's "
                         "materials without the wrapper or import before the analysis"
                     )
-                stack.extend(_parts(part))
+                stack.extend(_inner(part))
     return out
