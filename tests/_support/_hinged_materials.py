@@ -26,6 +26,7 @@ import tempfile
 from typing import Any
 
 import numpy as np
+from _hinged import _gravity
 
 from duhamel import elements as E
 
@@ -113,6 +114,7 @@ def beam_end(storey: int, side: int) -> int:
 
 
 def lean(storey: int) -> int:
+    """The leaning column's node at level `storey` (_hinged's numbering, its gravity)."""
     return 900 + storey
 
 
@@ -176,27 +178,10 @@ def build(definitions: list[tuple[Any, ...]], chain: bool = False) -> list[int]:
             1e-3 * I_COL, 2,
         )  # fmt: skip
     ops.rayleigh(A0, 0.0, A1, 0.0)
-    _gravity(ops)
+    # the vertical loads at the leaning column's floors (900 + storey, as _hinged's), by a
+    # static analysis (Newton, ten load steps), then held
+    _gravity(ops, STOREYS, 1, {"beams": []}, 0.0, P_LEANING)
     return hinges
-
-
-def _gravity(ops: Any) -> None:
-    """The vertical loads by a static analysis (Newton, ten load steps), then held."""
-    ops.timeSeries("Linear", 1)
-    ops.pattern("Plain", 1, 1)
-    for storey in range(1, STOREYS + 1):
-        ops.load(lean(storey), 0.0, -P_LEANING, 0.0)
-    ops.constraints("Transformation")
-    ops.numberer("RCM")
-    ops.system("BandGeneral")
-    ops.test("NormDispIncr", 1e-12, 50)
-    ops.algorithm("Newton")
-    ops.integrator("LoadControl", 0.1)
-    ops.analysis("Static")
-    if ops.analyze(10) != 0:
-        raise RuntimeError("the gravity analysis failed")
-    ops.loadConst("-time", 0.0)
-    ops.wipeAnalysis()
 
 
 def record(dt: float = 0.01, duration: float = 5.0, pga: float = 6.0) -> tuple[Any, Any]:
