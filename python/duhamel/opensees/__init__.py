@@ -293,8 +293,23 @@ def from_opensees(
         left[np.abs(left) <= 1e-12 * np.abs(k)] = 0.0
         K[np.ix_(dofs, dofs)] = left
     from duhamel.opensees._bearings import pdelta_elements
+    from duhamel.opensees._materials import newton_damping
 
     followers = pdelta_elements(K, tr.pdelta, tr.notes)
+    analysed = any(
+        np.any(np.asarray(f(node), dtype=np.float64) != 0.0)
+        for node in ops.getNodeTags()
+        for f in (ops.nodeDisp, ops.nodeVel, ops.nodeAccel)
+    )
+    C = C.copy()
+    newton = newton_damping(tr.elements, analysed)
+    for dofs, c in newton:
+        C[np.ix_(dofs, dofs)] -= c
+    if newton:
+        tr.notes.append(
+            "ModIMKPeakOriented: its stiffness tangent, which OpenSees adds to the damping "
+            "matrix (getDampTangent) with no damping force, left out of C"
+        )
     skew = _skew(K, dmap.labels, tr.notes)
     if skew is not None:
         K = K - skew

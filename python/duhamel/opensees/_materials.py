@@ -4,11 +4,15 @@ Parallel and Series of them, from the parameters OpenSees prints (``printModel -
 significant digits). Refused, naming the material: those OpenSees prints without their
 parameters (Pinching4; a zeroLength prints a MultiLinear's tag as 0) and an asymmetric law
 whose deformation duhamel would have to mirror (the node with the material's positive
-deformation fixed)."""
+deformation fixed). :func:`newton_damping`: the damping OpenSees' ``ModIMKPeakOriented``
+adds to the damping matrix without any damping force (taken out of the imported ``C``)."""
 
 from __future__ import annotations
 
 from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
 
 from duhamel.elements import (
     ElasticMultiLinear,
@@ -21,9 +25,9 @@ from duhamel.elements import (
     Series,
     Steel02,
 )
-from duhamel.opensees._parts import Untranslatable
+from duhamel.opensees._parts import Untranslatable, _pair
 
-__all__ = ["KINDS", "material_element"]
+__all__ = ["KINDS", "material_element", "newton_damping"]
 
 #: ModIMKPeakOriented's printed names -> duhamel's
 _IMK = {
@@ -142,3 +146,47 @@ def material_element(
         f"{name}: OpenSees prints none of its parameters (only its state), so it cannot be "
         "read back; build the duhamel element of the same name yourself"
     )
+
+
+def _inner(element: Element) -> list[Element]:
+    p = element.parameters  # type: ignore[attr-defined]
+    return [p["material"]] if "material" in p else list(p.get("materials", ()))
+
+
+def newton_damping(
+    elements: dict[int, list[Element]], analysed: bool
+) -> list[tuple[tuple[int, ...], NDArray[np.float64]]]:
+    """The damping matrix terms, each ``(dofs, c)``, that OpenSees' ``ModIMKPeakOriented``
+    puts into the damping matrix with no damping force behind them: its ``getDampTangent``
+    returns ``ekP``, its stiffness tangent at its last update (0 before any), which
+    ``ZeroLength::getDamp`` adds to the damping matrix, while its force (``getStress``) has
+    no rate term. They enter only OpenSees' Newton matrix, not its model's response, so they
+    are taken out of the damping matrix read from OpenSees. After an analysis (`analysed`:
+    e.g. the gravity loads) each such material is at zero deformation at import (a loaded
+    one is refused) with the tangent ``K0 (1 + n_factor)``; before any, ``ekP`` is 0. A
+    wrapper (MinMax, Parallel, Series) of one after an analysis is refused: OpenSees'
+    wrappers combine their parts' damping tangents in ways not read here."""
+    out = []
+    for tag, made in elements.items():
+        for element in made:
+            if not analysed or not isinstance(
+                element, (ModIMKPeakOriented, MinMax, Parallel, Series)
+            ):
+                continue
+            if isinstance(element, ModIMKPeakOriented):
+                p = element.parameters  # type: ignore[attr-defined]
+                out.append(_pair(p["i"], p["j"], p["K0"] * (1.0 + p["n_factor"])))
+                continue
+            stack = _inner(element)
+            while stack:
+                part = stack.pop()
+                if isinstance(part, ModIMKPeakOriented):
+                    raise ValueError(
+                        f"cannot translate OpenSees element {tag}: a {type(element).__name__} "
+                        "with a ModIMKPeakOriented part after an analysis (OpenSees adds that "
+                        "material's stiffness tangent to the damping matrix, a term the "
+                        "import cannot separate inside a wrapper); define the hinge's "
+                        "materials without the wrapper or import before the analysis"
+                    )
+                stack.extend(_inner(part))
+    return out

@@ -110,9 +110,17 @@ impl ElasticMultiLinear {
         let (e1, e2) = (self.strain[i], self.strain[i + 1]);
         let (s1, s2) = (self.stress[i], self.stress[i + 1]);
         let k = (s2 - s1) / (e2 - e1);
-        let mut f = s1 + k * (u - e1);
-        if f.abs() < k * f64::EPSILON {
-            f = 0.0;
+        // from the nearer point: the force's round-off then scales with the force near a
+        // point of zero force (not with the neighbouring point's), down to deformations far
+        // below f64::EPSILON (a frame starting from rest)
+        let (e, s) = if (u - e1).abs() <= (e2 - u).abs() {
+            (e1, s1)
+        } else {
+            (e2, s2)
+        };
+        let mut f = s + k * (u - e);
+        if f.abs() < 2.0 * f64::EPSILON * s.abs() {
+            f = 0.0; // round-off of a zero crossing inside a segment
         }
         (f, k)
     }

@@ -12,8 +12,8 @@
 //! committed twice at the same deformation (its trial keeps the last segment index when
 //! the strain did not change), which moves the elastic range to the wrong side — after a
 //! positive yield, the next unloading is then on the negative yield branch. Here a
-//! deformation within `f64::EPSILON` of the committed one keeps the committed state, as a
-//! single commit does (docs/materials.md).
+//! deformation equal to the committed one to round-off (`f64::EPSILON` relative) keeps the
+//! committed state, as a single commit does (docs/materials.md).
 
 use serde::{Deserialize, Serialize};
 
@@ -153,7 +153,9 @@ impl Material for MultiLinear {
         t: &mut [f64],
     ) -> Result<(f64, f64), CoreError> {
         t.copy_from_slice(c);
-        if (c[0] - u).abs() < f64::EPSILON {
+        // the same deformation to round-off (relative: a frame starts from rest with
+        // deformations far below f64::EPSILON, which an absolute test would freeze)
+        if (c[0] - u).abs() <= f64::EPSILON * c[0].abs().max(u.abs()) {
             return Ok((c[1], c[2]));
         }
         let n = self.n();
@@ -161,7 +163,11 @@ impl Material for MultiLinear {
         let (slope, stress);
         let mut seg = 0;
         if u >= d(0, NEG_E) && u <= d(0, POS_E) {
-            stress = d(0, NEG_S) + (u - d(0, NEG_E)) * self.slope[0];
+            // from the elastic range's centre (the origin before any yield): the force's
+            // round-off scales with the force near rest, not with the yield force
+            let centre_e = 0.5 * (d(0, NEG_E) + d(0, POS_E));
+            let centre_s = 0.5 * (d(0, NEG_S) + d(0, POS_S));
+            stress = centre_s + (u - centre_e) * self.slope[0];
             slope = self.slope[0];
         } else if u < d(0, NEG_E) {
             seg = 1;
