@@ -1,6 +1,6 @@
 """The cost of the basis-truncation estimate (issue 41): reduced runs with
 ``duhamel._engine.modal.attach_truncation`` on and off, interleaved, process CPU time, best
-of 5 (a 60-dof chain with a Bilinear and a cubic spring, 10 modes, 5,000 steps; the
+and median of 7 (a 60-dof chain with a Bilinear and a cubic spring, 10 modes, 5,000 steps; the
 20,384-dof lattice of ``benchmarks/truncation_lattice.py`` with its harmonic load, 100
 modes, 2,000 steps; caches warmed by one run first).
 
@@ -50,23 +50,28 @@ def main() -> None:
             2000,
         ),
     )
+    print(f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()}")
     for name, system, modes, steps in cases:
         duhamel.solve(system, duhamel.Semianalytic(modes=modes), t_end=steps * 1e-3, dt=1e-3)
         for correct in (False, True):
-            best = {"on": np.inf, "off": np.inf}
-            for _ in range(5):
+            times: dict[str, list[float]] = {"on": [], "off": []}
+            for _ in range(7):
                 for label, fn in (("on", on), ("off", lambda *a, **k: None)):
                     mod.attach_truncation = fn
                     run = duhamel.Semianalytic(modes=modes, static_correction=correct)
                     started = time.process_time()
                     duhamel.solve(system, run, t_end=steps * 1e-3, dt=1e-3)
-                    best[label] = min(best[label], time.process_time() - started)
+                    times[label].append(time.process_time() - started)
             mod.attach_truncation = on
-            share = (best["on"] - best["off"]) / best["off"]
+            best = {k: min(v) for k, v in times.items()}
+            median = {k: float(np.median(v)) for k, v in times.items()}
             print(
-                f"{name}, correction {correct}: {1e3 * best['off']:.1f} ms without the "
-                f"estimate, {1e3 * best['on']:.1f} ms with it (+{100 * share:.0f} %); load "
-                f"average {os.getloadavg()[0]:.1f}"
+                f"{name}, correction {correct}: best {1e3 * best['off']:.1f} ms without the "
+                f"estimate, {1e3 * best['on']:.1f} ms with it "
+                f"(+{100 * (best['on'] / best['off'] - 1):.1f} %); median "
+                f"{1e3 * median['off']:.1f} -> {1e3 * median['on']:.1f} ms "
+                f"(+{100 * (median['on'] / median['off'] - 1):.1f} %); load average "
+                f"{os.getloadavg()[0]:.1f}"
             )
 
 

@@ -15,21 +15,36 @@ pub const STEP_VALUES: usize = 9;
 pub fn hold_response(steps: &[f64], g: &[f64], len: usize) -> Vec<f64> {
     let rows = steps.len() / STEP_VALUES;
     let mut y = vec![0.0; rows * len];
-    for m in 0..rows {
-        let s = &steps[STEP_VALUES * m..STEP_VALUES * (m + 1)];
-        let input = &g[m * len..(m + 1) * len];
-        let output = &mut y[m * len..(m + 1) * len];
-        let (mut x0, mut x1) = (0.0_f64, 0.0_f64);
-        for (out, pair) in output[1..].iter_mut().zip(input.windows(2)) {
-            let (g0, g1) = (pair[0], pair[1]);
-            let next0 = s[0] * x0 + s[1] * x1 + s[4] * g0 + s[6] * g1;
-            x1 = s[2] * x0 + s[3] * x1 + s[5] * g0 + s[7] * g1;
-            x0 = next0;
-            *out = s[8] * x0;
+    if len < 2 {
+        return y;
+    }
+    // LANES rows stepped side by side: each row's step depends on its last one, the rows
+    // are independent (the processor overlaps them); a last group's spare lanes repeat its
+    // last row and are not written
+    for start in (0..rows).step_by(LANES) {
+        let width = LANES.min(rows - start);
+        let row = |l: usize| start + l.min(width - 1);
+        let s: [&[f64]; LANES] =
+            std::array::from_fn(|l| &steps[STEP_VALUES * row(l)..STEP_VALUES * (row(l) + 1)]);
+        let input: [&[f64]; LANES] = std::array::from_fn(|l| &g[row(l) * len..(row(l) + 1) * len]);
+        let (mut x0, mut x1) = ([0.0_f64; LANES], [0.0_f64; LANES]);
+        for k in 1..len {
+            for l in 0..LANES {
+                let (s, g0, g1) = (s[l], input[l][k - 1], input[l][k]);
+                let next0 = s[0] * x0[l] + s[1] * x1[l] + s[4] * g0 + s[6] * g1;
+                x1[l] = s[2] * x0[l] + s[3] * x1[l] + s[5] * g0 + s[7] * g1;
+                x0[l] = next0;
+            }
+            for l in 0..width {
+                y[(start + l) * len + k] = s[l][8] * x0[l];
+            }
         }
     }
     y
 }
+
+/// Rows of [`hold_response`] stepped together.
+const LANES: usize = 4;
 
 #[cfg(test)]
 mod tests {
@@ -89,8 +104,16 @@ mod tests {
             0.7,
             0.5,
         ];
+        // six rows (a group of four and a partial one): the two above, then repeated
+        let rows = 6;
+        let steps: Vec<f64> = (0..rows)
+            .flat_map(|m| steps[9 * (m % 2)..9 * (m % 2) + 9].to_vec())
+            .collect();
+        let g: Vec<f64> = (0..rows * len)
+            .map(|i| g[i % (2 * len)] * (1.0 + (i / len) as f64))
+            .collect();
         let y = hold_response(&steps, &g, len);
-        for m in 0..2 {
+        for m in 0..rows {
             let want = convolution(&steps[9 * m..9 * m + 9], &g[m * len..(m + 1) * len]);
             let scale = want.iter().fold(0.0_f64, |s, v| s.max(v.abs()));
             assert_eq!(y[m * len], 0.0, "from rest");
