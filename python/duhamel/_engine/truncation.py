@@ -106,7 +106,8 @@ def _combined(
     """The oscillators whose response the estimate sums, ``(omega2, c, psi, signed)``: the
     ``BLOCKS``-block model's, and for a corrected run also the one-block model's (its
     shapes negated in `signed`: the estimate is what the larger model adds), so that one
-    pass over the force histories and one filter run serve both (cached with `models`)."""
+    pass over the force histories and one run of the oscillators serve both (cached with
+    `models`)."""
     from duhamel._engine import caches
 
     cache = caches.of(system).setdefault("truncation", {})
@@ -243,7 +244,8 @@ def _peak(a: Array) -> float:
 
 def _peaks(q: Array) -> Array:
     """Per row of `q`, ``max |q|``."""
-    return np.maximum(q.max(axis=1, initial=0.0), -q.min(axis=1, initial=0.0))
+    peaks: Array = np.maximum(q.max(axis=1, initial=0.0), -q.min(axis=1, initial=0.0))
+    return peaks
 
 
 def _applies(solution: Any, prep: Any, system: Any) -> bool:
