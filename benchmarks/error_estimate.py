@@ -156,7 +156,7 @@ def _frame5() -> duhamel.System:
     system = duhamel.System(np.eye(n), k, zeta=0.03)
     system.add(duhamel.elements.Bilinear(0, k=300.0, fy=3.0, alpha=0.1))
     system.add(duhamel.elements.Cubic(3, k3=2e3))
-    system.add_load(duhamel.loads.BaseAcceleration(np.ones(n), t, ag))
+    system.add_load(duhamel.loads.BaseAcceleration(np.ones(n), t=t, values=ag))
     return system
 
 
