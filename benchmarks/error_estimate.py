@@ -57,7 +57,7 @@ def _frame(n: int = 60) -> duhamel.System:
     system = duhamel.System(np.eye(n), k, zeta=0.03)
     system.add(duhamel.elements.Bilinear(0, k=300.0, fy=3.0, alpha=0.1))
     system.add(duhamel.elements.Cubic(n // 2, k3=2e3))
-    system.add_load(duhamel.loads.BaseAcceleration(np.ones(n), t, np.sin(5.0 * t)))
+    system.add_load(duhamel.loads.BaseAcceleration(np.ones(n), t=t, values=np.sin(5.0 * t)))
     return system
 
 
@@ -156,7 +156,7 @@ def _frame5() -> duhamel.System:
     system = duhamel.System(np.eye(n), k, zeta=0.03)
     system.add(duhamel.elements.Bilinear(0, k=300.0, fy=3.0, alpha=0.1))
     system.add(duhamel.elements.Cubic(3, k3=2e3))
-    system.add_load(duhamel.loads.BaseAcceleration(np.ones(n), t, ag))
+    system.add_load(duhamel.loads.BaseAcceleration(np.ones(n), t=t, values=ag))
     return system
 
 

@@ -50,6 +50,11 @@ def parabola_moments(omega: Array, c: Array, h: float) -> Array:
 def decaying_max(x: Array, decay: Array) -> Array:
     """Per row of ``x``, the largest value of ``acc_{i+1} = decay acc_i + x_i`` from 0."""
 
+def hold_response(steps: Array, g: Array) -> Array:
+    """Per row of `g` ``(n, len)``, ``scale x_k[0]`` of ``x_{k+1} = A x_k + p g_k + r
+    g_{k+1}`` from ``x_0 = 0`` with that row of `steps` ``(n, 9)`` = ``(A00, A01, A10, A11,
+    p0, p1, r0, r1, scale)``, ``(n, len)``: the basis-truncation estimate's oscillators."""
+
 @final
 class Estimator:
     """The error estimate of a prepared modal model's runs: its modes, the magnitudes of

@@ -26,6 +26,7 @@ pub mod problem;
 pub mod pseudo;
 pub mod spectra;
 pub mod speed;
+pub mod truncation;
 
 pub use driver::{Control, Unattended};
 pub use error::CoreError;

@@ -120,6 +120,33 @@ pub(crate) fn decaying_max<'py>(
     })
 }
 
+/// Per row of `g` `(n, len)`, the output of the oscillator of that row of `steps`
+/// `(n, 9)` from rest under the row linear between samples
+/// (`duhamel_core::truncation::hold_response`): the basis-truncation estimate's
+/// left-out modes.
+#[pyfunction]
+pub(crate) fn hold_response<'py>(
+    py: Python<'py>,
+    steps: &Bound<'py, PyAny>,
+    g: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    use duhamel_core::truncation::{self, STEP_VALUES};
+    guarded(|| {
+        let (steps, g) = (matrix(steps, "steps")?, matrix(g, "g")?);
+        let n = g.shape()[0];
+        if steps.shape() != [n, STEP_VALUES] {
+            return Err(shape_error(
+                "steps",
+                format!("({n}, {STEP_VALUES})"),
+                steps.shape(),
+            ));
+        }
+        let len = g.shape()[1];
+        let y = truncation::hold_response(steps.as_slice()?, g.as_slice()?, len);
+        PyArray1::from_vec(py, y).reshape([n, len])
+    })
+}
+
 fn check_step(h: f64, k: usize) -> PyResult<()> {
     if !(h.is_finite() && h > 0.0) || k == 0 {
         return Err(PyValueError::new_err(format!(

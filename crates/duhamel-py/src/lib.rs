@@ -161,6 +161,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(transfer, m)?)?;
     m.add_function(wrap_pyfunction!(accuracy::mode_bounds, m)?)?;
     m.add_function(wrap_pyfunction!(accuracy::decaying_max, m)?)?;
+    m.add_function(wrap_pyfunction!(accuracy::hold_response, m)?)?;
     m.add_function(wrap_pyfunction!(accuracy::parabola_moments, m)?)?;
     m.add_class::<accuracy::Estimator>()?;
     m.add_function(wrap_pyfunction!(transfer_kc, m)?)?;

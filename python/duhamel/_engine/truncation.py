@@ -41,6 +41,7 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
+from duhamel import _core
 from duhamel.errors import AccuracyWarning
 
 __all__ = ["BLOCKS", "attach_truncation", "residual_model", "response"]
@@ -55,6 +56,8 @@ CHUNK = 2048
 #: relative to the run's peak (forming the error's history at every dof would cost more
 #: than the run).
 EXACT_ROWS = 8
+#: Values of the error's history formed at a time (with :data:`CHUNK` instants at least).
+BUFFER = 1 << 16
 
 
 def residual_model(system: Any, kept: Any, blocks: int) -> list[tuple[Array, Array, Array]]:
@@ -97,16 +100,45 @@ def residual_model(system: Any, kept: Any, blocks: int) -> list[tuple[Array, Arr
     return out
 
 
-def _filters(omega2: Array, c: Array, h: float) -> tuple[Array, Array]:
-    """Per mode, the recursion of ``q'' + c q' + omega2 q = g`` with ``g`` linear between
-    samples ``h`` apart, exact (first-order hold, from rest): numerator and denominator
-    coefficients in ``z^-1`` (shape ``(n, 3)`` each), from the exponential of the oscillator
-    augmented with the input's ramp."""
+def _combined(
+    system: Any, models: list[tuple[Array, Array, Array]], correct: bool
+) -> tuple[Array, Array, Array, Array]:
+    """The oscillators whose response the estimate sums, ``(omega2, c, psi, signed)``: the
+    ``BLOCKS``-block model's, and for a corrected run also the one-block model's (its
+    shapes negated in `signed`: the estimate is what the larger model adds), so that one
+    pass over the force histories and one run of the oscillators serve both (cached with
+    `models`)."""
+    from duhamel._engine import caches
+
+    cache = caches.of(system).setdefault("truncation", {})
+    key = ("combined", id(models), correct)
+    found = cache.get(key)
+    if found is not None and found[0] is models:
+        return cast(tuple[Array, Array, Array, Array], found[1])
+    omega2, c, psi = models[-1]
+    signed = psi
+    if correct:
+        one = models[0]
+        omega2 = np.concatenate([omega2, one[0]])
+        c = np.concatenate([c, one[1]])
+        psi = np.hstack([psi, one[2]])
+        signed = np.hstack([signed, -one[2]])
+    combined = (omega2, c, np.ascontiguousarray(psi), np.ascontiguousarray(signed))
+    cache[key] = (models, combined)  # `models` held: its identity stays its own
+    return combined
+
+
+def _steps(omega2: Array, c: Array, h: float) -> Array:
+    """Per mode, the exact step of ``q'' + c q' + omega2 q = g`` with ``g`` linear between
+    samples ``h`` apart, from the exponential of the oscillator augmented with the input's
+    ramp: rows ``(A00, A01, A10, A11, p0, p1, r0, r1, 1 / s)`` of ``x_{k+1} = A x_k + p g_k
+    + r g_{k+1}`` on the state ``x = (s q, q')`` (``s = omega``: the step near normal at any
+    ``omega h``), ``q = x[0] / s`` (``duhamel._core.hold_response`` runs it)."""
     import scipy.linalg
 
     n = omega2.size
     w = np.sqrt(np.maximum(omega2, 0.0))
-    s = np.where(w > 0.0, w, 1.0)  # the state (w q, v): the block near normal at any w h
+    s = np.where(w > 0.0, w, 1.0)
     z = np.zeros((n, 4, 4))
     z[:, 0, 1] = s * h
     z[:, 1, 0] = -(omega2 / s) * h
@@ -114,50 +146,44 @@ def _filters(omega2: Array, c: Array, h: float) -> tuple[Array, Array]:
     z[:, 1, 2] = h  # v' gets g = a + b tau: states (a + b tau, b h)
     z[:, 2, 3] = 1.0  # (tau/h)' = 1/h: the ramp's state is b h
     e = scipy.linalg.expm(z)
-    a = e[:, :2, :2]
     g_ramp, g_const = e[:, :2, 3], e[:, :2, 2]
-    b0, b1 = g_const - g_ramp, g_ramp  # x_{k+1} = A x_k + b0 g_k + b1 g_{k+1}
-    # q = (w q) / s: the transfer of the first state, (z I - A)^-1 (b0 + z b1)
-    a00, a01, a10, a11 = a[:, 0, 0], a[:, 0, 1], a[:, 1, 0], a[:, 1, 1]
-    num = np.stack(
-        [b1[:, 0], b0[:, 0] - a11 * b1[:, 0] + a01 * b1[:, 1], -a11 * b0[:, 0] + a01 * b0[:, 1]],
-        axis=1,
-    )
-    den = np.stack([np.ones(n), -(a00 + a11), a00 * a11 - a01 * a10], axis=1)
-    return num / s[:, None], den
+    steps = np.empty((n, 9))
+    steps[:, :4] = e[:, :2, :2].reshape(n, 4)
+    steps[:, 4:6] = g_const - g_ramp  # p: the sample at the step's start
+    steps[:, 6:8] = g_ramp  # r: the one at its end
+    steps[:, 8] = 1.0 / s
+    return steps
 
 
 def response(
     omega2: Array, c: Array, g: Array, t: Array, cache: dict[Any, Any] | None = None
 ) -> Array:
-    """The modal displacements (rows: the instants `t`, equally spaced) of the oscillators
-    ``q'' + c q' + omega2 q = g(t)``, from rest, `g` linear between its rows (the filters
-    kept in `cache` by their content)."""
-    from scipy.signal import lfilter
-
-    q = np.zeros_like(g)
+    """The modal displacements (rows: the modes; columns: the instants `t`, equally spaced)
+    of the oscillators ``q'' + c q' + omega2 q = g(t)``, from rest at ``t[0]``, `g` (rows:
+    the modes) linear between its columns, exactly (the steps kept in `cache` by their
+    content; the core runs them, ``duhamel._core.hold_response``)."""
     if t.size < 2:
-        return q
+        return np.zeros_like(g)
     h = float(t[1] - t[0])
-    key = ("filters", omega2.tobytes(), c.tobytes(), h)
-    found = None if cache is None else cache.get(key)
-    if found is None:
-        found = _filters(omega2, c, h)
+    key = ("steps", omega2.tobytes(), c.tobytes(), h)
+    steps = None if cache is None else cache.get(key)
+    if steps is None:
+        steps = _steps(omega2, c, h)
         if cache is not None:
-            cache[key] = found
-    num, den = found
-    for m in range(omega2.size):
-        q[:, m] = lfilter(num[m], den[m], g[:, m])
-    return q
+            cache[key] = steps
+    return np.asarray(_core.hold_response(steps, np.ascontiguousarray(g)))
 
 
 def _forces(solution: Any, prep: Any, opts: Any, psi: Array, t: Array) -> Array | None:
     """The run's forces on the structure beyond its background, projected on `psi`, at the
-    saved instants (None where a force's history is not known: a Python load function)."""
+    saved instants (rows: the columns of `psi`; None where a force's history is not known:
+    a Python load function): one product of the force histories (an element's force less
+    its linear part in the background, a load's time function) with their projections."""
     from duhamel.loads import Callable
 
-    g = np.zeros((t.size, psi.shape[1]))
     linear = prep.route.linear
+    histories: list[Array] = []  # rows: one force history each
+    patterns: list[Array] = []  # the same rows' projections on `psi`
     for index, history in enumerate(solution.elements):
         dofs = list(getattr(history.element, "_dofs", ()))
         force = np.asarray(history.force)
@@ -166,47 +192,68 @@ def _forces(solution: Any, prep: Any, opts: Any, psi: Array, t: Array) -> Array 
         part = linear[index] if index < len(linear) else None
         if part is not None:
             force = force - part.force(np.asarray(history.x), np.asarray(history.v))
-        g -= force @ psi[dofs]  # the restoring force acts on the structure with a minus
+        histories.extend(force.T)
+        patterns.append(-psi[dofs])  # the restoring force acts on the structure with a minus
     loads = prep.system.loads if opts.loads is None else opts.loads
     for load in loads:
         if isinstance(load, Callable):
             return None
         for term in load._terms(prep.system):
-            g += np.outer(np.asarray(term.time.values(t)), psi.T @ np.asarray(term.pattern))
-    return g
+            histories.append(np.asarray(term.time.values(t)))
+            patterns.append((psi.T @ np.asarray(term.pattern))[None, :])
+    if not histories:
+        return np.zeros((psi.shape[1], t.size))
+    return np.vstack(patterns).T @ np.vstack(histories)
 
 
 def _relative_error(rows: Array, q: Array, run: Array) -> float:
-    """``max_t |e(t)| / max_t |run(t) + e(t)|`` with ``e = q @ rows.T`` the estimated error
-    (the full model minus the run) along `rows` and `run` the run's response there (rows:
-    instants, columns: the rows of `rows`): the error relative to the estimated peak of the
-    full model (a run that overshoots is not excused by its own peak), formed :data:`CHUNK`
-    instants at a time."""
+    """``max_t |e(t)| / max_t |run(t) + e(t)|`` with ``e = rows @ q`` the estimated error
+    (the full model minus the run) along `rows` (`q`: rows the modes, columns the instants)
+    and `run` the run's response there (rows: instants, columns: the rows of `rows`): the
+    error relative to the estimated peak of the full model (a run that overshoots is not
+    excused by its own peak), formed a block of instants at a time."""
     if rows.shape[0] == 0:
         return 0.0
-    run = np.asarray(run, dtype=np.float64).reshape(q.shape[0], -1)
+    run = np.asarray(run, dtype=np.float64).reshape(q.shape[1], -1)
     if rows.shape[0] > EXACT_ROWS:  # many saved dofs: the modes' peaks summed in magnitude
-        error = float((np.abs(rows) @ np.abs(q).max(axis=0)).max(initial=0.0))
-        peak = float(np.abs(run).max(initial=0.0))
+        error = float((np.abs(rows) @ _peaks(q)).max(initial=0.0))
         if error == 0.0:
             return 0.0
+        peak = _peak(run)
         return error / peak if peak > 0.0 else float("inf")
     if run.shape[1] != rows.shape[0]:
-        run = np.broadcast_to(np.abs(run).max(axis=1, keepdims=True), (q.shape[0], rows.shape[0]))
+        run = np.broadcast_to(np.abs(run).max(axis=1, keepdims=True), (q.shape[1], rows.shape[0]))
     error, peak = 0.0, 0.0
-    for s in range(0, q.shape[0], CHUNK):
-        e = q[s : s + CHUNK] @ rows.T
+    step = max(CHUNK, BUFFER // rows.shape[0])
+    for s in range(0, q.shape[1], step):
+        e = rows @ q[:, s : s + step]
         error = max(error, float(np.abs(e).max(initial=0.0)))
-        peak = max(peak, float(np.abs(run[s : s + CHUNK] + e).max(initial=0.0)))
+        e += run[s : s + step].T
+        peak = max(peak, float(np.abs(e, out=e).max(initial=0.0)))
     if error == 0.0:
         return 0.0
     return error / peak if peak > 0.0 else float("inf")
 
 
+def _peak(a: Array) -> float:
+    """``max |a|`` without a copy of `a` (a large run's saved displacements)."""
+    if a.size == 0:
+        return 0.0
+    return max(float(a.max()), -float(a.min()), 0.0)
+
+
+def _peaks(q: Array) -> Array:
+    """Per row of `q`, ``max |q|``."""
+    peaks: Array = np.maximum(q.max(axis=1, initial=0.0), -q.min(axis=1, initial=0.0))
+    return peaks
+
+
 def _applies(solution: Any, prep: Any, system: Any) -> bool:
     integrator = prep.integrator
     t = solution.t
-    uniform = t.size >= 3 and np.allclose(np.diff(t), t[1] - t[0], rtol=1e-9, atol=0.0)
+    uniform = t.size >= 3 and bool(
+        np.abs(np.diff(t) - (t[1] - t[0])).max() <= 1e-9 * abs(t[1] - t[0])
+    )
     return (
         integrator.modes is not None
         and solution.modal is not None
@@ -249,24 +296,12 @@ def attach_truncation(solution: Any, prep: Any, opts: Any, warn: bool = True) ->
         )
         return
 
-    def deflection(model: tuple[Array, Array, Array]) -> tuple[Array, list[Array]]:
-        omega2, c, psi = model
-        g = _forces(solution, prep, opts, psi, t)
-        if g is None:
-            raise LookupError
-        q = response(omega2, c, g, t, caches.of(system).get("truncation"))
-        return q, [psi[dofs]] + [_rows(h, psi) for h in histories]
-
-    try:
-        q_all, rows_all = deflection(models[-1])
-        if correct:
-            q_one, rows_one = deflection(models[0])
-            q = np.hstack([q_all, q_one])
-            rows = [np.hstack([a, -b]) for a, b in zip(rows_all, rows_one, strict=True)]
-        else:
-            q, rows = q_all, rows_all
-    except LookupError:
+    omega2, c, psi, signed = _combined(system, models, correct)
+    g = _forces(solution, prep, opts, psi, t)
+    if g is None:
         return
+    q = response(omega2, c, g, t, caches.of(system).get("truncation"))
+    rows = [signed[dofs]] + [_rows(h, signed) for h in histories]
     at_dofs = _relative_error(rows[0], q, np.asarray(solution.x))
     elements = tuple(
         _relative_error(r, q, _local(h)) for r, h in zip(rows[1:], histories, strict=True)
