@@ -33,7 +33,8 @@ pub(super) fn backtrack(
 /// `|d_{k+1}| ~ |d_k|^3 / |d_{k-1}|^2`, at most `4 eps` of `scale` (the state's size). The
 /// iteration that would only confirm it (measured on the paper's rotor: corrections
 /// 3e-4, 2e-8, then 1e-16 of the state) is then left out; the result differs from
-/// taking it by that correction, rounding.
+/// taking it by that correction, rounding. Only for smooth forces (polynomials with
+/// analytic tangents): a contact or friction law converges piecewise, not quadratically.
 pub(super) fn next_below_rounding(prev: Option<f64>, size: f64, scale: f64) -> bool {
     let Some(prev) = prev else {
         return false;

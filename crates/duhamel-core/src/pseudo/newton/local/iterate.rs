@@ -170,7 +170,7 @@ impl LocalNewton {
             let size = self.delta.iter().fold(0.0_f64, |a, d| a.max(d.abs()));
             let ymax = self.y.iter().fold(0.0_f64, |a, y| a.max(y.abs()));
             let scale = ymax.max(scale0);
-            let exact = !cut && next_below_rounding(last_size, size, scale);
+            let exact = set.smooth && !cut && next_below_rounding(last_size, size, scale);
             if set.linear || size <= set.tol * scale || size == 0.0 || exact {
                 // The forces at the accepted state, with the tangents the stiffness watch
                 // then reuses when the last node evaluated is the end state.

@@ -105,7 +105,7 @@ impl LocalNewton {
             let size = 0.0_f64.max(delta.abs());
             let ymax = 0.0_f64.max(self.y[0].abs());
             let scale = ymax.max(scale0);
-            let exact = !cut && next_below_rounding(last_size, size, scale);
+            let exact = set.smooth && !cut && next_below_rounding(last_size, size, scale);
             if set.linear || size <= set.tol * scale || size == 0.0 || exact {
                 let end = self.map.iter().rev().find(|m| !m.constant);
                 let at_end = end.is_some_and(|m| m.s == 1.0);
