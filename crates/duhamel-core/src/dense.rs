@@ -390,11 +390,7 @@ mod tests {
             let mut a: Vec<f64> = (0..n * n)
                 .map(|k| {
                     let v = ((k * 37 % 23) as f64 - 11.0) * 0.013 * (1.0 + (k % 7) as f64);
-                    if k % 5 == 3 {
-                        0.0
-                    } else {
-                        v
-                    }
+                    v * f64::from(k % 5 != 3)
                 })
                 .collect();
             for j in 0..n {
