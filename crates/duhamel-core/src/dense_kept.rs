@@ -65,6 +65,20 @@ impl Eliminated {
     /// [`crate::dense::eliminate`] of `m` (overwritten) and `b`, keeping the operations; the result and
     /// `m` are those of `crate::dense::eliminate`.
     pub fn eliminate(&mut self, n: usize, m: &mut [f64], b: &mut [f64]) -> bool {
+        // the same code for each small size, its loops then of known length (the
+        // element-space Newton's few element dofs): the same operations in the same order
+        match n {
+            1 => self.eliminate_sized(1, m, b),
+            2 => self.eliminate_sized(2, m, b),
+            3 => self.eliminate_sized(3, m, b),
+            4 => self.eliminate_sized(4, m, b),
+            _ => self.eliminate_sized(n, m, b),
+        }
+    }
+
+    /// [`Eliminated::eliminate`]'s body, inlined where `n` is a constant.
+    #[inline(always)]
+    fn eliminate_sized(&mut self, n: usize, m: &mut [f64], b: &mut [f64]) -> bool {
         let (m, b) = (&mut m[..n * n], &mut b[..n]);
         self.n = n;
         self.valid = false;

@@ -109,6 +109,7 @@ impl<'r> StepSolver<'r> {
             tol,
             max_iter,
             linear: pf.linear,
+            smooth: pf.polynomial,
             acceleration: estimate,
         };
         let local = solver != Solver::ModalNewton

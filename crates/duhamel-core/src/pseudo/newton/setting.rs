@@ -22,6 +22,10 @@ pub(super) struct Setting<'r> {
     pub max_iter: usize,
     /// The step equation is linear (affine pseudo-force): one Newton step is exact.
     pub linear: bool,
+    /// Every force is a polynomial of degree <= 3 with analytic tangents: Newton's
+    /// convergence near the solution is quadratic, so the next correction can be predicted
+    /// ([`super::damping::next_below_rounding`]).
+    pub smooth: bool,
     /// The pseudo-force reads the step's acceleration estimate `(v1 - v0)/dt` (an estimated
     /// mass law).
     pub acceleration: bool,

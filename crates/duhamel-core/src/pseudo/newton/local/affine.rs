@@ -3,7 +3,7 @@
 
 use super::super::super::force::PseudoForce;
 use super::super::super::local::ElementSpace;
-use super::super::super::scheme::StepInput;
+use super::super::super::scheme::{StepInput, Unknown};
 use super::{LocalNewton, Setting};
 use crate::dense::{dot, DenseLu};
 use crate::error::CoreError;
@@ -37,9 +37,16 @@ impl LocalNewton {
                 (self.has_kc.1 && any(&|m| m.cv.0), 2, false, q0),
                 (self.has_kc.1 && any(&|m| m.cv.1), 3, false, v0),
             ];
+            // The start half that the last step's `z` became (q0, or v0 for scheme a): its
+            // products are the last step's `K z`, `C z` when it is that `z` bit for bit.
+            let v1 = set.unknown == Unknown::V1;
+            let reuse =
+                !self.last_z.is_empty() && super::same(if v1 { v0 } else { q0 }, &self.last_z);
             for (on, slot, stiff, x) in wanted {
                 let m = if stiff { &self.kc[0] } else { &self.cc[0] };
-                if on {
+                if on && reuse && (slot % 2 == 1) == v1 {
+                    self.prod[slot].copy_from_slice(&self.last_prod[slot / 2]);
+                } else if on {
                     matvec(m, x, &mut self.prod[slot]);
                 } else {
                     self.prod[slot].fill(0.0);
@@ -255,6 +262,12 @@ impl LocalNewton {
                 matvec(&self.cc[0], z, &mut cz[0]);
             } else {
                 cz[0].fill(0.0);
+            }
+            if self.has_kc.0 && self.has_kc.1 {
+                self.last_z.clear();
+                self.last_z.extend_from_slice(z);
+                self.last_prod[0].clone_from(&kz[4]);
+                self.last_prod[1].clone_from(&cz[0]);
             }
         }
         w.copy_from_slice(w_lin);

@@ -2,7 +2,7 @@
 
 use super::super::super::local::{zero, ElementSpace};
 use super::super::super::scheme::StepInput;
-use super::super::damping::backtrack;
+use super::super::damping::{backtrack, next_below_rounding};
 use super::{LocalNewton, Setting};
 use crate::dense::dot;
 use crate::error::CoreError;
@@ -134,11 +134,14 @@ impl LocalNewton {
         scale0: f64,
     ) -> Result<usize, CoreError> {
         let mut last: Option<f64> = None;
+        let mut last_size: Option<f64> = None;
         let mut norm = f64::INFINITY;
         for iter in 1..=set.max_iter {
             norm = self.residual(space, set, inp, true)?;
+            let mut cut = false;
             if let Some(prev) = last {
                 norm = backtrack(prev, norm, scale0, |lambda| {
+                    cut = true;
                     for ((y, yp), d) in self.y.iter_mut().zip(&self.y_prev).zip(&self.delta) {
                         *y = yp + lambda * d;
                     }
@@ -166,7 +169,9 @@ impl LocalNewton {
             }
             let size = self.delta.iter().fold(0.0_f64, |a, d| a.max(d.abs()));
             let ymax = self.y.iter().fold(0.0_f64, |a, y| a.max(y.abs()));
-            if set.linear || size <= set.tol * ymax.max(scale0) || size == 0.0 {
+            let scale = ymax.max(scale0);
+            let exact = set.smooth && !cut && next_below_rounding(last_size, size, scale);
+            if set.linear || size <= set.tol * scale || size == 0.0 || exact {
                 // The forces at the accepted state, with the tangents the stiffness watch
                 // then reuses when the last node evaluated is the end state.
                 let end = self.map.iter().rev().find(|m| !m.constant);
@@ -178,6 +183,7 @@ impl LocalNewton {
                 return Ok(iter);
             }
             last = Some(norm);
+            last_size = Some(size);
         }
         Err(CoreError::NoConvergence {
             time: inp.t + set.dt,

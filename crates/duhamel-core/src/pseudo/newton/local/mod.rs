@@ -108,6 +108,11 @@ pub(in super::super) struct LocalNewton {
     has_kc: (bool, bool),
     /// Coupling products `K q0, K v0, C q0, C v0`, `K z`, `C z` (constant couplings).
     prod: [Vec<f64>; 6],
+    /// The last step's end `z` and its products `K z`, `C z` (constant couplings, both
+    /// present): the next step's start products of that half, when its start is that `z`
+    /// bit for bit (the same products, not formed again).
+    last_z: Vec<f64>,
+    last_prod: [Vec<f64>; 2],
     /// `Phi_D q0`, `Phi_D v0`, the force at the start state; per node `U_i`, `V_i`, the
     /// force and its tangents.
     pq: Vec<f64>,
@@ -208,6 +213,8 @@ impl LocalNewton {
             phi_t: Vec::new(),
             has_kc: (false, false),
             prod: std::array::from_fn(|_| vec_n(coupled)),
+            last_z: Vec::new(),
+            last_prod: [Vec::new(), Vec::new()],
             pq: vec![0.0; nd],
             r_start: vec![0.0; nd],
             start_ready: false,

@@ -5,7 +5,7 @@
 
 use super::super::super::local::ElementSpace;
 use super::super::super::scheme::StepInput;
-use super::super::damping::backtrack;
+use super::super::damping::{backtrack, next_below_rounding};
 use super::{LocalNewton, Setting};
 use crate::error::CoreError;
 
@@ -76,11 +76,14 @@ impl LocalNewton {
         scale0: f64,
     ) -> Result<usize, CoreError> {
         let mut last: Option<f64> = None;
+        let mut last_size: Option<f64> = None;
         let mut norm = f64::INFINITY;
         for iter in 1..=set.max_iter {
             norm = self.residual_one(space, set, inp, true)?;
+            let mut cut = false;
             if let Some(prev) = last {
                 norm = backtrack(prev, norm, scale0, |lambda| {
+                    cut = true;
                     self.y[0] = self.y_prev[0] + lambda * self.delta[0];
                     self.residual_one(space, set, inp, true)
                 })?;
@@ -101,7 +104,9 @@ impl LocalNewton {
             self.y[0] += delta;
             let size = 0.0_f64.max(delta.abs());
             let ymax = 0.0_f64.max(self.y[0].abs());
-            if set.linear || size <= set.tol * ymax.max(scale0) || size == 0.0 {
+            let scale = ymax.max(scale0);
+            let exact = set.smooth && !cut && next_below_rounding(last_size, size, scale);
+            if set.linear || size <= set.tol * scale || size == 0.0 || exact {
                 let end = self.map.iter().rev().find(|m| !m.constant);
                 let at_end = end.is_some_and(|m| m.s == 1.0);
                 self.residual_one(space, set, inp, at_end)?;
@@ -111,6 +116,7 @@ impl LocalNewton {
                 return Ok(iter);
             }
             last = Some(norm);
+            last_size = Some(size);
         }
         Err(CoreError::NoConvergence {
             time: inp.t + set.dt,
