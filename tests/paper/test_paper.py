@@ -165,8 +165,10 @@ def test_cpu_ratios_small():
     assert data.steps == 10_000 and data.repeats == 3
     for times in data.seconds_per_step.values():
         assert times.shape == (3,) and np.all(times > 0)
-    # the closed-form cubic step is cheaper than Newmark's Newton step (measured 0.45-0.6)
-    assert data.ratio(pd.DEFAULT) < 1.0
+    # the ratio itself (the closed-form cubic step against Newmark's Newton step, 0.45-0.6
+    # on a quiet machine) is a speed: measured by the benchmarks, not asserted here (a
+    # loaded machine moved it to 1.2-1.8); the claim must state what was measured
+    assert np.isfinite(data.ratio(pd.DEFAULT)) and data.ratio(pd.DEFAULT) > 0
     (claim, *_info) = data.claims()
     assert claim.holds == (data.ratio(pd.DEFAULT) <= 0.6)
     assert all(c.holds is None for c in _info)
