@@ -166,7 +166,7 @@ pub(super) struct Candidate {
 }
 
 /// Steps per block of the first pass's gate.
-pub(super) const BLOCK: usize = 8;
+pub(super) const BLOCK: usize = 16;
 
 /// The one pass over the record: the sampled spectra's recurrence and peaks `pk` (raised in
 /// place), and the blocks of [`BLOCK`] steps that pass a cheap gate against the peaks so
