@@ -138,7 +138,7 @@ impl Bound {
 /// `acc`, and whether the final states are finite.
 ///
 /// One pass over the record runs the sampled spectra's recurrence with its peaks and gates
-/// blocks of steps against the peaks so far ([`first_pass`]; below the record's, so a block
+/// blocks of steps against the record's sampled peaks ([`first_pass`]; so a block
 /// it lets go has no step that could exceed the final ones). The steps of the blocks it keeps
 /// are then gated again one by one against the record's sampled peaks (raised by each
 /// search, in time order), scored and searched for the lanes whose bounds may exceed their
