@@ -166,7 +166,7 @@ pub(super) struct Candidate {
 }
 
 /// Steps per block of the first pass's gate.
-pub(super) const BLOCK: usize = 16;
+pub(super) const BLOCK: usize = 32;
 
 /// One block's record from the pass: the lanes' states at its start, the largest `|x|`,
 /// `|x'|`, `|k x + c x'|` (its ends included) and `|x''|` at its steps' starts, and the
