@@ -8,7 +8,10 @@
 //! of `f` is a root of `g`; the zeros of `g'` (closed form) split the step into pieces on which
 //! `g` is monotone, each with at most one root, found by a safeguarded Newton iteration; `f`
 //! there is then evaluated with the oscillator's exact step matrices over the fraction of the
-//! step. The sampled response and its peaks come first; an interior value counts only if it
+//! step. On such a piece `f` is concave or convex, so its tangents at the piece's (or the
+//! bracket's) ends bound the extremum: a piece or bracket whose bound stays below the peak is
+//! given up, with no more evaluations (the roots searched, and so the peaks, are those of a
+//! search to the end). The sampled response and its peaks come first; an interior value counts only if it
 //! exceeds those, the largest of the record, so a step is searched only when a bound says it
 //! may: a cheap gate `|f| <= max(|f0|, |f1|) + h^2/8 max|f''|` (`|f''|` bounded by the
 //! amplitude of `x''`, a damped sinusoid under a linear load, times 1, `omega` or `omega^2 +
@@ -135,7 +138,7 @@ impl Bound {
 /// `acc`, and whether the final states are finite.
 ///
 /// One pass over the record runs the sampled spectra's recurrence with its peaks and gates
-/// blocks of steps against the peaks so far ([`first_pass`]; below the record's, so a block
+/// blocks of steps against the record's sampled peaks ([`first_pass`]; so a block
 /// it lets go has no step that could exceed the final ones). The steps of the blocks it keeps
 /// are then gated again one by one against the record's sampled peaks (raised by each
 /// search, in time order), scored and searched for the lanes whose bounds may exceed their

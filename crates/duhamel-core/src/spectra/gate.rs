@@ -166,48 +166,72 @@ pub(super) struct Candidate {
 }
 
 /// Steps per block of the first pass's gate.
-pub(super) const BLOCK: usize = 8;
+pub(super) const BLOCK: usize = 32;
+
+/// One block's record from the pass: the lanes' states at its start, the largest `|x|`,
+/// `|x'|`, `|k x + c x'|` (its ends included) and `|x''|` at its steps' starts, and the
+/// largest `|r|` (times `h`) of its steps.
+#[derive(Clone, Copy)]
+struct Block {
+    x: [f64; LANES],
+    v: [f64; LANES],
+    m: [[f64; LANES]; 4],
+    mr: f64,
+}
+
+thread_local! {
+    /// The blocks of the pass, kept from one call to the next on a thread (no fresh pages).
+    static BLOCKS: std::cell::RefCell<Vec<Block>> = const { std::cell::RefCell::new(Vec::new()) };
+}
 
 /// The one pass over the record: the sampled spectra's recurrence and peaks `pk` (raised in
-/// place), and the blocks of [`BLOCK`] steps that pass a cheap gate against the peaks so
-/// far; returns those (their first step and the states there) and the final states.
+/// place), and the blocks of [`BLOCK`] steps that pass a cheap gate against the record's
+/// sampled peaks; returns those (their first step and the states there) and the final states.
 ///
 /// The gate is [`Lanes::gate`] over a block: the largest ends of the block's steps and a
 /// bound of their amplitudes of `x''` (from the largest of its terms), the quantities' gaps
 /// to their peaks over the bounds' factors, with a margin for the rearrangement's rounding,
-/// so it lets go only blocks none of whose steps [`Lanes::gate`] would keep. Per step that
-/// is a few maxima beside the recurrence (whose chain of fused multiply-adds sets the pace);
-/// every coefficient is a local array and each loop over the lanes has a constant trip
-/// count, so the state stays in registers.
+/// so it lets go only blocks none of whose steps [`Lanes::gate`] would keep. The pass itself
+/// keeps per block only the states at its start and the maxima (a few maxima per step beside
+/// the recurrence, whose chain of fused multiply-adds sets the pace; every coefficient is a
+/// local array and each loop over the lanes has a constant trip count, so the state stays in
+/// registers); the gate runs over the blocks after it, against the final peaks (the
+/// tightest: the second pass gates its steps against those, raised by its searches).
 #[allow(clippy::type_complexity)]
 pub(super) fn first_pass(
     acc: &[f64],
     h: f64,
     o: &Lanes,
-    [px, pv, pa]: &mut [[f64; LANES]; 3],
+    pk: &mut [[f64; LANES]; 3],
 ) -> (Vec<Candidate>, [f64; LANES], [f64; LANES]) {
+    BLOCKS.with(|b| {
+        let mut blocks = b.borrow_mut();
+        let (x, v) = record_blocks(acc, o, &mut blocks);
+        (gate_blocks(&blocks, h, o, pk), x, v)
+    })
+}
+
+/// The pass over the record (see [`first_pass`]): the blocks' records, and the final states.
+fn record_blocks(acc: &[f64], o: &Lanes, blocks: &mut Vec<Block>) -> ([f64; LANES], [f64; LANES]) {
     let [[a00, a01], [a10, a11]] = o.a;
     let [b0x, b0v, b1x, b1v] = o.b;
-    let (k, c, sigma, iw) = (o.k, o.c, o.sigma, o.iw);
-    let inv = |f: &[f64; LANES]| -> [f64; LANES] {
-        let mut y = [0.0; LANES];
-        for (y, f) in y.iter_mut().zip(f) {
-            *y = 1.0 / f;
-        }
-        y
+    let (k, c) = (o.k, o.c);
+    let steps = acc.len() - 1;
+    let empty = Block {
+        x: [0.0; LANES],
+        v: [0.0; LANES],
+        m: [[0.0; LANES]; 4],
+        mr: 0.0,
     };
-    // A padding lane's factors are 0: infinite inverses, its gaps (infinite peaks) infinite.
-    let (i1, i2) = (inv(&o.f1), inv(&o.f2));
-    let wide = o.h2 * (1.0 + 1e-6);
-    let inv_h = 1.0 / h;
-    let mut cands = Vec::new();
+    blocks.clear();
+    blocks.resize(steps.div_ceil(BLOCK), empty);
     // The lanes' x, x', k x + c x'.
     let mut st = [[0.0f64; LANES]; 3];
     // One step of every lane: the recurrence, then the block's largest |x|, |x'|,
     // |k x + c x'| and |x''| at the step's start, in `m`. The other term of the squared
-    // amplitude of x'', |x''' + sigma x''| / wd = |r - sigma x'' - k x'| / wd, is bounded at
-    // the block's end from the largest |r| (`mr`, the same for every lane), |x''| and |x'|:
-    // no arithmetic per lane and step beyond the sampled loop's but the maxima.
+    // amplitude of x'', |x''' + sigma x''| / wd = |r - sigma x'' - k x'| / wd, is bounded
+    // from the largest |r| (`mr`, the same for every lane), |x''| and |x'|: no arithmetic
+    // per lane and step beyond the sampled loop's but the maxima.
     let step = |p0: f64, p1: f64, [x, v, s]: &mut [[f64; LANES]; 3], m: &mut [[f64; LANES]; 4]| {
         for l in 0..LANES {
             let (x0, v0) = (x[l], v[l]);
@@ -222,8 +246,7 @@ pub(super) fn first_pass(
             (x[l], v[l], s[l]) = (xn, vn, sn);
         }
     };
-    let steps = acc.len() - 1;
-    for start in (0..steps).step_by(BLOCK) {
+    for (start, rec) in (0..steps).step_by(BLOCK).zip(blocks.iter_mut()) {
         let [xs, vs, ss] = st;
         let mut m = [[0.0; LANES]; 4];
         let mut mr = 0.0f64;
@@ -243,13 +266,49 @@ pub(super) fn first_pass(
                 step(-pair[0], -pair[1], &mut st, &mut m);
             }
         }
-        let [mx, mv, ms, ma] = m;
-        let mr = mr * inv_h;
+        *rec = Block {
+            x: xs,
+            v: vs,
+            m,
+            mr,
+        };
+    }
+    (st[0], st[1])
+}
+
+/// The sampled peaks `pk` raised by the blocks' maxima, and the blocks that pass the gate
+/// against them (see [`first_pass`]).
+fn gate_blocks(
+    blocks: &[Block],
+    h: f64,
+    o: &Lanes,
+    [px, pv, pa]: &mut [[f64; LANES]; 3],
+) -> Vec<Candidate> {
+    for b in blocks {
+        for l in 0..LANES {
+            px[l] = larger(px[l], b.m[0][l]);
+            pv[l] = larger(pv[l], b.m[1][l]);
+            pa[l] = larger(pa[l], b.m[2][l]);
+        }
+    }
+    let (k, sigma, iw) = (o.k, o.sigma, o.iw);
+    let inv = |f: &[f64; LANES]| -> [f64; LANES] {
+        let mut y = [0.0; LANES];
+        for (y, f) in y.iter_mut().zip(f) {
+            *y = 1.0 / f;
+        }
+        y
+    };
+    // A padding lane's factors are 0: infinite inverses, its gaps (infinite peaks) infinite.
+    let (i1, i2) = (inv(&o.f1), inv(&o.f2));
+    let wide = o.h2 * (1.0 + 1e-6);
+    let inv_h = 1.0 / h;
+    let mut cands = Vec::new();
+    for (j, b) in blocks.iter().enumerate() {
+        let [mx, mv, ms, ma] = b.m;
+        let mr = b.mr * inv_h;
         let mut hit = false;
         for l in 0..LANES {
-            px[l] = larger(px[l], mx[l]);
-            pv[l] = larger(pv[l], mv[l]);
-            pa[l] = larger(pa[l], ms[l]);
             let gx = px[l] - mx[l];
             let gv = (pv[l] - mv[l]) * i1[l];
             let ga = (pa[l] - ms[l]) * i2[l];
@@ -259,11 +318,11 @@ pub(super) fn first_pass(
         }
         if hit {
             cands.push(Candidate {
-                n: start,
-                x: xs,
-                v: vs,
+                n: j * BLOCK,
+                x: b.x,
+                v: b.v,
             });
         }
     }
-    (cands, st[0], st[1])
+    cands
 }
