@@ -29,7 +29,16 @@ from numpy.typing import NDArray
 from duhamel import _core
 from duhamel.errors import AccuracyWarning
 
-__all__ = ["applies", "estimator", "mode_bounds", "parabola_moments", "run_estimate", "warn_above"]
+__all__ = [
+    "applies",
+    "estimator",
+    "mode_bounds",
+    "on_users_grid",
+    "parabola_moments",
+    "refined",
+    "run_estimate",
+    "warn_above",
+]
 
 
 def parabola_moments(
@@ -297,6 +306,21 @@ def tolerance_ratio(solution: Any, rtol: float, atol: float) -> float | None:
     return worst
 
 
+def refined(opts: Any, k: int) -> Any:
+    """The request `opts` in steps of ``dt / k``, saving at the same instants."""
+    grid = {"dt": opts.dt / k, "n_steps": opts.n_steps * k, "save_every": opts.save_every * k}
+    return replace(opts, **grid)
+
+
+def on_users_grid(sol: Any, opts: Any, k: int) -> None:
+    """States the run `sol` of :func:`refined` ``(opts, k)`` on the user's grid: its
+    ``meta`` the user's ``dt`` and ``save_every``, its ``stats`` counting steps of ``dt``,
+    ``k`` times more substeps each."""
+    sol.meta["dt"] = opts.dt
+    sol.meta["save_every"] = opts.save_every
+    sol.stats = replace(sol.stats, steps=sol.stats.steps // k, substeps=sol.stats.substeps * k)
+
+
 def to_tolerance(run_once: Any, prep: Any, opts: Any) -> Any:
     """Runs with steps of ``dt / 2^k``, ``k`` raised as the error estimate requires (the
     error falls like ``dt^2``) until it meets ``rtol``/``atol``, the saved instants the
@@ -309,8 +333,7 @@ def to_tolerance(run_once: Any, prep: Any, opts: Any) -> Any:
     level = 0
     while True:
         k = 2**level
-        grid = {"dt": opts.dt / k, "n_steps": opts.n_steps * k, "save_every": opts.save_every * k}
-        sol = run_once(prep, replace(opts, **grid) if k > 1 else opts)
+        sol = run_once(prep, refined(opts, k) if k > 1 else opts)
         worst = tolerance_ratio(sol, rtol, atol)
         if worst is None:
             raise ValueError(
@@ -318,11 +341,7 @@ def to_tolerance(run_once: Any, prep: Any, opts: Any) -> Any:
                 "route, `coupling='exact'` with couplings: pass `coupling='pseudo-force'`)"
             )
         if level:
-            sol.meta["dt"] = opts.dt
-            sol.meta["save_every"] = opts.save_every
-            sol.stats = replace(
-                sol.stats, steps=sol.stats.steps // k, substeps=sol.stats.substeps * k
-            )
+            on_users_grid(sol, opts, k)
         if worst <= 1.0:
             return sol
         if level >= depth:

@@ -137,6 +137,7 @@ def _to_tolerance(setup: DirectSetup, req: Request, a0: NDArray[np.float64] | No
     ``SolverError(reason="tolerance")`` holding the finest run."""
     from dataclasses import replace
 
+    from duhamel._engine.accuracy import on_users_grid, refined
     from duhamel.errors import SolverError
 
     integrator: Any = setup.integrator  # one with `rtol` (alpha family, CubicHermite)
@@ -149,15 +150,12 @@ def _to_tolerance(setup: DirectSetup, req: Request, a0: NDArray[np.float64] | No
     coarse = setup._run_once(req, a0)
     for level in range(1, depth + 1):
         k = 2**level
-        grid = {"dt": req.dt / k, "n_steps": req.n_steps * k, "save_every": req.save_every * k}
-        fine = setup._run_once(replace(req, **grid), a0)
+        fine = setup._run_once(refined(req, k), a0)
         diff = float(np.abs(fine.x - coarse.x).max(initial=0.0))
         peak = float(np.abs(fine.x).max(initial=0.0))
+        on_users_grid(fine, req, k)
         estimate = diff / peak if peak > 0.0 else (0.0 if diff == 0.0 else float("inf"))
-        fine.meta["dt"], fine.meta["save_every"] = req.dt, req.save_every
-        fine.stats = replace(
-            fine.stats, steps=fine.stats.steps // k, substeps=k, error_estimate=estimate
-        )
+        fine.stats = replace(fine.stats, error_estimate=estimate)
         if diff <= atol + rtol * peak:
             return fine
         coarse = fine
