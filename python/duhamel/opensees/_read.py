@@ -144,6 +144,7 @@ def _entries(block: str) -> list[dict[str, Any]]:
                 key, value = line.split(":", 1)
                 entry[key.strip()] = _number(value)
         entry["_text"] = True
+        entry["_lines"] = [line.strip() for line in text[1:]]  # a table (MultiLinear's)
         out.append(entry)
         text.clear()
 
