@@ -123,17 +123,19 @@ def recording() -> Iterator[Recording]:
             setattr(ops, name, f)
 
 
-def _numbers(values: tuple[Any, ...], what: str) -> list[float]:
+def _numbers(values: tuple[Any, ...], what: str, names: list[str]) -> list[float]:
+    """`values` as floats; an error names the argument (counted from the tag, 1) and its
+    parameter (`names`)."""
     out = []
-    for k, v in enumerate(values):
+    for k, (v, name) in enumerate(zip(values, names, strict=True)):
         try:
             x = float(v)
         except (TypeError, ValueError):
-            raise ValueError(
-                f"`recorded`: {what}: argument {k + 2} ({v!r}) is not a number"
-            ) from None
+            x = math.nan
         if not math.isfinite(x):
-            raise ValueError(f"`recorded`: {what}: argument {k + 2} ({v!r}) is not finite")
+            raise ValueError(
+                f"`recorded`: {what}: argument {k + 2} ({name} = {v!r}) is not a finite number"
+            )
         out.append(x)
     return out
 
@@ -153,7 +155,7 @@ def _pinching4(args: tuple[Any, ...], what: str) -> tuple[type, dict[str, Any]]:
             f"`recorded`: {what}: its damage type (the last argument) must be 'energy' or "
             f"'cycle' (or OpenSees' other spellings of these), got {args[-1]!r}"
         )
-    params: dict[str, Any] = dict(zip(names, _numbers(args[:-1], what), strict=True))
+    params: dict[str, Any] = dict(zip(names, _numbers(args[:-1], what, names), strict=True))
     return Pinching4, params | {"dmgType": damage}
 
 
@@ -168,7 +170,9 @@ def _multilinear(
             "takes pairs of strain and stress, at least two (an odd count: OpenSees drops the "
             "last number)"
         )
-    values = _numbers(args, what)
+    values = _numbers(
+        args, what, [f"{x}{k // 2 + 1}" for k, x in enumerate("es" * (len(args) // 2))]
+    )
     strain, stress = values[0::2], values[1::2]
     rows = []
     for line in printed.get("_lines", []):
