@@ -199,3 +199,31 @@ def test_wipe_in_the_block_starts_the_recording_afresh() -> None:
         ops.wipe()
     assert rec.materials == {}
     assert ops.uniaxialMaterial.__name__ == "uniaxialMaterial"  # restored
+
+
+def test_wrappers_of_recorded_materials_are_imported() -> None:
+    """A MinMax and a Parallel whose parts are a MultiLinear (printed with tag 0 inside
+    them) and a Pinching4: their parts from the recording; refused without it."""
+    for rec in (True, False):
+        ops.wipe()
+        with duhamel.opensees.recording() as kept:
+            ops.model("basic", "-ndm", 1, "-ndf", 1)
+            ops.node(1, 0.0)
+            ops.node(2, 0.0)
+            ops.fix(1, 1)
+            ops.mass(2, 1.0)
+            ops.uniaxialMaterial(MULTI[0], 1, *MULTI[1:])
+            ops.uniaxialMaterial(P4[0], 2, *P4[1:])
+            ops.uniaxialMaterial("MinMax", 3, 1, "-min", -0.1, "-max", 0.1)
+            ops.uniaxialMaterial("Parallel", 4, 1, 2, "-factors", 0.5, 0.5)
+            ops.element("zeroLength", 1, 1, 2, "-mat", 3, 4, "-dir", 1, 1)
+        if not rec:
+            with pytest.raises(ValueError, match=r"MinMaxMaterial material 3: a part is printed "):
+                duhamel.opensees.from_opensees(recorded=None)
+            continue
+        minmax, parallel = duhamel.opensees.from_opensees(recorded=kept).opensees.elements[1]
+        inner = minmax.parameters["material"]  # type: ignore[attr-defined]
+        parts = parallel.parameters["materials"]  # type: ignore[attr-defined]
+        assert type(inner) is E.MultiLinear
+        assert [type(p) for p in parts] == [E.MultiLinear, E.Pinching4]
+        assert inner.parameters["strain"] == tuple(MULTI[1::2])  # type: ignore[attr-defined]

@@ -134,6 +134,13 @@ def material_element(
         parts = []
         for tag in tags:
             part = materials.get(int(tag))
+            if part is None and int(tag) == 0:
+                raise Untranslatable(
+                    f"{name}: a part is printed with tag 0 (OpenSees' copy lost its tag, as a "
+                    "MultiLinear's does); build the model inside `with "
+                    "duhamel.opensees.recording() as rec:` and import it with "
+                    "`from_opensees(recorded=rec)`"
+                )
             if part is None:
                 raise Untranslatable(f"{name}: its part {tag} (not printed by OpenSees)")
             parts.append(material_element(part, materials, i, j))
