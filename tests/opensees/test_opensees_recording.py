@@ -178,6 +178,16 @@ def test_a_recorded_element_with_other_materials_is_refused_naming_it() -> None:
         rec = Recording(elements=elements)
         with pytest.raises(ValueError, match=r"`recorded`: element \d+ " + message):
             duhamel.opensees.from_opensees(rayleigh=(A0, 0.0, A1, 0.0), recorded=rec)
+    for rec, message in (
+        (Recording(materials={1: ()}), r"material 1: want an integer tag and a tuple"),
+        (Recording(elements={"1": ("zeroLength",)}), r"element '1': want an integer tag"),
+        (
+            Recording(elements={1: ("zeroLength", 1, 2, "-mat", "x")}),
+            r"element 1: 'x' is not a material",
+        ),
+    ):
+        with pytest.raises(ValueError, match=r"`recorded`: " + message):
+            duhamel.opensees.from_opensees(rayleigh=(A0, 0.0, A1, 0.0), recorded=rec)
     with pytest.raises(TypeError, match=r"`recorded` must be a duhamel.opensees.Recording"):
         duhamel.opensees.from_opensees(recorded={1: MULTI})  # type: ignore[arg-type]
 

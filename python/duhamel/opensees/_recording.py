@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import numbers
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
@@ -197,21 +198,24 @@ def _multilinear(
     return MultiLinear, {"strain": strain, "stress": stress}
 
 
-def _tags(values: tuple[Any, ...]) -> list[int]:
+def _tags(values: tuple[Any, ...], what: str) -> list[int]:
     """The leading tags of an argument list (up to its first option, e.g. ``-factors``)."""
     out = []
     for v in values:
         if isinstance(v, str) and v.startswith("-"):
             break
-        out.append(int(v))
+        try:
+            out.append(int(v))
+        except (TypeError, ValueError):
+            raise ValueError(f"`recorded`: {what}: {v!r} is not a material tag") from None
     return out
 
 
-def _element_materials(args: tuple[Any, ...]) -> list[int] | None:
+def _element_materials(args: tuple[Any, ...], what: str) -> list[int] | None:
     """The material tags after ``-mat`` of a recorded ``zeroLength``/``twoNodeLink``."""
     if str(args[0]).lower() not in ("zerolength", "twonodelink") or "-mat" not in args:
         return None
-    return _tags(args[args.index("-mat") + 1 :])
+    return _tags(args[args.index("-mat") + 1 :], what)
 
 
 def _fill(tags: list[Any], recorded: list[int], what: str) -> list[Any]:
@@ -224,12 +228,12 @@ def _fill(tags: list[Any], recorded: list[int], what: str) -> list[Any]:
         )
     out = []
     for printed, mine in zip(tags, recorded, strict=True):
-        if int(printed) not in (0, mine):
+        if int(float(printed)) not in (0, mine):
             raise ValueError(
-                f"`recorded`: {what} has material {mine} recorded, {int(printed)} in the "
+                f"`recorded`: {what} has material {mine} recorded, {printed} in the "
                 "model: the recording is not of this model"
             )
-        out.append(str(mine) if int(printed) == 0 else printed)
+        out.append(str(mine) if int(float(printed)) == 0 else printed)
     return out
 
 
@@ -243,6 +247,15 @@ def apply(recorded: Recording, pr: Printout, element_tags: list[int]) -> None:
             "`recorded` must be a duhamel.opensees.Recording (from `with "
             f"duhamel.opensees.recording() as rec:`), got {type(recorded).__name__}"
         )
+    for kept, name in ((recorded.materials, "material"), (recorded.elements, "element")):
+        for tag, command in kept.items():
+            if not isinstance(tag, numbers.Integral) or not (
+                isinstance(command, tuple | list) and command and isinstance(command[0], str)
+            ):
+                raise ValueError(
+                    f"`recorded`: {name} {tag!r}: want an integer tag and a tuple (type, "
+                    f"*arguments after the tag), got {command!r}"
+                )
     for tag, (kind, *args) in recorded.materials.items():
         what = f"{kind} material {tag}"
         mat = pr.materials.get(int(tag))
@@ -265,22 +278,23 @@ def apply(recorded: Recording, pr: Printout, element_tags: list[int]) -> None:
             if kind in ("MinMax", "Parallel", "Series"):
                 key = "material" if kind == "MinMax" else "materials"
                 printed = mat.get(key)
-                tags = printed if isinstance(printed, list) else [printed]
-                filled = _fill(tags, _tags(tuple(args))[: len(tags)], what)
-                mat[key] = filled if isinstance(printed, list) else filled[0]
+                if printed is not None:
+                    parts = list(printed) if isinstance(printed, list) else [printed]
+                    filled = _fill(parts, _tags(tuple(args), what)[: len(parts)], what)
+                    mat[key] = filled if isinstance(printed, list) else filled[0]
             continue
         try:  # the parameters checked as duhamel's element checks them
             made[0](0, **made[1])
         except ValueError as exc:
             raise ValueError(f"`recorded`: {what}: {exc}") from None
         mat["_recorded"] = made
-    for tag, args in recorded.elements.items():
+    for tag, command in recorded.elements.items():
         if int(tag) not in element_tags:
             raise ValueError(
-                f"`recorded`: element {tag} ({args[0]}) is not in the model (the model was "
+                f"`recorded`: element {tag} ({command[0]}) is not in the model (the model was "
                 "built again after the recording?)"
             )
-        tags = _element_materials(tuple(args))
+        mine = _element_materials(tuple(command), f"element {tag}")
         ele = pr.elements.get(int(tag))
-        if tags is not None and ele is not None and "materials" in ele:
-            ele["materials"] = _fill(list(ele["materials"]), tags, f"element {tag}")
+        if mine is not None and ele is not None and "materials" in ele:
+            ele["materials"] = _fill(list(ele["materials"]), mine, f"element {tag}")
