@@ -237,3 +237,20 @@ def test_wrappers_of_recorded_materials_are_imported() -> None:
         assert type(inner) is E.MultiLinear
         assert [type(p) for p in parts] == [E.MultiLinear, E.Pinching4]
         assert inner.parameters["strain"] == tuple(MULTI[1::2])  # type: ignore[attr-defined]
+
+
+def test_a_two_node_link_takes_its_multilinear_from_the_recording() -> None:
+    """A twoNodeLink also prints a MultiLinear's tag as 0: the recorded ``-mat`` gives it."""
+    ops.wipe()
+    with duhamel.opensees.recording() as rec:
+        ops.model("basic", "-ndm", 2, "-ndf", 3)
+        ops.node(1, 0.0, 0.0)
+        ops.node(2, 0.0, 0.0)
+        ops.fix(1, 1, 1, 1)
+        ops.fix(2, 0, 1, 1)
+        ops.mass(2, 1.0, 1.0, 0.0)
+        ops.uniaxialMaterial(MULTI[0], 1, *MULTI[1:])
+        ops.element("twoNodeLink", 1, 1, 2, "-mat", 1, "-dir", 1, "-orient", 1, 0, 0, 0, 1, 0)
+    (element,) = duhamel.opensees.from_opensees(recorded=rec).opensees.elements[1]
+    assert type(element) is E.MultiLinear
+    assert element.parameters["stress"] == tuple(MULTI[2::2])  # type: ignore[attr-defined]
