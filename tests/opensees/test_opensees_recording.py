@@ -254,3 +254,12 @@ def test_a_two_node_link_takes_its_multilinear_from_the_recording() -> None:
     (element,) = duhamel.opensees.from_opensees(recorded=rec).opensees.elements[1]
     assert type(element) is E.MultiLinear
     assert element.parameters["stress"] == tuple(MULTI[2::2])  # type: ignore[attr-defined]
+
+
+def test_commands_the_recording_did_not_see_are_named() -> None:
+    """A recording that does not hold the material's (or element's) command: the refusal
+    says how the commands are recorded."""
+    for args, what in ((P4, "Pinching4Material material 1"), (MULTI, "element 1")):
+        build(args, rec=False)
+        with pytest.raises(ValueError, match=what + r".*`recorded` does not hold its command"):
+            duhamel.opensees.from_opensees(rayleigh=(A0, 0.0, A1, 0.0), recorded=Recording())

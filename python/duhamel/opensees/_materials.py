@@ -137,9 +137,12 @@ def material_element(
             if part is None and int(tag) == 0:
                 raise Untranslatable(
                     f"{name}: a part is printed with tag 0 (OpenSees' copy lost its tag, as a "
-                    "MultiLinear's does); build the model inside `with "
-                    "duhamel.opensees.recording() as rec:` and import it with "
-                    "`from_opensees(recorded=rec)`"
+                    "MultiLinear's does); "
+                    + mat.get(
+                        "_unseen",
+                        "build the model inside `with duhamel.opensees.recording() as rec:` "
+                        "and import it with `from_opensees(recorded=rec)`",
+                    )
                 )
             if part is None:
                 raise Untranslatable(f"{name}: its part {tag} (not printed by OpenSees)")
@@ -157,9 +160,12 @@ def material_element(
         if "_recorded" not in mat:  # the arguments given to OpenSees (_recording.apply)
             raise Untranslatable(
                 f"{name}: OpenSees prints none of its parameters (only its state), so it "
-                "cannot be read back; build the model inside `with "
-                "duhamel.opensees.recording() as rec:` and import it with "
-                "`from_opensees(recorded=rec)`"
+                "cannot be read back; "
+                + mat.get(
+                    "_unseen",
+                    "build the model inside `with duhamel.opensees.recording() as rec:` "
+                    "and import it with `from_opensees(recorded=rec)`",
+                )
             )
         cls, params = mat["_recorded"]
         return cls(i, j, **params)  # type: ignore[no-any-return]

@@ -298,3 +298,13 @@ def apply(recorded: Recording, pr: Printout, element_tags: list[int]) -> None:
         ele = pr.elements.get(int(tag))
         if mine is not None and ele is not None and "materials" in ele:
             ele["materials"] = _fill(list(ele["materials"]), mine, f"element {tag}")
+    for entry in (*pr.materials.values(), *pr.elements.values()):
+        entry["_unseen"] = UNSEEN  # what is still unreadable was not recorded
+
+
+#: Why a material or element is missing from a recording (the refusal says it).
+UNSEEN = (
+    "`recorded` does not hold its command: call it inside the `recording()` block through "
+    "the module (`ops.uniaxialMaterial`, `ops.element`; names imported from "
+    "openseespy.opensees before the block are not recorded)"
+)
