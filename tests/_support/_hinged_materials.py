@@ -80,28 +80,19 @@ DEFINITIONS: dict[str, list[tuple[Any, ...]]] = {
 
 def hinge(kind: str, i: int | None, j: int | None) -> E.Element:
     """duhamel's hinge of the material `kind` on ``x_i - x_j``, built directly from the
-    parameters of :data:`DEFINITIONS` (for the materials OpenSees does not print)."""
+    parameters of :data:`DEFINITIONS` (Takeda: no OpenSees counterpart)."""
     if kind == "Takeda":
         return E.Takeda(i, j, **TAKEDA)  # type: ignore[arg-type]
-    if kind == "MultiLinear":
-        strain, stress = list(MULTI[1::2]), list(MULTI[2::2])
-        return E.MultiLinear(i, j, strain=strain, stress=stress)
-    if kind == "Pinching4":
-        names = [f"eP{x}{k}" for k in range(1, 5) for x in "fd"]
-        names += [f"eN{x}{k}" for k in range(1, 5) for x in "fd"]
-        names += ["rDispP", "rForceP", "uForceP", "rDispN", "rForceN", "uForceN"]
-        names += [f"g{g}{k}" for g in "KDF" for k in ("1", "2", "3", "4", "Lim")]
-        names += ["gE", "dmgType"]
-        return E.Pinching4(i, j, **dict(zip(names, P4[1:], strict=True)))
     raise ValueError(f"`kind` {kind!r} is imported, not built")
 
 
-#: Materials ``from_opensees`` cannot read back (OpenSees prints no Pinching4 parameters and
-#: a MultiLinear's tag as 0; Takeda has no OpenSees counterpart, its OpenSees model is a
-#: Hysteretic without pinching or damage): the frame is imported with a stand-in hinge of
-#: the same initial stiffness (a Steel02), whose elements are then replaced by duhamel's
-#: material built directly on the same dofs.
-BUILT = ("Pinching4", "MultiLinear", "Takeda")
+#: Materials ``from_opensees`` cannot read back: Takeda has no OpenSees counterpart (its
+#: OpenSees model is a Hysteretic without pinching or damage): the frame is imported with a
+#: stand-in hinge of the same initial stiffness (a Steel02), whose elements are then
+#: replaced by duhamel's material built directly on the same dofs. (Pinching4 and
+#: MultiLinear, which OpenSees prints without their parameters, are imported through
+#: ``duhamel.opensees.recording``.)
+BUILT = ("Takeda",)
 
 
 def node(storey: int, line: int) -> int:

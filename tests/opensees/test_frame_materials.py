@@ -6,10 +6,12 @@ analysis: ``Semianalytic`` and ``Newmark()`` agree within 1e-4 of the peak roof 
 and both equal OpenSees' own transient (Newmark, Krylov-Newton) within 0.5 % of it, all at
 the record's step / 16 (the acceptance of issue 37).
 
-OpenSees prints no Pinching4 parameters and a MultiLinear's tag as 0, and has no Takeda: for
-those the frame is imported with a Steel02 hinge of the same initial stiffness and duhamel's
-material is put in its place on the same dofs (Takeda is compared with OpenSees' Hysteretic
-without pinching or damage, the same rules; docs/materials.md). OpenSees' reference for a
+OpenSees prints no Pinching4 parameters and a MultiLinear's tag as 0: those hinges are
+imported from the arguments :func:`duhamel.opensees.recording` kept while the frame was
+built (``from_opensees(recorded=...)``). OpenSees has no Takeda: that frame is imported with
+a Steel02 hinge of the same initial stiffness and duhamel's material is put in its place on
+the same dofs (Takeda is compared with OpenSees' Hysteretic without pinching or damage, the
+same rules; docs/materials.md). OpenSees' reference for a
 Series hinge is its parts in a chain of zeroLength elements.
 
 Found on the way: OpenSees' ModIMKPeakOriented returns its stiffness tangent as its damping
@@ -53,11 +55,12 @@ def rel(ours: np.ndarray, ref: np.ndarray) -> float:
 
 
 def imported(kind: str) -> duhamel.System:
-    """The frame with hinges of `kind` after its gravity analysis, imported (a stand-in
-    Steel02 replaced by duhamel's material for those OpenSees cannot print)."""
+    """The frame with hinges of `kind` after its gravity analysis, imported (recorded while
+    built; Takeda: a stand-in Steel02 replaced by duhamel's material)."""
     built = kind in hm.BUILT
-    hm.build([hm.STEEL] if built else hm.DEFINITIONS[kind])
-    system = duhamel.opensees.from_opensees()
+    with duhamel.opensees.recording() as rec:
+        hm.build([hm.STEEL] if built else hm.DEFINITIONS[kind])
+    system = duhamel.opensees.from_opensees(recorded=rec)
     if built:
         for k, e in enumerate(system.elements):
             system.elements[k] = hm.hinge(kind, e.i, e.j)  # type: ignore[attr-defined]
@@ -101,6 +104,16 @@ def _result(kind: str, route: str) -> tuple[np.ndarray, float]:
     if isinstance(out, str):
         pytest.fail(f"{kind}, {route}: {out}")
     return out
+
+
+@pytest.mark.parametrize("kind", ["Pinching4", "MultiLinear"])
+def test_recorded_hinges_are_imported(kind: str) -> None:
+    """The hinges OpenSees prints without their parameters are its own, read from the
+    recording (each of the four hinges, the gravity analysis run inside the block)."""
+    system = imported(kind)
+    assert len(system.opensees.elements) == 4
+    for (element,) in system.opensees.elements.values():
+        assert type(element).__name__ == kind
 
 
 @pytest.mark.parametrize("kind", list(hm.DEFINITIONS))

@@ -13,9 +13,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from duhamel._engine.labels import Labels
 from duhamel.elements import Element
+from duhamel.opensees._recording import Recording, recording
 from duhamel.system import System
 
-__all__ = ["OpenSeesModel", "from_opensees"]
+__all__ = ["OpenSeesModel", "Recording", "from_opensees", "recording"]
 
 
 @dataclass
@@ -165,6 +166,7 @@ def from_opensees(
     *,
     nonlinear: Literal["translate", "linearize"] = "translate",
     rayleigh: tuple[float, float, float, float] | None = None,
+    recorded: Recording | None = None,
 ) -> System:
     """The model defined in the running openseespy session as a labelled :class:`System`.
 
@@ -182,9 +184,9 @@ def from_opensees(
     (:class:`~duhamel.elements.Bilinear`), ``BoucWen``, ``ViscousDamper`` (a dashpot),
     ``ElasticPPGap`` without yield and ``ENT`` (:class:`~duhamel.elements.Gap`) materials,
     ``Steel02``, ``ModIMKPeakOriented``, ``IMKBilin``, ``Hysteretic``,
-    ``ElasticMultiLinear`` and ``MinMax``/``Parallel``/``Series`` of them (the element of
-    the same name; ``Pinching4`` and ``MultiLinear`` are refused: OpenSees does not print
-    what they are) (``Elastic`` stays in ``K``); ``flatSliderBearing`` and
+    ``ElasticMultiLinear``, ``Pinching4`` and ``MultiLinear`` (these two with `recorded`:
+    OpenSees does not print their parameters) and ``MinMax``/``Parallel``/``Series`` of
+    them (the element of the same name) (``Elastic`` stays in ``K``); ``flatSliderBearing`` and
     ``singleFPBearing`` (2-D and 3-D) as :class:`~duhamel.elements.FrictionPendulum` with
     their vertical dof and the axial force at import (friction and restoring force follow
     the axial force);
@@ -219,6 +221,15 @@ def from_opensees(
         model: refused. OpenSees does not let the import read these factors back. The
         elastic elements' Rayleigh damping is the same for every variant (their tangent is
         constant) and needs nothing.
+    recorded : Recording, optional
+        The arguments of the model's ``uniaxialMaterial`` and ``element`` commands, kept by
+        :func:`recording` while the model was built (or written by hand): the parameters of
+        its ``Pinching4`` and ``MultiLinear`` materials, which OpenSees does not print, and
+        the material tags a ``zeroLength`` or wrapper prints as 0 (a ``MultiLinear``'s).
+        Checked against the printed model: a recorded tag that is not in the model, of
+        another type, with other points or material tags than OpenSees prints, or with
+        arguments OpenSees' parser would not take is refused naming it. Without it, those
+        two materials are refused (saying how to record them).
 
     Returns
     -------
@@ -230,8 +241,12 @@ def from_opensees(
     ------
     ImportError
         If openseespy cannot be loaded.
+    TypeError
+        If `recorded` is not a :class:`Recording`.
     ValueError
-        If the session holds no model, an element cannot be translated or its state at
+        If `recorded` disagrees with the model or holds arguments OpenSees' parser would
+        not take (naming the material or element), the session holds no model, an
+        element cannot be translated or its state at
         import cannot be carried over (naming the element and material), Rayleigh damping
         on a translated element cannot be kept exactly, a node's coordinates are not
         finite, every dof is fixed (or tied to another node), or the multi-point
@@ -280,6 +295,10 @@ def from_opensees(
     if not list(ops.getNodeTags()):
         raise ValueError("the openseespy session holds no model (no nodes)")
     pr = printout(ops)
+    if recorded is not None:
+        from duhamel.opensees._recording import apply
+
+        apply(recorded, pr, [int(v) for v in ops.getEleTags()])
     check_model(ops, pr.constraints)  # before OpenSees numbers it: what ends the process
     M, C, K, equations = matrices(ops)
     dmap = dof_map(ops, M.shape[0], equations, pr.constraints)

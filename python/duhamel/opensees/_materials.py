@@ -1,11 +1,13 @@
 """OpenSees' uniaxial materials of issue 37 as duhamel's elements of the same name: Steel02,
 ModIMKPeakOriented, IMKBilin, Hysteretic, ElasticMultiLinear and the wrappers MinMax,
 Parallel and Series of them, from the parameters OpenSees prints (``printModel -JSON``, six
-significant digits). Refused, naming the material: those OpenSees prints without their
-parameters (Pinching4; a zeroLength prints a MultiLinear's tag as 0) and an asymmetric law
-whose deformation duhamel would have to mirror (the node with the material's positive
-deformation fixed). :func:`newton_damping`: the damping OpenSees' ``ModIMKPeakOriented``
-adds to the damping matrix without any damping force (taken out of the imported ``C``)."""
+significant digits); Pinching4 and MultiLinear, which OpenSees prints without their
+parameters (a zeroLength prints a MultiLinear's tag as 0), from the arguments recorded while
+the model was built (``_recording.py``). Refused, naming the material: those two without a
+recording, and an asymmetric law whose deformation duhamel would have to mirror (the node
+with the material's positive deformation fixed). :func:`newton_damping`: the damping
+OpenSees' ``ModIMKPeakOriented`` adds to the damping matrix without any damping force (taken
+out of the imported ``C``)."""
 
 from __future__ import annotations
 
@@ -83,6 +85,8 @@ def _named(mat: dict[str, Any], names: dict[str, str]) -> dict[str, float]:
 
 def _symmetric(mat: dict[str, Any], materials: dict[int, dict[str, Any]]) -> bool:
     kind = str(mat.get("type"))
+    if kind == "MultiLinear":  # a symmetric backbone, kinematic hardening
+        return True
     if kind in _SYMMETRIC:
         points = sorted(zip(mat["strainPoints"], mat["stressPoints"], strict=True))
         return points == sorted((-float(e), -float(f)) for e, f in points)
@@ -130,6 +134,16 @@ def material_element(
         parts = []
         for tag in tags:
             part = materials.get(int(tag))
+            if part is None and int(tag) == 0:
+                raise Untranslatable(
+                    f"{name}: a part is printed with tag 0 (OpenSees' copy lost its tag, as a "
+                    "MultiLinear's does); "
+                    + mat.get(
+                        "_unseen",
+                        "build the model inside `with duhamel.opensees.recording() as rec:` "
+                        "and import it with `from_opensees(recorded=rec)`",
+                    )
+                )
             if part is None:
                 raise Untranslatable(f"{name}: its part {tag} (not printed by OpenSees)")
             parts.append(material_element(part, materials, i, j))
@@ -142,10 +156,20 @@ def material_element(
         return Parallel(
             i, j, materials=parts, factors=None if factors is None else [float(f) for f in factors]
         )
-    raise Untranslatable(
-        f"{name}: OpenSees prints none of its parameters (only its state), so it cannot be "
-        "read back; build the duhamel element of the same name yourself"
-    )
+    if kind in ("Pinching4Material", "MultiLinear"):
+        if "_recorded" not in mat:  # the arguments given to OpenSees (_recording.apply)
+            raise Untranslatable(
+                f"{name}: OpenSees prints none of its parameters (only its state), so it "
+                "cannot be read back; "
+                + mat.get(
+                    "_unseen",
+                    "build the model inside `with duhamel.opensees.recording() as rec:` "
+                    "and import it with `from_opensees(recorded=rec)`",
+                )
+            )
+        cls, params = mat["_recorded"]
+        return cls(i, j, **params)  # type: ignore[no-any-return]
+    raise Untranslatable(f"{name}: no duhamel counterpart")
 
 
 def _inner(element: Element) -> list[Element]:

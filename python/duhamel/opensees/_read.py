@@ -136,6 +136,10 @@ def _entries(block: str) -> list[dict[str, Any]]:
         entry: dict[str, Any] = {}
         head = text[0]
         tag = re.search(r"tag:?\s*(-?\d+)", head)
+        if tag is None and out and out[-1].get("_text"):  # a table after a blank line
+            out[-1]["_lines"].extend(line.strip() for line in text)
+            text.clear()
+            return
         entry["type"] = re.split(r"[\s,:]", head.strip(), maxsplit=1)[0]
         if tag:
             entry["name"] = int(tag.group(1))
@@ -144,6 +148,7 @@ def _entries(block: str) -> list[dict[str, Any]]:
                 key, value = line.split(":", 1)
                 entry[key.strip()] = _number(value)
         entry["_text"] = True
+        entry["_lines"] = [line.strip() for line in text[1:]]  # a table (MultiLinear's)
         out.append(entry)
         text.clear()
 

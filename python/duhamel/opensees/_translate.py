@@ -221,7 +221,12 @@ def _zero_length(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx:
         if mat is None and int(mtag) == 0:
             raise Untranslatable(
                 "its material is printed with tag 0 (OpenSees' copy lost its tag, as a "
-                "MultiLinear's does), so it cannot be read back"
+                "MultiLinear's does), so it cannot be read back; "
+                + ele.get(
+                    "_unseen",
+                    "build the model inside `with duhamel.opensees.recording() as rec:` and "
+                    "import it with `from_opensees(recorded=rec)`",
+                )
             )
         if mat is None:
             raise Untranslatable(f"material {mtag} (not printed by OpenSees)")
