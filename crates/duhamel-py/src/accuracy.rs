@@ -69,7 +69,7 @@ pub(crate) fn mode_bounds<'py>(
         }
         check_step(h, k)?;
         let moments = accuracy::parabola_moments(omega, c, h);
-        let bounds = bounds_of(&pseudo, &q, omega, c, &moments, step)?;
+        let bounds = bounds_of(py, &pseudo, &q, omega, c, &moments, step)?;
         Ok(PyArray1::from_vec(py, bounds))
     })
 }
@@ -142,7 +142,9 @@ pub(crate) fn hold_response<'py>(
             ));
         }
         let len = g.shape()[1];
-        let y = truncation::hold_response(steps.as_slice()?, g.as_slice()?, len);
+        let (steps, g) = (steps.as_slice()?, g.as_slice()?);
+        // a pass over the whole history: other Python threads (solve_many) run meanwhile
+        let y = py.detach(|| truncation::hold_response(steps, g, len));
         PyArray1::from_vec(py, y).reshape([n, len])
     })
 }
@@ -156,8 +158,11 @@ fn check_step(h: f64, k: usize) -> PyResult<()> {
     Ok(())
 }
 
-/// [`accuracy::mode_bounds`] of checked views; `step` is `(h, k, span)`.
+/// [`accuracy::mode_bounds`] of checked views, with the GIL released (a pass over the
+/// whole history: other Python threads, as `solve_many`'s, run meanwhile); `step` is
+/// `(h, k, span)`.
 fn bounds_of(
+    py: Python<'_>,
     pseudo: &PyReadonlyArray2<'_, f64>,
     q: &PyReadonlyArray2<'_, f64>,
     omega: &[f64],
@@ -188,7 +193,7 @@ fn bounds_of(
         k,
         span,
     };
-    Ok(accuracy::mode_bounds(&run))
+    Ok(py.detach(|| accuracy::mode_bounds(&run)))
 }
 
 /// One element as the estimate sees it: its dofs and whether it is a two-node element
@@ -317,7 +322,8 @@ impl Estimator {
                 (Some(pseudo), Some(q)) => {
                     let moments = self.moments_of(h);
                     let (pseudo, q) = (view(py, pseudo)?, view(py, q)?);
-                    bounds_of(&pseudo, &q, &self.omega, &self.c, &moments, (h, k, span))?
+                    let step = (h, k, span);
+                    bounds_of(py, &pseudo, &q, &self.omega, &self.c, &moments, step)?
                 }
                 _ => vec![0.0; self.omega.len()],
             };

@@ -20,7 +20,7 @@ use crate::problem::ModalProblem;
 /// Fewest modes per parallel chunk.
 const MIN_CHUNK: usize = 32;
 
-/// Per-mode constants: `A`, `B` and, per load, `pattern * B`.
+/// Per-mode constants: `A - 1`, `B` and, per load, `pattern * B`.
 struct Coefficients {
     a: [Vec<f64>; 4],
     b: [Vec<f64>; 6],
@@ -36,8 +36,11 @@ impl Coefficients {
         for (&k, &c) in problem.k.iter().zip(problem.c) {
             let tr = Transfer::new(k, c, problem.dt);
             let bm = tr.b();
-            for (slot, val) in a.iter_mut().zip(tr.a.iter().flatten()) {
-                slot.push(*val);
+            // the diagonal as `A - 1`: the step adds the increment to the state last
+            // (`pseudo::rows`: no drift of the round-off over many short steps)
+            let [d0, d1] = tr.a_less_one;
+            for (slot, val) in a.iter_mut().zip([d0, tr.a[0][1], tr.a[1][0], d1]) {
+                slot.push(val);
             }
             for (slot, val) in b.iter_mut().zip(bm.iter().flatten()) {
                 slot.push(*val);
@@ -179,6 +182,10 @@ fn advance<const N: usize, const CHECK: bool>(
             nx[j] += b[0][j] * p0 + b[1][j] * dp + b[2][j] * ddp;
             nv[j] += b[3][j] * p0 + b[4][j] * dp + b[5][j] * ddp;
         }
+    }
+    for j in 0..N {
+        nx[j] += xs[j];
+        nv[j] += vs[j];
     }
     x[r.clone()].copy_from_slice(&nx);
     v[r].copy_from_slice(&nv);

@@ -77,6 +77,11 @@ pub struct Transfer {
     /// `m[r][k]`: row `r` (0 displacement, 1 velocity) of the response at `dt` to the load
     /// `(tau/dt)^k`, `k = 0..=3`, from rest.
     pub m: [[f64; N_MOMENTS]; 2],
+    /// `A[0][0] - 1` and `A[1][1] - 1`, each to round-off of its own size (the steps take
+    /// the state's increment from them: `x + ((A00 - 1) x + A01 x' + ...)` rounds at the
+    /// increment's scale, where `A00 x + ...` rounds at the state's on every step and, with
+    /// many short steps, drifts: `pseudo::rows`).
+    pub a_less_one: [f64; 2],
 }
 
 impl Transfer {
@@ -103,7 +108,7 @@ impl Transfer {
         if k > 0.0 {
             let omega = k.sqrt();
             if let Some(far) = far(omega, c / (2.0 * omega), dt) {
-                return Transfer { a: far.a, m: far.m };
+                return Transfer::far(far.a, far.m);
             }
         }
         // a = c dt / 2 and hh = k dt^2 as unevaluated sums (hi + lo).
@@ -121,7 +126,7 @@ impl Transfer {
     /// `a^2 - h^2 = (zeta - 1)(zeta + 1) h^2` is exact to a few roundings near `zeta = 1`.
     pub fn from_omega_zeta(omega: f64, zeta: f64, dt: f64) -> Self {
         if let Some(far) = far(omega, zeta, dt) {
-            return Transfer { a: far.a, m: far.m };
+            return Transfer::far(far.a, far.m);
         }
         let h = omega * dt;
         let hh = h * h;
@@ -146,9 +151,23 @@ impl Transfer {
             vel[kk] = kk as f64 * disp[kk - 1];
         }
         let dt2 = dt * dt;
+        // From rest under the constant load `h^2`, `1 - x_free` with `x_free(0) = 1`:
+        // `A00 - 1 = -h^2 M00`; and `A11 = x''(1)` of the response to `v(0) = 1`, which is the
+        // derivative of the constant load's response: `A11 - 1 = -h^2 M00 - 2 a M10`.
+        let less00 = -hh * d[1];
         Transfer {
             a: [[a11, d0 * dt], [-hh * d0 / dt, a22]],
             m: [disp.map(|v| v * dt2), vel.map(|v| v * dt)],
+            a_less_one: [less00, less00 - 2.0 * a * d0],
+        }
+    }
+
+    /// A far step's matrices (no cancellation in `A - 1` there: `A` is not near `1`).
+    fn far(a: [[f64; 2]; 2], m: [[f64; N_MOMENTS]; 2]) -> Self {
+        Transfer {
+            a,
+            m,
+            a_less_one: [a[0][0] - 1.0, a[1][1] - 1.0],
         }
     }
 
@@ -406,5 +425,42 @@ mod tests {
             let a11 = (z1 * z2.exp() - z2 * z1.exp()) / (z1 - z2);
             assert!(close(t.a[0][0], a11, 1e-14), "h={h}");
         }
+    }
+
+    /// `sum_{n >= n0} sign(n) coef(n) h^n / n!`, summed smallest first.
+    fn series(h: f64, n0: i32, coef: impl Fn(i32) -> f64) -> f64 {
+        let term = |n: i32| coef(n) * (-h).powi(n) / (1..=n).map(f64::from).product::<f64>();
+        (n0..40).rev().map(term).sum()
+    }
+
+    #[test]
+    fn diagonal_less_one_keeps_its_own_digits() {
+        // undamped: A00 - 1 = A11 - 1 = cos h - 1 = -2 sin^2(h/2)
+        for &h in &[1e-7, 1e-4, 1e-2, 0.3, 2.0, 40.0] {
+            let t = Transfer::from_omega_zeta(1.0, 0.0, h);
+            let want = -2.0 * (0.5 * h).sin().powi(2);
+            for v in t.a_less_one {
+                assert!((v - want).abs() <= 4e-15 * want.abs(), "h={h}: {v} {want}");
+            }
+        }
+        // critical damping: A00 = e^-h (1 + h), A11 = e^-h (1 - h), by their series
+        for &h in &[1e-6, 1e-3, 0.1, 0.9] {
+            let t = Transfer::from_omega_zeta(1.0, 1.0, h);
+            let want = [
+                series(h, 2, |n| f64::from(1 - n)),
+                series(h, 1, |n| f64::from(1 + n)),
+            ];
+            for (v, w) in t.a_less_one.iter().zip(want) {
+                assert!((v - w).abs() <= 1e-14 * w.abs(), "h={h}: {v} {w}");
+            }
+        }
+        // a step long enough that the subtraction loses nothing
+        let t = Transfer::new(3.0, 0.4, 0.7);
+        assert!((t.a_less_one[0] - (t.a[0][0] - 1.0)).abs() <= 1e-15);
+        assert!((t.a_less_one[1] - (t.a[1][1] - 1.0)).abs() <= 1e-15);
+        // a first-order coordinate: e^(-dt/c) - 1
+        let t = Transfer::new(f64::INFINITY, 0.5, 1e-6);
+        let want = (-2e-6f64).exp_m1();
+        assert!((t.a_less_one[0] - want).abs() <= 1e-15 * want.abs());
     }
 }

@@ -28,6 +28,7 @@ pub fn transfer(c: f64, dt: f64) -> Transfer {
         return Transfer {
             a: [[0.0; 2]; 2],
             m,
+            a_less_one: [-1.0, -1.0],
         };
     }
     let z = -dt / c;
@@ -49,6 +50,8 @@ pub fn transfer(c: f64, dt: f64) -> Transfer {
     Transfer {
         a: [[e, 0.0], [-e / c, 0.0]],
         m: [m0, m1],
+        // e^z - 1 = z phi_1(z), without cancellation for short steps
+        a_less_one: [z * phi[1], -1.0],
     }
 }
 

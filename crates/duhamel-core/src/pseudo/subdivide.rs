@@ -58,10 +58,13 @@ pub(super) struct Subdivider<'r> {
 
 /// Whether a failed step may be retried in halves.
 pub(super) fn retriable(error: &CoreError) -> bool {
-    matches!(
-        error,
-        CoreError::NoConvergence { .. } | CoreError::OutOfDomain { .. }
-    )
+    match error {
+        // a residual that is no longer finite is an overflowing state, not a convergence
+        // problem (as `CoreError::located` reports it): halving the step only hides it
+        CoreError::NoConvergence { residual, .. } => residual.is_finite(),
+        CoreError::OutOfDomain { .. } => true,
+        _ => false,
+    }
 }
 
 impl<'r> Subdivider<'r> {
