@@ -13,6 +13,7 @@
 
 use crate::kernel::oscillator::Transfer;
 
+mod jumps;
 mod passes;
 
 use passes::{decaying_max_of_seconds, first_sums, floor_div, peak_of};
@@ -57,7 +58,8 @@ pub fn parabola_moments(omega: &[f64], c: &[f64], h: f64) -> Vec<f64> {
 }
 
 /// Per mode, the largest accumulated bound of the modal displacement error over the run
-/// (zeros for fewer than three saved instants). Lengths must agree (`omega.len() = n`,
+/// (zeros for fewer than three saved instants), plus the estimated errors of the force
+/// jumps found in the history (`jumps`). Lengths must agree (`omega.len() = n`,
 /// `pseudo.len() = q.len() = rows * n`, `moments.len() = 2 n`): the caller checks them.
 pub fn mode_bounds(run: &ModalRun<'_>) -> Vec<f64> {
     let n = run.omega.len();
@@ -111,6 +113,11 @@ pub fn mode_bounds(run: &ModalRun<'_>) -> Vec<f64> {
     let top = decaying_max_of_seconds(p, n, len, &chosen, &decay);
     for (&m, t) in chosen.iter().zip(top) {
         out[m] = scale[m] * t;
+    }
+    // the first-order errors of force jumps inside steps, which the parabola does not see
+    let jumps = jumps::jump_bounds(p, q, rows, run.omega, run.c, run.h, run.k, run.span);
+    for (o, j) in out.iter_mut().zip(jumps) {
+        *o += j;
     }
     out
 }
