@@ -50,6 +50,15 @@ def _duffing() -> duhamel.System:
     return system
 
 
+def _minmax() -> duhamel.System:
+    """The materials' SDOF of issue 37 with a ``MinMax`` that fails under the record
+    (tests/_support/_materials_system.py): the estimate's jump term at work."""
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests", "_support"))
+    from _materials_system import sdof
+
+    return sdof("MinMax")
+
+
 def _frame(n: int = 60) -> duhamel.System:
     k = 400.0 * (2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1))
     k[-1, -1] = 400.0
@@ -68,6 +77,8 @@ def main(repeats: int = 7) -> None:
         ("Duffing, 100 periods, 200 steps a period", _duffing, dict(
             t_end=200 * np.pi, dt=2 * np.pi / 200, x0=[1.0])),
         ("60-dof frame, bilinear + cubic, 2,000 steps", _frame, dict(t_end=20.0, dt=0.01)),
+        ("MinMax SDOF failing (a force jump), 4,800 steps", _minmax, dict(
+            t_end=12.0, dt=0.0025)),
     )  # fmt: skip
     print(f"load average {os.getloadavg()}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
     for name, make, kw in cases:

@@ -102,3 +102,15 @@ def test_a_failing_minmax_warns_where_it_was_silent():
             dt=DT / 4,
             save_every=4,
         )
+
+
+@pytest.mark.parametrize("rtol", [1e-2, 5e-3, 2e-3])
+def test_steps_chosen_by_tolerance_meet_it_through_a_failure(rtol):
+    # before the jump term, rtol = 2e-3 took the record's step (estimate 1.5e-3) and was
+    # 5.7e-3 off; now the steps are refined until the failure's error is estimated within
+    # it (the acceptance: the true error at most 2 rtol)
+    sol = _run("MinMax", 1, 1, rtol=rtol, subdivisions=6)
+    ref = _reference("MinMax")
+    error = float(np.abs(sol.x[:, 0] - ref).max() / np.abs(ref).max())
+    assert sol.stats.error_estimate <= rtol
+    assert error <= 2 * rtol, (error, sol.stats.substeps)
