@@ -248,8 +248,8 @@ def warn_above(integrator: Any, dofs: float | None, elements: tuple[float, ...])
     if worst is not None and worst > limit:
         warnings.warn(
             f"the run's estimated error is {worst:.2g} of the peak response (above "
-            f"`error_warning`={limit:g}): reduce `dt` (the error falls like dt^2), see "
-            "docs/accuracy.md",
+            f"`error_warning`={limit:g}): reduce `dt` (the error falls like dt^2, like dt "
+            "where element forces jump), see docs/accuracy.md",
             AccuracyWarning,
             stacklevel=_caller_level(),
         )
