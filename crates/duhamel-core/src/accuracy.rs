@@ -74,7 +74,12 @@ pub fn mode_bounds(run: &ModalRun<'_>) -> Vec<f64> {
     // over the run, never below omega); at least the drift over half the run for slow,
     // rigid modes. One pass over the history, row by row (no copy of it).
     let len = rows - 2;
-    let (sums, qq, pq) = first_sums(p, q, n, rows);
+    let passes::FirstSums {
+        sums,
+        qq,
+        pq,
+        jumps: candidates,
+    } = first_sums(p, q, n, rows);
     let floor = 2.0 / run.span.max(run.h);
     let k = run.k as f64;
     let mut scale = vec![0.0; n];
@@ -115,7 +120,7 @@ pub fn mode_bounds(run: &ModalRun<'_>) -> Vec<f64> {
         out[m] = scale[m] * t;
     }
     // the first-order errors of force jumps inside steps, which the parabola does not see
-    let jumps = jumps::jump_bounds(p, q, rows, run.omega, run.c, run.h, run.k, run.span);
+    let jumps = jumps::jump_bounds(&candidates, p, q, rows, run);
     for (o, j) in out.iter_mut().zip(jumps) {
         *o += j;
     }

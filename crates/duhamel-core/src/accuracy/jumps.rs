@@ -27,40 +27,42 @@
 //! Jumps add without decay (a failed element's drift does not decay). The work per step
 //! without a jump is one comparison of three differences per mode.
 
+use super::ModalRun;
 use crate::kernel::oscillator::Transfer;
 
 /// A jump must also exceed this fraction of the mode's largest pseudo-force magnitude
 /// (round-off in a history that is constant or zero is no jump).
 const NOISE: f64 = 1e-9;
 
-/// One jump found in the saved history: the interval `row -> row + 1`, its mode, its size.
-#[derive(Debug, Clone, Copy)]
-struct Jump {
-    row: usize,
-    mode: usize,
-    size: f64,
+/// The signed excess of the change `here` over an interval outside the range of the
+/// changes `before` and `after` of its neighbours, where it is larger than both of them (a
+/// candidate jump), else 0.
+#[inline(always)]
+pub(super) fn excess(before: f64, here: f64, after: f64) -> f64 {
+    // min and max rather than `clamp` (which panics on NaN bounds), branch-free: a history
+    // that is not finite has no jump (its estimate is NaN from the other passes)
+    let (lo, hi) = (before.min(after), before.max(after));
+    let signed = here - here.max(lo).min(hi);
+    if signed.abs() > before.abs().max(after.abs()) {
+        signed
+    } else {
+        0.0
+    }
 }
 
-/// Per mode, the summed displacement errors of the jumps found in the row-major `(rows,
-/// n)` histories `pseudo` and `q` (zeros without a jump): `omega`, `c` per mode, `h` the
-/// internal step, `k` internal steps between saved instants, `span` the run's duration.
-#[allow(clippy::too_many_arguments)]
+/// Per mode, the summed displacement errors of the jumps among the `candidates` (`(interval,
+/// mode, signed excess)` by interval then mode, from [`super::passes::first_sums`]) of the
+/// row-major `(rows, n)` histories `pseudo` and `q` of `run` (zeros without a jump).
 pub(super) fn jump_bounds(
+    candidates: &[(usize, usize, f64)],
     pseudo: &[f64],
     q: &[f64],
     rows: usize,
-    omega: &[f64],
-    c: &[f64],
-    h: f64,
-    k: usize,
-    span: f64,
+    run: &ModalRun<'_>,
 ) -> Vec<f64> {
-    let n = omega.len();
+    let n = run.omega.len();
     let mut out = vec![0.0; n];
-    if rows < 4 || n == 0 {
-        return out;
-    }
-    let found = find(pseudo, q, n, rows);
+    let found = softening(candidates, pseudo, q, n, rows);
     if found.is_empty() {
         return out;
     }
@@ -68,10 +70,9 @@ pub(super) fn jump_bounds(
     // jump: the sums of p q and q q from the end, walked once backwards
     let (mut pq, mut qq) = (vec![0.0; n], vec![0.0; n]);
     let mut next = rows; // rows >= next are summed
-    let saved = k as f64 * h;
-    for jump in found.iter().rev() {
-        let m = jump.mode;
-        while next > jump.row + 1 {
+    let saved = run.k as f64 * run.h;
+    for &(row, m, size) in found.iter().rev() {
+        while next > row + 1 {
             next -= 1;
             let (pr, qr) = (&pseudo[next * n..][..n], &q[next * n..][..n]);
             for j in 0..n {
@@ -79,59 +80,45 @@ pub(super) fn jump_bounds(
                 qq[j] += qr[j] * qr[j];
             }
         }
-        let (o, cm) = (omega[m], c[m]);
+        let (o, cm) = (run.omega[m], run.c[m]);
         if !(o.is_finite() && cm.is_finite()) {
             continue; // a massless dof's quasi-static coordinate: no quadrature in time
         }
         let softening = if qq[m] > 0.0 { pq[m] / qq[m] } else { 0.0 };
         let w2 = (o * o - softening).max(0.0);
-        let rest = (span - (jump.row + 1) as f64 * saved).max(h);
+        let rest = (run.span - (row + 1) as f64 * saved).max(run.h);
         let g = impulse_peak(0.5 * cm.max(0.0), w2, rest);
-        let b = Transfer::new(o * o, cm, h).b();
+        let b = Transfer::new(o * o, cm, run.h).b();
         let start = (b[0][0] - b[0][1]).abs() + g * (b[1][0] - b[1][1]).abs();
         let end = b[0][1].abs() + g * b[1][1].abs();
-        out[m] += jump.size * 0.25 * (start + end);
+        out[m] += size * 0.25 * (start + end);
     }
     out
 }
 
-/// The softening jumps of the history `p` (see the module's docs), by row then mode: `q`
-/// the modal displacements, whose change after the jump tells its direction.
-fn find(p: &[f64], q: &[f64], n: usize, rows: usize) -> Vec<Jump> {
+/// The jumps among the `candidates` (see the module's docs): above round-off
+/// ([`NOISE`] of the mode's largest pseudo-force) and softening (the excess has the sign of
+/// the mode's motion after it: a force released in the direction of the motion; a
+/// stiffening switch, a friction force reversing against the new motion, is held by the
+/// element's own stiffness). `(interval, mode, size)`, by interval then mode.
+fn softening(
+    candidates: &[(usize, usize, f64)],
+    p: &[f64],
+    q: &[f64],
+    n: usize,
+    rows: usize,
+) -> Vec<(usize, usize, f64)> {
+    let mut largest: Vec<Option<f64>> = vec![None; n];
     let mut found = Vec::new();
-    let mut largest = vec![0.0_f64; n];
-    for r in 0..rows {
-        for (l, v) in largest.iter_mut().zip(&p[r * n..(r + 1) * n]) {
-            *l = l.max(v.abs());
+    for &(r, m, signed) in candidates {
+        let moving = q[(r + 2) * n + m] - q[(r + 1) * n + m];
+        if signed * moving <= 0.0 {
+            continue;
         }
-    }
-    // interval r -> r + 1 between r - 1 -> r and r + 1 -> r + 2
-    for r in 1..rows - 2 {
-        let (a, b, c, d) = (
-            &p[(r - 1) * n..r * n],
-            &p[r * n..(r + 1) * n],
-            &p[(r + 1) * n..(r + 2) * n],
-            &p[(r + 2) * n..(r + 3) * n],
-        );
-        for m in 0..n {
-            let (before, here, after) = (b[m] - a[m], c[m] - b[m], d[m] - c[m]);
-            let (lo, hi) = (before.min(after), before.max(after));
-            let signed = here - here.clamp(lo, hi);
-            let excess = signed.abs();
-            // softening: the pseudo-force jumps in the direction the mode moves on (a
-            // force released, as by a failure); a stiffening switch (a friction force
-            // reversing against the new motion) is held by the element's own stiffness
-            let moving = q[(r + 2) * n + m] - q[(r + 1) * n + m];
-            if excess > before.abs().max(after.abs())
-                && excess > NOISE * largest[m]
-                && signed * moving > 0.0
-            {
-                found.push(Jump {
-                    row: r,
-                    mode: m,
-                    size: excess,
-                });
-            }
+        let top = *largest[m]
+            .get_or_insert_with(|| (0..rows).map(|i| p[i * n + m].abs()).fold(0.0, f64::max));
+        if signed.abs() > NOISE * top {
+            found.push((r, m, signed.abs()));
         }
     }
     found
@@ -169,6 +156,7 @@ fn impulse_peak(a: f64, w2: f64, rest: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
+    use super::super::passes::first_sums;
     use super::*;
 
     /// The impulse response sampled finely: its largest magnitude over `[0, rest]`.
@@ -208,24 +196,33 @@ mod tests {
     }
 
     #[test]
+    fn no_number_is_no_jump() {
+        let nan = f64::NAN;
+        assert_eq!(excess(nan, 1.0, nan), 0.0);
+        assert_eq!(excess(0.0, nan, 0.1), 0.0);
+        assert_eq!(excess(0.0, 1.0, 0.1), 0.9);
+        assert_eq!(excess(0.1, -1.0, 0.0), -1.0);
+    }
+
+    #[test]
     fn a_jump_is_found_and_a_kink_or_a_curve_is_not() {
         // one mode: a parabola, a kink at row 20, a jump of 3 in the interval 40 -> 41
         let rows = 60;
         let p: Vec<f64> = (0..rows)
             .map(|r| {
                 let t = r as f64 * 0.1;
-                0.01 * t * t
-                    + if r > 20 { 0.2 * (t - 2.0) } else { 0.0 }
-                    + if r > 40 { 3.0 } else { 0.0 }
+                let kink = if r > 20 { 0.2 * (t - 2.0) } else { 0.0 };
+                0.01 * t * t + kink + if r > 40 { 3.0 } else { 0.0 }
             })
             .collect();
         let q: Vec<f64> = (0..rows).map(|r| r as f64).collect(); // moving up: softening
-        let found = find(&p, &q, 1, rows);
+        let candidates = first_sums(&p, &q, 1, rows).jumps;
+        let found = softening(&candidates, &p, &q, 1, rows);
         assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!(found[0].0, 40);
+        assert!((found[0].2 - 3.0).abs() < 0.05, "{found:?}");
         let down: Vec<f64> = q.iter().map(|v| -v).collect(); // moving down: stiffening
-        assert!(find(&p, &down, 1, rows).is_empty());
-        assert_eq!(found[0].row, 40);
-        assert!((found[0].size - 3.0).abs() < 0.05, "{found:?}");
+        assert!(softening(&candidates, &p, &down, 1, rows).is_empty());
     }
 
     #[test]
@@ -236,7 +233,19 @@ mod tests {
         let (rows, h) = (21, 0.01);
         let p: Vec<f64> = (0..rows).map(|r| if r >= 10 { 2.0 } else { 0.0 }).collect();
         let q: Vec<f64> = (0..rows).map(|r| r as f64).collect();
-        let got = jump_bounds(&p, &q, rows, &[0.0], &[0.0], h, 1, 20.0 * h)[0];
+        let run = ModalRun {
+            pseudo: &p,
+            q: &q,
+            rows,
+            omega: &[0.0],
+            c: &[0.0],
+            moments: &[0.0, 0.0],
+            h,
+            k: 1,
+            span: 20.0 * h,
+        };
+        let candidates = first_sums(&p, &q, 1, rows).jumps;
+        let got = jump_bounds(&candidates, &p, &q, rows, &run)[0];
         let rest = 20.0 * h - 10.0 * h;
         let want = 2.0 * (h * h / 2.0 + rest * h) / 4.0;
         assert!((got - want).abs() <= 1e-12 * want, "{got} vs {want}");
