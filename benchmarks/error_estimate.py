@@ -5,10 +5,10 @@ Each case is solved repeatedly; the time of the run's estimate (``_core.Estimato
 made by ``duhamel._engine.accuracy.estimator``, timed around the call) is compared with the
 whole ``duhamel.solve`` call, both in process CPU time (``time.process_time``: less
 sensitive to other processes than wall time), the minimum over the repeats. Run:
-``python benchmarks/error_estimate.py [--table]`` (record the load average with the
-numbers). The references of the table: the exact ``cn`` solution (Duffing), DOP853 at
-``rtol = 1e-12`` restarted at every record sample (cubic SDOF), the same run at ``dt / 64``
-(the others).
+``python benchmarks/error_estimate.py [--table | --jumps]`` (record the load average with
+the numbers; ``--jumps``: the force-jump family). The references of the table: the exact
+``cn`` solution (Duffing), DOP853 at ``rtol = 1e-12`` restarted at every record sample
+(cubic SDOF), the same run at ``dt / 64`` (the others).
 """
 
 from __future__ import annotations
@@ -50,6 +50,15 @@ def _duffing() -> duhamel.System:
     return system
 
 
+def _minmax() -> duhamel.System:
+    """The materials' SDOF of issue 37 with a ``MinMax`` that fails under the record
+    (tests/_support/_materials_system.py): the estimate's jump term at work."""
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests", "_support"))
+    from _materials_system import sdof
+
+    return sdof("MinMax")
+
+
 def _frame(n: int = 60) -> duhamel.System:
     k = 400.0 * (2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1))
     k[-1, -1] = 400.0
@@ -68,6 +77,8 @@ def main(repeats: int = 7) -> None:
         ("Duffing, 100 periods, 200 steps a period", _duffing, dict(
             t_end=200 * np.pi, dt=2 * np.pi / 200, x0=[1.0])),
         ("60-dof frame, bilinear + cubic, 2,000 steps", _frame, dict(t_end=20.0, dt=0.01)),
+        ("MinMax SDOF failing (a force jump), 4,800 steps", _minmax, dict(
+            t_end=12.0, dt=0.0025)),
     )  # fmt: skip
     print(f"load average {os.getloadavg()}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
     for name, make, kw in cases:
@@ -160,5 +171,55 @@ def _frame5() -> duhamel.System:
     return system
 
 
+def jumps() -> None:
+    """The force-jump family of docs/accuracy.md ("Force jumps (measured)"): the materials'
+    SDOF with a failing ``MinMax``, a ``Steel02``, a ``Bilinear``, a ``FrictionPendulum``
+    and a ``Gap``, at the record's step / k saved at every step and at the record's
+    instants, against the same run at the record's step / 1024."""
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests", "_support"))
+    import _materials_system as m
+
+    from duhamel import elements as e
+
+    def sdof(element: e.Element, k0: float = 0.0) -> duhamel.System:
+        t, a = m.record()
+        s = duhamel.System(np.eye(1), k0 * np.eye(1), (m.A0 + m.A1 * m.K0) * np.eye(1))
+        s.add(element)
+        s.add_load(duhamel.loads.BaseAcceleration(np.ones(1), t=t, values=a))
+        return s
+
+    cases = {
+        "MinMax": lambda: m.sdof("MinMax"),
+        "Steel02": lambda: m.sdof("Steel02"),
+        "Bilinear": lambda: sdof(e.Bilinear(0, k=m.K0, fy=m.FY, alpha=0.05)),
+        "FrictionPendulum": lambda: sdof(e.FrictionPendulum(0, radius=2.0, mu=0.06, weight=9.81)),
+        "Gap": lambda: sdof(e.Gap(0, gap=0.02, k=10 * m.K0), k0=m.K0),
+    }
+
+    def run(system: duhamel.System, k: int, save: int) -> duhamel.Solution:
+        return duhamel.solve(
+            system, duhamel.Semianalytic(), t_end=m.SECONDS, dt=m.DT / k, save_every=save
+        )
+
+    warnings.simplefilter("ignore", duhamel.AccuracyWarning)
+    print(f"load average {os.getloadavg()}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
+    print("| case | k | save | true error | estimate | ratio |\n|---|---|---|---|---|---|")
+    for name, make in cases.items():
+        system = make()
+        ref = run(system, 1024, 1024).x[:, 0]
+        for k in (1, 2, 4, 8, 16):
+            for save in sorted({1, k}):
+                sol = run(system, k, save)
+                x = sol.x[::k, 0] if save == 1 else sol.x[:, 0]
+                error = float(np.abs(x - ref).max() / np.abs(ref).max())
+                est = sol.stats.error_estimate
+                print(f"| {name} | {k} | {save} | {error:.2e} | {est:.2e} | {est / error:.2f} |")
+
+
 if __name__ == "__main__":
-    table() if "--table" in sys.argv else main()
+    if "--table" in sys.argv:
+        table()
+    elif "--jumps" in sys.argv:
+        jumps()
+    else:
+        main()

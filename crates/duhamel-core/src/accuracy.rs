@@ -13,6 +13,7 @@
 
 use crate::kernel::oscillator::Transfer;
 
+mod jumps;
 mod passes;
 
 use passes::{decaying_max_of_seconds, first_sums, floor_div, peak_of};
@@ -57,7 +58,8 @@ pub fn parabola_moments(omega: &[f64], c: &[f64], h: f64) -> Vec<f64> {
 }
 
 /// Per mode, the largest accumulated bound of the modal displacement error over the run
-/// (zeros for fewer than three saved instants). Lengths must agree (`omega.len() = n`,
+/// (zeros for fewer than three saved instants), plus the estimated errors of the force
+/// jumps found in the history (`jumps`). Lengths must agree (`omega.len() = n`,
 /// `pseudo.len() = q.len() = rows * n`, `moments.len() = 2 n`): the caller checks them.
 pub fn mode_bounds(run: &ModalRun<'_>) -> Vec<f64> {
     let n = run.omega.len();
@@ -72,7 +74,12 @@ pub fn mode_bounds(run: &ModalRun<'_>) -> Vec<f64> {
     // over the run, never below omega); at least the drift over half the run for slow,
     // rigid modes. One pass over the history, row by row (no copy of it).
     let len = rows - 2;
-    let (sums, qq, pq) = first_sums(p, q, n, rows);
+    let passes::FirstSums {
+        sums,
+        qq,
+        pq,
+        jumps: candidates,
+    } = first_sums(p, q, n, rows);
     let floor = 2.0 / run.span.max(run.h);
     let k = run.k as f64;
     let mut scale = vec![0.0; n];
@@ -111,6 +118,11 @@ pub fn mode_bounds(run: &ModalRun<'_>) -> Vec<f64> {
     let top = decaying_max_of_seconds(p, n, len, &chosen, &decay);
     for (&m, t) in chosen.iter().zip(top) {
         out[m] = scale[m] * t;
+    }
+    // the first-order errors of force jumps inside steps, which the parabola does not see
+    let jumps = jumps::jump_bounds(&candidates, p, q, rows, run);
+    for (o, j) in out.iter_mut().zip(jumps) {
+        *o += j;
     }
     out
 }

@@ -12,7 +12,11 @@ passes over the modal history). The local errors of every mode are accumulated a
 magnitudes (an amplitude, ``sqrt(dq^2 + (dv/omega)^2)``), decaying with the mode's damping
 between steps: an upper bound of the global error of a run whose local errors add up in
 phase (the drift of an oscillation), the common case. The bound at a dof or an element
-sums the modes' bounds times the magnitude of their shapes there. See docs/accuracy.md.
+sums the modes' bounds times the magnitude of their shapes there. Force jumps inside a step
+(a ``MinMax`` material failing) make a first-order error the parabola does not measure: the
+core finds softening jumps in the saved pseudo-force and adds their expected error (the
+exact step's response to a step load anywhere in the step, carried by the mode's dynamics
+after the jump; ``duhamel_core::accuracy::jumps``). See docs/accuracy.md.
 """
 
 from __future__ import annotations
@@ -248,8 +252,8 @@ def warn_above(integrator: Any, dofs: float | None, elements: tuple[float, ...])
     if worst is not None and worst > limit:
         warnings.warn(
             f"the run's estimated error is {worst:.2g} of the peak response (above "
-            f"`error_warning`={limit:g}): reduce `dt` (the error falls like dt^2), see "
-            "docs/accuracy.md",
+            f"`error_warning`={limit:g}): reduce `dt` (the error falls like dt^2, like dt "
+            "where element forces jump), see docs/accuracy.md",
             AccuracyWarning,
             stacklevel=_caller_level(),
         )

@@ -13,11 +13,13 @@ fn second(a: f64, b: f64, c: f64) -> f64 {
 /// of a column-by-column pass, bit for bit), without a loop over the columns of every row.
 const BLOCK: usize = 8;
 
-/// The accumulators of [`mode_bounds`]'s first pass, per mode.
+/// The accumulators of [`mode_bounds`]'s first pass, per mode, and the candidate jumps it
+/// found (`(interval, mode, signed excess)`, [`super::jumps`]).
 struct Sums<'a> {
     sums: &'a mut [f64],
     qq: &'a mut [f64],
     pq: &'a mut [f64],
+    jumps: &'a mut Vec<(usize, usize, f64)>,
 }
 
 /// Columns `b0..b0 + W` of row `r` of a row-major history of `n` columns.
@@ -40,6 +42,7 @@ fn first_pass<const W: usize>(
 ) {
     let len = rows - 2;
     let (mut sums, mut qq, mut pq) = ([0.0; W], [0.0; W], [0.0; W]);
+    let mut before = [0.0; W]; // the change over the interval r - 1 -> r
     for r in 0..rows {
         let (pr, qr) = (lanes::<W>(p, n, r, b0), lanes::<W>(q, n, r, b0));
         for j in 0..W {
@@ -48,8 +51,20 @@ fn first_pass<const W: usize>(
         }
         if r < len {
             let (b, c) = (lanes::<W>(p, n, r + 1, b0), lanes::<W>(p, n, r + 2, b0));
+            let mut excess = [0.0; W];
             for j in 0..W {
                 sums[j] += second(pr[j], b[j], c[j]);
+                // the interval r -> r + 1 between its neighbours: a jump's excess
+                let (here, after) = (b[j] - pr[j], c[j] - b[j]);
+                excess[j] = super::jumps::excess(before[j], here, after);
+                before[j] = here;
+            }
+            if r > 0 && excess.iter().any(|&e| e != 0.0) {
+                for (j, &e) in excess.iter().enumerate() {
+                    if e != 0.0 {
+                        into.jumps.push((r, b0 + j, e));
+                    }
+                }
             }
         }
     }
@@ -58,20 +73,27 @@ fn first_pass<const W: usize>(
     into.pq[b0..b0 + W].copy_from_slice(&pq);
 }
 
+/// The sums of [`first_sums`] per mode, and its candidate jumps.
+pub(super) struct FirstSums {
+    pub sums: Vec<f64>,
+    pub qq: Vec<f64>,
+    pub pq: Vec<f64>,
+    /// `(interval, mode, signed excess)`, by interval then mode ([`super::jumps::excess`]).
+    pub jumps: Vec<(usize, usize, f64)>,
+}
+
 /// [`mode_bounds`](super::mode_bounds)'s first pass over a `(rows, n)` history (`rows` at
 /// least 3): per mode, the sum of the second differences of the pseudo-force `p` and the
-/// sums of `q q` and `p q` over the rows.
-pub(super) fn first_sums(
-    p: &[f64],
-    q: &[f64],
-    n: usize,
-    rows: usize,
-) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+/// sums of `q q` and `p q` over the rows; the intervals whose change stands out from their
+/// neighbours' (candidate jumps, a few operations per value of the same pass).
+pub(super) fn first_sums(p: &[f64], q: &[f64], n: usize, rows: usize) -> FirstSums {
     let (mut sums, mut qq, mut pq) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut jumps = Vec::new();
     let mut into = Sums {
         sums: &mut sums,
         qq: &mut qq,
         pq: &mut pq,
+        jumps: &mut jumps,
     };
     let full = n / BLOCK * BLOCK;
     for b0 in (0..full).step_by(BLOCK) {
@@ -80,7 +102,13 @@ pub(super) fn first_sums(
     for m in full..n {
         first_pass::<1>(p, q, n, rows, m, &mut into);
     }
-    (sums, qq, pq)
+    jumps.sort_by_key(|&(r, m, _)| (r, m));
+    FirstSums {
+        sums,
+        qq,
+        pq,
+        jumps,
+    }
 }
 
 /// What [`decaying_block`] keeps per mode: the largest second difference, the largest
@@ -310,7 +338,7 @@ mod tests {
         for &n in &[1_usize, 3, 8, 9, 20] {
             let rows = 257;
             let (p, q) = (history(rows, n, 11, None), history(rows, n, 5, None));
-            let (sums, qq, pq) = first_sums(&p, &q, n, rows);
+            let FirstSums { sums, qq, pq, .. } = first_sums(&p, &q, n, rows);
             for m in 0..n {
                 let col = |x: &[f64], r: usize| x[r * n + m];
                 let (mut s, mut a, mut b) = (0.0, 0.0, 0.0);
