@@ -241,6 +241,11 @@ impl<M: Material + 'static> Element for Uniaxial<M> {
     fn restarts_exactly(&self) -> bool {
         self.material.restarts_exactly() && !self.material.uses_rate()
     }
+
+    /// A loaded start's deformation `d0 + x` rounds at the ulps of `d0`.
+    fn resolution(&self) -> f64 {
+        64.0 * f64::EPSILON * self.origin().0.abs()
+    }
 }
 
 /// A material element's definition: where it acts and its law.
