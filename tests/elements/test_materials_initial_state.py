@@ -71,13 +71,13 @@ def test_a_loaded_start_in_a_run_continues_the_driven_material(kind: str, route:
     if route == "semianalytic":
         sol = duhamel.solve(s, duhamel.Semianalytic(), t_end=4.0, dt=DT / 4)
         x, f = sol.elements[0].deformation, sol.elements[0].axial_force
-        tol = 1e-12
+        tol = 1e-14  # measured 7e-17 to 1.4e-16
     else:
         sol = duhamel.solve(s, duhamel.Newmark(tol=1e-13), t_end=4.0, dt=DT / 4)
         p = 0.8 * FY * np.sin(OMEGA * sol.t) - f0.force[-1]
         x, f = sol.x[:, 0], p - np.asarray(sol.a)[:, 0] - C * sol.v[:, 0]
         x, f = x[1:], f[1:]  # the step load's value at t = 0 is a convention
-        tol = 1e-8
+        tol = 1e-12  # measured 7e-16 to 1.6e-15
     assert d0 + x.min() < -1.2 * UY and d0 + x.max() > 2.0 * UY, f"{kind}: no yield both ways"
     force, _ = reference(kind, d0, x)
     err = np.abs(f - force).max() / np.abs(force).max()
