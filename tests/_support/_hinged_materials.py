@@ -113,11 +113,14 @@ def lean(storey: int) -> int:
 
 
 def build(
-    definitions: list[tuple[Any, ...]], chain: bool = False, w: float = W_GRAVITY
+    definitions: list[tuple[Any, ...]],
+    chain: bool = False,
+    w: float = W_GRAVITY,
+    hinge_rayleigh: bool = False,
 ) -> list[int]:
     """Defines the frame in the openseespy session (wiped first) with hinges of the material
     `definitions`, runs the gravity analysis (`w` on the beams) and holds it; returns the
-    hinges' tags. With
+    hinges' tags; `hinge_rayleigh`: the hinges damped too (``-doRayleigh 1``). With
     `chain`, a ``Series`` hinge is built as its parts in a chain of rotational ``zeroLength``
     elements through a node of its own (a massless rotation): OpenSees' Newton then
     balances the parts' forces exactly, where its ``SeriesMaterial`` iterates internally."""
@@ -158,7 +161,10 @@ def build(
                 ops.element("zeroLength", tag, node(storey, side), mid, "-mat", first, "-dir", 3)
                 ops.element("zeroLength", tag + 100, mid, end, "-mat", second, "-dir", 3)
             else:
-                ops.element("zeroLength", tag, node(storey, side), end, "-mat", mat, "-dir", 3)
+                damped = ["-doRayleigh", 1] if hinge_rayleigh else []
+                ops.element(
+                    "zeroLength", tag, node(storey, side), end, "-mat", mat, "-dir", 3, *damped
+                )
             hinges.append(tag)
         ops.element(
             "elasticBeamColumn", 200 + storey, beam_end(storey, 0), beam_end(storey, 1),

@@ -304,10 +304,14 @@ def _zero_length(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx:
         if rayleigh is None:  # zero unless the element was defined with -doRayleigh 1
             rayleigh = _rayleigh_forces(ops, tag, nj, "rayleighForces")
         half = rayleigh.size // 2
+        # OpenSees' betaK0 damps the initial stiffness (the tangent at import differs from
+        # it where gravity loaded the material)
+        linear = element._linear()  # type: ignore[attr-defined]
+        k0 = tangent if linear is None else float(np.asarray(linear[1]).flat[0])
         if rayleigh.size:
-            damping.append((tangent, abs(float(rayleigh[half + comps.index(comp)]))))
+            damping.append((k0, abs(float(rayleigh[half + comps.index(comp)]))))
         else:  # a twoNodeLink returns no Rayleigh forces: only whether it has any
-            damping.append((tangent, math.nan if int(float(ele["addRayleigh"])) else 0.0))
+            damping.append((k0, math.nan if int(float(ele["addRayleigh"])) else 0.0))
     damped = None
     if made and any(c != 0.0 for _, c in damping):
         what = ", ".join(
