@@ -53,7 +53,8 @@ UY = 0.02  # the hinges' yield rotation
 #: The beams' gravity load (hm.W_GRAVITY: the hinges loaded at import) but where OpenSees
 #: cannot run the loaded frame: its ModIMKPeakOriented hinges, loaded, stop OpenSees'
 #: transient at t = 1.15 (Krylov-Newton to 1e-11 at the record's step / 16, / 32 and / 64
-#: alike; Newton stops at 0.05, ModifiedNewton at 0.03, Krylov-Newton to 1e-9 at 1.65),
+#: alike; Newton stops at 0.05, ModifiedNewton at 0.03, Krylov-Newton to 1e-9 at 1.65;
+#: beam loads of 0.3, 1 and 2 at 1.11 to 1.15, while unloaded it runs to the end),
 #: while duhamel's routes agree to 1e-4 on it (test_semianalytic_and_newmark_agree...):
 #: compared with OpenSees with the leaning column's gravity only (hinges unloaded).
 GRAVITY = {"ModIMKPeakOriented": 0.0}
