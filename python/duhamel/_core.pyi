@@ -278,6 +278,7 @@ class ElasticMultiLinear(Element):
         *,
         strain: Sequence[float],
         stress: Sequence[float],
+        initial_deformation: float = 0.0,
     ) -> Self: ...
 
 @final
@@ -327,6 +328,7 @@ class Hysteretic(Element):
         damage1: float,
         damage2: float,
         beta: float = 0.0,
+        initial_deformation: float = 0.0,
     ) -> Self: ...
 
 @final
@@ -357,6 +359,7 @@ class IMKBilin(Element):
         c_k: float,
         D_plus: float,
         D_neg: float,
+        initial_deformation: float = 0.0,
     ) -> Self: ...
 
 @final
@@ -398,6 +401,7 @@ class MinMax(Element):
         material: Element,
         min: float = -1e16,
         max: float = 1e16,
+        initial_deformation: float = 0.0,
     ) -> Self: ...
 
 @final
@@ -431,6 +435,7 @@ class ModIMKPeakOriented(Element):
         D_plus: float,
         D_neg: float,
         n_factor: float = 0.0,
+        initial_deformation: float = 0.0,
     ) -> Self: ...
 
 @final
@@ -442,6 +447,7 @@ class MultiLinear(Element):
         *,
         strain: Sequence[float],
         stress: Sequence[float],
+        initial_deformation: float = 0.0,
     ) -> Self: ...
 
 @final
@@ -453,6 +459,7 @@ class Parallel(Element):
         *,
         materials: Sequence[Element],
         factors: Sequence[float] | None = None,
+        initial_deformation: float = 0.0,
     ) -> Self: ...
 
 @final
@@ -501,6 +508,7 @@ class Pinching4(Element):
         gFLim: float,
         gE: float,
         dmgType: Literal["energy", "cycle"] = "energy",
+        initial_deformation: float = 0.0,
     ) -> Self: ...
 
 @final
@@ -517,6 +525,7 @@ class Series(Element):
         materials: Sequence[Element],
         max_iter: int = 100,
         tol: float = 1e-10,
+        initial_deformation: float = 0.0,
     ) -> Self: ...
 
 @final
@@ -555,6 +564,7 @@ class Steel02(Element):
         a3: float = 0.0,
         a4: float = 1.0,
         sig_init: float = 0.0,
+        initial_deformation: float = 0.0,
     ) -> Self: ...
 
 @final
@@ -569,6 +579,7 @@ class Takeda(Element):
         strain_neg: Sequence[float] | None = None,
         stress_neg: Sequence[float] | None = None,
         alpha: float = 0.4,
+        initial_deformation: float = 0.0,
     ) -> Self: ...
 
 @final

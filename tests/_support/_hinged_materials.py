@@ -8,11 +8,11 @@ a node of its own, tied to the column node in ux and uy (``equalDOF``), with a r
 between them: the hinge rotations are massless dofs. A leaning column (pinned at its base,
 ``PDelta``, tied to the floors in ux) carries the gravity load of the floors it stabilises;
 Rayleigh damping ``rayleigh(A0, 0, A1, 0)`` (mass and initial stiffness) on every element
-but the hinges. Gravity (a vertical load at every column node and at the leaning column's
-floors) is applied by a static analysis first and held (``loadConst``): it shortens the
-columns and gives the leaning column its geometric stiffness; it leaves the hinges
-unloaded (the beams carry no gravity load), as ``from_opensees`` carries a loaded state
-over only for ``Steel01`` hinges (``Bilinear``).
+but the hinges. Gravity (a uniform load `w` on the beams and a vertical load at the leaning
+column's floors) is applied by a static analysis first (ten load steps) and held
+(``loadConst``): it gives the leaning column its geometric stiffness and loads the hinges
+(by default :data:`W_GRAVITY`, about half their yield moment, elastic but well beyond
+round-off in each law's curvature), which ``from_opensees`` imports in that state.
 
 The hinges' laws are written for a yield rotation of 0.02 at a moment of 0.8 (initial
 stiffness 40; the frame's units are consistent and otherwise arbitrary), with round
@@ -39,6 +39,8 @@ P_LEANING = 0.6
 W1, W2 = 2 * np.pi / 0.7, 2 * np.pi / 0.2  # 3 % at these circular frequencies
 A0, A1 = 2 * 0.03 * W1 * W2 / (W1 + W2), 2 * 0.03 / (W1 + W2)
 
+#: gravity: the uniform load on the beams (hinge moments about half the yield moment)
+W_GRAVITY = 3.0
 K0, FY = 40.0, 0.8  # the hinges: initial stiffness, yield moment (rotation 0.02)
 STEEL = ("Steel02", FY, K0, 0.02, 18.0, 0.9, 0.1, 0.01, 1.0, 0.02, 1.0)
 IMK = ("ModIMKPeakOriented", K0, 0.03, 0.03, FY, -FY, 2.0, 2.0, 2.0, 2.0, 1.0, 1.0, 1.0, 1.0,
@@ -78,18 +80,19 @@ DEFINITIONS: dict[str, list[tuple[Any, ...]]] = {
 }
 
 
-def hinge(kind: str, i: int | None, j: int | None) -> E.Element:
-    """duhamel's hinge of the material `kind` on ``x_i - x_j``, built directly from the
-    parameters of :data:`DEFINITIONS` (Takeda: no OpenSees counterpart)."""
+def hinge(kind: str, i: int | None, j: int | None, initial_deformation: float = 0.0) -> E.Element:
+    """duhamel's hinge of the material `kind` on ``x_i - x_j`` (starting at
+    `initial_deformation`), built directly from the parameters of :data:`DEFINITIONS`
+    (Takeda: no OpenSees counterpart)."""
     if kind == "Takeda":
-        return E.Takeda(i, j, **TAKEDA)  # type: ignore[arg-type]
+        return E.Takeda(i, j, **TAKEDA, initial_deformation=initial_deformation)  # type: ignore[arg-type]
     raise ValueError(f"`kind` {kind!r} is imported, not built")
 
 
 #: Materials ``from_opensees`` cannot read back: Takeda has no OpenSees counterpart (its
-#: OpenSees model is a Hysteretic without pinching or damage): the frame is imported with a
-#: stand-in hinge of the same initial stiffness (a Steel02), whose elements are then
-#: replaced by duhamel's material built directly on the same dofs. (Pinching4 and
+#: OpenSees model is a Hysteretic without pinching or damage): the frame is imported with
+#: that Hysteretic, whose elements are then replaced by duhamel's material built directly
+#: on the same dofs, at the same initial deformation. (Pinching4 and
 #: MultiLinear, which OpenSees prints without their parameters, are imported through
 #: ``duhamel.opensees.recording``.)
 BUILT = ("Takeda",)
@@ -109,9 +112,15 @@ def lean(storey: int) -> int:
     return 900 + storey
 
 
-def build(definitions: list[tuple[Any, ...]], chain: bool = False) -> list[int]:
+def build(
+    definitions: list[tuple[Any, ...]],
+    chain: bool = False,
+    w: float = W_GRAVITY,
+    hinge_rayleigh: bool = False,
+) -> list[int]:
     """Defines the frame in the openseespy session (wiped first) with hinges of the material
-    `definitions`, runs the gravity analysis and holds it; returns the hinges' tags. With
+    `definitions`, runs the gravity analysis (`w` on the beams) and holds it; returns the
+    hinges' tags; `hinge_rayleigh`: the hinges damped too (``-doRayleigh 1``). With
     `chain`, a ``Series`` hinge is built as its parts in a chain of rotational ``zeroLength``
     elements through a node of its own (a massless rotation): OpenSees' Newton then
     balances the parts' forces exactly, where its ``SeriesMaterial`` iterates internally."""
@@ -152,7 +161,10 @@ def build(definitions: list[tuple[Any, ...]], chain: bool = False) -> list[int]:
                 ops.element("zeroLength", tag, node(storey, side), mid, "-mat", first, "-dir", 3)
                 ops.element("zeroLength", tag + 100, mid, end, "-mat", second, "-dir", 3)
             else:
-                ops.element("zeroLength", tag, node(storey, side), end, "-mat", mat, "-dir", 3)
+                damped = ["-doRayleigh", 1] if hinge_rayleigh else []
+                ops.element(
+                    "zeroLength", tag, node(storey, side), end, "-mat", mat, "-dir", 3, *damped
+                )
             hinges.append(tag)
         ops.element(
             "elasticBeamColumn", 200 + storey, beam_end(storey, 0), beam_end(storey, 1),
@@ -169,9 +181,9 @@ def build(definitions: list[tuple[Any, ...]], chain: bool = False) -> list[int]:
             1e-3 * I_COL, 2,
         )  # fmt: skip
     ops.rayleigh(A0, 0.0, A1, 0.0)
-    # the vertical loads at the leaning column's floors (900 + storey, as _hinged's), by a
-    # static analysis (Newton, ten load steps), then held
-    _gravity(ops, STOREYS, 1, {"beams": []}, 0.0, P_LEANING)
+    # the beams' load and the vertical loads at the leaning column's floors (900 + storey,
+    # as _hinged's), by a static analysis (Newton, ten load steps), then held
+    _gravity(ops, STOREYS, 1, {"beams": [200 + s for s in range(1, STOREYS + 1)]}, w, P_LEANING)
     return hinges
 
 

@@ -98,6 +98,18 @@ def drive(
     >>> loop = duhamel.elements.drive(steel, [0.0, 0.02, 0.0, -0.02, 0.0, 0.02])
     >>> loop.force.tolist()
     [0.0, 1.0, -1.0, -1.0, 1.0, 1.0]
+
+    A material with an ``initial_deformation`` ``d0`` (a hinge after a gravity analysis) is
+    the virgin one driven from rest to ``d0`` along ``numpy.linspace(0, d0, 101)`` and on,
+    its force measured from the force there:
+
+    >>> hinge = duhamel.elements.Steel02(0, fy=1.0, E=100.0, b=0.02, initial_deformation=0.02)
+    >>> virgin = duhamel.elements.Steel02(0, fy=1.0, E=100.0, b=0.02)
+    >>> rest = np.linspace(0.0, 0.02, 101)
+    >>> d = np.array([0.0, 0.01, -0.03, 0.0])
+    >>> whole = duhamel.elements.drive(virgin, np.concatenate([rest, 0.02 + d])).force
+    >>> bool((duhamel.elements.drive(hinge, d).force == whole[101:] - whole[100]).all())
+    True
     """
     if not isinstance(element, _core.Element):
         raise TypeError(

@@ -196,13 +196,16 @@ def from_opensees(
     ``K``. The import runs after a gravity analysis (``loadConst``): ``K`` is the tangent
     there, and each translated element starts in its state at import (a ``Steel01`` hinge
     with the rotation and moment the gravity loads left, elastic or yielded, as the
-    Bilinear's ``initial_deformation``/``initial_force``; an open gap with the distance left
-    to contact); a state that cannot be carried over is refused naming the element and
-    material. The response is measured from the state at import: totals are
-    ``system.opensees.x0 + sol.x`` (the model carries no gravity load, so do not pass
-    ``x0`` to :func:`duhamel.solve`). Massless dofs that the damping matrix reaches (a
-    hinge's rotation under ``betaK``) are first-order coordinates of the model, not static
-    (:meth:`System.damping_summary` says which). Models OpenSees cannot analyse (no free
+    Bilinear's ``initial_deformation``/``initial_force``; every other translated uniaxial
+    material with its strain as the element's ``initial_deformation``, which duhamel's
+    material reaches from rest monotonically, checked against OpenSees' stress and tangent
+    there to 1e-6; an open gap with the distance left to contact); a state that cannot be
+    carried over (a hinge unloaded during the gravity analysis, a loaded ``BoucWen``) is
+    refused naming the element and material. The response is measured from the state at
+    import: totals are ``system.opensees.x0 + sol.x`` (the model carries no gravity load,
+    so do not pass ``x0`` to :func:`duhamel.solve`). Massless dofs that the damping matrix
+    reaches (a hinge's rotation under ``betaK``) are first-order coordinates of the model,
+    not static (:meth:`System.damping_summary` says which). Models OpenSees cannot analyse (no free
     dof, a constraint loop, coordinates that are not finite) are refused before OpenSees
     runs.
 

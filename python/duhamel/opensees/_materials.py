@@ -26,6 +26,7 @@ from duhamel.elements import (
     Parallel,
     Series,
     Steel02,
+    drive,
 )
 from duhamel.opensees._parts import Untranslatable, _pair
 
@@ -177,6 +178,18 @@ def _inner(element: Element) -> list[Element]:
     return [p["material"]] if "material" in p else list(p.get("materials", ()))
 
 
+def _tangent_at_import(element: Element) -> float:
+    """A ``ModIMKPeakOriented``'s stiffness tangent at import: ``K0 (1 + n_factor)`` at
+    zero deformation, else its tangent at its ``initial_deformation`` reached from rest
+    (the import checked it equals OpenSees' there)."""
+    p = element.parameters  # type: ignore[attr-defined]
+    d0 = float(p.get("initial_deformation", 0.0))
+    if d0 == 0.0:
+        return float(p["K0"] * (1.0 + p["n_factor"]))
+    virgin = element.replace(initial_deformation=0.0)  # type: ignore[attr-defined]
+    return float(drive(virgin, np.linspace(0.0, d0, 101)).tangent[-1])
+
+
 def newton_damping(
     elements: dict[int, list[Element]], analysed: bool
 ) -> list[tuple[tuple[int, ...], NDArray[np.float64]]]:
@@ -186,8 +199,8 @@ def newton_damping(
     ``ZeroLength::getDamp`` adds to the damping matrix, while its force (``getStress``) has
     no rate term. They enter only OpenSees' Newton matrix, not its model's response, so they
     are taken out of the damping matrix read from OpenSees. After an analysis (`analysed`:
-    e.g. the gravity loads) each such material is at zero deformation at import (a loaded
-    one is refused) with the tangent ``K0 (1 + n_factor)``; before any, ``ekP`` is 0. A
+    e.g. the gravity loads) each such material has its tangent at its state at import
+    (``K0 (1 + n_factor)`` at zero deformation); before any, ``ekP`` is 0. A
     wrapper (MinMax, Parallel, Series) of one after an analysis is refused: OpenSees'
     wrappers combine their parts' damping tangents in ways not read here."""
     out = []
@@ -199,7 +212,7 @@ def newton_damping(
                 continue
             if isinstance(element, ModIMKPeakOriented):
                 p = element.parameters  # type: ignore[attr-defined]
-                out.append(_pair(p["i"], p["j"], p["K0"] * (1.0 + p["n_factor"])))
+                out.append(_pair(p["i"], p["j"], _tangent_at_import(element)))
                 continue
             stack = _inner(element)
             while stack:

@@ -28,8 +28,8 @@ class Refused(Exception):
 class Damped:
     """A translated element that OpenSees damps with its Rayleigh factors (``zeroLength``
     ``-doRayleigh 1``, a bearing's ``-doRayleigh``): its type, its materials (or `None` for a
-    bearing) and, per translated direction, its tangent at import and the damping OpenSees
-    gives it there (``nan`` where it cannot be read)."""
+    bearing) and, per translated direction, its initial stiffness (a bearing's: its tangent
+    at import) and the damping OpenSees gives it there (``nan`` where it cannot be read)."""
 
     kind: str
     what: str

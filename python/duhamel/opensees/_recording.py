@@ -90,7 +90,7 @@ def recording() -> Iterator[Recording]:
     {1: ('MultiLinear', 0.02, 0.8, 0.06, 1.0)}
     >>> system = duhamel.opensees.from_opensees(recorded=rec)
     >>> system.opensees.elements[1]
-    [MultiLinear(0, None, strain=(0.02, 0.06), stress=(0.8, 1.0))]
+    [MultiLinear(0, None, strain=(0.02, 0.06), stress=(0.8, 1.0), initial_deformation=0.0)]
     """
     from duhamel.opensees import _openseespy
 

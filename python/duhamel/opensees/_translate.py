@@ -18,6 +18,7 @@ from duhamel.elements import (
     Element,
     Gap,
     ViscousDamper,
+    drive,
 )
 from duhamel.opensees._bearings import BEARINGS, bearing, pdelta_info
 from duhamel.opensees._materials import KINDS, material_element
@@ -153,19 +154,59 @@ def _rayleigh_forces(ops: Any, tag: int, node: int, response: str) -> NDArray[np
                 ops.setNodeVel(n, d + 1, v)
 
 
-#: Translated elements that take a loaded state at import: those whose definition has an
-#: initial deformation and force (the material's strain and stress at import).
+#: Translated elements that take a loaded state at import: ``Bilinear`` (a ``Steel01``) with
+#: the material's strain and stress as its initial deformation and force (any state in its
+#: band); the uniaxial materials of :data:`KINDS` with the strain as their
+#: ``initial_deformation`` (reached from rest monotonically: checked against the stress).
 CARRIED = {"Bilinear"}
+#: The state reached by driving duhamel's material equals OpenSees' within this fraction
+#: of the force (and of the tangent's scale): OpenSees prints the parameters to six
+#: significant digits, a different path (a hinge unloaded during gravity) or law is off by
+#: far more.
+STATE_TOL = 1e-6
+#: The increments duhamel's uniaxial materials reach their ``initial_deformation`` in
+#: (crates/duhamel-core/src/elements/materials/uniaxial.rs, ``INITIAL_STEPS``).
+INITIAL_STEPS = 100
+
+
+def _driven(
+    element: Element, name: str, strain: float, stress: float, tangent: float | None
+) -> Element:
+    """The material element `element` (virgin, duhamel's deformation along OpenSees'
+    strain) loaded to `strain`, checked: the force (and `tangent`, when given) duhamel's law
+    reaches from rest must be OpenSees' `stress` at import, else the state is refused."""
+    path = np.linspace(0.0, strain, INITIAL_STEPS + 1)
+    try:
+        reached = drive(element, path)
+    except (ValueError, RuntimeError) as exc:
+        raise Untranslatable(f"{name}: its strain at import {strain:.6g} {exc}") from None
+    force, kt = float(reached.force[-1]), float(reached.tangent[-1])
+    scale = max(abs(stress), abs(force))
+    off = abs(force - stress) > STATE_TOL * scale
+    if not off and tangent is not None:
+        k_scale = max(abs(tangent), abs(kt), abs(stress / strain) if strain else 0.0)
+        off = abs(kt - tangent) > STATE_TOL * k_scale
+    if off:
+        tangents = "" if tangent is None else f", tangent {tangent:.9g} vs duhamel's {kt:.9g}"
+        raise Untranslatable(
+            f"{name} is loaded at import (strain {strain:.9g}, stress {stress:.9g}"
+            f"{tangents}) in a state duhamel's {type(element).__name__} does not reach "
+            f"from rest monotonically (its force there {force:.9g}): the gravity path "
+            "unloaded it, or the law differs; its state cannot be carried over"
+        )
+    return element.replace(initial_deformation=strain)  # type: ignore[attr-defined, no-any-return]
 
 
 def _loaded(
     element: Element, mat: dict[str, Any], where: tuple[int | None, int | None, float],
-    strain: float, stress: float,
+    state: tuple[float, float, float | None],
 ) -> Element:  # fmt: skip
     """`element` (the translation of `mat` between the dofs ``where = (i, j, sign)``) in the
-    material's state at import: its `strain` and `stress` (e.g. after a gravity analysis)
-    as the element's initial deformation and force. A state that cannot be carried over is
+    material's state at import, ``state = (strain, stress, tangent)`` (e.g. after a gravity
+    analysis): a ``Bilinear``'s initial deformation and force, a uniaxial material's
+    initial deformation (checked: :func:`_driven`). A state that cannot be carried over is
     refused naming the material."""
+    strain, stress, tangent = state
     if stress == 0.0 and strain == 0.0:
         return element  # undeformed
     name = f"{mat.get('type')} material {mat.get('name')}"
@@ -178,17 +219,19 @@ def _loaded(
         if not left >= 0.0:
             raise Untranslatable(f"{name} is in contact at import without force")
         return element.replace(gap=left)  # type: ignore[attr-defined, no-any-return]
+    i, j, sign = where
+    # duhamel's deformation x_e.i - x_e.j is OpenSees' strain, or its opposite where the
+    # moving node is the element's i (see _material)
+    a = j if sign > 0 else i
+    flip = 1.0 if a is not None else -1.0
+    if str(mat.get("type")) in KINDS:
+        return _driven(element, name, flip * strain, flip * stress, tangent)
     if type(element).__name__ not in CARRIED:
         raise Untranslatable(
             f"{name} is loaded at import (strain {strain:.3g}, stress {stress:.3g}): its "
             f"state cannot be carried over to duhamel's {type(element).__name__}, which "
             "starts undeformed"
         )
-    i, j, sign = where
-    # duhamel's deformation x_e.i - x_e.j is OpenSees' strain, or its opposite where the
-    # moving node is the element's i (see _material)
-    a = j if sign > 0 else i
-    flip = 1.0 if a is not None else -1.0
     try:
         return element.replace(  # type: ignore[attr-defined, no-any-return]
             initial_deformation=flip * strain, initial_force=flip * stress
@@ -253,18 +296,22 @@ def _zero_length(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx:
             )
         stress = _resp(ops, tag, "material", str(k + 1), "stress")[0]
         strain = _resp(ops, tag, "material", str(k + 1), "strain")[0]
-        element = _loaded(element, mat, (i, j, float(np.sign(row[a]))), strain, stress)
         tangent = _resp(ops, tag, "material", str(k + 1), "tangent")[0]
+        element = _loaded(element, mat, (i, j, float(np.sign(row[a]))), (strain, stress, tangent))
         if tangent != 0.0:
             removed.append(_pair(i, j, tangent))
         made.append(element)
         if rayleigh is None:  # zero unless the element was defined with -doRayleigh 1
             rayleigh = _rayleigh_forces(ops, tag, nj, "rayleighForces")
         half = rayleigh.size // 2
+        # OpenSees' betaK0 damps the initial stiffness (the tangent at import differs from
+        # it where gravity loaded the material)
+        linear = element._linear()  # type: ignore[attr-defined]
+        k0 = tangent if linear is None else float(np.asarray(linear[1]).flat[0])
         if rayleigh.size:
-            damping.append((tangent, abs(float(rayleigh[half + comps.index(comp)]))))
+            damping.append((k0, abs(float(rayleigh[half + comps.index(comp)]))))
         else:  # a twoNodeLink returns no Rayleigh forces: only whether it has any
-            damping.append((tangent, math.nan if int(float(ele["addRayleigh"])) else 0.0))
+            damping.append((k0, math.nan if int(float(ele["addRayleigh"])) else 0.0))
     damped = None
     if made and any(c != 0.0 for _, c in damping):
         what = ", ".join(

@@ -61,6 +61,9 @@ pub(crate) struct Alpha<'a> {
     factorizations: usize,
     /// The massless dofs (zero diagonal of `M`), with `beta > 0` (see [`Stepper::step`]).
     massless: Vec<usize>,
+    /// The largest element's [`Element::resolution`](crate::elements::Element): a
+    /// displacement correction below it is accepted (it cannot contract further).
+    resolution: f64,
 }
 
 impl<'a> Alpha<'a> {
@@ -117,6 +120,10 @@ impl<'a> Alpha<'a> {
             v1: vec![0.0; n],
             factorizations: 0,
             massless,
+            resolution: p
+                .elements
+                .iter()
+                .fold(0.0_f64, |a, e| a.max(e.resolution())),
         })
     }
 
@@ -311,7 +318,7 @@ impl Stepper for Alpha<'_> {
                 scale = scale.max(self.a1[i].abs().max(vi.abs() / h).max(xi.abs() / (h * h)));
             }
             let update = norm(&self.r);
-            if update <= self.tol * scale {
+            if update <= self.tol * scale || b * h * h * update <= self.resolution {
                 done = true;
                 continue;
             }

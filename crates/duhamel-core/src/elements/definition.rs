@@ -190,6 +190,9 @@ macro_rules! element_variants {
             fn restarts_exactly(&self) -> bool {
                 match self { $($name::$variant(e) => e.restarts_exactly(),)* }
             }
+            fn resolution(&self) -> f64 {
+                match self { $($name::$variant(e) => e.resolution(),)* }
+            }
         }
     };
 }

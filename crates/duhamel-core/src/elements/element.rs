@@ -106,6 +106,14 @@ pub trait Element: Send + Sync {
         false
     }
 
+    /// The local displacement below which the element's force is not resolved: the
+    /// round-off of its deformation when that is measured from a loaded start (a material's
+    /// `initial_deformation` `d0` added to `x`: a few ulps of `d0`). Newton's iterations
+    /// accept corrections below it (they cannot contract further). 0 by default.
+    fn resolution(&self) -> f64 {
+        0.0
+    }
+
     /// The element as `Any`, for a built-in element: the integrators then resolve its type
     /// once and call it without dynamic dispatch (`elements/builtin.rs`). None (the
     /// default) for any other element.

@@ -211,6 +211,10 @@ macro_rules! registry {
                 self.get().restarts_exactly()
             }
 
+            fn resolution(&self) -> f64 {
+                self.get().resolution()
+            }
+
             fn as_any(&self) -> Option<&dyn std::any::Any> {
                 Some(self)
             }

@@ -141,6 +141,10 @@ impl<E: ?Sized + Element + 'static> Element for Shifted<E> {
         self.inner.restarts_exactly()
     }
 
+    fn resolution(&self) -> f64 {
+        self.inner.resolution()
+    }
+
     fn dofs(&self) -> &[usize] {
         self.inner.dofs()
     }

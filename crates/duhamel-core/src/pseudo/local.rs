@@ -135,6 +135,14 @@ impl<'a> ElementSpace<'a> {
         self.generation
     }
 
+    /// The largest member's [`Element::resolution`]: the displacement correction Newton
+    /// cannot resolve below.
+    pub fn resolution(&self) -> f64 {
+        self.members
+            .iter()
+            .fold(0.0_f64, |a, m| a.max(m.eval.resolution()))
+    }
+
     /// Whether every member's force at a committed state is that of the evaluation
     /// committed there ([`Evaluation::restarts_exactly`]).
     pub fn restarts_exactly(&self) -> bool {

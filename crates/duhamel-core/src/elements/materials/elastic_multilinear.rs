@@ -20,9 +20,14 @@ pub struct ElasticMultiLinearDef {
     pub j: Option<usize>,
     pub strain: Vec<f64>,
     pub stress: Vec<f64>,
+    #[serde(default)]
+    pub initial_deformation: f64,
 }
 
 impl UniaxialDefinition for ElasticMultiLinearDef {
+    fn initial_deformation(&self) -> f64 {
+        self.initial_deformation
+    }
     type Law = ElasticMultiLinear;
     fn pair(&self) -> Pair {
         (self.i, self.j)
@@ -34,7 +39,7 @@ impl UniaxialDefinition for ElasticMultiLinearDef {
 
 impl Definition for ElasticMultiLinearDef {
     const NAME: &'static str = "ElasticMultiLinear";
-    const SIGNATURE: &'static str = "(i, j=None, *, strain, stress)";
+    const SIGNATURE: &'static str = "(i, j=None, *, strain, stress, initial_deformation=0.0)";
     const DOC: &'static str = r#"Nonlinear elastic spring on the deformation ``u = x_i - x_j`` (``j=None``: to the
 ground), piecewise linear through the points ``(strain[k], stress[k])`` (both sides of the
 origin, extended past the end points with the end slopes), as OpenSees' ``uniaxialMaterial
@@ -48,6 +53,12 @@ i, j : int, dof label or None
     The dofs of the deformation ``x_i - x_j`` (``j=None``: to the ground).
 strain, stress : sequence of float
     At least two points, strains strictly increasing.
+initial_deformation : float, default 0.0
+    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
+    material is first driven from rest monotonically to it (in 100 equal increments, as
+    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
+    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
+    equations its change from the force there (held by loads outside the model).
 
 Examples
 --------

@@ -37,9 +37,14 @@ pub struct HystereticDef {
     pub damage2: f64,
     #[serde(default)]
     pub beta: f64,
+    #[serde(default)]
+    pub initial_deformation: f64,
 }
 
 impl UniaxialDefinition for HystereticDef {
+    fn initial_deformation(&self) -> f64 {
+        self.initial_deformation
+    }
     type Law = Hysteretic;
     fn pair(&self) -> Pair {
         (self.i, self.j)
@@ -90,7 +95,7 @@ impl Definition for HystereticDef {
     const NAME: &'static str = "Hysteretic";
     const SIGNATURE: &'static str =
         "(i, j=None, *, s1p, e1p, s2p, e2p, s3p=None, e3p=None, s1n, e1n, s2n, e2n, \
-        s3n=None, e3n=None, pinch_x, pinch_y, damage1, damage2, beta=0.0)";
+        s3n=None, e3n=None, pinch_x, pinch_y, damage1, damage2, beta=0.0, initial_deformation=0.0)";
     const DOC: &'static str = r#"OpenSees' ``Hysteretic`` material on the deformation ``u = x_i - x_j`` (``j=None``: to
 the ground): a bilinear or trilinear envelope through ``(e1p, s1p), (e2p, s2p), (e3p, s3p)``
 and ``(e1n, s1n), ...`` (negative side negative), pinching of deformation ``pinch_x`` and
@@ -113,6 +118,12 @@ damage1, damage2 : float
     Damage due to ductility and to energy.
 beta : float
     Unloading stiffness degradation exponent.
+initial_deformation : float, default 0.0
+    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
+    material is first driven from rest monotonically to it (in 100 equal increments, as
+    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
+    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
+    equations its change from the force there (held by loads outside the model).
 
 Examples
 --------

@@ -43,9 +43,14 @@ pub struct ImkBilinDef {
     pub d_plus: f64,
     #[serde(rename = "D_neg")]
     pub d_neg: f64,
+    #[serde(default)]
+    pub initial_deformation: f64,
 }
 
 impl UniaxialDefinition for ImkBilinDef {
+    fn initial_deformation(&self) -> f64 {
+        self.initial_deformation
+    }
     type Law = ImkBilin;
     fn pair(&self) -> Pair {
         (self.i, self.j)
@@ -84,7 +89,7 @@ impl Definition for ImkBilinDef {
         "(i, j=None, *, Ke, theta_p_plus, theta_pc_plus, theta_u_plus, My_plus, \
         Mmax_My_plus, res_plus, theta_p_neg, theta_pc_neg, theta_u_neg, My_neg, \
         Mmax_My_neg, res_neg, lambda_s, lambda_c, lambda_k, c_s, c_c, c_k, D_plus, \
-        D_neg)";
+        D_neg, initial_deformation=0.0)";
     const DOC: &'static str = r#"The modified Ibarra-Medina-Krawinkler deterioration model with a bilinear hysteresis,
 on the deformation ``u = x_i - x_j`` (``j=None``: to the ground; a rotation for a hinge), as
 OpenSees' ``uniaxialMaterial IMKBilin`` (Lignos & Krawinkler 2011; Lignos et al. 2019; the
@@ -114,6 +119,12 @@ c_s, c_c, c_k : float
     Their rates (exponents).
 D_plus, D_neg : float
     Rates of cyclic deterioration in each direction.
+initial_deformation : float, default 0.0
+    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
+    material is first driven from rest monotonically to it (in 100 equal increments, as
+    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
+    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
+    equations its change from the force there (held by loads outside the model).
 
 Examples
 --------

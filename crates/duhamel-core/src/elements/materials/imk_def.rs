@@ -46,9 +46,14 @@ pub struct ModImkPeakOrientedDef {
     pub d_neg: f64,
     #[serde(default)]
     pub n_factor: f64,
+    #[serde(default)]
+    pub initial_deformation: f64,
 }
 
 impl UniaxialDefinition for ModImkPeakOrientedDef {
+    fn initial_deformation(&self) -> f64 {
+        self.initial_deformation
+    }
     type Law = ModImkPeakOriented;
     fn pair(&self) -> Pair {
         (self.i, self.j)
@@ -90,7 +95,7 @@ impl Definition for ModImkPeakOrientedDef {
         "(i, j=None, *, K0, as_plus, as_neg, My_plus, My_neg, lambda_s, lambda_c, \
         lambda_a, lambda_k, c_s, c_c, c_a, c_k, theta_p_plus, theta_p_neg, theta_pc_plus, \
         theta_pc_neg, res_plus, res_neg, theta_u_plus, theta_u_neg, D_plus, D_neg, \
-        n_factor=0.0)";
+        n_factor=0.0, initial_deformation=0.0)";
     const DOC: &'static str = r#"The modified Ibarra-Medina-Krawinkler deterioration model with a peak-oriented
 hysteresis, on the deformation ``u = x_i - x_j`` (``j=None``: to the ground; a rotation for a
 hinge), as OpenSees' ``uniaxialMaterial ModIMKPeakOriented`` (Ibarra, Medina & Krawinkler
@@ -130,6 +135,12 @@ D_plus, D_neg : float
     Rates of cyclic deterioration in each direction.
 n_factor : float
     Stiffness amplification ``n`` of the spring (0: none).
+initial_deformation : float, default 0.0
+    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
+    material is first driven from rest monotonically to it (in 100 equal increments, as
+    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
+    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
+    equations its change from the force there (held by loads outside the model).
 
 Examples
 --------

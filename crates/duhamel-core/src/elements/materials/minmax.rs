@@ -24,6 +24,8 @@ pub struct MinMaxDef {
     pub min: f64,
     #[serde(default = "highest")]
     pub max: f64,
+    #[serde(default)]
+    pub initial_deformation: f64,
 }
 
 fn lowest() -> f64 {
@@ -34,6 +36,9 @@ fn highest() -> f64 {
 }
 
 impl UniaxialDefinition for MinMaxDef {
+    fn initial_deformation(&self) -> f64 {
+        self.initial_deformation
+    }
     type Law = MinMax;
     fn pair(&self) -> Pair {
         (self.i, self.j)
@@ -46,7 +51,8 @@ impl UniaxialDefinition for MinMaxDef {
 
 impl Definition for MinMaxDef {
     const NAME: &'static str = "MinMax";
-    const SIGNATURE: &'static str = "(i, j=None, *, material, min=-1e16, max=1e16)";
+    const SIGNATURE: &'static str =
+        "(i, j=None, *, material, min=-1e16, max=1e16, initial_deformation=0.0)";
     const DOC: &'static str = r#"A uniaxial material that fails beyond a deformation, as OpenSees'
 ``uniaxialMaterial MinMax tag otherTag -min min -max max``: `material` answers until a trial
 deformation ``u = x_i - x_j`` reaches `min` or `max`; there the force is 0 (and the tangent,
@@ -63,6 +69,12 @@ material : Element
     ``ModIMKPeakOriented``, ... or another wrapper).
 min, max : float
     The deformations at which it fails, ``min < max``.
+initial_deformation : float, default 0.0
+    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
+    material is first driven from rest monotonically to it (in 100 equal increments, as
+    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
+    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
+    equations its change from the force there (held by loads outside the model).
 
 Examples
 --------

@@ -32,9 +32,14 @@ pub struct MultiLinearDef {
     pub j: Option<usize>,
     pub strain: Vec<f64>,
     pub stress: Vec<f64>,
+    #[serde(default)]
+    pub initial_deformation: f64,
 }
 
 impl UniaxialDefinition for MultiLinearDef {
+    fn initial_deformation(&self) -> f64 {
+        self.initial_deformation
+    }
     type Law = MultiLinear;
     fn pair(&self) -> Pair {
         (self.i, self.j)
@@ -46,7 +51,7 @@ impl UniaxialDefinition for MultiLinearDef {
 
 impl Definition for MultiLinearDef {
     const NAME: &'static str = "MultiLinear";
-    const SIGNATURE: &'static str = "(i, j=None, *, strain, stress)";
+    const SIGNATURE: &'static str = "(i, j=None, *, strain, stress, initial_deformation=0.0)";
     const DOC: &'static str = r#"Multilinear kinematic hardening on the deformation ``u = x_i - x_j`` (``j=None``: to
 the ground), as OpenSees' ``uniaxialMaterial MultiLinear tag e1 s1 e2 s2 ...``: a symmetric
 backbone through the points ``(strain[k], stress[k])`` and their mirror images (extended past
@@ -61,6 +66,12 @@ i, j : int, dof label or None
     The dofs of the deformation ``x_i - x_j`` (``j=None``: to the ground).
 strain, stress : sequence of float
     At least two points, strains positive and increasing, stresses positive.
+initial_deformation : float, default 0.0
+    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
+    material is first driven from rest monotonically to it (in 100 equal increments, as
+    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
+    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
+    equations its change from the force there (held by loads outside the model).
 
 Examples
 --------

@@ -19,9 +19,14 @@ pub struct ParallelDef {
     pub materials: Vec<Defined>,
     #[serde(default)]
     pub factors: Option<Vec<f64>>,
+    #[serde(default)]
+    pub initial_deformation: f64,
 }
 
 impl UniaxialDefinition for ParallelDef {
+    fn initial_deformation(&self) -> f64 {
+        self.initial_deformation
+    }
     type Law = Parallel;
     fn pair(&self) -> Pair {
         (self.i, self.j)
@@ -39,7 +44,8 @@ impl UniaxialDefinition for ParallelDef {
 
 impl Definition for ParallelDef {
     const NAME: &'static str = "Parallel";
-    const SIGNATURE: &'static str = "(i, j=None, *, materials, factors=None)";
+    const SIGNATURE: &'static str =
+        "(i, j=None, *, materials, factors=None, initial_deformation=0.0)";
     const DOC: &'static str = r#"Uniaxial materials side by side on the same deformation ``u = x_i - x_j``, as
 OpenSees' ``uniaxialMaterial Parallel tag tag1 tag2 ... <-factors f1 f2 ...>``: the force
 and tangent are the (weighted) sums of the parts'. Passive when every part is and every
@@ -53,6 +59,12 @@ materials : sequence of Element
     The parts (at least one): uniaxial material elements on the same ``i, j``.
 factors : sequence of float, optional
     One factor per part (default: all 1).
+initial_deformation : float, default 0.0
+    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
+    material is first driven from rest monotonically to it (in 100 equal increments, as
+    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
+    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
+    equations its change from the force there (held by loads outside the model).
 
 Examples
 --------

@@ -96,6 +96,8 @@ pub struct Pinching4Def {
     pub g_e: f64,
     #[serde(rename = "dmgType", default = "energy")]
     pub dmg_type: String,
+    #[serde(default)]
+    pub initial_deformation: f64,
 }
 
 fn energy() -> String {
@@ -103,6 +105,9 @@ fn energy() -> String {
 }
 
 impl UniaxialDefinition for Pinching4Def {
+    fn initial_deformation(&self) -> f64 {
+        self.initial_deformation
+    }
     type Law = Pinching4;
     fn pair(&self) -> Pair {
         (self.i, self.j)
@@ -179,7 +184,7 @@ impl Definition for Pinching4Def {
         eNd1=None, eNf2=None, eNd2=None, eNf3=None, eNd3=None, eNf4=None, eNd4=None, \
         rDispP, rForceP, uForceP, rDispN=None, rForceN=None, uForceN=None, gK1, gK2, gK3, \
         gK4, gKLim, gD1, gD2, gD3, gD4, gDLim, gF1, gF2, gF3, gF4, gFLim, gE, \
-        dmgType=\"energy\")";
+        dmgType=\"energy\", initial_deformation=0.0)";
     const DOC: &'static str = r#"OpenSees' ``Pinching4`` material (Lowes, Mitra & Altoontash 2003) on the deformation
 ``u = x_i - x_j`` (``j=None``: to the ground): a four-point envelope per side, unload-reload
 paths through a reloading point ``(rDisp u_max, rForce F(u_max))`` and an unloading force
@@ -212,6 +217,12 @@ gE : float
     Energy capacity, in monotonic envelope energies.
 dmgType : {"energy", "cycle"}
     What the damage grows with.
+initial_deformation : float, default 0.0
+    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
+    material is first driven from rest monotonically to it (in 100 equal increments, as
+    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
+    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
+    equations its change from the force there (held by loads outside the model).
 
 Examples
 --------

@@ -44,6 +44,8 @@ pub struct SeriesDef {
     pub max_iter: usize,
     #[serde(default = "tol")]
     pub tol: f64,
+    #[serde(default)]
+    pub initial_deformation: f64,
 }
 
 fn max_iter() -> usize {
@@ -54,6 +56,9 @@ fn tol() -> f64 {
 }
 
 impl UniaxialDefinition for SeriesDef {
+    fn initial_deformation(&self) -> f64 {
+        self.initial_deformation
+    }
     type Law = Series;
     fn pair(&self) -> Pair {
         (self.i, self.j)
@@ -71,7 +76,8 @@ impl UniaxialDefinition for SeriesDef {
 
 impl Definition for SeriesDef {
     const NAME: &'static str = "Series";
-    const SIGNATURE: &'static str = "(i, j=None, *, materials, max_iter=100, tol=1e-10)";
+    const SIGNATURE: &'static str =
+        "(i, j=None, *, materials, max_iter=100, tol=1e-10, initial_deformation=0.0)";
     const DOC: &'static str = r#"Uniaxial materials in series on the deformation ``u = x_i - x_j``, as OpenSees'
 ``uniaxialMaterial Series tag tag1 tag2 ... <-iter maxIter tol>`` but solved to convergence:
 the parts carry the same force and their deformations add up to ``u`` (Newton on the parts'
@@ -92,6 +98,12 @@ max_iter : int
     Iterations allowed per evaluation, >= 1.
 tol : float
     Relative tolerance of the force balance and the compatibility, in (0, 1).
+initial_deformation : float, default 0.0
+    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
+    material is first driven from rest monotonically to it (in 100 equal increments, as
+    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
+    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
+    equations its change from the force there (held by loads outside the model).
 
 Examples
 --------

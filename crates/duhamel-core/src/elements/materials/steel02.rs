@@ -49,6 +49,8 @@ pub struct Steel02Def {
     pub a4: f64,
     #[serde(default)]
     pub sig_init: f64,
+    #[serde(default)]
+    pub initial_deformation: f64,
 }
 
 fn r0() -> f64 {
@@ -65,6 +67,9 @@ fn one() -> f64 {
 }
 
 impl UniaxialDefinition for Steel02Def {
+    fn initial_deformation(&self) -> f64 {
+        self.initial_deformation
+    }
     type Law = Steel02;
     fn pair(&self) -> Pair {
         (self.i, self.j)
@@ -83,7 +88,7 @@ impl UniaxialDefinition for Steel02Def {
 impl Definition for Steel02Def {
     const NAME: &'static str = "Steel02";
     const SIGNATURE: &'static str = "(i, j=None, *, fy, E, b, R0=15.0, cR1=0.925, cR2=0.15, \
-        a1=0.0, a2=1.0, a3=0.0, a4=1.0, sig_init=0.0)";
+        a1=0.0, a2=1.0, a3=0.0, a4=1.0, sig_init=0.0, initial_deformation=0.0)";
     const DOC: &'static str = r#"Giuffré-Menegotto-Pinto steel with Filippou's isotropic hardening on the deformation
 ``u = x_i - x_j`` (``j=None``: to the ground), operation for operation as OpenSees'
 ``uniaxialMaterial Steel02 tag fy E b R0 cR1 cR2 a1 a2 a3 a4 sigInit`` (defaults: its
@@ -110,6 +115,12 @@ a1, a2, a3, a4 : float
     Isotropic hardening (OpenSees' meaning; ``a1 = a3 = 0``: none); ``a2``, ``a4`` > 0.
 sig_init : float
     Initial force (OpenSees' ``sigInit``).
+initial_deformation : float, default 0.0
+    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
+    material is first driven from rest monotonically to it (in 100 equal increments, as
+    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
+    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
+    equations its change from the force there (held by loads outside the model).
 
 Examples
 --------

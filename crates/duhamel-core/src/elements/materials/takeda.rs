@@ -50,6 +50,8 @@ pub struct TakedaDef {
     pub stress_neg: Option<Vec<f64>>,
     #[serde(default = "takeda_alpha")]
     pub alpha: f64,
+    #[serde(default)]
+    pub initial_deformation: f64,
 }
 
 fn takeda_alpha() -> f64 {
@@ -57,6 +59,9 @@ fn takeda_alpha() -> f64 {
 }
 
 impl UniaxialDefinition for TakedaDef {
+    fn initial_deformation(&self) -> f64 {
+        self.initial_deformation
+    }
     type Law = Takeda;
     fn pair(&self) -> Pair {
         (self.i, self.j)
@@ -85,7 +90,7 @@ impl UniaxialDefinition for TakedaDef {
 impl Definition for TakedaDef {
     const NAME: &'static str = "Takeda";
     const SIGNATURE: &'static str =
-        "(i, j=None, *, strain, stress, strain_neg=None, stress_neg=None, alpha=0.4)";
+        "(i, j=None, *, strain, stress, strain_neg=None, stress_neg=None, alpha=0.4, initial_deformation=0.0)";
     const DOC: &'static str = r#"Takeda's degrading, peak-oriented hysteresis on a multilinear backbone, on the
 deformation ``u = x_i - x_j`` (``j=None``: to the ground): Takeda, Sozen & Nielsen (1970) in
 Otani's simplified form with Emori & Schnobrich's unloading stiffness
@@ -106,6 +111,12 @@ strain_neg, stress_neg : sequence of float, optional
     The negative backbone's points as magnitudes (default: symmetric).
 alpha : float
     The unloading exponent, in [0, 1] (0: unloading at the initial stiffness).
+initial_deformation : float, default 0.0
+    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
+    material is first driven from rest monotonically to it (in 100 equal increments, as
+    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
+    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
+    equations its change from the force there (held by loads outside the model).
 
 Examples
 --------

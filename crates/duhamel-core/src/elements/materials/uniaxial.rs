@@ -6,6 +6,14 @@
 //! first step the material is virgin and taken along the deformation path from 0 to the
 //! initial deformation `u_0` in one step (monotonic loading).
 //!
+//! **A loaded start** (`initial_deformation` `d0 != 0`, e.g. a hinge after a gravity
+//! analysis): the material is driven from rest monotonically to `d0` in [`INITIAL_STEPS`]
+//! equal increments (`0, d0/N, 2 d0/N, ..., d0`, committing at each, as
+//! `duhamel.elements.drive` along `numpy.linspace(0, d0, N + 1)`), to the force `F0` and
+//! its internal variables there. The element's deformation is then `d0 + x_i - x_j` and the
+//! force it puts on the equations its change from `F0` (the loads that hold `F0` are not in
+//! the model), as `Bilinear`'s `initial_force`.
+//!
 //! A material's definition (`Steel02Def`, ...) implements [`UniaxialDefinition`] (its dofs
 //! and its law) and, through [`uniaxial_methods!`], the planner's questions of
 //! [`Definition`](crate::elements::Definition): the linear part is the initial tangent
@@ -21,11 +29,24 @@ use crate::elements::hysteretic::common::{finite, local_dofs, relative, scatter}
 use crate::elements::registry::Defined;
 use crate::error::CoreError;
 
+/// The number of equal increments a loaded start is reached in (see the module
+/// documentation).
+pub const INITIAL_STEPS: usize = 100;
+
+/// A loaded start: the deformation `d0`, the force `F0` and the internal variables there.
+#[derive(Debug)]
+struct Start {
+    u0: f64,
+    f0: f64,
+    state: Vec<f64>,
+}
+
 /// A [`Material`] between two dofs (or a dof and the ground).
 #[derive(Debug)]
 pub struct Uniaxial<M: Material> {
     dofs: Vec<usize>,
     material: Arc<M>,
+    start: Option<Arc<Start>>,
 }
 
 impl<M: Material> Clone for Uniaxial<M> {
@@ -33,8 +54,53 @@ impl<M: Material> Clone for Uniaxial<M> {
         Self {
             dofs: self.dofs.clone(),
             material: Arc::clone(&self.material),
+            start: self.start.clone(),
         }
     }
+}
+
+/// The force and internal variables of `m` driven from rest to `u0` in [`INITIAL_STEPS`]
+/// equal increments (committing at each, the first at 0). Errors name
+/// `initial_deformation`.
+pub fn loaded_state<M: Material + ?Sized>(m: &M, u0: f64) -> Result<(f64, Vec<f64>), CoreError> {
+    let bad = |problem: String| CoreError::InvalidInput {
+        name: "initial_deformation",
+        problem,
+    };
+    if !u0.is_finite() {
+        return Err(bad(format!("must be finite, got {u0}")));
+    }
+    if m.uses_rate() {
+        return Err(bad(format!(
+            "must be 0 for a rate-dependent material, got {u0}"
+        )));
+    }
+    let n = m.state_len();
+    let mut committed = vec![0.0; n];
+    m.initial_state(&mut committed);
+    let mut trial = committed.clone();
+    let step = u0 / INITIAL_STEPS as f64;
+    let mut f0 = 0.0;
+    for k in 0..=INITIAL_STEPS {
+        let u = if k == INITIAL_STEPS {
+            u0
+        } else {
+            k as f64 * step
+        };
+        let (f, kt) = m.response(u, 0.0, &committed, &mut trial).map_err(|e| {
+            bad(format!(
+                "{u0:e} cannot be reached from rest (monotonically): {e}"
+            ))
+        })?;
+        if !(f.is_finite() && kt.is_finite()) {
+            return Err(bad(format!(
+                "{u0:e} cannot be reached from rest: the force at {u:e} is {f}"
+            )));
+        }
+        committed.copy_from_slice(&trial);
+        f0 = f;
+    }
+    Ok((f0, committed))
 }
 
 impl<M: Material> Uniaxial<M> {
@@ -44,7 +110,39 @@ impl<M: Material> Uniaxial<M> {
         Ok(Self {
             dofs: local_dofs(i, j)?,
             material: Arc::new(material),
+            start: None,
         })
+    }
+
+    /// The same element starting loaded at the deformation `u0` (see the module
+    /// documentation; `u0 == 0`: virgin). Errors name `initial_deformation`.
+    pub fn starting_at(mut self, u0: f64) -> Result<Self, CoreError> {
+        if u0 == 0.0 {
+            self.start = None;
+            return Ok(self);
+        }
+        let (f0, state) = loaded_state(self.material.as_ref(), u0)?;
+        self.start = Some(Arc::new(Start { u0, f0, state }));
+        Ok(self)
+    }
+
+    /// The force `F0` at `x = 0` of a loaded start (None: virgin there).
+    pub fn initial_force(&self) -> Option<f64> {
+        self.start.as_ref().map(|s| s.f0)
+    }
+
+    /// The deformation at `x = 0` and the force there.
+    #[inline]
+    fn origin(&self) -> (f64, f64) {
+        self.start.as_ref().map_or((0.0, 0.0), |s| (s.u0, s.f0))
+    }
+
+    /// The internal variables at `x = 0` (virgin, or a loaded start's).
+    fn base_state(&self, state: &mut [f64]) {
+        match &self.start {
+            Some(s) => state.copy_from_slice(&s.state),
+            None => self.material.initial_state(state),
+        }
     }
 
     /// The material.
@@ -72,13 +170,14 @@ impl<M: Material + 'static> Element for Uniaxial<M> {
     ) -> Result<(), CoreError> {
         let n = self.material.state_len();
         let mut virgin = vec![0.0; n];
-        self.material.initial_state(&mut virgin);
+        self.base_state(&mut virgin);
         let mut trial = virgin.clone();
-        let (f, kt) = self
-            .material
-            .response(relative(x), Self::rate(v), &virgin, &mut trial)?;
+        let (u0, f0) = self.origin();
+        let (f, kt) =
+            self.material
+                .response(u0 + relative(x), Self::rate(v), &virgin, &mut trial)?;
         finite(t, &[f, kt])?;
-        scatter(f, kt, r, tangent.map(|tg| tg.kx));
+        scatter(f - f0, kt, r, tangent.map(|tg| tg.kx));
         Ok(())
     }
 
@@ -96,14 +195,14 @@ impl<M: Material + 'static> Element for Uniaxial<M> {
 
     fn initial_state(&self, x: &[f64], v: &[f64], state: &mut [f64]) {
         let mut virgin = vec![0.0; state.len()];
-        self.material.initial_state(&mut virgin);
+        self.base_state(&mut virgin);
         let u = relative(x);
-        // monotonic loading from the virgin state to u (a law that refuses u keeps the
-        // virgin state: its first evaluation then names the failure)
+        // monotonic loading from the state at x = 0 to u (a law that refuses u keeps the
+        // state at x = 0: its first evaluation then names the failure)
         let loaded = u != 0.0
             && self
                 .material
-                .response(u, Self::rate(v), &virgin, state)
+                .response(self.origin().0 + u, Self::rate(v), &virgin, state)
                 .is_ok();
         if !loaded {
             state.copy_from_slice(&virgin);
@@ -120,11 +219,15 @@ impl<M: Material + 'static> Element for Uniaxial<M> {
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
-        let (f, kt) =
-            self.material
-                .response(relative(x), Self::rate(v), history.committed, history.trial)?;
+        let (u0, f0) = self.origin();
+        let (f, kt) = self.material.response(
+            u0 + relative(x),
+            Self::rate(v),
+            history.committed,
+            history.trial,
+        )?;
         finite(t, &[f, kt])?;
-        scatter(f, kt, r, tangent.map(|tg| tg.kx));
+        scatter(f - f0, kt, r, tangent.map(|tg| tg.kx));
         Ok(())
     }
 
@@ -138,6 +241,11 @@ impl<M: Material + 'static> Element for Uniaxial<M> {
     fn restarts_exactly(&self) -> bool {
         self.material.restarts_exactly() && !self.material.uses_rate()
     }
+
+    /// A loaded start's deformation `d0 + x` rounds at the ulps of `d0`.
+    fn resolution(&self) -> f64 {
+        64.0 * f64::EPSILON * self.origin().0.abs()
+    }
 }
 
 /// A material element's definition: where it acts and its law.
@@ -148,18 +256,21 @@ pub trait UniaxialDefinition {
     fn pair(&self) -> Pair;
     /// The law, checked (errors name the parameter).
     fn law(&self) -> Result<Self::Law, CoreError>;
+    /// The deformation at `x = 0` (the parameter `initial_deformation`; 0: virgin there).
+    fn initial_deformation(&self) -> f64;
 }
 
 /// The engine element of `d`.
 pub fn build<D: UniaxialDefinition>(d: &D) -> Result<Uniaxial<D::Law>, CoreError> {
     let (i, j) = d.pair();
     let law = d.law()?;
-    Uniaxial::new(i, j, law)
+    Uniaxial::new(i, j, law)?.starting_at(d.initial_deformation())
 }
 
-/// Whether the law is passive (a definition that does not build is not).
+/// Whether the law is passive (a definition that does not build is not; nor one that
+/// starts loaded: its initial force is held by loads outside the model).
 pub fn passive<D: UniaxialDefinition>(d: &D) -> bool {
-    d.law().is_ok_and(|m| m.passive())
+    d.initial_deformation() == 0.0 && d.law().is_ok_and(|m| m.passive())
 }
 
 /// The initial tangent as the linear part, when it is positive: a law whose initial
@@ -176,23 +287,43 @@ pub fn tangent_bound<D: UniaxialDefinition>(d: &D) -> Option<(f64, f64)> {
 
 /// The stored energy at the local displacements `u` and forces `f`: a path-independent
 /// law's potential, else `F^2 / (2 k0)` (unloading at the initial tangent; 0 when it is
-/// not positive).
+/// not positive). A loaded start's is measured from its state at `x = 0`, as its force.
 pub fn stored_energy<D: UniaxialDefinition>(d: &D, u: &[f64], f: &[f64]) -> f64 {
     let Ok(m) = d.law() else { return 0.0 };
     let du = u[0] - u.get(1).copied().unwrap_or(0.0);
-    if m.state_len() == 0 {
-        return m.stored_energy(&[], du, f[0]);
-    }
-    let k0 = m.initial_tangent();
-    if k0 > 0.0 {
-        0.5 * f[0] * f[0] / k0
-    } else {
+    let u0 = d.initial_deformation();
+    let f0 = if u0 == 0.0 {
         0.0
-    }
+    } else {
+        match loaded_state(&m, u0) {
+            Ok((f0, _)) => f0,
+            Err(_) => return 0.0,
+        }
+    };
+    let total = |u: f64, force: f64| {
+        if m.state_len() == 0 {
+            return m.stored_energy(&[], u, force);
+        }
+        let k0 = m.initial_tangent();
+        if k0 > 0.0 {
+            0.5 * force * force / k0
+        } else {
+            0.0
+        }
+    };
+    total(u0 + du, f0 + f[0]) - total(u0, f0)
 }
 
-/// The law of `d` as a part of a wrapper.
+/// The law of `d` as a part of a wrapper (a part starts where its wrapper starts: its own
+/// `initial_deformation` must be 0).
 pub fn as_material<D: UniaxialDefinition>(d: &D) -> Result<Box<dyn Material>, CoreError> {
+    let u0 = d.initial_deformation();
+    if u0 != 0.0 {
+        return Err(CoreError::InvalidInput {
+            name: "initial_deformation",
+            problem: format!("of a part of a wrapper must be 0 (give it on the wrapper), got {u0}"),
+        });
+    }
     d.law().map(|m| Box::new(m) as Box<dyn Material>)
 }
 

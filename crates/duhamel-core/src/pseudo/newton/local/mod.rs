@@ -315,11 +315,14 @@ impl LocalNewton {
             }
         }
         self.predict(pf.space_mut(), inp)?;
+        // an element's deformation from a loaded start rounds at its resolution: below it
+        // the corrections do not contract
         let scale0 = self
             .y0
             .iter()
             .chain(self.u0.iter().flatten())
-            .fold(0.0_f64, |a, b| a.max(b.abs()));
+            .fold(0.0_f64, |a, b| a.max(b.abs()))
+            .max(pf.space().resolution() / set.tol);
         let iterations = if self.nd == 1 {
             self.newton_one(pf.space_mut(), set, inp, scale0)?
         } else {
