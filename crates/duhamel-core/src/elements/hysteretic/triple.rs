@@ -50,7 +50,7 @@
 
 use super::common::{check, finite};
 use super::triple_segment::{Segment, V2};
-use super::triple_series::{Series, Solved};
+use super::triple_series::{Solved, Surfaces};
 use crate::elements::element::distinct;
 use crate::elements::element::{Element, PathState, Tangent};
 use crate::error::CoreError;
@@ -74,7 +74,7 @@ pub struct TripleFrictionPendulum {
     capacity: [f64; 3],
     weight: f64,
     yield_displacement: f64,
-    series: Series,
+    series: Surfaces,
     vertical: Option<Vertical>,
 }
 impl TripleFrictionPendulum {
@@ -155,7 +155,7 @@ impl TripleFrictionPendulum {
             capacity,
             weight,
             yield_displacement,
-            series: Series {
+            series: Surfaces {
                 segments: [segment(0), segment(1), segment(2)],
             },
             vertical: None,

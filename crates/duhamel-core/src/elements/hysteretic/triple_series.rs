@@ -19,11 +19,11 @@ pub(super) struct Solved {
 
 /// The three elements in series (inner, outer 2, outer 3).
 #[derive(Debug, Clone, PartialEq)]
-pub(super) struct Series {
+pub(super) struct Surfaces {
     pub segments: [Segment; 3],
 }
 
-impl Series {
+impl Surfaces {
     /// Evaluates the three elements at `d` (`d[2] = u - d[0] - d[1]`).
     fn segments_at(&self, d: [V2; 3], ep_c: [V2; 3]) -> [SegmentState; 3] {
         [0, 1, 2].map(|i| self.segments[i].eval(d[i], ep_c[i]))
