@@ -11,8 +11,8 @@ Bearings (zero length, ground below, base above; their axis up): ``singleFP``
 (``elastomericBearingBoucWen``, a lead-rubber bearing), ``plastic``
 (``elastomericBearingPlasticity``), ``triple`` (3-D only: OpenSees'
 ``TripleFrictionPendulum``, friction ``TRIPLE_MU``, radii ``TRIPLE_L``, capacities
-``TRIPLE_D``; the base slab's rotations are fixed, so that the element's P-Delta moments go
-to the supports).
+``TRIPLE_D``; its P-Delta moments act on the base slab's rotations, fixed with
+``fix_base_rotations``).
 """
 
 from __future__ import annotations
@@ -47,7 +47,9 @@ def ground(line: int) -> int:
     return 10 + line
 
 
-def build(bearing: str, *, ndm: int = 2, bays: int = 2, mu: float = MU) -> list[int]:
+def build(
+    bearing: str, *, ndm: int = 2, bays: int = 2, mu: float = MU, fix_base_rotations: bool = False
+) -> list[int]:
     """Defines the frame (session wiped first) and runs its gravity analysis. Returns the
     bearings' tags."""
     import openseespy.opensees as ops
@@ -66,8 +68,8 @@ def build(bearing: str, *, ndm: int = 2, bays: int = 2, mu: float = MU) -> list[
             ops.mass(node(level, line), *([m] * ndm + [0.0] * (1 if ndm == 2 else 3)))
         if __import__("os").environ.get("FIXROT"):
             ops.fix(node(0, line), 0, 0, 1)
-        if bearing == "triple":
-            ops.fix(node(0, line), 0, 0, 0, 1, 1, 1)
+        if fix_base_rotations:
+            ops.fix(node(0, line), *([0] * ndm), *([1] * (3 if ndm == 3 else 1)))
     if ndm == 2:
         ops.geomTransf("Linear", 1)
         transforms = (1, 1)

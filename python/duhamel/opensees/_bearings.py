@@ -156,6 +156,14 @@ def _triple(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx: dict
     if not free:
         return [], [], [], None
     uy = float(ele["uy"])
+    # OpenSees' P-Delta moments (N u / 2, and the torsion of the shear) on its nodes'
+    # rotations: duhamel's element carries them on the top node j's
+    rotations = [_eq(dmap, nj, c, idx) for c in ("rx", "ry", "rz")]
+    if pairs[0][0] is not None or pairs[1][0] is not None:
+        if any(_eq(dmap, ni, c, idx) is not None for c in ("rx", "ry", "rz")):
+            raise Untranslatable("bearing sliding at node i with its rotations free there")
+        rotations = [None, None, None]
+    rotated = tuple(rotations) if any(r is not None for r in rotations) else ()
     radius = (float(ele["L1"]), float(ele["L2"]), float(ele["L3"]))
     capacity = (float(ele["d1"]), float(ele["d2"]), float(ele["d3"]))
     k0 = mu[0] * weight / uy  # its initial stiffness in the matrix, in each direction
@@ -178,7 +186,7 @@ def _triple(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx: dict
     if vertical == (None, None):
         made: list[Element] = [
             TripleFrictionPendulum(
-                tuple(free),
+                (*free, *([None] * (3 - len(free))), *rotated) if rotated else tuple(free),
                 mu=mu,  # type: ignore[arg-type]
                 radius=radius,
                 displacement_capacity=capacity,
@@ -210,7 +218,7 @@ def _triple(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx: dict
         )
     made = [
         TripleFrictionPendulum(
-            (free[0], free[1] if len(free) == 2 else None, vertical[1]),
+            (free[0], free[1] if len(free) == 2 else None, vertical[1], *rotated),
             mu=mu,  # type: ignore[arg-type]
             radius=radius,
             displacement_capacity=capacity,

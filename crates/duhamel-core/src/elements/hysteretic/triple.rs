@@ -47,6 +47,11 @@
 //! The shear is `N f(u)`, the vertical force on the dof `-N` (with an initial axial force
 //! `P0` at `x = 0`, `w` is measured from where the spring carries `P0` and the force is the
 //! change `P0 - N`); the tangent couples `u` and `w` through `N` (`f dN/dw`).
+//!
+//! **P-Delta moments:** OpenSees' element puts `N u_y / 2`, `-N u_x / 2` and
+//! `N (f_x u_y - f_y u_x) / 2` on its nodes' rotations `(rx, ry, rz)` (not in its tangent);
+//! with the top node's rotations given ([`TripleFrictionPendulum::with_rotations`]) they
+//! act there, with their exact tangent.
 
 use super::common::{check, finite};
 use super::triple_segment::{Segment, V2};
@@ -76,6 +81,9 @@ pub struct TripleFrictionPendulum {
     yield_displacement: f64,
     series: Surfaces,
     vertical: Option<Vertical>,
+    /// The local indices of the top node's rotations `(rx, ry, rz)` that carry OpenSees'
+    /// P-Delta moments.
+    rotations: [Option<usize>; 3],
 }
 impl TripleFrictionPendulum {
     /// Bearing on the distinct dofs `(dof_x, dof_y)` with friction coefficients
@@ -159,6 +167,7 @@ impl TripleFrictionPendulum {
                 segments: [segment(0), segment(1), segment(2)],
             },
             vertical: None,
+            rotations: [None; 3],
         })
     }
 
@@ -237,9 +246,63 @@ impl TripleFrictionPendulum {
         Ok(self)
     }
 
+    /// The same bearing with the rotations `(rx, ry, rz)` of its top node (each optional,
+    /// distinct from its other dofs) carrying OpenSees' P-Delta moments of the element on
+    /// that node: `N u_y / 2`, `-N u_x / 2` and `N (f_x u_y - f_y u_x) / 2` (`N f` the
+    /// shear).
+    pub fn with_rotations(mut self, rotations: [Option<usize>; 3]) -> Result<Self, CoreError> {
+        for (k, dof) in rotations.iter().enumerate() {
+            if let Some(dof) = *dof {
+                for &d in &self.dofs {
+                    distinct(d, dof)?;
+                }
+                self.rotations[k] = Some(self.dofs.len());
+                self.dofs.push(dof);
+            }
+        }
+        Ok(self)
+    }
+
     /// The number of horizontal dofs (1 or 2).
     fn horizontal(&self) -> usize {
-        self.dofs.len() - usize::from(self.vertical.is_some())
+        let rotations = self.rotations.iter().flatten().count();
+        self.dofs.len() - usize::from(self.vertical.is_some()) - rotations
+    }
+
+    /// Adds the P-Delta moments on the rotations and their tangent (`n` local dofs).
+    fn moments(&self, solved: &Solved, x: &[f64], r: &mut [f64], tangent: Option<&mut [f64]>) {
+        let (big_n, dn, _) = self.normal(x);
+        let [ux, uy] = self.plane(x);
+        let (f, k) = (solved.f, solved.k);
+        let m = self.horizontal();
+        let n = self.dofs.len();
+        let z = self.vertical.map(|_| m);
+        // rows: the moment, d/du_x, d/du_y, its factor of dN/dw
+        let rows = [
+            (big_n * uy / 2.0, [0.0, big_n / 2.0], uy / 2.0),
+            (-big_n * ux / 2.0, [-big_n / 2.0, 0.0], -ux / 2.0),
+            (
+                big_n * (f[0] * uy - f[1] * ux) / 2.0,
+                [
+                    big_n * (k[0] * uy - k[2] * ux - f[1]) / 2.0,
+                    big_n * (k[1] * uy - k[3] * ux + f[0]) / 2.0,
+                ],
+                (f[0] * uy - f[1] * ux) / 2.0,
+            ),
+        ];
+        let mut kx = tangent;
+        for (slot, (moment, du, dw)) in self.rotations.iter().zip(rows) {
+            let Some(a) = *slot else { continue };
+            r[a] += moment;
+            if let Some(kx) = kx.as_deref_mut() {
+                for (j, d) in du.iter().enumerate().take(m) {
+                    kx[a * n + j] += d;
+                }
+                if let Some(z) = z {
+                    kx[a * n + z] += dn * dw;
+                }
+            }
+        }
     }
 
     /// The local `(x, y)` of `x` (`y = 0` for a uniaxial bearing).
@@ -284,7 +347,11 @@ impl TripleFrictionPendulum {
         if self.vertical.is_some() {
             r[m] += vertical;
         }
+        let any_rotation = self.rotations.iter().any(Option::is_some);
         if let Some(tg) = tangent {
+            if any_rotation {
+                self.moments(solved, x, r, Some(&mut *tg.kx));
+            }
             for i in 0..m {
                 for j in 0..m {
                     tg.kx[i * n + j] += w * solved.k[2 * i + j];
@@ -296,6 +363,8 @@ impl TripleFrictionPendulum {
             if self.vertical.is_some() {
                 tg.kx[m * n + m] -= dw;
             }
+        } else if any_rotation {
+            self.moments(solved, x, r, None);
         }
         Ok(())
     }

@@ -32,11 +32,33 @@ fn default_yield() -> f64 {
 }
 
 impl TripleFrictionPendulumDef {
-    /// The horizontal dofs and the vertical one (`dofs=(x, y, z)` or `(x, None, z)`).
-    fn split(&self) -> Result<(&[Option<usize>], Option<usize>), CoreError> {
-        match self.dofs.len() {
-            3 => Ok((&self.dofs[..2], self.dofs[2])),
-            _ => Ok((&self.dofs, None)),
+    /// The horizontal dofs, the vertical one and the rotations (`dofs=(x, y, z)`,
+    /// `(x, None, z)`, or with the rotations `(x, y, z, rx, ry, rz)`).
+    #[allow(clippy::type_complexity)]
+    fn split(&self) -> Result<(&[Option<usize>], Option<usize>, [Option<usize>; 3]), CoreError> {
+        let d = &self.dofs;
+        let get = |k: usize| d.get(k).copied().flatten();
+        match d.len() {
+            0..=2 => Ok((d, None, [None; 3])),
+            3..=6 => Ok((&d[..2], get(2), [get(3), get(4), get(5)])),
+            _ => Err(CoreError::InvalidInput {
+                name: "dofs",
+                problem: format!(
+                    "must be x, (x, y), (x, y, z) or (x, y, z, rx, ry, rz) (None where a dof is \
+                     absent), got {} entries",
+                    d.len()
+                ),
+            }),
+        }
+    }
+}
+
+impl TripleFrictionPendulumDef {
+    /// The number of horizontal dofs and whether the vertical dof is present.
+    fn layout(&self) -> (usize, bool) {
+        match self.split() {
+            Ok((plane, z, _)) => (plane.iter().flatten().count(), z.is_some()),
+            Err(_) => (self.dofs.iter().flatten().count(), false),
         }
     }
 }
@@ -75,13 +97,16 @@ motion), the vertical force on the dof ``-N``, the tangent the exact one (couple
 dof (start from the static state, ``u_z = -W / k_v``). A model whose ``x = 0`` is the loaded
 state (an imported gravity state, :func:`duhamel.opensees.from_opensees`) gives the axial
 force there as `initial_axial_force` ``P0``: ``u_z`` is measured from where the bearing
-carries ``P0`` and its vertical force on the model is the change ``P0 - N``.
+carries ``P0`` and its vertical force on the model is the change ``P0 - N``. OpenSees'
+P-Delta moments of the element on its top node's rotations (``N u_y / 2``, ``-N u_x / 2``,
+``N (f_x u_y - f_y u_x) / 2`` with ``N f`` the shear) act on the rotations given after the
+vertical dof, ``dofs=(x, y, z, rx, ry, rz)`` (None where absent).
 
 Parameters
 ----------
 dofs : int, dof label, or tuple of them
     ``x``, ``(x, y)``, ``(x, None, z)`` or ``(x, y, z)``: the bearing top's horizontal dofs
-    and its vertical dof (to the ground).
+    and its vertical dof (to the ground); then optionally its rotations ``rx, ry, rz``.
 mu, radius, displacement_capacity : three floats
     ``(mu1, mu2, mu3)``, ``(L1, L2, L3)``, ``(d1, d2, d3)``.
 weight : float
@@ -126,7 +151,7 @@ True
             self.weight,
             self.yield_displacement,
         );
-        let (plane, z) = self.split()?;
+        let (plane, z, rotations) = self.split()?;
         let e = match horizontal(plane)? {
             (x, Some(y)) => TripleFrictionPendulum::new(x, y, self.mu, self.radius, d, w, uy),
             (x, None) => TripleFrictionPendulum::uniaxial(x, self.mu, self.radius, d, w, uy),
@@ -148,7 +173,8 @@ True
             (None, None) if self.initial_axial_force.is_some() => Err(bad("initial_axial_force")),
             (None, None) if self.min_axial_force != 0.0 => Err(bad("min_axial_force")),
             (None, None) => Ok(e),
-        }
+        }?
+        .with_rotations(rotations)
     }
 
     fn rename(old: &str) -> Option<(&'static str, Option<usize>)> {
@@ -156,7 +182,8 @@ True
     }
 
     fn passive(&self) -> bool {
-        true
+        // the P-Delta moments on the rotations are not a potential's
+        self.dofs.len() <= 3
     }
 
     fn linear_stiffness(&self) -> Option<Vec<f64>> {
@@ -164,25 +191,24 @@ True
         // remainder's tangent stays positive semidefinite in every regime
         // (with the vertical dof: the nominal weight's, and the axial stiffness)
         let n = self.dofs.iter().flatten().count();
+        let (m, z) = self.layout();
         let k = self.weight / (self.radius[1] + self.radius[2]);
-        let kv = self.vertical_stiffness;
-        Some(
-            (0..n * n)
-                .map(|i| match (i % (n + 1) == 0, kv) {
-                    (true, Some(kv)) if i == n * n - 1 => kv,
-                    (true, _) => k,
-                    _ => 0.0,
-                })
-                .collect(),
-        )
+        let mut out = vec![0.0; n * n];
+        for i in 0..m {
+            out[i * (n + 1)] = k;
+        }
+        if let (true, Some(kv)) = (z, self.vertical_stiffness) {
+            out[m * (n + 1)] = kv;
+        }
+        Some(out)
     }
 
     fn stored_energy(&self, _u: &[f64], f: &[f64]) -> f64 {
         // the vertical spring's (the sliding surfaces store none of their own here): the
         // work of its force on the model, from x = 0
-        match self.vertical_stiffness {
-            Some(kv) => f[f.len() - 1] * f[f.len() - 1] / (2.0 * kv),
-            None => 0.0,
+        match (self.layout(), self.vertical_stiffness) {
+            ((m, true), Some(kv)) => f[m] * f[m] / (2.0 * kv),
+            _ => 0.0,
         }
     }
 }

@@ -297,3 +297,54 @@ fn uniaxial_with_its_vertical_dof() {
         "initial_axial_force"
     );
 }
+
+#[test]
+fn pdelta_moments_on_the_rotations_and_their_tangent() {
+    let kv = 1e6;
+    let e = spatial(kv, None)
+        .with_rotations([Some(3), Some(4), Some(5)])
+        .unwrap();
+    assert_eq!(e.dofs(), &[0, 1, 2, 3, 4, 5]);
+    let mut c = [0.0; 12];
+    for k in 0..=200 {
+        let a = k as f64 / 200.0 * 3.0;
+        c = at(
+            &e,
+            &c,
+            &[0.4 * a.sin(), 0.2 * (1.0 - a.cos()), -1e-3, 0.0, 0.0, 0.0],
+        )
+        .2;
+    }
+    for x in [
+        [0.2, 0.1, -2e-3, 0.01, -0.02, 0.003],
+        [-0.1, 0.4, -3e-3, 0.0, 0.0, 0.0],
+        [0.3, 0.1, 1e-3, 0.0, 0.0, 0.0], // uplift: N = MinFv
+    ] {
+        let (r, kx, _) = at(&e, &c, &x);
+        let n_axial = if x[2] < 0.0 { -kv * x[2] } else { 50.0 };
+        assert!((r[3] - n_axial * x[1] / 2.0).abs() <= 1e-12 * n_axial);
+        assert!((r[4] + n_axial * x[0] / 2.0).abs() <= 1e-12 * n_axial);
+        let torsion = (r[0] * x[1] - r[1] * x[0]) / 2.0;
+        assert!((r[5] - torsion).abs() <= 1e-12 * n_axial);
+        for j in 0..6 {
+            let h = [1e-7, 1e-7, 1e-9, 1e-7, 1e-7, 1e-7][j];
+            let (mut xp, mut xm) = (x, x);
+            xp[j] += h;
+            xm[j] -= h;
+            let (rp, rm) = (at(&e, &c, &xp).0, at(&e, &c, &xm).0);
+            for i in 0..6 {
+                let fd = (rp[i] - rm[i]) / (2.0 * h);
+                let k = kx[6 * i + j];
+                assert!(
+                    (k - fd).abs() < 1e-5 * (1.0 + k.abs()),
+                    "{x:?} {i}{j} {k} {fd}"
+                );
+            }
+        }
+    }
+    let name = match spatial(kv, None).with_rotations([Some(1), None, None]) {
+        Err(CoreError::InvalidInput { name, .. }) => name,
+        _ => panic!("accepted"),
+    };
+    assert_eq!(name, "dof_y");
+}
