@@ -101,3 +101,32 @@ def test_bad_vertical_input_names_the_parameter(extra: dict, name: str) -> None:
     with pytest.raises(ValueError, match="`vertical_stiffness`"):
         E.TripleFrictionPendulum((0, 1), mu=MU, radius=RADIUS, displacement_capacity=CAPACITY,
                                  weight=W, vertical_stiffness=KV)  # fmt: skip
+
+
+@pytest.mark.parametrize("dofs", [(0, 1, 2, 1), (0, 1, 2, 3, 4, 5, 6), (0, 1, 2, 3, 3)])
+def test_bad_rotation_dofs_name_dofs(dofs: tuple) -> None:
+    with pytest.raises(ValueError, match="`dofs`"):
+        E.TripleFrictionPendulum(
+            dofs, mu=MU, radius=RADIUS, displacement_capacity=CAPACITY, weight=W,
+            vertical_stiffness=KV,
+        )  # fmt: skip
+
+
+def test_rotations_carry_the_pdelta_moments() -> None:
+    """On ``(x, y, z, rx, ry, rz)``: the moments ``N u_y / 2``, ``-N u_x / 2`` and
+    ``(V_x u_y - V_y u_x) / 2`` (OpenSees' on the top node), the shear unchanged."""
+    k = np.arange(300) * 0.03
+    z = -1.2 * W / KV
+    orbit = np.column_stack([0.4 * np.sin(k), 0.2 * (1 - np.cos(k)), np.full(k.size, z)])
+    plain = E.drive(vertical(), orbit)
+    rotated = E.TripleFrictionPendulum(
+        (0, 1, 2, 3, 4, 5), mu=MU, radius=RADIUS, displacement_capacity=CAPACITY, weight=W,
+        yield_displacement=5e-4, vertical_stiffness=KV,
+    )  # fmt: skip
+    full = E.drive(rotated, np.column_stack([orbit, np.zeros((k.size, 3))]))
+    np.testing.assert_array_equal(full.force[:, :3], plain.force)
+    n_axial, (ux, uy) = 1.2 * W, orbit[:, :2].T
+    np.testing.assert_allclose(full.force[:, 3], n_axial * uy / 2, rtol=1e-12)
+    np.testing.assert_allclose(full.force[:, 4], -n_axial * ux / 2, rtol=1e-12)
+    vx, vy = plain.force[:, 0], plain.force[:, 1]
+    np.testing.assert_allclose(full.force[:, 5], (vx * uy - vy * ux) / 2, rtol=1e-9, atol=1e-6)

@@ -229,9 +229,7 @@ impl TripleFrictionPendulum {
         min_axial: f64,
         initial_axial: Option<f64>,
     ) -> Result<Self, CoreError> {
-        for &d in &self.dofs {
-            distinct(d, dof_z)?;
-        }
+        self.distinct_from_mine(dof_z)?;
         check("vertical_stiffness", kv, true)?;
         check("min_axial_force", min_axial, false)?;
         if let Some(p0) = initial_axial {
@@ -253,14 +251,26 @@ impl TripleFrictionPendulum {
     pub fn with_rotations(mut self, rotations: [Option<usize>; 3]) -> Result<Self, CoreError> {
         for (k, dof) in rotations.iter().enumerate() {
             if let Some(dof) = *dof {
-                for &d in &self.dofs {
-                    distinct(d, dof)?;
-                }
+                self.distinct_from_mine(dof)?;
                 self.rotations[k] = Some(self.dofs.len());
                 self.dofs.push(dof);
             }
         }
         Ok(self)
+    }
+
+    /// `dof` checked against the bearing's dofs so far (the error names `dofs`).
+    fn distinct_from_mine(&self, dof: usize) -> Result<(), CoreError> {
+        if self.dofs.contains(&dof) {
+            return Err(CoreError::InvalidInput {
+                name: "dofs",
+                problem: format!(
+                    "must be distinct: {dof} is already one of the bearing's dofs {:?}",
+                    self.dofs
+                ),
+            });
+        }
+        Ok(())
     }
 
     /// The number of horizontal dofs (1 or 2).

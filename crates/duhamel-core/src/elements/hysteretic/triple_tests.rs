@@ -346,5 +346,5 @@ fn pdelta_moments_on_the_rotations_and_their_tangent() {
         Err(CoreError::InvalidInput { name, .. }) => name,
         _ => panic!("accepted"),
     };
-    assert_eq!(name, "dof_y");
+    assert_eq!(name, "dofs");
 }
