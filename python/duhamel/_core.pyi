@@ -593,6 +593,9 @@ class TripleFrictionPendulum(Element):
         displacement_capacity: Sequence[float],
         weight: float,
         yield_displacement: float = 0.00025,
+        vertical_stiffness: float | None = None,
+        min_axial_force: float = 0.0,
+        initial_axial_force: float | None = None,
     ) -> Self: ...
 
 @final

@@ -9,7 +9,10 @@ a static analysis and held (``loadConst``); Rayleigh damping on the frame's elem
 Bearings (zero length, ground below, base above; their axis up): ``singleFP``
 (``singleFPBearing``, R = 2 m), ``flat`` (``flatSliderBearing``), ``rubber``
 (``elastomericBearingBoucWen``, a lead-rubber bearing), ``plastic``
-(``elastomericBearingPlasticity``).
+(``elastomericBearingPlasticity``), ``triple`` (3-D only: OpenSees'
+``TripleFrictionPendulum``, friction ``TRIPLE_MU``, radii ``TRIPLE_L``, capacities
+``TRIPLE_D``; its P-Delta moments act on the base slab's rotations, fixed with
+``fix_base_rotations``).
 """
 
 from __future__ import annotations
@@ -24,6 +27,8 @@ M_FLOOR, M_BASE = 2.0e4, 1.5e4  # per column line
 MU, RADIUS, KV = 0.06, 2.0, 5.0e9
 E, A, I_SEC, J = 2.0e11, 1.0e-2, 3.0e-4, 1.0e-4
 W_LINE = (M_BASE + 2 * M_FLOOR) * G  # the nominal weight per bearing
+TRIPLE_MU, TRIPLE_L, TRIPLE_D = (0.02, 0.06, 0.10), (0.3, 2.0, 2.5), (0.05, 0.3, 0.35)
+TRIPLE_MIN_FV = 0.1  # OpenSees' minFv, the normal force in uplift
 
 
 def lines(ndm: int, bays: int) -> list[tuple[float, float]]:
@@ -42,7 +47,9 @@ def ground(line: int) -> int:
     return 10 + line
 
 
-def build(bearing: str, *, ndm: int = 2, bays: int = 2, mu: float = MU) -> list[int]:
+def build(
+    bearing: str, *, ndm: int = 2, bays: int = 2, mu: float = MU, fix_base_rotations: bool = False
+) -> list[int]:
     """Defines the frame (session wiped first) and runs its gravity analysis. Returns the
     bearings' tags."""
     import openseespy.opensees as ops
@@ -61,6 +68,8 @@ def build(bearing: str, *, ndm: int = 2, bays: int = 2, mu: float = MU) -> list[
             ops.mass(node(level, line), *([m] * ndm + [0.0] * (1 if ndm == 2 else 3)))
         if __import__("os").environ.get("FIXROT"):
             ops.fix(node(0, line), 0, 0, 1)
+        if fix_base_rotations:
+            ops.fix(node(0, line), *([0] * ndm), *([1] * (3 if ndm == 3 else 1)))
     if ndm == 2:
         ops.geomTransf("Linear", 1)
         transforms = (1, 1)
@@ -97,12 +106,20 @@ def build(bearing: str, *, ndm: int = 2, bays: int = 2, mu: float = MU) -> list[
         "rubber": ["elastomericBearingBoucWen", qd / 0.01, qd, 0.1, 0.0, 2.0, 1.0, 0.5, 0.5],
         "plastic": ["elastomericBearingPlasticity", qd / 0.01, qd, 0.1, 0.0, 1.0],
     }
-    kind, *args = shape[bearing]
+    if bearing == "triple":
+        for k, m in enumerate(TRIPLE_MU):
+            ops.frictionModel("Coulomb", 2 + k, m)
     tags = []
     for line in range(len(pts)):
-        it = ["-iter", 100, 1e-8] if bearing in ("singleFP", "flat") else []
-        ops.element(kind, 900 + line, ground(line), node(0, line), *args, *mats,
-                    "-orient", *orient, *it)  # fmt: skip
+        if bearing == "triple":  # the vertical, torsion, rx and ry materials; kvt, minFv, tol
+            ops.element("TripleFrictionPendulum", 900 + line, ground(line), node(0, line),
+                        2, 3, 4, 1, 2, 2, 2, *TRIPLE_L, *TRIPLE_D, W_LINE, 5e-4, 1.0,
+                        TRIPLE_MIN_FV, 1e-10)  # fmt: skip
+        else:
+            kind, *args = shape[bearing]
+            it = ["-iter", 100, 1e-8] if bearing in ("singleFP", "flat") else []
+            ops.element(kind, 900 + line, ground(line), node(0, line), *args, *mats,
+                        "-orient", *orient, *it)  # fmt: skip
         tags.append(900 + line)
     ops.timeSeries("Linear", 1)
     ops.pattern("Plain", 1, 1)

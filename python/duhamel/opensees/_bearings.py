@@ -1,7 +1,7 @@
 """OpenSees' bearings as duhamel's: ``flatSliderBearing`` and ``singleFPBearing`` (2-D and
 3-D) as :class:`~duhamel.elements.FrictionPendulum` with its vertical dof and the axial force
-at import, ``TripleFrictionPendulum`` (3-D), ``elastomericBearingPlasticity`` (2-D) as the
-bilinear it is."""
+at import, ``TripleFrictionPendulum`` (3-D, with its vertical dof when free),
+``elastomericBearingPlasticity`` (2-D) as the bilinear it is."""
 
 from __future__ import annotations
 
@@ -126,8 +126,10 @@ def _slider(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx: dict
 
 
 def _triple(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx: dict) -> Made:
-    """OpenSees' ``TripleFrictionPendulum`` (vertical, 3-D) as duhamel's, to the ground,
-    under its axial load at import and the friction coefficients at import (Coulomb)."""
+    """OpenSees' ``TripleFrictionPendulum`` (vertical, 3-D) as duhamel's, to the ground, with
+    the friction coefficients at import (Coulomb): with its vertical dof when that is free
+    (the axial force from the vertical material, its state at import the initial axial
+    force), else under the axial load at import."""
     ni, nj = (int(v) for v in ops.eleNodes(tag))
     ndm = int(np.atleast_1d(ops.getNDM())[0])
     ndf = {len(ops.nodeDisp(n)) for n in (ni, nj)}
@@ -144,7 +146,7 @@ def _triple(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx: dict
             "bearing without axial load at import (run the gravity analysis before importing)"
         )
     sheared = [ops.nodeDisp(nj, d) - ops.nodeDisp(ni, d) for d in (1, 2)]
-    if any(abs(v) > 0.0 for v in sheared):
+    if any(abs(v) > 1e-9 * float(ele["uy"]) for v in sheared):  # beyond round-off
         raise Untranslatable(f"bearing sheared at import ({sheared}); it starts undeformed")
     pairs = [(_eq(dmap, ni, c, idx), _eq(dmap, nj, c, idx)) for c in ("ux", "uy")]
     if any(i is not None for i, _ in pairs) and any(j is not None for _, j in pairs):
@@ -154,33 +156,83 @@ def _triple(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx: dict
     if not free:
         return [], [], [], None
     uy = float(ele["uy"])
-    vertical = [n for n in (ni, nj) if _eq(dmap, n, "uz", idx) is not None]
-    if vertical:
-        # duhamel's triple pendulum has no vertical dof: OpenSees' friction follows the
-        # axial force of its vertical material, which moves with these dofs
+    # OpenSees' P-Delta moments (N u / 2, and the torsion of the shear) on its nodes'
+    # rotations: duhamel's element carries them on the top node j's
+    rotations = [_eq(dmap, nj, c, idx) for c in ("rx", "ry", "rz")]
+    if pairs[0][0] is not None or pairs[1][0] is not None:
+        if any(_eq(dmap, ni, c, idx) is not None for c in ("rx", "ry", "rz")):
+            raise Untranslatable("bearing sliding at node i with its rotations free there")
+        rotations = [None, None, None]
+    rotated = tuple(rotations) if any(r is not None for r in rotations) else ()
+    radius = (float(ele["L1"]), float(ele["L2"]), float(ele["L3"]))
+    capacity = (float(ele["d1"]), float(ele["d2"]), float(ele["d3"]))
+    k0 = mu[0] * weight / uy  # its initial stiffness in the matrix, in each direction
+    removed = [_pair(i, j, k0) for i, j in pairs if (i, j) != (None, None)]
+    vertical = (_eq(dmap, ni, "uz", idx), _eq(dmap, nj, "uz", idx))
+    moving = [n for n in (ni, nj) if _eq(dmap, n, "uz", idx) is not None]
+    massless = all(ops.nodeMass(n, 3) == 0.0 for n in moving)
+    if vertical != (None, None) and massless:
+        # a massless vertical dof whose stiffness is all in the bearing: a mechanism of K
+        # for the static condensation of the massless dofs; the axial load is held
         warnings.warn(
             f"OpenSees element {tag} (TripleFrictionPendulum): its axial force is held at the "
             f"value at import ({weight:g}) in duhamel, while in OpenSees it follows the "
-            f"vertical motion of node {vertical[0]} (its uz is free: overturning and vertical "
-            "records change it); fix that dof for the two to be the same model",
+            f"vertical motion of node {moving[0]} (its uz is free but without mass: give it "
+            "a mass for the bearing to be imported with its vertical dof, or fix it)",
             UserWarning,
             stacklevel=5,
         )
-    made: list[Element] = [
+        vertical = (None, None)
+    if vertical == (None, None):
+        made: list[Element] = [
+            TripleFrictionPendulum(
+                (*free, *([None] * (3 - len(free))), *rotated) if rotated else tuple(free),
+                mu=mu,  # type: ignore[arg-type]
+                radius=radius,
+                displacement_capacity=capacity,
+                weight=weight,
+                yield_displacement=uy,
+            )
+        ]
+        note = (
+            f"element {tag}: friction taken as Coulomb with mu = {mu} (the values at import) "
+            f"under the axial load at import {weight:g}"
+        )
+        return made, removed, [note], None
+    # its vertical dof free: the axial force N = -kv Dz (Dz = uz_j - uz_i) of its vertical
+    # material, OpenSees' MinFv in tension; duhamel's vertical dof is the free node's uplift
+    if vertical[0] is not None:
+        raise Untranslatable(
+            "bearing whose bottom node (node i) moves vertically: duhamel's vertical dof is "
+            "the uplift of its top node j over the ground"
+        )
+    if pairs[0][0] is not None or pairs[1][0] is not None:
+        raise Untranslatable("bearing sliding at node i but lifting at node j")
+    kv = _axial_stiffness(pr, ele)
+    axial = -_resp(ops, tag, "basicForce")[0]  # compression positive
+    dz = _resp(ops, tag, "basicDeformation")[0]
+    if not (axial > 0 and abs(axial - kv * -dz) <= 1e-8 * axial):
+        raise Untranslatable(
+            f"axial force {axial:g} at import that is not the compression kv * {-dz:g} of its "
+            "vertical material (uplift, or no gravity analysis before the import)"
+        )
+    made = [
         TripleFrictionPendulum(
-            tuple(free),
+            (free[0], free[1] if len(free) == 2 else None, vertical[1], *rotated),
             mu=mu,  # type: ignore[arg-type]
-            radius=(float(ele["L1"]), float(ele["L2"]), float(ele["L3"])),
-            displacement_capacity=(float(ele["d1"]), float(ele["d2"]), float(ele["d3"])),
+            radius=radius,
+            displacement_capacity=capacity,
             weight=weight,
             yield_displacement=uy,
+            vertical_stiffness=kv,
+            min_axial_force=float(ele.get("minFv", 0.0)),
+            initial_axial_force=axial,
         )
     ]
-    k0 = mu[0] * weight / uy  # its initial stiffness in the matrix, in each direction
-    removed = [_pair(i, j, k0) for i, j in pairs if (i, j) != (None, None)]
+    removed.append(_pair(*vertical, kv))
     note = (
-        f"element {tag}: friction taken as Coulomb with mu = {mu} (the values at import) "
-        f"under the axial load at import {weight:g}"
+        f"element {tag}: friction taken as Coulomb with mu = {mu} (the values at import), "
+        f"the axial force from the vertical dof (at import {axial:g})"
     )
     return made, removed, [note], None
 

@@ -18,6 +18,7 @@ pub mod rubber;
 pub mod triple;
 pub mod triple_model;
 mod triple_segment;
+mod triple_series;
 pub mod viscous;
 
 pub(crate) use rubber::rename_axes;

@@ -35,29 +35,42 @@
 //! trial state is unique, the series equations (equal forces, displacements adding up to
 //! `u`) are the stationarity conditions of a convex potential and are solved by Newton's
 //! method with a line search on it, to round-off. The tangent is the exact one: the inverse
-//! of the sum of the elements' compliances. `W` is constant (OpenSees' element with a
-//! constant axial force and Coulomb friction). Internal variables: `[d_1, d_2, d_3, ep_1,
-//! ep_2, ep_3]` (each 2 entries; `y` entries 0 for a uniaxial bearing). **Initial state:**
-//! virgin at `u = 0`, loaded along the straight line to the initial displacement.
+//! of the sum of the elements' compliances (the series model is [`super::triple_series`]).
+//! Coulomb friction. Internal variables: `[d_1, d_2, d_3, ep_1, ep_2, ep_3]` (each 2
+//! entries; `y` entries 0 for a uniaxial bearing). **Initial state:** virgin at `u = 0`,
+//! loaded along the straight line to the initial displacement.
+//!
+//! **The vertical load:** constant (`W`), or with the vertical dof `z` (up, to the ground)
+//! the axial force of OpenSees' element: its vertical spring `k_v` carries the compression
+//! `N = -k_v w` (`w` the vertical displacement, `< 0` compressed), and in tension (uplift,
+//! `k_v w >= 0`) the bearing carries OpenSees' `MinFv` (`N_min`, >= 0) as its normal force.
+//! The shear is `N f(u)`, the vertical force on the dof `-N` (with an initial axial force
+//! `P0` at `x = 0`, `w` is measured from where the spring carries `P0` and the force is the
+//! change `P0 - N`); the tangent couples `u` and `w` through `N` (`f dN/dw`).
+//!
+//! **P-Delta moments:** OpenSees' element puts `N u_y / 2`, `-N u_x / 2` and
+//! `N (f_x u_y - f_y u_x) / 2` on its nodes' rotations `(rx, ry, rz)` (not in its tangent);
+//! with the top node's rotations given ([`TripleFrictionPendulum::with_rotations`]) they
+//! act there, with their exact tangent.
 
-use super::common::{check, finite, solve4};
+use super::common::{check, finite};
+use super::triple_segment::{Segment, V2};
+use super::triple_series::{Solved, Surfaces};
 use crate::elements::element::distinct;
 use crate::elements::element::{Element, PathState, Tangent};
 use crate::error::CoreError;
 
-use super::triple_segment::{inverse, Segment, SegmentState, M2, V2};
-
-/// The series model's solution at a displacement.
-struct Solved {
-    /// The common (normalised) force.
-    f: V2,
-    /// The tangent `df/du`.
-    k: M2,
-    /// `[d_1, d_2, d_3, ep_1, ep_2, ep_3]`.
-    state: [f64; 12],
+/// The vertical dof's spring: axial stiffness, the normal force in uplift, and the axial
+/// force at `x = 0` (None: `x = 0` unloaded).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Vertical {
+    kv: f64,
+    min_axial: f64,
+    initial_axial: Option<f64>,
 }
 
-/// Triple friction pendulum bearing on `(dof_x, dof_y)`, or on `dof_x` alone.
+/// Triple friction pendulum bearing on `(dof_x, dof_y)`, or on `dof_x` alone, with an
+/// optional vertical dof last.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TripleFrictionPendulum {
     dofs: Vec<usize>,
@@ -66,9 +79,12 @@ pub struct TripleFrictionPendulum {
     capacity: [f64; 3],
     weight: f64,
     yield_displacement: f64,
-    segments: [Segment; 3],
+    series: Surfaces,
+    vertical: Option<Vertical>,
+    /// The local indices of the top node's rotations `(rx, ry, rz)` that carry OpenSees'
+    /// P-Delta moments.
+    rotations: [Option<usize>; 3],
 }
-
 impl TripleFrictionPendulum {
     /// Bearing on the distinct dofs `(dof_x, dof_y)` with friction coefficients
     /// `mu = (mu1, mu2, mu3)`, `0 < mu1 <= mu2 <= mu3`, effective radii
@@ -147,7 +163,11 @@ impl TripleFrictionPendulum {
             capacity,
             weight,
             yield_displacement,
-            segments: [segment(0), segment(1), segment(2)],
+            series: Surfaces {
+                segments: [segment(0), segment(1), segment(2)],
+            },
+            vertical: None,
+            rotations: [None; 3],
         })
     }
 
@@ -198,149 +218,163 @@ impl TripleFrictionPendulum {
         self.yield_displacement
     }
 
-    /// Evaluates the three elements at `d` (`d[2] = u - d[0] - d[1]`).
-    fn segments_at(&self, d: [V2; 3], ep_c: [V2; 3]) -> [SegmentState; 3] {
-        [0, 1, 2].map(|i| self.segments[i].eval(d[i], ep_c[i]))
+    /// The same bearing with its vertical dof `dof_z` (distinct from the horizontal ones)
+    /// and axial stiffness `kv > 0`: the normal force is the compression `-kv w`, `min_axial`
+    /// (>= 0, OpenSees' `MinFv`) in tension; `initial_axial` (> 0) the axial force at `x = 0`
+    /// when `x = 0` is the loaded state (None: unloaded).
+    pub fn with_vertical(
+        mut self,
+        dof_z: usize,
+        kv: f64,
+        min_axial: f64,
+        initial_axial: Option<f64>,
+    ) -> Result<Self, CoreError> {
+        self.distinct_from_mine(dof_z)?;
+        check("vertical_stiffness", kv, true)?;
+        check("min_axial_force", min_axial, false)?;
+        if let Some(p0) = initial_axial {
+            check("initial_axial_force", p0, true)?;
+        }
+        self.dofs.push(dof_z);
+        self.vertical = Some(Vertical {
+            kv,
+            min_axial,
+            initial_axial,
+        });
+        Ok(self)
     }
 
-    /// Solves the series model at `u` from the committed `[d_i, ep_i]` (`c`), at time `t`.
-    fn solve(&self, c: &[f64], u: V2, t: f64) -> Result<Solved, CoreError> {
-        let ep_c = [[c[6], c[7]], [c[8], c[9]], [c[10], c[11]]];
-        let du = [u[0] - c[0] - c[2] - c[4], u[1] - c[1] - c[3] - c[5]];
-        // unknowns d_1, d_2 (d_3 closes the sum); the predictor splits the increment by the
-        // elements' tangents for continued loading from the committed state (exact while
-        // no element changes state)
-        let compliance = [0, 1, 2].map(|i| {
-            let d = [c[2 * i], c[2 * i + 1]];
-            inverse(self.segments[i].loading_tangent(d, ep_c[i]))
-        });
-        let sum = [0, 1, 2, 3].map(|k| compliance[0][k] + compliance[1][k] + compliance[2][k]);
-        let kp = inverse(sum);
-        let df = [kp[0] * du[0] + kp[1] * du[1], kp[2] * du[0] + kp[3] * du[1]];
-        let step = |i: usize| {
-            let ci = compliance[i];
-            [ci[0] * df[0] + ci[1] * df[1], ci[2] * df[0] + ci[3] * df[1]]
-        };
-        let (s0, s1) = (step(0), step(1));
-        let mut x = [c[0] + s0[0], c[1] + s0[1], c[2] + s1[0], c[3] + s1[1]];
-        let split = |x: &[f64; 4]| -> [V2; 3] {
-            [
-                [x[0], x[1]],
-                [x[2], x[3]],
-                [u[0] - x[0] - x[2], u[1] - x[1] - x[3]],
-            ]
-        };
-        let gradient = |s: &[SegmentState; 3]| -> [f64; 4] {
-            [
-                s[0].f[0] - s[2].f[0],
-                s[0].f[1] - s[2].f[1],
-                s[1].f[0] - s[2].f[0],
-                s[1].f[1] - s[2].f[1],
-            ]
-        };
-        let norm = |g: &[f64; 4]| g.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        let energy = |s: &[SegmentState; 3]| s.iter().map(|s| s.energy).sum::<f64>();
-        let mut s = self.segments_at(split(&x), ep_c);
-        let mut g = gradient(&s);
-        let mut iterations = 0;
-        loop {
-            finite(t, &g)?;
-            let scale = self.mu[2] + s[2].f[0].hypot(s[2].f[1]);
-            let residual = norm(&g);
-            if residual <= 1e-12 * scale {
-                break;
-            }
-            iterations += 1;
-            let fail = || CoreError::NoConvergence {
-                time: t,
-                step: 0,
-                residual,
-                iterations,
-                last_good_time: None,
-            };
-            if iterations > 100 {
-                return Err(fail());
-            }
-            let (k0, k1, k2) = (s[0].k, s[1].k, s[2].k);
-            let a = [
-                [k0[0] + k2[0], k0[1] + k2[1], k2[0], k2[1]],
-                [k0[2] + k2[2], k0[3] + k2[3], k2[2], k2[3]],
-                [k2[0], k2[1], k1[0] + k2[0], k1[1] + k2[1]],
-                [k2[2], k2[3], k1[2] + k2[2], k1[3] + k2[3]],
-            ];
-            let p = solve4(a, g.map(|v| -v));
-            let slope: f64 = (0..4).map(|i| g[i] * p[i]).sum();
-            let e0 = energy(&s);
-            // Armijo on the convex potential (with a round-off allowance)
-            let allowance = 1e-14 * (e0.abs() + scale * scale);
-            let mut alpha = 1.0;
-            loop {
-                let trial = [0, 1, 2, 3].map(|i| x[i] + alpha * p[i]);
-                let st = self.segments_at(split(&trial), ep_c);
-                if energy(&st) - e0 <= 1e-4 * alpha * slope + allowance {
-                    x = trial;
-                    g = gradient(&st);
-                    s = st;
-                    break;
-                }
-                alpha *= 0.5;
-                if alpha < 1e-12 {
-                    // stalled at round-off near the solution, or lost
-                    if residual <= 1e-8 * scale {
-                        break;
-                    }
-                    return Err(fail());
-                }
-            }
-            if alpha < 1e-12 {
-                break;
+    /// The same bearing with the rotations `(rx, ry, rz)` of its top node (each optional,
+    /// distinct from its other dofs) carrying OpenSees' P-Delta moments of the element on
+    /// that node: `N u_y / 2`, `-N u_x / 2` and `N (f_x u_y - f_y u_x) / 2` (`N f` the
+    /// shear).
+    pub fn with_rotations(mut self, rotations: [Option<usize>; 3]) -> Result<Self, CoreError> {
+        for (k, dof) in rotations.iter().enumerate() {
+            if let Some(dof) = *dof {
+                self.distinct_from_mine(dof)?;
+                self.rotations[k] = Some(self.dofs.len());
+                self.dofs.push(dof);
             }
         }
-        let f = [
-            (s[0].f[0] + s[1].f[0] + s[2].f[0]) / 3.0,
-            (s[0].f[1] + s[1].f[1] + s[2].f[1]) / 3.0,
+        Ok(self)
+    }
+
+    /// `dof` checked against the bearing's dofs so far (the error names `dofs`).
+    fn distinct_from_mine(&self, dof: usize) -> Result<(), CoreError> {
+        if self.dofs.contains(&dof) {
+            return Err(CoreError::InvalidInput {
+                name: "dofs",
+                problem: format!(
+                    "must be distinct: {dof} is already one of the bearing's dofs {:?}",
+                    self.dofs
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// The number of horizontal dofs (1 or 2).
+    fn horizontal(&self) -> usize {
+        let rotations = self.rotations.iter().flatten().count();
+        self.dofs.len() - usize::from(self.vertical.is_some()) - rotations
+    }
+
+    /// Adds the P-Delta moments on the rotations and their tangent (`n` local dofs).
+    fn moments(&self, solved: &Solved, x: &[f64], r: &mut [f64], tangent: Option<&mut [f64]>) {
+        let (big_n, dn, _) = self.normal(x);
+        let [ux, uy] = self.plane(x);
+        let (f, k) = (solved.f, solved.k);
+        let m = self.horizontal();
+        let n = self.dofs.len();
+        let z = self.vertical.map(|_| m);
+        // rows: the moment, d/du_x, d/du_y, its factor of dN/dw
+        let rows = [
+            (big_n * uy / 2.0, [0.0, big_n / 2.0], uy / 2.0),
+            (-big_n * ux / 2.0, [-big_n / 2.0, 0.0], -ux / 2.0),
+            (
+                big_n * (f[0] * uy - f[1] * ux) / 2.0,
+                [
+                    big_n * (k[0] * uy - k[2] * ux - f[1]) / 2.0,
+                    big_n * (k[1] * uy - k[3] * ux + f[0]) / 2.0,
+                ],
+                (f[0] * uy - f[1] * ux) / 2.0,
+            ),
         ];
-        let c0 = inverse(s[0].k);
-        let c1 = inverse(s[1].k);
-        let c2 = inverse(s[2].k);
-        let k = inverse([0, 1, 2, 3].map(|i| c0[i] + c1[i] + c2[i]));
-        let d = split(&x);
-        let mut state = [0.0; 12];
-        for i in 0..3 {
-            state[2 * i] = d[i][0];
-            state[2 * i + 1] = d[i][1];
-            state[6 + 2 * i] = s[i].ep[0];
-            state[7 + 2 * i] = s[i].ep[1];
+        let mut kx = tangent;
+        for (slot, (moment, du, dw)) in self.rotations.iter().zip(rows) {
+            let Some(a) = *slot else { continue };
+            r[a] += moment;
+            if let Some(kx) = kx.as_deref_mut() {
+                for (j, d) in du.iter().enumerate().take(m) {
+                    kx[a * n + j] += d;
+                }
+                if let Some(z) = z {
+                    kx[a * n + z] += dn * dw;
+                }
+            }
         }
-        Ok(Solved { f, k, state })
     }
 
     /// The local `(x, y)` of `x` (`y = 0` for a uniaxial bearing).
     fn plane(&self, x: &[f64]) -> V2 {
-        [x[0], if self.dofs.len() == 2 { x[1] } else { 0.0 }]
+        [x[0], if self.horizontal() == 2 { x[1] } else { 0.0 }]
+    }
+
+    /// The normal force `N`, `dN/dw` and the vertical force on the dof at `x`.
+    fn normal(&self, x: &[f64]) -> (f64, f64, f64) {
+        let Some(v) = self.vertical else {
+            return (self.weight, 0.0, 0.0);
+        };
+        let w = x[self.horizontal()];
+        let p0 = v.initial_axial.unwrap_or(0.0);
+        // OpenSees: the vertical material's force kv (w - w0), uplift when it is >= 0
+        let spring = v.kv * w - p0;
+        if spring < 0.0 {
+            // -N + P0 = kv w, taken so (without the cancellation of the large P0)
+            (-spring, -v.kv, v.kv * w)
+        } else {
+            (v.min_axial, 0.0, p0 - v.min_axial)
+        }
     }
 
     fn add(
         &self,
         solved: &Solved,
+        x: &[f64],
         t: f64,
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
-        let w = self.weight;
-        let force = [w * solved.f[0], w * solved.f[1]];
+        let (w, dw, vertical) = self.normal(x);
+        let force = [w * solved.f[0], w * solved.f[1], vertical];
         finite(t, &force)?;
         finite(t, &solved.k)?;
+        let m = self.horizontal();
         let n = self.dofs.len();
-        for i in 0..n {
+        for i in 0..m {
             r[i] += force[i];
         }
+        if self.vertical.is_some() {
+            r[m] += vertical;
+        }
+        let any_rotation = self.rotations.iter().any(Option::is_some);
         if let Some(tg) = tangent {
-            for i in 0..n {
-                for j in 0..n {
+            if any_rotation {
+                self.moments(solved, x, r, Some(&mut *tg.kx));
+            }
+            for i in 0..m {
+                for j in 0..m {
                     tg.kx[i * n + j] += w * solved.k[2 * i + j];
                 }
+                if self.vertical.is_some() {
+                    tg.kx[i * n + m] += dw * solved.f[i];
+                }
             }
+            if self.vertical.is_some() {
+                tg.kx[m * n + m] -= dw;
+            }
+        } else if any_rotation {
+            self.moments(solved, x, r, None);
         }
         Ok(())
     }
@@ -359,8 +393,8 @@ impl Element for TripleFrictionPendulum {
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
-        let solved = self.solve(&[0.0; 12], self.plane(x), t)?;
-        self.add(&solved, t, r, tangent)
+        let solved = self.series.solve(&[0.0; 12], self.plane(x), t)?;
+        self.add(&solved, x, t, r, tangent)
     }
 
     fn polynomial_degree(&self) -> Option<u32> {
@@ -378,7 +412,7 @@ impl Element for TripleFrictionPendulum {
     fn initial_state(&self, x: &[f64], _v: &[f64], state: &mut [f64]) {
         // a state the model cannot solve (non-finite x) starts virgin; the run then fails
         // at its first evaluation with the error
-        let solved = self.solve(&[0.0; 12], self.plane(x), 0.0);
+        let solved = self.series.solve(&[0.0; 12], self.plane(x), 0.0);
         state.copy_from_slice(&solved.map(|s| s.state).unwrap_or([0.0; 12]));
     }
 
@@ -391,8 +425,8 @@ impl Element for TripleFrictionPendulum {
         r: &mut [f64],
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
-        let solved = self.solve(history.committed, self.plane(x), t)?;
-        self.add(&solved, t, r, tangent)?;
+        let solved = self.series.solve(history.committed, self.plane(x), t)?;
+        self.add(&solved, x, t, r, tangent)?;
         history.trial.copy_from_slice(&solved.state);
         Ok(())
     }

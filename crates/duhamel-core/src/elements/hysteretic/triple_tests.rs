@@ -76,7 +76,7 @@ fn tangent_is_the_derivative_of_the_force() {
 /// in closed form: a piecewise-linear curve whose breaks are the elements' yield and gap
 /// closures, `(u, f)` at the breaks.
 fn closed_form(e: &TripleFrictionPendulum) -> Vec<(f64, f64)> {
-    let [s0, s1, s2] = e.segments;
+    let [s0, s1, s2] = e.series.segments;
     let ee = s0.e;
     let ep = |s: Segment| s.e * s.h / (s.e + s.h);
     let close = |s: Segment| ep(s) * s.gap + s.fy * (1.0 - ep(s) / ee);
@@ -182,4 +182,169 @@ fn checks_name_the_parameter() {
         err(TripleFrictionPendulum::new(1, 1, MU, L, D, 1.0, 5e-4)),
         "dof_y"
     );
+}
+
+/// The bearing with its vertical dof 2 (axial stiffness `kv`, `MinFv` 50, `P0` optional).
+fn spatial(kv: f64, p0: Option<f64>) -> TripleFrictionPendulum {
+    let e = TripleFrictionPendulum::new(0, 1, MU, L, D, 1e3, 5e-4).unwrap();
+    e.with_vertical(2, kv, 50.0, p0).unwrap()
+}
+
+#[test]
+fn with_a_constant_vertical_displacement_it_is_the_bearing_under_that_weight() {
+    let kv = 1e6;
+    for p0 in [None, Some(800.0)] {
+        let e = spatial(kv, p0);
+        // N = 1234.5 from the vertical dof
+        let w = -(1234.5 - p0.unwrap_or(0.0)) / kv;
+        let flat = TripleFrictionPendulum::new(0, 1, MU, L, D, 1234.5, 5e-4).unwrap();
+        let (mut c1, mut c2) = ([0.0; 12], [0.0; 12]);
+        for k in 0..400 {
+            let a = k as f64 * 0.04;
+            let u = [0.5 * a.sin() * (0.3 * a).cos(), 0.3 * (0.7 * a).sin()];
+            let (r1, k1, t1) = at(&e, &c1, &[u[0], u[1], w]);
+            let (r2, k2, t2) = at(&flat, &c2, &u);
+            for i in 0..2 {
+                assert!((r1[i] - r2[i]).abs() <= 1e-12 * r2[i].abs().max(1.0));
+                for j in 0..2 {
+                    let (a, b) = (k1[3 * i + j], k2[2 * i + j]);
+                    assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "{a} {b}");
+                }
+            }
+            // the vertical force on the dof: the change of the axial force from P0
+            let expect = p0.unwrap_or(0.0) - 1234.5;
+            assert!(
+                (r1[2] - expect).abs() <= 1e-9 * 1234.5,
+                "{} {expect}",
+                r1[2]
+            );
+            assert_eq!(t1, t2);
+            (c1, c2) = (t1, t2);
+        }
+    }
+}
+
+#[test]
+fn vertical_tangent_is_the_derivative_of_the_force() {
+    let kv = 1e6;
+    for p0 in [None, Some(800.0)] {
+        let e = spatial(kv, p0);
+        let mut path = Vec::new();
+        for k in 0..=300 {
+            let a = k as f64 / 300.0 * 3.0;
+            path.push([0.4 * a.sin(), 0.2 * (1.0 - a.cos()), -1e-3]);
+        }
+        let mut c = [0.0; 12];
+        for x in &path {
+            c = at(&e, &c, x).2;
+        }
+        // where the spring is unloaded
+        let base = p0.unwrap_or(0.0) / kv;
+        for x in [
+            [0.001, -0.0004, base - 1e-3],
+            [0.2, 0.1, base - 2e-4],
+            [-0.1, 0.4, base - 3e-3],
+            [0.3, 0.1, base + 1e-3], // uplift: N = MinFv
+        ] {
+            let (r, kx, _) = at(&e, &c, &x);
+            if x[2] > base {
+                assert_eq!(r[2], p0.unwrap_or(0.0) - 50.0);
+            }
+            for j in 0..3 {
+                let h = [1e-7, 1e-7, 1e-9][j];
+                let (mut xp, mut xm) = (x, x);
+                xp[j] += h;
+                xm[j] -= h;
+                let (rp, rm) = (at(&e, &c, &xp).0, at(&e, &c, &xm).0);
+                for i in 0..3 {
+                    let fd = (rp[i] - rm[i]) / (2.0 * h);
+                    let k = kx[3 * i + j];
+                    assert!(
+                        (k - fd).abs() < 1e-5 * (1.0 + k.abs()),
+                        "{x:?} {i}{j} {k} {fd}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn uniaxial_with_its_vertical_dof() {
+    let one = TripleFrictionPendulum::uniaxial(0, MU, L, D, 1e3, 5e-4).unwrap();
+    let one = one.with_vertical(4, 1e6, 0.0, None).unwrap();
+    assert_eq!(one.dofs(), &[0, 4]);
+    let two = spatial(1e6, None);
+    let (r1, k1, _) = at(&one, &[0.0; 12], &[0.1, -2e-3]);
+    let (r2, k2, _) = at(&two, &[0.0; 12], &[0.1, 0.0, -2e-3]);
+    assert_eq!([r1[0], r1[1]], [r2[0], r2[2]]);
+    assert_eq!([k1[0], k1[1], k1[2], k1[3]], [k2[0], k2[2], k2[6], k2[8]]);
+    let bad = TripleFrictionPendulum::new(0, 1, MU, L, D, 1.0, 5e-4).unwrap();
+    let name = |r: Result<TripleFrictionPendulum, CoreError>| match r {
+        Err(CoreError::InvalidInput { name, .. }) => name,
+        _ => panic!("accepted"),
+    };
+    assert_eq!(
+        name(bad.clone().with_vertical(2, 0.0, 0.0, None)),
+        "vertical_stiffness"
+    );
+    assert_eq!(
+        name(bad.clone().with_vertical(2, 1.0, -1.0, None)),
+        "min_axial_force"
+    );
+    assert_eq!(
+        name(bad.clone().with_vertical(2, 1.0, 0.0, Some(-1.0))),
+        "initial_axial_force"
+    );
+}
+
+#[test]
+fn pdelta_moments_on_the_rotations_and_their_tangent() {
+    let kv = 1e6;
+    let e = spatial(kv, None)
+        .with_rotations([Some(3), Some(4), Some(5)])
+        .unwrap();
+    assert_eq!(e.dofs(), &[0, 1, 2, 3, 4, 5]);
+    let mut c = [0.0; 12];
+    for k in 0..=200 {
+        let a = k as f64 / 200.0 * 3.0;
+        c = at(
+            &e,
+            &c,
+            &[0.4 * a.sin(), 0.2 * (1.0 - a.cos()), -1e-3, 0.0, 0.0, 0.0],
+        )
+        .2;
+    }
+    for x in [
+        [0.2, 0.1, -2e-3, 0.01, -0.02, 0.003],
+        [-0.1, 0.4, -3e-3, 0.0, 0.0, 0.0],
+        [0.3, 0.1, 1e-3, 0.0, 0.0, 0.0], // uplift: N = MinFv
+    ] {
+        let (r, kx, _) = at(&e, &c, &x);
+        let n_axial = if x[2] < 0.0 { -kv * x[2] } else { 50.0 };
+        assert!((r[3] - n_axial * x[1] / 2.0).abs() <= 1e-12 * n_axial);
+        assert!((r[4] + n_axial * x[0] / 2.0).abs() <= 1e-12 * n_axial);
+        let torsion = (r[0] * x[1] - r[1] * x[0]) / 2.0;
+        assert!((r[5] - torsion).abs() <= 1e-12 * n_axial);
+        for j in 0..6 {
+            let h = [1e-7, 1e-7, 1e-9, 1e-7, 1e-7, 1e-7][j];
+            let (mut xp, mut xm) = (x, x);
+            xp[j] += h;
+            xm[j] -= h;
+            let (rp, rm) = (at(&e, &c, &xp).0, at(&e, &c, &xm).0);
+            for i in 0..6 {
+                let fd = (rp[i] - rm[i]) / (2.0 * h);
+                let k = kx[6 * i + j];
+                assert!(
+                    (k - fd).abs() < 1e-5 * (1.0 + k.abs()),
+                    "{x:?} {i}{j} {k} {fd}"
+                );
+            }
+        }
+    }
+    let name = match spatial(kv, None).with_rotations([Some(1), None, None]) {
+        Err(CoreError::InvalidInput { name, .. }) => name,
+        _ => panic!("accepted"),
+    };
+    assert_eq!(name, "dofs");
 }
