@@ -6,7 +6,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::points::check_points;
-use super::uniaxial::{uniaxial_methods, Uniaxial, UniaxialDefinition};
+use super::uniaxial::{initial_deformation_doc, uniaxial_methods, Uniaxial, UniaxialDefinition};
 use super::Material;
 use crate::elements::definition::{Definition, Pair};
 use crate::error::CoreError;
@@ -40,7 +40,8 @@ impl UniaxialDefinition for ElasticMultiLinearDef {
 impl Definition for ElasticMultiLinearDef {
     const NAME: &'static str = "ElasticMultiLinear";
     const SIGNATURE: &'static str = "(i, j=None, *, strain, stress, initial_deformation=0.0)";
-    const DOC: &'static str = r#"Nonlinear elastic spring on the deformation ``u = x_i - x_j`` (``j=None``: to the
+    const DOC: &'static str = concat!(
+        r#"Nonlinear elastic spring on the deformation ``u = x_i - x_j`` (``j=None``: to the
 ground), piecewise linear through the points ``(strain[k], stress[k])`` (both sides of the
 origin, extended past the end points with the end slopes), as OpenSees' ``uniaxialMaterial
 ElasticMultiLinear tag -strain ... -stress ...`` without its viscous term ``eta``. Loading and
@@ -53,13 +54,9 @@ i, j : int, dof label or None
     The dofs of the deformation ``x_i - x_j`` (``j=None``: to the ground).
 strain, stress : sequence of float
     At least two points, strains strictly increasing.
-initial_deformation : float, default 0.0
-    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
-    material is first driven from rest monotonically to it (in 100 equal increments, as
-    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
-    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
-    equations its change from the force there (held by loads outside the model).
-
+"#,
+        initial_deformation_doc!(),
+        r#"
 Examples
 --------
 >>> import duhamel
@@ -67,7 +64,8 @@ Examples
 ...                                           stress=[0.0, 0.0, 0.0, 99.0])
 >>> duhamel.elements.drive(gap, [-0.5, 0.005, 0.11]).force.tolist()
 [0.0, 0.0, 10.0]
-"#;
+"#
+    );
     type Runtime = Uniaxial<ElasticMultiLinear>;
     uniaxial_methods!();
 }

@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::hysteretic::{Hysteretic, HystereticParams};
-use super::uniaxial::{uniaxial_methods, Uniaxial, UniaxialDefinition};
+use super::uniaxial::{initial_deformation_doc, uniaxial_methods, Uniaxial, UniaxialDefinition};
 use crate::elements::definition::{Definition, Pair};
 use crate::error::CoreError;
 
@@ -96,7 +96,8 @@ impl Definition for HystereticDef {
     const SIGNATURE: &'static str =
         "(i, j=None, *, s1p, e1p, s2p, e2p, s3p=None, e3p=None, s1n, e1n, s2n, e2n, \
         s3n=None, e3n=None, pinch_x, pinch_y, damage1, damage2, beta=0.0, initial_deformation=0.0)";
-    const DOC: &'static str = r#"OpenSees' ``Hysteretic`` material on the deformation ``u = x_i - x_j`` (``j=None``: to
+    const DOC: &'static str = concat!(
+        r#"OpenSees' ``Hysteretic`` material on the deformation ``u = x_i - x_j`` (``j=None``: to
 the ground): a bilinear or trilinear envelope through ``(e1p, s1p), (e2p, s2p), (e3p, s3p)``
 and ``(e1n, s1n), ...`` (negative side negative), pinching of deformation ``pinch_x`` and
 force ``pinch_y`` on reloading, damage from ductility ``damage1`` and energy ``damage2``
@@ -118,13 +119,9 @@ damage1, damage2 : float
     Damage due to ductility and to energy.
 beta : float
     Unloading stiffness degradation exponent.
-initial_deformation : float, default 0.0
-    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
-    material is first driven from rest monotonically to it (in 100 equal increments, as
-    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
-    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
-    equations its change from the force there (held by loads outside the model).
-
+"#,
+        initial_deformation_doc!(),
+        r#"
 Examples
 --------
 >>> import duhamel
@@ -133,7 +130,8 @@ Examples
 ...     e2n=-0.04, pinch_x=0.8, pinch_y=0.2, damage1=0.0, damage2=0.0)
 >>> duhamel.elements.drive(wall, [0.005, 0.025]).force.tolist()
 [50.0, 115.0]
-"#;
+"#
+    );
     type Runtime = Uniaxial<Hysteretic>;
     uniaxial_methods!();
 }

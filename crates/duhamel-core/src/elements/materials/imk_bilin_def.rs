@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::imk_bilin::{ImkBilin, ImkBilinParams};
-use super::uniaxial::{uniaxial_methods, Uniaxial, UniaxialDefinition};
+use super::uniaxial::{initial_deformation_doc, uniaxial_methods, Uniaxial, UniaxialDefinition};
 use crate::elements::definition::{Definition, Pair};
 use crate::error::CoreError;
 
@@ -90,7 +90,8 @@ impl Definition for ImkBilinDef {
         Mmax_My_plus, res_plus, theta_p_neg, theta_pc_neg, theta_u_neg, My_neg, \
         Mmax_My_neg, res_neg, lambda_s, lambda_c, lambda_k, c_s, c_c, c_k, D_plus, \
         D_neg, initial_deformation=0.0)";
-    const DOC: &'static str = r#"The modified Ibarra-Medina-Krawinkler deterioration model with a bilinear hysteresis,
+    const DOC: &'static str = concat!(
+        r#"The modified Ibarra-Medina-Krawinkler deterioration model with a bilinear hysteresis,
 on the deformation ``u = x_i - x_j`` (``j=None``: to the ground; a rotation for a hinge), as
 OpenSees' ``uniaxialMaterial IMKBilin`` (Lignos & Krawinkler 2011; Lignos et al. 2019; the
 successor of OpenSees' ``Bilin``): elastic to ``My``, hardening to ``Mmax`` at the capping
@@ -119,13 +120,9 @@ c_s, c_c, c_k : float
     Their rates (exponents).
 D_plus, D_neg : float
     Rates of cyclic deterioration in each direction.
-initial_deformation : float, default 0.0
-    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
-    material is first driven from rest monotonically to it (in 100 equal increments, as
-    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
-    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
-    equations its change from the force there (held by loads outside the model).
-
+"#,
+        initial_deformation_doc!(),
+        r#"
 Examples
 --------
 >>> import duhamel
@@ -137,7 +134,8 @@ Examples
 >>> f = duhamel.elements.drive(hinge, [0.005, 0.04]).force
 >>> float(f[0]), round(float(f[1]), 9)   # elastic, then capping at 0.01 + 0.03
 (50.0, 110.0)
-"#;
+"#
+    );
     type Runtime = Uniaxial<ImkBilin>;
     uniaxial_methods!();
 }

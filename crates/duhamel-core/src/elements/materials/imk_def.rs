@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::imk::ModImkPeakOriented;
 use super::imk_params::ModImkParams;
-use super::uniaxial::{uniaxial_methods, Uniaxial, UniaxialDefinition};
+use super::uniaxial::{initial_deformation_doc, uniaxial_methods, Uniaxial, UniaxialDefinition};
 use crate::elements::definition::{Definition, Pair};
 use crate::error::CoreError;
 
@@ -96,7 +96,8 @@ impl Definition for ModImkPeakOrientedDef {
         lambda_a, lambda_k, c_s, c_c, c_a, c_k, theta_p_plus, theta_p_neg, theta_pc_plus, \
         theta_pc_neg, res_plus, res_neg, theta_u_plus, theta_u_neg, D_plus, D_neg, \
         n_factor=0.0, initial_deformation=0.0)";
-    const DOC: &'static str = r#"The modified Ibarra-Medina-Krawinkler deterioration model with a peak-oriented
+    const DOC: &'static str = concat!(
+        r#"The modified Ibarra-Medina-Krawinkler deterioration model with a peak-oriented
 hysteresis, on the deformation ``u = x_i - x_j`` (``j=None``: to the ground; a rotation for a
 hinge), as OpenSees' ``uniaxialMaterial ModIMKPeakOriented`` (Ibarra, Medina & Krawinkler
 2005; Lignos & Krawinkler 2011): elastic to ``My``, hardening to the capping point,
@@ -135,13 +136,9 @@ D_plus, D_neg : float
     Rates of cyclic deterioration in each direction.
 n_factor : float
     Stiffness amplification ``n`` of the spring (0: none).
-initial_deformation : float, default 0.0
-    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
-    material is first driven from rest monotonically to it (in 100 equal increments, as
-    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
-    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
-    equations its change from the force there (held by loads outside the model).
-
+"#,
+        initial_deformation_doc!(),
+        r#"
 Examples
 --------
 >>> import duhamel
@@ -153,7 +150,8 @@ Examples
 >>> f = duhamel.elements.drive(hinge, [0.005, 0.1, 0.25, 0.0]).force
 >>> float(f[0]), bool(abs(f[2:]).max() < 1e-6)
 (50.0, True)
-"#;
+"#
+    );
     type Runtime = Uniaxial<ModImkPeakOriented>;
     uniaxial_methods!();
 }

@@ -6,7 +6,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::uniaxial::{part_law, uniaxial_methods, Uniaxial, UniaxialDefinition};
+use super::uniaxial::{
+    initial_deformation_doc, part_law, uniaxial_methods, Uniaxial, UniaxialDefinition,
+};
 use super::Material;
 use crate::elements::definition::{Definition, Pair};
 use crate::elements::registry::Defined;
@@ -53,7 +55,8 @@ impl Definition for MinMaxDef {
     const NAME: &'static str = "MinMax";
     const SIGNATURE: &'static str =
         "(i, j=None, *, material, min=-1e16, max=1e16, initial_deformation=0.0)";
-    const DOC: &'static str = r#"A uniaxial material that fails beyond a deformation, as OpenSees'
+    const DOC: &'static str = concat!(
+        r#"A uniaxial material that fails beyond a deformation, as OpenSees'
 ``uniaxialMaterial MinMax tag otherTag -min min -max max``: `material` answers until a trial
 deformation ``u = x_i - x_j`` reaches `min` or `max`; there the force is 0 (and the tangent,
 as OpenSees', ``1e-8`` of the material's initial tangent, which keeps a stiffness matrix
@@ -69,13 +72,9 @@ material : Element
     ``ModIMKPeakOriented``, ... or another wrapper).
 min, max : float
     The deformations at which it fails, ``min < max``.
-initial_deformation : float, default 0.0
-    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
-    material is first driven from rest monotonically to it (in 100 equal increments, as
-    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
-    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
-    equations its change from the force there (held by loads outside the model).
-
+"#,
+        initial_deformation_doc!(),
+        r#"
 Examples
 --------
 >>> import duhamel
@@ -83,7 +82,8 @@ Examples
 >>> fuse = duhamel.elements.MinMax(0, material=steel, max=0.03)
 >>> duhamel.elements.drive(fuse, [0.0, 0.02, 0.03, 0.0]).force.tolist()[2:]
 [0.0, 0.0]
-"#;
+"#
+    );
     type Runtime = Uniaxial<MinMax>;
     uniaxial_methods!();
 }

@@ -18,7 +18,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::points::check_points;
-use super::uniaxial::{uniaxial_methods, Uniaxial, UniaxialDefinition};
+use super::uniaxial::{initial_deformation_doc, uniaxial_methods, Uniaxial, UniaxialDefinition};
 use super::Material;
 use crate::elements::definition::{Definition, Pair};
 use crate::error::CoreError;
@@ -52,7 +52,8 @@ impl UniaxialDefinition for MultiLinearDef {
 impl Definition for MultiLinearDef {
     const NAME: &'static str = "MultiLinear";
     const SIGNATURE: &'static str = "(i, j=None, *, strain, stress, initial_deformation=0.0)";
-    const DOC: &'static str = r#"Multilinear kinematic hardening on the deformation ``u = x_i - x_j`` (``j=None``: to
+    const DOC: &'static str = concat!(
+        r#"Multilinear kinematic hardening on the deformation ``u = x_i - x_j`` (``j=None``: to
 the ground), as OpenSees' ``uniaxialMaterial MultiLinear tag e1 s1 e2 s2 ...``: a symmetric
 backbone through the points ``(strain[k], stress[k])`` and their mirror images (extended past
 the last point with the last slope); loading past the elastic range drags the inner segments
@@ -66,20 +67,17 @@ i, j : int, dof label or None
     The dofs of the deformation ``x_i - x_j`` (``j=None``: to the ground).
 strain, stress : sequence of float
     At least two points, strains positive and increasing, stresses positive.
-initial_deformation : float, default 0.0
-    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
-    material is first driven from rest monotonically to it (in 100 equal increments, as
-    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
-    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
-    equations its change from the force there (held by loads outside the model).
-
+"#,
+        initial_deformation_doc!(),
+        r#"
 Examples
 --------
 >>> import duhamel
 >>> link = duhamel.elements.MultiLinear(0, strain=[0.01, 0.05], stress=[1.0, 1.4])
 >>> duhamel.elements.drive(link, [0.03, 0.0]).force.round(12).tolist()  # 1.2 - 2 B(0.015)
 [1.2, -0.9]
-"#;
+"#
+    );
     type Runtime = Uniaxial<MultiLinear>;
     uniaxial_methods!();
 }

@@ -3,7 +3,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::uniaxial::{part_law, uniaxial_methods, Uniaxial, UniaxialDefinition};
+use super::uniaxial::{
+    initial_deformation_doc, part_law, uniaxial_methods, Uniaxial, UniaxialDefinition,
+};
 use super::Material;
 use crate::elements::definition::{Definition, Pair};
 use crate::elements::registry::Defined;
@@ -46,7 +48,8 @@ impl Definition for ParallelDef {
     const NAME: &'static str = "Parallel";
     const SIGNATURE: &'static str =
         "(i, j=None, *, materials, factors=None, initial_deformation=0.0)";
-    const DOC: &'static str = r#"Uniaxial materials side by side on the same deformation ``u = x_i - x_j``, as
+    const DOC: &'static str = concat!(
+        r#"Uniaxial materials side by side on the same deformation ``u = x_i - x_j``, as
 OpenSees' ``uniaxialMaterial Parallel tag tag1 tag2 ... <-factors f1 f2 ...>``: the force
 and tangent are the (weighted) sums of the parts'. Passive when every part is and every
 factor is non-negative.
@@ -59,13 +62,9 @@ materials : sequence of Element
     The parts (at least one): uniaxial material elements on the same ``i, j``.
 factors : sequence of float, optional
     One factor per part (default: all 1).
-initial_deformation : float, default 0.0
-    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
-    material is first driven from rest monotonically to it (in 100 equal increments, as
-    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
-    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
-    equations its change from the force there (held by loads outside the model).
-
+"#,
+        initial_deformation_doc!(),
+        r#"
 Examples
 --------
 >>> import duhamel
@@ -75,7 +74,8 @@ Examples
 >>> both = E.Parallel(0, materials=[frame, brace])
 >>> E.drive(both, [0.005, 0.03]).force.round(12).tolist()
 [0.75, 2.7]
-"#;
+"#
+    );
     type Runtime = Uniaxial<Parallel>;
     uniaxial_methods!();
 }

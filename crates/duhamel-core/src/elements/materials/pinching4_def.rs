@@ -7,7 +7,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::state::material_state;
-use super::uniaxial::{uniaxial_methods, Uniaxial, UniaxialDefinition};
+use super::uniaxial::{initial_deformation_doc, uniaxial_methods, Uniaxial, UniaxialDefinition};
 use crate::elements::definition::{Definition, Pair};
 use crate::error::CoreError;
 
@@ -185,7 +185,8 @@ impl Definition for Pinching4Def {
         rDispP, rForceP, uForceP, rDispN=None, rForceN=None, uForceN=None, gK1, gK2, gK3, \
         gK4, gKLim, gD1, gD2, gD3, gD4, gDLim, gF1, gF2, gF3, gF4, gFLim, gE, \
         dmgType=\"energy\", initial_deformation=0.0)";
-    const DOC: &'static str = r#"OpenSees' ``Pinching4`` material (Lowes, Mitra & Altoontash 2003) on the deformation
+    const DOC: &'static str = concat!(
+        r#"OpenSees' ``Pinching4`` material (Lowes, Mitra & Altoontash 2003) on the deformation
 ``u = x_i - x_j`` (``j=None``: to the ground): a four-point envelope per side, unload-reload
 paths through a reloading point ``(rDisp u_max, rForce F(u_max))`` and an unloading force
 ``uForce``, and damage of the unloading stiffness (``gK``), the reloading target (``gD``)
@@ -217,13 +218,9 @@ gE : float
     Energy capacity, in monotonic envelope energies.
 dmgType : {"energy", "cycle"}
     What the damage grows with.
-initial_deformation : float, default 0.0
-    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
-    material is first driven from rest monotonically to it (in 100 equal increments, as
-    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
-    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
-    equations its change from the force there (held by loads outside the model).
-
+"#,
+        initial_deformation_doc!(),
+        r#"
 Examples
 --------
 >>> import duhamel
@@ -234,7 +231,8 @@ Examples
 ...     gDLim=0.5, gF1=1.0, gF2=0.0, gF3=1.0, gF4=1.0, gFLim=0.9, gE=10.0)
 >>> round(float(duhamel.elements.drive(joint, [0.01]).force[0]), 9)
 125.0
-"#;
+"#
+    );
     type Runtime = Uniaxial<Pinching4>;
     uniaxial_methods!();
 }

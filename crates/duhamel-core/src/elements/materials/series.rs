@@ -26,7 +26,9 @@
 use serde::{Deserialize, Serialize};
 
 use super::parallel::offsets_after;
-use super::uniaxial::{part_law, uniaxial_methods, Uniaxial, UniaxialDefinition};
+use super::uniaxial::{
+    initial_deformation_doc, part_law, uniaxial_methods, Uniaxial, UniaxialDefinition,
+};
 use super::Material;
 use crate::elements::definition::{Definition, Pair};
 use crate::elements::registry::Defined;
@@ -78,7 +80,8 @@ impl Definition for SeriesDef {
     const NAME: &'static str = "Series";
     const SIGNATURE: &'static str =
         "(i, j=None, *, materials, max_iter=100, tol=1e-10, initial_deformation=0.0)";
-    const DOC: &'static str = r#"Uniaxial materials in series on the deformation ``u = x_i - x_j``, as OpenSees'
+    const DOC: &'static str = concat!(
+        r#"Uniaxial materials in series on the deformation ``u = x_i - x_j``, as OpenSees'
 ``uniaxialMaterial Series tag tag1 tag2 ... <-iter maxIter tol>`` but solved to convergence:
 the parts carry the same force and their deformations add up to ``u`` (Newton on the parts'
 deformations from OpenSees' predictor; the tangent is the series tangent). A step that does
@@ -98,13 +101,9 @@ max_iter : int
     Iterations allowed per evaluation, >= 1.
 tol : float
     Relative tolerance of the force balance and the compatibility, in (0, 1).
-initial_deformation : float, default 0.0
-    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
-    material is first driven from rest monotonically to it (in 100 equal increments, as
-    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
-    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
-    equations its change from the force there (held by loads outside the model).
-
+"#,
+        initial_deformation_doc!(),
+        r#"
 Examples
 --------
 >>> import duhamel
@@ -114,7 +113,8 @@ Examples
 >>> both = E.Series(0, materials=[gusset, brace])
 >>> E.drive(both, [0.004]).force.round(9).tolist()  # 1 / (1/300 + 1/100) per unit deformation
 [0.3]
-"#;
+"#
+    );
     type Runtime = Uniaxial<Series>;
     uniaxial_methods!();
 }

@@ -16,7 +16,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::uniaxial::{uniaxial_methods, Uniaxial, UniaxialDefinition};
+use super::uniaxial::{initial_deformation_doc, uniaxial_methods, Uniaxial, UniaxialDefinition};
 use super::Material;
 use crate::elements::definition::{Definition, Pair};
 use crate::elements::element::check;
@@ -89,7 +89,8 @@ impl Definition for Steel02Def {
     const NAME: &'static str = "Steel02";
     const SIGNATURE: &'static str = "(i, j=None, *, fy, E, b, R0=15.0, cR1=0.925, cR2=0.15, \
         a1=0.0, a2=1.0, a3=0.0, a4=1.0, sig_init=0.0, initial_deformation=0.0)";
-    const DOC: &'static str = r#"Giuffré-Menegotto-Pinto steel with Filippou's isotropic hardening on the deformation
+    const DOC: &'static str = concat!(
+        r#"Giuffré-Menegotto-Pinto steel with Filippou's isotropic hardening on the deformation
 ``u = x_i - x_j`` (``j=None``: to the ground), operation for operation as OpenSees'
 ``uniaxialMaterial Steel02 tag fy E b R0 cR1 cR2 a1 a2 a3 a4 sigInit`` (defaults: its
 3-argument form). Between reversals the force follows the Menegotto-Pinto curve from the last
@@ -115,13 +116,9 @@ a1, a2, a3, a4 : float
     Isotropic hardening (OpenSees' meaning; ``a1 = a3 = 0``: none); ``a2``, ``a4`` > 0.
 sig_init : float
     Initial force (OpenSees' ``sigInit``).
-initial_deformation : float, default 0.0
-    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
-    material is first driven from rest monotonically to it (in 100 equal increments, as
-    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
-    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
-    equations its change from the force there (held by loads outside the model).
-
+"#,
+        initial_deformation_doc!(),
+        r#"
 Examples
 --------
 >>> import numpy as np, duhamel
@@ -129,7 +126,8 @@ Examples
 >>> loop = duhamel.elements.drive(brace, 0.05 * np.sin(np.linspace(0.0, 4 * np.pi, 201)))
 >>> bool(0.0 < loop.dissipated and abs(loop.force).max() < 1.0 + 0.02 * 100 * 0.05)
 True
-"#;
+"#
+    );
     type Runtime = Uniaxial<Steel02>;
     uniaxial_methods!();
 }

@@ -30,7 +30,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::points::{check_points, Backbone};
-use super::uniaxial::{uniaxial_methods, Uniaxial, UniaxialDefinition};
+use super::uniaxial::{initial_deformation_doc, uniaxial_methods, Uniaxial, UniaxialDefinition};
 use super::Material;
 use crate::elements::definition::{Definition, Pair};
 use crate::error::CoreError;
@@ -91,7 +91,8 @@ impl Definition for TakedaDef {
     const NAME: &'static str = "Takeda";
     const SIGNATURE: &'static str =
         "(i, j=None, *, strain, stress, strain_neg=None, stress_neg=None, alpha=0.4, initial_deformation=0.0)";
-    const DOC: &'static str = r#"Takeda's degrading, peak-oriented hysteresis on a multilinear backbone, on the
+    const DOC: &'static str = concat!(
+        r#"Takeda's degrading, peak-oriented hysteresis on a multilinear backbone, on the
 deformation ``u = x_i - x_j`` (``j=None``: to the ground): Takeda, Sozen & Nielsen (1970) in
 Otani's simplified form with Emori & Schnobrich's unloading stiffness
 ``k0 (d_y / u_max)^alpha``, on the backbone of CSI's Takeda multilinear-plastic links.
@@ -111,20 +112,17 @@ strain_neg, stress_neg : sequence of float, optional
     The negative backbone's points as magnitudes (default: symmetric).
 alpha : float
     The unloading exponent, in [0, 1] (0: unloading at the initial stiffness).
-initial_deformation : float, default 0.0
-    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
-    material is first driven from rest monotonically to it (in 100 equal increments, as
-    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
-    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
-    equations its change from the force there (held by loads outside the model).
-
+"#,
+        initial_deformation_doc!(),
+        r#"
 Examples
 --------
 >>> import duhamel
 >>> column = duhamel.elements.Takeda(0, strain=[0.01, 0.05], stress=[1.0, 1.4], alpha=0.0)
 >>> duhamel.elements.drive(column, [0.03, 0.018, -0.01]).force.round(12).tolist()
 [1.2, 0.0, -1.0]
-"#;
+"#
+    );
     type Runtime = Uniaxial<Takeda>;
     uniaxial_methods!();
 }

@@ -411,3 +411,18 @@ macro_rules! uniaxial_methods {
 }
 
 pub(crate) use uniaxial_methods;
+
+/// The `initial_deformation` parameter's documentation, the same in every material's `DOC`
+/// (the parameter is implemented once, here).
+macro_rules! initial_deformation_doc {
+    () => {
+        r#"initial_deformation : float, default 0.0
+    The deformation at ``x = 0`` (a loaded start, e.g. after a gravity analysis): the
+    material is first driven from rest monotonically to it (in 100 equal increments, as
+    :func:`duhamel.elements.drive` along ``numpy.linspace(0, initial_deformation, 101)``),
+    its deformation is then ``initial_deformation + x_i - x_j`` and the force it adds to the
+    equations its change from the force there (held by loads outside the model).
+"#
+    };
+}
+pub(crate) use initial_deformation_doc;
