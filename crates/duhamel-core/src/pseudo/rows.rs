@@ -3,7 +3,7 @@
 //! The step forms the state's increment and adds it last (`A - 1` on the diagonal): a
 //! product `A00 x` rounds at the scale of `x` on every step, and over many short steps those
 //! roundings drift (the transition's determinant is off by an ulp: energy grows or decays
-//! steadily — 5e-11 of the Duffing oscillator's energy over 256,000 steps); the increment
+//! steadily — 7e-11 of the Duffing oscillator's energy over 256,000 steps); the increment
 //! rounds at its own, much smaller, scale.
 
 use crate::kernel::oscillator::Transfer;
