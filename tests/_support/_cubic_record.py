@@ -23,6 +23,7 @@ from __future__ import annotations
 import os
 
 import numpy as np
+from _materials_system import newmark_transient
 from scipy.integrate import solve_ivp
 
 import duhamel
@@ -70,20 +71,10 @@ def run_opensees(a: np.ndarray, steps: int, path: str) -> None:
     ops.uniaxialMaterial("ElasticPowerFunc", 1, "-coeff", K, K3, "-exp", 1.0, 3.0)
     ops.element("zeroLength", 1, 1, 2, "-mat", 1, "-dir", 1)
     ops.rayleigh(C / M, 0.0, 0.0, 0.0)
-    ops.timeSeries("Path", 2, "-dt", DT_REC, "-values", *a.tolist())
-    ops.pattern("UniformExcitation", 2, 1, "-accel", 2)
-    ops.constraints("Plain")
-    ops.numberer("Plain")
-    ops.system("BandGeneral")
-    ops.test("NormDispIncr", 1e-12, 100)
-    ops.algorithm("Newton")
-    ops.integrator("Newmark", 0.5, 0.25)
-    ops.analysis("Transient")
     # 16 digits: the recorder's default 6 would put a floor of about 1e-6 of the peak
-    ops.recorder("Node", "-file", path, "-precision", 16, "-node", 2, "-dof", 1, "disp")
-    if ops.analyze((a.size - 1) * steps, DT_REC / steps) != 0:
+    recorder = ("Node", "-file", path, "-precision", 16, "-node", 2, "-dof", 1, "disp")
+    if not newmark_transient(ops, a, DT_REC, steps, [recorder]):
         raise RuntimeError(f"OpenSees failed at dt = {DT_REC / steps}")
-    ops.wipe()  # closes the recorder
 
 
 def read_opensees(path: str, steps: int, n: int) -> np.ndarray:

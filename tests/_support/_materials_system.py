@@ -178,20 +178,31 @@ def opensees_sdof(ops: ModuleType, args: tuple[Any, ...], k: int) -> np.ndarray:
     ops.uniaxialMaterial(args[0], 1, *args[1:])
     ops.element("zeroLength", 1, 1, 2, "-mat", 1, "-dir", 1, "-doRayleigh", 1)
     ops.rayleigh(A0, 0.0, A1, 0.0)
-    ops.timeSeries("Path", 2, "-dt", DT, "-values", *a.tolist())
-    ops.pattern("UniformExcitation", 2, 1, "-accel", 2)
-    for name, *rest in (
-        ("constraints", "Plain"),
-        ("numberer", "Plain"),
-        ("system", "BandGeneral"),
-        ("test", "NormDispIncr", 1e-12, 100),
-        ("algorithm", "Newton"),
-        ("integrator", "Newmark", 0.5, 0.25),
-        ("analysis", "Transient"),
-    ):
-        getattr(ops, name)(*rest)
-    ops.recorder("Node", "-file", path, "-node", 2, "-dof", 1, "disp")
-    assert ops.analyze((t.size - 1) * k, DT / k) == 0, "OpenSees' transient did not converge"
-    ops.wipe()
+    recorders = [("Node", "-file", path, "-node", 2, "-dof", 1, "disp")]
+    assert newmark_transient(ops, a, DT, k, recorders), "OpenSees' transient did not converge"
     x = np.loadtxt(path).reshape(-1)
     return np.concatenate([[0.0], x[k - 1 :: k]])[: t.size]
+
+
+def newmark_transient(
+    ops: ModuleType, a: np.ndarray, dt: float, k: int, recorders: list[tuple[Any, ...]]
+) -> bool:
+    """OpenSees' transient of the built model under the ground acceleration `a` (sampled at
+    `dt`, ``UniformExcitation`` of a ``Path`` series along dof 1): Newmark's average
+    acceleration with the step ``dt / k``, Newton to a displacement increment of 1e-12, the
+    `recorders` (``ops.recorder`` arguments); whether it ran to the end. Wipes the model
+    (closing the recorders)."""
+    ops.timeSeries("Path", 2, "-dt", dt, "-values", *a.tolist())
+    ops.pattern("UniformExcitation", 2, 1, "-accel", 2)
+    ops.constraints("Plain")
+    ops.numberer("Plain")
+    ops.system("BandGeneral")
+    ops.test("NormDispIncr", 1e-12, 100)
+    ops.algorithm("Newton")
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+    for args in recorders:
+        ops.recorder(*args)
+    ran = ops.analyze((a.size - 1) * k, dt / k) == 0
+    ops.wipe()
+    return ran

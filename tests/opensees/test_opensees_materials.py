@@ -13,7 +13,15 @@ from typing import Any
 
 import numpy as np
 import pytest
-from _materials_system import BILIN_ORDER, DT, HYST_ORDER, IMK_ORDER, SECONDS, record
+from _materials_system import (
+    BILIN_ORDER,
+    DT,
+    HYST_ORDER,
+    IMK_ORDER,
+    SECONDS,
+    newmark_transient,
+    record,
+)
 
 import duhamel
 from duhamel import elements as E
@@ -81,21 +89,8 @@ def opensees_run(a: np.ndarray, k: int) -> np.ndarray:
     import tempfile
 
     path = os.path.join(tempfile.mkdtemp(), "disp.out")
-    ops.timeSeries("Path", 2, "-dt", DT, "-values", *a.tolist())
-    ops.pattern("UniformExcitation", 2, 1, "-accel", 2)
-    for name, *rest in (
-        ("constraints", "Plain"),
-        ("numberer", "Plain"),
-        ("system", "BandGeneral"),
-        ("test", "NormDispIncr", 1e-12, 100),
-        ("algorithm", "Newton"),
-        ("integrator", "Newmark", 0.5, 0.25),
-        ("analysis", "Transient"),
-    ):
-        getattr(ops, name)(*rest)
-    ops.recorder("Node", "-file", path, "-node", 2, "-dof", 1, "disp")
-    assert ops.analyze((a.size - 1) * k, DT / k) == 0, "OpenSees' transient did not converge"
-    ops.wipe()
+    recorders = [("Node", "-file", path, "-node", 2, "-dof", 1, "disp")]
+    assert newmark_transient(ops, a, DT, k, recorders), "OpenSees' transient did not converge"
     x = np.loadtxt(path).reshape(-1)
     return np.concatenate([[0.0], x[k - 1 :: k]])[: a.size]
 

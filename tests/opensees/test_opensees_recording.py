@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from _materials_system import A0, A1, DT, MATERIALS, SECONDS, UY, record
+from _materials_system import A0, A1, DT, MATERIALS, SECONDS, UY, newmark_transient, record
 
 import duhamel
 import duhamel.opensees
@@ -59,22 +59,11 @@ def opensees_run(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     step (from rest: 0 first)."""
     tmp = tempfile.mkdtemp()
     disp, force = os.path.join(tmp, "disp.out"), os.path.join(tmp, "force.out")
-    ops.timeSeries("Path", 2, "-dt", DT, "-values", *a.tolist())
-    ops.pattern("UniformExcitation", 2, 1, "-accel", 2)
-    for name, *rest in (
-        ("constraints", "Plain"),
-        ("numberer", "Plain"),
-        ("system", "BandGeneral"),
-        ("test", "NormDispIncr", 1e-12, 100),
-        ("algorithm", "Newton"),
-        ("integrator", "Newmark", 0.5, 0.25),
-        ("analysis", "Transient"),
-    ):
-        getattr(ops, name)(*rest)
-    ops.recorder("Node", "-file", disp, "-node", 2, "-dof", 1, "disp")
-    ops.recorder("Element", "-file", force, "-ele", 1, "material", "1", "stress")
-    assert ops.analyze((a.size - 1) * K, DT / K) == 0, "OpenSees' transient did not converge"
-    ops.wipe()
+    recorders = [
+        ("Node", "-file", disp, "-node", 2, "-dof", 1, "disp"),
+        ("Element", "-file", force, "-ele", 1, "material", "1", "stress"),
+    ]
+    assert newmark_transient(ops, a, DT, K, recorders), "OpenSees' transient did not converge"
     x, f = (np.concatenate([[0.0], np.loadtxt(p).reshape(-1)]) for p in (disp, force))
     return x, f
 
