@@ -140,6 +140,15 @@ def _gravity(
     if p:
         for storey in range(1, storeys + 1):
             ops.load(lean(storey), 0.0, -p, 0.0)
+    if not static_steps(ops):
+        raise RuntimeError("the gravity analysis failed")
+    ops.loadConst("-time", 0.0)
+    ops.wipeAnalysis()
+
+
+def static_steps(ops: Any) -> bool:
+    """The static analysis of the loads defined (Newton to a displacement increment of
+    1e-12, ten load steps of 0.1); whether it converged."""
     ops.constraints("Transformation")
     ops.numberer("RCM")
     ops.system("BandGeneral")
@@ -147,10 +156,7 @@ def _gravity(
     ops.algorithm("Newton")
     ops.integrator("LoadControl", 0.1)
     ops.analysis("Static")
-    if ops.analyze(10) != 0:
-        raise RuntimeError("the gravity analysis failed")
-    ops.loadConst("-time", 0.0)
-    ops.wipeAnalysis()
+    return bool(ops.analyze(10) == 0)
 
 
 def record(dt: float = 0.01, duration: float = 4.0, pga: float = 4.0) -> tuple[Any, Any]:

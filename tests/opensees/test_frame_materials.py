@@ -43,6 +43,7 @@ except Exception as exc:  # pragma: no cover - depends on the machine
     pytest.skip(reason=f"openseespy cannot be loaded: {exc}", allow_module_level=True)
 
 import _hinged_materials as hm
+from _hinged import static_steps
 
 #: Steps per record interval: the record's step / 16, finer where the response converges
 #: at first order in the step (Pinching4's damage by the energy of each step: Newmark moves
@@ -179,14 +180,7 @@ def _unloaded_gravity(kind: str, w: float) -> None:
     ops.pattern("Plain", 3, 3)
     for storey in range(1, hm.STOREYS + 1):
         ops.eleLoad("-ele", 200 + storey, "-type", "-beamUniform", 0.5 * w)
-    ops.constraints("Transformation")
-    ops.numberer("RCM")
-    ops.system("BandGeneral")
-    ops.test("NormDispIncr", 1e-12, 50)
-    ops.algorithm("Newton")
-    ops.integrator("LoadControl", 0.1)
-    ops.analysis("Static")
-    assert ops.analyze(10) == 0
+    assert static_steps(ops)
     ops.loadConst("-time", 0.0)
 
 
