@@ -65,11 +65,6 @@ impl<'a> Evaluation<'a> {
         }
     }
 
-    /// [`Element::resolution`] of the element.
-    pub fn resolution(&self) -> f64 {
-        self.element.resolution()
-    }
-
     /// Whether the element has internal variables to commit.
     pub fn stateful(&self) -> bool {
         !self.committed.is_empty()

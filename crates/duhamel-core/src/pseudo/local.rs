@@ -75,6 +75,8 @@ pub struct ElementSpace<'a> {
     generation: u64,
     /// Whether the space is one element on one dof ([`ElementSpace::eval_one`]).
     single: bool,
+    /// The largest member's [`Element::resolution`] (constant: from its loaded start).
+    resolution: f64,
     /// The members' local states and forces at the start state of the last element-space
     /// step ([`ElementSpace::keep_start`]), for the record of that state.
     start: start::Start,
@@ -112,6 +114,7 @@ impl<'a> ElementSpace<'a> {
             })
             .collect::<Vec<Member>>();
         let single = matches!(&members[..], [m] if m.at.len() == 1);
+        let resolution = elements.iter().fold(0.0_f64, |a, e| a.max(e.resolution()));
         ElementSpace {
             n_modes,
             phi,
@@ -121,16 +124,17 @@ impl<'a> ElementSpace<'a> {
             share_key: (0, 0),
             generation: 0,
             single,
+            resolution,
             start: start::Start::default(),
         }
     }
 
-    /// How many times the committed variables were set so far.
     /// Whether an element reads the velocity of its dofs.
     pub fn uses_velocity(&self) -> bool {
         self.members.iter().any(|m| m.eval.uses_velocity())
     }
 
+    /// How many times the committed variables were set so far.
     pub fn generation(&self) -> u64 {
         self.generation
     }
@@ -138,9 +142,7 @@ impl<'a> ElementSpace<'a> {
     /// The largest member's [`Element::resolution`]: the displacement correction Newton
     /// cannot resolve below.
     pub fn resolution(&self) -> f64 {
-        self.members
-            .iter()
-            .fold(0.0_f64, |a, m| a.max(m.eval.resolution()))
+        self.resolution
     }
 
     /// Whether every member's force at a committed state is that of the evaluation
