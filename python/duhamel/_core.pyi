@@ -43,6 +43,14 @@ def mode_bounds(
     accuracy.mode_bounds``): C-contiguous ``(rows, n)`` histories, ``step`` the run's
     ``(h, k, span)``."""
 
+def row_errors(
+    pseudo: Array, q: Array, omega: Array, c: Array, signed: Array, step: tuple[float, int, float]
+) -> Array:
+    """Per row of `signed` ``(g, n)`` (mode shapes with their signs), the error estimate of a
+    run there: the modes' local errors carried by their linearised dynamics and combined
+    with those shapes, plus the force jumps' errors (``duhamel_core::accuracy::
+    row_errors``); histories and ``step`` as for :func:`mode_bounds`."""
+
 def parabola_moments(omega: Array, c: Array, h: float) -> Array:
     """Per mode, the end state ``(q, v)`` of the parabola ``4 s (1 - s)`` over one step
     ``h`` from rest, ``(n, 2)``: the ``DDp`` column of the exact step's load transfer."""
@@ -57,10 +65,9 @@ def hold_response(steps: Array, g: Array) -> Array:
 
 @final
 class Estimator:
-    """The error estimate of a prepared modal model's runs: its modes, the magnitudes of
-    its mode shapes ``phi`` at the saved `dofs` (None: not estimated) and along the
-    elements' deformations (per element its dofs and whether it is a two-node element;
-    None: not estimated)."""
+    """The error estimate of a prepared modal model's runs: its modes, its mode shapes
+    ``phi`` at the saved `dofs` (None: not estimated) and along the elements' deformations
+    (per element its dofs and whether it is a two-node element; None: not estimated)."""
 
     def __new__(
         cls,
@@ -72,9 +79,9 @@ class Estimator:
     ) -> Self: ...
     def estimate(
         self, result: RunResult, h: float, k: int, x: Array, elements: bool
-    ) -> tuple[float | None, list[float]] | None:
-        """``(dofs, elements)`` estimates of a whole run, or None where one is not a
-        number."""
+    ) -> tuple[float | None, list[float], float | None, list[float]] | None:
+        """``(dofs, elements, dofs_bound, elements_bound)``: the estimates of a whole run,
+        then its bounds, or None where one is not a number."""
 
 @final
 class SpeedLaw:

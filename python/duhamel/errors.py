@@ -25,14 +25,15 @@ class MatchWarning(UserWarning):
 
 
 class AccuracyWarning(UserWarning):
-    """A semi-analytic run whose estimated error (``sol.stats.error_estimate`` at the saved
-    dofs, ``sol.stats.element_error_estimate`` at the elements, relative to their peaks)
-    exceeds the integrator's ``error_warning`` (default 1 %): the step is too long for the
-    response's nonlinearity. Reduce ``dt`` (the error falls like ``dt**2``); see
-    docs/accuracy.md for how the estimate is made and when it is reliable. A reduced run
-    (``modes=n``) also warns when the error its basis's truncation is estimated to cause
-    (``sol.stats.truncation_estimate``, ``element_truncation_estimate``) exceeds the same
-    threshold: keep more modes (the message says so)."""
+    """A semi-analytic run whose error bound (``sol.stats.error_bound`` at the saved dofs,
+    ``sol.stats.element_error_bound`` at the elements, relative to their peaks; the message
+    also gives the estimate, ``error_estimate``) exceeds the integrator's ``error_warning``
+    (default 1 %): the step is too long for the response's nonlinearity. Reduce ``dt``
+    (the error falls like ``dt**2``); see docs/accuracy.md for how the estimate is made
+    and when it is reliable. A reduced run (``modes=n``) also warns when the error its
+    basis's truncation is estimated to cause (``sol.stats.truncation_estimate``,
+    ``element_truncation_estimate``) exceeds the same threshold: keep more modes (the
+    message says so)."""
 
 
 class InternalError(DuhamelError, RuntimeError):

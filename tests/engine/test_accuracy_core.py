@@ -1,8 +1,9 @@
 """The error estimate's arithmetic in the core (issue 35's overhead: ``_core.mode_bounds``,
-``_core.parabola_moments``, ``_core.Estimator``) against independent numpy constructions:
-the parabola moments from the exponential of the augmented oscillator (Van Loan), the
-per-mode bounds from the vectorised numpy definition of issue 41 (second differences,
-secant frequency, blocked decaying accumulation), the run's estimates from the saved
+``_core.row_errors``, ``_core.parabola_moments``, ``_core.Estimator``) against independent
+numpy constructions: the parabola moments from the exponential of the augmented oscillator
+(Van Loan), the per-mode bounds from the vectorised numpy definition of issue 41 (second
+differences, secant frequency, blocked decaying accumulation), the propagated errors from
+the recurrence with ``expm`` transitions, the run's estimates and bounds from the saved
 response and the element histories."""
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ import warnings
 
 import numpy as np
 import pytest
+import scipy.linalg
 
 import duhamel
 from duhamel import _core
@@ -77,6 +79,51 @@ def _reference_bounds(pseudo, q, omega, c, h, k, span):
     return out
 
 
+def _reference_errors(pseudo, q, omega, c, h, k, span, signed):
+    """The propagated estimate by its definition: per mode, the local error of each saved
+    interval (the parabola moments times ``-D2 / (8 k^2)`` per internal step, ``D2`` the
+    mean of the second differences at the interval's ends) carried by the exact transition
+    of ``e'' + c e' + w^2 e = 0`` (``expm``, ``w`` the secant frequency), combined with
+    the signed shapes; the largest magnitude over the rows (no jump in these histories)."""
+    rows, n = pseudo.shape
+    second = np.zeros_like(pseudo)
+    second[1:-1] = pseudo[2:] + pseudo[:-2] - 2.0 * pseudo[1:-1]
+    second[0], second[-1] = second[1], second[-2]
+    d2 = 0.5 * (second[:-1] + second[1:])
+    moments = parabola_moments(omega, c, h)
+    finite = np.where(np.isfinite(omega), omega, 0.0)
+    qq = np.einsum("ij,ij->j", q, q)
+    stiffening = -np.einsum("ij,ij->j", pseudo, q) / np.where(qq > 0.0, qq, 1.0)
+    w = np.maximum(np.sqrt(finite**2 + np.maximum(stiffening, 0.0)), 2.0 / max(span, h))
+    errors = np.zeros((rows, n))
+    for m in range(n):
+        damping = c[m] if np.isfinite(c[m]) and c[m] > 0.0 else 0.0
+        a = scipy.linalg.expm(np.array([[0.0, 1.0], [-(w[m] ** 2), -damping]]) * h)
+        local = sum(np.linalg.matrix_power(a, j) for j in range(k)) @ moments[m]
+        carry, e = np.linalg.matrix_power(a, k), np.zeros(2)
+        for r in range(1, rows):
+            e = carry @ e - local * d2[r - 1, m] / (8.0 * k * k)
+            errors[r, m] = e[0]
+    return np.abs(errors @ signed.T).max(axis=0)
+
+
+@pytest.mark.parametrize(("rows", "k"), [(3, 1), (40, 1), (700, 3)])
+def test_core_propagated_errors_are_the_recurrence(rows, k):
+    rng = np.random.default_rng(rows)
+    n, g = 5, 7
+    t = np.linspace(0.0, 4.0, rows)
+    omega = np.array([0.0, 2.0, 7.0, 30.0, np.inf])
+    c = np.array([0.0, 0.1, 0.7, 1.5, 0.02])
+    # smooth, resolved histories (no interval stands out: no force jump)
+    q = np.sin(np.outer(t, [0.5, 1.0, 2.0, 3.0, 1.0]) + rng.uniform(0.0, 6.0, n))
+    pseudo = -np.outer(np.ones(rows), [0.3, 1.0, 4.0, 0.0, 1.0]) * q**3
+    signed = rng.normal(size=(g, n))
+    h, span = 0.01, float(t[-1])
+    got = _core.row_errors(pseudo, q, omega, c, signed, (h, k, span))
+    want = _reference_errors(pseudo, q, omega, c, h, k, span, signed)
+    np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-14 * want.max())
+
+
 @pytest.mark.parametrize("h", [1e-4, 0.01, 0.3, 2.0, 40.0])
 def test_core_moments_are_the_augmented_exponentials(h):
     omega = np.array([0.0, 0.5, 3.0, 10.0, 60.0, np.inf, 7.0])
@@ -123,9 +170,10 @@ def test_core_decaying_max_is_the_numpy_definition():
 
 
 def test_a_runs_estimates_are_its_bounds_over_its_peaks():
-    """``stats.error_estimate`` and ``element_error_estimate`` of a run: the largest bound
-    over the saved dofs (and along each element's deformation) over the peak response
-    there, from the bounds of the run's own modal history."""
+    """``stats.error_bound`` and ``element_error_bound`` of a run: the largest bound over
+    the saved dofs (and along each element's deformation) over the peak response there,
+    from the bounds of the run's own modal history; ``error_estimate`` and
+    ``element_error_estimate`` the same of the propagated errors."""
     n = 4
     k = 400.0 * (2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1))
     k[-1, -1] = 400.0
@@ -144,11 +192,23 @@ def test_a_runs_estimates_are_its_bounds_over_its_peaks():
         modal.pseudo_force, modal.q, modal.omega, modal.c, dt, 2, float(sol.t[-1])
     )
     want = float((np.abs(phi) @ bounds).max() / np.abs(sol.x).max())
-    assert sol.stats.error_estimate == pytest.approx(want, rel=1e-10)
+    assert sol.stats.error_bound == pytest.approx(want, rel=1e-10)
     bilinear, cubic = sol.elements
     along = float(np.abs(phi[0] - phi[1]) @ bounds) / np.abs(bilinear.deformation).max()
     at = float(np.abs(phi[3]) @ bounds) / np.abs(cubic.deformation).max()
-    assert sol.stats.element_error_estimate == pytest.approx((along, at), rel=1e-10)
+    assert sol.stats.element_error_bound == pytest.approx((along, at), rel=1e-10)
+    shapes = np.vstack([phi, phi[0] - phi[1], phi[3]])
+    span = float(sol.t[-1])
+    errors = _reference_errors(
+        modal.pseudo_force, modal.q, modal.omega, modal.c, dt, 2, span, shapes
+    )
+    assert sol.stats.error_estimate == pytest.approx(
+        errors[:n].max() / np.abs(sol.x).max(), rel=1e-9
+    )
+    peaks = np.abs(bilinear.deformation).max(), np.abs(cubic.deformation).max()
+    assert sol.stats.element_error_estimate == pytest.approx(errors[n:] / peaks, rel=1e-9)
+    # the estimate carries the local errors with their signs: below the bound here
+    assert 0.0 < sol.stats.error_estimate < sol.stats.error_bound
 
 
 def test_a_run_in_segments_has_the_estimate_of_the_whole_run():
@@ -171,6 +231,10 @@ def test_a_run_in_segments_has_the_estimate_of_the_whole_run():
     assert np.array_equal(whole.x, joined.x)
     assert whole.stats.error_estimate is not None and whole.stats.error_estimate > 0
     assert joined.stats.error_estimate == pytest.approx(whole.stats.error_estimate, rel=1e-12)
+    assert joined.stats.error_bound == pytest.approx(whole.stats.error_bound, rel=1e-12)
+    assert joined.stats.element_error_bound == pytest.approx(
+        whole.stats.element_error_bound, rel=1e-12
+    )
     assert joined.stats.element_error_estimate == pytest.approx(
         whole.stats.element_error_estimate, rel=1e-12
     )

@@ -15,6 +15,7 @@ use crate::kernel::oscillator::Transfer;
 
 mod jumps;
 mod passes;
+mod signed;
 
 use passes::{decaying_max_of_seconds, first_sums, floor_div, peak_of};
 
@@ -80,19 +81,13 @@ pub fn mode_bounds(run: &ModalRun<'_>) -> Vec<f64> {
         pq,
         jumps: candidates,
     } = first_sums(p, q, n, rows);
-    let floor = 2.0 / run.span.max(run.h);
     let k = run.k as f64;
+    let w = secant(run, &qq, &pq);
     let mut scale = vec![0.0; n];
     let mut decay = vec![0.0; n];
     let mut out = vec![0.0; n];
     for m in 0..n {
-        let omega = if run.omega[m].is_finite() {
-            run.omega[m]
-        } else {
-            0.0
-        };
-        let stiffening = -pq[m] / if qq[m] > 0.0 { qq[m] } else { 1.0 };
-        let w = (omega * omega + stiffening.max(0.0)).sqrt().max(floor);
+        let w = w[m];
         let (m0, m1) = (run.moments[2 * m], run.moments[2 * m + 1]);
         // |DDQ| = |Q''| h^2 / 8 per internal step, k of them per saved interval
         scale[m] = m0.hypot(m1 / w) / (8.0 * k);
@@ -127,6 +122,71 @@ pub fn mode_bounds(run: &ModalRun<'_>) -> Vec<f64> {
     out
 }
 
+/// Per mode, the frequency at which a velocity error becomes a displacement error: the
+/// background stiffened by the part of the pseudo-force in phase with the mode (a secant
+/// over the run, `-sum(p q) / sum(q q)`, never below omega); at least the drift over half
+/// the run for slow, rigid modes (`qq`, `pq` the sums of `q q` and `p q` per mode).
+fn secant(run: &ModalRun<'_>, qq: &[f64], pq: &[f64]) -> Vec<f64> {
+    let floor = 2.0 / run.span.max(run.h);
+    (0..run.omega.len())
+        .map(|m| {
+            let omega = if run.omega[m].is_finite() {
+                run.omega[m]
+            } else {
+                0.0
+            };
+            let stiffening = -pq[m] / if qq[m] > 0.0 { qq[m] } else { 1.0 };
+            (omega * omega + stiffening.max(0.0)).sqrt().max(floor)
+        })
+        .collect()
+}
+
+/// The run's error at each of `g` quantities' components, the default estimate: per row of
+/// the `(g, n)` row-major `signed` (the mode shapes with their signs at a saved dof, or along
+/// an element's deformation), the largest magnitude over the run of the modes' propagated
+/// errors combined with those shapes, plus the force jumps' errors (see [`signed`]). Zeros
+/// for fewer than three saved instants. Lengths as for [`mode_bounds`], `signed.len() = g n`.
+pub fn row_errors(run: &ModalRun<'_>, signed: &[f64], g: usize) -> Vec<f64> {
+    let n = run.omega.len();
+    if run.rows < 3 || n == 0 {
+        return vec![0.0; g];
+    }
+    let passes::FirstSums {
+        qq,
+        pq,
+        jumps: candidates,
+        ..
+    } = first_sums(run.pseudo, run.q, n, run.rows);
+    let w = secant(run, &qq, &pq);
+    let jumps = jumps::jump_bounds(&candidates, run.pseudo, run.q, run.rows, run);
+    signed::row_errors(run, &w, &jumps, signed, g)
+}
+
+/// The largest of `errors` (per component row, [`row_errors`]) over `quantity`'s rows, over
+/// the peak magnitude of its response (`history`: rows of `width` values): 0 where the
+/// error is 0, infinite where the response's peak is 0 (or not a number) and the error is
+/// not, NaN for a NaN error.
+pub fn relative_rows(errors: &[f64], quantity: &Quantity, history: &[f64], width: usize) -> f64 {
+    let mut worst = f64::NEG_INFINITY;
+    for r in quantity.rows.clone() {
+        let e = errors[r];
+        worst = if worst.is_nan() || e.is_nan() {
+            f64::NAN
+        } else {
+            worst.max(e)
+        };
+    }
+    if quantity.rows.is_empty() || worst == 0.0 {
+        return 0.0;
+    }
+    let peak = peak_of(&quantity.columns, history, width);
+    if peak > 0.0 {
+        worst / peak
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// One quantity of a run whose error is estimated relative to its peak: its components'
 /// error bounds are `weights` (row `i` of a row-major `(_, n)` matrix: the magnitudes of the
 /// mode shapes there) times the modes' bounds; its response is read from `columns` of a
@@ -140,41 +200,18 @@ pub struct Quantity {
     pub columns: Vec<(usize, Option<usize>)>,
 }
 
-/// The largest bound of `quantity`'s components over the peak magnitude of its response
-/// (`history`: `len / width` rows of `width` values): 0 where the bound is 0, infinite where
-/// the response's peak is 0 (or not a number) and the bound is not, NaN for a NaN bound.
-pub fn relative(
-    bounds: &[f64],
-    weights: &[f64],
-    quantity: &Quantity,
-    history: &[f64],
-    width: usize,
-) -> f64 {
+/// Per row of the `(g, n)` row-major `shapes` (the mode shapes at a quantity's component,
+/// their signs ignored), the modes' `bounds` combined in magnitude, `sum_m |shapes[r, m]|
+/// bounds[m]` (NaN where a bound is NaN): the bound of that component's error.
+pub fn bound_rows(bounds: &[f64], shapes: &[f64]) -> Vec<f64> {
     let n = bounds.len();
-    let most = |a: f64, b: f64| {
-        if a.is_nan() || b.is_nan() {
-            f64::NAN
-        } else {
-            a.max(b)
-        }
-    };
-    let mut worst = f64::NEG_INFINITY;
-    for r in quantity.rows.clone() {
-        let row = &weights[r * n..(r + 1) * n];
-        worst = most(
-            worst,
-            row.iter().zip(bounds).map(|(w, b)| w * b).sum::<f64>(),
-        );
+    if n == 0 {
+        return vec![0.0; 0];
     }
-    if quantity.rows.is_empty() || worst == 0.0 {
-        return 0.0;
-    }
-    let peak = peak_of(&quantity.columns, history, width);
-    if peak > 0.0 {
-        worst / peak
-    } else {
-        f64::INFINITY // also for a NaN peak (then the caller's check of the bounds decides)
-    }
+    shapes
+        .chunks_exact(n)
+        .map(|row| row.iter().zip(bounds).map(|(w, b)| w.abs() * b).sum())
+        .collect()
 }
 
 /// Per row `m` of `x` (`decay.len()` rows of `len` values, row-major), the largest `acc_i`

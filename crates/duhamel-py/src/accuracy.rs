@@ -196,6 +196,86 @@ fn bounds_of(
     Ok(py.detach(|| accuracy::mode_bounds(&run)))
 }
 
+/// [`accuracy::row_errors`] of checked views, with the GIL released: `modes` is `(omega,
+/// c)`, `signed` the `(g, n)` row-major shapes and `g`, `step` `(h, k, span)`.
+fn errors_of(
+    py: Python<'_>,
+    pseudo: &PyReadonlyArray2<'_, f64>,
+    q: &PyReadonlyArray2<'_, f64>,
+    modes: (&[f64], &[f64]),
+    moments: &[f64],
+    signed: (&[f64], usize),
+    step: (f64, usize, f64),
+) -> PyResult<Vec<f64>> {
+    let (omega, c) = modes;
+    let n = omega.len();
+    if pseudo.shape()[1] != n {
+        return Err(shape_error(
+            "pseudo",
+            format!("(rows, {n})"),
+            pseudo.shape(),
+        ));
+    }
+    if q.shape() != pseudo.shape() {
+        return Err(shape_error("q", format!("{:?}", pseudo.shape()), q.shape()));
+    }
+    let (shapes, g) = signed;
+    if shapes.len() != g * n {
+        return Err(shape_error(
+            "signed",
+            format!("({g}, {n})"),
+            &[shapes.len()],
+        ));
+    }
+    let (h, k, span) = step;
+    let run = ModalRun {
+        pseudo: pseudo.as_slice()?,
+        q: q.as_slice()?,
+        rows: pseudo.shape()[0],
+        omega,
+        c,
+        moments,
+        h,
+        k,
+        span,
+    };
+    Ok(py.detach(|| accuracy::row_errors(&run, shapes, g)))
+}
+
+/// The run's error at each row of `signed` (`(g, n)`: mode shapes with their signs at the
+/// quantities' components) from its modal history `pseudo` and `q` (`(rows, n)`), the modes
+/// `omega`, `c` and `step = (h, k, span)` (`duhamel_core::accuracy::row_errors`).
+#[pyfunction]
+pub(crate) fn row_errors<'py>(
+    py: Python<'py>,
+    pseudo: &Bound<'py, PyAny>,
+    q: &Bound<'py, PyAny>,
+    omega: &Bound<'py, PyAny>,
+    c: &Bound<'py, PyAny>,
+    signed: &Bound<'py, PyAny>,
+    step: (f64, usize, f64),
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    guarded(|| {
+        check_step(step.0, step.1)?;
+        let omega = f64_array1(omega, "omega")?;
+        let c = f64_array1(c, "c")?;
+        let (omega, c) = (omega.as_slice()?, c.as_slice()?);
+        if c.len() != omega.len() {
+            return Err(shape_error("c", format!("({},)", omega.len()), &[c.len()]));
+        }
+        let (pseudo, q, signed) = (
+            matrix(pseudo, "pseudo")?,
+            matrix(q, "q")?,
+            matrix(signed, "signed")?,
+        );
+        let g = signed.shape()[0];
+        let moments = accuracy::parabola_moments(omega, c, step.0);
+        let shapes = (signed.as_slice()?, g);
+        let out = errors_of(py, &pseudo, &q, (omega, c), &moments, shapes, step)?;
+        Ok(PyArray1::from_vec(py, out))
+    })
+}
+
 /// One element as the estimate sees it: its dofs and whether it is a two-node element
 /// (`j` given).
 type ElementDofs = (Vec<usize>, bool);
@@ -209,8 +289,9 @@ type ElementDofs = (Vec<usize>, bool);
 pub(crate) struct Estimator {
     omega: Vec<f64>,
     c: Vec<f64>,
-    /// `(g, n)` row-major: the saved dofs' rows, then the elements'.
-    weights: Vec<f64>,
+    /// `(g, n)` row-major: the mode shapes (with their signs) at the saved dofs, then along
+    /// the elements' deformations.
+    signed: Vec<f64>,
     dofs: Option<Quantity>,
     /// Per element, its weight rows and whether it is a two-node element.
     elements: Option<Vec<(std::ops::Range<usize>, bool)>>,
@@ -252,7 +333,7 @@ impl Estimator {
                     )));
                 }
                 for &d in &dofs {
-                    weights.extend(row(d).iter().map(|v| v.abs()));
+                    weights.extend_from_slice(row(d));
                 }
                 Some(Quantity {
                     rows: 0..dofs.len(),
@@ -269,12 +350,12 @@ impl Estimator {
                 for (element_dofs, two_node) in list {
                     if element_dofs.len() == 2 && two_node {
                         let (i, j) = (row(element_dofs[0]), row(element_dofs[1]));
-                        weights.extend(i.iter().zip(j).map(|(a, b)| (a - b).abs()));
+                        weights.extend(i.iter().zip(j).map(|(a, b)| a - b));
                         out.push((at..at + 1, true));
                         at += 1;
                     } else {
                         for &d in &element_dofs {
-                            weights.extend(row(d).iter().map(|v| v.abs()));
+                            weights.extend_from_slice(row(d));
                         }
                         out.push((at..at + element_dofs.len(), two_node));
                         at += element_dofs.len();
@@ -287,18 +368,19 @@ impl Estimator {
         Ok(Self {
             omega,
             c,
-            weights,
+            signed: weights,
             dofs,
             elements,
             moments: Mutex::new(Vec::new()),
         })
     }
 
-    /// `(dofs, elements)`: the estimate at the saved dofs (None where not estimated) and per
-    /// element (empty where not estimated) of a whole successful run `result` of internal
-    /// steps `h`, `k` of them between saved instants; `x` its saved dofs' response;
-    /// `elements`: its element histories are kept. None when an estimate is not a number
-    /// (a history that is not finite).
+    /// `(dofs, elements, dofs_bound, elements_bound)`: the estimate at the saved dofs (None
+    /// where not estimated) and per element (empty where not estimated) of a whole
+    /// successful run `result` of internal steps `h`, `k` of them between saved instants, and
+    /// the same as bounds (the local errors added in magnitude); `x` its saved dofs'
+    /// response; `elements`: its element histories are kept. None when an estimate is not a
+    /// number (a history that is not finite).
     #[pyo3(signature = (result, h, k, x, elements))]
     fn estimate(
         &self,
@@ -308,7 +390,7 @@ impl Estimator {
         k: usize,
         x: &Bound<'_, PyAny>,
         elements: bool,
-    ) -> PyResult<Option<(Option<f64>, Vec<f64>)>> {
+    ) -> PyResult<Option<Estimates>> {
         guarded(|| {
             check_step(h, k)?;
             let run = result.get().estimated();
@@ -318,14 +400,26 @@ impl Estimator {
                 (Some(a), Some(b)) => b - a,
                 _ => 0.0,
             };
-            let bounds = match (run.pseudo, run.q) {
+            let n = self.omega.len();
+            let g = self.signed.len() / n.max(1);
+            let (errors, bounds) = match (run.pseudo, run.q) {
                 (Some(pseudo), Some(q)) => {
                     let moments = self.moments_of(h);
                     let (pseudo, q) = (view(py, pseudo)?, view(py, q)?);
                     let step = (h, k, span);
-                    bounds_of(py, &pseudo, &q, &self.omega, &self.c, &moments, step)?
+                    let modes = (self.omega.as_slice(), self.c.as_slice());
+                    let signed = (self.signed.as_slice(), g);
+                    let errors = errors_of(py, &pseudo, &q, modes, &moments, signed, step)?;
+                    let bounds = bounds_of(py, &pseudo, &q, modes.0, modes.1, &moments, step)?;
+                    (errors, accuracy::bound_rows(&bounds, &self.signed))
                 }
-                _ => vec![0.0; self.omega.len()],
+                _ => (vec![0.0; g], vec![0.0; g]),
+            };
+            let both = |quantity: &Quantity, values: &[f64], width: usize| {
+                (
+                    accuracy::relative_rows(&errors, quantity, values, width),
+                    accuracy::relative_rows(&bounds, quantity, values, width),
+                )
             };
             let x = matrix(x, "x")?;
             let dofs = match &self.dofs {
@@ -338,14 +432,7 @@ impl Estimator {
                             x.shape(),
                         ));
                     }
-                    let values = x.as_slice()?;
-                    Some(accuracy::relative(
-                        &bounds,
-                        &self.weights,
-                        quantity,
-                        values,
-                        width,
-                    ))
+                    Some(both(quantity, x.as_slice()?, width))
                 }
                 None => None,
             };
@@ -380,23 +467,28 @@ impl Estimator {
                         rows: rows.clone(),
                         columns,
                     };
-                    per_element.push(accuracy::relative(
-                        &bounds,
-                        &self.weights,
-                        &quantity,
-                        values,
-                        width,
-                    ));
+                    per_element.push(both(&quantity, values, width));
                     column += w;
                 }
             }
-            if dofs.is_some_and(f64::is_nan) || per_element.iter().any(|e| e.is_nan()) {
+            let nan = |e: &(f64, f64)| e.0.is_nan() || e.1.is_nan();
+            if dofs.as_ref().is_some_and(nan) || per_element.iter().any(nan) {
                 return Ok(None);
             }
-            Ok(Some((dofs, per_element)))
+            let (elements, element_bounds) = per_element.into_iter().unzip();
+            Ok(Some((
+                dofs.map(|d| d.0),
+                elements,
+                dofs.map(|d| d.1),
+                element_bounds,
+            )))
         })
     }
 }
+
+/// What [`Estimator::estimate`] returns: the estimates at the saved dofs and per element,
+/// then the bounds.
+type Estimates = (Option<f64>, Vec<f64>, Option<f64>, Vec<f64>);
 
 impl Estimator {
     /// The parabola moments over the internal step `h`, made once per step.

@@ -160,6 +160,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(transfer, m)?)?;
     m.add_function(wrap_pyfunction!(accuracy::mode_bounds, m)?)?;
+    m.add_function(wrap_pyfunction!(accuracy::row_errors, m)?)?;
     m.add_function(wrap_pyfunction!(accuracy::decaying_max, m)?)?;
     m.add_function(wrap_pyfunction!(accuracy::hold_response, m)?)?;
     m.add_function(wrap_pyfunction!(accuracy::parabola_moments, m)?)?;

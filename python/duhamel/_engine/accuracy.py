@@ -152,6 +152,10 @@ def estimator(prep: Any, dofs: NDArray[np.int64]) -> Any:
     return got[3]
 
 
+#: What :func:`run_estimate` returns: the estimates at the saved dofs and per element, then
+#: the bounds.
+Estimates = tuple[float | None, tuple[float, ...], float | None, tuple[float, ...]]
+
 #: The last estimators made, by the identity of their basis arrays (held with them), the
 #: saved dofs and the elements' dofs (:func:`estimator`).
 _ESTIMATORS: dict[tuple[Any, ...], tuple[Any, Any, Any, Any]] = {}
@@ -165,8 +169,9 @@ def run_estimate(
     k: int,
     x: NDArray[np.float64],
     elements: bool,
-) -> tuple[float | None, tuple[float, ...]] | None:
-    """``(error_estimate, element_error_estimate)`` of a whole successful core run `result`
+) -> Estimates | None:
+    """``(error_estimate, element_error_estimate, error_bound, element_error_bound)`` of a
+    whole successful core run `result`
     of the prepared modal model `prep` (internal steps `h`, `k` of them between saved
     instants; `x` the response of the saved `dofs`; `elements`: the element histories are
     kept), or None where the run is not estimated (see :func:`applies`; a history that is
@@ -177,7 +182,7 @@ def run_estimate(
     if not estimated or result.eta is not None:
         return None
     if result.pseudo is None and not prep.forces:
-        return 0.0, ()  # no pseudo-force and no element: nothing left out (exact)
+        return 0.0, (), 0.0, ()  # no pseudo-force and no element: nothing left out (exact)
     last = prep._estimator  # the last estimator of this model, by its saved dofs' array
     if last is not None and last[0] is dofs:
         core = last[1]
@@ -188,7 +193,7 @@ def run_estimate(
     if not isinstance(result, _core.RunResult):  # a run joined from segments (stopped)
         return _joined_estimate(prep, dofs, result, h, k, x, keeps)
     got = core.estimate(result, h, k, np.ascontiguousarray(x), keeps)
-    return None if got is None else (got[0], tuple(got[1]))
+    return None if got is None else (got[0], tuple(got[1]), got[2], tuple(got[3]))
 
 
 def _joined_estimate(
@@ -199,37 +204,56 @@ def _joined_estimate(
     k: int,
     x: NDArray[np.float64],
     keeps: bool,
-) -> tuple[float | None, tuple[float, ...]] | None:
+) -> Estimates | None:
     """:func:`run_estimate` of a history joined from segments (a run stopped by a terminal
-    event): the same bounds (``_core.mode_bounds``) and ratios, from its arrays."""
+    event): the same estimates (``_core.row_errors``), bounds (``_core.mode_bounds``) and
+    ratios, from its arrays."""
     basis = prep.route.basis
     t = result.t
     span = float(t[-1] - t[0]) if t.size else 0.0
-    if result.pseudo is None:
-        bounds = np.zeros(prep.n_modes)
-    else:
-        bounds = mode_bounds(result.pseudo, result.q, basis.omega, basis.c, h, k, span)
     phi = np.asarray(basis.phi)
-    dofs_est = _relative(np.abs(phi[dofs]) @ bounds, x)
-    per_element: list[float] = []
+    shapes = [phi[dofs]]  # the saved dofs' rows, then each element's
+    responses = [x]
     widths = None if result.element_force is None else list(result.element_widths)
     if keeps and widths is not None and len(widths) == len(prep.forces):
         ex, at = np.asarray(result.element_x), 0
         for element, width in zip(prep.forces, widths, strict=True):
             dofs_e = list(getattr(element, "_dofs", ()))
             if not dofs_e or max(dofs_e) >= phi.shape[0]:
-                per_element = []  # an element the basis's rows do not reach: none
+                del shapes[1:], responses[1:]  # an element the basis's rows do not reach
                 break
             rows, local = phi[dofs_e], ex[:, at : at + width]
             two_node = getattr(element, "j", None) is not None
             if len(dofs_e) == 2 and two_node:
                 rows = rows[:1] - rows[1:]
-            deformation = local[:, 0] - local[:, 1] if width == 2 and two_node else local
-            per_element.append(_relative(np.abs(rows) @ bounds, deformation))
+            shapes.append(rows)
+            responses.append(local[:, 0] - local[:, 1] if width == 2 and two_node else local)
             at += width
-    if np.isnan(dofs_est) or any(np.isnan(e) for e in per_element):
+    signed = np.ascontiguousarray(np.concatenate(shapes, axis=0), dtype=np.float64)
+    if result.pseudo is None:
+        errors = bounds = np.zeros(signed.shape[0])
+    else:
+        pseudo = np.ascontiguousarray(result.pseudo, dtype=np.float64)
+        q = np.ascontiguousarray(result.q, dtype=np.float64)
+        omega = np.ascontiguousarray(basis.omega, dtype=np.float64)
+        c = np.ascontiguousarray(basis.c, dtype=np.float64)
+        errors = _core.row_errors(pseudo, q, omega, c, signed, (float(h), int(k), span))
+        bounds = np.abs(signed) @ mode_bounds(pseudo, q, omega, c, h, k, span)
+    ratios = []
+    at = 0
+    for rows, response in zip(shapes, responses, strict=True):
+        part = slice(at, at + rows.shape[0])
+        ratios.append((_relative(errors[part], response), _relative(bounds[part], response)))
+        at += rows.shape[0]
+    if any(np.isnan(r).any() for r in ratios):
         return None  # not estimated rather than NaN (a non-finite history)
-    return dofs_est, tuple(per_element)
+    elements = ratios[1:]
+    return (
+        ratios[0][0],
+        tuple(e[0] for e in elements),
+        ratios[0][1],
+        tuple(e[1] for e in elements),
+    )
 
 
 def _relative(bound: NDArray[np.float64], response: NDArray[np.float64]) -> float:
@@ -240,23 +264,32 @@ def _relative(bound: NDArray[np.float64], response: NDArray[np.float64]) -> floa
     return worst / peak if peak > 0.0 else float("inf")
 
 
-def warn_above(integrator: Any, dofs: float | None, elements: tuple[float, ...]) -> None:
-    """Warns (:class:`duhamel.AccuracyWarning`, at the user's line) when the largest
-    estimate is above the integrator's ``error_warning``."""
+def warn_above(integrator: Any, estimated: Estimates) -> None:
+    """Warns (:class:`duhamel.AccuracyWarning`, at the user's line) when the largest error
+    bound of `estimated` (:func:`run_estimate`'s) is above the integrator's
+    ``error_warning``: the bound, never below the error in the family of docs/accuracy.md,
+    so that no run above the threshold is silent."""
     limit = integrator.error_warning
     if limit is None:
         return
-    worst = max(elements) if elements else None
-    if dofs is not None and (worst is None or dofs > worst):
-        worst = dofs
-    if worst is not None and worst > limit:
+    estimate, bound = _worst(estimated[0], estimated[1]), _worst(estimated[2], estimated[3])
+    if bound is not None and bound > limit:
         warnings.warn(
-            f"the run's estimated error is {worst:.2g} of the peak response (above "
-            f"`error_warning`={limit:g}): reduce `dt` (the error falls like dt^2, like dt "
-            "where element forces jump), see docs/accuracy.md",
+            f"the run's error bound is {bound:.2g} of the peak response (above "
+            f"`error_warning`={limit:g}; its estimated error {estimate:.2g}): reduce `dt` "
+            "(the error falls like dt^2, like dt where element forces jump), see "
+            "docs/accuracy.md",
             AccuracyWarning,
             stacklevel=_caller_level(),
         )
+
+
+def _worst(dofs: float | None, elements: tuple[float, ...]) -> float | None:
+    """The largest of an estimate at the saved dofs and at the elements (None: neither)."""
+    worst = max(elements) if elements else None
+    if dofs is not None and (worst is None or dofs > worst):
+        worst = dofs
+    return worst
 
 
 def _caller_level() -> int:
@@ -290,11 +323,11 @@ def _inside_package(filename: str) -> bool:
 
 
 def tolerance_ratio(solution: Any, rtol: float, atol: float) -> float | None:
-    """The largest ratio of the estimated error to what ``rtol`` and ``atol`` allow, at the
+    """The largest ratio of the error bound to what ``rtol`` and ``atol`` allow, at the
     saved dofs (``atol + rtol * peak``) and at every element's deformation; None where the
     run has no estimate."""
     st = solution.stats
-    if st.error_estimate is None:
+    if st.error_bound is None:
         return None
 
     def ratio(estimate: float, response: NDArray[np.float64]) -> float:
@@ -304,8 +337,8 @@ def tolerance_ratio(solution: Any, rtol: float, atol: float) -> float | None:
         allowed = rtol + (atol / peak if peak > 0.0 else np.inf)
         return estimate / allowed
 
-    worst = ratio(st.error_estimate, solution.x)
-    for estimate, history in zip(st.element_error_estimate, solution.elements, strict=False):
+    worst = ratio(st.error_bound, solution.x)
+    for estimate, history in zip(st.element_error_bound, solution.elements, strict=False):
         worst = max(worst, ratio(estimate, np.asarray(history.deformation)))
     return worst
 

@@ -360,6 +360,8 @@ def solution(
             substeps=sub,
             error_estimate=None if estimated is None else estimated[0],
             element_error_estimate=() if estimated is None else estimated[1],
+            error_bound=None if estimated is None else estimated[2],
+            element_error_bound=() if estimated is None else estimated[3],
         ),
         meta={
             "dt": opts.dt,
@@ -387,7 +389,7 @@ def solution(
     if estimate and error is None and kept == result.t.size:
         warn = getattr(prep.integrator, "rtol", None) is None  # else the tolerance decides
         if warn and estimated is not None:
-            warn_above(prep.integrator, *estimated)
+            warn_above(prep.integrator, estimated)
         attach_truncation(solution, prep, opts, warn)
     if error is None and kept < result.t.size:
         raise overflow_error(result.t, kept, opts.dt, opts.t0, solution)

@@ -255,11 +255,15 @@ def _peaks(study: Any) -> Section:
             + [(float(ds[k].values[m, r, o]), "kJ") for k in
                ("energy_input", "energy_damping", "energy_hysteretic")]
             + [(float(ds["energy_error"].values[m, r, o]), "%")]
+            + [(float(ds[k].values[m, r, o]), "%") for k in ("error_estimate", "error_bound")]
         )  # fmt: skip
     tables.append(
         Table("table-energy", "Energy at the end of each record (nominal properties, the "
-              "orientation with more input): input, dissipated, balance error of the run",
-              ["record", "input [kJ]", "damping [kJ]", "hysteretic [kJ]", "error [% of input]"],
+              "orientation with more input): input, dissipated, balance error of the run; "
+              "the time step's estimated error and its bound (docs/accuracy.md), the worst "
+              "of the saved dofs and the elements, relative to their peaks",
+              ["record", "input [kJ]", "damping [kJ]", "hysteretic [kJ]", "error [% of input]",
+               "step error estimate [% of peak]", "step error bound [% of peak]"],
               rows)
     )  # fmt: skip
     return Section("peaks", "Peak responses per record", [], tables)

@@ -24,6 +24,8 @@ PEAKS = {
     "energy_damping": "J",
     "energy_hysteretic": "J",
     "energy_error": "",
+    "error_estimate": "",
+    "error_bound": "",
 }
 #: The energy histories kept per run, in this order.
 ENERGY_TERMS = ("input", "kinetic + strain", "damping", "hysteretic")
@@ -98,6 +100,15 @@ class RunPeaks:
         out["energy_damping"] = float(e.damping[-1])
         out["energy_hysteretic"] = float(e.hysteretic[-1])
         out["energy_error"] = float(e.relative_error)
+        # the time step's estimated error and its bound, the worst of the saved dofs and the
+        # elements (relative to their peaks; NaN where the integrator does not estimate it)
+        st = sol.stats
+        for key, dofs, elements in (
+            ("error_estimate", st.error_estimate, st.element_error_estimate),
+            ("error_bound", st.error_bound, st.element_error_bound),
+        ):
+            values = [v for v in (dofs, *elements) if v is not None]
+            out[key] = float(max(values)) if values else float("nan")
         step = max(1, -(-n // self.keep))
         out["t"] = sol.t[::step].copy()
         out["isolator_deformation"] = u[::step].copy()

@@ -135,8 +135,9 @@ class Semianalytic(Integrator):
     error_warning : float or None
         Every run of the default step (scheme "b", "trapezoid") estimates its error
         (``sol.stats.error_estimate`` at the saved dofs, ``element_error_estimate`` at the
-        elements, each relative to its peak; docs/accuracy.md) and warns with a
-        :class:`duhamel.AccuracyWarning` when it exceeds `error_warning`. Default 0.01 (1 %
+        elements, each relative to its peak; docs/accuracy.md) and bounds it
+        (``error_bound``, ``element_error_bound``), and warns with a
+        :class:`duhamel.AccuracyWarning` when the bound exceeds `error_warning`. Default 0.01 (1 %
         of the peak); None: no warning (the estimate is still made). A reduced run also
         estimates its basis's truncation (``sol.stats.truncation_estimate``,
         ``element_truncation_estimate``) and warns above the same threshold.

@@ -60,13 +60,22 @@ class SolveStats:
         ``subdivided_steps`` and ``newton_iterations`` then count internal steps.
     error_estimate : float or None
         Semi-analytic integrator: the estimated error of the saved displacements, as a
-        fraction of their peak (the pseudo-force quadrature's local errors accumulated over
-        the run, docs/accuracy.md); 0 for a linear uncoupled run (exact); None where it is
-        not estimated (another scheme or quadrature, the coupled route, a direct
-        integrator). Above ``Semianalytic(error_warning=...)`` the run warns
-        (:class:`duhamel.AccuracyWarning`).
+        fraction of their peak (the pseudo-force quadrature's local errors carried over the
+        run by each mode's linearised dynamics, docs/accuracy.md: within a factor 3 of the
+        true error in most runs, not a bound); 0 for a linear uncoupled run (exact); None
+        where it is not estimated (another scheme or quadrature, the coupled route, a
+        direct integrator).
     element_error_estimate : tuple of float
         The same per element (its deformation, relative to its peak deformation).
+    error_bound : float or None
+        Semi-analytic integrator: a bound of the same error (the local errors added in
+        magnitude rather than carried with their signs; in the family of docs/accuracy.md
+        never below the true error, up to several hundred times above it on friction). The
+        warning above ``Semianalytic(error_warning=...)`` (:class:`duhamel.AccuracyWarning`)
+        and the steps of ``Semianalytic(rtol=...)`` go by it; None where
+        ``error_estimate`` is None.
+    element_error_bound : tuple of float
+        The same per element.
     truncation_estimate : float or None
         Semi-analytic integrator with a reduced basis (``modes=n``): the estimated error of
         the saved displacements that the modes left out cause (relative to their peak;
@@ -92,6 +101,8 @@ class SolveStats:
     substeps: int = 1
     error_estimate: float | None = None
     element_error_estimate: tuple[float, ...] = ()
+    error_bound: float | None = None
+    element_error_bound: tuple[float, ...] = ()
     truncation_estimate: float | None = None
     element_truncation_estimate: tuple[float, ...] = ()
 
@@ -126,6 +137,8 @@ def summary(sol: Any) -> str:
     else:
         where = "at the saved dofs"
         lines.append(f"estimated error: {_fraction(st.error_estimate)} {where}")
+        if st.error_bound is not None:
+            lines.append(f"error bound: {_fraction(st.error_bound)} {where}")
     worst = max(st.element_error_estimate, default=None)
     lines.append(
         "estimated error at the elements: "
