@@ -25,6 +25,7 @@ mod element_dofs;
 mod element_make;
 mod element_type;
 mod error;
+mod estimator;
 mod guard;
 mod history;
 mod loads;
@@ -164,7 +165,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(accuracy::decaying_max, m)?)?;
     m.add_function(wrap_pyfunction!(accuracy::hold_response, m)?)?;
     m.add_function(wrap_pyfunction!(accuracy::parabola_moments, m)?)?;
-    m.add_class::<accuracy::Estimator>()?;
+    m.add_class::<estimator::Estimator>()?;
     m.add_function(wrap_pyfunction!(transfer_kc, m)?)?;
     m.add_function(wrap_pyfunction!(direct::element_stiffness, m)?)?;
     m.add_function(wrap_pyfunction!(spectra::elastic_spectra, m)?)?;
