@@ -124,6 +124,27 @@ def test_core_propagated_errors_are_the_recurrence(rows, k):
     np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-14 * want.max())
 
 
+def test_modes_of_small_share_are_bounded_instead_of_combined():
+    """A mode whose bound makes up less than 1e-3 of every row's is left out of the
+    combination and its bound added: the estimate is the full combination's, plus at most
+    1e-3 of the row's bound (``sum_m |signed[r, m]| bound_m``)."""
+    rows, n, g = 400, 4, 3
+    t = np.linspace(0.0, 4.0, rows)
+    omega = np.array([1.0, 2.0, 3.0, 5.0])
+    c = np.full(n, 0.05)
+    q = np.sin(np.outer(t, omega)) * np.array([1.0, 1.0, 1.0, 1e-2])  # mode 3: small
+    pseudo = -(q**3)
+    rng = np.random.default_rng(3)
+    signed = rng.normal(size=(g, n))
+    step = (0.01, 1, float(t[-1]))
+    got = _core.row_errors(pseudo, q, omega, c, signed, step)
+    want = _reference_errors(pseudo, q, omega, c, *step, signed)
+    bound = np.abs(signed) @ _core.mode_bounds(pseudo, q, omega, c, step)
+    assert np.all(got >= want * (1 - 1e-12))
+    assert np.all(got <= want + 1e-3 * bound)
+    assert np.any(got > want * (1 + 1e-12))  # the tiny mode was left out and bounded
+
+
 @pytest.mark.parametrize("h", [1e-4, 0.01, 0.3, 2.0, 40.0])
 def test_core_moments_are_the_augmented_exponentials(h):
     omega = np.array([0.0, 0.5, 3.0, 10.0, 60.0, np.inf, 7.0])

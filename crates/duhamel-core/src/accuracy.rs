@@ -64,25 +64,28 @@ pub fn parabola_moments(omega: &[f64], c: &[f64], h: f64) -> Vec<f64> {
 /// `pseudo.len() = q.len() = rows * n`, `moments.len() = 2 n`): the caller checks them.
 pub fn mode_bounds(run: &ModalRun<'_>) -> Vec<f64> {
     let n = run.omega.len();
-    let rows = run.rows;
-    if rows < 3 || n == 0 {
+    if run.rows < 3 || n == 0 {
         return vec![0.0; n];
     }
-    let (p, q) = (run.pseudo, run.q);
+    let first = first_sums(run.pseudo, run.q, n, run.rows);
+    let jumps = jumps::jump_bounds(&first.jumps, run.pseudo, run.q, run.rows, run);
+    bounds_from(run, &first, &jumps)
+}
+
+/// [`mode_bounds`] from the history's first pass and the jumps' errors per mode.
+fn bounds_from(run: &ModalRun<'_>, first: &passes::FirstSums, jumps: &[f64]) -> Vec<f64> {
+    let n = run.omega.len();
+    let rows = run.rows;
+    let p = run.pseudo;
     // |Q''| h^2 per internal step from the second differences (saved spacing k h), summed
     // per mode; the frequency at which a velocity error becomes a displacement error: the
     // background stiffened by the part of the pseudo-force in phase with the mode (a secant
     // over the run, never below omega); at least the drift over half the run for slow,
     // rigid modes. One pass over the history, row by row (no copy of it).
     let len = rows - 2;
-    let passes::FirstSums {
-        sums,
-        qq,
-        pq,
-        jumps: candidates,
-    } = first_sums(p, q, n, rows);
+    let passes::FirstSums { sums, qq, pq, .. } = first;
     let k = run.k as f64;
-    let w = secant(run, &qq, &pq);
+    let w = secant(run, qq, pq);
     let mut scale = vec![0.0; n];
     let mut decay = vec![0.0; n];
     let mut out = vec![0.0; n];
@@ -115,7 +118,6 @@ pub fn mode_bounds(run: &ModalRun<'_>) -> Vec<f64> {
         out[m] = scale[m] * t;
     }
     // the first-order errors of force jumps inside steps, which the parabola does not see
-    let jumps = jumps::jump_bounds(&candidates, p, q, rows, run);
     for (o, j) in out.iter_mut().zip(jumps) {
         *o += j;
     }
@@ -141,25 +143,25 @@ fn secant(run: &ModalRun<'_>, qq: &[f64], pq: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// The run's error at each of `g` quantities' components, the default estimate: per row of
-/// the `(g, n)` row-major `signed` (the mode shapes with their signs at a saved dof, or along
-/// an element's deformation), the largest magnitude over the run of the modes' propagated
-/// errors combined with those shapes, plus the force jumps' errors (see [`signed`]). Zeros
-/// for fewer than three saved instants. Lengths as for [`mode_bounds`], `signed.len() = g n`.
-pub fn row_errors(run: &ModalRun<'_>, signed: &[f64], g: usize) -> Vec<f64> {
+/// The run's error at each of the components of its quantities, the default estimate, and
+/// its bound: per row of the `(g, n)` row-major `signed` (the mode shapes with their signs
+/// at a saved dof, or along an element's deformation), the largest magnitude over the run of
+/// the modes' propagated errors combined with those shapes, plus the force jumps' errors
+/// (see [`signed`]); and the modes' [`mode_bounds`] combined in magnitude
+/// ([`bound_rows`]). One first pass over the history for both. Zeros for fewer than three
+/// saved instants. Lengths as for [`mode_bounds`], `signed.len()` a multiple of `n`.
+pub fn row_errors(run: &ModalRun<'_>, signed: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let n = run.omega.len();
     if run.rows < 3 || n == 0 {
-        return vec![0.0; g];
+        let g = if n == 0 { 0 } else { signed.len() / n };
+        return (vec![0.0; g], vec![0.0; g]);
     }
-    let passes::FirstSums {
-        qq,
-        pq,
-        jumps: candidates,
-        ..
-    } = first_sums(run.pseudo, run.q, n, run.rows);
-    let w = secant(run, &qq, &pq);
-    let jumps = jumps::jump_bounds(&candidates, run.pseudo, run.q, run.rows, run);
-    signed::row_errors(run, &w, &jumps, signed, g)
+    let first = first_sums(run.pseudo, run.q, n, run.rows);
+    let jumps = jumps::jump_bounds(&first.jumps, run.pseudo, run.q, run.rows, run);
+    let w = secant(run, &first.qq, &first.pq);
+    let bounds = bounds_from(run, &first, &jumps);
+    let errors = signed::row_errors(run, &w, &jumps, &bounds, signed);
+    (errors, bound_rows(&bounds, signed))
 }
 
 /// The largest of `errors` (per component row, [`row_errors`]) over `quantity`'s rows, over

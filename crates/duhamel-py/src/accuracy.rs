@@ -160,7 +160,7 @@ pub(crate) fn check_step(h: f64, k: usize) -> PyResult<()> {
 /// [`accuracy::mode_bounds`] of checked views, with the GIL released (a pass over the
 /// whole history: other Python threads, as `solve_many`'s, run meanwhile); `step` is
 /// `(h, k, span)`.
-pub(crate) fn bounds_of(
+fn bounds_of(
     py: Python<'_>,
     pseudo: &PyReadonlyArray2<'_, f64>,
     q: &PyReadonlyArray2<'_, f64>,
@@ -196,7 +196,8 @@ pub(crate) fn bounds_of(
 }
 
 /// [`accuracy::row_errors`] of checked views, with the GIL released: `modes` is `(omega,
-/// c)`, `signed` the `(g, n)` row-major shapes and `g`, `step` `(h, k, span)`.
+/// c)`, `signed` the `(g, n)` row-major shapes and `g`, `step` `(h, k, span)`; the rows'
+/// estimates and bounds.
 pub(crate) fn errors_of(
     py: Python<'_>,
     pseudo: &PyReadonlyArray2<'_, f64>,
@@ -205,7 +206,7 @@ pub(crate) fn errors_of(
     moments: &[f64],
     signed: (&[f64], usize),
     step: (f64, usize, f64),
-) -> PyResult<Vec<f64>> {
+) -> PyResult<(Vec<f64>, Vec<f64>)> {
     let (omega, c) = modes;
     let n = omega.len();
     if pseudo.shape()[1] != n {
@@ -238,7 +239,7 @@ pub(crate) fn errors_of(
         k,
         span,
     };
-    Ok(py.detach(|| accuracy::row_errors(&run, shapes, g)))
+    Ok(py.detach(|| accuracy::row_errors(&run, shapes)))
 }
 
 /// The run's error at each row of `signed` (`(g, n)`: mode shapes with their signs at the
@@ -270,7 +271,7 @@ pub(crate) fn row_errors<'py>(
         let g = signed.shape()[0];
         let moments = accuracy::parabola_moments(omega, c, step.0);
         let shapes = (signed.as_slice()?, g);
-        let out = errors_of(py, &pseudo, &q, (omega, c), &moments, shapes, step)?;
+        let (out, _) = errors_of(py, &pseudo, &q, (omega, c), &moments, shapes, step)?;
         Ok(PyArray1::from_vec(py, out))
     })
 }

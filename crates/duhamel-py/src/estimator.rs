@@ -10,7 +10,7 @@ use numpy::{PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::accuracy::{bounds_of, check_step, errors_of, matrix, shape_error, view};
+use crate::accuracy::{check_step, errors_of, matrix, shape_error, view};
 use crate::arrays::f64_array1;
 use crate::guard::guarded;
 use crate::history::RunResult;
@@ -31,6 +31,7 @@ pub(crate) struct Estimator {
     /// `(g, n)` row-major: the mode shapes (with their signs) at the saved dofs, then along
     /// the elements' deformations.
     signed: Vec<f64>,
+
     dofs: Option<Quantity>,
     /// Per element, its weight rows and whether it is a two-node element.
     elements: Option<Vec<(std::ops::Range<usize>, bool)>>,
@@ -148,9 +149,7 @@ impl Estimator {
                     let step = (h, k, span);
                     let modes = (self.omega.as_slice(), self.c.as_slice());
                     let signed = (self.signed.as_slice(), g);
-                    let errors = errors_of(py, &pseudo, &q, modes, &moments, signed, step)?;
-                    let bounds = bounds_of(py, &pseudo, &q, modes.0, modes.1, &moments, step)?;
-                    (errors, accuracy::bound_rows(&bounds, &self.signed))
+                    errors_of(py, &pseudo, &q, modes, &moments, signed, step)?
                 }
                 _ => (vec![0.0; g], vec![0.0; g]),
             };

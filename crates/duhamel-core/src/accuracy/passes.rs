@@ -13,64 +13,12 @@ fn second(a: f64, b: f64, c: f64) -> f64 {
 /// of a column-by-column pass, bit for bit), without a loop over the columns of every row.
 const BLOCK: usize = 8;
 
-/// The accumulators of [`mode_bounds`]'s first pass, per mode, and the candidate jumps it
-/// found (`(interval, mode, signed excess)`, [`super::jumps`]).
-struct Sums<'a> {
-    sums: &'a mut [f64],
-    qq: &'a mut [f64],
-    pq: &'a mut [f64],
-    jumps: &'a mut Vec<(usize, usize, f64)>,
-}
-
 /// Columns `b0..b0 + W` of row `r` of a row-major history of `n` columns.
 #[inline(always)]
 fn lanes<const W: usize>(x: &[f64], n: usize, r: usize, b0: usize) -> [f64; W] {
     let mut out = [0.0; W];
     out.copy_from_slice(&x[r * n + b0..r * n + b0 + W]);
     out
-}
-
-/// [`mode_bounds`]'s first pass over columns `b0..b0 + W`: per mode, the sum of the
-/// second differences of the pseudo-force and the sums of `q q` and `p q` over the rows.
-fn first_pass<const W: usize>(
-    p: &[f64],
-    q: &[f64],
-    n: usize,
-    rows: usize,
-    b0: usize,
-    into: &mut Sums<'_>,
-) {
-    let len = rows - 2;
-    let (mut sums, mut qq, mut pq) = ([0.0; W], [0.0; W], [0.0; W]);
-    let mut before = [0.0; W]; // the change over the interval r - 1 -> r
-    for r in 0..rows {
-        let (pr, qr) = (lanes::<W>(p, n, r, b0), lanes::<W>(q, n, r, b0));
-        for j in 0..W {
-            qq[j] += qr[j] * qr[j];
-            pq[j] += pr[j] * qr[j];
-        }
-        if r < len {
-            let (b, c) = (lanes::<W>(p, n, r + 1, b0), lanes::<W>(p, n, r + 2, b0));
-            let mut excess = [0.0; W];
-            for j in 0..W {
-                sums[j] += second(pr[j], b[j], c[j]);
-                // the interval r -> r + 1 between its neighbours: a jump's excess
-                let (here, after) = (b[j] - pr[j], c[j] - b[j]);
-                excess[j] = super::jumps::excess(before[j], here, after);
-                before[j] = here;
-            }
-            if r > 0 && excess.iter().any(|&e| e != 0.0) {
-                for (j, &e) in excess.iter().enumerate() {
-                    if e != 0.0 {
-                        into.jumps.push((r, b0 + j, e));
-                    }
-                }
-            }
-        }
-    }
-    into.sums[b0..b0 + W].copy_from_slice(&sums);
-    into.qq[b0..b0 + W].copy_from_slice(&qq);
-    into.pq[b0..b0 + W].copy_from_slice(&pq);
 }
 
 /// The sums of [`first_sums`] per mode, and its candidate jumps.
@@ -89,20 +37,37 @@ pub(super) struct FirstSums {
 pub(super) fn first_sums(p: &[f64], q: &[f64], n: usize, rows: usize) -> FirstSums {
     let (mut sums, mut qq, mut pq) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut jumps = Vec::new();
-    let mut into = Sums {
-        sums: &mut sums,
-        qq: &mut qq,
-        pq: &mut pq,
-        jumps: &mut jumps,
-    };
-    let full = n / BLOCK * BLOCK;
-    for b0 in (0..full).step_by(BLOCK) {
-        first_pass::<BLOCK>(p, q, n, rows, b0, &mut into);
+    // row by row, every column's arithmetic in row order (the compiler vectorises across
+    // the columns of a row)
+    let len = rows.saturating_sub(2);
+    let mut before = vec![0.0; n]; // the change over the interval r - 1 -> r
+    let mut excess = vec![0.0; n];
+    for r in 0..rows {
+        let (pr, qr) = (&p[r * n..(r + 1) * n], &q[r * n..(r + 1) * n]);
+        for (((a, b), &x), &f) in qq.iter_mut().zip(pq.iter_mut()).zip(qr).zip(pr) {
+            *a += x * x;
+            *b += f * x;
+        }
+        if r < len {
+            let (b, c) = (&p[(r + 1) * n..(r + 2) * n], &p[(r + 2) * n..(r + 3) * n]);
+            let mut any = false;
+            for j in 0..n {
+                sums[j] += second(pr[j], b[j], c[j]);
+                // the interval r -> r + 1 between its neighbours: a jump's excess
+                let (here, after) = (b[j] - pr[j], c[j] - b[j]);
+                excess[j] = super::jumps::excess(before[j], here, after);
+                any |= excess[j] != 0.0;
+                before[j] = here;
+            }
+            if r > 0 && any {
+                for (j, &e) in excess.iter().enumerate() {
+                    if e != 0.0 {
+                        jumps.push((r, j, e));
+                    }
+                }
+            }
+        }
     }
-    for m in full..n {
-        first_pass::<1>(p, q, n, rows, m, &mut into);
-    }
-    jumps.sort_by_key(|&(r, m, _)| (r, m));
     FirstSums {
         sums,
         qq,

@@ -67,26 +67,116 @@ fn interval(w: f64, c: f64, run: &ModalRun<'_>, m: usize) -> Interval {
     Interval { carry, local }
 }
 
+/// Per mode, the [`Interval`]s' entries as arrays (zeros for a mode without a step: its
+/// error stays 0), for a recurrence over the modes that the compiler vectorises.
+struct Coefficients {
+    carry: [Vec<f64>; 4],
+    local: [Vec<f64>; 2],
+}
+
+impl Coefficients {
+    fn new(steps: &[Option<Interval>]) -> Self {
+        let pick = |f: &dyn Fn(&Interval) -> f64| -> Vec<f64> {
+            steps.iter().map(|s| s.as_ref().map_or(0.0, f)).collect()
+        };
+        Coefficients {
+            carry: [
+                pick(&|s| s.carry[0][0]),
+                pick(&|s| s.carry[0][1]),
+                pick(&|s| s.carry[1][0]),
+                pick(&|s| s.carry[1][1]),
+            ],
+            local: [pick(&|s| s.local[0]), pick(&|s| s.local[1])],
+        }
+    }
+}
+
+/// The modes' propagated displacement errors at the saved rows `1..rows`, by blocks of up
+/// to [`ROWS`] rows: `visit(block, count)` gets each block, row-major `(count, width)`: every
+/// mode (`modes` None, `width = n`) or the `modes` given, in that order.
+fn propagate(
+    run: &ModalRun<'_>,
+    coef: &Coefficients,
+    modes: Option<&[usize]>,
+    mut visit: impl FnMut(&[f64], usize),
+) {
+    let (n, rows, p) = (run.omega.len(), run.rows, run.pseudo);
+    let width = modes.map_or(n, <[usize]>::len);
+    // the second differences at saved row r (1 ..= rows - 2), the ends taking their
+    // neighbour's
+    let second = |r: usize, out: &mut [f64]| {
+        let r = r.clamp(1, rows - 2);
+        let (a, b, c) = (
+            &p[(r - 1) * n..r * n],
+            &p[r * n..(r + 1) * n],
+            &p[(r + 1) * n..(r + 2) * n],
+        );
+        for (((o, a), b), c) in out.iter_mut().zip(a).zip(b).zip(c) {
+            *o = (c + a) - 2.0 * b;
+        }
+    };
+    let [a00, a01, a10, a11] = &coef.carry;
+    let [l0, l1] = &coef.local;
+    let (mut e0, mut e1) = (vec![0.0; n], vec![0.0; n]);
+    let (mut before, mut here) = (vec![0.0; n], vec![0.0; n]);
+    second(0, &mut before);
+    let mut block = vec![0.0; ROWS * width];
+    let mut row = 1; // row 0 is the initial state: no error
+    while row < rows {
+        let count = (rows - row).min(ROWS);
+        for (i, out) in block[..count * width].chunks_exact_mut(width).enumerate() {
+            // the error at saved row r, after the interval r - 1 -> r
+            second(row + i, &mut here);
+            for m in 0..n {
+                let d2 = 0.5 * (before[m] + here[m]);
+                let (x, v) = (e0[m], e1[m]);
+                e0[m] = a00[m] * x + a01[m] * v + l0[m] * d2;
+                e1[m] = a10[m] * x + a11[m] * v + l1[m] * d2;
+            }
+            std::mem::swap(&mut before, &mut here);
+            match modes {
+                None => out.copy_from_slice(&e0),
+                Some(modes) => {
+                    for (o, &m) in out.iter_mut().zip(modes) {
+                        *o = e0[m];
+                    }
+                }
+            }
+        }
+        visit(&block[..count * width], count);
+        row += count;
+    }
+}
+
+/// The share of every row's bound (`sum_m |signed[r, m]| bound_m`, the modes' bounds of
+/// [`super::mode_bounds`]) that the modes left out of the combination may make up: their
+/// bound is added instead (an upper bound of their part), the modes' combination made with
+/// the others only.
+const LEFT_OUT: f64 = 1e-3;
+
 /// Per row `r` of the `(g, n)` row-major matrix `signed` (the mode shapes, with their signs,
 /// at a saved dof or along an element's deformation), the largest magnitude over the run of
 /// `sum_m signed[r, m] e_m(t)`, `e_m` mode `m`'s propagated displacement error, plus
-/// `sum_m |signed[r, m]| jumps[m]` (the force jumps' errors, `jumps` per mode). `w` per mode
+/// `sum_m |signed[r, m]| jumps[m]` (the force jumps' errors, `jumps` per mode); `w` per mode
 /// is the propagation's frequency (not finite: a coordinate without inertia, no error).
-/// Zeros for fewer than three saved instants.
+///
+/// One pass over the history, one matrix product per block of rows, with the modes that
+/// make up all but [`LEFT_OUT`] of every row's bound `sum_m |signed[r, m]| bounds[m]`
+/// (`bounds` per mode, each at least its mode's `max_t |e_m(t)|`: the local errors' sum in
+/// magnitude), the others' bound added. Zeros for fewer than three saved instants.
 pub(super) fn row_errors(
     run: &ModalRun<'_>,
     w: &[f64],
     jumps: &[f64],
+    bounds: &[f64],
     signed: &[f64],
-    g: usize,
 ) -> Vec<f64> {
     let n = run.omega.len();
-    let rows = run.rows;
-    let mut out = vec![0.0; g];
-    if rows < 3 || n == 0 || g == 0 {
+    let g = if n == 0 { 0 } else { signed.len() / n };
+    let mut out = vec![0.0_f64; g];
+    if run.rows < 3 || n == 0 || g == 0 {
         return out;
     }
-    let p = run.pseudo;
     let steps: Vec<Option<Interval>> = (0..n)
         .map(|m| {
             let c = run.c[m];
@@ -94,64 +184,77 @@ pub(super) fn row_errors(
             (run.omega[m].is_finite() && w[m].is_finite()).then(|| interval(w[m], c, run, m))
         })
         .collect();
-    // the second difference at saved row r (1 ..= rows - 2), the ends taking their neighbour's
-    let second = |r: usize, m: usize| {
-        let r = r.clamp(1, rows - 2);
-        (p[(r + 1) * n + m] + p[(r - 1) * n + m]) - 2.0 * p[r * n + m]
-    };
-    let mut state = vec![[0.0_f64; 2]; n];
-    let mut block = vec![0.0; ROWS * n];
-    let mut combined = vec![0.0; ROWS * g];
-    let weights = MatRef::from_row_major_slice(signed, g, n);
-    let mut row = 1; // row 0 is the initial state: no error
-    while row < rows {
-        let count = (rows - row).min(ROWS);
-        for i in 0..count {
-            let r = row + i; // the error at saved row r, after interval r - 1 -> r
-            for (m, step) in steps.iter().enumerate() {
-                let Some(step) = step else {
-                    block[i * n + m] = 0.0;
-                    continue;
-                };
-                let d2 = 0.5 * (second(r - 1, m) + second(r, m));
-                let e = state[m];
-                let a = &step.carry;
-                let next = [
-                    a[0][0] * e[0] + a[0][1] * e[1] + step.local[0] * d2,
-                    a[1][0] * e[0] + a[1][1] * e[1] + step.local[1] * d2,
-                ];
-                state[m] = next;
-                block[i * n + m] = next[0];
-            }
+    let row = |r: usize| &signed[r * n..(r + 1) * n];
+    // the modes left out: the smallest contributions to every row's bound, LEFT_OUT of it
+    let share = |r: usize, m: usize| row(r)[m].abs() * bounds[m];
+    let stepped: Vec<usize> = (0..n).filter(|&m| steps[m].is_some()).collect();
+    let weight: Vec<f64> = (0..n)
+        .map(|m| (0..g).map(|r| share(r, m)).fold(0.0_f64, f64::max))
+        .collect();
+    let mut order = stepped.clone();
+    order.sort_by(|&a, &b| weight[a].total_cmp(&weight[b]));
+    let totals: Vec<f64> = (0..g)
+        .map(|r| stepped.iter().map(|&m| share(r, m)).sum())
+        .collect();
+    let mut dropped = vec![0.0_f64; g];
+    let mut kept = vec![true; n];
+    for &m in &order {
+        if !(0..g).all(|r| dropped[r] + share(r, m) <= LEFT_OUT * totals[r]) {
+            break;
         }
-        let lhs = MatRef::from_row_major_slice(&block[..count * n], count, n);
-        let mut dst = MatMut::from_row_major_slice_mut(&mut combined[..count * g], count, g);
-        matmul(
-            &mut dst,
-            Accum::Replace,
-            lhs,
-            weights.transpose(),
-            1.0,
-            Par::Seq,
-        );
-        for values in combined[..count * g].chunks_exact(g) {
-            for (o, v) in out.iter_mut().zip(values) {
-                if v.is_nan() {
-                    *o = f64::NAN;
-                } else if !o.is_nan() {
-                    *o = o.max(v.abs());
+        kept[m] = false;
+        for (r, d) in dropped.iter_mut().enumerate() {
+            *d += share(r, m);
+        }
+    }
+    let modes: Vec<usize> = stepped.iter().copied().filter(|&m| kept[m]).collect();
+    let k = modes.len();
+    if k > 0 {
+        // few modes left out: the block of every mode, the others' weights zero
+        let gather = 2 * k < n;
+        let width = if gather { k } else { n };
+        let columns: Vec<Option<usize>> = if gather {
+            modes.iter().map(|&m| Some(m)).collect()
+        } else {
+            (0..n).map(|m| kept[m].then_some(m)).collect()
+        };
+        let shapes: Vec<f64> = (0..g)
+            .flat_map(|r| {
+                columns
+                    .iter()
+                    .map(move |c| c.map_or(0.0, |m| signed[r * n + m]))
+            })
+            .collect();
+        let weights = MatRef::from_row_major_slice(&shapes, g, width);
+        let mut combined = vec![0.0; ROWS * g];
+        let coef = Coefficients::new(&steps);
+        let subset = gather.then_some(modes.as_slice());
+        propagate(run, &coef, subset, |block, count| {
+            let lhs = MatRef::from_row_major_slice(block, count, width);
+            let mut dst = MatMut::from_row_major_slice_mut(&mut combined[..count * g], count, g);
+            matmul(
+                &mut dst,
+                Accum::Replace,
+                lhs,
+                weights.transpose(),
+                1.0,
+                Par::Seq,
+            );
+            for values in combined[..count * g].chunks_exact(g) {
+                for (o, v) in out.iter_mut().zip(values) {
+                    // NaN kept once seen (`f64::max` would drop it)
+                    *o = if o.is_nan() || v.is_nan() {
+                        f64::NAN
+                    } else {
+                        o.max(v.abs())
+                    };
                 }
             }
-        }
-        row += count;
+        });
     }
     for (r, o) in out.iter_mut().enumerate() {
-        let shapes = &signed[r * n..(r + 1) * n];
-        *o += shapes
-            .iter()
-            .zip(jumps)
-            .map(|(s, j)| s.abs() * j)
-            .sum::<f64>();
+        let jump: f64 = row(r).iter().zip(jumps).map(|(s, j)| s.abs() * j).sum();
+        *o += dropped[r] + jump;
     }
     out
 }
