@@ -153,7 +153,7 @@ fn secant(run: &ModalRun<'_>, qq: &[f64], pq: &[f64]) -> Vec<f64> {
 pub fn row_errors(run: &ModalRun<'_>, signed: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let n = run.omega.len();
     if run.rows < 3 || n == 0 {
-        let g = if n == 0 { 0 } else { signed.len() / n };
+        let g = signed.len().checked_div(n).unwrap_or(0);
         return (vec![0.0; g], vec![0.0; g]);
     }
     let first = first_sums(run.pseudo, run.q, n, run.rows);

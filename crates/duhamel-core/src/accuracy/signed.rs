@@ -172,7 +172,7 @@ pub(super) fn row_errors(
     signed: &[f64],
 ) -> Vec<f64> {
     let n = run.omega.len();
-    let g = if n == 0 { 0 } else { signed.len() / n };
+    let g = signed.len().checked_div(n).unwrap_or(0);
     let mut out = vec![0.0_f64; g];
     if run.rows < 3 || n == 0 || g == 0 {
         return out;
