@@ -141,11 +141,11 @@ impl Bound {
 /// blocks of steps against the record's sampled peaks ([`first_pass`]; so a block
 /// it lets go has no step that could exceed the final ones). The steps of a block it keeps
 /// are gated again, all lanes and steps at once, against the peaks at the block's start
-/// ([`Lanes::block_steps`], branch-free); then per lane, in time order, each step that
-/// passes is scored against the peaks raised by the lane's searches so far and searched
-/// where its bounds may exceed them. The gate is monotone in the peaks and passed by every
-/// step whose score is `>= 0`, and the lanes are independent: the steps, order and peaks of
-/// a pass over every step with the states kept.
+/// ([`Lanes::block_steps`], branch-free); then, in time order, each step that passes in
+/// some lane is scored against the peaks raised by the searches so far and searched in the
+/// lanes whose bounds may exceed them. The gate is monotone in the peaks and passed by every
+/// step whose score is `>= 0`: the steps, order and peaks of a pass over every step with the
+/// states kept.
 fn run(
     (acc, jumps): (&[f64], &[f64]),
     h: f64,
@@ -198,18 +198,23 @@ fn run(
     for Candidate { n: start, x, v } in &cands {
         let samples = &acc[*start..acc.len().min(start + BLOCK + 1)];
         let bits = lanes.block_steps((x, v), (samples, h), &pk, (&mut xs, &mut vs));
-        for (l, ol) in o.iter().enumerate() {
-            let (Some(ol), mut steps) = (ol, bits[l]) else {
-                continue;
-            };
-            while steps != 0 {
-                let i = steps.trailing_zeros() as usize;
-                steps &= steps - 1;
-                let (p0, p1) = (-samples[i], -samples[i + 1]);
-                let r = (p1 - p0) / h;
+        // The steps some lane keeps, in time order; every lane scored at once (the lanes'
+        // loop vectorises), then searched where its score is `>= 0` (so where it keeps it).
+        let mut steps = bits.iter().fold(0, |a, b| a | b);
+        while steps != 0 {
+            let i = steps.trailing_zeros() as usize;
+            steps &= steps - 1;
+            let (p0, p1) = (-samples[i], -samples[i + 1]);
+            let r = (p1 - p0) / h;
+            let mut score = [0.0; LANES];
+            for (l, s) in score.iter_mut().enumerate() {
                 let ends = ((xs[i][l], vs[i][l]), (xs[i + 1][l], vs[i + 1][l]));
-                let mut peak = [pk[0][l], pk[1][l], pk[2][l]];
-                if lanes.score(l, h, ends, (p0, r), peak) >= 0.0 {
+                *s = lanes.score(l, h, ends, (p0, r), [pk[0][l], pk[1][l], pk[2][l]]);
+            }
+            for (l, ol) in o.iter().enumerate() {
+                if let (Some(ol), true) = (ol, score[l] >= 0.0) {
+                    let ends = ((xs[i][l], vs[i][l]), (xs[i + 1][l], vs[i + 1][l]));
+                    let mut peak = [pk[0][l], pk[1][l], pk[2][l]];
                     let f = bound[l].flags((h, h2), ends.0, ends.1, (p0, r), peak);
                     search.step(ol, h, ends, (p0, p1), f, &mut peak);
                     [pk[0][l], pk[1][l], pk[2][l]] = peak;
