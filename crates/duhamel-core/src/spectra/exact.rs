@@ -267,7 +267,7 @@ pub fn elastic_exact(
             if t > 0.0 {
                 let omega = 2.0 * std::f64::consts::PI / t;
                 steps[l] = Step::new(omega, zeta, rec.dt)?;
-                osc[l] = Some(Osc::new(omega, zeta));
+                osc[l] = Some(Osc::new(omega, zeta, rec.dt));
             }
         }
         let (peak, finite) = run((rec.acc, &jumps[r]), rec.dt, &osc, &steps);
