@@ -147,7 +147,7 @@ impl Bound {
 /// step whose score is `>= 0`: the steps, order and peaks of a pass over every step with the
 /// states kept.
 fn run(
-    (acc, jumps): (&[f64], &[f64]),
+    (acc, jumps): (&[f64], &[[f64; 3]]),
     h: f64,
     o: &[Option<Osc>; LANES],
     steps: &[Step; LANES],
@@ -253,7 +253,7 @@ pub fn elastic_exact(
     }
     let (nr, nd, np) = (records.len(), dampings.len(), periods.len());
     let chunks = np.div_ceil(LANES);
-    let jumps: Vec<Vec<f64>> = records.iter().map(|r| block_jumps(r.acc)).collect();
+    let jumps: Vec<Vec<[f64; 3]>> = records.iter().map(|r| block_jumps(r.acc)).collect();
     let tasks: Vec<(usize, usize, usize)> = (0..nr)
         .flat_map(|r| (0..nd).flat_map(move |d| (0..chunks).map(move |c| (r, d, c))))
         .collect();

@@ -201,7 +201,7 @@ pub(super) struct Candidate {
 pub(super) const BLOCK: usize = 64;
 
 /// One block's record from the pass: the lanes' states at its start, the largest `|x|`,
-/// `|x'|`, `|k x + c x'|` (its ends included) and `|x''|` at its steps' starts.
+/// `|x'|`, and the largest and smallest `k x + c x'` (its ends included).
 #[derive(Clone, Copy)]
 struct Block {
     x: [f64; LANES],
@@ -209,16 +209,21 @@ struct Block {
     m: [[f64; LANES]; 4],
 }
 
-/// Per block of [`BLOCK`] steps of `acc`, the largest `|r|` (times `h`) of its steps: the
-/// record's alone, so computed once for all its periods.
-pub(super) fn block_jumps(acc: &[f64]) -> Vec<f64> {
+/// Per block of [`BLOCK`] steps of `acc`, the largest `|r|` (times `h`) of its steps and
+/// the largest and smallest load `p = -acc` at its points: the record's alone, so computed
+/// once for all its periods.
+pub(super) fn block_jumps(acc: &[f64]) -> Vec<[f64; 3]> {
     let steps = acc.len().saturating_sub(1);
     (0..steps)
         .step_by(BLOCK)
         .map(|start| {
-            acc[start..acc.len().min(start + BLOCK + 1)]
+            let block = &acc[start..acc.len().min(start + BLOCK + 1)];
+            let jump = block
                 .windows(2)
-                .fold(0.0, |m, w| larger(m, (w[0] - w[1]).abs()))
+                .fold(0.0, |m, w| larger(m, (w[0] - w[1]).abs()));
+            let top = block.iter().fold(f64::NEG_INFINITY, |m, &a| larger(m, -a));
+            let bottom = block.iter().fold(f64::INFINITY, |m, &a| smaller(m, -a));
+            [jump, top, bottom]
         })
         .collect()
 }
@@ -233,7 +238,9 @@ thread_local! {
 /// sampled peaks; returns those (their first step and the states there) and the final states.
 ///
 /// The gate is [`Lanes::gate`] over a block: the largest ends of the block's steps and a
-/// bound of their amplitudes of `x''` (from the largest of its terms), the quantities' gaps
+/// bound of their amplitudes of `x''` (from bounds of its terms: with `s = k x + c x'`,
+/// `|x''| = |p - s|` at a step's start is at most the larger of `max p - min s` and
+/// `max s - min p` over the block, to the bit as rounding is monotone), the quantities' gaps
 /// to their peaks over the bounds' factors, with a margin for the rearrangement's rounding,
 /// so it lets go only blocks none of whose steps [`Lanes::gate`] would keep. The pass itself
 /// keeps per block only the states at its start and the maxima (a few maxima per step beside
@@ -243,7 +250,7 @@ thread_local! {
 /// tightest: the second pass gates its steps against those, raised by its searches).
 #[allow(clippy::type_complexity)]
 pub(super) fn first_pass(
-    (acc, jumps): (&[f64], &[f64]),
+    (acc, jumps): (&[f64], &[[f64; 3]]),
     h: f64,
     o: &Lanes,
     pk: &mut [[f64; LANES]; 3],
@@ -270,22 +277,22 @@ fn record_blocks(acc: &[f64], o: &Lanes, blocks: &mut Vec<Block>) -> ([f64; LANE
     blocks.resize(steps.div_ceil(BLOCK), empty);
     // The lanes' x, x', k x + c x'.
     let mut st = [[0.0f64; LANES]; 3];
-    // One step of every lane: the recurrence, then the block's largest |x|, |x'|,
-    // |k x + c x'| and |x''| at the step's start, in `m`. The other term of the squared
-    // amplitude of x'', |x''' + sigma x''| / wd = |r - sigma x'' - k x'| / wd, is bounded
-    // from the largest |r| (`block_jumps`, the same for every lane), |x''| and |x'|: no
-    // arithmetic per lane and step beyond the sampled loop's but the maxima.
+    // One step of every lane: the recurrence, then the block's largest |x|, |x'| and the
+    // largest and smallest k x + c x' (whose largest magnitude is the sampled peak), in `m`.
+    // |x''| at the steps' starts is bounded from those and the block's loads (`block_jumps`);
+    // the other term of the squared amplitude of x'', |x''' + sigma x''| / wd = |r - sigma
+    // x'' - k x'| / wd, from the largest |r| (the same for every lane), |x''| and |x'|: no
+    // arithmetic per lane and step beyond the sampled loop's (which takes |k x + c x'|).
     let step = |p0: f64, p1: f64, [x, v, s]: &mut [[f64; LANES]; 3], m: &mut [[f64; LANES]; 4]| {
         for l in 0..LANES {
             let (x0, v0) = (x[l], v[l]);
             let xn = a00[l].mul_add(x0, a01[l].mul_add(v0, b0x[l].mul_add(p0, b1x[l] * p1)));
             let vn = a10[l].mul_add(x0, a11[l].mul_add(v0, b0v[l].mul_add(p0, b1v[l] * p1)));
             let sn = k[l].mul_add(xn, c[l] * vn);
-            let a0 = p0 - s[l];
             m[0][l] = larger(m[0][l], xn.abs());
             m[1][l] = larger(m[1][l], vn.abs());
-            m[2][l] = larger(m[2][l], sn.abs());
-            m[3][l] = larger(m[3][l], a0.abs());
+            m[2][l] = larger(m[2][l], sn);
+            m[3][l] = smaller(m[3][l], sn);
             (x[l], v[l], s[l]) = (xn, vn, sn);
         }
     };
@@ -293,7 +300,7 @@ fn record_blocks(acc: &[f64], o: &Lanes, blocks: &mut Vec<Block>) -> ([f64; LANE
         let [xs, vs, ss] = st;
         let mut m = [[0.0; LANES]; 4];
         for l in 0..LANES {
-            (m[0][l], m[1][l], m[2][l]) = (xs[l].abs(), vs[l].abs(), ss[l].abs());
+            (m[0][l], m[1][l], m[2][l], m[3][l]) = (xs[l].abs(), vs[l].abs(), ss[l], ss[l]);
         }
         if start + BLOCK <= steps {
             // A whole block: a constant trip count, so the compiler unrolls it.
@@ -315,7 +322,7 @@ fn record_blocks(acc: &[f64], o: &Lanes, blocks: &mut Vec<Block>) -> ([f64; LANE
 /// against them (see [`first_pass`]).
 fn gate_blocks(
     blocks: &[Block],
-    jumps: &[f64],
+    jumps: &[[f64; 3]],
     h: f64,
     o: &Lanes,
     [px, pv, pa]: &mut [[f64; LANES]; 3],
@@ -324,15 +331,20 @@ fn gate_blocks(
         for l in 0..LANES {
             px[l] = larger(px[l], b.m[0][l]);
             pv[l] = larger(pv[l], b.m[1][l]);
-            pa[l] = larger(pa[l], b.m[2][l]);
+            pa[l] = larger(pa[l], larger(b.m[2][l], -b.m[3][l]));
         }
     }
     let (k, sigma, iw, i1, i2) = (o.k, o.sigma, o.iw, o.i1, o.i2);
     let wide = o.h2 * (1.0 + 1e-6);
     let inv_h = 1.0 / h;
     let mut cands = Vec::new();
-    for (j, (b, jump)) in blocks.iter().zip(jumps).enumerate() {
-        let [mx, mv, ms, ma] = b.m;
+    for (j, (b, &[jump, top, bottom])) in blocks.iter().zip(jumps).enumerate() {
+        let [mx, mv, smax, smin] = b.m;
+        let (mut ms, mut ma) = ([0.0; LANES], [0.0; LANES]);
+        for l in 0..LANES {
+            ms[l] = larger(smax[l], -smin[l]);
+            ma[l] = larger(top - smin[l], smax[l] - bottom);
+        }
         let mr = jump * inv_h;
         let mut hit = false;
         for l in 0..LANES {
