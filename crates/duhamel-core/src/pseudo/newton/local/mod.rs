@@ -33,6 +33,7 @@
 
 mod affine;
 mod iterate;
+mod lean;
 mod scaled;
 mod single;
 
@@ -141,6 +142,9 @@ pub(in super::super) struct LocalNewton {
     kept: Eliminated,
     kept_kt: Vec<Vec<f64>>,
     kept_ct: Vec<Vec<f64>>,
+    /// Whether the step is [`LocalNewton::step_lean`]'s (one element on one dof, nothing
+    /// affine).
+    lean: bool,
 }
 
 impl LocalNewton {
@@ -186,7 +190,7 @@ impl LocalNewton {
             })
             .collect();
         let vec_n = |on: bool| vec![0.0; if on { n } else { 0 }];
-        LocalNewton {
+        let mut newton = LocalNewton {
             n,
             nd,
             map,
@@ -236,7 +240,10 @@ impl LocalNewton {
             kept: Eliminated::default(),
             kept_kt: Vec::new(),
             kept_ct: Vec::new(),
-        }
+            lean: false,
+        };
+        newton.lean = newton.lean_applies(space);
+        newton
     }
 
     /// The weights of the unknown half (`W_i`) and of the other one (`W'_i`).
@@ -264,6 +271,9 @@ impl LocalNewton {
         } else {
             (inp.q_lin, inp.v_lin)
         };
+        if self.lean {
+            return self.step_lean(pf, set, inp, (z_lin, w_lin), End { z, w, start });
+        }
         if self.affine {
             pf.space().to_local(inp.q0, &mut self.pq);
             pf.space().to_local(inp.v0, &mut self.pv);
