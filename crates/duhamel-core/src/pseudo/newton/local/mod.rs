@@ -145,6 +145,11 @@ pub(in super::super) struct LocalNewton {
     /// Whether the step is [`LocalNewton::step_lean`]'s (one element on one dof, nothing
     /// affine).
     lean: bool,
+    /// Whether the elements restart exactly ([`ElementSpace::restarts_exactly`]) and are
+    /// hysteretic; the last lean step's end: the space's generation and evaluations then,
+    /// and the end node's force ([`LocalNewton::step_lean`]).
+    lean_restarts: (bool, bool),
+    lean_end: Option<(u64, u64, f64)>,
 }
 
 impl LocalNewton {
@@ -241,6 +246,8 @@ impl LocalNewton {
             kept_kt: Vec::new(),
             kept_ct: Vec::new(),
             lean: false,
+            lean_restarts: (space.restarts_exactly(), space.stateful()),
+            lean_end: None,
         };
         newton.lean = newton.lean_applies(space);
         newton
