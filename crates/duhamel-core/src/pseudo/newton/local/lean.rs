@@ -180,24 +180,13 @@ impl LocalNewton {
         let (_, wo) = Self::weights(set);
         let phi = &space.phi()[..n];
         let count = nodes.len;
-        let mut start = start;
-        for m in 0..n {
-            let (mut zm, mut wm, p) = (z_lin[m], w_lin[m], phi[m]);
-            let mut q_first = 0.0;
-            for i in 0..count {
-                let ri = nodes.r[i];
-                let t = if ri != 0.0 { 0.0 + ri * p } else { 0.0 };
-                zm -= self.w_hat[i][m] * t;
-                let q = t * -self.s[i];
-                wm += wo[i][m] * q;
-                if i == 0 {
-                    q_first = q;
-                }
-            }
-            (z[m], w[m]) = (zm, wm);
-            if let Some(s) = start.as_deref_mut() {
-                s[m] = q_first;
-            }
+        let out = (z, w, start);
+        let (lin, (r, s)) = ((z_lin, w_lin), (&nodes.r, &self.s[..]));
+        match count {
+            1 => finish::<1>(phi, lin, (&self.w_hat, wo), (r, s), out),
+            2 => finish::<2>(phi, lin, (&self.w_hat, wo), (r, s), out),
+            3 => finish::<3>(phi, lin, (&self.w_hat, wo), (r, s), out),
+            _ => finish::<4>(phi, lin, (&self.w_hat, wo), (r, s), out),
         }
         for i in 0..count {
             self.r[i][0] = nodes.r[i];
@@ -281,5 +270,40 @@ impl LocalNewton {
             iterations: set.max_iter,
             last_good_time: Some(inp.t),
         })
+    }
+}
+
+/// The lean step's end state from the `N` nodes' forces `r` (see
+/// [`LocalNewton::step_lean`]), the same operations in the same order as the general
+/// finish: `z = z_lin - sum_i s_i W_i phi r_i`, `w = w_lin + sum_i W'_i Q_i` with
+/// `Q_i = -s_i phi r_i`, and `Q_0` into `start`.
+#[inline(always)]
+fn finish<const N: usize>(
+    phi: &[f64],
+    (z_lin, w_lin): (&[f64], &[f64]),
+    (w_hat, w_other): (&[Vec<f64>], &[Vec<f64>]),
+    (r, s): (&[f64; NODES], &[f64]),
+    (z, w, start): (&mut [f64], &mut [f64], Option<&mut [f64]>),
+) {
+    let n = phi.len();
+    let wh: [&[f64]; N] = std::array::from_fn(|i| &w_hat[i][..n]);
+    let wo: [&[f64]; N] = std::array::from_fn(|i| &w_other[i][..n]);
+    let neg: [f64; N] = std::array::from_fn(|i| -s[i]);
+    let (z_lin, w_lin, z, w) = (&z_lin[..n], &w_lin[..n], &mut z[..n], &mut w[..n]);
+    // `project` of one dof: `0 + r phi`, or 0 for a zero force
+    let t = |i: usize, p: f64| if r[i] != 0.0 { 0.0 + r[i] * p } else { 0.0 };
+    for m in 0..n {
+        let (mut zm, mut wm, p) = (z_lin[m], w_lin[m], phi[m]);
+        for i in 0..N {
+            let ti = t(i, p);
+            zm -= wh[i][m] * ti;
+            wm += wo[i][m] * (ti * neg[i]);
+        }
+        (z[m], w[m]) = (zm, wm);
+    }
+    if let Some(start) = start {
+        for (o, &p) in start[..n].iter_mut().zip(phi) {
+            *o = t(0, p) * neg[0];
+        }
     }
 }
