@@ -132,12 +132,15 @@ impl LocalNewton {
     }
 
     /// The iteration's end: when its last evaluation (with tangents) was at the end node of
-    /// the converged state, the stiffness watch reuses those tangents and the commit those
-    /// trial variables.
+    /// the converged state, the stiffness watch reuses those tangents, and the commit those
+    /// trial variables where that node's displacements are the unknown `q1` itself
+    /// (schemes b and c; along scheme a they are the scheme's approximation, not `q1`).
     pub(super) fn accept(&self, space: &mut ElementSpace) {
         if self.ends_at_end() {
             space.mark_end();
-            space.mark_end_trial();
+            if self.end_is_unknown {
+                space.mark_end_trial();
+            }
         }
     }
 

@@ -96,12 +96,13 @@ impl LocalNewton {
         // The start state's force is the last end's when the elements restart exactly and
         // nothing but the route's commit of that end's trial variables (hysteretic
         // elements) came in between: the element coordinate Newton converged to there and
-        // `phi . q0` differ by rounding only (one evaluation of the element per step).
+        // `phi . q0` differ by rounding only; the start's record keeps that coordinate with
+        // the force (one evaluation of the element per step).
         let (restarts, stateful) = self.lean_restarts;
         let known = self
             .lean_end
             .take()
-            .filter(|&(generation, evaluations, _)| {
+            .filter(|&(generation, evaluations, _, _)| {
                 let commits = space.generation().wrapping_sub(generation);
                 restarts
                     && evaluations == space.evaluations()
@@ -130,16 +131,17 @@ impl LocalNewton {
             let m = self.map[i];
             if m.constant {
                 let t = inp.t + m.s * set.dt;
-                let r = match known {
-                    Some((_, _, r)) if m.s == 0.0 && nodes.u0[i].to_bits() == pq.to_bits() => r,
-                    _ => space.eval_one(nodes.u0[i], nodes.ud0[i], t, false)?.0,
+                let start = m.s == 0.0 && nodes.u0[i].to_bits() == pq.to_bits();
+                // with the displacement the force is of: the last end's when it is reused
+                let (r, u) = match known {
+                    Some((_, _, r, u)) if start => (r, u),
+                    _ => (space.eval_one(nodes.u0[i], nodes.ud0[i], t, false)?.0, pq),
                 };
                 nodes.r[i] = r;
                 // the start state itself (its displacement bit for bit): kept for its record
-                if m.s == 0.0 && nodes.u0[i].to_bits() == pq.to_bits() {
+                if start {
                     let differs = nodes.ud0[i].to_bits() != pv.to_bits();
-                    let (pq, pv) = (&self.pq[..], &self.pv[..]);
-                    space.keep_start((inp.q0, inp.v0), t, (pq, pv), differs);
+                    space.keep_start((inp.q0, inp.v0), t, (&[u], &self.pv), differs);
                 }
                 y0 -= 0.0 + self.g[i][0] * r;
             }
@@ -170,8 +172,9 @@ impl LocalNewton {
         // the end node's force, for the next step's start (its last evaluation)
         let end = (0..nodes.len).rev().find(|&i| !self.map[i].constant);
         self.lean_end = match end {
-            Some(i) if self.map[i].s == 1.0 && restarts => {
-                Some((space.generation(), space.evaluations(), nodes.r[i]))
+            Some(i) if self.map[i].s == 1.0 && restarts && self.end_is_unknown => {
+                let u = nodes.u0[i] + self.map[i].alpha * y;
+                Some((space.generation(), space.evaluations(), nodes.r[i], u))
             }
             _ => None,
         };
@@ -243,7 +246,9 @@ impl LocalNewton {
             if below_rounding(delta.abs(), y.abs().max(scale0)) {
                 if at_end {
                     space.mark_end();
-                    space.mark_end_trial();
+                    if self.end_is_unknown {
+                        space.mark_end_trial();
+                    }
                 }
                 return Ok(iter);
             }
@@ -256,7 +261,9 @@ impl LocalNewton {
                 self.lean_residual(nodes, space, (set, inp), (*y, y0), at_end)?;
                 if at_end {
                     space.mark_end();
-                    space.mark_end_trial();
+                    if self.end_is_unknown {
+                        space.mark_end_trial();
+                    }
                 }
                 return Ok(iter);
             }

@@ -147,9 +147,13 @@ pub(in super::super) struct LocalNewton {
     lean: bool,
     /// Whether the elements restart exactly ([`ElementSpace::restarts_exactly`]) and are
     /// hysteretic; the last lean step's end: the space's generation and evaluations then,
-    /// and the end node's force ([`LocalNewton::step_lean`]).
+    /// and the end node's force and displacement ([`LocalNewton::step_lean`]).
     lean_restarts: (bool, bool),
-    lean_end: Option<(u64, u64, f64)>,
+    lean_end: Option<(u64, u64, f64, f64)>,
+    /// Whether the last varying node is the end state with the unknown `z = q1` as its
+    /// displacements (`q = 0 q0 + 0 v0 + 1 z`: schemes b and c): its element coordinate is
+    /// then `Phi_D q1` up to rounding, and its evaluation the end state's.
+    end_is_unknown: bool,
 }
 
 impl LocalNewton {
@@ -248,7 +252,11 @@ impl LocalNewton {
             lean: false,
             lean_restarts: (space.restarts_exactly(), space.stateful()),
             lean_end: None,
+            end_is_unknown: false,
         };
+        let end = newton.map.iter().rev().find(|m| !m.constant);
+        newton.end_is_unknown = set.unknown == Unknown::Q1
+            && end.is_some_and(|m| m.s == 1.0 && m.cq == (0.0, 0.0) && m.alpha == 1.0);
         newton.lean = newton.lean_applies(space);
         newton
     }
