@@ -43,6 +43,9 @@ def _random_system(seed: int, element_kind: str) -> duhamel.System:
         system.add(E.Cubic(dofs[2], k3=1e7))
     elif element_kind == "contact":
         system.add(E.Contact((dofs[0], dofs[1]), clearance=0.01, stiffness=1e5, friction=0.1))
+    elif element_kind == "bilinear":
+        # one hysteretic element on one dof: the lean element-space step (issue 42)
+        system.add(E.Bilinear(dofs[0], k=500.0, fy=2.0, alpha=0.1))
     elif element_kind == "callable":
 
         def fn(x, v, t):
@@ -55,7 +58,7 @@ def _random_system(seed: int, element_kind: str) -> duhamel.System:
     return system
 
 
-KINDS = ["cubic", "polynomial", "spring", "damper", "contact", "callable"]
+KINDS = ["cubic", "polynomial", "spring", "damper", "contact", "callable", "bilinear"]
 
 
 @pytest.mark.parametrize("kind", KINDS)
@@ -203,7 +206,14 @@ def test_saved_element_records_are_the_forces_at_the_saved_states(scheme):
     k3, (kb, fy, alpha) = 2e9, (3e3, 4.0, 0.3)
     one = _chain().add(E.Cubic(2, k3=k3))
     two = _chain().add(E.Cubic(2, k3=k3)).add(E.Bilinear(5, k=kb, fy=fy, alpha=alpha))
-    for system in (one, two):
+    # the bilinear spring alone: the lean step, which commits its end node's trial
+    # variables and reuses that force at the next start (issue 42)
+    alone = _chain().add(E.Bilinear(5, k=kb, fy=fy, alpha=alpha))
+    for system in (one, two, alone):
+        if system is alone:
+            sol = duhamel.solve(system, duhamel.Semianalytic(scheme=scheme), t_end=1.0, dt=2e-3)
+            _check_bilinear_record(sol.elements[0], sol.x[:, 5], kb, fy, alpha)
+            continue
         sol = duhamel.solve(system, duhamel.Semianalytic(scheme=scheme), t_end=1.0, dt=2e-3)
         cubic = sol.elements[0]
         x = cubic.x[:, 0]
@@ -212,17 +222,23 @@ def test_saved_element_records_are_the_forces_at_the_saved_states(scheme):
         np.testing.assert_allclose(cubic.force[:, 0], k3 * x**3, rtol=1e-12, atol=0)
         if system is two:
             assert sol.stats.subdivided_steps == 0
-            bil = sol.elements[1]
-            u = bil.x[:, 0]
-            force = np.zeros_like(u)
-            u_c, f_c = 0.0, 0.0
-            for i, ui in enumerate(u):
-                trial = f_c + kb * (ui - u_c)
-                line, band = alpha * kb * ui, (1 - alpha) * fy
-                force[i] = min(max(trial, line - band), line + band)
-                u_c, f_c = ui, force[i]
-            assert np.abs(force).max() >= fy  # it yields
-            np.testing.assert_allclose(bil.force[:, 0], force, rtol=0, atol=1e-12 * fy)
+            _check_bilinear_record(sol.elements[1], sol.x[:, 5], kb, fy, alpha)
+
+
+def _check_bilinear_record(bil, x, kb, fy, alpha):
+    # the saved displacements are the structure's, and the forces the return mapping's
+    # replayed over them (each step committed at its saved end state)
+    u = bil.x[:, 0]
+    np.testing.assert_allclose(u, x, rtol=0, atol=1e-13 * np.abs(x).max())
+    force = np.zeros_like(u)
+    u_c, f_c = 0.0, 0.0
+    for i, ui in enumerate(u):
+        trial = f_c + kb * (ui - u_c)
+        line, band = alpha * kb * ui, (1 - alpha) * fy
+        force[i] = min(max(trial, line - band), line + band)
+        u_c, f_c = ui, force[i]
+    assert np.abs(force).max() >= fy  # it yields
+    np.testing.assert_allclose(bil.force[:, 0], force, rtol=0, atol=1e-12 * fy)
 
 
 def test_saving_every_step_changes_no_result_of_a_subdivided_run():

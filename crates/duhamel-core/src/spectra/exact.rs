@@ -23,7 +23,7 @@
 
 use super::common::{check, map_tasks, Record, Step};
 use super::elastic::{Peaks, LANES};
-use super::gate::{first_pass, larger, Candidate, Lanes, BLOCK};
+use super::gate::{block_jumps, first_pass, larger, Candidate, Lanes, BLOCK};
 use super::inside::{Osc, Search};
 use crate::error::CoreError;
 
@@ -135,16 +135,19 @@ impl Bound {
 }
 
 /// Exact peaks `[sd, sv, sa]` of the lanes `o` (`None`: a padding lane, at rest) over
-/// `acc`, and whether the final states are finite.
+/// `acc` (`jumps`: its [`block_jumps`]), and whether the final states are finite.
 ///
 /// One pass over the record runs the sampled spectra's recurrence with its peaks and gates
 /// blocks of steps against the record's sampled peaks ([`first_pass`]; so a block
-/// it lets go has no step that could exceed the final ones). The steps of the blocks it keeps
-/// are then gated again one by one against the record's sampled peaks (raised by each
-/// search, in time order), scored and searched for the lanes whose bounds may exceed their
-/// peaks: the steps, order and peaks of a pass over every step with the states kept.
+/// it lets go has no step that could exceed the final ones). The steps of a block it keeps
+/// are gated again, all lanes and steps at once, against the peaks at the block's start
+/// ([`Lanes::block_steps`], branch-free); then, in time order, each step that passes in
+/// some lane is scored against the peaks raised by the searches so far and searched in the
+/// lanes whose bounds may exceed them. The gate is monotone in the peaks and passed by every
+/// step whose score is `>= 0`: the steps, order and peaks of a pass over every step with the
+/// states kept.
 fn run(
-    acc: &[f64],
+    (acc, jumps): (&[f64], &[[f64; 3]]),
     h: f64,
     o: &[Option<Osc>; LANES],
     steps: &[Step; LANES],
@@ -175,6 +178,9 @@ fn run(
         ik: lane(|b| b.inv_k),
         f1: lane(|b| b.f1),
         f2: lane(|b| b.f2),
+        // A padding lane's factors are 0: infinite inverses, its gaps (infinite peaks) infinite.
+        i1: lane(|b| 1.0 / b.f1),
+        i2: lane(|b| 1.0 / b.f2),
         h2,
     };
     // Padding lanes (at rest) never need a search: an infinite peak (reset below).
@@ -186,28 +192,34 @@ fn run(
             }
         }
     }
-    let (cands, x, v) = first_pass(acc, h, &lanes, &mut pk);
+    let (cands, x, v) = first_pass((acc, jumps), h, &lanes, &mut pk);
     let mut search = Search::new();
+    let (mut xs, mut vs) = ([[0.0; LANES]; BLOCK + 1], [[0.0; LANES]; BLOCK + 1]);
     for Candidate { n: start, x, v } in &cands {
-        let (mut x0s, mut v0s) = (*x, *v);
-        for n in *start..(acc.len() - 1).min(start + BLOCK) {
-            let (p0, p1) = (-acc[n], -acc[n + 1]);
+        let samples = &acc[*start..acc.len().min(start + BLOCK + 1)];
+        let bits = lanes.block_steps((x, v), (samples, h), &pk, (&mut xs, &mut vs));
+        // The steps some lane keeps, in time order; every lane scored at once (the lanes'
+        // loop vectorises), then searched where its score is `>= 0` (so where it keeps it).
+        let mut steps = bits.iter().fold(0, |a, b| a | b);
+        while steps != 0 {
+            let i = steps.trailing_zeros() as usize;
+            steps &= steps - 1;
+            let (p0, p1) = (-samples[i], -samples[i + 1]);
             let r = (p1 - p0) / h;
-            let [xns, vns] = lanes.advance(&x0s, &v0s, p0, p1);
-            let (start, end) = ([&x0s, &v0s], [&xns, &vns]);
-            if lanes.gate(start, end, (p0, r), &pk) {
-                let score = lanes.score(h, start, end, (p0, r), &pk);
-                for l in 0..LANES {
-                    if let (Some(ol), true) = (&o[l], score[l] >= 0.0) {
-                        let mut peak = [pk[0][l], pk[1][l], pk[2][l]];
-                        let (x0, v0, xn, vn) = (x0s[l], v0s[l], xns[l], vns[l]);
-                        let f = bound[l].flags((h, h2), (x0, v0), (xn, vn), (p0, r), peak);
-                        search.step(ol, h, ((x0, v0), (xn, vn)), (p0, p1), f, &mut peak);
-                        [pk[0][l], pk[1][l], pk[2][l]] = peak;
-                    }
+            let mut score = [0.0; LANES];
+            for (l, s) in score.iter_mut().enumerate() {
+                let ends = ((xs[i][l], vs[i][l]), (xs[i + 1][l], vs[i + 1][l]));
+                *s = lanes.score(l, h, ends, (p0, r), [pk[0][l], pk[1][l], pk[2][l]]);
+            }
+            for (l, ol) in o.iter().enumerate() {
+                if let (Some(ol), true) = (ol, score[l] >= 0.0) {
+                    let ends = ((xs[i][l], vs[i][l]), (xs[i + 1][l], vs[i + 1][l]));
+                    let mut peak = [pk[0][l], pk[1][l], pk[2][l]];
+                    let f = bound[l].flags((h, h2), ends.0, ends.1, (p0, r), peak);
+                    search.step(ol, h, ends, (p0, p1), f, &mut peak);
+                    [pk[0][l], pk[1][l], pk[2][l]] = peak;
                 }
             }
-            (x0s, v0s) = (xns, vns);
         }
     }
     let mut peak = [[0.0; 3]; LANES];
@@ -241,6 +253,7 @@ pub fn elastic_exact(
     }
     let (nr, nd, np) = (records.len(), dampings.len(), periods.len());
     let chunks = np.div_ceil(LANES);
+    let jumps: Vec<Vec<[f64; 3]>> = records.iter().map(|r| block_jumps(r.acc)).collect();
     let tasks: Vec<(usize, usize, usize)> = (0..nr)
         .flat_map(|r| (0..nd).flat_map(move |d| (0..chunks).map(move |c| (r, d, c))))
         .collect();
@@ -254,10 +267,10 @@ pub fn elastic_exact(
             if t > 0.0 {
                 let omega = 2.0 * std::f64::consts::PI / t;
                 steps[l] = Step::new(omega, zeta, rec.dt)?;
-                osc[l] = Some(Osc::new(omega, zeta));
+                osc[l] = Some(Osc::new(omega, zeta, rec.dt));
             }
         }
-        let (peak, finite) = run(rec.acc, rec.dt, &osc, &steps);
+        let (peak, finite) = run((rec.acc, &jumps[r]), rec.dt, &osc, &steps);
         if !finite {
             return Err(CoreError::InvalidInput {
                 name: "motions",

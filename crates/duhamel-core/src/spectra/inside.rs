@@ -17,17 +17,26 @@ pub(super) struct Osc {
     pub(super) c: f64,
     pub(super) sigma: f64,
     pub(super) wd: f64,
+    /// `(cos, sin)` of `wd h` (`h` the record's step) where `wd h < pi` (see [`Wave::roots`]).
+    turn: Option<(f64, f64)>,
 }
 
 impl Osc {
-    pub(super) fn new(omega: f64, zeta: f64) -> Self {
+    /// The oscillator of `omega`, `zeta` on steps of `h`.
+    pub(super) fn new(omega: f64, zeta: f64, h: f64) -> Self {
+        let wd = omega * (1.0 - zeta * zeta).sqrt();
+        let angle = wd * h;
         Osc {
             omega,
             zeta,
             k: omega * omega,
             c: 2.0 * zeta * omega,
             sigma: zeta * omega,
-            wd: omega * (1.0 - zeta * zeta).sqrt(),
+            wd,
+            turn: (angle < std::f64::consts::PI * (1.0 - 1e-6)).then(|| {
+                let (sn, cs) = angle.sin_cos();
+                (cs, sn)
+            }),
         }
     }
 }
@@ -40,6 +49,8 @@ struct Wave {
     k0: f64,
     sigma: f64,
     wd: f64,
+    /// `(cos, sin)` of `wd h` where `wd h < pi`, `h` the step ([`Osc`]'s).
+    turn: Option<(f64, f64)>,
 }
 
 /// The quantity whose derivative a [`Wave`] is: `c0 + c1 s + exp(-sigma s) (p cos(wd s) + q
@@ -94,6 +105,13 @@ impl Wave {
     /// The roots in `(0, h)`, each in one piece where `g` is monotone, where the extremum
     /// of `f` (`f' = g`) there may reach `peak` ([`may_reach`]); `g0`, `gh` and `f0`, `fh`
     /// the values at the ends (known from the states there).
+    ///
+    /// Where `wd h < pi` (the wave's `turn`), `g'` (`d1 cos + d2 sin` times a positive
+    /// factor) has at most one zero in the step, none where it has the same sign at both
+    /// ends: then the step is one piece, with no arctangent. The sign counts only where it is
+    /// clear (beyond `1e-8 (|d1| + |d2|)`, so the zero is at least `1e-8` of the angle
+    /// outside the step, far beyond the arctangent's rounding): the same piece as the search
+    /// through the arctangent, to the bit.
     fn roots(
         &self,
         h: f64,
@@ -104,6 +122,19 @@ impl Wave {
         out.clear();
         let d1 = -self.sigma * self.p + self.wd * self.q;
         let d2 = -self.sigma * self.q - self.wd * self.p;
+        if let Some((ch, sh)) = self.turn {
+            let (e0, e1) = (d1, d1.mul_add(ch, d2 * sh));
+            let clear = 1e-8 * (d1.abs() + d2.abs());
+            if e0.abs() > clear && e1.abs() > clear && (e0 > 0.0) == (e1 > 0.0) {
+                if h > 0.0 && g0 * gh < 0.0 && may_reach(h, (f0, fh), (g0, gh), 0.0, peak) {
+                    if let Some(s) = self.root((0.0, h), (g0, gh), (f, (f0, fh), (0.0, 0.0)), peak)
+                    {
+                        out.push(s);
+                    }
+                }
+                return;
+            }
+        }
         // Zeros of g': d1 cos + d2 sin = 0 at wd s = phi + m pi, phi in (0, pi].
         let mut phi = (-d1).atan2(d2);
         let pi = std::f64::consts::PI;
@@ -218,6 +249,7 @@ impl Search {
             k0,
             sigma: o.sigma,
             wd: o.wd,
+            turn: o.turn,
         };
         let wv = wave(pv, (a0 + o.sigma * pv) / o.wd, vp);
         let wa = wave(a0, (j0 + o.sigma * a0) / o.wd, 0.0);
@@ -308,6 +340,7 @@ mod tests {
                     k0: c1,
                     sigma,
                     wd,
+                    turn: None,
                 };
                 let h = 0.01 + 0.02 * (j % 7) as f64;
                 let (g0, f0, _) = w.eval_with(&f, 0.0);
@@ -335,6 +368,68 @@ mod tests {
         assert!(
             interior > 40 && given_up > interior / 2,
             "{interior} {given_up}"
+        );
+    }
+
+    /// Where `wd h < pi`, the step taken as one piece without the arctangent where `g'` has
+    /// the same clear sign at its ends gives the roots of the search through the arctangent,
+    /// to the bit, against any peak (here 0: every piece with a root is searched, and the
+    /// peaks of the other test); and both find the roots at the interior extrema of `f`.
+    #[test]
+    fn one_piece_without_arctangent_is_the_same_search() {
+        let (mut one_piece, mut compared, mut found) = (0, 0, 0);
+        for (i, &(sigma, wd)) in [(0.1, 3.0), (2.0, 50.0), (0.0, 300.0), (15.0, 310.0)]
+            .iter()
+            .enumerate()
+        {
+            for j in 0..400 {
+                let t = (i * 400 + j) as f64;
+                let (p, q) = ((0.7 * t).sin(), (1.3 * t).cos() - 0.2);
+                let (c0, c1) = (0.3 * (0.5 * t).sin(), 4.0 * (2.1 * t).cos());
+                let f = Prim { c0, c1, p, q };
+                let h = 0.001 + 0.0011 * (j % 11) as f64;
+                let angle: f64 = wd * h;
+                if angle >= std::f64::consts::PI * (1.0 - 1e-6) {
+                    continue;
+                }
+                let (sn, cs) = angle.sin_cos();
+                let wave = |turn| Wave {
+                    p: wd * q - sigma * p,
+                    q: -sigma * q - wd * p,
+                    k0: c1,
+                    sigma,
+                    wd,
+                    turn,
+                };
+                let (with, without) = (wave(Some((cs, sn))), wave(None));
+                let (g0, f0, _) = without.eval_with(&f, 0.0);
+                let (gh, fh, _) = without.eval_with(&f, h);
+                let ends = ((g0, gh), (f0, fh));
+                let d1 = -sigma * without.p + wd * without.q;
+                let d2 = -sigma * without.q - wd * without.p;
+                let e1 = d1 * cs + d2 * sn;
+                one_piece += usize::from(d1 * e1 > 0.0);
+                let top = f0.abs().max(fh.abs());
+                for peak in [0.0, top, 1.001 * top, 0.999 * top] {
+                    let (mut a, mut b) = (Vec::new(), Vec::new());
+                    with.roots(h, ends, (&f, peak), &mut a);
+                    without.roots(h, ends, (&f, peak), &mut b);
+                    let bits = |r: &[f64]| r.iter().map(|s| s.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(&a), bits(&b), "{i} {j} {peak}");
+                    compared += 1;
+                    found += a.len();
+                    // Each root is a zero of g = f'.
+                    for &s in &a {
+                        let (g, _, scale) = without.eval_with(&f, s);
+                        let size = without.p.abs() + without.q.abs() + c1.abs();
+                        assert!(g.abs() <= 1e-9 * size, "{i} {j}: g({s}) = {g} ({scale})");
+                    }
+                }
+            }
+        }
+        assert!(
+            one_piece > 400 && compared > 4000 && found > 1000,
+            "{one_piece} {compared} {found}"
         );
     }
 }

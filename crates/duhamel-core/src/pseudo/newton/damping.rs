@@ -46,6 +46,16 @@ pub(super) fn next_below_rounding(prev: Option<f64>, size: f64, scale: f64) -> b
     d * d * d <= 4.0 * f64::EPSILON * p * p
 }
 
+/// Whether a Newton correction of max norm `size` is below rounding of a state of size
+/// `scale` (at most `4 eps` of it): the state it would correct, just evaluated, is the
+/// solution to rounding, and the iteration stops there instead of taking the correction
+/// and evaluating again (an affine step's second iteration: corrections of 1e-16 of the
+/// state). The result differs from taking it by that correction.
+#[inline(always)]
+pub(super) fn below_rounding(size: f64, scale: f64) -> bool {
+    size <= 4.0 * f64::EPSILON * scale
+}
+
 #[cfg(test)]
 mod tests {
     use super::next_below_rounding;

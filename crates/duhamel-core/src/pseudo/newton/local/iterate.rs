@@ -2,7 +2,7 @@
 
 use super::super::super::local::{zero, ElementSpace};
 use super::super::super::scheme::StepInput;
-use super::super::damping::{backtrack, next_below_rounding};
+use super::super::damping::{backtrack, below_rounding, next_below_rounding};
 use super::{LocalNewton, Setting};
 use crate::dense::dot;
 use crate::error::CoreError;
@@ -125,6 +125,25 @@ impl LocalNewton {
         }
     }
 
+    /// Whether the last node evaluated (the last varying one) is the end state.
+    pub(super) fn ends_at_end(&self) -> bool {
+        let end = self.map.iter().rev().find(|m| !m.constant);
+        end.is_some_and(|m| m.s == 1.0)
+    }
+
+    /// The iteration's end: when its last evaluation (with tangents) was at the end node of
+    /// the converged state, the stiffness watch reuses those tangents, and the commit those
+    /// trial variables where that node's displacements are the unknown `q1` itself
+    /// (schemes b and c; along scheme a they are the scheme's approximation, not `q1`).
+    pub(super) fn accept(&self, space: &mut ElementSpace) {
+        if self.ends_at_end() {
+            space.mark_end();
+            if self.end_is_unknown {
+                space.mark_end_trial();
+            }
+        }
+    }
+
     /// Newton's method on `F(y) = 0`, damped by the modal one's [`backtrack`].
     pub(super) fn newton(
         &mut self,
@@ -163,6 +182,14 @@ impl LocalNewton {
                     break;
                 }
             }
+            let ymax = self.y.iter().fold(0.0_f64, |a, y| a.max(y.abs()));
+            let correction = self.delta.iter().fold(0.0_f64, |a, d| a.max(d.abs()));
+            if below_rounding(correction, ymax.max(scale0)) {
+                // the state just evaluated is the solution to rounding: its forces and
+                // tangents are the end's, no update and no evaluation again
+                self.accept(space);
+                return Ok(iter);
+            }
             self.y_prev.copy_from_slice(&self.y);
             for (y, d) in self.y.iter_mut().zip(&self.delta) {
                 *y += d;
@@ -174,11 +201,10 @@ impl LocalNewton {
             if set.linear || size <= set.tol * scale || size == 0.0 || exact {
                 // The forces at the accepted state, with the tangents the stiffness watch
                 // then reuses when the last node evaluated is the end state.
-                let end = self.map.iter().rev().find(|m| !m.constant);
-                let at_end = end.is_some_and(|m| m.s == 1.0);
+                let at_end = self.ends_at_end();
                 self.residual(space, set, inp, at_end)?;
                 if at_end {
-                    space.mark_end();
+                    self.accept(space);
                 }
                 return Ok(iter);
             }

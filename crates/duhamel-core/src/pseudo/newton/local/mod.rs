@@ -33,6 +33,7 @@
 
 mod affine;
 mod iterate;
+mod lean;
 mod scaled;
 mod single;
 
@@ -141,6 +142,18 @@ pub(in super::super) struct LocalNewton {
     kept: Eliminated,
     kept_kt: Vec<Vec<f64>>,
     kept_ct: Vec<Vec<f64>>,
+    /// Whether the step is [`LocalNewton::step_lean`]'s (one element on one dof, nothing
+    /// affine).
+    lean: bool,
+    /// Whether the elements restart exactly ([`ElementSpace::restarts_exactly`]) and are
+    /// hysteretic; the last lean step's end: the space's generation and evaluations then,
+    /// and the end node's force and displacement ([`LocalNewton::step_lean`]).
+    lean_restarts: (bool, bool),
+    lean_end: Option<(u64, u64, f64, f64)>,
+    /// Whether the last varying node is the end state with the unknown `z = q1` as its
+    /// displacements (`q = 0 q0 + 0 v0 + 1 z`: schemes b and c): its element coordinate is
+    /// then `Phi_D q1` up to rounding, and its evaluation the end state's.
+    end_is_unknown: bool,
 }
 
 impl LocalNewton {
@@ -186,7 +199,7 @@ impl LocalNewton {
             })
             .collect();
         let vec_n = |on: bool| vec![0.0; if on { n } else { 0 }];
-        LocalNewton {
+        let mut newton = LocalNewton {
             n,
             nd,
             map,
@@ -236,7 +249,16 @@ impl LocalNewton {
             kept: Eliminated::default(),
             kept_kt: Vec::new(),
             kept_ct: Vec::new(),
-        }
+            lean: false,
+            lean_restarts: (space.restarts_exactly(), space.stateful()),
+            lean_end: None,
+            end_is_unknown: false,
+        };
+        let end = newton.map.iter().rev().find(|m| !m.constant);
+        newton.end_is_unknown = set.unknown == Unknown::Q1
+            && end.is_some_and(|m| m.s == 1.0 && m.cq == (0.0, 0.0) && m.alpha == 1.0);
+        newton.lean = newton.lean_applies(space);
+        newton
     }
 
     /// The weights of the unknown half (`W_i`) and of the other one (`W'_i`).
@@ -264,6 +286,9 @@ impl LocalNewton {
         } else {
             (inp.q_lin, inp.v_lin)
         };
+        if self.lean {
+            return self.step_lean(pf, set, inp, (z_lin, w_lin), End { z, w, start });
+        }
         if self.affine {
             pf.space().to_local(inp.q0, &mut self.pq);
             pf.space().to_local(inp.v0, &mut self.pv);

@@ -5,7 +5,7 @@
 
 use super::super::super::local::ElementSpace;
 use super::super::super::scheme::StepInput;
-use super::super::damping::{backtrack, next_below_rounding};
+use super::super::damping::{backtrack, below_rounding, next_below_rounding};
 use super::{LocalNewton, Setting};
 use crate::error::CoreError;
 
@@ -100,6 +100,12 @@ impl LocalNewton {
             if !delta.is_finite() {
                 break;
             }
+            if below_rounding(delta.abs(), self.y[0].abs().max(scale0)) {
+                // the state just evaluated is the solution to rounding: its forces and
+                // tangents are the end's, no update and no evaluation again
+                self.accept(space);
+                return Ok(iter);
+            }
             self.y_prev[0] = self.y[0];
             self.y[0] += delta;
             let size = 0.0_f64.max(delta.abs());
@@ -107,11 +113,10 @@ impl LocalNewton {
             let scale = ymax.max(scale0);
             let exact = set.smooth && !cut && next_below_rounding(last_size, size, scale);
             if set.linear || size <= set.tol * scale || size == 0.0 || exact {
-                let end = self.map.iter().rev().find(|m| !m.constant);
-                let at_end = end.is_some_and(|m| m.s == 1.0);
+                let at_end = self.ends_at_end();
                 self.residual_one(space, set, inp, at_end)?;
                 if at_end {
-                    space.mark_end();
+                    self.accept(space);
                 }
                 return Ok(iter);
             }

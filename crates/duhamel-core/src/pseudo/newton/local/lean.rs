@@ -1,0 +1,316 @@
+//! The element-space step of one element on one dof without affine terms (no mass law, no
+//! couplings: `A = I`, `P = Phi_D`): a storey chain with one device, a frame with one
+//! isolator. [`LocalNewton::step`] written on scalars for that case, operation for
+//! operation: `y0 = phi . z_lin`, the constant nodes' forces, Newton on the one element
+//! coordinate with the influences `g_i = w_i . phi^2` fixed for the run, then one pass over
+//! the modes for the end state (`z = z_lin - sum_i w_i phi r_i`, the other half and the
+//! start's pseudo-force together). What it leaves out is the general step's bookkeeping: a
+//! `Vec` per node for every scalar, a copy of `z_lin` and of the other half, one pass over
+//! the modes per node.
+
+use super::super::super::force::PseudoForce;
+use super::super::super::local::ElementSpace;
+use super::super::super::scheme::StepInput;
+use super::super::damping::{backtrack, below_rounding, next_below_rounding};
+use super::{End, LocalNewton, Setting};
+use crate::error::CoreError;
+
+/// The most nodes a quadrature has (the exact cubic rule's four).
+const NODES: usize = 4;
+
+/// The per-node scalars of one step.
+struct Nodes {
+    len: usize,
+    /// `U_i`, `V_i`: the node's element state at `y = 0`.
+    u0: [f64; NODES],
+    ud0: [f64; NODES],
+    /// The node's force and tangents.
+    r: [f64; NODES],
+    kt: [f64; NODES],
+    ct: [f64; NODES],
+}
+
+impl LocalNewton {
+    /// Whether [`LocalNewton::step_lean`] applies: one element on one dof, nothing affine
+    /// besides it, at most [`NODES`] nodes.
+    pub(super) fn lean_applies(&self, space: &ElementSpace) -> bool {
+        !self.affine && self.nd == 1 && space.single() && self.map.len() <= NODES
+    }
+
+    /// `F(y)` at `y` (the varying nodes evaluated) and its absolute value (NaN kept), as
+    /// [`LocalNewton::residual_one`] forms it.
+    #[inline(always)]
+    fn lean_residual(
+        &self,
+        nodes: &mut Nodes,
+        space: &mut ElementSpace,
+        (set, inp): (&Setting, &StepInput),
+        (y, y0): (f64, f64),
+        tangent: bool,
+    ) -> Result<(f64, f64), CoreError> {
+        let mut res = y;
+        res -= y0;
+        for i in 0..nodes.len {
+            let m = self.map[i];
+            if m.constant {
+                continue;
+            }
+            let u = nodes.u0[i] + m.alpha * y;
+            let ud = nodes.ud0[i] + m.beta * y;
+            let t = inp.t + m.s * set.dt;
+            let (r, k, c) = space.eval_one(u, ud, t, tangent)?;
+            nodes.r[i] = r;
+            if tangent {
+                (nodes.kt[i], nodes.ct[i]) = (k, c);
+            }
+            // `dot` of one term: its zero partial sums, then the term
+            res += 0.0 + self.g[i][0] * r;
+        }
+        let norm = if res.is_nan() || res.abs() > 0.0 {
+            res.abs()
+        } else {
+            0.0
+        };
+        Ok((res, norm))
+    }
+
+    /// [`LocalNewton::step`] where [`LocalNewton::lean_applies`].
+    pub(super) fn step_lean(
+        &mut self,
+        pf: &mut PseudoForce,
+        set: &Setting,
+        inp: &StepInput,
+        (z_lin, w_lin): (&[f64], &[f64]),
+        end: End,
+    ) -> Result<usize, CoreError> {
+        let End { z, w, start } = end;
+        let n = self.n;
+        self.start_ready = false;
+        if !self.ready {
+            self.kept.valid = false;
+            self.assemble(pf, set);
+            self.prepare(pf.space())?;
+        }
+        let space = pf.space_mut();
+        space.drop_start();
+        // The start state's force is the last end's when the elements restart exactly and
+        // nothing but the route's commit of that end's trial variables (hysteretic
+        // elements) came in between: the element coordinate Newton converged to there and
+        // `phi . q0` differ by rounding only; the start's record keeps that coordinate with
+        // the force (one evaluation of the element per step).
+        let (restarts, stateful) = self.lean_restarts;
+        let known = self
+            .lean_end
+            .take()
+            .filter(|&(generation, evaluations, _, _)| {
+                let commits = space.generation().wrapping_sub(generation);
+                restarts
+                    && evaluations == space.evaluations()
+                    && if stateful {
+                        commits == 1 && space.held_commit()
+                    } else {
+                        commits == 0
+                    }
+            });
+        let (pq, pv, mut y0) = crate::dense::dot3(space.phi(), [inp.q0, inp.v0, z_lin]);
+        (self.pq[0], self.pv[0], self.y0[0]) = (pq, pv, y0);
+        let mut nodes = Nodes {
+            len: self.map.len(),
+            u0: [0.0; NODES],
+            ud0: [0.0; NODES],
+            r: [0.0; NODES],
+            kt: [0.0; NODES],
+            ct: [0.0; NODES],
+        };
+        for (i, m) in self.map.iter().enumerate() {
+            nodes.u0[i] = m.cq.0 * pq + m.cq.1 * pv;
+            nodes.ud0[i] = m.cv.0 * pq + m.cv.1 * pv;
+        }
+        // the constant nodes' forces, evaluated once
+        for i in 0..nodes.len {
+            let m = self.map[i];
+            if m.constant {
+                let t = inp.t + m.s * set.dt;
+                let start = m.s == 0.0 && nodes.u0[i].to_bits() == pq.to_bits();
+                // with the displacement the force is of: the last end's when it is reused
+                let (r, u) = match known {
+                    Some((_, _, r, u)) if start => (r, u),
+                    _ => (space.eval_one(nodes.u0[i], nodes.ud0[i], t, false)?.0, pq),
+                };
+                nodes.r[i] = r;
+                // the start state itself (its displacement bit for bit): kept for its record
+                if start {
+                    let differs = nodes.ud0[i].to_bits() != pv.to_bits();
+                    space.keep_start((inp.q0, inp.v0), t, (&[u], &self.pv), differs);
+                }
+                y0 -= 0.0 + self.g[i][0] * r;
+            }
+        }
+        // the initial guess: the start state's force held over the step
+        let first = self.map[0];
+        let r_start = if !(first.constant && first.s == 0.0) {
+            let (r, _, _) = space.eval_one(pq, pv, inp.t, false)?;
+            space.keep_start((inp.q0, inp.v0), inp.t, (&self.pq, &self.pv), false);
+            r
+        } else {
+            nodes.r[0]
+        };
+        self.r_start[0] = r_start;
+        self.start_ready = true;
+        let mut y = y0;
+        for i in 0..nodes.len {
+            if !self.map[i].constant {
+                y -= 0.0 + self.g[i][0] * r_start;
+            }
+        }
+        let mut scale0 = 0.0_f64.max(y0.abs());
+        for i in 0..nodes.len {
+            scale0 = scale0.max(nodes.u0[i].abs());
+        }
+        let scale0 = scale0.max(space.resolution() / set.tol);
+        let iterations = self.lean_newton(&mut nodes, space, (set, inp), (&mut y, y0), scale0)?;
+        // the end node's force, for the next step's start (its last evaluation)
+        let end = (0..nodes.len).rev().find(|&i| !self.map[i].constant);
+        self.lean_end = match end {
+            Some(i) if self.map[i].s == 1.0 && restarts && self.end_is_unknown => {
+                let u = nodes.u0[i] + self.map[i].alpha * y;
+                Some((space.generation(), space.evaluations(), nodes.r[i], u))
+            }
+            _ => None,
+        };
+        // the end state in one pass over the modes: per node `t_i = phi r_i`,
+        // `z -= s_i w_i t_i`, `Q_i = -s_i t_i`, `w += w'_i Q_i` (the general finish's order)
+        let (_, wo) = Self::weights(set);
+        let phi = &space.phi()[..n];
+        let count = nodes.len;
+        let out = (z, w, start);
+        let (lin, (r, s)) = ((z_lin, w_lin), (&nodes.r, &self.s[..]));
+        match count {
+            1 => finish::<1>(phi, lin, (&self.w_hat, wo), (r, s), out),
+            2 => finish::<2>(phi, lin, (&self.w_hat, wo), (r, s), out),
+            3 => finish::<3>(phi, lin, (&self.w_hat, wo), (r, s), out),
+            _ => finish::<4>(phi, lin, (&self.w_hat, wo), (r, s), out),
+        }
+        for i in 0..count {
+            self.r[i][0] = nodes.r[i];
+        }
+        Ok(iterations)
+    }
+
+    /// [`LocalNewton::newton_one`] on the step's scalars.
+    fn lean_newton(
+        &self,
+        nodes: &mut Nodes,
+        space: &mut ElementSpace,
+        (set, inp): (&Setting, &StepInput),
+        (y, y0): (&mut f64, f64),
+        scale0: f64,
+    ) -> Result<usize, CoreError> {
+        let at_end = self.ends_at_end();
+        let mut last: Option<f64> = None;
+        let mut last_size: Option<f64> = None;
+        let mut norm = f64::INFINITY;
+        let (mut y_prev, mut delta) = (*y, 0.0);
+        for iter in 1..=set.max_iter {
+            let (mut res, n) = self.lean_residual(nodes, space, (set, inp), (*y, y0), true)?;
+            norm = n;
+            let mut cut = false;
+            if let Some(prev) = last {
+                norm = backtrack(prev, norm, scale0, |lambda| {
+                    cut = true;
+                    *y = y_prev + lambda * delta;
+                    let (r, n) = self.lean_residual(nodes, space, (set, inp), (*y, y0), true)?;
+                    res = r;
+                    Ok(n)
+                })?;
+            }
+            // J = 1 + sum_i g_i (alpha_i k_i + beta_i c_i) over the varying nodes
+            let mut mat = 1.0;
+            for i in 0..nodes.len {
+                let (m, g) = (self.map[i], self.g[i][0]);
+                if m.constant || g == 0.0 {
+                    continue;
+                }
+                mat += g * (m.alpha * nodes.kt[i] + m.beta * nodes.ct[i]);
+            }
+            let pivot = mat.abs();
+            if !(pivot.is_finite() && pivot > 0.0) {
+                break;
+            }
+            // the back substitution of the 1 x 1 elimination, as `newton_one` forms it
+            let none: f64 = std::iter::empty::<f64>().sum();
+            delta = (-res - none) / mat;
+            if !delta.is_finite() {
+                break;
+            }
+            if below_rounding(delta.abs(), y.abs().max(scale0)) {
+                if at_end {
+                    space.mark_end();
+                    if self.end_is_unknown {
+                        space.mark_end_trial();
+                    }
+                }
+                return Ok(iter);
+            }
+            y_prev = *y;
+            *y += delta;
+            let size = 0.0_f64.max(delta.abs());
+            let scale = 0.0_f64.max(y.abs()).max(scale0);
+            let exact = set.smooth && !cut && next_below_rounding(last_size, size, scale);
+            if set.linear || size <= set.tol * scale || size == 0.0 || exact {
+                self.lean_residual(nodes, space, (set, inp), (*y, y0), at_end)?;
+                if at_end {
+                    space.mark_end();
+                    if self.end_is_unknown {
+                        space.mark_end_trial();
+                    }
+                }
+                return Ok(iter);
+            }
+            last = Some(norm);
+            last_size = Some(size);
+        }
+        Err(CoreError::NoConvergence {
+            time: inp.t + set.dt,
+            step: 0,
+            residual: norm,
+            iterations: set.max_iter,
+            last_good_time: Some(inp.t),
+        })
+    }
+}
+
+/// The lean step's end state from the `N` nodes' forces `r` (see
+/// [`LocalNewton::step_lean`]), the same operations in the same order as the general
+/// finish: `z = z_lin - sum_i s_i W_i phi r_i`, `w = w_lin + sum_i W'_i Q_i` with
+/// `Q_i = -s_i phi r_i`, and `Q_0` into `start`.
+#[inline(always)]
+fn finish<const N: usize>(
+    phi: &[f64],
+    (z_lin, w_lin): (&[f64], &[f64]),
+    (w_hat, w_other): (&[Vec<f64>], &[Vec<f64>]),
+    (r, s): (&[f64; NODES], &[f64]),
+    (z, w, start): (&mut [f64], &mut [f64], Option<&mut [f64]>),
+) {
+    let n = phi.len();
+    let wh: [&[f64]; N] = std::array::from_fn(|i| &w_hat[i][..n]);
+    let wo: [&[f64]; N] = std::array::from_fn(|i| &w_other[i][..n]);
+    let neg: [f64; N] = std::array::from_fn(|i| -s[i]);
+    let (z_lin, w_lin, z, w) = (&z_lin[..n], &w_lin[..n], &mut z[..n], &mut w[..n]);
+    // `project` of one dof: `0 + r phi`, or 0 for a zero force
+    let t = |i: usize, p: f64| if r[i] != 0.0 { 0.0 + r[i] * p } else { 0.0 };
+    for m in 0..n {
+        let (mut zm, mut wm, p) = (z_lin[m], w_lin[m], phi[m]);
+        for i in 0..N {
+            let ti = t(i, p);
+            zm -= wh[i][m] * ti;
+            wm += wo[i][m] * (ti * neg[i]);
+        }
+        (z[m], w[m]) = (zm, wm);
+    }
+    if let Some(start) = start {
+        for (o, &p) in start[..n].iter_mut().zip(phi) {
+            *o = t(0, p) * neg[0];
+        }
+    }
+}
