@@ -95,14 +95,15 @@ def main(repeats: int = 7) -> None:
 
 
 def _row(name: str, error: float, sol: duhamel.Solution, element: float | None = None) -> None:
-    est = sol.stats.error_estimate
-    line = f"| {name} | {error:.2e} | {est:.2e} | {est / error:.1f} |"
+    st = sol.stats
+    est, bound = st.error_estimate, st.error_bound
+    line = f"| {name} | {error:.2e} | {est:.2e} | {est / error:.2f} | {bound / error:.1f} |"
     if element is None:
         line += " |"
     else:
-        worst = max(sol.stats.element_error_estimate)
-        line += f" {element:.2e} / {worst:.2e} ({worst / element:.1f}) |"
-    print(line + f" {sol.stats.subdivided_steps} |")
+        worst, top = max(st.element_error_estimate), max(st.element_error_bound)
+        line += f" {element:.2e} / {worst:.2e} ({worst / element:.2f}; bound {top / element:.1f}) |"
+    print(line + f" {st.subdivided_steps} |")
 
 
 def table() -> None:
@@ -118,8 +119,8 @@ def table() -> None:
     )
 
     warnings.simplefilter("ignore", duhamel.AccuracyWarning)
-    print("| case | true error | estimate | ratio | elements: true / estimate (ratio) | "
-          "subdivided steps |\n|---|---|---|---|---|---|")  # fmt: skip
+    print("| case | true error | estimate | ratio | bound ratio | elements: true / estimate "
+          "(ratio; bound ratio) | subdivided steps |\n|---|---|---|---|---|---|---|")  # fmt: skip
     for n in (50, 100, 200, 400):
         error, sol = _duffing(n)
         _row(f"Duffing, 10 periods, {n} steps a period", error, sol)
@@ -203,7 +204,8 @@ def jumps() -> None:
 
     warnings.simplefilter("ignore", duhamel.AccuracyWarning)
     print(f"load average {os.getloadavg()}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
-    print("| case | k | save | true error | estimate | ratio |\n|---|---|---|---|---|---|")
+    print("| case | k | save | true error | estimate | ratio | bound ratio |\n"
+          "|---|---|---|---|---|---|---|")  # fmt: skip
     for name, make in cases.items():
         system = make()
         ref = run(system, 1024, 1024).x[:, 0]
@@ -212,8 +214,9 @@ def jumps() -> None:
                 sol = run(system, k, save)
                 x = sol.x[::k, 0] if save == 1 else sol.x[:, 0]
                 error = float(np.abs(x - ref).max() / np.abs(ref).max())
-                est = sol.stats.error_estimate
-                print(f"| {name} | {k} | {save} | {error:.2e} | {est:.2e} | {est / error:.2f} |")
+                est, bound = sol.stats.error_estimate, sol.stats.error_bound
+                print(f"| {name} | {k} | {save} | {error:.2e} | {est:.2e} | {est / error:.2f} | "
+                      f"{bound / error:.1f} |")  # fmt: skip
 
 
 if __name__ == "__main__":
