@@ -69,8 +69,6 @@ pub struct ElementSpace<'a> {
     /// evaluations counted then. The route's commit right after it commits those trial
     /// variables as they are ([`ElementSpace::commit`]).
     end_trial: Option<u64>,
-    /// Whether the last commit took the marked end trial variables as they were.
-    held_commit: bool,
     /// The background of the last [`ElementSpace::tangent_stiffness`] (0 when no element
     /// dominated).
     background: f64,
@@ -128,7 +126,6 @@ impl<'a> ElementSpace<'a> {
             members,
             end_mark: None,
             end_trial: None,
-            held_commit: false,
             background: 0.0,
             share_key: (0, 0),
             generation: 0,
@@ -160,14 +157,8 @@ impl<'a> ElementSpace<'a> {
         self.members.iter().all(|m| m.eval.restarts_exactly())
     }
 
-    /// Whether the last commit took the trial variables of the end state marked by
-    /// [`ElementSpace::mark_end_trial`] as they were (no evaluation).
-    pub fn held_commit(&self) -> bool {
-        self.held_commit
-    }
-
     /// The evaluations all members have counted.
-    pub fn evaluations(&self) -> u64 {
+    fn evaluations(&self) -> u64 {
         self.members.iter().map(|m| m.eval.evaluations()).sum()
     }
 
@@ -212,7 +203,6 @@ impl<'a> ElementSpace<'a> {
         // local state is that end's, and each commits the trial variables it holds
         let marked = self.end_trial.take();
         let held = !initial && marked.is_some() && marked == Some(self.evaluations());
-        self.held_commit = held;
         let phi = &self.phi;
         for m in self.members.iter_mut().filter(|m| m.eval.stateful()) {
             let e = &mut m.eval;
@@ -255,7 +245,6 @@ impl<'a> ElementSpace<'a> {
             });
         }
         self.generation += 1;
-        self.held_commit = false;
         self.start.valid = false;
         let mut at = 0;
         for m in &mut self.members {

@@ -93,25 +93,6 @@ impl LocalNewton {
         }
         let space = pf.space_mut();
         space.drop_start();
-        // The start state's force is the last end's when the elements restart exactly and
-        // nothing but the route's commit of that end's trial variables (hysteretic
-        // elements) came in between: the element coordinate Newton converged to there and
-        // `phi . q0` differ by rounding only; the start's record keeps that coordinate with
-        // the force (one evaluation of the element per step).
-        let (restarts, stateful) = self.lean_restarts;
-        let known = self
-            .lean_end
-            .take()
-            .filter(|&(generation, evaluations, _, _)| {
-                let commits = space.generation().wrapping_sub(generation);
-                restarts
-                    && evaluations == space.evaluations()
-                    && if stateful {
-                        commits == 1 && space.held_commit()
-                    } else {
-                        commits == 0
-                    }
-            });
         let (pq, pv, mut y0) = crate::dense::dot3(space.phi(), [inp.q0, inp.v0, z_lin]);
         (self.pq[0], self.pv[0], self.y0[0]) = (pq, pv, y0);
         let mut nodes = Nodes {
@@ -132,16 +113,12 @@ impl LocalNewton {
             if m.constant {
                 let t = inp.t + m.s * set.dt;
                 let start = m.s == 0.0 && nodes.u0[i].to_bits() == pq.to_bits();
-                // with the displacement the force is of: the last end's when it is reused
-                let (r, u) = match known {
-                    Some((_, _, r, u)) if start => (r, u),
-                    _ => (space.eval_one(nodes.u0[i], nodes.ud0[i], t, false)?.0, pq),
-                };
+                let (r, _, _) = space.eval_one(nodes.u0[i], nodes.ud0[i], t, false)?;
                 nodes.r[i] = r;
                 // the start state itself (its displacement bit for bit): kept for its record
                 if start {
                     let differs = nodes.ud0[i].to_bits() != pv.to_bits();
-                    space.keep_start((inp.q0, inp.v0), t, (&[u], &self.pv), differs);
+                    space.keep_start((inp.q0, inp.v0), t, (&[pq], &self.pv), differs);
                 }
                 y0 -= 0.0 + self.g[i][0] * r;
             }
@@ -169,15 +146,6 @@ impl LocalNewton {
         }
         let scale0 = scale0.max(space.resolution() / set.tol);
         let iterations = self.lean_newton(&mut nodes, space, (set, inp), (&mut y, y0), scale0)?;
-        // the end node's force, for the next step's start (its last evaluation)
-        let end = (0..nodes.len).rev().find(|&i| !self.map[i].constant);
-        self.lean_end = match end {
-            Some(i) if self.map[i].s == 1.0 && restarts && self.end_is_unknown => {
-                let u = nodes.u0[i] + self.map[i].alpha * y;
-                Some((space.generation(), space.evaluations(), nodes.r[i], u))
-            }
-            _ => None,
-        };
         // the end state in one pass over the modes: per node `t_i = phi r_i`,
         // `z -= s_i w_i t_i`, `Q_i = -s_i t_i`, `w += w'_i Q_i` (the general finish's order)
         let (_, wo) = Self::weights(set);

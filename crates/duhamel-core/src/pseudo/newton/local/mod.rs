@@ -145,11 +145,6 @@ pub(in super::super) struct LocalNewton {
     /// Whether the step is [`LocalNewton::step_lean`]'s (one element on one dof, nothing
     /// affine).
     lean: bool,
-    /// Whether the elements restart exactly ([`ElementSpace::restarts_exactly`]) and are
-    /// hysteretic; the last lean step's end: the space's generation and evaluations then,
-    /// and the end node's force and displacement ([`LocalNewton::step_lean`]).
-    lean_restarts: (bool, bool),
-    lean_end: Option<(u64, u64, f64, f64)>,
     /// Whether the last varying node is the end state with the unknown `z = q1` as its
     /// displacements (`q = 0 q0 + 0 v0 + 1 z`: schemes b and c): its element coordinate is
     /// then `Phi_D q1` up to rounding, and its evaluation the end state's.
@@ -250,8 +245,6 @@ impl LocalNewton {
             kept_kt: Vec::new(),
             kept_ct: Vec::new(),
             lean: false,
-            lean_restarts: (space.restarts_exactly(), space.stateful()),
-            lean_end: None,
             end_is_unknown: false,
         };
         let end = newton.map.iter().rev().find(|m| !m.constant);
