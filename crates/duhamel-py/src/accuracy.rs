@@ -68,7 +68,7 @@ pub(crate) fn mode_bounds<'py>(
         }
         check_step(h, k)?;
         let moments = accuracy::parabola_moments(omega, c, h);
-        let bounds = bounds_of(py, &pseudo, &q, omega, c, &moments, step)?;
+        let bounds = bounds_of(py, &pseudo, &q, (omega, c), &moments, step)?;
         Ok(PyArray1::from_vec(py, bounds))
     })
 }
@@ -157,18 +157,16 @@ pub(crate) fn check_step(h: f64, k: usize) -> PyResult<()> {
     Ok(())
 }
 
-/// [`accuracy::mode_bounds`] of checked views, with the GIL released (a pass over the
-/// whole history: other Python threads, as `solve_many`'s, run meanwhile); `step` is
-/// `(h, k, span)`.
-fn bounds_of(
-    py: Python<'_>,
-    pseudo: &PyReadonlyArray2<'_, f64>,
-    q: &PyReadonlyArray2<'_, f64>,
-    omega: &[f64],
-    c: &[f64],
-    moments: &[f64],
+/// The [`ModalRun`] of checked views: `pseudo` and `q` of one shape, `(rows, n)` with `n`
+/// the modes of `modes = (omega, c)`; `step` is `(h, k, span)`.
+fn modal_run<'a>(
+    pseudo: &'a PyReadonlyArray2<'_, f64>,
+    q: &'a PyReadonlyArray2<'_, f64>,
+    modes: (&'a [f64], &'a [f64]),
+    moments: &'a [f64],
     step: (f64, usize, f64),
-) -> PyResult<Vec<f64>> {
+) -> PyResult<ModalRun<'a>> {
+    let (omega, c) = modes;
     let n = omega.len();
     if pseudo.shape()[1] != n {
         return Err(shape_error(
@@ -181,7 +179,7 @@ fn bounds_of(
         return Err(shape_error("q", format!("{:?}", pseudo.shape()), q.shape()));
     }
     let (h, k, span) = step;
-    let run = ModalRun {
+    Ok(ModalRun {
         pseudo: pseudo.as_slice()?,
         q: q.as_slice()?,
         rows: pseudo.shape()[0],
@@ -191,7 +189,21 @@ fn bounds_of(
         h,
         k,
         span,
-    };
+    })
+}
+
+/// [`accuracy::mode_bounds`] of checked views, with the GIL released (a pass over the
+/// whole history: other Python threads, as `solve_many`'s, run meanwhile); `step` is
+/// `(h, k, span)`.
+fn bounds_of(
+    py: Python<'_>,
+    pseudo: &PyReadonlyArray2<'_, f64>,
+    q: &PyReadonlyArray2<'_, f64>,
+    modes: (&[f64], &[f64]),
+    moments: &[f64],
+    step: (f64, usize, f64),
+) -> PyResult<Vec<f64>> {
+    let run = modal_run(pseudo, q, modes, moments, step)?;
     Ok(py.detach(|| accuracy::mode_bounds(&run)))
 }
 
@@ -207,19 +219,9 @@ pub(crate) fn errors_of(
     signed: (&[f64], usize),
     step: (f64, usize, f64),
 ) -> PyResult<(Vec<f64>, Vec<f64>)> {
-    let (omega, c) = modes;
-    let n = omega.len();
-    if pseudo.shape()[1] != n {
-        return Err(shape_error(
-            "pseudo",
-            format!("(rows, {n})"),
-            pseudo.shape(),
-        ));
-    }
-    if q.shape() != pseudo.shape() {
-        return Err(shape_error("q", format!("{:?}", pseudo.shape()), q.shape()));
-    }
+    let run = modal_run(pseudo, q, modes, moments, step)?;
     let (shapes, g) = signed;
+    let n = modes.0.len();
     if shapes.len() != g * n {
         return Err(shape_error(
             "signed",
@@ -227,18 +229,6 @@ pub(crate) fn errors_of(
             &[shapes.len()],
         ));
     }
-    let (h, k, span) = step;
-    let run = ModalRun {
-        pseudo: pseudo.as_slice()?,
-        q: q.as_slice()?,
-        rows: pseudo.shape()[0],
-        omega,
-        c,
-        moments,
-        h,
-        k,
-        span,
-    };
     Ok(py.detach(|| accuracy::row_errors(&run, shapes)))
 }
 
