@@ -12,10 +12,10 @@
 //! the run of [`super::mode_bounds`]: the frequency at which the response, and with it its
 //! phase error, turns). Carried at that frequency, the local errors of an oscillation's
 //! cycles add where the response's phase drifts and cancel where they do not; a bound that
-//! adds their magnitudes (the parabola term of [`super::mode_bounds`]) is 2x to 600x the true
-//! error on the family of docs/accuracy.md, this is within 3x of it in most runs (not a bound:
-//! measured down to a third). Force jumps keep their first-order term ([`super::jumps`]),
-//! added in magnitude.
+//! adds their magnitudes (the parabola term of [`super::mode_bounds`]) is 1.3x to 650x the
+//! true error on the family of docs/accuracy.md, this is within 3x of it in 61 of its 68
+//! runs (not a bound: measured 0.16x to 4x; low on yielding and contact). Force jumps keep
+//! their first-order term ([`super::jumps`]), added in magnitude.
 
 use faer::linalg::matmul::matmul;
 use faer::{Accum, MatMut, MatRef, Par};
