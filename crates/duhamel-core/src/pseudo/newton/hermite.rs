@@ -219,12 +219,6 @@ impl Hermite {
             }
             last = Some(norm);
         }
-        Err(CoreError::NoConvergence {
-            time: inp.t + set.dt,
-            step: 0,
-            residual: norm,
-            iterations: set.max_iter,
-            last_good_time: Some(inp.t),
-        })
+        Err(set.no_convergence(inp, norm))
     }
 }

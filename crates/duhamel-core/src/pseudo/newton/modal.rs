@@ -375,13 +375,7 @@ impl Modal {
             }
             last = Some(norm);
         }
-        Err(CoreError::NoConvergence {
-            time: inp.t + set.dt,
-            step: 0,
-            residual: norm,
-            iterations: set.max_iter,
-            last_good_time: Some(inp.t),
-        })
+        Err(set.no_convergence(inp, norm))
     }
 
     pub(super) fn unknown_value(&self, set: &Setting, m: usize) -> f64 {

@@ -1,6 +1,7 @@
 //! What every strategy of the step solver knows about the step.
 
-use super::super::scheme::{Rule, Scheme, Unknown};
+use super::super::scheme::{Rule, Scheme, StepInput, Unknown};
+use crate::error::CoreError;
 
 /// The step's rule and scheme, its unknown half and Newton's settings, fixed for a run.
 pub(super) struct Setting<'r> {
@@ -29,4 +30,18 @@ pub(super) struct Setting<'r> {
     /// The pseudo-force reads the step's acceleration estimate `(v1 - v0)/dt` (an estimated
     /// mass law).
     pub acceleration: bool,
+}
+
+impl Setting<'_> {
+    /// The error of a step from `inp` whose Newton iterations did not converge, its last
+    /// residual `residual` (every strategy's).
+    pub fn no_convergence(&self, inp: &StepInput<'_>, residual: f64) -> CoreError {
+        CoreError::NoConvergence {
+            time: inp.t + self.dt,
+            step: 0,
+            residual,
+            iterations: self.max_iter,
+            last_good_time: Some(inp.t),
+        }
+    }
 }

@@ -211,12 +211,6 @@ impl LocalNewton {
             last = Some(norm);
             last_size = Some(size);
         }
-        Err(CoreError::NoConvergence {
-            time: inp.t + set.dt,
-            step: 0,
-            residual: norm,
-            iterations: set.max_iter,
-            last_good_time: Some(inp.t),
-        })
+        Err(set.no_convergence(inp, norm))
     }
 }
