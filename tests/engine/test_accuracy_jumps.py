@@ -34,18 +34,37 @@ def _bilinear() -> duhamel.System:
     return s
 
 
+def _swapped(element: E.Element) -> duhamel.System:
+    s = sdof("Steel02")
+    s.elements[0] = element
+    return s
+
+
 SYSTEMS = {
     "MinMax": lambda: sdof("MinMax"),
     "Steel02": lambda: sdof("Steel02"),
     "Bilinear": _bilinear,
 }
+#: the estimate's family: these, a sliding friction pendulum and a gap closing on a spring
+ESTIMATED = {
+    **SYSTEMS,
+    "FrictionPendulum": lambda: _swapped(E.FrictionPendulum(0, radius=2.0, mu=0.06, weight=9.81)),
+    "Gap": lambda: _gapped(),
+}
+
+
+def _gapped() -> duhamel.System:
+    s = sdof("Steel02")
+    s.elements[0] = E.Spring(0, k=K0)
+    s.add(E.Gap(0, gap=0.02, k=10 * K0))
+    return s
 
 
 def _run(kind: str, k: int, save_every: int, **kw) -> duhamel.Solution:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", duhamel.AccuracyWarning)
         return duhamel.solve(
-            SYSTEMS[kind](),
+            ESTIMATED[kind](),
             duhamel.Semianalytic(**kw),
             t_end=SECONDS,
             dt=DT / k,
@@ -96,12 +115,15 @@ def test_the_family_is_bounded_within_a_factor_3():
 
 
 def test_the_family_is_estimated_near_the_error():
-    """The propagated estimate: measured 0.31 to 3.3 times the true error, within a factor
-    3 in 24 of these 27 runs (below the issue's 90 %: the yielding ``Bilinear`` is 0.31-0.50,
-    docs/accuracy.md), never below a third of a true error above 1e-3."""
-    rows = [row for kind in SYSTEMS for row in _family(kind)]
+    """The propagated estimate, carried at the run's tangent with its kinks' errors where
+    that stays within the bound: measured 0.30 to 3.4 times the true error, within a factor
+    3 in 42 of these 45 runs (the two below are the yielding ``Bilinear`` at the record's
+    step / 4, where the tangent's carriage rises above the bound and the secant's is kept,
+    0.30, on a true error of 6e-5; the one above a ``MinMax`` failing at the record's step),
+    never below a third of a true error above 1e-3 (docs/accuracy.md)."""
+    rows = [row for kind in ESTIMATED for row in _family(kind)]
     ratios = [estimate / error for _, _, error, estimate, _ in rows]
-    assert sum(1 / 3 <= r <= 3 for r in ratios) >= 24, ratios
+    assert sum(1 / 3 <= r <= 3 for r in ratios) >= 0.9 * len(ratios), ratios
     assert all(r >= 1 / 3 for r, (_, _, e, _, _) in zip(ratios, rows, strict=True) if e > 1e-3)
     assert max(ratios) <= 3.5, ratios
 

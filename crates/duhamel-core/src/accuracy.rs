@@ -16,6 +16,7 @@ use crate::kernel::oscillator::Transfer;
 mod jumps;
 mod passes;
 mod signed;
+mod tangent;
 
 use passes::{decaying_max_of_seconds, first_sums, floor_div, peak_of};
 
@@ -159,9 +160,11 @@ pub fn row_errors(run: &ModalRun<'_>, signed: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let first = first_sums(run.pseudo, run.q, n, run.rows);
     let jumps = jumps::jump_bounds(&first.jumps, run.pseudo, run.q, run.rows, run);
     let w = secant(run, &first.qq, &first.pq);
-    let bounds = bounds_from(run, &first, &jumps);
-    let errors = signed::row_errors(run, &w, &jumps, &bounds, signed);
-    (errors, bound_rows(&bounds, signed))
+    let bounds_per_mode = bounds_from(run, &first, &jumps);
+    let mut errors = signed::row_errors(run, &w, &jumps, &bounds_per_mode, signed);
+    let bounds = bound_rows(&bounds_per_mode, signed);
+    tangent::raise(run, &jumps, &bounds_per_mode, signed, &bounds, &mut errors);
+    (errors, bounds)
 }
 
 /// The largest of `errors` (per component row, [`row_errors`]) over `quantity`'s rows, over

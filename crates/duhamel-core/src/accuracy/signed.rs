@@ -13,9 +13,10 @@
 //! phase error, turns). Carried at that frequency, the local errors of an oscillation's
 //! cycles add where the response's phase drifts and cancel where they do not; a bound that
 //! adds their magnitudes (the parabola term of [`super::mode_bounds`]) is 1.3x to 650x the
-//! true error on the family of docs/accuracy.md, this is within 3x of it in 61 of its 68
-//! runs (not a bound: measured 0.16x to 4x; low on yielding and contact). Force jumps keep
-//! their first-order term ([`super::jumps`]), added in magnitude.
+//! true error on the family of docs/accuracy.md, this was within 3x of it in 61 of its 68
+//! runs (not a bound: measured 0.16x to 4x; low on yielding and contact, which
+//! [`super::tangent`] raises in runs of one mode). Force jumps keep their first-order term
+//! ([`super::jumps`]), added in magnitude.
 
 use faer::linalg::matmul::matmul;
 use faer::{Accum, MatMut, MatRef, Par};
@@ -24,10 +25,10 @@ use super::ModalRun;
 use crate::kernel::oscillator::Transfer;
 
 /// Saved rows per block of the combination (the errors of a block, then one product).
-const ROWS: usize = 256;
+pub(super) const ROWS: usize = 256;
 
 /// A 2 x 2 matrix acting on `(q, v)`.
-type M2 = [[f64; 2]; 2];
+pub(super) type M2 = [[f64; 2]; 2];
 
 fn mul(a: &M2, b: &M2) -> M2 {
     let mut out = [[0.0; 2]; 2];
@@ -44,12 +45,14 @@ fn mul(a: &M2, b: &M2) -> M2 {
 /// pseudo-force at the saved spacing (the `k` internal steps' parabola responses, each carried
 /// to the interval's end).
 #[derive(Clone, Copy)]
-struct Interval {
-    carry: M2,
-    local: [f64; 2],
+pub(super) struct Interval {
+    pub carry: M2,
+    pub local: [f64; 2],
+    /// The transition over one internal step.
+    pub step: M2,
 }
 
-fn interval(w: f64, c: f64, run: &ModalRun<'_>, m: usize) -> Interval {
+pub(super) fn interval(w: f64, c: f64, run: &ModalRun<'_>, m: usize) -> Interval {
     let k = run.k;
     let a = Transfer::new(w * w, c, run.h).a;
     // DDQ per internal step = -D2 / (8 k^2), D2 the second difference at the saved spacing
@@ -64,7 +67,11 @@ fn interval(w: f64, c: f64, run: &ModalRun<'_>, m: usize) -> Interval {
         ];
         carry = mul(&a, &carry);
     }
-    Interval { carry, local }
+    Interval {
+        carry,
+        local,
+        step: a,
+    }
 }
 
 /// Per mode, the [`Interval`]s' entries as arrays (zeros for a mode without a step: its
@@ -185,29 +192,12 @@ pub(super) fn row_errors(
         })
         .collect();
     let row = |r: usize| &signed[r * n..(r + 1) * n];
-    // the modes left out: the smallest contributions to every row's bound, LEFT_OUT of it
-    let share = |r: usize, m: usize| row(r)[m].abs() * bounds[m];
     let stepped: Vec<usize> = (0..n).filter(|&m| steps[m].is_some()).collect();
-    let weight: Vec<f64> = (0..n)
-        .map(|m| (0..g).map(|r| share(r, m)).fold(0.0_f64, f64::max))
-        .collect();
-    let mut order = stepped.clone();
-    order.sort_by(|&a, &b| weight[a].total_cmp(&weight[b]));
-    let totals: Vec<f64> = (0..g)
-        .map(|r| stepped.iter().map(|&m| share(r, m)).sum())
-        .collect();
-    let mut dropped = vec![0.0_f64; g];
-    let mut kept = vec![true; n];
-    for &m in &order {
-        if !(0..g).all(|r| dropped[r] + share(r, m) <= LEFT_OUT * totals[r]) {
-            break;
-        }
-        kept[m] = false;
-        for (r, d) in dropped.iter_mut().enumerate() {
-            *d += share(r, m);
-        }
-    }
-    let modes: Vec<usize> = stepped.iter().copied().filter(|&m| kept[m]).collect();
+    let Kept {
+        modes,
+        dropped,
+        kept,
+    } = kept_modes(n, &stepped, bounds, signed);
     let k = modes.len();
     if k > 0 {
         // few modes left out: the block of every mode, the others' weights zero
@@ -230,26 +220,7 @@ pub(super) fn row_errors(
         let coef = Coefficients::new(&steps);
         let subset = gather.then_some(modes.as_slice());
         propagate(run, &coef, subset, |block, count| {
-            let lhs = MatRef::from_row_major_slice(block, count, width);
-            let mut dst = MatMut::from_row_major_slice_mut(&mut combined[..count * g], count, g);
-            matmul(
-                &mut dst,
-                Accum::Replace,
-                lhs,
-                weights.transpose(),
-                1.0,
-                Par::Seq,
-            );
-            for values in combined[..count * g].chunks_exact(g) {
-                for (o, v) in out.iter_mut().zip(values) {
-                    // NaN kept once seen (`f64::max` would drop it)
-                    *o = if o.is_nan() || v.is_nan() {
-                        f64::NAN
-                    } else {
-                        o.max(v.abs())
-                    };
-                }
-            }
+            combine(&mut out, block, count, weights, &mut combined);
         });
     }
     for (r, o) in out.iter_mut().enumerate() {
@@ -257,4 +228,100 @@ pub(super) fn row_errors(
         *o += dropped[r] + jump;
     }
     out
+}
+
+/// The modes of a combination ([`row_errors`]) and what the others leave: `modes` the ones
+/// combined, in order; `dropped` per row the bound of the others; `kept` per mode.
+pub(super) struct Kept {
+    pub modes: Vec<usize>,
+    pub dropped: Vec<f64>,
+    pub kept: Vec<bool>,
+}
+
+/// Of the `stepped` modes, those that make up all but [`LEFT_OUT`] of every row's bound
+/// `sum_m |signed[r, m]| bounds[m]` (the smallest contributions are left out first).
+pub(super) fn kept_modes(n: usize, stepped: &[usize], bounds: &[f64], signed: &[f64]) -> Kept {
+    let g = signed.len().checked_div(n).unwrap_or(0);
+    let share = |r: usize, m: usize| signed[r * n + m].abs() * bounds[m];
+    let weight: Vec<f64> = (0..n)
+        .map(|m| (0..g).map(|r| share(r, m)).fold(0.0_f64, f64::max))
+        .collect();
+    let mut order = stepped.to_vec();
+    order.sort_by(|&a, &b| weight[a].total_cmp(&weight[b]));
+    let totals: Vec<f64> = (0..g)
+        .map(|r| stepped.iter().map(|&m| share(r, m)).sum())
+        .collect();
+    let mut dropped = vec![0.0_f64; g];
+    let mut kept = vec![true; n];
+    for &m in &order {
+        if !(0..g).all(|r| dropped[r] + share(r, m) <= LEFT_OUT * totals[r]) {
+            break;
+        }
+        kept[m] = false;
+        for (r, d) in dropped.iter_mut().enumerate() {
+            *d += share(r, m);
+        }
+    }
+    let modes = stepped.iter().copied().filter(|&m| kept[m]).collect();
+    Kept {
+        modes,
+        dropped,
+        kept,
+    }
+}
+
+/// The most entries of a combination's weights formed row by row rather than by a matrix
+/// product ([`combine`]).
+const SMALL: usize = 16;
+
+/// `out[r] = max(out[r], max_i |(block weights^T)[i, r]|)` over the `count` rows of the
+/// row-major `block` (`count` x `weights.ncols()`), `combined` the product's scratch (NaN
+/// kept once seen: `f64::max` would drop it).
+pub(super) fn combine(
+    out: &mut [f64],
+    block: &[f64],
+    count: usize,
+    weights: MatRef<'_, f64>,
+    combined: &mut [f64],
+) {
+    let (g, width) = (weights.nrows(), weights.ncols());
+    if g * width <= SMALL {
+        // a product too small for a matrix kernel's dispatch: row by row
+        let mut w = [0.0; SMALL];
+        for r in 0..g {
+            for m in 0..width {
+                w[r * width + m] = weights[(r, m)];
+            }
+        }
+        for values in block[..count * width].chunks_exact(width) {
+            for (o, row) in out.iter_mut().zip(w.chunks_exact(width)) {
+                let v: f64 = values.iter().zip(row).map(|(x, s)| x * s).sum();
+                *o = if o.is_nan() || v.is_nan() {
+                    f64::NAN
+                } else {
+                    o.max(v.abs())
+                };
+            }
+        }
+        return;
+    }
+    let lhs = MatRef::from_row_major_slice(block, count, width);
+    let mut dst = MatMut::from_row_major_slice_mut(&mut combined[..count * g], count, g);
+    matmul(
+        &mut dst,
+        Accum::Replace,
+        lhs,
+        weights.transpose(),
+        1.0,
+        Par::Seq,
+    );
+    for values in combined[..count * g].chunks_exact(g) {
+        for (o, v) in out.iter_mut().zip(values) {
+            *o = if o.is_nan() || v.is_nan() {
+                f64::NAN
+            } else {
+                o.max(v.abs())
+            };
+        }
+    }
 }
