@@ -3,7 +3,7 @@
 
 use duhamel_core::direct::DirectHistory;
 use duhamel_core::{Coordinates, CoreError, Failure, History, Stats};
-use numpy::{PyArray1, PyArray2};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 
 use crate::error::RunError;
@@ -121,12 +121,8 @@ impl RunResult {
     }
 }
 
-/// The `(rows, cols)` array of the row-major `v`, moved into one numpy array (not a
-/// reshaped view of a 1-D one: one Python object less per history array of every run).
 fn array2(py: Python<'_>, v: Vec<f64>, rows: usize, cols: usize) -> PyResult<Array2> {
-    let shaped = numpy::ndarray::Array2::from_shape_vec((rows, cols), v)
-        .map_err(|e| pyo3::exceptions::PyValueError::new_err(format!("a run's history: {e}")))?;
-    Ok(PyArray2::from_owned_array(py, shaped).unbind())
+    Ok(PyArray1::from_vec(py, v).reshape([rows, cols])?.unbind())
 }
 
 impl RunResult {
