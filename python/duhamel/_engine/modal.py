@@ -77,7 +77,7 @@ class ModalSetup:
     _stepwise: Any = None  # the uncoupled route's model stepped one step at a time
     _estimated: bool | None = None  # whether its runs are estimated (accuracy.applies)
     _estimator: tuple[Any, Any] | None = None  # (saved dofs, the core's Estimator)
-    _structure: Any = None  # the structural model's partial of the system's loads
+    _structure: functools.partial[Any] | None = None  # the structure of the system's loads
 
     def stepwise(self) -> Any:
         """The core's model of a run that accumulates its energy (:func:`_engine.energy_run.
@@ -124,19 +124,19 @@ class ModalSetup:
         """The structural model of a run under `loads` (None: the system's), as a function
         made on first access (:func:`_engine.structure.structure_model`); the one of the
         system's loads made once."""
-        if loads is not None or self._structure is None:
-            system = self.system
-            made = functools.partial(
-                structure_model,
-                system,
-                self.route.basis,
-                tuple(system.elements),
-                tuple(system.loads if loads is None else loads),
-            )
-            if loads is not None:
-                return made
+        if loads is None and self._structure is not None:
+            return self._structure
+        system = self.system
+        made = functools.partial(
+            structure_model,
+            system,
+            self.route.basis,
+            tuple(system.elements),
+            tuple(system.loads if loads is None else loads),
+        )
+        if loads is None:
             self._structure = made
-        return self._structure
+        return made
 
     def run(self, req: Request) -> Solution:
         """One run of `req`, kept in memory (:func:`run`)."""
