@@ -172,24 +172,50 @@ pub fn row_errors(run: &ModalRun<'_>, signed: &[f64]) -> (Vec<f64>, Vec<f64>) {
 /// error is 0, infinite where the response's peak is 0 (or not a number) and the error is
 /// not, NaN for a NaN error.
 pub fn relative_rows(errors: &[f64], quantity: &Quantity, history: &[f64], width: usize) -> f64 {
+    relative_both(errors, &[], quantity, history, width).0
+}
+
+/// [`relative_rows`] of `errors` and of `bounds` (empty: not asked, 0), the response's peak
+/// read once for both.
+pub fn relative_both(
+    errors: &[f64],
+    bounds: &[f64],
+    quantity: &Quantity,
+    history: &[f64],
+    width: usize,
+) -> (f64, f64) {
+    let mut peak = None;
+    let mut relative = |values: &[f64]| {
+        if values.is_empty() {
+            return 0.0;
+        }
+        let worst = worst_row(values, quantity);
+        if quantity.rows.is_empty() || worst == 0.0 {
+            return 0.0;
+        }
+        let peak = *peak.get_or_insert_with(|| peak_of(&quantity.columns, history, width));
+        if peak > 0.0 {
+            worst / peak
+        } else {
+            f64::INFINITY
+        }
+    };
+    let errors = relative(errors);
+    (errors, relative(bounds))
+}
+
+/// The largest of `values` over `quantity`'s rows (NaN if one of them is; `-inf` for none).
+fn worst_row(values: &[f64], quantity: &Quantity) -> f64 {
     let mut worst = f64::NEG_INFINITY;
     for r in quantity.rows.clone() {
-        let e = errors[r];
+        let e = values[r];
         worst = if worst.is_nan() || e.is_nan() {
             f64::NAN
         } else {
             worst.max(e)
         };
     }
-    if quantity.rows.is_empty() || worst == 0.0 {
-        return 0.0;
-    }
-    let peak = peak_of(&quantity.columns, history, width);
-    if peak > 0.0 {
-        worst / peak
-    } else {
-        f64::INFINITY
-    }
+    worst
 }
 
 /// One quantity of a run whose error is estimated relative to its peak: its components'

@@ -154,10 +154,7 @@ impl Estimator {
                 _ => (vec![0.0; g], vec![0.0; g]),
             };
             let both = |quantity: &Quantity, values: &[f64], width: usize| {
-                (
-                    accuracy::relative_rows(&errors, quantity, values, width),
-                    accuracy::relative_rows(&bounds, quantity, values, width),
-                )
+                accuracy::relative_both(&errors, &bounds, quantity, values, width)
             };
             let x = matrix(x, "x")?;
             let dofs = match &self.dofs {

@@ -77,6 +77,7 @@ class ModalSetup:
     _stepwise: Any = None  # the uncoupled route's model stepped one step at a time
     _estimated: bool | None = None  # whether its runs are estimated (accuracy.applies)
     _estimator: tuple[Any, Any] | None = None  # (saved dofs, the core's Estimator)
+    _structure: functools.partial[Any] | None = None  # the structure of the system's loads
 
     def stepwise(self) -> Any:
         """The core's model of a run that accumulates its energy (:func:`_engine.energy_run.
@@ -118,6 +119,24 @@ class ModalSetup:
         q[:m] = phi[:, :m].T @ np.asarray(system.M @ x, dtype=np.float64)
         q[m:] = extra.initial @ x
         return q
+
+    def structure(self, loads: list[Any] | None) -> functools.partial[Any]:
+        """The structural model of a run under `loads` (None: the system's), as a function
+        made on first access (:func:`_engine.structure.structure_model`); the one of the
+        system's loads made once."""
+        if loads is None and self._structure is not None:
+            return self._structure
+        system = self.system
+        made = functools.partial(
+            structure_model,
+            system,
+            self.route.basis,
+            tuple(system.elements),
+            tuple(system.loads if loads is None else loads),
+        )
+        if loads is None:
+            self._structure = made
+        return made
 
     def run(self, req: Request) -> Solution:
         """One run of `req`, kept in memory (:func:`run`)."""
@@ -344,7 +363,7 @@ def solution(
         a=acc,
         dofs=out.dofs,
         modal=modal,
-        stats=SolveStats(
+        stats=SolveStats._of(
             steps=opts.n_steps if error is None else (error.step - 1) // sub,
             wall_time=wall,
             total_time=_time.perf_counter() - opts.started,
@@ -376,13 +395,7 @@ def solution(
             else ()
         ),
         base=out.base if base is None else support_terms(base, out.dofs),
-        structure=functools.partial(
-            structure_model,
-            prep.system,
-            route.basis,
-            tuple(prep.system.elements),
-            tuple(prep.system.loads if opts.loads is None else opts.loads),
-        ),
+        structure=prep.structure(opts.loads),
     )
     if emodel is not None and terms is None and result.energy is not None:
         solution._energy_run = (result.energy[:kept], emodel)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import MISSING, dataclass, fields
 from typing import Any
 
 __all__ = ["SolveStats", "summary"]
@@ -106,10 +106,23 @@ class SolveStats:
     truncation_estimate: float | None = None
     element_truncation_estimate: tuple[float, ...] = ()
 
+    @classmethod
+    def _of(cls, **values: Any) -> SolveStats:
+        """``SolveStats(**values)`` made without the frozen dataclass's ``__init__`` (a
+        per-field ``object.__setattr__``: a few microseconds of every run's fixed cost): the
+        fields' defaults, then `values` (which must name every field without a default)."""
+        stats = object.__new__(cls)
+        stats.__dict__.update(_DEFAULTS, **values)
+        return stats
+
     @property
     def mode_steps_per_second(self) -> float:
         """Throughput of the time loop: ``steps * modes / wall_time``."""
         return self.steps * self.modes / self.wall_time if self.wall_time > 0 else float("inf")
+
+
+#: The defaults of :class:`SolveStats`' fields (:meth:`SolveStats._of`).
+_DEFAULTS = {f.name: f.default for f in fields(SolveStats) if f.default is not MISSING}
 
 
 def _fraction(value: float | None) -> str:

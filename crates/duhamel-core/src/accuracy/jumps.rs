@@ -71,6 +71,9 @@ pub(super) fn jump_bounds(
     let (mut pq, mut qq) = (vec![0.0; n], vec![0.0; n]);
     let mut next = rows; // rows >= next are summed
     let saved = run.k as f64 * run.h;
+    // the load transfer of each mode's internal step, made once per mode (the same for
+    // every jump of that mode)
+    let mut transfers: Vec<Option<[[f64; 3]; 2]>> = vec![None; n];
     for &(row, m, size) in found.iter().rev() {
         while next > row + 1 {
             next -= 1;
@@ -88,7 +91,7 @@ pub(super) fn jump_bounds(
         let w2 = (o * o - softening).max(0.0);
         let rest = (run.span - (row + 1) as f64 * saved).max(run.h);
         let g = impulse_peak(0.5 * cm.max(0.0), w2, rest);
-        let b = Transfer::new(o * o, cm, run.h).b();
+        let b = *transfers[m].get_or_insert_with(|| Transfer::new(o * o, cm, run.h).b());
         let start = (b[0][0] - b[0][1]).abs() + g * (b[1][0] - b[1][1]).abs();
         let end = b[0][1].abs() + g * b[1][1].abs();
         out[m] += size * 0.25 * (start + end);
@@ -108,15 +111,25 @@ fn softening(
     n: usize,
     rows: usize,
 ) -> Vec<(usize, usize, f64)> {
-    let mut largest: Vec<Option<f64>> = vec![None; n];
+    // every mode's largest |p|, made at the first softening candidate: one pass over the
+    // rows (the same maxima as column by column: `f64::max` from 0 is the largest number,
+    // in any order)
+    let mut largest: Option<Vec<f64>> = None;
     let mut found = Vec::new();
     for &(r, m, signed) in candidates {
         let moving = q[(r + 2) * n + m] - q[(r + 1) * n + m];
         if signed * moving <= 0.0 {
             continue;
         }
-        let top = *largest[m]
-            .get_or_insert_with(|| (0..rows).map(|i| p[i * n + m].abs()).fold(0.0, f64::max));
+        let top = largest.get_or_insert_with(|| {
+            let mut top = vec![0.0_f64; n];
+            for row in p[..rows * n].chunks_exact(n) {
+                for (t, v) in top.iter_mut().zip(row) {
+                    *t = t.max(v.abs());
+                }
+            }
+            top
+        })[m];
         if signed.abs() > NOISE * top {
             found.push((r, m, signed.abs()));
         }

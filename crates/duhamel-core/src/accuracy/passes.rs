@@ -50,6 +50,9 @@ pub(super) fn first_sums(p: &[f64], q: &[f64], n: usize, rows: usize) -> FirstSu
         }
         if r < len {
             let (b, c) = (&p[(r + 1) * n..(r + 2) * n], &p[(r + 2) * n..(r + 3) * n]);
+            // every slice of length n: no bounds check in the loop (which the compiler then
+            // vectorises across the columns, the same arithmetic per column)
+            let (sums, excess, before) = (&mut sums[..n], &mut excess[..n], &mut before[..n]);
             let mut any = false;
             for j in 0..n {
                 sums[j] += second(pr[j], b[j], c[j]);

@@ -127,18 +127,27 @@ fn propagate(
     let (mut e0, mut e1) = (vec![0.0; n], vec![0.0; n]);
     let (mut before, mut here) = (vec![0.0; n], vec![0.0; n]);
     second(0, &mut before);
-    let mut block = vec![0.0; ROWS * width];
+    // a short run's rows, not a whole block's (no buffer larger than the run's errors)
+    let mut block = vec![0.0; ROWS.min(rows) * width];
     let mut row = 1; // row 0 is the initial state: no error
     while row < rows {
         let count = (rows - row).min(ROWS);
         for (i, out) in block[..count * width].chunks_exact_mut(width).enumerate() {
             // the error at saved row r, after the interval r - 1 -> r
             second(row + i, &mut here);
-            for m in 0..n {
-                let d2 = 0.5 * (before[m] + here[m]);
-                let (x, v) = (e0[m], e1[m]);
-                e0[m] = a00[m] * x + a01[m] * v + l0[m] * d2;
-                e1[m] = a10[m] * x + a11[m] * v + l1[m] * d2;
+            {
+                // every slice of length n: no bounds check in the loop (vectorised across
+                // the modes, the same arithmetic per mode)
+                let (e0, e1) = (&mut e0[..n], &mut e1[..n]);
+                let (before, here) = (&before[..n], &here[..n]);
+                let (a00, a01, a10, a11) = (&a00[..n], &a01[..n], &a10[..n], &a11[..n]);
+                let (l0, l1) = (&l0[..n], &l1[..n]);
+                for m in 0..n {
+                    let d2 = 0.5 * (before[m] + here[m]);
+                    let (x, v) = (e0[m], e1[m]);
+                    e0[m] = a00[m] * x + a01[m] * v + l0[m] * d2;
+                    e1[m] = a10[m] * x + a11[m] * v + l1[m] * d2;
+                }
             }
             std::mem::swap(&mut before, &mut here);
             match modes {
@@ -216,7 +225,7 @@ pub(super) fn row_errors(
             })
             .collect();
         let weights = MatRef::from_row_major_slice(&shapes, g, width);
-        let mut combined = vec![0.0; ROWS * g];
+        let mut combined = vec![0.0; ROWS.min(run.rows) * g];
         let coef = Coefficients::new(&steps);
         let subset = gather.then_some(modes.as_slice());
         propagate(run, &coef, subset, |block, count| {

@@ -15,7 +15,7 @@ use crate::driver::{drive_modal, finish, Control, ModalRoute, StepFailure};
 use crate::energy::EnergyTap;
 use crate::error::CoreError;
 use crate::history::{size, zeroed, Coordinates, ElementRows, Failure, History, Stats};
-use crate::kernel::oscillator::Transfer;
+use crate::kernel::transfer_memo;
 use crate::loads::block::BlockLoads;
 use crate::loads::ModalForcing;
 use crate::mass::MassTreatment;
@@ -379,12 +379,8 @@ pub fn integrate(
     validate(problem).map_err(fail)?;
     let base = &problem.base;
     let (n, dt) = (base.n_modes(), base.dt);
-    let transfers: Vec<Transfer> = base
-        .k
-        .iter()
-        .zip(base.c)
-        .map(|(&k, &c)| Transfer::new(k, c, dt))
-        .collect();
+    // made once per model and step (a prepared model's runs share them)
+    let transfers = transfer_memo::transfers(base.k, base.c, dt);
     let o = problem.options;
     let rule = Rule::new(o.scheme, o.quadrature, dt, &transfers);
     let pf = PseudoForce::new(Parts {

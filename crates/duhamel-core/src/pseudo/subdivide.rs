@@ -7,6 +7,8 @@
 //! the step represents them by). A step with a step load starting inside it (an exact jump)
 //! is not subdivided. Hysteretic elements commit at the end of every accepted substep.
 
+use std::sync::Arc;
+
 use super::force::PseudoForce;
 use super::newton::StepSolver;
 use super::problem::{NonlinearProblem, Options};
@@ -15,20 +17,19 @@ use super::scheme::{Rule, StepInput};
 use super::stiff_rule::{too_stiff, Watch};
 use crate::error::CoreError;
 use crate::kernel::oscillator::Transfer;
+use crate::kernel::transfer_memo;
 
 /// The transfer matrices and quadrature rule of each level, `dt / 2`, `dt / 4`, ...
-pub(super) fn level_rules(problem: &NonlinearProblem, depth: usize) -> Vec<(Vec<Transfer>, Rule)> {
+pub(super) fn level_rules(
+    problem: &NonlinearProblem,
+    depth: usize,
+) -> Vec<(Arc<[Transfer]>, Rule)> {
     let base = &problem.base;
     let o = problem.options;
     (1..=depth)
         .map(|d| {
             let h = base.dt * 0.5f64.powi(d as i32);
-            let transfers: Vec<Transfer> = base
-                .k
-                .iter()
-                .zip(base.c)
-                .map(|(&k, &c)| Transfer::new(k, c, h))
-                .collect();
+            let transfers = transfer_memo::transfers(base.k, base.c, h);
             let rule = Rule::new(o.scheme, o.quadrature, h, &transfers);
             (transfers, rule)
         })
@@ -70,7 +71,7 @@ pub(super) fn retriable(error: &CoreError) -> bool {
 impl<'r> Subdivider<'r> {
     pub fn new(
         problem: &'r NonlinearProblem,
-        rules: &'r [(Vec<Transfer>, Rule)],
+        rules: &'r [(Arc<[Transfer]>, Rule)],
         pf: &PseudoForce,
         options: Options,
         estimate: bool,
