@@ -256,8 +256,9 @@ fn carried(run: &ModalRun<'_>, modes: &[usize], signed: &[f64], g: usize) -> Opt
         .collect();
     let omega2: Vec<f64> = modes.iter().map(|&m| run.omega[m] * run.omega[m]).collect();
     let mut e = vec![[0.0_f64; 2]; width];
-    let mut block = vec![0.0; ROWS * width];
-    let mut combined = vec![0.0; ROWS * g];
+    // a short run's rows, not a whole block's
+    let mut block = vec![0.0; ROWS.min(rows) * width];
+    let mut combined = vec![0.0; ROWS.min(rows) * g];
     let mut row = 1;
     while row < rows {
         let count = (rows - row).min(ROWS);
