@@ -196,17 +196,30 @@ def _constraints(text: str) -> list[Constraint]:
     return out
 
 
+def _has_constraints(ops: Any) -> bool:
+    """Whether the model holds multi-point constraints (True when openseespy cannot say)."""
+    if not hasattr(ops, "getConstrainedNodes"):  # an older openseespy: print to find out
+        return True
+    return len(list(ops.getConstrainedNodes())) > 0
+
+
 def printout(ops: Any) -> Printout:
-    """The session's model printout (written to temporary files, read back and deleted)."""
+    """The session's model printout (written to temporary files, read back and deleted).
+    The text printout, which only the multi-point constraints are read from (and which
+    costs twice the JSON one), is printed only when the model has such constraints."""
     with tempfile.TemporaryDirectory(prefix="duhamel-opensees-") as tmp:
         js, tx = os.path.join(tmp, "model.json"), os.path.join(tmp, "model.txt")
+        constrained = _has_constraints(ops)
         with quiet():
             ops.printModel("-JSON", "-file", js)
-            ops.printModel("-file", tx)
+            if constrained:
+                ops.printModel("-file", tx)
         with open(js, encoding="utf-8", errors="replace") as f:
             jtext = f.read()
-        with open(tx, encoding="utf-8", errors="replace") as f:
-            ttext = f.read()
+        ttext = ""
+        if constrained:
+            with open(tx, encoding="utf-8", errors="replace") as f:
+                ttext = f.read()
     out = Printout(constraints=_constraints(ttext))
     for entry in _entries(_section(jtext, "uniaxialMaterials")):
         if "name" in entry:
