@@ -233,10 +233,7 @@ impl DenseLu {
         for (w, &p) in work.iter_mut().zip(&self.piv) {
             *w = b[p];
         }
-        for (i, row) in self.lu.chunks_exact(n).enumerate() {
-            let s = dot(&row[..i], &work[..i]);
-            work[i] -= s;
-        }
+        crate::dense_rows::forward(&self.lu, n, work);
         for (i, row) in self.lu.chunks_exact(n).enumerate().rev() {
             let s = dot(&row[i + 1..], &work[i + 1..]);
             work[i] = (work[i] - s) / row[i];

@@ -214,6 +214,57 @@ pub(crate) fn partial_sums3(full: usize, r: &[f64], x: [&[f64]; 3]) -> [[f64; 4]
     out
 }
 
+/// [`matvec`](crate::dense_rows::matvec)'s four partial sums of four rows `r` against one `x`
+/// over the first `full` entries (a multiple of four, within every slice): lane `k` of row
+/// `i` sums the entries `k, k + 4, ...` in order, as [`dot`](crate::dense::dot) does.
+#[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
+#[inline(always)]
+pub(crate) fn partial_sums_rows4(full: usize, r: [&[f64]; 4], x: &[f64]) -> [[f64; 4]; 4] {
+    let mut acc = [[0.0; 4]; 4];
+    for j in (0..full).step_by(4) {
+        for k in 0..4 {
+            let y = x[j + k];
+            for (acc, r) in acc.iter_mut().zip(r) {
+                acc[k] += r[j + k] * y;
+            }
+        }
+    }
+    acc
+}
+
+/// [`partial_sums_rows4`] on AVX: one 4-lane register per row, each lane the scalar loop's
+/// partial sum (the same multiplications and additions in the same order: no fused
+/// multiply-add); four independent chains where one row's [`dot`](crate::dense::dot) waits
+/// on its single register's additions.
+#[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
+#[inline(always)]
+pub(crate) fn partial_sums_rows4(full: usize, r: [&[f64]; 4], x: &[f64]) -> [[f64; 4]; 4] {
+    use std::arch::x86_64::{__m256d, _mm256_storeu_pd};
+    use std::arch::x86_64::{_mm256_add_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_setzero_pd};
+    assert!(full % 4 == 0 && full <= x.len() && r.iter().all(|v| full <= v.len()));
+    // SAFETY: AVX is enabled at compile time (the cfg above); the intrinsic touches no
+    // memory.
+    let mut acc: [__m256d; 4] = [unsafe { _mm256_setzero_pd() }; 4];
+    for j in (0..full).step_by(4) {
+        // SAFETY: AVX is enabled at compile time (the cfg above); `j + 4 <= full` and
+        // `full` is within `x` and every `r[i]` (asserted), so each unaligned load reads
+        // four `f64` inside its slice.
+        unsafe {
+            let y = _mm256_loadu_pd(x.as_ptr().add(j));
+            for (acc, r) in acc.iter_mut().zip(r) {
+                let p = _mm256_loadu_pd(r.as_ptr().add(j));
+                *acc = _mm256_add_pd(*acc, _mm256_mul_pd(p, y));
+            }
+        }
+    }
+    let mut out = [[0.0; 4]; 4];
+    for (o, a) in out.iter_mut().zip(acc) {
+        // SAFETY: `o` is four writable `f64`; the store is unaligned.
+        unsafe { _mm256_storeu_pd(o.as_mut_ptr(), a) };
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use crate::dense::DenseLu;

@@ -12,6 +12,7 @@ pub mod cubic;
 pub mod dense;
 mod dense_fixed;
 pub mod dense_kept;
+mod dense_rows;
 pub mod direct;
 pub mod driver;
 pub mod elements;

@@ -74,6 +74,8 @@ pub struct ElementSpace<'a> {
     background: f64,
     /// The modal stiffnesses the members' `share` were formed with (address and length).
     share_key: (usize, usize),
+    /// The stiffness watch's scratch: a wide member's `diag(Phi_e^T K_e Phi_e)` per mode.
+    diag: Vec<f64>,
     /// How many times the members' committed variables were set (commits, starts,
     /// restores): what tells a step solver that nothing but one commit came between two
     /// steps.
@@ -128,6 +130,7 @@ impl<'a> ElementSpace<'a> {
             end_trial: None,
             background: 0.0,
             share_key: (0, 0),
+            diag: Vec::new(),
             generation: 0,
             single,
             resolution,

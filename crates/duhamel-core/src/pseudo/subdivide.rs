@@ -40,6 +40,31 @@ pub(super) fn level_rules(
 struct Level<'r> {
     rows: StepRows,
     solver: StepSolver<'r>,
+    /// Its substep's buffers, kept from substep to substep.
+    buf: Buffers,
+}
+
+/// A substep's end state, linear prediction and restricted load basis.
+#[derive(Default)]
+struct Buffers {
+    q1: Vec<f64>,
+    v1: Vec<f64>,
+    ql: Vec<f64>,
+    vl: Vec<f64>,
+    pb: [Vec<f64>; 3],
+}
+
+impl Buffers {
+    fn new(n: usize) -> Self {
+        let zeros = || vec![0.0; n];
+        Buffers {
+            q1: zeros(),
+            v1: zeros(),
+            ql: zeros(),
+            vl: zeros(),
+            pb: std::array::from_fn(|_| zeros()),
+        }
+    }
 }
 
 /// The levels of subdivision below the run's step, and what they did.
@@ -84,6 +109,7 @@ impl<'r> Subdivider<'r> {
             levels.push(Level {
                 rows: step_rows(transfers),
                 solver,
+                buf: Buffers::new(n),
             });
         }
         Ok(Subdivider {
@@ -137,37 +163,66 @@ impl<'r> Subdivider<'r> {
         (q, v): (&mut [f64], &mut [f64]),
         watch: &mut Option<&mut Watch>,
     ) -> Result<usize, CoreError> {
-        let n = self.n;
         let h = 0.5f64.powi(depth as i32);
-        let t = span.t + a * span.dt;
-        let pb = span.restricted(a, h, n);
-        let (mut q1, mut v1) = (vec![0.0; n], vec![0.0; n]);
         let deeper = depth < self.levels.len();
         if depth < span.min_depth && deeper {
             let first = self.advance(depth + 1, pf, span, a, (q, v), watch)?;
             let second = self.advance(depth + 1, pf, span, a + 0.5 * h, (q, v), watch)?;
             return Ok(first + second);
         }
+        // the level's buffers, put back before a deeper level runs or this one returns
+        let mut buf = std::mem::take(&mut self.levels[depth - 1].buf);
+        let result = self.attempt(depth, pf, span, (a, h), (q, v), watch, &mut buf);
+        self.levels[depth - 1].buf = buf;
+        match result? {
+            Some(iterations) => Ok(iterations),
+            None => {
+                let first = self.advance(depth + 1, pf, span, a, (q, v), watch)?;
+                let mid = a + 0.5 * h;
+                let second = self.advance(depth + 1, pf, span, mid, (q, v), watch)?;
+                Ok(first + second)
+            }
+        }
+    }
+
+    /// One substep `[a, a + h]` (fractions of the step) at level `depth` in `buf`: the
+    /// Newton iterations when it is accepted (`(q, v)` then advanced), None when it must be
+    /// taken in halves.
+    #[allow(clippy::too_many_arguments)]
+    fn attempt(
+        &mut self,
+        depth: usize,
+        pf: &mut PseudoForce,
+        span: &Span,
+        (a, h): (f64, f64),
+        (q, v): (&mut [f64], &mut [f64]),
+        watch: &mut Option<&mut Watch>,
+        buf: &mut Buffers,
+    ) -> Result<Option<usize>, CoreError> {
+        let n = self.n;
+        let t = span.t + a * span.dt;
+        span.restricted(a, h, n, &mut buf.pb);
+        let deeper = depth < self.levels.len();
+        let Buffers { q1, v1, ql, vl, pb } = buf;
         let attempt = {
             let level = &mut self.levels[depth - 1];
-            let (mut ql, mut vl) = (vec![0.0; n], vec![0.0; n]);
             let basis = [&pb[0][..], &pb[1][..], &pb[2][..]];
-            linear_step(&level.rows, (q, v), basis, (&mut ql, &mut vl));
+            linear_step(&level.rows, (q, v), basis, (ql, vl));
             let input = StepInput {
                 t,
                 q0: q,
                 v0: v,
-                q_lin: &ql,
-                v_lin: &vl,
+                q_lin: ql,
+                v_lin: vl,
                 pb: basis,
             };
-            level.solver.solve(pf, &input, &mut q1, &mut v1)
+            level.solver.solve(pf, &input, q1, v1)
         };
         let end = t + h * span.dt;
         let attempt = match attempt {
             Ok(iterations) if watch.is_some() => {
                 // the run's rule, with the tangent at this substep's end
-                let stiffness = pf.tangent_stiffness(&q1, &v1, end)?;
+                let stiffness = pf.tangent_stiffness(q1, v1, end)?;
                 let levels = self.levels.len();
                 let fraction = h;
                 let end_state = (stiffness.0, pf.space().background());
@@ -193,18 +248,13 @@ impl<'r> Subdivider<'r> {
             Ok(iterations) => {
                 self.deepest = self.deepest.max(depth);
                 if self.stateful {
-                    pf.commit(&q1, &v1, end, false)?;
+                    pf.commit(q1, v1, end, false)?;
                 }
-                q.copy_from_slice(&q1);
-                v.copy_from_slice(&v1);
-                Ok(iterations)
+                q.copy_from_slice(q1);
+                v.copy_from_slice(v1);
+                Ok(Some(iterations))
             }
-            Err(None) => {
-                let first = self.advance(depth + 1, pf, span, a, (q, v), watch)?;
-                let mid = a + 0.5 * h;
-                let second = self.advance(depth + 1, pf, span, mid, (q, v), watch)?;
-                Ok(first + second)
-            }
+            Err(None) => Ok(None),
             Err(Some(error)) => Err(error),
         }
     }
@@ -222,17 +272,18 @@ struct Span<'s> {
 impl Span<'_> {
     /// The load basis of the substep `[a, a + h]` (fractions of the step): the step's load
     /// `p(s) = p0 + Dp s + 4 DDp s (1 - s)` sampled at its start, middle and end.
-    fn restricted(&self, a: f64, h: f64, n: usize) -> [Vec<f64>; 3] {
+    fn restricted(&self, a: f64, h: f64, n: usize, out: &mut [Vec<f64>; 3]) {
         let [p0, dp, ddp] = self.pb;
         let at = |s: f64, m: usize| p0[m] + dp[m] * s + 4.0 * ddp[m] * s * (1.0 - s);
-        let mut out: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
+        for o in out.iter_mut() {
+            o.clear();
+        }
         for m in 0..n {
             let (f0, fm, f1) = (at(a, m), at(a + 0.5 * h, m), at(a + h, m));
             out[0].push(f0);
             out[1].push(f1 - f0);
             out[2].push(fm - 0.5 * (f0 + f1));
         }
-        out
     }
 }
 
@@ -252,7 +303,8 @@ mod tests {
         };
         let step = |s: f64, m: usize| p0[m] + dp[m] * s + 4.0 * ddp[m] * s * (1.0 - s);
         for (a, h) in [(0.0, 0.5), (0.5, 0.5), (0.25, 0.25), (0.8125, 0.0625)] {
-            let sub = span.restricted(a, h, 2);
+            let mut sub: [Vec<f64>; 3] = Default::default();
+            span.restricted(a, h, 2, &mut sub);
             for m in 0..2 {
                 for sigma in [0.0, 0.3, 0.5, 0.9, 1.0] {
                     let local =

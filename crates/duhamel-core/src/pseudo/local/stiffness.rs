@@ -38,6 +38,7 @@ impl ElementSpace<'_> {
         let fresh = self.share_key != key;
         self.share_key = key;
         let phi = &self.phi;
+        let diag = &mut self.diag;
         let (mut total, mut worst, mut largest, mut background) = (0.0, 0, 0.0, 0.0f64);
         for (index, m) in self.members.iter_mut().enumerate() {
             let e = &mut m.eval;
@@ -105,32 +106,27 @@ impl ElementSpace<'_> {
                         .filter(|&mode| modal_k[mode] == f64::INFINITY && reaches(mode))
                         .collect()
                 });
-                // `d != 0` on a coordinate without mass: the sum below would be infinite
-                // (or NaN: not positive) and the element skipped; skipped without it.
-                let d_at = |mode: usize| {
-                    let mut d = 0.0f64;
-                    for i in 0..nl {
-                        for j in 0..nl {
-                            d += k_sym(&e.kx, nl, i, j)
-                                * phi[at[i] * n + mode]
-                                * phi[at[j] * n + mode];
+                // `diag(Phi_e^T K_e Phi_e)` of every mode at once: each mode's `d` summed over
+                // `i`, then `j`, as one mode's loop would (the same terms in the same order)
+                diag.clear();
+                diag.resize(n, 0.0);
+                for i in 0..nl {
+                    let pi = &phi[at[i] * n..(at[i] + 1) * n];
+                    for j in 0..nl {
+                        let kij = k_sym(&e.kx, nl, i, j);
+                        let pj = &phi[at[j] * n..(at[j] + 1) * n];
+                        for ((d, a), b) in diag.iter_mut().zip(pi).zip(pj) {
+                            *d += kij * a * b;
                         }
                     }
-                    d
-                };
-                if touched.iter().any(|&mode| d_at(mode) != 0.0) {
+                }
+                // `d != 0` on a coordinate without mass: the sum below would be infinite
+                // (or NaN: not positive) and the element skipped; skipped without it.
+                if touched.iter().any(|&mode| diag[mode] != 0.0) {
                     continue;
                 }
                 let (mut share, mut weighted) = (0.0, 0.0);
-                for (mode, &km) in modal_k.iter().enumerate() {
-                    let mut d = 0.0f64;
-                    for i in 0..nl {
-                        for j in 0..nl {
-                            d += k_sym(&e.kx, nl, i, j)
-                                * phi[m.at[i] * n + mode]
-                                * phi[m.at[j] * n + mode];
-                        }
-                    }
+                for (d, &km) in diag.iter().zip(modal_k) {
                     share += d.abs();
                     weighted += stiffness_share(d.abs(), km);
                 }

@@ -6,15 +6,8 @@ use super::super::super::local::ElementSpace;
 use super::super::super::scheme::{StepInput, Unknown};
 use super::{LocalNewton, Setting};
 use crate::dense::{dot, DenseLu};
+use crate::dense_rows::matvec;
 use crate::error::CoreError;
-
-/// `out = m x` for a row-major `n x n` matrix `m`.
-fn matvec(m: &[f64], x: &[f64], out: &mut [f64]) {
-    let n = x.len();
-    for (o, row) in out.iter_mut().zip(m.chunks_exact(n)) {
-        *o = dot(row, x);
-    }
-}
 
 impl LocalNewton {
     /// The node values `s_i`, `Q_i^0`, `d_i` (a mass law, couplings) and their share of `b`;
@@ -263,7 +256,7 @@ impl LocalNewton {
             } else {
                 cz[0].fill(0.0);
             }
-            if self.has_kc.0 && self.has_kc.1 {
+            if self.has_kc.0 || self.has_kc.1 {
                 self.last_z.clear();
                 self.last_z.extend_from_slice(z);
                 self.last_prod[0].clone_from(&kz[4]);

@@ -109,9 +109,9 @@ pub(in super::super) struct LocalNewton {
     has_kc: (bool, bool),
     /// Coupling products `K q0, K v0, C q0, C v0`, `K z`, `C z` (constant couplings).
     prod: [Vec<f64>; 6],
-    /// The last step's end `z` and its products `K z`, `C z` (constant couplings, both
-    /// present): the next step's start products of that half, when its start is that `z`
-    /// bit for bit (the same products, not formed again).
+    /// The last step's end `z` and its products `K z`, `C z` (constant couplings; an absent
+    /// one's product zero): the next step's start products of that half, when its start
+    /// is that `z` bit for bit (the same products, not formed again).
     last_z: Vec<f64>,
     last_prod: [Vec<f64>; 2],
     /// `Phi_D q0`, `Phi_D v0`, the force at the start state; per node `U_i`, `V_i`, the
