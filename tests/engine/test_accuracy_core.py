@@ -120,6 +120,9 @@ def _kinked_inputs(p, omega, damping, h, k, middle, keys):
             theta, change = kinks[i]
             j = min(int(np.floor(theta * k)), k - 1)
             t = theta * k - j
+            if t >= 1.0:  # at the step's end: no error
+                out.append((0.0, np.zeros(2)))
+                continue
             late = _ramp(omega, damping, (1.0 - t) * h)
             error = change / k * (1.0 - t) * (late - _ramp(omega, damping, h))
             w2 = middle[keys[i]]

@@ -203,6 +203,9 @@ fn kink_error(
     let j = (at.floor() as usize).min(k - 1);
     let theta = at - j as f64;
     let change = kink.change / k as f64;
+    if theta >= 1.0 {
+        return [0.0; 2]; // at the step's end: the line meets the kink there
+    }
     let omega = run.omega[m];
     let late = Transfer::new(omega * omega, c, (1.0 - theta) * run.h).m;
     let mut e = [
@@ -310,4 +313,79 @@ fn carried(run: &ModalRun<'_>, modes: &[usize], signed: &[f64], g: usize) -> Opt
         row += count;
     }
     Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run<'a>(omega: &'a [f64], c: &'a [f64], h: f64, k: usize) -> ModalRun<'a> {
+        ModalRun {
+            pseudo: &[],
+            q: &[],
+            rows: 0,
+            omega,
+            c,
+            moments: &[],
+            h,
+            k,
+            span: 1.0,
+        }
+    }
+
+    /// A rigid mode's kink error against the integrals of what the line leaves out,
+    /// `change ((s - theta)_+ - (1 - theta) s)`: `v = change h (1 - theta)(-theta) / 2`,
+    /// `x = change h^2 ((1 - theta)^3 - (1 - theta)) / 6`; carried over the interval's other
+    /// internal steps by `step`, and none at a step's end.
+    #[test]
+    fn a_rigid_modes_kink_error_is_the_integral_of_what_the_line_leaves_out() {
+        let (omega, c, h) = ([0.0], [0.0], 0.01);
+        let ramp = Transfer::new(0.0, 0.0, h).m;
+        let ramp = [ramp[0][1], ramp[1][1]];
+        let free: M2 = [[1.0, h], [0.0, 1.0]];
+        for (k, theta) in [(1, 0.25), (1, 0.9), (4, 0.3)] {
+            let kink = Kink { theta, change: 2.0 };
+            let got = kink_error(kink, &run(&omega, &c, h, k), 0, 0.0, ramp, &free);
+            // the internal step holding the kink, its place there, and the steps after it
+            let at = theta * k as f64;
+            let (j, t) = (at.floor(), at - at.floor());
+            let change = 2.0 / k as f64;
+            let v = change * h * (1.0 - t) * (-t) / 2.0;
+            let x = change * h * h * ((1.0 - t).powi(3) - (1.0 - t)) / 6.0;
+            let after = (k as f64 - 1.0 - j) * h; // a free mass drifts with its velocity
+            let want = [x + v * after, v];
+            for (g, w) in got.iter().zip(want) {
+                assert!(
+                    (g - w).abs() <= 1e-12 * w.abs().max(1e-300),
+                    "{got:?} {want:?}"
+                );
+            }
+        }
+        let end = Kink {
+            theta: 1.0,
+            change: 2.0,
+        };
+        assert_eq!(
+            kink_error(end, &run(&omega, &c, h, 1), 0, 0.0, ramp, &free),
+            [0.0; 2]
+        );
+    }
+
+    /// A kink is found where two second differences of one sign stand out, at the place
+    /// where the straight pieces on either side meet.
+    #[test]
+    fn a_kink_between_two_straight_pieces_is_found_where_they_meet() {
+        // slope 1 until t = 3.3, then slope 4 (samples at integers)
+        let f = |t: f64| if t <= 3.3 { t } else { 3.3 + 4.0 * (t - 3.3) };
+        let p: Vec<f64> = (0..8).map(|r| f(r as f64)).collect();
+        let mut d = vec![0.0; p.len()];
+        for r in 1..p.len() - 1 {
+            d[r] = p[r + 1] + p[r - 1] - 2.0 * p[r];
+        }
+        let (flags, found) = kinks(&d);
+        assert_eq!(flags.iter().filter(|f| **f).count(), 1);
+        assert!(flags[3]);
+        assert!((found[0].theta - 0.3).abs() < 1e-12);
+        assert!((found[0].change - 3.0).abs() < 1e-12);
+    }
 }
