@@ -70,12 +70,13 @@ class _Job:
     def timed(
         self, cases: Sequence[tuple[int, Any]], basis: ModalBasis | None = None
     ) -> tuple[list, list[float]]:
-        """Several runs, one after the other, and each one's wall time (s)."""
+        """Several runs, one after the other, and each one's CPU time on this thread (s: the
+        work of the run, not what other processes on a loaded machine take from it)."""
         results, seconds = [], []
         for i, p in cases:
-            started = time.perf_counter()
+            started = time.thread_time()
             results.append(self(i, p, basis))
-            seconds.append(time.perf_counter() - started)
+            seconds.append(time.thread_time() - started)
         return results, seconds
 
 
@@ -166,7 +167,7 @@ def _chunk(cases: Sequence[tuple[int, Any]], job: _Job, basis: ModalBasis | None
 def _timed(
     cases: Sequence[tuple[int, Any]], job: _Job, basis: ModalBasis | None
 ) -> tuple[list, list[float]]:
-    """A Dask task timing its runs (the study's first, which size the batches)."""
+    """A Dask task timing its runs (the study's first, whose CPU times size the batches)."""
     return job.timed(cases, basis)
 
 
@@ -184,7 +185,7 @@ def dask(
     far (filled as the study goes): the study's job (its `make_system` with what it holds,
     a model or records) and the basis scattered to every worker once, each task carrying
     only its cases' parameters. Without `size`, each worker first runs two cases, timed on
-    the worker, and the remaining cases go in :func:`batch_sizes`' batches."""
+    the worker (CPU time), and the remaining cases go in :func:`batch_sizes`' batches."""
     shared = None if basis is None else client.scatter(basis, broadcast=True)
     shipped = client.scatter(job, broadcast=True, hash=False)
     indexed = list(enumerate(ps))
