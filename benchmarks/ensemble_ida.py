@@ -108,6 +108,19 @@ def _cpu(client) -> float:
     return time.process_time() + sum(client.run(time.process_time).values())
 
 
+def _busy(tasks: list[dict], wall: float) -> tuple[float, float, int]:
+    """From Dask's task stream: the share of the study's wall time its workers spent in
+    tasks, the time between the first and the last worker's last task, and the tasks."""
+    spans: dict[str, list[tuple[float, float]]] = {}
+    for task in tasks:
+        for s in task["startstops"]:
+            if s["action"] == "compute":
+                spans.setdefault(task["worker"], []).append((s["start"], s["stop"]))
+    total = sum(stop - start for spans_ in spans.values() for start, stop in spans_)
+    ends = [max(stop for _, stop in spans_) for spans_ in spans.values()]
+    return total / (len(spans) * wall), max(ends) - min(ends), len(tasks)
+
+
 def same(a, b) -> bool:
     """Bit for bit the same IDA (measures, collapse times, failures)."""
     return (
@@ -136,6 +149,7 @@ def main(argv: list[str] | None = None) -> int:
     grid = G * np.linspace(0.05, 3.0, n_im)
     times: dict[str, list[float]] = {c: [] for c in CONFIGS}
     cpu: dict[str, list[float]] = {c: [] for c in CONFIGS}
+    busy: list[tuple[float, float, int]] = []
     loads: list[float] = []
     results = {}
     with (
@@ -156,8 +170,11 @@ def main(argv: list[str] | None = None) -> int:
             for name in CONFIGS if r % 2 == 0 else CONFIGS[::-1]:
                 before = os.getloadavg()[0]
                 c0, t0 = _cpu(client), time.perf_counter()
-                res = study(args.form, motions, grid, **where[name])
+                with distributed.get_task_stream(client) as stream:
+                    res = study(args.form, motions, grid, **where[name])
                 times[name].append(time.perf_counter() - t0)
+                if name.startswith("Dask"):
+                    busy.append(_busy(stream.data, times[name][-1]))
                 cpu[name].append(_cpu(client) - c0)
                 after = os.getloadavg()[0]
                 loads += [before, after]
@@ -196,6 +213,11 @@ def main(argv: list[str] | None = None) -> int:
     lines.append(f"Core loop (GIL released) {100 * share:.0f} % of a run in one process: "
                  f"2 threads at most {min(2.0, 1 / (1 - share)):.2f}x. CPU: this process and the "
                  "Dask workers (process time).")  # fmt: skip
+    share, gap, n_tasks = (float(np.median(x)) for x in zip(*busy, strict=True))
+    lines.append(
+        f"Dask (median): the workers in tasks {100 * share:.0f} % of the study's wall "
+        f"time, the last finishing {gap:.2f} s after the first; {n_tasks:.0f} tasks."
+    )
     lines.append("Load before -> after each: " + ", ".join(
         f"{a:.2f}->{b:.2f}" for a, b in zip(loads[::2], loads[1::2], strict=True)))  # fmt: skip
     text = "\n".join(lines) + "\n"
