@@ -128,7 +128,8 @@ def threads(job: _Job, ps: list, n: int, basis: Any) -> Iterator[Any]:
     """The results in order, at most a few runs per thread in flight (one run per task:
     the threads take the next run as they finish, so none waits on another's batch)."""
     with ThreadPoolExecutor(max_workers=n) as pool:
-        window, pending, nxt = 4 * n, {}, 0
+        pending: dict[int, Any] = {}
+        window, nxt = 4 * n, 0
         for i in range(len(ps)):
             while len(pending) < window and nxt < len(ps):
                 pending[nxt] = pool.submit(job, nxt, ps[nxt], basis)
