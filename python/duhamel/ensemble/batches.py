@@ -185,8 +185,9 @@ def dask(
     """The results in order from batched tasks on the cluster, and the batches' sizes so
     far (filled as the study goes): the study's job (its `make_system` with what it holds,
     a model or records) and the basis scattered to every worker once, each task carrying
-    only its cases' parameters. Without `size`, each worker first runs two cases, timed on
-    the worker (CPU time), and the remaining cases go in :func:`batch_sizes`' batches."""
+    only its cases' parameters. Without `size`, each worker first runs two tasks of two
+    cases, timed on the worker (CPU time), and the remaining cases go in
+    :func:`batch_sizes`' batches, sized from the first of them to finish."""
     shared = None if basis is None else client.scatter(basis, broadcast=True)
     shipped = client.scatter(job, broadcast=True, hash=False)
     indexed = list(enumerate(ps))
@@ -203,7 +204,9 @@ def dask(
         start = 0
         futures: list[Any] = []
         if size is None:
-            first = [indexed[k : k + 2] for k in range(0, min(len(indexed), 2 * workers), 2)]
+            # two timed tasks of two runs per worker: the second keeps it busy while the
+            # first's times come back and the rest is cut
+            first = [indexed[k : k + 2] for k in range(0, min(len(indexed), 4 * workers), 2)]
             futures = [client.submit(_timed, c, job=shipped, basis=shared, pure=False)
                        for c in first]  # fmt: skip
             sizes.extend(len(c) for c in first)
