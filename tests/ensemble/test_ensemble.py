@@ -81,7 +81,7 @@ def test_stats_are_typed_and_solve_many_is_top_level() -> None:
 
 
 def test_one_prepared_model_under_every_record_equals_a_model_per_run() -> None:
-    from duhamel.ensemble import run as ensemble_run
+    from duhamel.ensemble import batches as ensemble_run
 
     fresh = solve_many(building, PARAMS, duhamel.Semianalytic(), workers=2, **KW)
     ensemble_run._PREPARED.clear()
@@ -118,7 +118,7 @@ def test_reduce_and_dask_cluster_bit_for_bit() -> None:
         remote = solve_many(
             building, PARAMS, duhamel.Semianalytic(), reduce=peak_drift, client=client, **KW
         )
-    assert remote.stats.where == "dask" and remote.stats.chunk_size == 2
+    assert remote.stats.where == "dask" and 1 <= remote.stats.chunk_size <= len(PARAMS)
     assert remote.results == local.results  # bit for bit, in order
     ds = local.to_xarray()
     np.testing.assert_array_equal(ds["roof"].values, [r["roof"] for r in local.results])

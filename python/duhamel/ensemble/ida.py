@@ -11,10 +11,11 @@ from typing import Any
 
 import numpy as np
 
-from duhamel._engine.validate import as_float_array, finite_float, positive_float
+from duhamel._engine.validate import as_float_array, finite_float, positive_float, positive_int
+from duhamel.ensemble.batches import _Job, dispatch
 from duhamel.ensemble.collapse import first_collapse, outcome, refine
 from duhamel.ensemble.fragility import Fragility, fit_fragility
-from duhamel.ensemble.run import solve_many
+from duhamel.ensemble.run import MAX_WORKERS, solve_many
 from duhamel.errors import SolverError
 from duhamel.events import Event
 from duhamel.records.motion import GroundMotion
@@ -211,6 +212,30 @@ def _ida_case(case: tuple[Any, Any, float]) -> Any:
     return factory(motion.scaled(factor))
 
 
+@dataclass(frozen=True)
+class _Cases:
+    """The runs of an IDA as one study: case ``(motion, factor)`` -> the factory's model
+    under ``motions[motion]`` scaled by `factor`, on that motion's grid (picklable: the
+    motions travel once per worker with the study, each case only its two numbers)."""
+
+    factory: Callable[[Any], Any]
+    motions: tuple[GroundMotion, ...]
+    dt: float | None
+
+    def __call__(self, case: tuple[int, float]) -> tuple[Any, dict[str, Any]]:
+        motion = self.motions[case[0]]
+        made = self.factory(motion.scaled(case[1]))
+        grid = {"t_end": motion.duration, "dt": self.dt or motion.dt}
+        if isinstance(made, tuple) and len(made) == 2 and isinstance(made[1], dict):
+            if any(name in made[1] for name in ("threads", "t_end", "dt")):
+                raise ValueError(
+                    "make_system's options may not set `threads`, `t_end` or `dt` (the "
+                    "study's grid)"
+                )
+            return made[0], {**made[1], **grid}
+        return made, grid
+
+
 def _measure(result: Any, where: str) -> float:
     """A run's measure: ``inf`` for a collapse (a SolverError, or the collapse event met:
     ``(inf, time)``), else the finite number `measure` gave."""
@@ -390,22 +415,25 @@ def ida(
             )
         extra = {"events": [collapse]}
     reduce = measure if collapse is None else _Collapsed(measure)
+    # every run in one study (the motions shipped once per worker, one batch of tasks)
+    job = _Job(_Cases(system_factory, tuple(motions), dt), integ, reduce, extra, True, True)
+    cases = [(i, float(f)) for i in range(len(motions)) for f in factors[i]]
+    if workers is not None:
+        workers = positive_int(workers, "workers", MAX_WORKERS)
+    stream, *_ = dispatch(job, cases, client, workers, None, None)
+    flat = list(stream)
     rows, times, failed = [], [], []
     for i, m in enumerate(motions):
-        cases = [(system_factory, m, float(f)) for f in factors[i]]
-        ens = solve_many(
-            _ida_case, cases, integ, t_end=m.duration, dt=dt or m.dt, reduce=reduce,
-            client=client, workers=workers, on_error="keep", **extra,
-        )  # fmt: skip
-        failed.append([isinstance(r, SolverError) for r in ens.results])
+        results = flat[i * ims.size : (i + 1) * ims.size]
+        failed.append([isinstance(r, SolverError) for r in results])
         where = [f"motion {i} ({m.name!r}) at intensity {im:g}" for im in ims]
-        for j, r in enumerate(ens.results):
+        for j, r in enumerate(results):
             if isinstance(r, SolverError):  # raises with solver_error='raise'
                 outcome(r, solver_error, where[j])
-        rows.append([_measure(r, where[j]) for j, r in enumerate(ens.results)])
+        rows.append([_measure(r, where[j]) for j, r in enumerate(results)])
         if collapse is not None:
             times.append([np.nan if isinstance(r, SolverError) else float(r[1])
-                          for r in ens.results])  # fmt: skip
+                          for r in results])  # fmt: skip
     measures = np.array(rows)
     lower, upper, at_lower = first_collapse(measures, ims)
     n_refined = 0

@@ -4,12 +4,8 @@ parameters, kept in memory or appended to a zarr store as they finish."""
 
 from __future__ import annotations
 
-import math
-import os
-import threading
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
@@ -20,11 +16,11 @@ from numpy.typing import NDArray
 from duhamel._engine.request import steps
 from duhamel._engine.spellings import deprecated
 from duhamel._engine.validate import finite_float, positive_float, positive_int
+from duhamel.ensemble.batches import _Job, check_model, dispatch
 from duhamel.ensemble.statistics import statistics
 from duhamel.ensemble.zarr import ZarrWriter, stack
-from duhamel.errors import SolverError
 from duhamel.modal import ModalBasis
-from duhamel.prepared import Prepared, prepare
+from duhamel.prepared import Prepared
 from duhamel.results.solution import Solution
 
 __all__ = ["Ensemble", "EnsembleStats", "solve_many"]
@@ -172,86 +168,6 @@ class Ensemble:
         return statistics(self.results, quantities)
 
 
-@dataclass(frozen=True)
-class _Job:
-    """One study's runs: picklable, so that a Dask worker receives it whole."""
-
-    make_system: Callable[[Any], Any]
-    integrator: Any
-    reduce: Callable[[Solution], Any] | None
-    options: dict[str, Any]
-    keep_failures: bool
-
-    def __call__(self, index: int, p: Any, basis: ModalBasis | None = None) -> Any:
-        try:
-            system, options = self.make_system(p), self.options
-            if isinstance(system, tuple) and len(system) == 2 and isinstance(system[1], dict):
-                system, own = system  # per-run solve options: an initial state, a dofs list
-                if "threads" in own or "t_end" in own or "dt" in own:
-                    raise ValueError(
-                        "make_system's options may not set `threads`, `t_end` or `dt` (the "
-                        "study's grid)"
-                    )
-                options = {**options, **own}
-            sol = _prepared(system, self.integrator, options["dt"], basis).run(
-                **{k: v for k, v in options.items() if k != "dt"}
-            )
-            return sol if self.reduce is None else self.reduce(sol)
-        except Exception as exc:
-            if self.keep_failures and isinstance(exc, SolverError):
-                return exc
-            exc.add_note(f"in duhamel.ensemble.solve_many, case {index}: params = {p!r}")
-            raise
-
-    def chunk(self, cases: Sequence[tuple[int, Any]], basis: ModalBasis | None = None) -> list:
-        """A Dask task: several runs, one after the other."""
-        return [self(i, p, basis) for i, p in cases]
-
-
-#: Per process, the models prepared by the runs of a study: a run whose `make_system` returns
-#: the same, unchanged System as an earlier run (a study over records, scale factors or
-#: initial states of one model) reuses its Prepared instead of preparing it again.
-_PREPARED: dict[int, Prepared] = {}
-#: How many of them a process keeps.
-_KEPT = 8
-_LOCK = threading.Lock()
-
-
-def _check_model(made: Any) -> None:
-    """TypeError unless `made` (what `make_system` returned) is a System or a Prepared."""
-    from duhamel.system import System
-
-    if not isinstance(made, System | Prepared):
-        raise TypeError(
-            "`make_system` must return a duhamel.System, a (System, options) pair or a "
-            f"duhamel.Prepared, got {type(made).__name__}"
-        )
-
-
-def _prepared(system: Any, integrator: Any, dt: float, basis: ModalBasis | None) -> Prepared:
-    """The Prepared of `system` (one thread per run), made once per unchanged system."""
-    _check_model(system)
-    if isinstance(system, Prepared):
-        if system.dt != dt or system.integrator != integrator:
-            raise ValueError(
-                "make_system returned a duhamel.Prepared whose `dt` or integrator differ from "
-                "the study's: prepare it with the same ones"
-            )
-        return system
-    with _LOCK:
-        known = _PREPARED.get(id(system))
-        if known is not None and known.matches(system, integrator, dt):
-            return known
-        if basis is not None:
-            system.use_basis(basis)
-        prepared = prepare(system, integrator, dt=dt, threads=1)
-        _PREPARED.pop(id(system), None)
-        while len(_PREPARED) >= _KEPT:  # the oldest first (they hold their systems alive)
-            del _PREPARED[next(iter(_PREPARED))]
-        _PREPARED[id(system)] = prepared
-        return prepared
-
-
 def _shared_basis(basis: Any, make_system: Callable, ps: list, integrator: Any) -> Any:
     """The ModalBasis every run uses, or None (each run computes its own)."""
     if basis is None or isinstance(basis, ModalBasis):
@@ -265,44 +181,13 @@ def _shared_basis(basis: Any, make_system: Callable, ps: list, integrator: Any) 
         made = make_system(ps[0])
         if isinstance(made, tuple) and len(made) == 2 and isinstance(made[1], dict):
             made = made[0]  # (system, per-run options)
-        _check_model(made)
+        check_model(made)
         if isinstance(made, Prepared):
             made = made.system
         return made.modal(modes)
     except Exception as exc:
         exc.add_note("in duhamel.ensemble.solve_many, computing the shared basis of case 0")
         raise
-
-
-def _threads(job: _Job, ps: list, n: int, basis: Any) -> Iterator[Any]:
-    """The results in order, at most a few runs per thread in flight."""
-    with ThreadPoolExecutor(max_workers=n) as pool:
-        window, pending, nxt = 4 * n, {}, 0
-        for i in range(len(ps)):
-            while len(pending) < window and nxt < len(ps):
-                pending[nxt] = pool.submit(job, nxt, ps[nxt], basis)
-                nxt += 1
-            yield pending.pop(i).result()
-
-
-def _chunk(cases: Sequence[tuple[int, Any]], job: _Job, basis: ModalBasis | None) -> list:
-    """A Dask task: `job`'s runs of `cases` (`job` and `basis` arrive once per worker)."""
-    return job.chunk(cases, basis)
-
-
-def _dask(job: _Job, ps: list, client: Any, size: int, basis: Any) -> Iterator[Any]:
-    """The results in order from chunked tasks on the cluster: the study's job (its
-    `make_system` with what it holds, a model or records) and the basis scattered to every
-    worker once, each task carrying only its cases' parameters."""
-    shared = None if basis is None else client.scatter(basis, broadcast=True)
-    shipped = client.scatter(job, broadcast=True, hash=False)
-    indexed = list(enumerate(ps))
-    chunks = [indexed[i : i + size] for i in range(0, len(indexed), size)]
-    futures = client.map(_chunk, chunks, job=shipped, basis=shared, pure=False)
-    for k in range(len(futures)):
-        chunk = futures[k].result()
-        futures[k] = None  # the cluster can forget it
-        yield from chunk
 
 
 def _counted(
@@ -371,8 +256,9 @@ def solve_many(
     workers : int, optional
         In-process threads, 1 to 1024 (default: the machine's cores).
     chunk_size : int, optional
-        Runs per Dask task (default: about four tasks per worker thread), and cases per
-        block of a zarr store (default 64 in-process).
+        Runs per Dask task (default: sized from the measured time of each worker's first
+        runs so that a task lasts about 0.2 s, smaller toward the end so that the workers
+        finish together), and cases per block of a zarr store (default 64).
     on_error : {'raise', 'keep'}, optional
         A run that stops with :class:`duhamel.SolverError` (divergence, no convergence: a
         collapse in a study): raise it (default), or keep the exception as that run's result
@@ -457,16 +343,8 @@ def solve_many(
     job = _Job(make_system, integrator, reduce, options, on_error == "keep")
     started = time.perf_counter()
     shared = _shared_basis(basis, make_system, ps, integrator)
-    if client is None:
-        n = (os.cpu_count() or 1) if workers is None else workers
-        size = int(chunk_size) if chunk_size else 64
-        stream = _threads(job, ps, n, shared)
-        where, workers, chunk = "threads", n, 1
-    else:
-        threads = sum(client.nthreads().values()) or 1
-        size = int(chunk_size) if chunk_size else max(1, math.ceil(len(ps) / (4 * threads)))
-        stream = _dask(job, ps, client, size, shared)
-        where, workers, chunk = "dask", threads, size
+    stream, where, workers, sizes = dispatch(job, ps, client, workers, chunk_size, shared)
+    size = int(chunk_size) if chunk_size else 64
     stream = _counted(stream, len(ps), progress)
     results: list[Any] = []
     store = None
@@ -488,7 +366,7 @@ def solve_many(
         wall_time=time.perf_counter() - started,
         workers=workers,
         where=where,
-        chunk_size=chunk,
+        chunk_size=max(sizes, default=1),
         basis="per run" if shared is None else "shared",
     )
     return Ensemble(ps, results, stats, store)
