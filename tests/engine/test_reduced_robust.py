@@ -219,7 +219,7 @@ def test_a_failed_run_says_what_it_tried_and_which_coordinate_diverged() -> None
     """The note appended to a convergence failure of a run with elements."""
     from types import SimpleNamespace
 
-    from duhamel._engine.modal import failure_note
+    from duhamel._engine.run import failure_note
 
     t = np.arange(40)
     q = np.ones((40, 3))

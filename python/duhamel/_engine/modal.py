@@ -32,7 +32,7 @@ from duhamel._engine.output import check_memory, physical
 from duhamel._engine.plan import Plan, mass, modal_loads, plan
 from duhamel._engine.relaxation import check_loads, check_state
 from duhamel._engine.request import ACCUMULATED, Request
-from duhamel._engine.run import ModalCallable, overflow_error, raise_failure, watch
+from duhamel._engine.run import ModalCallable, failure_note, overflow_error, raise_failure, watch
 from duhamel._engine.segments import Grid, chunked
 from duhamel._engine.structure import structure_model
 from duhamel._engine.truncation import attach_truncation
@@ -454,59 +454,3 @@ def _plus(acc: Any, extra: NDArray[np.float64]) -> Any:
     if callable(acc):
         return lambda: acc() + extra
     return acc + extra
-
-
-def failure_note(
-    error: Any,
-    modal: Any,
-    *,
-    forces: bool,
-    route: str,
-    omega: NDArray[np.float64],
-    correction: NDArray[np.float64],
-    subdivisions: int,
-    dt: float,
-    sub: int,
-) -> str:
-    """What a failed run with elements (`forces`) tried and which modal coordinate (of
-    circular frequencies `omega`; `correction` those of the static-correction ones) diverged,
-    from the `modal` history kept (None: not said); `dt` the internal step, `sub` internal
-    steps per step. Appended to the message of a ``"convergence"`` or ``"nonfinite"``
-    failure (empty otherwise)."""
-    if error.kind not in ("convergence", "nonfinite") or not forces:
-        return ""
-    parts = []
-    if sub > 1:
-        parts.append(
-            f"the run took {sub} internal steps per step (static-correction coordinates "
-            f"resolved in time); the core's step {error.step} is internal"
-        )
-    if error.kind == "convergence" and route == "pseudo-force" and subdivisions > 0:
-        parts.append(
-            f"the step was retried in halves down to dt/{2**subdivisions} "
-            f"(`subdivisions`={subdivisions}) and failed there too"
-        )
-    q = None if modal is None else getattr(modal, "q", None)
-    if q is not None and q.ndim == 2 and q.shape[0] >= 8 and np.all(np.isfinite(q)):
-        # The coordinate that grew most over the last quarter of the history against its
-        # earlier peak: a divergence shows there before Newton gives up.
-        cut = q.shape[0] * 3 // 4
-        early = np.abs(q[:cut]).max(axis=0)
-        late = np.abs(q[cut:]).max(axis=0)
-        scale = max(float(early.max()), np.finfo(float).tiny)
-        growth = late / np.maximum(early, 1e-12 * scale)
-        i = int(np.argmax(growth))
-        if growth[i] > 4.0:
-            w = float(omega[i])
-            kind = (
-                "a static-correction coordinate"
-                if np.any(np.isclose(correction, w, rtol=1e-12, atol=0.0))
-                else "a mode"
-            )
-            parts.append(
-                f"modal coordinate {i} ({kind}, omega dt = {w * dt:.3g}) grew "
-                f"{growth[i]:.3g} times over its earlier peak before the failure: a diverging "
-                "pseudo-force step, which a smaller `dt` (omega dt <= 1 on that coordinate) "
-                "or, for a reduced model, more `modes` avoids; more `max_iter` does not"
-            )
-    return "" if not parts else " [" + "; ".join(parts) + "]"

@@ -14,11 +14,10 @@ import numpy as np
 from duhamel._core import __version__
 from duhamel._engine import dispatch
 from duhamel._engine.correction import substeps
-from duhamel._engine.modal import failure_note
 from duhamel._engine.output import ROW_BLOCK, physical
 from duhamel._engine.plan import plan
 from duhamel._engine.request import Request
-from duhamel._engine.run import Progress, overflow_error, raise_failure, watch
+from duhamel._engine.run import Progress, failure_note, overflow_error, raise_failure, watch
 from duhamel._engine.segments import Carry, Grid, segments
 from duhamel._engine.validate import positive_int
 from duhamel.integrators import DirectIntegrator, Semianalytic
