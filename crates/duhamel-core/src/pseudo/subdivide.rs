@@ -172,7 +172,8 @@ impl<'r> Subdivider<'r> {
         }
         // the level's buffers, put back before a deeper level runs or this one returns
         let mut buf = std::mem::take(&mut self.levels[depth - 1].buf);
-        let result = self.attempt(depth, pf, span, (a, h), (q, v), watch, &mut buf);
+        let here = Substep { depth, a, h };
+        let result = self.attempt(here, pf, span, (q, v), watch, &mut buf);
         self.levels[depth - 1].buf = buf;
         match result? {
             Some(iterations) => Ok(iterations),
@@ -185,20 +186,18 @@ impl<'r> Subdivider<'r> {
         }
     }
 
-    /// One substep `[a, a + h]` (fractions of the step) at level `depth` in `buf`: the
-    /// Newton iterations when it is accepted (`(q, v)` then advanced), None when it must be
-    /// taken in halves.
-    #[allow(clippy::too_many_arguments)]
+    /// One substep (`here`) in `buf`: the Newton iterations when it is accepted (`(q, v)`
+    /// then advanced), None when it must be taken in halves.
     fn attempt(
         &mut self,
-        depth: usize,
+        here: Substep,
         pf: &mut PseudoForce,
         span: &Span,
-        (a, h): (f64, f64),
         (q, v): (&mut [f64], &mut [f64]),
         watch: &mut Option<&mut Watch>,
         buf: &mut Buffers,
     ) -> Result<Option<usize>, CoreError> {
+        let Substep { depth, a, h } = here;
         let n = self.n;
         let t = span.t + a * span.dt;
         span.restricted(a, h, n, &mut buf.pb);
@@ -258,6 +257,15 @@ impl<'r> Subdivider<'r> {
             Err(Some(error)) => Err(error),
         }
     }
+}
+
+/// Where a substep lies: its level (`dt / 2^depth`) and its span `[a, a + h]` as fractions
+/// of the step.
+#[derive(Clone, Copy)]
+struct Substep {
+    depth: usize,
+    a: f64,
+    h: f64,
 }
 
 /// The step being subdivided: its start, length and modal load basis.
