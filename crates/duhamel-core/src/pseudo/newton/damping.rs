@@ -56,6 +56,20 @@ pub(super) fn below_rounding(size: f64, scale: f64) -> bool {
     size <= 4.0 * f64::EPSILON * scale
 }
 
+/// The Newton correction of a one-unknown system, `-res / mat` (the 1 x 1 elimination's
+/// back substitution, its empty sum of the row's other terms included, so that it rounds as
+/// the general elimination does); None where the pivot is zero or not finite, or the
+/// correction is not finite (the iteration then stops and says it did not converge).
+pub(super) fn scalar_correction(res: f64, mat: f64) -> Option<f64> {
+    let pivot = mat.abs();
+    if !(pivot.is_finite() && pivot > 0.0) {
+        return None;
+    }
+    let none: f64 = std::iter::empty::<f64>().sum();
+    let delta = (-res - none) / mat;
+    delta.is_finite().then_some(delta)
+}
+
 #[cfg(test)]
 mod tests {
     use super::next_below_rounding;

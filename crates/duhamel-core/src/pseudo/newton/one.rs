@@ -12,7 +12,7 @@
 use super::super::force::PseudoForce;
 use super::super::local::ElementSpace;
 use super::super::scheme::{StepInput, Unknown};
-use super::damping::backtrack;
+use super::damping::{backtrack, scalar_correction};
 use super::setting::Setting;
 use crate::error::CoreError;
 
@@ -323,16 +323,10 @@ impl OneMode {
                 })?;
             }
             let mat = self.jacobian(set);
-            // the elimination of the 1 x 1 system: its pivot test, its back substitution
-            let pivot = mat.abs();
-            if !(pivot.is_finite() && pivot > 0.0) {
+            let Some(correction) = scalar_correction(res, mat) else {
                 break;
-            }
-            let none: f64 = std::iter::empty::<f64>().sum();
-            delta = (-res - none) / mat;
-            if !delta.is_finite() {
-                break;
-            }
+            };
+            delta = correction;
             z0 = self.unknown(set);
             let z = z0 + 1.0 * delta;
             self.set_unknown(set, z);

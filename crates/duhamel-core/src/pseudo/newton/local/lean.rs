@@ -11,7 +11,7 @@
 use super::super::super::force::PseudoForce;
 use super::super::super::local::ElementSpace;
 use super::super::super::scheme::StepInput;
-use super::super::damping::{backtrack, below_rounding, next_below_rounding};
+use super::super::damping::{backtrack, below_rounding, next_below_rounding, scalar_correction};
 use super::{End, LocalNewton, Setting};
 use crate::error::CoreError;
 
@@ -201,16 +201,10 @@ impl LocalNewton {
                 }
                 mat += g * (m.alpha * nodes.kt[i] + m.beta * nodes.ct[i]);
             }
-            let pivot = mat.abs();
-            if !(pivot.is_finite() && pivot > 0.0) {
+            let Some(correction) = scalar_correction(res, mat) else {
                 break;
-            }
-            // the back substitution of the 1 x 1 elimination, as `newton_one` forms it
-            let none: f64 = std::iter::empty::<f64>().sum();
-            delta = (-res - none) / mat;
-            if !delta.is_finite() {
-                break;
-            }
+            };
+            delta = correction;
             if below_rounding(delta.abs(), y.abs().max(scale0)) {
                 if at_end {
                     space.mark_end();
