@@ -10,7 +10,7 @@ use super::problem::{validate, NonlinearProblem};
 use super::rows::{linear_step, step_rows, StepRows};
 use super::scheme::{Rule, StepInput};
 use super::stiff_rule::Watch;
-use super::subdivide::{level_rules, retriable, Subdivider};
+use super::subdivide::{retriable, LevelRules, Subdivider};
 use crate::driver::{drive_modal, finish, Control, ModalRoute, StepFailure};
 use crate::energy::EnergyTap;
 use crate::error::CoreError;
@@ -406,12 +406,8 @@ pub fn integrate(
     } else {
         o.subdivisions
     };
-    let rules = level_rules(problem, depth);
-    let sub = if depth > 0 {
-        Some(Subdivider::new(problem, &rules, &pf, o, estimate).map_err(fail)?)
-    } else {
-        None
-    };
+    let rules = LevelRules::new(problem, depth);
+    let sub = (depth > 0).then(|| Subdivider::new(problem, &rules, &pf, o, estimate));
     let stateful = pf.stateful();
     if stateful {
         pf.commit(base.q0, base.v0, base.time(0), true)

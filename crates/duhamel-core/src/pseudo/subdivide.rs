@@ -7,6 +7,7 @@
 //! the step represents them by). A step with a step load starting inside it (an exact jump)
 //! is not subdivided. Hysteretic elements commit at the end of every accepted substep.
 
+use std::cell::OnceCell;
 use std::sync::Arc;
 
 use super::force::PseudoForce;
@@ -19,21 +20,38 @@ use crate::error::CoreError;
 use crate::kernel::oscillator::Transfer;
 use crate::kernel::transfer_memo;
 
-/// The transfer matrices and quadrature rule of each level, `dt / 2`, `dt / 4`, ...
-pub(super) fn level_rules(
-    problem: &NonlinearProblem,
-    depth: usize,
-) -> Vec<(Arc<[Transfer]>, Rule)> {
-    let base = &problem.base;
-    let o = problem.options;
-    (1..=depth)
-        .map(|d| {
-            let h = base.dt * 0.5f64.powi(d as i32);
+/// The transfer matrices and quadrature rule of each level, `dt / 2`, `dt / 4`, ..., each
+/// made when a substep of that level is first taken (most runs never subdivide: a run's
+/// fixed cost then holds none of them).
+pub(super) struct LevelRules<'p> {
+    problem: &'p NonlinearProblem<'p>,
+    made: Vec<OnceCell<(Arc<[Transfer]>, Rule)>>,
+}
+
+impl<'p> LevelRules<'p> {
+    /// The rules of `problem`'s levels down to `dt / 2^depth`, none made yet.
+    pub(super) fn new(problem: &'p NonlinearProblem<'p>, depth: usize) -> Self {
+        LevelRules {
+            problem,
+            made: (0..depth).map(|_| OnceCell::new()).collect(),
+        }
+    }
+
+    /// The levels below the run's step.
+    fn depth(&self) -> usize {
+        self.made.len()
+    }
+
+    /// The transfers and rule of level `d + 1` (steps of `dt / 2^(d + 1)`).
+    fn get(&self, d: usize) -> &(Arc<[Transfer]>, Rule) {
+        self.made[d].get_or_init(|| {
+            let (base, o) = (&self.problem.base, self.problem.options);
+            let h = base.dt * 0.5f64.powi(d as i32 + 1);
             let transfers = transfer_memo::transfers(base.k, base.c, h);
             let rule = Rule::new(o.scheme, o.quadrature, h, &transfers);
             (transfers, rule)
         })
-        .collect()
+    }
 }
 
 /// One level: steps of `dt / 2^depth`.
@@ -69,7 +87,12 @@ impl Buffers {
 
 /// The levels of subdivision below the run's step, and what they did.
 pub(super) struct Subdivider<'r> {
+    /// The levels made so far (each when a substep of it is first taken), from `dt / 2`.
     levels: Vec<Level<'r>>,
+    rules: &'r LevelRules<'r>,
+    options: Options,
+    /// Whether the mass is estimated (the step solvers' unknowns).
+    estimate: bool,
     n: usize,
     /// Whether hysteretic elements commit at the end of every accepted substep.
     stateful: bool,
@@ -96,36 +119,45 @@ pub(super) fn retriable(error: &CoreError) -> bool {
 impl<'r> Subdivider<'r> {
     pub fn new(
         problem: &'r NonlinearProblem,
-        rules: &'r [(Arc<[Transfer]>, Rule)],
+        rules: &'r LevelRules<'r>,
         pf: &PseudoForce,
         options: Options,
         estimate: bool,
-    ) -> Result<Self, CoreError> {
-        let n = problem.base.n_modes();
-        let mut levels = Vec::with_capacity(rules.len());
-        for (d, (transfers, rule)) in rules.iter().enumerate() {
-            let h = problem.base.dt * 0.5f64.powi(d as i32 + 1);
-            let solver = StepSolver::new(rule, h, &options, pf, estimate)?;
-            levels.push(Level {
-                rows: step_rows(transfers),
-                solver,
-                buf: Buffers::new(n),
-            });
-        }
-        Ok(Subdivider {
-            levels,
-            n,
+    ) -> Self {
+        Subdivider {
+            levels: Vec::new(),
+            rules,
+            options,
+            estimate,
+            n: problem.base.n_modes(),
             stateful: pf.stateful(),
             watch: pf.space().watched(),
             dt: problem.base.dt,
             steps: 0,
             deepest: 0,
-        })
+        }
     }
 
     /// The number of levels below the run's step.
     pub fn depth(&self) -> usize {
-        self.levels.len()
+        self.rules.depth()
+    }
+
+    /// Makes the levels down to `depth` that are not made yet (the same solvers as made at
+    /// the run's start: they read the elements' definitions, not their state).
+    fn reach(&mut self, depth: usize, pf: &PseudoForce) -> Result<(), CoreError> {
+        while self.levels.len() < depth {
+            let d = self.levels.len();
+            let (transfers, rule) = self.rules.get(d);
+            let h = self.dt * 0.5f64.powi(d as i32 + 1);
+            let solver = StepSolver::new(rule, h, &self.options, pf, self.estimate)?;
+            self.levels.push(Level {
+                rows: step_rows(transfers),
+                solver,
+                buf: Buffers::new(self.n),
+            });
+        }
+        Ok(())
     }
 
     /// Advances `(q, v)` over the step `[t, t + dt]` whose modal load basis is `pb` in
@@ -164,12 +196,13 @@ impl<'r> Subdivider<'r> {
         watch: &mut Option<&mut Watch>,
     ) -> Result<usize, CoreError> {
         let h = 0.5f64.powi(depth as i32);
-        let deeper = depth < self.levels.len();
+        let deeper = depth < self.depth();
         if depth < span.min_depth && deeper {
             let first = self.advance(depth + 1, pf, span, a, (q, v), watch)?;
             let second = self.advance(depth + 1, pf, span, a + 0.5 * h, (q, v), watch)?;
             return Ok(first + second);
         }
+        self.reach(depth, pf)?;
         // the level's buffers, put back before a deeper level runs or this one returns
         let mut buf = std::mem::take(&mut self.levels[depth - 1].buf);
         let here = Substep { depth, a, h };
@@ -201,7 +234,7 @@ impl<'r> Subdivider<'r> {
         let n = self.n;
         let t = span.t + a * span.dt;
         span.restricted(a, h, n, &mut buf.pb);
-        let deeper = depth < self.levels.len();
+        let deeper = depth < self.depth();
         let Buffers { q1, v1, ql, vl, pb } = buf;
         let attempt = {
             let level = &mut self.levels[depth - 1];
@@ -222,7 +255,7 @@ impl<'r> Subdivider<'r> {
             Ok(iterations) if watch.is_some() => {
                 // the run's rule, with the tangent at this substep's end
                 let stiffness = pf.tangent_stiffness(q1, v1, end)?;
-                let levels = self.levels.len();
+                let levels = self.depth();
                 let fraction = h;
                 let end_state = (stiffness.0, pf.space().background());
                 match watch
