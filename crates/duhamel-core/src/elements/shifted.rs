@@ -71,6 +71,18 @@ impl<E: ?Sized + Element> Shifted<E> {
         &self.inner
     }
 
+    /// Whether the linear part acts on the relative coordinate alone: one dof, or two with
+    /// `K0 = k [[1, -1], [-1, 1]]` and `C0 = c [[1, -1], [-1, 1]]` (bit for bit), so that it
+    /// is `k (x_i - x_j)` on `i` and its opposite on `j` (up to the rounding of the product).
+    pub fn relative(&self) -> bool {
+        let pair = |m: &[f64]| match m {
+            [_] => true,
+            [a, b, c, d] => *b == -*a && *c == -*a && *d == *a,
+            _ => false,
+        };
+        pair(&self.k0) && pair(&self.c0)
+    }
+
     /// [`Element::eval_path`] with `inner` (this element's own, resolved to its type) called
     /// directly: the same arithmetic.
     #[inline(always)]

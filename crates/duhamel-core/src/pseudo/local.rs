@@ -10,6 +10,7 @@
 //! the space; the modal Newton, the element-space Newton and every subdivision level
 //! evaluate the same elements, and the route commits them once per accepted (sub)step.
 
+mod deform;
 mod start;
 mod stiffness;
 
@@ -87,6 +88,9 @@ pub struct ElementSpace<'a> {
     /// The members' local states and forces at the start state of the last element-space
     /// step ([`ElementSpace::keep_start`]), for the record of that state.
     start: start::Start,
+    /// The members' deformations, when each is a scalar two-node element
+    /// ([`deform::Deformations::of`]).
+    deform: Option<deform::Deformations>,
 }
 
 impl<'a> ElementSpace<'a> {
@@ -122,6 +126,11 @@ impl<'a> ElementSpace<'a> {
             .collect::<Vec<Member>>();
         let single = matches!(&members[..], [m] if m.at.len() == 1);
         let resolution = elements.iter().fold(0.0_f64, |a, e| a.max(e.resolution()));
+        let deform = deform::Deformations::of(
+            members.iter().map(|m| (m.eval.element, &m.at[..])),
+            &phi,
+            n_modes,
+        );
         ElementSpace {
             n_modes,
             phi,
@@ -135,6 +144,7 @@ impl<'a> ElementSpace<'a> {
             single,
             resolution,
             start: start::Start::default(),
+            deform,
         }
     }
 

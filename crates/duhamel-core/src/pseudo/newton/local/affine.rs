@@ -210,7 +210,7 @@ impl LocalNewton {
             w.copy_from_slice(w_lin);
             for (i, wo_i) in w_other.iter().enumerate().take(self.map.len()) {
                 let si = self.s[i];
-                space.project(&self.r[i], &mut self.t[i]);
+                super::project_node(&self.red, space, (i, &self.r[i]), &mut self.t[i]);
                 let zw = z.iter_mut().zip(w.iter_mut());
                 let weights = self.w_hat[i].iter().zip(wo_i);
                 for ((q, (zm, wm)), (wh, wo)) in self.t[i].iter_mut().zip(zw).zip(weights) {
@@ -225,7 +225,7 @@ impl LocalNewton {
             return;
         }
         for i in 0..self.map.len() {
-            space.project(&self.r[i], &mut self.t[i]);
+            super::project_node(&self.red, space, (i, &self.r[i]), &mut self.t[i]);
             for ((zm, wh), t) in z.iter_mut().zip(&self.w_hat[i]).zip(&self.t[i]) {
                 *zm -= wh * t;
             }

@@ -34,6 +34,7 @@
 mod affine;
 mod iterate;
 mod lean;
+mod reduced;
 mod scaled;
 mod single;
 
@@ -149,6 +150,9 @@ pub(in super::super) struct LocalNewton {
     /// displacements (`q = 0 q0 + 0 v0 + 1 z`: schemes b and c): its element coordinate is
     /// then `Phi_D q1` up to rounding, and its evaluation the end state's.
     end_is_unknown: bool,
+    /// The step in the elements' deformations, when the space is one of scalar two-node
+    /// elements ([`reduced`]).
+    red: Option<reduced::Reduced>,
 }
 
 impl LocalNewton {
@@ -246,6 +250,9 @@ impl LocalNewton {
             kept_ct: Vec::new(),
             lean: false,
             end_is_unknown: false,
+            red: space
+                .deformation_count()
+                .map(|ne| reduced::Reduced::new(ne, nodes, n)),
         };
         let end = newton.map.iter().rev().find(|m| !m.constant);
         newton.end_is_unknown = set.unknown == Unknown::Q1
@@ -312,6 +319,13 @@ impl LocalNewton {
                 self.prepare(pf.space())?;
             }
         }
+        if let Some(mut red) = self.red.take() {
+            let solved = self.solve_reduced(&mut red, pf, (set, inp), rebuild);
+            self.red = Some(red);
+            let iterations = solved?;
+            self.finish(pf.space(), set, z, (w_lin, w), start);
+            return Ok(iterations);
+        }
         // y0 = P b, then the constant nodes' forces, evaluated once.
         if self.affine {
             for (y, row) in self.y0.iter_mut().zip(self.pmat.chunks_exact(self.n)) {
@@ -373,6 +387,20 @@ impl LocalNewton {
 /// Whether `a` and `b` hold the same numbers bit for bit.
 fn same(a: &[f64], b: &[f64]) -> bool {
     a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
+/// `t = Phi_D^T r_i` of node `i`'s element forces: from its deformations' forces when the
+/// step ran in them.
+fn project_node(
+    red: &Option<reduced::Reduced>,
+    space: &ElementSpace,
+    (i, r): (usize, &[f64]),
+    t: &mut [f64],
+) {
+    match red {
+        Some(red) => space.project_deformation(&red.f[i], t),
+        None => space.project(r, t),
+    }
 }
 
 /// `y -= G r` for a row-major `n_d x n_d` matrix `G`.
