@@ -14,6 +14,7 @@ pub(crate) struct Evaluation<'a> {
     dispatch: Dispatch<'a>,
     has_tangent: bool,
     uses_velocity: bool,
+    stiffness_reads_velocity: bool,
     pub x: Vec<f64>,
     pub v: Vec<f64>,
     pub r: Vec<f64>,
@@ -48,6 +49,7 @@ impl<'a> Evaluation<'a> {
             dispatch,
             has_tangent: element.has_tangent(),
             uses_velocity: element.uses_velocity(),
+            stiffness_reads_velocity: element.stiffness_reads_velocity(),
             x: vec![0.0; nl],
             v: vec![0.0; nl],
             r: vec![0.0; nl],
@@ -179,6 +181,12 @@ impl<'a> Evaluation<'a> {
     /// Whether the element's force depends on the velocities.
     pub fn uses_velocity(&self) -> bool {
         self.uses_velocity
+    }
+
+    /// Whether the element's stiffness tangent `kx` depends on the velocities
+    /// ([`Element::stiffness_reads_velocity`]).
+    pub fn stiffness_reads_velocity(&self) -> bool {
+        self.stiffness_reads_velocity
     }
 
     /// The number of evaluations so far.

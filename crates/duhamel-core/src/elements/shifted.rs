@@ -182,6 +182,11 @@ impl<E: ?Sized + Element + 'static> Element for Shifted<E> {
         self.inner.uses_velocity() || self.damped
     }
 
+    /// The linear part's damping adds the constant `-C0` to `dr/dx'` and nothing to `dr/dx`.
+    fn stiffness_reads_velocity(&self) -> bool {
+        self.inner.stiffness_reads_velocity()
+    }
+
     fn has_tangent(&self) -> bool {
         self.inner.has_tangent()
     }

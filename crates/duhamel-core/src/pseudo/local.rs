@@ -177,14 +177,16 @@ impl<'a> ElementSpace<'a> {
 
     /// Marks the members' last evaluations as the converged end state's, with tangents (a
     /// step solver calls this right after evaluating there with tangents). Only when no
-    /// element depends on the velocity: the solver's node velocity at the end is not the
-    /// end state's (the explicit half of the step is computed after it), and a tangent that
-    /// depends on it (a contact's damping) is not the one at the end state.
+    /// element's stiffness tangent depends on the velocity: the solver's node velocity at
+    /// the end is not the end state's (the explicit half of the step is computed after it),
+    /// and a stiffness that depends on it (a contact's damping) is not the one at the end
+    /// state; a constant damping matrix taken out ([`crate::elements::Shifted`]) leaves the
+    /// stiffness the displacements' alone.
     pub fn mark_end(&mut self) {
         let fresh = self
             .members
             .iter()
-            .all(|m| m.eval.with_tangent() && !m.eval.uses_velocity());
+            .all(|m| m.eval.with_tangent() && !m.eval.stiffness_reads_velocity());
         self.end_mark = fresh.then(|| self.evaluations());
     }
 
