@@ -328,9 +328,7 @@ impl LocalNewton {
         }
         // y0 = P b, then the constant nodes' forces, evaluated once.
         if self.affine {
-            for (y, row) in self.y0.iter_mut().zip(self.pmat.chunks_exact(self.n)) {
-                *y = crate::dense::dot(row, &self.base);
-            }
+            crate::dense_rows::matvec(&self.pmat, &self.base, &mut self.y0);
         }
         for i in 0..self.map.len() {
             if self.map[i].constant {
@@ -405,8 +403,6 @@ fn project_node(
 
 /// `y -= G r` for a row-major `n_d x n_d` matrix `G`.
 fn sub_product(y: &mut [f64], g: &[f64], r: &[f64]) {
-    let nd = r.len();
-    for (ya, row) in y.iter_mut().zip(g.chunks_exact(nd)) {
-        *ya -= crate::dense::dot(row, r);
-    }
+    // each row `y_a - dot(row, r)` bit for bit, four rows at a time
+    crate::dense_rows::sub_matvec(y, g, r);
 }

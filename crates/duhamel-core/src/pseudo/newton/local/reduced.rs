@@ -18,8 +18,8 @@ use super::super::super::local::{zero, ElementSpace};
 use super::super::super::scheme::StepInput;
 use super::super::damping::{backtrack, below_rounding, next_below_rounding};
 use super::{same, sub_product, LocalNewton, NodeMap, Setting};
-use crate::dense::dot;
 use crate::dense_kept::Eliminated;
+use crate::dense_rows::{add_matvec, matvec};
 use crate::error::CoreError;
 
 /// The deformation step's matrices and buffers (`n_e` per vector).
@@ -102,9 +102,7 @@ impl Reduced {
             let t = inp.t + m.s * set.dt;
             let tan = tangent.then_some((&mut self.kd[i][..], &mut self.cd[i][..]));
             space.eval_deformation((&self.eu, &self.eud), t, &mut self.f[i], tan)?;
-            for (ra, ga) in self.res.iter_mut().zip(self.ge[i].chunks_exact(ne)) {
-                *ra += dot(ga, &self.f[i]);
-            }
+            add_matvec(&mut self.res, &self.ge[i], &self.f[i]);
         }
         // NaN must not vanish in the max (f64::max drops it).
         Ok(self.res.iter().fold(0.0_f64, |acc, &r| {
@@ -181,9 +179,7 @@ impl LocalNewton {
             }
         }
         if self.affine {
-            for (y, row) in red.e0.iter_mut().zip(red.pe.chunks_exact(n)) {
-                *y = dot(row, &self.base);
-            }
+            matvec(&red.pe, &self.base, &mut red.e0);
         } else {
             space.to_deformation(&self.y0, &mut red.e0);
         }
