@@ -159,6 +159,18 @@ impl LocalNewton {
                     }
                 }
                 lu.solve_transpose_many(pt, nd, perm);
+                if self.a_constant {
+                    // A^{-1} column by column, for every step of the run
+                    self.ainv.resize(n * n, 0.0);
+                    for j in 0..n {
+                        self.work.fill(0.0);
+                        self.work[j] = 1.0;
+                        lu.solve(&mut self.work, perm);
+                        for (i, x) in self.work.iter().enumerate() {
+                            self.ainv[i * n + j] = *x;
+                        }
+                    }
+                }
                 for (a, prow) in self.pmat.chunks_exact_mut(n).enumerate() {
                     for (m, p) in prow.iter_mut().enumerate() {
                         *p = pt[m * nd + a];
@@ -231,6 +243,10 @@ impl LocalNewton {
             }
         }
         match &self.lu {
+            Some(_) if !self.ainv.is_empty() => {
+                self.work.copy_from_slice(z);
+                matvec(&self.ainv, &self.work, z);
+            }
             Some(lu) => {
                 lu.solve(z, &mut self.work);
             }

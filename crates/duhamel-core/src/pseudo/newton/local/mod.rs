@@ -91,6 +91,11 @@ pub(in super::super) struct LocalNewton {
     unit: bool,
     a: Vec<f64>,
     lu: Option<DenseLu>,
+    /// `A^{-1}` (row-major), formed with the factors when `A` holds for the whole run (no
+    /// mass law, constant couplings): the end state's `A^{-1}` then one matrix-vector
+    /// product (independent rows) instead of the substitutions (a chain of dependent ones).
+    ainv: Vec<f64>,
+    a_constant: bool,
     work: Vec<f64>,
     /// `b` (`n`).
     base: Vec<f64>,
@@ -213,6 +218,8 @@ impl LocalNewton {
             unit: false,
             a: vec![0.0; square],
             lu: None,
+            ainv: Vec::new(),
+            a_constant: !(pf.has_mass() || pf.varying_couplings()),
             work: vec![0.0; n],
             base: vec![0.0; n],
             s: vec![1.0; nodes],
