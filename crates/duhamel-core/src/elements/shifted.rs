@@ -115,6 +115,27 @@ impl<E: ?Sized + Element> Shifted<E> {
             }
             return;
         }
+        if let ([x0, x1], [v0, v1], [r0, r1], [k00, k01, k10, k11], [c00, c01, c10, c11]) =
+            (x, v, &mut *r, &self.k0[..], &self.c0[..])
+        {
+            // two dofs (a two-node device): the loop below's sums on fixed arrays (the same
+            // products added in the same order by the same `sum`)
+            let kx0: f64 = [k00 * x0, k01 * x1].into_iter().sum();
+            let cv0: f64 = [c00 * v0, c01 * v1].into_iter().sum();
+            *r0 -= kx0 + cv0;
+            let kx1: f64 = [k10 * x0, k11 * x1].into_iter().sum();
+            let cv1: f64 = [c10 * v0, c11 * v1].into_iter().sum();
+            *r1 -= kx1 + cv1;
+            if let Some(t) = tangent {
+                for (a, b) in t.kx.iter_mut().zip([k00, k01, k10, k11]) {
+                    *a -= b;
+                }
+                for (a, b) in t.cv.iter_mut().zip([c00, c01, c10, c11]) {
+                    *a -= b;
+                }
+            }
+            return;
+        }
         for (i, ri) in r.iter_mut().enumerate().take(n) {
             let row = i * n..(i + 1) * n;
             let kx: f64 = self.k0[row.clone()].iter().zip(x).map(|(a, b)| a * b).sum();
