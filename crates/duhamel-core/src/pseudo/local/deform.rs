@@ -93,7 +93,7 @@ impl ElementSpace<'_> {
 
     /// `out = B^T f` (`n_d`, overwritten): the element forces on the element dofs, summed
     /// member by member as [`ElementSpace::eval`] assembles them.
-    pub fn from_deformation(&self, f: &[f64], out: &mut [f64]) {
+    pub fn scatter_deformation(&self, f: &[f64], out: &mut [f64]) {
         out.fill(0.0);
         for (&fm, &(i, j)) in f.iter().zip(&self.deform().pairs) {
             out[i] += fm;

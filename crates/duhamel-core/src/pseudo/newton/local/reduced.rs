@@ -211,7 +211,7 @@ impl LocalNewton {
         } else {
             red.f_start.copy_from_slice(&red.f[0]);
         }
-        space.from_deformation(&red.f_start, &mut self.r_start);
+        space.scatter_deformation(&red.f_start, &mut self.r_start);
         self.start_ready = true;
         for i in 0..self.map.len() {
             if !self.map[i].constant {
