@@ -175,3 +175,83 @@ impl ElementSpace<'_> {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::ElementSpace;
+    use crate::elements::hysteretic::bilinear::Bilinear;
+    use crate::elements::{Element, Runtime, Shifted};
+
+    fn bilinear(i: usize, j: Option<usize>) -> Runtime {
+        Runtime::Bilinear(Bilinear::new(i, j, 100.0, 1.0, 0.05).unwrap())
+    }
+
+    /// `Phi` of 3 dofs and 2 modes.
+    const PHI: [f64; 6] = [0.3, -1.1, 0.7, 0.2, -0.4, 0.9];
+
+    #[test]
+    fn a_pair_and_a_grounded_bilinear_are_seen_through_their_deformations() {
+        let (a, b) = (bilinear(0, Some(2)), bilinear(1, None));
+        let elements: Vec<&dyn Element> = vec![&a, &b];
+        let mut space = ElementSpace::new(&PHI, 2, &elements);
+        assert_eq!(space.deformation_count(), Some(2));
+        // the element dofs D = [0, 1, 2]: e = (u0 - u2, u1)
+        let (u, ud) = ([0.004, -0.02, 0.013], [0.1, 0.2, -0.3]);
+        let (mut e, mut ed) = ([0.0; 2], [0.0; 2]);
+        space.to_deformation(&u, &mut e);
+        space.to_deformation(&ud, &mut ed);
+        assert_eq!(e, [0.004 - 0.013, -0.02]);
+        // the forces and tangents at e are those the dof space assembles at u, bit for bit
+        let (mut f, mut kd, mut cd) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+        space.commit(&[0.0; 2], &[0.0; 2], 0.0, true).unwrap();
+        space
+            .eval_deformation((&e, &ed), 0.0, &mut f, Some((&mut kd, &mut cd)))
+            .unwrap();
+        let (mut r, mut k, mut c) = ([0.0; 3], [0.0; 9], [0.0; 9]);
+        space
+            .eval(&u, &ud, 0.0, &mut r, Some((&mut k, &mut c)))
+            .unwrap();
+        let mut scattered = [0.0; 3];
+        space.scatter_deformation(&f, &mut scattered);
+        assert_eq!(scattered, r);
+        assert_eq!((kd[0], kd[1]), (k[0], k[4]));
+        assert_eq!(cd, [0.0; 2]);
+        // Phi_E^T f = Phi_D^T B^T f up to rounding
+        let (mut t_e, mut t_d) = ([0.0; 2], [0.0; 2]);
+        space.project_deformation(&f, &mut t_e);
+        space.project(&r, &mut t_d);
+        for (x, y) in t_e.iter().zip(&t_d) {
+            assert!((x - y).abs() <= 1e-15 * y.abs().max(1.0), "{x} {y}");
+        }
+    }
+
+    #[test]
+    fn other_elements_keep_the_element_dofs() {
+        // grounded only: the deformations are the dofs themselves
+        let (a, b) = (bilinear(0, None), bilinear(1, None));
+        let elements: Vec<&dyn Element> = vec![&a, &b];
+        assert_eq!(
+            ElementSpace::new(&PHI, 2, &elements).deformation_count(),
+            None
+        );
+        // a linear part that is not on the deformation alone
+        // (as the binding builds it: around a boxed trait object)
+        let pair = |k0: Vec<f64>| {
+            let inner: Box<dyn Element> = Box::new(bilinear(0, Some(2)));
+            Shifted::new(inner, k0, vec![0.0; 4])
+        };
+        let relative = pair(vec![100.0, -100.0, -100.0, 100.0]).unwrap();
+        let other = pair(vec![100.0, -100.0, -100.0, 50.0]).unwrap();
+        assert!(relative.relative() && !other.relative());
+        let elements: Vec<&dyn Element> = vec![&relative];
+        assert_eq!(
+            ElementSpace::new(&PHI, 2, &elements).deformation_count(),
+            Some(1)
+        );
+        let elements: Vec<&dyn Element> = vec![&relative, &other];
+        assert_eq!(
+            ElementSpace::new(&PHI, 2, &elements).deformation_count(),
+            None
+        );
+    }
+}
