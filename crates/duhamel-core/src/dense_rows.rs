@@ -8,29 +8,51 @@ use crate::dense_fixed as fixed;
 /// `out = m x` for a row-major `m` of `out.len()` rows of `x.len()` columns, each entry
 /// [`dot`]`(row, x)` bit for bit.
 pub(crate) fn matvec(m: &[f64], x: &[f64], out: &mut [f64]) {
-    let n = x.len();
-    if n == 0 {
+    if x.is_empty() {
         out.fill(0.0);
         return;
     }
-    let m = &m[..out.len() * n];
+    row_dots(m, x, out.len(), |i, s| out[i] = s);
+}
+
+/// `y -= m x` (`m` row-major, `y.len()` rows of `x.len()` columns), each row's product
+/// [`dot`]`(row, x)` bit for bit: `y_i - dot(row_i, x)`.
+pub(crate) fn sub_matvec(y: &mut [f64], m: &[f64], x: &[f64]) {
+    if x.is_empty() {
+        return;
+    }
+    row_dots(m, x, y.len(), |i, s| y[i] -= s);
+}
+
+/// `y += m x` as [`sub_matvec`]: `y_i + dot(row_i, x)`.
+pub(crate) fn add_matvec(y: &mut [f64], m: &[f64], x: &[f64]) {
+    if x.is_empty() {
+        return;
+    }
+    row_dots(m, x, y.len(), |i, s| y[i] += s);
+}
+
+/// `put(i, dot(row_i, x))` for the `rows` rows of the row-major `m` (`x.len() > 0`
+/// columns), four rows at a time.
+#[inline(always)]
+fn row_dots(m: &[f64], x: &[f64], rows: usize, mut put: impl FnMut(usize, f64)) {
+    let n = x.len();
+    let m = &m[..rows * n];
     let full = n - n % 4;
     let mut blocks = m.chunks_exact(4 * n);
-    let mut outs = out.chunks_exact_mut(4);
-    for (block, o) in (&mut blocks).zip(&mut outs) {
+    let mut i = 0;
+    for block in &mut blocks {
         let r: [&[f64]; 4] = std::array::from_fn(|i| &block[i * n..(i + 1) * n]);
         let acc = fixed::partial_sums_rows4(full, r, x);
-        for ((o, acc), row) in o.iter_mut().zip(acc).zip(r) {
+        for (acc, row) in acc.iter().zip(r) {
             let tail: f64 = row[full..].iter().zip(&x[full..]).map(|(a, b)| a * b).sum();
-            *o = (acc[0] + acc[2]) + (acc[1] + acc[3]) + tail;
+            put(i, (acc[0] + acc[2]) + (acc[1] + acc[3]) + tail);
+            i += 1;
         }
     }
-    for (o, row) in outs
-        .into_remainder()
-        .iter_mut()
-        .zip(blocks.remainder().chunks_exact(n))
-    {
-        *o = dot(row, x);
+    for row in blocks.remainder().chunks_exact(n) {
+        put(i, dot(row, x));
+        i += 1;
     }
 }
 
@@ -59,11 +81,35 @@ pub(crate) fn forward(lu: &[f64], n: usize, work: &mut [f64]) {
 
 #[cfg(test)]
 mod tests {
-    use super::{dot, forward, matvec};
+    use super::{add_matvec, dot, forward, matvec, sub_matvec};
     use crate::dense::DenseLu;
 
     fn value(i: usize, s: f64) -> f64 {
         ((i as f64 + s) * 0.7).sin() * 10f64.powi((i % 7) as i32 - 3)
+    }
+
+    #[test]
+    fn sub_and_add_matvec_are_row_dots_bit_for_bit() {
+        for rows in 0..11 {
+            for n in 0..23 {
+                let m: Vec<f64> = (0..rows * n).map(|i| value(i, 0.3)).collect();
+                let x: Vec<f64> = (0..n).map(|i| value(i, 1.1)).collect();
+                let y0: Vec<f64> = (0..rows).map(|i| value(i, 4.2)).collect();
+                let (mut sub, mut add) = (y0.clone(), y0.clone());
+                sub_matvec(&mut sub, &m, &x);
+                add_matvec(&mut add, &m, &x);
+                for i in 0..rows {
+                    let (want_sub, want_add) = if n == 0 {
+                        (y0[i], y0[i])
+                    } else {
+                        let d = dot(&m[i * n..(i + 1) * n], &x);
+                        (y0[i] - d, y0[i] + d)
+                    };
+                    assert_eq!(sub[i].to_bits(), want_sub.to_bits(), "rows {rows}, n {n}");
+                    assert_eq!(add[i].to_bits(), want_add.to_bits(), "rows {rows}, n {n}");
+                }
+            }
+        }
     }
 
     #[test]

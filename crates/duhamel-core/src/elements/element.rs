@@ -48,6 +48,14 @@ pub trait Element: Send + Sync {
     /// Whether the force depends on the velocities.
     fn uses_velocity(&self) -> bool;
 
+    /// Whether the stiffness tangent `dr/dx` depends on the velocities (default: whether the
+    /// force does). An element whose velocities enter only through a constant damping
+    /// matrix ([`crate::elements::Shifted`]'s linear part) has a stiffness tangent that the
+    /// stiffness watch may take from any evaluation at the same displacements.
+    fn stiffness_reads_velocity(&self) -> bool {
+        self.uses_velocity()
+    }
+
     /// Whether `eval` fills the tangents; when not, the integrators use finite differences.
     fn has_tangent(&self) -> bool {
         true

@@ -71,6 +71,18 @@ impl<E: ?Sized + Element> Shifted<E> {
         &self.inner
     }
 
+    /// Whether the linear part acts on the relative coordinate alone: one dof, or two with
+    /// `K0 = k [[1, -1], [-1, 1]]` and `C0 = c [[1, -1], [-1, 1]]` (bit for bit), so that it
+    /// is `k (x_i - x_j)` on `i` and its opposite on `j` (up to the rounding of the product).
+    pub fn relative(&self) -> bool {
+        let pair = |m: &[f64]| match m {
+            [_] => true,
+            [a, b, c, d] => *b == -*a && *c == -*a && *d == *a,
+            _ => false,
+        };
+        pair(&self.k0) && pair(&self.c0)
+    }
+
     /// [`Element::eval_path`] with `inner` (this element's own, resolved to its type) called
     /// directly: the same arithmetic.
     #[inline(always)]
@@ -100,6 +112,27 @@ impl<E: ?Sized + Element> Shifted<E> {
             if let Some(t) = tangent {
                 t.kx[0] -= k00;
                 t.cv[0] -= c00;
+            }
+            return;
+        }
+        if let ([x0, x1], [v0, v1], [r0, r1], [k00, k01, k10, k11], [c00, c01, c10, c11]) =
+            (x, v, &mut *r, &self.k0[..], &self.c0[..])
+        {
+            // two dofs (a two-node device): the loop below's sums on fixed arrays (the same
+            // products added in the same order by the same `sum`)
+            let kx0: f64 = [k00 * x0, k01 * x1].into_iter().sum();
+            let cv0: f64 = [c00 * v0, c01 * v1].into_iter().sum();
+            *r0 -= kx0 + cv0;
+            let kx1: f64 = [k10 * x0, k11 * x1].into_iter().sum();
+            let cv1: f64 = [c10 * v0, c11 * v1].into_iter().sum();
+            *r1 -= kx1 + cv1;
+            if let Some(t) = tangent {
+                for (a, b) in t.kx.iter_mut().zip([k00, k01, k10, k11]) {
+                    *a -= b;
+                }
+                for (a, b) in t.cv.iter_mut().zip([c00, c01, c10, c11]) {
+                    *a -= b;
+                }
             }
             return;
         }
@@ -168,6 +201,11 @@ impl<E: ?Sized + Element + 'static> Element for Shifted<E> {
 
     fn uses_velocity(&self) -> bool {
         self.inner.uses_velocity() || self.damped
+    }
+
+    /// The linear part's damping adds the constant `-C0` to `dr/dx'` and nothing to `dr/dx`.
+    fn stiffness_reads_velocity(&self) -> bool {
+        self.inner.stiffness_reads_velocity()
     }
 
     fn has_tangent(&self) -> bool {

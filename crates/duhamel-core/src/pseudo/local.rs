@@ -10,6 +10,7 @@
 //! the space; the modal Newton, the element-space Newton and every subdivision level
 //! evaluate the same elements, and the route commits them once per accepted (sub)step.
 
+mod deform;
 mod start;
 mod stiffness;
 
@@ -87,6 +88,9 @@ pub struct ElementSpace<'a> {
     /// The members' local states and forces at the start state of the last element-space
     /// step ([`ElementSpace::keep_start`]), for the record of that state.
     start: start::Start,
+    /// The members' deformations, when each is a scalar two-node element
+    /// ([`deform::Deformations::of`]).
+    deform: Option<deform::Deformations>,
 }
 
 impl<'a> ElementSpace<'a> {
@@ -122,6 +126,11 @@ impl<'a> ElementSpace<'a> {
             .collect::<Vec<Member>>();
         let single = matches!(&members[..], [m] if m.at.len() == 1);
         let resolution = elements.iter().fold(0.0_f64, |a, e| a.max(e.resolution()));
+        let deform = deform::Deformations::of(
+            members.iter().map(|m| (m.eval.element, &m.at[..])),
+            &phi,
+            n_modes,
+        );
         ElementSpace {
             n_modes,
             phi,
@@ -135,6 +144,7 @@ impl<'a> ElementSpace<'a> {
             single,
             resolution,
             start: start::Start::default(),
+            deform,
         }
     }
 
@@ -167,14 +177,16 @@ impl<'a> ElementSpace<'a> {
 
     /// Marks the members' last evaluations as the converged end state's, with tangents (a
     /// step solver calls this right after evaluating there with tangents). Only when no
-    /// element depends on the velocity: the solver's node velocity at the end is not the
-    /// end state's (the explicit half of the step is computed after it), and a tangent that
-    /// depends on it (a contact's damping) is not the one at the end state.
+    /// element's stiffness tangent depends on the velocity: the solver's node velocity at
+    /// the end is not the end state's (the explicit half of the step is computed after it),
+    /// and a stiffness that depends on it (a contact's damping) is not the one at the end
+    /// state; a constant damping matrix taken out ([`crate::elements::Shifted`]) leaves the
+    /// stiffness the displacements' alone.
     pub fn mark_end(&mut self) {
         let fresh = self
             .members
             .iter()
-            .all(|m| m.eval.with_tangent() && !m.eval.uses_velocity());
+            .all(|m| m.eval.with_tangent() && !m.eval.stiffness_reads_velocity());
         self.end_mark = fresh.then(|| self.evaluations());
     }
 
@@ -335,9 +347,8 @@ impl<'a> ElementSpace<'a> {
 
     /// `out = Phi_D q`.
     pub fn to_local(&self, q: &[f64], out: &mut [f64]) {
-        for (o, row) in out.iter_mut().zip(self.phi.chunks_exact(self.n_modes)) {
-            *o = crate::dense::dot(row, q);
-        }
+        // each entry `dot(row, q)` bit for bit, four rows at a time
+        crate::dense_rows::matvec(&self.phi, &q[..self.n_modes], out);
     }
 
     /// `Phi_D x_k` for three vectors at once (one pass over `Phi_D`), into `out_k`.

@@ -106,6 +106,23 @@ impl ElementSpace<'_> {
                         .filter(|&mode| modal_k[mode] == f64::INFINITY && reaches(mode))
                         .collect()
                 });
+                // one mode's `d = diag(Phi_e^T K_e Phi_e)`, summed over `i`, then `j`
+                let d_of = |mode: usize| {
+                    let mut d = 0.0;
+                    for i in 0..nl {
+                        for j in 0..nl {
+                            let kij = k_sym(&e.kx, nl, i, j);
+                            d += kij * phi[at[i] * n + mode] * phi[at[j] * n + mode];
+                        }
+                    }
+                    d
+                };
+                // `d != 0` on a coordinate without mass: the sum below would be infinite
+                // (or NaN: not positive) and the element skipped; skipped without it (and
+                // without the pass over the modes).
+                if touched.iter().any(|&mode| d_of(mode) != 0.0) {
+                    continue;
+                }
                 // `diag(Phi_e^T K_e Phi_e)` of every mode at once: each mode's `d` summed over
                 // `i`, then `j`, as one mode's loop would (the same terms in the same order)
                 diag.clear();
@@ -119,11 +136,6 @@ impl ElementSpace<'_> {
                             *d += kij * a * b;
                         }
                     }
-                }
-                // `d != 0` on a coordinate without mass: the sum below would be infinite
-                // (or NaN: not positive) and the element skipped; skipped without it.
-                if touched.iter().any(|&mode| diag[mode] != 0.0) {
-                    continue;
                 }
                 let (mut share, mut weighted) = (0.0, 0.0);
                 for (d, &km) in diag.iter().zip(modal_k) {

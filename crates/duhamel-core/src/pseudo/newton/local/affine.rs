@@ -159,6 +159,18 @@ impl LocalNewton {
                     }
                 }
                 lu.solve_transpose_many(pt, nd, perm);
+                if self.a_constant {
+                    // A^{-1} column by column, for every step of the run
+                    self.ainv.resize(n * n, 0.0);
+                    for j in 0..n {
+                        self.work.fill(0.0);
+                        self.work[j] = 1.0;
+                        lu.solve(&mut self.work, perm);
+                        for (i, x) in self.work.iter().enumerate() {
+                            self.ainv[i * n + j] = *x;
+                        }
+                    }
+                }
                 for (a, prow) in self.pmat.chunks_exact_mut(n).enumerate() {
                     for (m, p) in prow.iter_mut().enumerate() {
                         *p = pt[m * nd + a];
@@ -210,7 +222,7 @@ impl LocalNewton {
             w.copy_from_slice(w_lin);
             for (i, wo_i) in w_other.iter().enumerate().take(self.map.len()) {
                 let si = self.s[i];
-                space.project(&self.r[i], &mut self.t[i]);
+                super::project_node(&self.red, space, (i, &self.r[i]), &mut self.t[i]);
                 let zw = z.iter_mut().zip(w.iter_mut());
                 let weights = self.w_hat[i].iter().zip(wo_i);
                 for ((q, (zm, wm)), (wh, wo)) in self.t[i].iter_mut().zip(zw).zip(weights) {
@@ -225,12 +237,16 @@ impl LocalNewton {
             return;
         }
         for i in 0..self.map.len() {
-            space.project(&self.r[i], &mut self.t[i]);
+            super::project_node(&self.red, space, (i, &self.r[i]), &mut self.t[i]);
             for ((zm, wh), t) in z.iter_mut().zip(&self.w_hat[i]).zip(&self.t[i]) {
                 *zm -= wh * t;
             }
         }
         match &self.lu {
+            Some(_) if !self.ainv.is_empty() => {
+                self.work.copy_from_slice(z);
+                matvec(&self.ainv, &self.work, z);
+            }
             Some(lu) => {
                 lu.solve(z, &mut self.work);
             }

@@ -4,7 +4,7 @@ use super::super::super::local::{zero, ElementSpace};
 use super::super::super::scheme::StepInput;
 use super::super::damping::{backtrack, below_rounding, next_below_rounding};
 use super::{LocalNewton, Setting};
-use crate::dense::dot;
+use crate::dense_rows::add_matvec;
 use crate::error::CoreError;
 
 impl LocalNewton {
@@ -34,9 +34,7 @@ impl LocalNewton {
             let t = inp.t + self.map[i].s * set.dt;
             let tan = tangent.then_some((&mut self.kt[i][..], &mut self.ct[i][..]));
             space.eval(&self.u, &self.ud, t, &mut self.r[i], tan)?;
-            for (ra, ga) in self.res.iter_mut().zip(self.g[i].chunks_exact(nd)) {
-                *ra += dot(ga, &self.r[i]);
-            }
+            add_matvec(&mut self.res, &self.g[i], &self.r[i]);
         }
         // NaN must not vanish in the max (f64::max drops it).
         Ok(self.res.iter().fold(0.0_f64, |acc, &r| {

@@ -34,6 +34,7 @@
 mod affine;
 mod iterate;
 mod lean;
+mod reduced;
 mod scaled;
 mod single;
 
@@ -90,6 +91,11 @@ pub(in super::super) struct LocalNewton {
     unit: bool,
     a: Vec<f64>,
     lu: Option<DenseLu>,
+    /// `A^{-1}` (row-major), formed with the factors when `A` holds for the whole run (no
+    /// mass law, constant couplings): the end state's `A^{-1}` then one matrix-vector
+    /// product (independent rows) instead of the substitutions (a chain of dependent ones).
+    ainv: Vec<f64>,
+    a_constant: bool,
     work: Vec<f64>,
     /// `b` (`n`).
     base: Vec<f64>,
@@ -149,6 +155,9 @@ pub(in super::super) struct LocalNewton {
     /// displacements (`q = 0 q0 + 0 v0 + 1 z`: schemes b and c): its element coordinate is
     /// then `Phi_D q1` up to rounding, and its evaluation the end state's.
     end_is_unknown: bool,
+    /// The step in the elements' deformations, when the space is one of scalar two-node
+    /// elements ([`reduced`]).
+    red: Option<reduced::Reduced>,
 }
 
 impl LocalNewton {
@@ -209,6 +218,8 @@ impl LocalNewton {
             unit: false,
             a: vec![0.0; square],
             lu: None,
+            ainv: Vec::new(),
+            a_constant: !(pf.has_mass() || pf.varying_couplings()),
             work: vec![0.0; n],
             base: vec![0.0; n],
             s: vec![1.0; nodes],
@@ -246,6 +257,9 @@ impl LocalNewton {
             kept_ct: Vec::new(),
             lean: false,
             end_is_unknown: false,
+            red: space
+                .deformation_count()
+                .map(|ne| reduced::Reduced::new(ne, nodes, n)),
         };
         let end = newton.map.iter().rev().find(|m| !m.constant);
         newton.end_is_unknown = set.unknown == Unknown::Q1
@@ -312,11 +326,16 @@ impl LocalNewton {
                 self.prepare(pf.space())?;
             }
         }
+        if let Some(mut red) = self.red.take() {
+            let solved = self.solve_reduced(&mut red, pf, (set, inp), rebuild);
+            self.red = Some(red);
+            let iterations = solved?;
+            self.finish(pf.space(), set, z, (w_lin, w), start);
+            return Ok(iterations);
+        }
         // y0 = P b, then the constant nodes' forces, evaluated once.
         if self.affine {
-            for (y, row) in self.y0.iter_mut().zip(self.pmat.chunks_exact(self.n)) {
-                *y = crate::dense::dot(row, &self.base);
-            }
+            crate::dense_rows::matvec(&self.pmat, &self.base, &mut self.y0);
         }
         for i in 0..self.map.len() {
             if self.map[i].constant {
@@ -375,10 +394,22 @@ fn same(a: &[f64], b: &[f64]) -> bool {
     a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
+/// `t = Phi_D^T r_i` of node `i`'s element forces: from its deformations' forces when the
+/// step ran in them.
+fn project_node(
+    red: &Option<reduced::Reduced>,
+    space: &ElementSpace,
+    (i, r): (usize, &[f64]),
+    t: &mut [f64],
+) {
+    match red {
+        Some(red) => space.project_deformation(&red.f[i], t),
+        None => space.project(r, t),
+    }
+}
+
 /// `y -= G r` for a row-major `n_d x n_d` matrix `G`.
 fn sub_product(y: &mut [f64], g: &[f64], r: &[f64]) {
-    let nd = r.len();
-    for (ya, row) in y.iter_mut().zip(g.chunks_exact(nd)) {
-        *ya -= crate::dense::dot(row, r);
-    }
+    // each row `y_a - dot(row, r)` bit for bit, four rows at a time
+    crate::dense_rows::sub_matvec(y, g, r);
 }
