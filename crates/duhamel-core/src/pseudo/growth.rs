@@ -150,9 +150,13 @@ impl GrowthGuard {
     ) -> Result<(), CoreError> {
         let (s0, s1, s2) = squares3([p0, p1, p2]);
         // sqrt is monotonic and correctly rounded: the larger root is the larger's root
-        // the bubble's root only when it has one (a load linear over the step has none)
-        let bubble = if s2 == 0.0 { 0.0 } else { s2.sqrt() };
-        let load = s0.max(s1).sqrt() + 2.0 / 3.0 * bubble;
+        let mut load = s0.max(s1).sqrt();
+        // the bubble's root only when it has one (a load linear over the step has none):
+        // a branch, not a select (both roots computed at every step were a tenth of a
+        // one-dof device's step); `+ 2/3 * 0` left out is the same sum (the root is >= +0)
+        if s2 != 0.0 {
+            load += 2.0 / 3.0 * s2.sqrt();
+        }
         self.amplitude += dt * load * std::f64::consts::FRAC_1_SQRT_2;
         let held = self.energy_check(q1, v1);
         let bound = self.root + self.amplitude;

@@ -28,6 +28,23 @@ pub(super) fn force(
     (q, v, t): (f64, f64, f64),
     tangent: bool,
 ) -> Result<[f64; 3], CoreError> {
+    if space.single() {
+        // one element on the one dof (a one-dof device): the loops below on its scalars
+        let (phi, e) = space.single_member();
+        e.x[0] = std::iter::once(phi * q).sum();
+        e.v[0] = std::iter::once(phi * v).sum();
+        e.evaluate(t, tangent)?;
+        let rho = 0.0 + phi * e.r[0];
+        let (mut kq, mut cq) = (0.0, 0.0);
+        if tangent {
+            for (tab, out) in [(e.kx[0], &mut kq), (e.cv[0], &mut cq)] {
+                if tab != 0.0 {
+                    *out += phi * tab * phi;
+                }
+            }
+        }
+        return Ok([-rho, -kq, -cq]);
+    }
     let (phi, members) = space.members_mut();
     let (mut rho, mut kq, mut cq) = (0.0, 0.0, 0.0);
     for (e, at) in members {
