@@ -105,7 +105,7 @@ impl<'a> Evaluation<'a> {
             if !self.holds(t) {
                 self.evaluate(t, false)?;
             }
-            self.committed.copy_from_slice(&self.trial);
+            copy(&mut self.committed, &self.trial);
             // the trial variables are now the committed ones, no evaluation's from them
             self.seen = false;
         }
@@ -162,8 +162,8 @@ impl<'a> Evaluation<'a> {
         }
         self.with_tangent = tangent;
         if self.reads.is_some() {
-            self.seen_x.copy_from_slice(&self.x);
-            self.seen_v.copy_from_slice(&self.v);
+            copy(&mut self.seen_x, &self.x);
+            copy(&mut self.seen_v, &self.v);
             self.seen_t = t;
             self.seen = true;
         }
@@ -202,6 +202,17 @@ fn zero(x: &mut [f64]) {
         [a, b] => (*a, *b) = (0.0, 0.0),
         [a, b, c, d] => (*a, *b, *c, *d) = (0.0, 0.0, 0.0, 0.0),
         _ => x.fill(0.0),
+    }
+}
+
+/// `dst.copy_from_slice(src)`, one or two entries (a one-dof element's state, a
+/// `Bilinear`'s two variables) written directly instead of through a `memcpy` call.
+#[inline(always)]
+fn copy(dst: &mut [f64], src: &[f64]) {
+    match (dst, src) {
+        ([d], [s]) => *d = *s,
+        ([d0, d1], [s0, s1]) => (*d0, *d1) = (*s0, *s1),
+        (dst, src) => dst.copy_from_slice(src),
     }
 }
 

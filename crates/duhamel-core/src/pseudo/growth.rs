@@ -151,11 +151,11 @@ impl GrowthGuard {
         let (s0, s1, s2) = squares3([p0, p1, p2]);
         // sqrt is monotonic and correctly rounded: the larger root is the larger's root
         let mut load = s0.max(s1).sqrt();
-        // the bubble's root only when it has one (a load linear over the step has none):
-        // a branch, not a select (both roots computed at every step were a tenth of a
-        // one-dof device's step); `+ 2/3 * 0` left out is the same sum (the root is >= +0)
+        // the bubble's root only when it has one (a load linear over the step has none),
+        // behind a call the compiler cannot turn into a select (it computed both roots at
+        // every step otherwise); `+ 2/3 * 0` left out is the same sum (the root is >= +0)
         if s2 != 0.0 {
-            load += 2.0 / 3.0 * s2.sqrt();
+            load += bubble(s2);
         }
         self.amplitude += dt * load * std::f64::consts::FRAC_1_SQRT_2;
         let held = self.energy_check(q1, v1);
@@ -178,6 +178,13 @@ impl GrowthGuard {
             last_good_time: None,
         })
     }
+}
+
+/// `2/3 sqrt(s2)`: the bound's share of the load's bubble, out of line (see
+/// [`GrowthGuard::step`]).
+#[inline(never)]
+fn bubble(s2: f64) -> f64 {
+    2.0 / 3.0 * s2.sqrt()
 }
 
 /// `(p_0 . p_0, p_1 . p_1, p_2 . p_2)` in one pass, each summed as [`crate::dense::dot`]

@@ -213,7 +213,10 @@ impl<'a> ElementSpace<'a> {
             if !e.stateful() {
                 return Ok(());
             }
-            if !held {
+            if let ([a], false) = (&m.at[..], held) {
+                let row = &phi[a * n..(a + 1) * n];
+                (e.x[0], e.v[0]) = (crate::dense::dot(row, q), crate::dense::dot(row, v));
+            } else if !held {
                 for (j, &a) in m.at.iter().enumerate() {
                     let row = &phi[a * n..(a + 1) * n];
                     e.x[j] = crate::dense::dot(row, q);
