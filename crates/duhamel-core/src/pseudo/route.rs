@@ -143,8 +143,8 @@ struct PseudoRoute<'r, 'a> {
     /// The elements' modal tangent stiffness, when watched, and the substep rule on it (see
     /// [`super::subdivide::Watch`]).
     stiffness: Option<Watch>,
-    /// The growth guard, with the end-of-step modal load it is given.
-    guard: Option<(GrowthGuard, Vec<f64>)>,
+    /// The growth guard.
+    guard: Option<GrowthGuard>,
     state: StepBuffers,
     hq: Vec<f64>,
     hv: Vec<f64>,
@@ -338,12 +338,9 @@ impl PseudoRoute<'_, '_> {
                     break;
                 }
             }
-            if let Some((guard, p1)) = self.guard.as_mut() {
-                for ((e, a), b) in p1.iter_mut().zip(&pb[0]).zip(&pb[1]) {
-                    *e = a + b;
-                }
-                let load = (&pb[0][..], &p1[..], &pb[2][..]);
-                if let Err(error) = guard.step(problem.dt, (q1, v1), load) {
+            if let Some(guard) = self.guard.as_mut() {
+                let load = [&pb[0][..], &pb[1][..], &pb[2][..]];
+                if let Err(error) = guard.step_basis(problem.dt, (q1, v1), load) {
                     result = Err(StepFailure {
                         error,
                         step: step + 1,
@@ -493,7 +490,7 @@ pub fn integrate(
         pseudo: Some(route.hp),
         elements: (route.he.width > 0).then_some(route.he),
         element_state: stateful.then(|| route.pf.element_state()),
-        guard_state: route.guard.as_ref().map(|(g, _)| g.state()),
+        guard_state: route.guard.as_ref().map(|g| g.state()),
         energy: route.energy.map(|tap| tap.acc.into_rows()),
         ..History::default()
     };
