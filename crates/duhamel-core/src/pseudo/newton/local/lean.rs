@@ -252,8 +252,8 @@ fn finish<const N: usize>(
     let (z, w) = (&mut z[..n], &mut w[..n]);
     // node by node over all the modes (each mode's sums in node order, as one pass per
     // mode takes them: the same numbers), each pass a vector loop: the end state written
-    // in vectors, not mode by mode in scalars, which the next step's loads of it (the
-    // linear step, the guard) stalled on (store forwarding: a tenth of a chain's step)
+    // in vectors, not mode by mode in scalars, which the next step's vector loads of it
+    // (the linear step, the guard) stalled on (store forwarding)
     z.copy_from_slice(&z_lin[..n]);
     w.copy_from_slice(&w_lin[..n]);
     for i in 0..N {
