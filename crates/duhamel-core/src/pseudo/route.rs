@@ -62,36 +62,23 @@ fn load_basis(pb: &mut [Vec<f64>; 3], problem: &ModalProblem, loads: &BlockLoads
 #[inline(never)]
 fn fill_basis(pb: &mut [Vec<f64>; 3], problem: &ModalProblem, loads: &BlockLoads, s: usize) {
     let n_loads = problem.loads.len();
-    let mut sums = problem.loads.iter().zip(&loads.basis[s * n_loads..]);
-    // the first load written, `0 + pattern b` as the sum from a zeroed basis forms it (a
-    // `memset` per row and a second pass over it cost more than the sum for one mode)
-    match (sums.next(), pb[0].len()) {
-        (Some((load, basis)), n) if load.pattern.len() >= n => {
-            for (pj, &bj) in pb.iter_mut().zip(basis) {
-                for (p, &pattern) in pj.iter_mut().zip(&load.pattern) {
-                    *p = 0.0 + pattern * bj;
-                }
-            }
+    let mut written = false;
+    for (load, basis) in problem.loads.iter().zip(&loads.basis[s * n_loads..]) {
+        // the first load written, `0 + pattern b` as the sum from a zeroed basis forms it (a
+        // `memset` per row and a second pass over it cost more than the sum for one mode)
+        let first = !written && load.pattern.len() >= pb[0].len();
+        if !written && !first {
+            pb.iter_mut().for_each(|pj| pj.fill(0.0));
         }
-        (first, _) => {
-            for pj in pb.iter_mut() {
-                pj.fill(0.0);
-            }
-            if let Some((load, basis)) = first {
-                for (pj, &bj) in pb.iter_mut().zip(basis) {
-                    for (p, &pattern) in pj.iter_mut().zip(&load.pattern) {
-                        *p += pattern * bj;
-                    }
-                }
+        written = true;
+        for (pj, &bj) in pb.iter_mut().zip(basis) {
+            for (p, &pattern) in pj.iter_mut().zip(&load.pattern) {
+                *p = if first { 0.0 } else { *p } + pattern * bj;
             }
         }
     }
-    for (load, basis) in sums {
-        for (pj, &bj) in pb.iter_mut().zip(basis) {
-            for (p, &pattern) in pj.iter_mut().zip(&load.pattern) {
-                *p += pattern * bj;
-            }
-        }
+    if !written {
+        pb.iter_mut().for_each(|pj| pj.fill(0.0));
     }
     if !loads.forcing.is_empty() {
         let n = problem.n_modes();
