@@ -157,6 +157,7 @@ impl GrowthGuard {
     /// end value `p1 = p0 + Dp` formed where its sum reads it (not stored), one mode on
     /// scalars (the generic sums' loops were most of the guard's cost for one mode). The
     /// same numbers: one term summed from zero is that term.
+    #[inline]
     pub fn step_basis(
         &mut self,
         dt: f64,
@@ -168,9 +169,16 @@ impl GrowthGuard {
             let p1 = a + b;
             ((a * a, p1 * p1, c * c), 0.5 * (y * y + km * x * x))
         } else {
-            (squares_basis([p0, dp, p2]), self.energy_check(q1, v1))
+            self.squares_held([p0, dp, p2], (q1, v1))
         };
         self.check(dt, squares, held)
+    }
+
+    /// [`squares_basis`] and [`GrowthGuard::energy_check`], out of line (the scalar path of
+    /// [`GrowthGuard::step_basis`] is inlined into the route's loop).
+    #[inline(never)]
+    fn squares_held(&self, p: [&[f64]; 3], (q1, v1): (&[f64], &[f64])) -> ((f64, f64, f64), f64) {
+        (squares_basis(p), self.energy_check(q1, v1))
     }
 
     /// The check of a step of length `dt` whose load's squared norms are `(s0, s1, s2)`
@@ -196,19 +204,26 @@ impl GrowthGuard {
         if held <= self.limit * supply || !held.is_finite() {
             return Ok(());
         }
-        Err(CoreError::Growth {
-            message: format!(
-                "the response grew without bound: its modal energy {held:.4e} exceeds \
-                 {limit} times the most the initial state and the loads can give this \
-                 passive model ({supply:.4e}): the step is unstable for it (an element or \
-                 coupling far stiffer than the modes it loads: reduce `dt` or raise \
-                 `subdivisions`); pass `growth_limit=None` to see the growth",
-                limit = self.limit,
-            ),
-            time: 0.0,
-            step: 0,
-            last_good_time: None,
-        })
+        Err(growth_error(held, self.limit, supply))
+    }
+}
+
+/// The error of a response holding `held` against `limit` times the `supply` (cold: out of
+/// the step's inlined check).
+#[cold]
+#[inline(never)]
+fn growth_error(held: f64, limit: f64, supply: f64) -> CoreError {
+    CoreError::Growth {
+        message: format!(
+            "the response grew without bound: its modal energy {held:.4e} exceeds \
+             {limit} times the most the initial state and the loads can give this \
+             passive model ({supply:.4e}): the step is unstable for it (an element or \
+             coupling far stiffer than the modes it loads: reduce `dt` or raise \
+             `subdivisions`); pass `growth_limit=None` to see the growth",
+        ),
+        time: 0.0,
+        step: 0,
+        last_good_time: None,
     }
 }
 
