@@ -107,7 +107,7 @@ impl<'a> Evaluation<'a> {
             if !self.holds(t) {
                 self.evaluate(t, false)?;
             }
-            self.committed.copy_from_slice(&self.trial);
+            copy(&mut self.committed, &self.trial);
             // the trial variables are now the committed ones, no evaluation's from them
             self.seen = false;
         }

@@ -219,6 +219,29 @@ impl<'a> ElementSpace<'a> {
         let marked = self.end_trial.take();
         let held = !initial && marked.is_some() && marked == Some(self.evaluations());
         let phi = &self.phi;
+        if let [m] = &mut self.members[..] {
+            // one member (a one-dof device): the loop below without its iterators
+            let e = &mut m.eval;
+            if !e.stateful() {
+                return Ok(());
+            }
+            if let ([a], false) = (&m.at[..], held) {
+                let row = &phi[a * n..(a + 1) * n];
+                (e.x[0], e.v[0]) = (crate::dense::dot(row, q), crate::dense::dot(row, v));
+            } else if !held {
+                for (j, &a) in m.at.iter().enumerate() {
+                    let row = &phi[a * n..(a + 1) * n];
+                    e.x[j] = crate::dense::dot(row, q);
+                    e.v[j] = crate::dense::dot(row, v);
+                }
+            }
+            return if initial {
+                e.start(t);
+                Ok(())
+            } else {
+                e.commit(t)
+            };
+        }
         for m in self.members.iter_mut().filter(|m| m.eval.stateful()) {
             let e = &mut m.eval;
             for (j, &a) in m.at.iter().enumerate().filter(|_| !held) {
@@ -317,6 +340,14 @@ impl<'a> ElementSpace<'a> {
     ) {
         let members = self.members.iter_mut().map(|m| (&mut m.eval, &m.at[..]));
         (&self.phi, members)
+    }
+
+    /// The one member of a space of one element on one dof ([`ElementSpace::single`]) with
+    /// its dof's mode-shape entry of the first mode.
+    #[inline(always)]
+    pub fn single_member(&mut self) -> (f64, &mut Evaluation<'a>) {
+        debug_assert!(self.single);
+        (self.phi[0], &mut self.members[0].eval)
     }
 
     /// `n_d`, the number of element dofs.

@@ -62,15 +62,23 @@ fn load_basis(pb: &mut [Vec<f64>; 3], problem: &ModalProblem, loads: &BlockLoads
 #[inline(never)]
 fn fill_basis(pb: &mut [Vec<f64>; 3], problem: &ModalProblem, loads: &BlockLoads, s: usize) {
     let n_loads = problem.loads.len();
-    for pj in pb.iter_mut() {
-        pj.fill(0.0);
-    }
+    let mut written = false;
     for (load, basis) in problem.loads.iter().zip(&loads.basis[s * n_loads..]) {
+        // the first load written, `0 + pattern b` as the sum from a zeroed basis forms it (a
+        // `memset` per row and a second pass over it cost more than the sum for one mode)
+        let first = !written && load.pattern.len() >= pb[0].len();
+        if !written && !first {
+            pb.iter_mut().for_each(|pj| pj.fill(0.0));
+        }
+        written = true;
         for (pj, &bj) in pb.iter_mut().zip(basis) {
             for (p, &pattern) in pj.iter_mut().zip(&load.pattern) {
-                *p += pattern * bj;
+                *p = if first { 0.0 } else { *p } + pattern * bj;
             }
         }
+    }
+    if !written {
+        pb.iter_mut().for_each(|pj| pj.fill(0.0));
     }
     if !loads.forcing.is_empty() {
         let n = problem.n_modes();
@@ -122,8 +130,8 @@ struct PseudoRoute<'r, 'a> {
     /// The elements' modal tangent stiffness, when watched, and the substep rule on it (see
     /// [`super::subdivide::Watch`]).
     stiffness: Option<Watch>,
-    /// The growth guard, with the end-of-step modal load it is given.
-    guard: Option<(GrowthGuard, Vec<f64>)>,
+    /// The growth guard.
+    guard: Option<GrowthGuard>,
     state: StepBuffers,
     hq: Vec<f64>,
     hv: Vec<f64>,
@@ -317,12 +325,9 @@ impl PseudoRoute<'_, '_> {
                     break;
                 }
             }
-            if let Some((guard, p1)) = self.guard.as_mut() {
-                for ((e, a), b) in p1.iter_mut().zip(&pb[0]).zip(&pb[1]) {
-                    *e = a + b;
-                }
-                let load = (&pb[0][..], &p1[..], &pb[2][..]);
-                if let Err(error) = guard.step(problem.dt, (q1, v1), load) {
+            if let Some(guard) = self.guard.as_mut() {
+                let load = [&pb[0][..], &pb[1][..], &pb[2][..]];
+                if let Err(error) = guard.step_basis(problem.dt, (q1, v1), load) {
                     result = Err(StepFailure {
                         error,
                         step: step + 1,
@@ -468,7 +473,7 @@ pub fn integrate(
         pseudo: Some(route.hp),
         elements: (route.he.width > 0).then_some(route.he),
         element_state: stateful.then(|| route.pf.element_state()),
-        guard_state: route.guard.as_ref().map(|(g, _)| g.state()),
+        guard_state: route.guard.as_ref().map(|g| g.state()),
         energy: route.energy.map(|tap| tap.acc.into_rows()),
         ..History::default()
     };

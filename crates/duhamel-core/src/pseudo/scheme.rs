@@ -74,6 +74,7 @@ pub struct Node {
 
 impl Scheme {
     /// The state `(q, v)` at `s` for one mode.
+    #[inline]
     pub fn state(self, s: f64, dt: f64, q0: f64, v0: f64, q1: f64, v1: f64) -> (f64, f64) {
         match self {
             Scheme::A => {

@@ -60,6 +60,17 @@ impl ElementSpace<'_> {
         if velocity_differs && self.members.iter().any(|m| m.eval.uses_velocity()) {
             return;
         }
+        let one = (&self.members[..], st.x.len(), st.v.len(), st.r.len());
+        if let ([m], 1, 1, 1) = one {
+            // one member on one dof, kept before: its entries written in place
+            if let ([a], [r]) = (&m.at[..], &m.eval.r[..]) {
+                (st.x[0], st.v[0], st.r[0]) = (pq[*a], pv[*a], *r);
+                st.t = t;
+                st.key = (q.as_ptr() as usize, v.as_ptr() as usize);
+                st.valid = true;
+                return;
+            }
+        }
         st.x.clear();
         st.v.clear();
         st.r.clear();

@@ -37,6 +37,11 @@ impl ElementSpace<'_> {
         let key = (modal_k.as_ptr() as usize, modal_k.len());
         let fresh = self.share_key != key;
         self.share_key = key;
+        if reuse && !fresh && self.single {
+            if let Some(out) = self.single_reused() {
+                return Ok(out);
+            }
+        }
         let phi = &self.phi;
         let diag = &mut self.diag;
         let (mut total, mut worst, mut largest, mut background) = (0.0, 0, 0.0, 0.0f64);
@@ -157,6 +162,32 @@ impl ElementSpace<'_> {
         }
         self.background = if total > 0.0 { background } else { 0.0 };
         Ok((if total > 0.0 { total + background } else { 0.0 }, worst))
+    }
+}
+
+impl ElementSpace<'_> {
+    /// [`ElementSpace::tangent_stiffness`] of one element on one dof whose end-state
+    /// tangent is reused and whose share of the background is formed (every step of a
+    /// one-dof device after the first): the loop's arithmetic for that member, without the
+    /// loop (None when the share is not formed yet).
+    #[inline]
+    fn single_reused(&mut self) -> Option<(f64, usize)> {
+        let m = &self.members[0];
+        let (s, w) = m.share?;
+        let kx = m.eval.kx[0];
+        let lambda = (k_sym(&m.eval.kx, 1, 0, 0) * m.gram[0]).abs();
+        let a = kx.abs();
+        let (share, weighted) = (a * s, a * w);
+        // the loop's two tests: an element adding nothing, one that does not dominate
+        let adds = lambda > 0.0 && lambda.is_finite();
+        if !(adds && share > 0.0) || lambda * share < DOMINANT * weighted {
+            self.background = 0.0;
+            return Some((0.0, 0));
+        }
+        let total = 0.0 + lambda;
+        let background = 0.0f64.max(weighted / share);
+        self.background = background;
+        Some((total + background, 0))
     }
 }
 

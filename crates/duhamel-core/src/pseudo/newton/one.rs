@@ -28,6 +28,23 @@ pub(super) fn force(
     (q, v, t): (f64, f64, f64),
     tangent: bool,
 ) -> Result<[f64; 3], CoreError> {
+    if space.single() {
+        // one element on the one dof (a one-dof device): the loops below on its scalars
+        let (phi, e) = space.single_member();
+        e.x[0] = std::iter::once(phi * q).sum();
+        e.v[0] = std::iter::once(phi * v).sum();
+        e.evaluate(t, tangent)?;
+        let rho = 0.0 + phi * e.r[0];
+        let (mut kq, mut cq) = (0.0, 0.0);
+        if tangent {
+            for (tab, out) in [(e.kx[0], &mut kq), (e.cv[0], &mut cq)] {
+                if tab != 0.0 {
+                    *out += phi * tab * phi;
+                }
+            }
+        }
+        return Ok([-rho, -kq, -cq]);
+    }
     let (phi, members) = space.members_mut();
     let (mut rho, mut kq, mut cq) = (0.0, 0.0, 0.0);
     for (e, at) in members {
@@ -79,9 +96,11 @@ pub(super) struct OneMode {
     q1: f64,
     v1: f64,
     /// Whether the elements' force at a committed state is the one that committed it
-    /// ([`ElementSpace::restarts_exactly`]), and whether they are hysteretic (asked at the
-    /// first step).
-    restarts: Option<(bool, bool)>,
+    /// ([`ElementSpace::restarts_exactly`]), whether they are hysteretic and whether one
+    /// reads the velocity (asked at the first step).
+    restarts: Option<(bool, bool, bool)>,
+    /// Whether an element reads the velocity (the third of `restarts`).
+    velocity: bool,
     /// The last node whose state varies (the end node when `at_end`), and the `q` it was
     /// last evaluated at (the scheme's end state: `q0 + (q1 - q0)` is not always `q1`).
     end_node: usize,
@@ -113,6 +132,7 @@ impl OneMode {
             q1: 0.0,
             v1: 0.0,
             restarts: None,
+            velocity: true,
             end_node: 0,
             end_q: 0.0,
             end: None,
@@ -157,7 +177,14 @@ impl OneMode {
                 continue;
             }
             let s = self.s[i];
-            let (q, v) = set.scheme.state(s, dt, q0, v0, self.q1, self.v1);
+            // without an element reading the velocity, the node's is not formed (a division
+            // per evaluation): the elements' forces at it are those at any velocity, and
+            // the pseudo-force sums them from zero (a signed zero of a force changes nothing)
+            let (q, v) = if self.velocity {
+                set.scheme.state(s, dt, q0, v0, self.q1, self.v1)
+            } else {
+                (set.scheme.state(s, dt, q0, v0, self.q1, self.v1).0, 0.0)
+            };
             if i == self.end_node {
                 self.end_q = q;
             }
@@ -242,9 +269,11 @@ impl OneMode {
         let space = pf.space_mut();
         let (q0, v0) = (inp.q0[0], inp.v0[0]);
         (self.q1, self.v1) = (q0, v0);
-        let (restarts, stateful) = *self
-            .restarts
-            .get_or_insert_with(|| (space.restarts_exactly(), space.stateful()));
+        let (restarts, stateful, velocity) = *self.restarts.get_or_insert_with(|| {
+            let velocity = space.uses_velocity();
+            (space.restarts_exactly(), space.stateful(), velocity)
+        });
+        self.velocity = velocity;
         // The start state's Q is the last end's when the step starts where the last one
         // ended (bit for bit) and, for hysteretic elements, exactly one commit (the route's,
         // at that end) came in between; elements that restart exactly only (a `Bilinear`,

@@ -12,7 +12,7 @@ use super::super::super::force::PseudoForce;
 use super::super::super::local::ElementSpace;
 use super::super::super::scheme::StepInput;
 use super::super::damping::{backtrack, below_rounding, next_below_rounding, scalar_correction};
-use super::{End, LocalNewton, Setting};
+use super::{End, LocalNewton, NodeMap, Setting};
 use crate::error::CoreError;
 
 /// The most nodes a quadrature has (the exact cubic rule's four).
@@ -21,6 +21,10 @@ const NODES: usize = 4;
 /// The per-node scalars of one step.
 struct Nodes {
     len: usize,
+    /// The nodes' maps and influences `g_i` (copied from the step's `Vec`s once per step:
+    /// the iterations read them from here without the indirections).
+    map: [NodeMap; NODES],
+    g: [f64; NODES],
     /// `U_i`, `V_i`: the node's element state at `y = 0`.
     u0: [f64; NODES],
     ud0: [f64; NODES],
@@ -51,7 +55,7 @@ impl LocalNewton {
         let mut res = y;
         res -= y0;
         for i in 0..nodes.len {
-            let m = self.map[i];
+            let m = nodes.map[i];
             if m.constant {
                 continue;
             }
@@ -64,7 +68,7 @@ impl LocalNewton {
                 (nodes.kt[i], nodes.ct[i]) = (k, c);
             }
             // `dot` of one term: its zero partial sums, then the term
-            res += 0.0 + self.g[i][0] * r;
+            res += 0.0 + nodes.g[i] * r;
         }
         let norm = if res.is_nan() || res.abs() > 0.0 {
             res.abs()
@@ -95,8 +99,11 @@ impl LocalNewton {
         space.drop_start();
         let (pq, pv, mut y0) = crate::dense::dot3(space.phi(), [inp.q0, inp.v0, z_lin]);
         (self.pq[0], self.pv[0], self.y0[0]) = (pq, pv, y0);
+        let len = self.map.len();
         let mut nodes = Nodes {
-            len: self.map.len(),
+            len,
+            map: std::array::from_fn(|i| self.map[i.min(len - 1)]),
+            g: std::array::from_fn(|i| if i < len { self.g[i][0] } else { 0.0 }),
             u0: [0.0; NODES],
             ud0: [0.0; NODES],
             r: [0.0; NODES],
@@ -109,7 +116,7 @@ impl LocalNewton {
         }
         // the constant nodes' forces, evaluated once
         for i in 0..nodes.len {
-            let m = self.map[i];
+            let m = nodes.map[i];
             if m.constant {
                 let t = inp.t + m.s * set.dt;
                 let start = m.s == 0.0 && nodes.u0[i].to_bits() == pq.to_bits();
@@ -120,7 +127,7 @@ impl LocalNewton {
                     let differs = nodes.ud0[i].to_bits() != pv.to_bits();
                     space.keep_start((inp.q0, inp.v0), t, (&[pq], &self.pv), differs);
                 }
-                y0 -= 0.0 + self.g[i][0] * r;
+                y0 -= 0.0 + nodes.g[i] * r;
             }
         }
         // the initial guess: the start state's force held over the step
@@ -136,8 +143,8 @@ impl LocalNewton {
         self.start_ready = true;
         let mut y = y0;
         for i in 0..nodes.len {
-            if !self.map[i].constant {
-                y -= 0.0 + self.g[i][0] * r_start;
+            if !nodes.map[i].constant {
+                y -= 0.0 + nodes.g[i] * r_start;
             }
         }
         let mut scale0 = 0.0_f64.max(y0.abs());
@@ -195,7 +202,7 @@ impl LocalNewton {
             // J = 1 + sum_i g_i (alpha_i k_i + beta_i c_i) over the varying nodes
             let mut mat = 1.0;
             for i in 0..nodes.len {
-                let (m, g) = (self.map[i], self.g[i][0]);
+                let (m, g) = (nodes.map[i], nodes.g[i]);
                 if m.constant || g == 0.0 {
                     continue;
                 }
@@ -249,24 +256,34 @@ fn finish<const N: usize>(
     (z, w, start): (&mut [f64], &mut [f64], Option<&mut [f64]>),
 ) {
     let n = phi.len();
-    let wh: [&[f64]; N] = std::array::from_fn(|i| &w_hat[i][..n]);
-    let wo: [&[f64]; N] = std::array::from_fn(|i| &w_other[i][..n]);
-    let neg: [f64; N] = std::array::from_fn(|i| -s[i]);
-    let (z_lin, w_lin, z, w) = (&z_lin[..n], &w_lin[..n], &mut z[..n], &mut w[..n]);
-    // `project` of one dof: `0 + r phi`, or 0 for a zero force
-    let t = |i: usize, p: f64| if r[i] != 0.0 { 0.0 + r[i] * p } else { 0.0 };
-    for m in 0..n {
-        let (mut zm, mut wm, p) = (z_lin[m], w_lin[m], phi[m]);
-        for i in 0..N {
-            let ti = t(i, p);
-            zm -= wh[i][m] * ti;
-            wm += wo[i][m] * (ti * neg[i]);
+    let (z, w) = (&mut z[..n], &mut w[..n]);
+    // node by node over all the modes (each mode's sums in node order, as one pass per
+    // mode takes them: the same numbers), each pass a vector loop: the end state written
+    // in vectors, not mode by mode in scalars, which the next step's vector loads of it
+    // (the linear step, the guard) stalled on (store forwarding)
+    z.copy_from_slice(&z_lin[..n]);
+    w.copy_from_slice(&w_lin[..n]);
+    for i in 0..N {
+        let (wh, wo, neg) = (&w_hat[i][..n], &w_other[i][..n], -s[i]);
+        // `project` of one dof: `0 + r phi`, or 0 for a zero force
+        let ri = r[i];
+        if ri != 0.0 {
+            for m in 0..n {
+                let ti = 0.0 + ri * phi[m];
+                z[m] -= wh[m] * ti;
+                w[m] += wo[m] * (ti * neg);
+            }
+        } else {
+            for m in 0..n {
+                z[m] -= wh[m] * 0.0;
+                w[m] += wo[m] * (0.0 * neg);
+            }
         }
-        (z[m], w[m]) = (zm, wm);
     }
     if let Some(start) = start {
+        let (r0, neg) = (r[0], -s[0]);
         for (o, &p) in start[..n].iter_mut().zip(phi) {
-            *o = t(0, p) * neg[0];
+            *o = if r0 != 0.0 { 0.0 + r0 * p } else { 0.0 } * neg;
         }
     }
 }
