@@ -44,4 +44,14 @@ impl Setting<'_> {
             last_good_time: Some(inp.t),
         }
     }
+
+    /// Whether an element-space Newton correction of `size` (largest magnitude) settles the
+    /// step at `scale`: an affine force, the tolerance, a zero correction, or (smooth forces,
+    /// no cut-back) the next correction foreseen below rounding from the last one
+    /// (`last_size`).
+    pub fn settled(&self, last_size: Option<f64>, size: f64, scale: f64, cut: bool) -> bool {
+        let exact =
+            self.smooth && !cut && super::damping::next_below_rounding(last_size, size, scale);
+        self.linear || size <= self.tol * scale || size == 0.0 || exact
+    }
 }

@@ -2,7 +2,7 @@
 
 use super::super::super::local::{zero, ElementSpace};
 use super::super::super::scheme::StepInput;
-use super::super::damping::{backtrack, below_rounding, next_below_rounding};
+use super::super::damping::{backtrack, below_rounding};
 use super::{LocalNewton, Setting};
 use crate::dense_rows::add_matvec;
 use crate::error::CoreError;
@@ -195,8 +195,7 @@ impl LocalNewton {
             let size = self.delta.iter().fold(0.0_f64, |a, d| a.max(d.abs()));
             let ymax = self.y.iter().fold(0.0_f64, |a, y| a.max(y.abs()));
             let scale = ymax.max(scale0);
-            let exact = set.smooth && !cut && next_below_rounding(last_size, size, scale);
-            if set.linear || size <= set.tol * scale || size == 0.0 || exact {
+            if set.settled(last_size, size, scale, cut) {
                 // The forces at the accepted state, with the tangents the stiffness watch
                 // then reuses when the last node evaluated is the end state.
                 let at_end = self.ends_at_end();

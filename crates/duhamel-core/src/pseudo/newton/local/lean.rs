@@ -11,7 +11,7 @@
 use super::super::super::force::PseudoForce;
 use super::super::super::local::ElementSpace;
 use super::super::super::scheme::StepInput;
-use super::super::damping::{backtrack, below_rounding, next_below_rounding, scalar_correction};
+use super::super::damping::{backtrack, below_rounding, scalar_correction};
 use super::{End, LocalNewton, NodeMap, Setting};
 use crate::error::CoreError;
 
@@ -225,8 +225,7 @@ impl LocalNewton {
             *y += delta;
             let size = 0.0_f64.max(delta.abs());
             let scale = 0.0_f64.max(y.abs()).max(scale0);
-            let exact = set.smooth && !cut && next_below_rounding(last_size, size, scale);
-            if set.linear || size <= set.tol * scale || size == 0.0 || exact {
+            if set.settled(last_size, size, scale, cut) {
                 self.lean_residual(nodes, space, (set, inp), (*y, y0), at_end)?;
                 if at_end {
                     space.mark_end();

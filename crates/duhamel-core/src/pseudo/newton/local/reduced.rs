@@ -16,7 +16,7 @@
 use super::super::super::force::PseudoForce;
 use super::super::super::local::{zero, ElementSpace};
 use super::super::super::scheme::StepInput;
-use super::super::damping::{backtrack, below_rounding, next_below_rounding};
+use super::super::damping::{backtrack, below_rounding};
 use super::{same, sub_product, LocalNewton, NodeMap, Setting};
 use crate::dense_kept::Eliminated;
 use crate::dense_rows::{add_matvec, matvec};
@@ -280,8 +280,7 @@ impl LocalNewton {
             let size = correction;
             let emax = red.e.iter().fold(0.0_f64, |a, e| a.max(e.abs()));
             let scale = emax.max(scale0);
-            let exact = set.smooth && !cut && next_below_rounding(last_size, size, scale);
-            if set.linear || size <= set.tol * scale || size == 0.0 || exact {
+            if set.settled(last_size, size, scale, cut) {
                 let at_end = self.ends_at_end();
                 red.residual(map, space, (set, inp), at_end)?;
                 if at_end {

@@ -5,7 +5,7 @@
 
 use super::super::super::local::ElementSpace;
 use super::super::super::scheme::StepInput;
-use super::super::damping::{backtrack, below_rounding, next_below_rounding};
+use super::super::damping::{backtrack, below_rounding};
 use super::{LocalNewton, Setting};
 use crate::error::CoreError;
 
@@ -111,8 +111,7 @@ impl LocalNewton {
             let size = 0.0_f64.max(delta.abs());
             let ymax = 0.0_f64.max(self.y[0].abs());
             let scale = ymax.max(scale0);
-            let exact = set.smooth && !cut && next_below_rounding(last_size, size, scale);
-            if set.linear || size <= set.tol * scale || size == 0.0 || exact {
+            if set.settled(last_size, size, scale, cut) {
                 let at_end = self.ends_at_end();
                 self.residual_one(space, set, inp, at_end)?;
                 if at_end {
