@@ -56,6 +56,29 @@ pub(super) fn below_rounding(size: f64, scale: f64) -> bool {
     size <= 4.0 * f64::EPSILON * scale
 }
 
+/// One Newton correction `delta` of the unknowns `y` (their values before it kept in
+/// `y_prev`): None when it is below the rounding of `y` (scaled at least by `scale0`, see
+/// [`below_rounding`]: the state just evaluated is the solution, nothing is changed); else
+/// `y_prev = y`, `y += delta` and `(size, scale)`: the correction's largest magnitude and the
+/// corrected `y`'s (at least `scale0`), what [`super::Setting::settled`] decides on.
+pub(super) fn corrected(
+    y: &mut [f64],
+    y_prev: &mut [f64],
+    delta: &[f64],
+    scale0: f64,
+) -> Option<(f64, f64)> {
+    let largest = |x: &[f64]| x.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    let size = largest(delta);
+    if below_rounding(size, largest(y).max(scale0)) {
+        return None;
+    }
+    y_prev.copy_from_slice(y);
+    for (y, d) in y.iter_mut().zip(delta) {
+        *y += d;
+    }
+    Some((size, largest(y).max(scale0)))
+}
+
 /// The Newton correction of a one-unknown system, `-res / mat` (the 1 x 1 elimination's
 /// back substitution, its empty sum of the row's other terms included, so that it rounds as
 /// the general elimination does); None where the pivot is zero or not finite, or the

@@ -2,7 +2,7 @@
 
 use super::super::super::local::{zero, ElementSpace};
 use super::super::super::scheme::StepInput;
-use super::super::damping::{backtrack, below_rounding};
+use super::super::damping::{backtrack, corrected};
 use super::{LocalNewton, Setting};
 use crate::dense_rows::add_matvec;
 use crate::error::CoreError;
@@ -180,21 +180,13 @@ impl LocalNewton {
                     break;
                 }
             }
-            let ymax = self.y.iter().fold(0.0_f64, |a, y| a.max(y.abs()));
-            let correction = self.delta.iter().fold(0.0_f64, |a, d| a.max(d.abs()));
-            if below_rounding(correction, ymax.max(scale0)) {
+            let Some((size, scale)) = corrected(&mut self.y, &mut self.y_prev, &self.delta, scale0)
+            else {
                 // the state just evaluated is the solution to rounding: its forces and
                 // tangents are the end's, no update and no evaluation again
                 self.accept(space);
                 return Ok(iter);
-            }
-            self.y_prev.copy_from_slice(&self.y);
-            for (y, d) in self.y.iter_mut().zip(&self.delta) {
-                *y += d;
-            }
-            let size = self.delta.iter().fold(0.0_f64, |a, d| a.max(d.abs()));
-            let ymax = self.y.iter().fold(0.0_f64, |a, y| a.max(y.abs()));
-            let scale = ymax.max(scale0);
+            };
             if set.settled(last_size, size, scale, cut) {
                 // The forces at the accepted state, with the tangents the stiffness watch
                 // then reuses when the last node evaluated is the end state.

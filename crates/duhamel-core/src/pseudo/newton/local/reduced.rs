@@ -16,7 +16,7 @@
 use super::super::super::force::PseudoForce;
 use super::super::super::local::{zero, ElementSpace};
 use super::super::super::scheme::StepInput;
-use super::super::damping::{backtrack, below_rounding};
+use super::super::damping::{backtrack, corrected};
 use super::{same, sub_product, LocalNewton, NodeMap, Setting};
 use crate::dense_kept::Eliminated;
 use crate::dense_rows::{add_matvec, matvec};
@@ -267,19 +267,11 @@ impl LocalNewton {
                     break;
                 }
             }
-            let emax = red.e.iter().fold(0.0_f64, |a, e| a.max(e.abs()));
-            let correction = red.delta.iter().fold(0.0_f64, |a, d| a.max(d.abs()));
-            if below_rounding(correction, emax.max(scale0)) {
+            let Some((size, scale)) = corrected(&mut red.e, &mut red.e_prev, &red.delta, scale0)
+            else {
                 self.accept(space);
                 return Ok(iter);
-            }
-            red.e_prev.copy_from_slice(&red.e);
-            for (e, d) in red.e.iter_mut().zip(&red.delta) {
-                *e += d;
-            }
-            let size = correction;
-            let emax = red.e.iter().fold(0.0_f64, |a, e| a.max(e.abs()));
-            let scale = emax.max(scale0);
+            };
             if set.settled(last_size, size, scale, cut) {
                 let at_end = self.ends_at_end();
                 red.residual(map, space, (set, inp), at_end)?;
