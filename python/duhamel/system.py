@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Hashable, Mapping, Sequence
-from dataclasses import replace
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
@@ -11,7 +10,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from duhamel._core import Element
 from duhamel._engine import caches, shared
-from duhamel._engine.basis import check_supplied, modal_basis
+from duhamel._engine.basis import check_supplied, modal_basis, owned
 from duhamel._engine.eigen import Modes
 from duhamel._engine.geometric import softened
 from duhamel._engine.labels import Labels, resolve, resolve_fields
@@ -429,7 +428,7 @@ class System:
         said = STIFFNESS_DEFAULT if self.elements else ""  # what summary() states
         other = cached.labels is not self._labels or cached.mass is not self._M
         if other or cached.stiffness != said:  # a basis shared by the same matrices: ours
-            cached = replace(cached, labels=self._labels, mass=self._M, stiffness=said)
+            cached = owned(cached, self._labels, self._M, said)
             self._modal_cache[n] = cached
         return cached
 

@@ -192,6 +192,20 @@ fn modal_run<'a>(
     })
 }
 
+/// Work on histories of fewer values than this keeps the GIL: releasing and taking it again
+/// costs more than such a pass (microseconds), and no other thread gains from it.
+const DETACH_FROM: usize = 20_000;
+
+/// `f()`, with the GIL released when it passes over `values` history values (at least
+/// [`DETACH_FROM`]), so that other Python threads (`solve_many`'s) run meanwhile.
+fn detached<T: Send>(py: Python<'_>, values: usize, f: impl FnOnce() -> T + Send) -> T {
+    if values >= DETACH_FROM {
+        py.detach(f)
+    } else {
+        f()
+    }
+}
+
 /// [`accuracy::mode_bounds`] of checked views, with the GIL released (a pass over the
 /// whole history: other Python threads, as `solve_many`'s, run meanwhile); `step` is
 /// `(h, k, span)`.
@@ -204,7 +218,9 @@ fn bounds_of(
     step: (f64, usize, f64),
 ) -> PyResult<Vec<f64>> {
     let run = modal_run(pseudo, q, modes, moments, step)?;
-    Ok(py.detach(|| accuracy::mode_bounds(&run)))
+    Ok(detached(py, run.rows * run.omega.len(), || {
+        accuracy::mode_bounds(&run)
+    }))
 }
 
 /// [`accuracy::row_errors`] of checked views, with the GIL released: `modes` is `(omega,
@@ -229,7 +245,9 @@ pub(crate) fn errors_of(
             &[shapes.len()],
         ));
     }
-    Ok(py.detach(|| accuracy::row_errors(&run, shapes)))
+    Ok(detached(py, run.rows * run.omega.len(), || {
+        accuracy::row_errors(&run, shapes)
+    }))
 }
 
 /// The run's error at each row of `signed` (`(g, n)`: mode shapes with their signs at the

@@ -5,6 +5,7 @@ system, the same analysis of an earlier system with the same matrices
 
 from __future__ import annotations
 
+from dataclasses import fields
 from typing import Any, cast
 
 import numpy as np
@@ -12,7 +13,7 @@ import numpy as np
 from duhamel._engine import shared
 from duhamel.modal import ModalBasis, damped
 
-__all__ = ["check_supplied", "modal_basis"]
+__all__ = ["check_supplied", "modal_basis", "owned"]
 
 
 def modal_basis(system: Any, n: int) -> ModalBasis:
@@ -109,3 +110,18 @@ def check_supplied(system: Any, basis: ModalBasis, rtol: float) -> None:
             f"|K phi - omega2 M phi| / ((|K| + omega2 |M|) |phi|) = {residual[worst]:.3g} "
             f"> `rtol` = {rtol:g}"
         )
+
+
+#: The fields of :class:`~duhamel.ModalBasis` (:func:`owned`).
+_BASIS_FIELDS = tuple(f.name for f in fields(ModalBasis))
+
+
+def owned(basis: ModalBasis, labels: Any, mass: Any, stiffness: str) -> ModalBasis:
+    """`basis` (the same arrays) with a system's `labels`, `mass` and `stiffness` statement:
+    ``dataclasses.replace`` without its per-field walk (a system whose first modal analysis
+    is shared with other systems of the same matrices does this on its first run)."""
+    other = object.__new__(ModalBasis)
+    held = basis.__dict__
+    other.__dict__.update({name: held[name] for name in _BASIS_FIELDS})
+    other.__dict__.update(labels=labels, mass=mass, stiffness=stiffness)
+    return other

@@ -150,7 +150,12 @@ class ModalSetup:
             n = self.system.n_dof
             chosen = np.arange(n, dtype=np.int64) if dofs is None else dofs.copy()
             chosen.flags.writeable = False  # shared by the solutions of this choice
-            phi_out = self.route.basis.phi[chosen, :]
+            phi = self.route.basis.phi
+            if dofs is None and phi.flags.c_contiguous:  # every row: `phi[chosen]`'s values
+                phi_out = phi.view()
+                phi_out.flags.writeable = False
+            else:
+                phi_out = phi[chosen, :]
             out = Outputs(
                 chosen,
                 phi_out,
@@ -169,11 +174,16 @@ def setup(system: System, integrator: Semianalytic, threads: int | None = None) 
     phi = route.basis.phi
     loads, fns = modal_loads(system.loads, system, phi)
     model = dispatch.modal_model(route, loads, integrator, mass(system, integrator))
-    patterns = (
-        np.stack([s.pattern for s in loads], axis=1) if loads else np.zeros((phi.shape[1], 0))
-    )
+    patterns = _patterns(loads, phi.shape[1])
     forces = list(system.elements)
     return ModalSetup(system, integrator, route, model, loads, fns, patterns, forces, threads)
+
+
+def _patterns(loads: list[Any], n_modes: int) -> NDArray[np.float64]:
+    """The modal patterns of the core's `loads` as the columns of one array."""
+    if len(loads) == 1:  # np.stack's values and layout, without its generic path
+        return loads[0].pattern.reshape(-1, 1).copy()
+    return np.stack([s.pattern for s in loads], axis=1) if loads else np.zeros((n_modes, 0))
 
 
 def run(prep: ModalSetup, opts: Request) -> Solution:
@@ -194,9 +204,7 @@ def _run_once(prep: ModalSetup, opts: Request) -> Solution:
     else:
         check_loads(route.massless, system, opts.loads)
         loads, fns = modal_loads(opts.loads, system, route.basis.phi)
-        patterns = (
-            np.stack([s.pattern for s in loads], axis=1) if loads else np.zeros((prep.n_modes, 0))
-        )
+        patterns = _patterns(loads, prep.n_modes)
         base = opts.loads
     n_loads = patterns.shape[1]
     out = prep.outputs(opts.dofs, n_loads)

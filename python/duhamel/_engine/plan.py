@@ -133,15 +133,19 @@ def modal_loads(
             terms.extend(item._terms(system))
             continue
         for physical, time in item._parts(system):
-            pattern = phi.T @ physical
-            if not np.all(np.isfinite(pattern)):
-                _core.Load(physical, time)  # a physical pattern not finite: the core's error
-                raise ValueError(
-                    f"the load {type(item).__name__} projects on the modes beyond the double "
-                    "range (a huge amplitude on tiny masses: the mass-normalised modes scale "
-                    "as 1/sqrt(`M`)): check its amplitude, `M` and the model's units"
-                )
-            terms.append(_core.Load(np.ascontiguousarray(pattern, dtype=np.float64), time))
+            pattern = np.ascontiguousarray(phi.T @ physical, dtype=np.float64)
+            try:  # the core checks that the pattern is finite
+                terms.append(_core.Load(pattern, time))
+                continue
+            except ValueError:
+                if np.all(np.isfinite(pattern)):
+                    raise
+            _core.Load(physical, time)  # a physical pattern not finite: the core's error
+            raise ValueError(
+                f"the load {type(item).__name__} projects on the modes beyond the double "
+                "range (a huge amplitude on tiny masses: the mass-normalised modes scale "
+                "as 1/sqrt(`M`)): check its amplitude, `M` and the model's units"
+            )
     return terms, fns
 
 
@@ -166,10 +170,9 @@ def _couplings(system: System, basis: ModalBasis) -> Couplings:
         if mc is not None:
             mc = mc if factor == 1.0 else factor * mc
             c = mc if c is None else c + mc
-    with np.errstate(all="ignore"):
-        parts = [m for m in (k, c) if m is not None]
-        parts += [m for spec in scaled for m in (spec.k, spec.c) if m is not None]
-        finite = all(bool(np.all(np.isfinite(m))) for m in parts)
+    parts = [m for m in (k, c) if m is not None]
+    parts += [m for spec in scaled for m in (spec.k, spec.c) if m is not None]
+    finite = all(bool(np.isfinite(m).all()) for m in parts)
     if not finite:
         raise ValueError(
             "the modal couplings of the `LinearCoupling` elements (and of a non-classical `C`) "
@@ -307,7 +310,7 @@ def passive(system: System, couplings: Couplings, basis: ModalBasis) -> bool:
     couplings with a symmetric positive semi-definite stiffness and a positive
     semi-definite damping (symmetric part), speed-scaled couplings without stiffness and
     with skew-symmetric (gyroscopic) damping. Then the growth guard's bound holds."""
-    if system.mass_law is not None or bool(np.any(np.asarray(basis.c) < 0.0)):
+    if system.mass_law is not None or bool((np.asarray(basis.c) < 0.0).any()):
         return False
     if any(isinstance(e, Feedback) for e in system.couplings):
         return False  # a controller supplies energy
