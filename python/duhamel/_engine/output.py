@@ -73,6 +73,10 @@ def check_memory(n_steps: int, save_every: int, n_out: int, history_width: int) 
         )
 
 
+#: ``ndarray.sum`` of every entry, without its Python-level wrapper (a run's finiteness test).
+_SUM = np.add.reduce
+
+
 def _finite_rows(*arrays: NDArray[np.float64]) -> int:
     """The number of leading rows finite in every one of `arrays`."""
     finite = np.logical_and.reduce([np.isfinite(a).all(axis=1) for a in arrays])
@@ -103,7 +107,7 @@ def physical(
         # Sums are finite when every entry is (a finite sum that overflows only sends the
         # check to the exact one, row by row).
         overflowed = error is None and not (
-            math.isfinite(x.sum() + v.sum()) or _finite_rows(x, v) == n
+            math.isfinite(_SUM(x, None) + _SUM(v, None)) or _finite_rows(x, v) == n
         )
     if error is None and not overflowed:
 
