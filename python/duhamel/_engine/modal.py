@@ -182,7 +182,8 @@ def setup(system: System, integrator: Semianalytic, threads: int | None = None) 
 def _patterns(loads: list[Any], n_modes: int) -> NDArray[np.float64]:
     """The modal patterns of the core's `loads` as the columns of one array."""
     if len(loads) == 1:  # np.stack's values and layout, without its generic path
-        return loads[0].pattern.reshape(-1, 1).copy()
+        pattern: NDArray[np.float64] = loads[0].pattern
+        return pattern.reshape(-1, 1).copy()
     return np.stack([s.pattern for s in loads], axis=1) if loads else np.zeros((n_modes, 0))
 
 
