@@ -289,7 +289,8 @@ def from_opensees(
     >>> round(float(peak), 4)  # OpenSees' Newmark at dt = 2.5 ms: 0.396877
     0.3969
     """
-    from duhamel.opensees._read import check_model, dof_map, matrices, printout
+    from duhamel.opensees._constraints import check_model, constraints
+    from duhamel.opensees._read import dof_map, matrices, printout
     from duhamel.opensees._translate import translate
 
     if nonlinear not in ("translate", "linearize"):
@@ -298,6 +299,7 @@ def from_opensees(
     if not list(ops.getNodeTags()):
         raise ValueError("the openseespy session holds no model (no nodes)")
     pr = printout(ops)
+    pr.constraints = constraints(ops)
     if recorded is not None:
         from duhamel.opensees._recording import apply
 
