@@ -9,6 +9,7 @@ from __future__ import annotations
 import contextlib
 import io
 import itertools
+import math
 import os
 import re
 import tempfile
@@ -18,7 +19,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel.opensees._read import components, quiet
+from duhamel.opensees._read import components, listed, quiet
 
 __all__ = ["Constraint", "check_model", "constraints"]
 
@@ -104,7 +105,7 @@ def _identities(ops: Any, ties: list[tuple[int, int, list[int], list[int]]]) -> 
     for cnode, rnode, cdofs, rdofs in ties:
         kinds = set()
         for node, dofs in ((cnode, cdofs), (rnode, rdofs)):
-            comps = components(ndm, int(np.atleast_1d(ops.getNDF(node))[0]))
+            comps = components(ndm, int(listed(ops.getNDF(node))[0]))
             kinds.update(comps[d][0] if 0 <= d < len(comps) else "?" for d in dofs)
         one_to_one = len(cdofs) == len(rdofs) and len(set(cdofs)) == len(cdofs)
         if not (one_to_one and kinds in ({"u"}, {"r"})):  # "d": a dof without a name
@@ -161,26 +162,25 @@ def check_model(ops: Any, printed: list[Constraint]) -> None:
     says which retained dofs each constrained dof depends on."""
     nodes = sorted(int(v) for v in ops.getNodeTags())
     for node in nodes:
-        xyz = [float(c) for c in np.atleast_1d(ops.nodeCoord(node))]
-        if not all(np.isfinite(xyz)):
+        xyz = [float(c) for c in listed(ops.nodeCoord(node))]
+        if not all(math.isfinite(c) for c in xyz):
             raise ValueError(
                 f"node {node} has the coordinates {xyz}: OpenSees node coordinates must be "
                 "finite (check the model's `node` commands)"
             )
     ndm = int(np.atleast_1d(ops.getNDM())[0])
-    ndf = {node: int(np.atleast_1d(ops.getNDF(node))[0]) for node in nodes}
+    ndf = {node: int(listed(ops.getNDF(node))[0]) for node in nodes}
     fixed = {int(v): {int(d) - 1 for d in ops.getFixedDOFs(int(v))} for v in ops.getFixedNodes()}
     queried = _ties(ops)  # an older openseespy: the printed ones
     ties = (
         queried if queried is not None else [(c.cnode, c.rnode, c.cdofs, c.rdofs) for c in printed]
     )
     edges: dict[tuple[int, int], set[tuple[int, int]]] = {}
+    matrices: dict[tuple, NDArray[np.float64]] = {}
+    for p in printed:  # the first of those alike, by what they tie
+        matrices.setdefault((p.cnode, p.rnode, tuple(p.cdofs), tuple(p.rdofs)), p.matrix)
     for cnode, rnode, cdofs, rdofs in ties:
-        matrix = next(
-            (p.matrix for p in printed if (p.cnode, p.rnode, p.cdofs, p.rdofs) ==
-             (cnode, rnode, cdofs, rdofs)),
-            None,
-        )  # fmt: skip
+        matrix = matrices.get((cnode, rnode, tuple(cdofs), tuple(rdofs)))
         for a, cd in enumerate(cdofs):
             for b, rd in enumerate(rdofs):
                 if matrix is None or matrix.shape != (len(cdofs), len(rdofs)) or matrix[a, b]:

@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 if TYPE_CHECKING:
     from duhamel.opensees._constraints import Constraint
 
-__all__ = ["DofMap", "Printout", "components", "dof_map", "matrices", "printout"]
+__all__ = ["DofMap", "Printout", "components", "dof_map", "listed", "matrices", "printout"]
 
 _COMPONENTS = {
     (1, 1): ("ux",),
@@ -38,6 +38,12 @@ def components(ndm: int, ndf: int) -> tuple[str, ...]:
     per node (``dof1``, ``dof2``... for a combination without names)."""
     names = _COMPONENTS.get((ndm, ndf))
     return names if names is not None else tuple(f"dof{k + 1}" for k in range(ndf))
+
+
+def listed(value: Any) -> list[Any]:
+    """An openseespy query's answer as a list (it returns one value bare, several as a
+    list)."""
+    return list(value) if isinstance(value, (list, tuple)) else [value]
 
 
 @contextlib.contextmanager
@@ -123,7 +129,27 @@ def _number(text: str) -> Any:
 
 
 def _entries(block: str) -> list[dict[str, Any]]:
-    """The entries of a JSON list that OpenSees printed, some of them as plain text."""
+    """The entries of a JSON list that OpenSees printed, some of them as plain text: in one
+    ``json.loads`` where every entry is JSON (an object on its own line), else line by
+    line (:func:`_lines`)."""
+    fixed = block.replace(']}"factors"', '], "factors"')  # see _lines
+    try:
+        whole = json.loads(f"[{fixed}]")
+    except json.JSONDecodeError:
+        return _lines(block)
+    lines = [s for s in (line.strip().rstrip(",") for line in block.splitlines()) if s]
+    if len(whole) == len(lines) and all(
+        isinstance(e, dict) and s.startswith("{") and s.endswith("}")
+        for e, s in zip(whole, lines, strict=True)
+    ):
+        return whole
+    return _lines(block)
+
+
+def _lines(block: str) -> list[dict[str, Any]]:
+    """:func:`_entries` line by line: each JSON object on its line, the key-value text of
+    an entry printed without JSON, an entry that does not read as JSON kept as
+    ``_unreadable``."""
     out: list[dict[str, Any]] = []
     text: list[str] = []
 
@@ -255,17 +281,19 @@ def dof_map(
     rows: dict[tuple[int, str], NDArray[np.float64]] = {}
     absent: dict[tuple[int, str], str] = {}
     pending: list[tuple[int, int, str]] = []
+    none: frozenset[int] = frozenset()
     for node, eqs in equations.items():
-        comps = components(ndm, len(eqs))
-        cdofs = {d for c in tied.get(node, []) for d in c.cdofs}
-        own = [d for d in range(len(eqs)) if d not in cdofs and d not in fixed.get(node, set())]
+        n = len(eqs)
+        comps = components(ndm, n)
+        fx = fixed.get(node, none)
+        cdofs = {d for c in tied[node] for d in c.cdofs} if node in tied else none
         # a constrained node's equations list its own free dofs first (then the retained
         # node's): position by position only for a node without constraints
-        order = own if cdofs else list(range(len(eqs)))
+        order = [d for d in range(n) if d not in cdofs and d not in fx] if cdofs else range(n)
         for k, d in enumerate(order):
-            e = eqs[k] if k < len(eqs) else -1
+            e = eqs[k] if k < n else -1
             key = (node, comps[d])
-            if d in fixed.get(node, set()):
+            if d in fx:
                 absent[key] = f"node {node} {comps[d]} is fixed in OpenSees"
                 continue
             if e < 0:
@@ -276,7 +304,8 @@ def dof_map(
             rows[key] = row
             if labels[e] is None:
                 labels[e] = key
-        pending.extend((node, d, comps[d]) for d in sorted(cdofs))
+        if cdofs:
+            pending.extend((node, d, comps[d]) for d in sorted(cdofs))
     aliases: dict[tuple[int, str], int] = {}
     for _ in range(len(pending) + 1):  # constraints may chain: resolve until nothing moves
         left = []
