@@ -13,26 +13,14 @@ import math
 import os
 import re
 import tempfile
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel.opensees._read import components, listed, quiet
+from duhamel.opensees._read import Constraint, components, listed, quiet
 
-__all__ = ["Constraint", "check_model", "constraints"]
-
-
-@dataclass
-class Constraint:
-    """One multi-point constraint: ``u_c[cdofs] = matrix @ u_r[rdofs]`` (dofs from 0)."""
-
-    cnode: int
-    rnode: int
-    cdofs: list[int]
-    rdofs: list[int]
-    matrix: NDArray[np.float64]
+__all__ = ["check_model", "constraints"]
 
 
 def _parse(text: str) -> list[Constraint]:
@@ -92,7 +80,9 @@ def _ties(ops: Any) -> list[tuple[int, int, list[int], list[int]]] | None:
     return out
 
 
-def _identities(ops: Any, ties: list[tuple[int, int, list[int], list[int]]]) -> list | None:
+def _identities(
+    ops: Any, ties: list[tuple[int, int, list[int], list[int]]]
+) -> list[Constraint] | None:
     """`ties` as :class:`Constraint` with the identity as matrix when each ties its dofs
     one to one and all of one kind (translations to translations, or rotations to
     rotations), else None. Those are exact: ``equalDOF``, ``equalDOF_Mixed`` and
@@ -103,7 +93,7 @@ def _identities(ops: Any, ties: list[tuple[int, int, list[int], list[int]]]) -> 
     ndm = int(np.atleast_1d(ops.getNDM())[0])
     out = []
     for cnode, rnode, cdofs, rdofs in ties:
-        kinds = set()
+        kinds: set[str] = set()
         for node, dofs in ((cnode, cdofs), (rnode, rdofs)):
             comps = components(ndm, int(listed(ops.getNDF(node))[0]))
             kinds.update(comps[d][0] if 0 <= d < len(comps) else "?" for d in dofs)
@@ -176,7 +166,7 @@ def check_model(ops: Any, printed: list[Constraint]) -> None:
         queried if queried is not None else [(c.cnode, c.rnode, c.cdofs, c.rdofs) for c in printed]
     )
     edges: dict[tuple[int, int], set[tuple[int, int]]] = {}
-    matrices: dict[tuple, NDArray[np.float64]] = {}
+    matrices: dict[tuple[int, int, tuple[int, ...], tuple[int, ...]], NDArray[np.float64]] = {}
     for p in printed:  # the first of those alike, by what they tie
         matrices.setdefault((p.cnode, p.rnode, tuple(p.cdofs), tuple(p.rdofs)), p.matrix)
     for cnode, rnode, cdofs, rdofs in ties:

@@ -14,15 +14,21 @@ import sys
 import tempfile
 from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
-if TYPE_CHECKING:
-    from duhamel.opensees._constraints import Constraint
-
-__all__ = ["DofMap", "Printout", "components", "dof_map", "listed", "matrices", "printout"]
+__all__ = [
+    "Constraint",
+    "DofMap",
+    "Printout",
+    "components",
+    "dof_map",
+    "listed",
+    "matrices",
+    "printout",
+]
 
 _COMPONENTS = {
     (1, 1): ("ux",),
@@ -110,6 +116,17 @@ def matrices(ops: Any) -> tuple[NDArray, NDArray, NDArray, dict[int, list[int]]]
 
 
 @dataclass
+class Constraint:
+    """One multi-point constraint: ``u_c[cdofs] = matrix @ u_r[rdofs]`` (dofs from 0)."""
+
+    cnode: int
+    rnode: int
+    cdofs: list[int]
+    rdofs: list[int]
+    matrix: NDArray[np.float64]
+
+
+@dataclass
 class Printout:
     """The model as OpenSees prints it: uniaxial materials and elements by tag (from
     ``printModel('-JSON')``, or the key-value text of those that print no JSON), and the
@@ -142,7 +159,7 @@ def _entries(block: str) -> list[dict[str, Any]]:
         isinstance(e, dict) and s.startswith("{") and s.endswith("}")
         for e, s in zip(whole, lines, strict=True)
     ):
-        return whole
+        return cast(list[dict[str, Any]], whole)
     return _lines(block)
 
 
