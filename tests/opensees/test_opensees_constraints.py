@@ -2,7 +2,8 @@
 prints and forms: the constraints read through openseespy's queries (identity matrices,
 without the text printout) tie the same dofs with the same matrices as the printout says,
 for every constraint command; the ones the queries cannot say are read from the printout;
-the three matrices formed on one analysis equal those of an analysis each."""
+the three matrices formed on one analysis equal those of an analysis each; the JSON
+printout read in memory equals the one read through a temporary file."""
 
 from __future__ import annotations
 
@@ -145,3 +146,26 @@ def test_matrices_of_one_analysis_equal_an_analysis_each():
     for ours, each, again in zip((M, C, K), before, after, strict=True):
         assert np.any(ours)
         assert ours.tobytes() == each.tobytes() == again.tobytes()
+
+
+def test_printout_in_memory_equals_the_one_through_a_file(monkeypatch):
+    # the JSON printout written to a memfd, and where that is missing to a temporary file
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    ops.node(1, 0.0, 0.0)
+    ops.node(2, 0.0, 0.0)
+    ops.fix(1, 1, 1, 1)
+    ops.mass(2, 1.0, 1.0, 0.0)
+    ops.uniaxialMaterial("Steel01", 1, 2.0, 40.0, 0.1)
+    ops.uniaxialMaterial("Elastic", 2, 1e6)
+    ops.element("zeroLength", 1, 1, 2, "-mat", 1, 2, 2, "-dir", 1, 2, 3)
+    from duhamel.opensees import _read
+
+    memory = _read._json_memfd(ops)
+    assert memory is not None and '"uniaxialMaterials"' in memory
+    a = _read.printout(ops)
+    monkeypatch.delattr(_read.os, "memfd_create")
+    assert _read._json_memfd(ops) is None
+    b = _read.printout(ops)
+    assert (a.materials, a.elements, a.transforms) == (b.materials, b.elements, b.transforms)
+    assert a.materials[1]["type"] == "Steel01" and a.elements[1]["type"] == "ZeroLength"
