@@ -162,6 +162,32 @@ def _skew_element(skew: NDArray[np.float64]) -> Element:
     return Callable([int(d) for d in dofs], force, jacobian)
 
 
+def _remove(K: NDArray[np.float64], dofs: tuple[int, ...], k: NDArray[np.float64]) -> None:
+    """Takes a translated element's stiffness `k` on `dofs` out of `K` in place; what cancels
+    to round-off is the element's own stiffness, computed here and by OpenSees in different
+    ways (a triple pendulum's series stiffness): exactly zero. Entry by entry for distinct
+    dofs (the same operations as on the block, without its fancy indexing)."""
+    if len(set(dofs)) != len(dofs):
+        left = K[np.ix_(dofs, dofs)] - k
+        left[np.abs(left) <= 1e-12 * np.abs(k)] = 0.0
+        K[np.ix_(dofs, dofs)] = left
+        return
+    for a, da in enumerate(dofs):
+        for b, db in enumerate(dofs):
+            left = K[da, db] - k[a, b]
+            K[da, db] = 0.0 if abs(left) <= 1e-12 * abs(k[a, b]) else left
+
+
+def _analysed(ops: Any) -> bool:
+    """Whether the model has been analysed: a node displaced, moving or accelerating."""
+    for node in ops.getNodeTags():
+        for f in (ops.nodeDisp, ops.nodeVel, ops.nodeAccel):
+            values = f(node)
+            if any(v != 0.0 for v in (values if isinstance(values, list) else [values])):
+                return True
+    return False
+
+
 def from_opensees(
     *,
     nonlinear: Literal["translate", "linearize"] = "translate",
@@ -289,7 +315,8 @@ def from_opensees(
     >>> round(float(peak), 4)  # OpenSees' Newmark at dt = 2.5 ms: 0.396877
     0.3969
     """
-    from duhamel.opensees._read import check_model, dof_map, matrices, printout
+    from duhamel.opensees._constraints import check_model, constraints
+    from duhamel.opensees._read import dof_map, matrices, printout
     from duhamel.opensees._translate import translate
 
     if nonlinear not in ("translate", "linearize"):
@@ -298,6 +325,7 @@ def from_opensees(
     if not list(ops.getNodeTags()):
         raise ValueError("the openseespy session holds no model (no nodes)")
     pr = printout(ops)
+    pr.constraints = constraints(ops)
     if recorded is not None:
         from duhamel.opensees._recording import apply
 
@@ -309,22 +337,13 @@ def from_opensees(
     tr.notes.extend(_rayleigh_check(tr.damped, rayleigh))
     K = K.copy()
     for dofs, k in tr.removed:
-        left = K[np.ix_(dofs, dofs)] - k
-        # what cancels to round-off is the element's own stiffness, computed here and by
-        # OpenSees in different ways (a triple pendulum's series stiffness): exactly zero
-        left[np.abs(left) <= 1e-12 * np.abs(k)] = 0.0
-        K[np.ix_(dofs, dofs)] = left
+        _remove(K, dofs, k)
     from duhamel.opensees._bearings import pdelta_elements
     from duhamel.opensees._materials import newton_damping
 
     followers = pdelta_elements(K, tr.pdelta, tr.notes)
-    analysed = any(
-        np.any(np.asarray(f(node), dtype=np.float64) != 0.0)
-        for node in ops.getNodeTags()
-        for f in (ops.nodeDisp, ops.nodeVel, ops.nodeAccel)
-    )
     C = C.copy()
-    newton = newton_damping(tr.elements, analysed)
+    newton = newton_damping(tr.elements, lambda: _analysed(ops))
     for dofs, c in newton:
         C[np.ix_(dofs, dofs)] -= c
     if newton:
@@ -336,9 +355,10 @@ def from_opensees(
     if skew is not None:
         K = K - skew
     system = System(M, K, C=C) if np.any(C) else System(M, K)
-    system.label_dofs(dmap.labels)
     absent: dict[Hashable, str] = dict(dmap.absent)
-    system._label_map = Labels(dmap.labels, dmap.aliases, absent)
+    # System.label_dofs' two attributes, with the aliases and absent dofs (one Labels)
+    system._label_map = Labels(dmap.labels, dmap.aliases, absent, n_dof=system.n_dof)
+    system._labels = system._label_map.texts
     for element in followers:
         system.add(element)
     if skew is not None:
@@ -349,11 +369,11 @@ def from_opensees(
     ndm = int(np.atleast_1d(ops.getNDM())[0])
     from duhamel.opensees._read import components
 
+    disp: dict[int, tuple[list[float], tuple[str, ...]]] = {}
+    for node in {node for node, _ in dmap.labels}:
+        disp[node] = (ops.nodeDisp(node), components(ndm, len(equations[node])))
     x0 = np.array(
-        [
-            ops.nodeDisp(node)[components(ndm, len(equations[node])).index(comp)]
-            for node, comp in dmap.labels
-        ],
+        [disp[node][0][disp[node][1].index(comp)] for node, comp in dmap.labels],
         dtype=np.float64,
     )
     system.opensees = OpenSeesModel(  # type: ignore[attr-defined]

@@ -11,6 +11,7 @@ out of the imported ``C``)."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -191,24 +192,28 @@ def _tangent_at_import(element: Element) -> float:
 
 
 def newton_damping(
-    elements: dict[int, list[Element]], analysed: bool
+    elements: dict[int, list[Element]], analysed: Callable[[], bool]
 ) -> list[tuple[tuple[int, ...], NDArray[np.float64]]]:
     """The damping matrix terms, each ``(dofs, c)``, that OpenSees' ``ModIMKPeakOriented``
     puts into the damping matrix with no damping force behind them: its ``getDampTangent``
     returns ``ekP``, its stiffness tangent at its last update (0 before any), which
     ``ZeroLength::getDamp`` adds to the damping matrix, while its force (``getStress``) has
     no rate term. They enter only OpenSees' Newton matrix, not its model's response, so they
-    are taken out of the damping matrix read from OpenSees. After an analysis (`analysed`:
-    e.g. the gravity loads) each such material has its tangent at its state at import
-    (``K0 (1 + n_factor)`` at zero deformation); before any, ``ekP`` is 0. A
+    are taken out of the damping matrix read from OpenSees. After an analysis (e.g. the
+    gravity loads; `analysed()` says, asked only when such a material is translated) each
+    such material has its tangent at its state at import (``K0 (1 + n_factor)`` at zero
+    deformation); before any, ``ekP`` is 0. A
     wrapper (MinMax, Parallel, Series) of one after an analysis is refused: OpenSees'
     wrappers combine their parts' damping tangents in ways not read here."""
     out = []
+    after: list[bool] = []  # analysed(), asked once and only for these materials
     for tag, made in elements.items():
         for element in made:
-            if not analysed or not isinstance(
-                element, (ModIMKPeakOriented, MinMax, Parallel, Series)
-            ):
+            if not isinstance(element, (ModIMKPeakOriented, MinMax, Parallel, Series)):
+                continue
+            if not after:
+                after.append(analysed())
+            if not after[0]:
                 continue
             if isinstance(element, ModIMKPeakOriented):
                 p = element.parameters  # type: ignore[attr-defined]

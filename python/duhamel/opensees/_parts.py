@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from duhamel.elements import Element
-from duhamel.opensees._read import DofMap
+from duhamel.opensees._read import DofMap, listed
 
 __all__ = ["Damped", "Made", "Refused", "Translation", "Untranslatable"]
 
@@ -70,7 +70,7 @@ def _pair(i: int | None, j: int | None, k: float) -> tuple[tuple[int, ...], NDAr
 
 
 def _resp(ops: Any, tag: int, *args: str) -> list[float]:
-    return [float(v) for v in np.atleast_1d(ops.eleResponse(tag, *args))]
+    return [float(v) for v in listed(ops.eleResponse(tag, *args))]
 
 
 #: What translating one element gives: its duhamel elements, the stiffness to take out of K,

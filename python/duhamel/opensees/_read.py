@@ -1,13 +1,12 @@
 """What the running openseespy session holds: the matrices at the current state (through
-``GimmeMCK``), the equations and the node dofs they belong to, the multi-point constraints
-(``equalDOF``, ``rigidDiaphragm``, ``rigidLink``) and the model's printout (materials and
-elements as OpenSees prints them)."""
+``GimmeMCK``), the equations and the node dofs they belong to (with the multi-point
+constraints of :mod:`duhamel.opensees._constraints`) and the model's printout (materials
+and elements as OpenSees prints them)."""
 
 from __future__ import annotations
 
 import contextlib
 import io
-import itertools
 import json
 import os
 import re
@@ -15,12 +14,21 @@ import sys
 import tempfile
 from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["DofMap", "Printout", "check_model", "components", "dof_map", "matrices", "printout"]
+__all__ = [
+    "Constraint",
+    "DofMap",
+    "Printout",
+    "components",
+    "dof_map",
+    "listed",
+    "matrices",
+    "printout",
+]
 
 _COMPONENTS = {
     (1, 1): ("ux",),
@@ -34,7 +42,14 @@ _COMPONENTS = {
 def components(ndm: int, ndf: int) -> tuple[str, ...]:
     """The component names of a node's dofs in a model of `ndm` dimensions and `ndf` dofs
     per node (``dof1``, ``dof2``... for a combination without names)."""
-    return _COMPONENTS.get((ndm, ndf), tuple(f"dof{k + 1}" for k in range(ndf)))
+    names = _COMPONENTS.get((ndm, ndf))
+    return names if names is not None else tuple(f"dof{k + 1}" for k in range(ndf))
+
+
+def listed(value: Any) -> list[Any]:
+    """An openseespy query's answer as a list (it returns one value bare, several as a
+    list)."""
+    return list(value) if isinstance(value, (list, tuple)) else [value]
 
 
 @contextlib.contextmanager
@@ -70,19 +85,25 @@ def matrices(ops: Any) -> tuple[NDArray, NDArray, NDArray, dict[int, list[int]]]
     """``(M, C, K, equations)`` of the model at its current state, in OpenSees' equation
     numbering (constraints by transformation, plain numbering), with each node's equation
     numbers (``nodeDOFs``): ``GimmeMCK`` forms each matrix, the ``FullGeneral`` system
-    returns it. The session's analysis objects are removed (``wipeAnalysis``)."""
+    returns it. One analysis (of zero length) numbers the model and sizes the system;
+    ``printA`` forms the matrix of the integrator in place (``formTangent``) before it
+    returns it, so the three integrators are set in turn on that analysis, each matrix
+    formed at the same state (the elements' trial state, committed by the analysis). The
+    session's analysis objects are removed (``wipeAnalysis``)."""
     ops.wipeAnalysis()
     ops.constraints("Transformation")
     ops.numberer("Plain")
     ops.system("FullGeneral")
     ops.algorithm("Linear")
+    ops.integrator("GimmeMCK", 1.0, 0.0, 0.0)
+    ops.analysis("Transient")
+    with quiet():  # the system is sized even where its solve fails (a singular M)
+        ops.analyze(1, 0.0)
+    n = int(ops.systemSize())
     out = []
     for factors in ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)):
-        ops.integrator("GimmeMCK", *factors)
-        ops.analysis("Transient")
-        with quiet():  # the matrix is formed even where its solve fails (a singular M)
-            ops.analyze(1, 0.0)
-        n = int(ops.systemSize())
+        if factors[0] != 1.0:  # M's integrator is the analysis' own
+            ops.integrator("GimmeMCK", *factors)
         a = np.array(ops.printA("-ret"), dtype=np.float64)
         if a.size != n * n:
             raise RuntimeError(f"OpenSees returned {a.size} matrix entries for {n} equations")
@@ -108,8 +129,8 @@ class Constraint:
 @dataclass
 class Printout:
     """The model as OpenSees prints it: uniaxial materials and elements by tag (from
-    ``printModel('-JSON')``, or the key-value text of those that print no JSON) and the
-    multi-point constraints (from the text printout)."""
+    ``printModel('-JSON')``, or the key-value text of those that print no JSON), and the
+    multi-point constraints (:func:`duhamel.opensees._constraints.constraints`)."""
 
     materials: dict[int, dict[str, Any]] = field(default_factory=dict)
     elements: dict[int, dict[str, Any]] = field(default_factory=dict)
@@ -125,7 +146,27 @@ def _number(text: str) -> Any:
 
 
 def _entries(block: str) -> list[dict[str, Any]]:
-    """The entries of a JSON list that OpenSees printed, some of them as plain text."""
+    """The entries of a JSON list that OpenSees printed, some of them as plain text: in one
+    ``json.loads`` where every entry is JSON (an object on its own line), else line by
+    line (:func:`_lines`)."""
+    fixed = block.replace(']}"factors"', '], "factors"')  # see _lines
+    try:
+        whole = json.loads(f"[{fixed}]")
+    except json.JSONDecodeError:
+        return _lines(block)
+    lines = [s for s in (line.strip().rstrip(",") for line in block.splitlines()) if s]
+    if len(whole) == len(lines) and all(
+        isinstance(e, dict) and s.startswith("{") and s.endswith("}")
+        for e, s in zip(whole, lines, strict=True)
+    ):
+        return cast(list[dict[str, Any]], whole)
+    return _lines(block)
+
+
+def _lines(block: str) -> list[dict[str, Any]]:
+    """:func:`_entries` line by line: each JSON object on its line, the key-value text of
+    an entry printed without JSON, an entry that does not read as JSON kept as
+    ``_unreadable``."""
     out: list[dict[str, Any]] = []
     text: list[str] = []
 
@@ -179,60 +220,39 @@ def _section(text: str, name: str) -> str:
     return text[start : end.start() if end else len(text)]
 
 
-def _constraints(text: str) -> list[Constraint]:
-    out = []
-    pattern = re.compile(
-        r"Node Constrained:\s*(-?\d+)\s*node Retained:\s*(-?\d+)\s*"
-        r"constrained dof:([^\n]*)\n\s*retained dof:([^\n]*)\n\s*constraint matrix:\s*\n"
-        r"((?:[^\n]*\S[^\n]*\n)*)"
-    )
-    for m in pattern.finditer(text):
-        cdofs = [int(v) - 1 for v in m.group(3).split()]  # printed from 1
-        rdofs = [int(v) - 1 for v in m.group(4).split()]
-        rows = [[float(v) for v in line.split()] for line in m.group(5).splitlines()]
-        rows = [r for r in rows if r][: len(cdofs)]
-        matrix = np.array(rows, dtype=np.float64).reshape(len(cdofs), len(rdofs))
-        out.append(Constraint(int(m.group(1)), int(m.group(2)), cdofs, rdofs, matrix))
-    return out
-
-
-def _has_constraints(ops: Any) -> bool:
-    """Whether the model holds multi-point constraints (True when openseespy cannot say)."""
-    if not hasattr(ops, "getConstrainedNodes"):  # an older openseespy: print to find out
-        return True
-    return len(list(ops.getConstrainedNodes())) > 0
-
-
-def _text(ops: Any, path: str) -> str:
-    """The text printout, which only the multi-point constraints are read from: OpenSees'
-    ``printModel()`` without a file writes it through Python's ``sys.stderr`` (captured:
-    one Python call per piece instead of one system call to a file, 2.0 against 2.7 ms on
-    the 6-storey frame); through the file `path` where nothing that reads as a constraint
-    came through (an openseespy writing elsewhere)."""
-    buf = io.StringIO()
-    with quiet(), contextlib.redirect_stderr(buf):
-        ops.printModel()
-    text = buf.getvalue()
-    if "Node Constrained" in text:
-        return text
-    with quiet():
-        ops.printModel("-file", path)
-    with open(path, encoding="utf-8", errors="replace") as f:
-        return f.read()
+def _json_memfd(ops: Any) -> str | None:
+    """The JSON printout written to an anonymous file in memory (Linux' ``memfd``, opened
+    by OpenSees through ``/proc/self/fd``: 1.4 against 1.8 ms on the 6-storey frame to a
+    temporary file, which OpenSees writes piece by piece); None where that is not
+    available or OpenSees could not write it."""
+    if not hasattr(os, "memfd_create") or not os.path.isdir("/proc/self/fd"):
+        return None
+    fd = os.memfd_create("duhamel-opensees")
+    try:
+        with quiet():
+            ops.printModel("-JSON", "-file", f"/proc/self/fd/{fd}")
+        with open(fd, encoding="utf-8", errors="replace", closefd=False) as f:
+            text = f.read()
+    except Exception:  # OpenSees could not open it: a temporary file then
+        return None
+    finally:
+        os.close(fd)
+    return text if text.strip() else None
 
 
 def printout(ops: Any) -> Printout:
-    """The session's model printout (the JSON one written to a temporary file, read back
-    and deleted). The text printout (:func:`_text`), which costs more than the JSON one,
-    is printed only when the model has multi-point constraints."""
-    with tempfile.TemporaryDirectory(prefix="duhamel-opensees-") as tmp:
-        js, tx = os.path.join(tmp, "model.json"), os.path.join(tmp, "model.txt")
-        with quiet():
-            ops.printModel("-JSON", "-file", js)
-        with open(js, encoding="utf-8", errors="replace") as f:
-            jtext = f.read()
-        ttext = _text(ops, tx) if _has_constraints(ops) else ""
-    out = Printout(constraints=_constraints(ttext))
+    """The session's model printout in JSON (in memory, :func:`_json_memfd`, or a temporary
+    file, read back and deleted); its multi-point constraints are read apart
+    (:func:`duhamel.opensees._constraints.constraints`)."""
+    jtext = _json_memfd(ops)
+    if jtext is None:
+        with tempfile.TemporaryDirectory(prefix="duhamel-opensees-") as tmp:
+            js = os.path.join(tmp, "model.json")
+            with quiet():
+                ops.printModel("-JSON", "-file", js)
+            with open(js, encoding="utf-8", errors="replace") as f:
+                jtext = f.read()
+    out = Printout()
     for entry in _entries(_section(jtext, "uniaxialMaterials")):
         if "name" in entry:
             out.materials[int(entry["name"])] = entry
@@ -278,17 +298,19 @@ def dof_map(
     rows: dict[tuple[int, str], NDArray[np.float64]] = {}
     absent: dict[tuple[int, str], str] = {}
     pending: list[tuple[int, int, str]] = []
+    none: frozenset[int] = frozenset()
     for node, eqs in equations.items():
-        comps = components(ndm, len(eqs))
-        cdofs = {d for c in tied.get(node, []) for d in c.cdofs}
-        own = [d for d in range(len(eqs)) if d not in cdofs and d not in fixed.get(node, set())]
+        n = len(eqs)
+        comps = components(ndm, n)
+        fx = fixed.get(node, none)
+        cdofs = {d for c in tied[node] for d in c.cdofs} if node in tied else none
         # a constrained node's equations list its own free dofs first (then the retained
         # node's): position by position only for a node without constraints
-        order = own if cdofs else list(range(len(eqs)))
+        order = [d for d in range(n) if d not in cdofs and d not in fx] if cdofs else range(n)
         for k, d in enumerate(order):
-            e = eqs[k] if k < len(eqs) else -1
+            e = eqs[k] if k < n else -1
             key = (node, comps[d])
-            if d in fixed.get(node, set()):
+            if d in fx:
                 absent[key] = f"node {node} {comps[d]} is fixed in OpenSees"
                 continue
             if e < 0:
@@ -299,7 +321,8 @@ def dof_map(
             rows[key] = row
             if labels[e] is None:
                 labels[e] = key
-        pending.extend((node, d, comps[d]) for d in sorted(cdofs))
+        if cdofs:
+            pending.extend((node, d, comps[d]) for d in sorted(cdofs))
     aliases: dict[tuple[int, str], int] = {}
     for _ in range(len(pending) + 1):  # constraints may chain: resolve until nothing moves
         left = []
@@ -335,107 +358,3 @@ def dof_map(
     if missing:
         raise RuntimeError(f"OpenSees equations {missing[:5]} belong to no node dof")
     return DofMap([lab for lab in labels if lab is not None], aliases, absent, rows)
-
-
-def _ties(ops: Any, printed: list[Constraint]) -> list[tuple[int, int, list[int], list[int]]]:
-    """The multi-point constraints as ``(cnode, rnode, cdofs, rdofs)`` (dofs from 0), read
-    through openseespy's queries (``getRetainedNodes``, ``getConstrainedNodes``,
-    ``getConstrainedDOFs``, ``getRetainedDOFs``); from the printout where those are missing
-    (an older openseespy)."""
-    if not all(hasattr(ops, q) for q in ("getRetainedNodes", "getConstrainedNodes")):
-        return [(c.cnode, c.rnode, c.cdofs, c.rdofs) for c in printed]
-    out = []
-    for r in ops.getRetainedNodes():
-        for c in ops.getConstrainedNodes(int(r)):
-            cdofs = [int(d) - 1 for d in ops.getConstrainedDOFs(int(c), int(r))]
-            rdofs = [int(d) - 1 for d in ops.getRetainedDOFs(int(r), int(c))]
-            out.append((int(c), int(r), cdofs, rdofs))
-    return out
-
-
-def _loop(edges: dict[tuple[int, int], set[tuple[int, int]]]) -> list[tuple[int, int]] | None:
-    """A cycle of the directed graph `edges` (its nodes in order, the first repeated at the
-    end), or None."""
-    state: dict[tuple[int, int], int] = {}  # 1: on the current path, 2: done
-    for start in sorted(edges):
-        if start in state:
-            continue
-        path, stack = [start], [iter(sorted(edges.get(start, ())))]
-        state[start] = 1
-        while stack:
-            nxt = next(stack[-1], None)
-            if nxt is None:
-                state[path.pop()] = 2
-                stack.pop()
-            elif state.get(nxt) == 1:
-                return [*path[path.index(nxt) :], nxt]
-            elif nxt not in state:
-                state[nxt] = 1
-                path.append(nxt)
-                stack.append(iter(sorted(edges.get(nxt, ()))))
-    return None
-
-
-def check_model(ops: Any, printed: list[Constraint]) -> None:
-    """Refuses, naming the nodes or the constraint, what OpenSees' numbering of the model
-    (its ``analyze``) ends the Python process on (exit status 255, no message): a model
-    whose every dof is fixed or tied to another node, and multi-point constraints that tie
-    a dof back to itself (``equalDOF`` 2 -> 3 and 3 -> 2). Also a node coordinate that is
-    not finite (the matrices would be NaN). Read through openseespy's query functions,
-    before any analysis runs; `printed` (the printout's constraints, with their matrices)
-    says which retained dofs each constrained dof depends on."""
-    nodes = sorted(int(v) for v in ops.getNodeTags())
-    for node in nodes:
-        xyz = [float(c) for c in np.atleast_1d(ops.nodeCoord(node))]
-        if not all(np.isfinite(xyz)):
-            raise ValueError(
-                f"node {node} has the coordinates {xyz}: OpenSees node coordinates must be "
-                "finite (check the model's `node` commands)"
-            )
-    ndm = int(np.atleast_1d(ops.getNDM())[0])
-    ndf = {node: int(np.atleast_1d(ops.getNDF(node))[0]) for node in nodes}
-    fixed = {int(v): {int(d) - 1 for d in ops.getFixedDOFs(int(v))} for v in ops.getFixedNodes()}
-    ties = _ties(ops, printed)
-    edges: dict[tuple[int, int], set[tuple[int, int]]] = {}
-    for cnode, rnode, cdofs, rdofs in ties:
-        matrix = next(
-            (p.matrix for p in printed if (p.cnode, p.rnode, p.cdofs, p.rdofs) ==
-             (cnode, rnode, cdofs, rdofs)),
-            None,
-        )  # fmt: skip
-        for a, cd in enumerate(cdofs):
-            for b, rd in enumerate(rdofs):
-                if matrix is None or matrix.shape != (len(cdofs), len(rdofs)) or matrix[a, b]:
-                    edges.setdefault((cnode, cd), set()).add((rnode, rd))
-    cycle = _loop(edges)
-    if cycle is not None:
-
-        def name(key: tuple[int, int]) -> str:
-            node, d = key
-            comps = components(ndm, ndf.get(node, d + 1))
-            return f"node {node} {comps[d] if d < len(comps) else f'dof{d + 1}'}"
-
-        steps = list(itertools.pairwise(cycle))
-        chain = ", ".join(f"{name(c)} is tied to {name(r)}" for c, r in steps)
-        pairs = " and ".join(f"{r} -> {c}" for (c, _), (r, _) in steps)
-        first = steps[0]
-        raise ValueError(
-            f"the multi-point constraints form a loop: {chain} (the constraints of retained "
-            f"node -> constrained node {pairs}, e.g. `equalDOF({first[1][0]}, {first[0][0]}, "
-            "...)`); OpenSees cannot number such a model (its analysis ends the Python "
-            "process): remove one of them"
-        )
-    tied = {(c, d) for c, _, cdofs, _ in ties for d in cdofs}
-    free = [
-        (node, d)
-        for node in nodes
-        for d in range(ndf[node])
-        if d not in fixed.get(node, set()) and (node, d) not in tied
-    ]
-    if not free:
-        shown = ", ".join(map(str, nodes[:10])) + (", ..." if len(nodes) > 10 else "")
-        raise ValueError(
-            f"every dof of the model's nodes ({shown}) is fixed or tied to another node by a "
-            "constraint: the model has no equation to solve, and OpenSees' analysis of it "
-            "ends the process; free a dof (remove a `fix` or a constraint)"
-        )

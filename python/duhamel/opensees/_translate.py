@@ -240,6 +240,11 @@ def _loaded(
         raise Untranslatable(f"{name}: its state at import {exc}") from None
 
 
+def _length(ops: Any, ni: int, nj: int) -> float:
+    """The distance between the nodes `ni` and `nj`."""
+    return float(np.linalg.norm(np.subtract(ops.nodeCoord(nj), ops.nodeCoord(ni))))
+
+
 def _zero_length(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx: dict) -> Made:
     """A ``zeroLength`` or ``twoNodeLink`` element: a duhamel element per nonlinear material
     along its direction (a global axis), the linear ones left in K. A ``twoNodeLink`` of
@@ -253,7 +258,6 @@ def _zero_length(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx:
             "local axes undefined (NaN in OpenSees' transformation: a link between coincident "
             "nodes needs '-orient')"
         )
-    length = float(np.linalg.norm(np.subtract(ops.nodeCoord(nj), ops.nodeCoord(ni))))
     comps = components(ndm, len(ops.nodeDisp(nj)))
     made: list[Element] = []
     removed = []
@@ -289,7 +293,7 @@ def _zero_length(ops: Any, tag: int, ele: dict, pr: Printout, dmap: DofMap, idx:
         element = _material(mat, i, j, float(np.sign(row[a])), pr.materials)
         if element is None:
             continue
-        if length > 0.0 and dname in ("Vy", "Vz"):
+        if dname in ("Vy", "Vz") and (length := _length(ops, ni, nj)) > 0.0:
             raise Untranslatable(
                 f"{mat.get('type')} material {mtag} in shear ({dname}) over the length "
                 f"{length:g}: its deformation involves the nodes' rotations (shear distance)"
