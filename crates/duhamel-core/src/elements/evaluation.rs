@@ -3,6 +3,10 @@
 
 use super::builtin::Dispatch;
 use super::element::{Element, PathState, Tangent};
+use super::hysteretic::bilinear::Bilinear;
+use super::hysteretic::common::{finite, relative};
+use super::registry::Runtime;
+use super::shifted::Shifted;
 use crate::error::CoreError;
 
 /// An element with buffers for its local state, force and tangents, and for a hysteretic
@@ -161,6 +165,96 @@ impl<'a> Evaluation<'a> {
                 &mut self.kx,
                 &mut self.cv,
             )?;
+        }
+        self.with_tangent = tangent;
+        if self.reads.is_some() {
+            copy(&mut self.seen_x, &self.x);
+            copy(&mut self.seen_v, &self.v);
+            self.seen_t = t;
+            self.seen = true;
+        }
+        Ok(())
+    }
+
+    /// [`Evaluation::evaluate`] of a scalar two-node element (one or two local dofs) at the
+    /// deformation state `x = (u, 0)`, `v = (ud, 0)` (`x = u`, `v = ud` when grounded):
+    /// `(r_0, kx_00, cv_00)`, the last two as `evaluate` leaves them (the last ones computed
+    /// without `tangent`). A built-in `Bilinear` with its analytic tangent is evaluated here
+    /// directly, every buffer written as `evaluate` writes it (the same arithmetic: zeroed
+    /// entries plus the force, signed zeros included); any other element through `evaluate`.
+    #[inline]
+    pub fn evaluate_deformation(
+        &mut self,
+        (u, ud): (f64, f64),
+        t: f64,
+        tangent: bool,
+    ) -> Result<(f64, f64, f64), CoreError> {
+        let nl = self.x.len();
+        self.x[0] = u;
+        self.v[0] = ud;
+        if nl == 2 {
+            (self.x[1], self.v[1]) = (0.0, 0.0);
+        }
+        match self.dispatch {
+            Dispatch::Direct(Runtime::Bilinear(b)) if self.has_tangent && nl <= 2 => {
+                self.bilinear((b, None), t, tangent)?;
+            }
+            Dispatch::Shifted(s, Runtime::Bilinear(b)) if self.has_tangent && nl <= 2 => {
+                self.bilinear((b, Some(s)), t, tangent)?;
+            }
+            _ => self.evaluate(t, tangent)?,
+        }
+        Ok((self.r[0], self.kx[0], self.cv[0]))
+    }
+
+    /// [`Evaluation::evaluate`] of a `Bilinear` on one or two local dofs, itself or with its
+    /// linear part taken out ([`Shifted`]), inlined: the same fields written with the same
+    /// numbers (`r`, `kx` zeroed and the force and its tangent scattered onto them as
+    /// `scatter` does, `cv` zero, then the linear part subtracted by `Shifted`'s own code;
+    /// the trial variables, the counters and the state seen).
+    #[inline(always)]
+    fn bilinear(
+        &mut self,
+        (b, shifted): (&Bilinear, Option<&Shifted>),
+        t: f64,
+        tangent: bool,
+    ) -> Result<(), CoreError> {
+        self.evaluations += 1;
+        self.with_tangent = false;
+        self.seen = false;
+        let two = self.x.len() == 2;
+        let u = relative(&self.x);
+        let (f, kt) = b.from_committed((self.committed[0], self.committed[1]), u);
+        if !(f.is_finite() && kt.is_finite()) {
+            // as `evaluate` leaves the buffers before the element's error
+            zero(&mut self.r);
+            if tangent {
+                zero(&mut self.kx);
+                zero(&mut self.cv);
+            }
+            return finite(t, &[f, kt]);
+        }
+        (self.trial[0], self.trial[1]) = (u, f);
+        if two {
+            (self.r[0], self.r[1]) = (0.0 + f, 0.0 - f);
+        } else {
+            self.r[0] = 0.0 + f;
+        }
+        if tangent {
+            if two {
+                let (p, m) = (0.0 + kt, 0.0 - kt);
+                (self.kx[0], self.kx[1], self.kx[2], self.kx[3]) = (p, m, m, p);
+            } else {
+                self.kx[0] = 0.0 + kt;
+            }
+            zero(&mut self.cv);
+        }
+        if let Some(s) = shifted {
+            let tan = tangent.then_some(Tangent {
+                kx: &mut self.kx,
+                cv: &mut self.cv,
+            });
+            s.subtract(&self.x, &self.v, &mut self.r, tan);
         }
         self.with_tangent = tangent;
         if self.reads.is_some() {

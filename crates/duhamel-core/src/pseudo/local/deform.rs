@@ -160,16 +160,13 @@ impl ElementSpace<'_> {
         mut tangent: Option<(&mut [f64], &mut [f64])>,
     ) -> Result<(), CoreError> {
         for (m, member) in self.members.iter_mut().enumerate() {
-            let ev = &mut member.eval;
-            ev.x[0] = e[m];
-            ev.v[0] = ed[m];
-            if ev.x.len() == 2 {
-                (ev.x[1], ev.v[1]) = (0.0, 0.0);
-            }
-            ev.evaluate(t, tangent.is_some())?;
-            f[m] = ev.r[0];
+            let state = (e[m], ed[m]);
+            let (r, kx, cv) = member
+                .eval
+                .evaluate_deformation(state, t, tangent.is_some())?;
+            f[m] = r;
             if let Some((k, c)) = tangent.as_mut() {
-                (k[m], c[m]) = (ev.kx[0], ev.cv[0]);
+                (k[m], c[m]) = (kx, cv);
             }
         }
         Ok(())
