@@ -53,6 +53,11 @@ struct Member<'a> {
     /// mode-shape rows reach, formed with `share`. Where the element's tangent loads one of
     /// them, its background is infinite and it never dominates: the watch stops there.
     massless: Option<Vec<usize>>,
+    /// Two-dof elements: the stiffness watch's outcome for the tangent `kx` (its bits) it
+    /// last measured with the current modal stiffnesses: `(lambda, share, weighted)`, or
+    /// None when the element adds nothing or does not dominate (a hinge's tangent takes
+    /// two values, elastic and yielded: measured again only when it changes).
+    measured: Option<([u64; 4], Option<(f64, f64, f64)>)>,
 }
 
 /// The element dofs `D`, their mode-shape rows and the elements acting on them.
@@ -121,6 +126,7 @@ impl<'a> ElementSpace<'a> {
                     gram,
                     share: None,
                     massless: None,
+                    measured: None,
                 }
             })
             .collect::<Vec<Member>>();
