@@ -224,7 +224,7 @@ impl<'a> Evaluation<'a> {
         self.seen = false;
         let two = self.x.len() == 2;
         let u = relative(&self.x);
-        let (f, kt) = b.from_committed((self.committed[0], self.committed[1]), u);
+        let (f, kt) = b.path_response((self.committed[0], self.committed[1]), u);
         if !(f.is_finite() && kt.is_finite()) {
             // as `evaluate` leaves the buffers before the element's error
             zero(&mut self.r);

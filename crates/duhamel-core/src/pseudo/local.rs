@@ -57,8 +57,12 @@ struct Member<'a> {
     /// last measured with the current modal stiffnesses: `(lambda, share, weighted)`, or
     /// None when the element adds nothing or does not dominate (a hinge's tangent takes
     /// two values, elastic and yielded: measured again only when it changes).
-    measured: Option<([u64; 4], Option<(f64, f64, f64)>)>,
+    measured: Option<([u64; 4], Outcome)>,
 }
+
+/// A member's part of the stiffness watch: `(lambda, share, weighted)` when it adds to the
+/// closed state's stiffness, None otherwise (`stiffness.rs`).
+type Outcome = Option<(f64, f64, f64)>;
 
 /// The element dofs `D`, their mode-shape rows and the elements acting on them.
 pub struct ElementSpace<'a> {

@@ -300,7 +300,7 @@ impl Bilinear {
     /// `(u_c, F_c)`, measured from the initial state when there is one (what
     /// [`Element::eval_path`] computes).
     #[inline(always)]
-    pub(crate) fn from_committed(&self, (uc, fc): (f64, f64), u: f64) -> (f64, f64) {
+    pub(crate) fn path_response(&self, (uc, fc): (f64, f64), u: f64) -> (f64, f64) {
         match &self.initial {
             None => self.response(uc, fc, u),
             Some(s) => self.shifted(s, uc, fc, u),
@@ -375,7 +375,7 @@ impl Element for Bilinear {
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
         let u = relative(x);
-        let (f, kt) = self.from_committed((history.committed[0], history.committed[1]), u);
+        let (f, kt) = self.path_response((history.committed[0], history.committed[1]), u);
         finite(t, &[f, kt])?;
         history.trial[0] = u;
         history.trial[1] = f;

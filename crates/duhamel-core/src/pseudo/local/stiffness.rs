@@ -1,7 +1,7 @@
 //! The stiffness watch's measure of the elements' tangent against the background they load
 //! ([`ElementSpace::tangent_stiffness`]).
 
-use super::{ElementSpace, Member, DOMINANT};
+use super::{ElementSpace, Member, Outcome, DOMINANT};
 use crate::error::CoreError;
 
 /// The symmetric part of a row-major `nl x nl` tangent, entry `(i, j)`.
@@ -98,7 +98,7 @@ fn measure(
     m: &mut Member,
     (phi, n, modal_k, fresh): (&[f64], usize, &[f64], bool),
     diag: &mut Vec<f64>,
-) -> Option<(f64, f64, f64)> {
+) -> Outcome {
     let nl = m.at.len();
     // G = Phi_e Phi_e^T; the nonzero eigenvalues of Phi_e^T K Phi_e are those of K G
     let g = |i: usize, j: usize| m.gram[i * nl + j];
