@@ -414,13 +414,12 @@ impl<'a> ElementSpace<'a> {
             return;
         }
         out.fill(0.0);
-        for (&ra, row) in r.iter().zip(self.phi.chunks_exact(self.n_modes)) {
-            if ra != 0.0 {
-                for (o, p) in out.iter_mut().zip(row) {
-                    *o += ra * p;
-                }
-            }
-        }
+        let rows = r.iter().zip(self.phi.chunks_exact(self.n_modes));
+        deform::add_rows(
+            out,
+            rows.filter(|(ra, _)| **ra != 0.0)
+                .map(|(ra, row)| (*ra, row)),
+        );
     }
 
     /// Whether the space is one element on one dof: [`ElementSpace::eval_one`] applies.

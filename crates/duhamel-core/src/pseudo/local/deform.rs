@@ -140,30 +140,12 @@ impl ElementSpace<'_> {
     pub fn project_deformation(&self, f: &[f64], out: &mut [f64]) {
         let n = self.n_modes;
         out.fill(0.0);
-        // `out += f_m row_m` for each nonzero `f_m` in order, four members per pass over
-        // `out` (each entry's additions the same, in the same order)
         let rows = f.iter().zip(self.deform().phi.chunks_exact(n));
-        let mut terms = rows
-            .filter(|(fm, _)| **fm != 0.0)
-            .map(|(fm, row)| (*fm, row));
-        loop {
-            match (terms.next(), terms.next(), terms.next(), terms.next()) {
-                (Some((f0, r0)), Some((f1, r1)), Some((f2, r2)), Some((f3, r3))) => {
-                    let rows = r0.iter().zip(r1).zip(r2).zip(r3);
-                    for (o, (((a, b), c), d)) in out.iter_mut().zip(rows) {
-                        *o = (((*o + f0 * a) + f1 * b) + f2 * c) + f3 * d;
-                    }
-                }
-                (a, b, c, _) => {
-                    for (fm, row) in [a, b, c].into_iter().flatten() {
-                        for (o, p) in out.iter_mut().zip(row) {
-                            *o += fm * p;
-                        }
-                    }
-                    return;
-                }
-            }
-        }
+        add_rows(
+            out,
+            rows.filter(|(fm, _)| **fm != 0.0)
+                .map(|(fm, row)| (*fm, row)),
+        );
     }
 
     /// The members' forces `f` (`n_e`) at the deformations `e` and their rates `ed` at time
@@ -187,6 +169,29 @@ impl ElementSpace<'_> {
             }
         }
         Ok(())
+    }
+}
+
+/// `out += c_k row_k` for each term in order, four terms per pass over `out` (each entry's
+/// additions the same, in the same order, as one term at a time).
+pub(super) fn add_rows<'r>(out: &mut [f64], mut terms: impl Iterator<Item = (f64, &'r [f64])>) {
+    loop {
+        match (terms.next(), terms.next(), terms.next(), terms.next()) {
+            (Some((f0, r0)), Some((f1, r1)), Some((f2, r2)), Some((f3, r3))) => {
+                let rows = r0.iter().zip(r1).zip(r2).zip(r3);
+                for (o, (((a, b), c), d)) in out.iter_mut().zip(rows) {
+                    *o = (((*o + f0 * a) + f1 * b) + f2 * c) + f3 * d;
+                }
+            }
+            (a, b, c, _) => {
+                for (fm, row) in [a, b, c].into_iter().flatten() {
+                    for (o, p) in out.iter_mut().zip(row) {
+                        *o += fm * p;
+                    }
+                }
+                return;
+            }
+        }
     }
 }
 
