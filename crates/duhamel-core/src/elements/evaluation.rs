@@ -365,8 +365,66 @@ pub(crate) fn numeric_tangent(
 
 #[cfg(test)]
 mod tests {
-    use super::Evaluation;
+    use super::{Dispatch, Evaluation};
     use crate::elements::hysteretic::bilinear::Bilinear;
+    use crate::elements::{Element, Runtime, Shifted};
+
+    /// Every buffer, counter and flag of an evaluation, as bits.
+    fn state(e: &Evaluation) -> (Vec<u64>, u64, bool, bool) {
+        let bufs = [&e.x, &e.v, &e.r, &e.kx, &e.cv, &e.committed, &e.trial];
+        let mut bits: Vec<u64> = bufs
+            .iter()
+            .flat_map(|b| b.iter().map(|x| x.to_bits()))
+            .collect();
+        if e.seen {
+            bits.extend(e.seen_x.iter().chain(&e.seen_v).map(|x| x.to_bits()));
+            bits.push(e.seen_t.to_bits());
+        }
+        (bits, e.evaluations, e.with_tangent, e.seen)
+    }
+
+    /// A `Bilinear` on two dofs, grounded, and with its initial stiffness taken out, along a
+    /// path through yield and reversal, with and without tangents, with commits: the direct
+    /// evaluation at `(u, 0)` leaves every buffer as `evaluate` does, bit for bit.
+    #[test]
+    fn deformation_evaluation_of_a_bilinear_is_evaluate_bit_for_bit() {
+        let pair = || Runtime::Bilinear(Bilinear::new(0, Some(1), 2e3, 5.0, 0.05).unwrap());
+        let grounded = Runtime::Bilinear(Bilinear::new(0, None, 2e3, 5.0, 0.05).unwrap());
+        let inner: Box<dyn Element> = Box::new(pair());
+        let shifted = Shifted::new(inner, vec![2e3, -2e3, -2e3, 2e3], vec![0.0; 4]).unwrap();
+        let plain = pair();
+        let elements: [&dyn Element; 3] = [&plain, &grounded, &shifted];
+        for element in elements {
+            let (mut fast, mut slow) = (Evaluation::new(element), Evaluation::new(element));
+            let direct = matches!(
+                fast.dispatch,
+                Dispatch::Direct(Runtime::Bilinear(_)) | Dispatch::Shifted(_, Runtime::Bilinear(_))
+            );
+            assert!(direct);
+            fast.start(0.0);
+            slow.start(0.0);
+            for step in 1..=300 {
+                let t = step as f64 * 1e-3;
+                let u = 0.01 * (t * 9.0).sin() * (1.0 + 3.0 * t);
+                let tangent = step % 3 != 0;
+                let (r, k, c) = fast.evaluate_deformation((u, 0.5), t, tangent).unwrap();
+                slow.x[0] = u;
+                slow.v[0] = 0.5;
+                if slow.x.len() == 2 {
+                    (slow.x[1], slow.v[1]) = (0.0, 0.0);
+                }
+                slow.evaluate(t, tangent).unwrap();
+                let first = |e: &Evaluation| [e.r[0], e.kx[0], e.cv[0]].map(f64::to_bits);
+                assert_eq!([r, k, c].map(f64::to_bits), first(&slow), "step {step}");
+                assert_eq!(state(&fast), state(&slow), "step {step}");
+                if step % 2 == 0 {
+                    fast.commit(t).unwrap();
+                    slow.commit(t).unwrap();
+                    assert_eq!(state(&fast), state(&slow), "step {step}");
+                }
+            }
+        }
+    }
 
     /// Along a path through yield and reversal: a commit that keeps the trial variables of
     /// the evaluation at the committed state leaves the same committed variables as one
