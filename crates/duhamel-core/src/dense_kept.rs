@@ -57,6 +57,16 @@ pub struct Eliminated {
     l: Vec<f64>,
     /// The row exchanged with row `k` at step `k`.
     piv: Vec<usize>,
+    /// The nonzero multipliers of each step `k` (`(i, l[i n + k])`, `i` ascending) from
+    /// `lower[lower_at[k]]` on, and the nonzero entries right of the diagonal of each row
+    /// `k` of `U` (`(j, u[k n + j])`, `j` ascending) from `upper[upper_at[k]]` on: what
+    /// [`Eliminated::solve`] reads (a Newton matrix `I + G D` whose diagonal `D` is zero
+    /// where an element's tangent is, e.g. an elastic hinge with its stiffness in the
+    /// background, is mostly the identity's columns, and so are its factors).
+    lower: Vec<(usize, f64)>,
+    lower_at: Vec<usize>,
+    upper: Vec<(usize, f64)>,
+    upper_at: Vec<usize>,
     /// Whether the factors hold (the last elimination succeeded).
     pub valid: bool,
 }
@@ -111,8 +121,28 @@ impl Eliminated {
         }
         self.u.clear();
         self.u.extend_from_slice(m);
+        self.keep_nonzeros(n);
         self.valid = true;
         back_substitute(n, &self.u, b)
+    }
+
+    /// The nonzero multipliers and entries of `U` right of the diagonal, in the order the
+    /// elimination and the back substitution meet them (`x != 0.0`: NaN kept).
+    fn keep_nonzeros(&mut self, n: usize) {
+        self.lower.clear();
+        self.lower_at.clear();
+        self.upper.clear();
+        self.upper_at.clear();
+        for k in 0..n {
+            self.lower_at.push(self.lower.len());
+            let column = (k + 1..n).map(|i| (i, self.l[i * n + k]));
+            self.lower.extend(column.filter(|e| e.1 != 0.0));
+            self.upper_at.push(self.upper.len());
+            let row = (k + 1..n).map(|j| (j, self.u[k * n + j]));
+            self.upper.extend(row.filter(|e| e.1 != 0.0));
+        }
+        self.lower_at.push(self.lower.len());
+        self.upper_at.push(self.upper.len());
     }
 
     /// Solves with the kept operations in place of `b` (of length `n`); false if the
@@ -128,14 +158,27 @@ impl Eliminated {
             if p != k {
                 b.swap(k, p);
             }
-            for i in k + 1..n {
-                let f = self.l[i * n + k];
-                if f != 0.0 {
-                    b[i] -= f * b[k];
-                }
+            // the multipliers `crate::dense::eliminate` applies (it skips the zero ones)
+            for &(i, f) in &self.lower[self.lower_at[k]..self.lower_at[k + 1]] {
+                b[i] -= f * b[k];
             }
         }
-        back_substitute(n, &self.u, b)
+        // `back_substitute` on the nonzero entries of `U`: a product with a zero entry is a
+        // zero (`b` finite; a non-finite `b` fails the test below either way), and adding a
+        // zero to a sum leaves it unchanged unless the sum is itself a zero, whose sign only
+        // the next nonzero term erases. Left out, the sum is therefore the same number but
+        // possibly for the sign of a zero result, which `b_k - s` reads only when `b_k` is a
+        // zero too: the full sum then.
+        let zero_sum: f64 = std::iter::empty::<f64>().sum();
+        for k in (0..n).rev() {
+            let row = &self.upper[self.upper_at[k]..self.upper_at[k + 1]];
+            let mut s = row.iter().fold(zero_sum, |s, &(j, u)| s + u * b[j]);
+            if s == 0.0 && b[k] == 0.0 {
+                s = (k + 1..n).map(|j| self.u[k * n + j] * b[j]).sum();
+            }
+            b[k] = (b[k] - s) / self.u[k * n + k];
+        }
+        b.iter().all(|v| v.is_finite())
     }
 }
 
@@ -202,6 +245,46 @@ mod tests {
         let (mut m, mut b) = (vec![0.0; 4], vec![1.0; 2]);
         assert!(!kept.eliminate(2, &mut m, &mut b));
         assert!(!kept.solve(&mut b));
+    }
+
+    /// A Newton matrix `I + G D` whose diagonal `D` is zero but at a few columns (elastic
+    /// hinges with their stiffness in the background, a few yielded), and right-hand sides
+    /// with zeros of both signs: the solve over the factors' nonzero entries gives what a
+    /// fresh elimination gives, bit for bit, signed zeros included.
+    #[test]
+    fn kept_elimination_of_mostly_identity_columns_is_bit_for_bit() {
+        let n = 16;
+        let g = matrix(n, 7);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        for yielded in [vec![], vec![3], vec![0, 9, 15], vec![2, 5, 6, 11]] {
+            let mut a = vec![0.0; n * n];
+            for i in 0..n {
+                a[i * n + i] = 1.0;
+                for &c in &yielded {
+                    a[i * n + c] += g[i * n + c] * -0.98;
+                }
+            }
+            let mut kept = Eliminated::default();
+            let (mut m, mut b) = (a.clone(), rhs(n, 1));
+            assert!(kept.eliminate(n, &mut m, &mut b));
+            for seed in 0..40u64 {
+                let mut fresh: Vec<f64> = rhs(n, seed);
+                // zeros of either sign and tiny values where the sums cancel
+                for (i, x) in fresh.iter_mut().enumerate() {
+                    match (i as u64 + seed) % 5 {
+                        0 => *x = 0.0,
+                        1 => *x = -0.0,
+                        2 => *x *= 1e-300,
+                        _ => {}
+                    }
+                }
+                let mut again = fresh.clone();
+                let mut m2 = a.clone();
+                assert!(eliminate(n, &mut m2, &mut fresh));
+                assert!(kept.solve(&mut again));
+                assert_eq!(bits(&fresh), bits(&again), "{yielded:?} seed {seed}");
+            }
+        }
     }
 
     #[test]

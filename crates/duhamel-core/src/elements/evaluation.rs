@@ -3,6 +3,10 @@
 
 use super::builtin::Dispatch;
 use super::element::{Element, PathState, Tangent};
+use super::hysteretic::bilinear::Bilinear;
+use super::hysteretic::common::{finite, relative};
+use super::registry::Runtime;
+use super::shifted::Shifted;
 use crate::error::CoreError;
 
 /// An element with buffers for its local state, force and tangents, and for a hysteretic
@@ -172,6 +176,96 @@ impl<'a> Evaluation<'a> {
         Ok(())
     }
 
+    /// [`Evaluation::evaluate`] of a scalar two-node element (one or two local dofs) at the
+    /// deformation state `x = (u, 0)`, `v = (ud, 0)` (`x = u`, `v = ud` when grounded):
+    /// `(r_0, kx_00, cv_00)`, the last two as `evaluate` leaves them (the last ones computed
+    /// without `tangent`). A built-in `Bilinear` with its analytic tangent is evaluated here
+    /// directly, every buffer written as `evaluate` writes it (the same arithmetic: zeroed
+    /// entries plus the force, signed zeros included); any other element through `evaluate`.
+    #[inline]
+    pub fn evaluate_deformation(
+        &mut self,
+        (u, ud): (f64, f64),
+        t: f64,
+        tangent: bool,
+    ) -> Result<(f64, f64, f64), CoreError> {
+        let nl = self.x.len();
+        self.x[0] = u;
+        self.v[0] = ud;
+        if nl == 2 {
+            (self.x[1], self.v[1]) = (0.0, 0.0);
+        }
+        match self.dispatch {
+            Dispatch::Direct(Runtime::Bilinear(b)) if self.has_tangent && nl <= 2 => {
+                self.bilinear((b, None), t, tangent)?;
+            }
+            Dispatch::Shifted(s, Runtime::Bilinear(b)) if self.has_tangent && nl <= 2 => {
+                self.bilinear((b, Some(s)), t, tangent)?;
+            }
+            _ => self.evaluate(t, tangent)?,
+        }
+        Ok((self.r[0], self.kx[0], self.cv[0]))
+    }
+
+    /// [`Evaluation::evaluate`] of a `Bilinear` on one or two local dofs, itself or with its
+    /// linear part taken out ([`Shifted`]), inlined: the same fields written with the same
+    /// numbers (`r`, `kx` zeroed and the force and its tangent scattered onto them as
+    /// `scatter` does, `cv` zero, then the linear part subtracted by `Shifted`'s own code;
+    /// the trial variables, the counters and the state seen).
+    #[inline(always)]
+    fn bilinear(
+        &mut self,
+        (b, shifted): (&Bilinear, Option<&Shifted>),
+        t: f64,
+        tangent: bool,
+    ) -> Result<(), CoreError> {
+        self.evaluations += 1;
+        self.with_tangent = false;
+        self.seen = false;
+        let two = self.x.len() == 2;
+        let u = relative(&self.x);
+        let (f, kt) = b.path_response((self.committed[0], self.committed[1]), u);
+        if !(f.is_finite() && kt.is_finite()) {
+            // as `evaluate` leaves the buffers before the element's error
+            zero(&mut self.r);
+            if tangent {
+                zero(&mut self.kx);
+                zero(&mut self.cv);
+            }
+            return finite(t, &[f, kt]);
+        }
+        (self.trial[0], self.trial[1]) = (u, f);
+        if two {
+            (self.r[0], self.r[1]) = (0.0 + f, 0.0 - f);
+        } else {
+            self.r[0] = 0.0 + f;
+        }
+        if tangent {
+            if two {
+                let (p, m) = (0.0 + kt, 0.0 - kt);
+                (self.kx[0], self.kx[1], self.kx[2], self.kx[3]) = (p, m, m, p);
+            } else {
+                self.kx[0] = 0.0 + kt;
+            }
+            zero(&mut self.cv);
+        }
+        if let Some(s) = shifted {
+            let tan = tangent.then_some(Tangent {
+                kx: &mut self.kx,
+                cv: &mut self.cv,
+            });
+            s.subtract(&self.x, &self.v, &mut self.r, tan);
+        }
+        self.with_tangent = tangent;
+        if self.reads.is_some() {
+            copy(&mut self.seen_x, &self.x);
+            copy(&mut self.seen_v, &self.v);
+            self.seen_t = t;
+            self.seen = true;
+        }
+        Ok(())
+    }
+
     /// Whether the force at the committed state is that of the evaluation committed there,
     /// whatever the time and velocities ([`Element::restarts_exactly`], velocity-free).
     pub fn restarts_exactly(&self) -> bool {
@@ -271,8 +365,66 @@ pub(crate) fn numeric_tangent(
 
 #[cfg(test)]
 mod tests {
-    use super::Evaluation;
+    use super::{Dispatch, Evaluation};
     use crate::elements::hysteretic::bilinear::Bilinear;
+    use crate::elements::{Element, Runtime, Shifted};
+
+    /// Every buffer, counter and flag of an evaluation, as bits.
+    fn state(e: &Evaluation) -> (Vec<u64>, u64, bool, bool) {
+        let bufs = [&e.x, &e.v, &e.r, &e.kx, &e.cv, &e.committed, &e.trial];
+        let mut bits: Vec<u64> = bufs
+            .iter()
+            .flat_map(|b| b.iter().map(|x| x.to_bits()))
+            .collect();
+        if e.seen {
+            bits.extend(e.seen_x.iter().chain(&e.seen_v).map(|x| x.to_bits()));
+            bits.push(e.seen_t.to_bits());
+        }
+        (bits, e.evaluations, e.with_tangent, e.seen)
+    }
+
+    /// A `Bilinear` on two dofs, grounded, and with its initial stiffness taken out, along a
+    /// path through yield and reversal, with and without tangents, with commits: the direct
+    /// evaluation at `(u, 0)` leaves every buffer as `evaluate` does, bit for bit.
+    #[test]
+    fn deformation_evaluation_of_a_bilinear_is_evaluate_bit_for_bit() {
+        let pair = || Runtime::Bilinear(Bilinear::new(0, Some(1), 2e3, 5.0, 0.05).unwrap());
+        let grounded = Runtime::Bilinear(Bilinear::new(0, None, 2e3, 5.0, 0.05).unwrap());
+        let inner: Box<dyn Element> = Box::new(pair());
+        let shifted = Shifted::new(inner, vec![2e3, -2e3, -2e3, 2e3], vec![0.0; 4]).unwrap();
+        let plain = pair();
+        let elements: [&dyn Element; 3] = [&plain, &grounded, &shifted];
+        for element in elements {
+            let (mut fast, mut slow) = (Evaluation::new(element), Evaluation::new(element));
+            let direct = matches!(
+                fast.dispatch,
+                Dispatch::Direct(Runtime::Bilinear(_)) | Dispatch::Shifted(_, Runtime::Bilinear(_))
+            );
+            assert!(direct);
+            fast.start(0.0);
+            slow.start(0.0);
+            for step in 1..=300 {
+                let t = step as f64 * 1e-3;
+                let u = 0.01 * (t * 9.0).sin() * (1.0 + 3.0 * t);
+                let tangent = step % 3 != 0;
+                let (r, k, c) = fast.evaluate_deformation((u, 0.5), t, tangent).unwrap();
+                slow.x[0] = u;
+                slow.v[0] = 0.5;
+                if slow.x.len() == 2 {
+                    (slow.x[1], slow.v[1]) = (0.0, 0.0);
+                }
+                slow.evaluate(t, tangent).unwrap();
+                let first = |e: &Evaluation| [e.r[0], e.kx[0], e.cv[0]].map(f64::to_bits);
+                assert_eq!([r, k, c].map(f64::to_bits), first(&slow), "step {step}");
+                assert_eq!(state(&fast), state(&slow), "step {step}");
+                if step % 2 == 0 {
+                    fast.commit(t).unwrap();
+                    slow.commit(t).unwrap();
+                    assert_eq!(state(&fast), state(&slow), "step {step}");
+                }
+            }
+        }
+    }
 
     /// Along a path through yield and reversal: a commit that keeps the trial variables of
     /// the evaluation at the committed state leaves the same committed variables as one

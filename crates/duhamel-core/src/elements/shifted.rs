@@ -101,7 +101,13 @@ impl<E: ?Sized + Element> Shifted<E> {
 
     /// Subtracts `K0 x + C0 v` from `r` and the matrices from the tangent.
     #[inline(always)]
-    fn subtract(&self, x: &[f64], v: &[f64], r: &mut [f64], tangent: Option<Tangent<'_>>) {
+    pub(crate) fn subtract(
+        &self,
+        x: &[f64],
+        v: &[f64],
+        r: &mut [f64],
+        tangent: Option<Tangent<'_>>,
+    ) {
         let n = x.len();
         if let ([x0], [v0], [r0], [k00], [c00]) = (x, v, &mut *r, &self.k0[..], &self.c0[..]) {
             // one dof (a device on one dof): the same sums as the loop below, without its

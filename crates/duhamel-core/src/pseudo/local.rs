@@ -53,7 +53,16 @@ struct Member<'a> {
     /// mode-shape rows reach, formed with `share`. Where the element's tangent loads one of
     /// them, its background is infinite and it never dominates: the watch stops there.
     massless: Option<Vec<usize>>,
+    /// Two-dof elements: the stiffness watch's outcome for the tangent `kx` (its bits) it
+    /// last measured with the current modal stiffnesses: `(lambda, share, weighted)`, or
+    /// None when the element adds nothing or does not dominate (a hinge's tangent takes
+    /// two values, elastic and yielded: measured again only when it changes).
+    measured: Option<([u64; 4], Outcome)>,
 }
+
+/// A member's part of the stiffness watch: `(lambda, share, weighted)` when it adds to the
+/// closed state's stiffness, None otherwise (`stiffness.rs`).
+type Outcome = Option<(f64, f64, f64)>;
 
 /// The element dofs `D`, their mode-shape rows and the elements acting on them.
 pub struct ElementSpace<'a> {
@@ -121,6 +130,7 @@ impl<'a> ElementSpace<'a> {
                     gram,
                     share: None,
                     massless: None,
+                    measured: None,
                 }
             })
             .collect::<Vec<Member>>();
@@ -404,13 +414,12 @@ impl<'a> ElementSpace<'a> {
             return;
         }
         out.fill(0.0);
-        for (&ra, row) in r.iter().zip(self.phi.chunks_exact(self.n_modes)) {
-            if ra != 0.0 {
-                for (o, p) in out.iter_mut().zip(row) {
-                    *o += ra * p;
-                }
-            }
-        }
+        let rows = r.iter().zip(self.phi.chunks_exact(self.n_modes));
+        deform::add_rows(
+            out,
+            rows.filter(|(ra, _)| **ra != 0.0)
+                .map(|(ra, row)| (*ra, row)),
+        );
     }
 
     /// Whether the space is one element on one dof: [`ElementSpace::eval_one`] applies.

@@ -296,6 +296,17 @@ impl Bilinear {
         }
     }
 
+    /// The force and tangent `(F, dF/du)` at deformation `u` from the committed variables
+    /// `(u_c, F_c)`, measured from the initial state when there is one (what
+    /// [`Element::eval_path`] computes).
+    #[inline(always)]
+    pub(crate) fn path_response(&self, (uc, fc): (f64, f64), u: f64) -> (f64, f64) {
+        match &self.initial {
+            None => self.response(uc, fc, u),
+            Some(s) => self.shifted(s, uc, fc, u),
+        }
+    }
+
     /// The virgin backbone `(F, dF/du)` at deformation `u`.
     pub fn backbone(&self, u: f64) -> (f64, f64) {
         self.response(0.0, 0.0, u)
@@ -364,12 +375,7 @@ impl Element for Bilinear {
         tangent: Option<Tangent<'_>>,
     ) -> Result<(), CoreError> {
         let u = relative(x);
-        let (uc, fc) = (history.committed[0], history.committed[1]);
-        // with an initial state, the variables are measured from it
-        let (f, kt) = match &self.initial {
-            None => self.response(uc, fc, u),
-            Some(s) => self.shifted(s, uc, fc, u),
-        };
+        let (f, kt) = self.path_response((history.committed[0], history.committed[1]), u);
         finite(t, &[f, kt])?;
         history.trial[0] = u;
         history.trial[1] = f;

@@ -140,13 +140,12 @@ impl ElementSpace<'_> {
     pub fn project_deformation(&self, f: &[f64], out: &mut [f64]) {
         let n = self.n_modes;
         out.fill(0.0);
-        for (&fm, row) in f.iter().zip(self.deform().phi.chunks_exact(n)) {
-            if fm != 0.0 {
-                for (o, p) in out.iter_mut().zip(row) {
-                    *o += fm * p;
-                }
-            }
-        }
+        let rows = f.iter().zip(self.deform().phi.chunks_exact(n));
+        add_rows(
+            out,
+            rows.filter(|(fm, _)| **fm != 0.0)
+                .map(|(fm, row)| (*fm, row)),
+        );
     }
 
     /// The members' forces `f` (`n_e`) at the deformations `e` and their rates `ed` at time
@@ -160,19 +159,39 @@ impl ElementSpace<'_> {
         mut tangent: Option<(&mut [f64], &mut [f64])>,
     ) -> Result<(), CoreError> {
         for (m, member) in self.members.iter_mut().enumerate() {
-            let ev = &mut member.eval;
-            ev.x[0] = e[m];
-            ev.v[0] = ed[m];
-            if ev.x.len() == 2 {
-                (ev.x[1], ev.v[1]) = (0.0, 0.0);
-            }
-            ev.evaluate(t, tangent.is_some())?;
-            f[m] = ev.r[0];
+            let state = (e[m], ed[m]);
+            let (r, kx, cv) = member
+                .eval
+                .evaluate_deformation(state, t, tangent.is_some())?;
+            f[m] = r;
             if let Some((k, c)) = tangent.as_mut() {
-                (k[m], c[m]) = (ev.kx[0], ev.cv[0]);
+                (k[m], c[m]) = (kx, cv);
             }
         }
         Ok(())
+    }
+}
+
+/// `out += c_k row_k` for each term in order, four terms per pass over `out` (each entry's
+/// additions the same, in the same order, as one term at a time).
+pub(super) fn add_rows<'r>(out: &mut [f64], mut terms: impl Iterator<Item = (f64, &'r [f64])>) {
+    loop {
+        match (terms.next(), terms.next(), terms.next(), terms.next()) {
+            (Some((f0, r0)), Some((f1, r1)), Some((f2, r2)), Some((f3, r3))) => {
+                let rows = r0.iter().zip(r1).zip(r2).zip(r3);
+                for (o, (((a, b), c), d)) in out.iter_mut().zip(rows) {
+                    *o = (((*o + f0 * a) + f1 * b) + f2 * c) + f3 * d;
+                }
+            }
+            (a, b, c, _) => {
+                for (fm, row) in [a, b, c].into_iter().flatten() {
+                    for (o, p) in out.iter_mut().zip(row) {
+                        *o += fm * p;
+                    }
+                }
+                return;
+            }
+        }
     }
 }
 

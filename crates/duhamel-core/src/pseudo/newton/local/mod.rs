@@ -354,12 +354,11 @@ impl LocalNewton {
         self.predict(pf.space_mut(), inp)?;
         // an element's deformation from a loaded start rounds at its resolution: below it
         // the corrections do not contract
-        let scale0 = self
-            .y0
+        let largest = self
+            .u0
             .iter()
-            .chain(self.u0.iter().flatten())
-            .fold(0.0_f64, |a, b| a.max(b.abs()))
-            .max(pf.space().resolution() / set.tol);
+            .fold(max_abs(&self.y0), |a, u| a.max(max_abs(u)));
+        let scale0 = largest.max(pf.space().resolution() / set.tol);
         let iterations = if self.nd == 1 {
             self.newton_one(pf.space_mut(), set, inp, scale0)?
         } else {
@@ -408,8 +407,59 @@ fn project_node(
     }
 }
 
+/// `x.iter().fold(0.0, |a, b| a.max(b.abs()))` in four independent chains: the same number
+/// (`max` drops NaN and every candidate is `+0` or positive, so the largest is the same in
+/// any order), without one chain of dependent `max` over every entry.
+fn max_abs(x: &[f64]) -> f64 {
+    let mut acc = [0.0_f64; 4];
+    let chunks = x.chunks_exact(4);
+    let tail = chunks
+        .remainder()
+        .iter()
+        .fold(0.0_f64, |a, b| a.max(b.abs()));
+    for c in chunks {
+        for k in 0..4 {
+            acc[k] = acc[k].max(c[k].abs());
+        }
+    }
+    acc[0].max(acc[1]).max(acc[2].max(acc[3])).max(tail)
+}
+
 /// `y -= G r` for a row-major `n_d x n_d` matrix `G`.
 fn sub_product(y: &mut [f64], g: &[f64], r: &[f64]) {
     // each row `y_a - dot(row, r)` bit for bit, four rows at a time
     crate::dense_rows::sub_matvec(y, g, r);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::max_abs;
+
+    /// The four chains give the one chain's number: NaN dropped, zeros of either sign,
+    /// every length's tail.
+    #[test]
+    fn max_abs_is_the_sequential_fold() {
+        let values = [
+            0.3,
+            -2.5,
+            f64::NAN,
+            -0.0,
+            1e-300,
+            7.25,
+            -7.5,
+            0.0,
+            3.0,
+            f64::NAN,
+            -1.0,
+        ];
+        for len in 0..=values.len() {
+            for shift in 0..values.len() {
+                let x: Vec<f64> = (0..len)
+                    .map(|i| values[(i + shift) % values.len()])
+                    .collect();
+                let one = x.iter().fold(0.0_f64, |a, b| a.max(b.abs()));
+                assert_eq!(max_abs(&x).to_bits(), one.to_bits(), "{x:?}");
+            }
+        }
+    }
 }

@@ -17,7 +17,7 @@ use super::super::super::force::PseudoForce;
 use super::super::super::local::{zero, ElementSpace};
 use super::super::super::scheme::StepInput;
 use super::super::damping::{backtrack, corrected};
-use super::{same, sub_product, LocalNewton, NodeMap, Setting};
+use super::{max_abs, same, sub_product, LocalNewton, NodeMap, Setting};
 use crate::dense_kept::Eliminated;
 use crate::dense_rows::{add_matvec, matvec};
 use crate::error::CoreError;
@@ -220,12 +220,11 @@ impl LocalNewton {
         }
         // the scale of the deformations' rounding: the element coordinates they are
         // differences of
-        let scale0 = red
-            .e0
+        let largest = self
+            .u0
             .iter()
-            .chain(self.u0.iter().flatten())
-            .fold(0.0_f64, |a, b| a.max(b.abs()))
-            .max(space.resolution() / set.tol);
+            .fold(max_abs(&red.e0), |a, u| a.max(max_abs(u)));
+        let scale0 = largest.max(space.resolution() / set.tol);
         self.newton_reduced(red, space, (set, inp), scale0)
     }
 
