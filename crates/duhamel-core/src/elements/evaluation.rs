@@ -3,9 +3,9 @@
 
 use super::builtin::Dispatch;
 use super::element::{Element, PathState, Tangent};
-use super::hysteretic::bilinear::Bilinear;
 use super::hysteretic::common::{finite, relative};
 use super::registry::Runtime;
+use super::registry::ScalarLaw;
 use super::shifted::Shifted;
 use crate::error::CoreError;
 
@@ -195,14 +195,14 @@ impl<'a> Evaluation<'a> {
         if nl == 2 {
             (self.x[1], self.v[1]) = (0.0, 0.0);
         }
-        match self.dispatch {
-            Dispatch::Direct(Runtime::Bilinear(b)) if self.has_tangent && nl <= 2 => {
-                self.bilinear((b, None), t, tangent)?;
-            }
-            Dispatch::Shifted(s, Runtime::Bilinear(b)) if self.has_tangent && nl <= 2 => {
-                self.bilinear((b, Some(s)), t, tangent)?;
-            }
-            _ => self.evaluate(t, tangent)?,
+        let (runtime, shifted) = match self.dispatch {
+            Dispatch::Direct(r) if self.has_tangent && nl <= 2 => (Some(r), None),
+            Dispatch::Shifted(s, r) if self.has_tangent && nl <= 2 => (Some(r), Some(s)),
+            _ => (None, None),
+        };
+        match runtime.and_then(Runtime::scalar_law) {
+            Some(law) => self.scalar_law((law, shifted), t, tangent)?,
+            None => self.evaluate(t, tangent)?,
         }
         Ok((self.r[0], self.kx[0], self.cv[0]))
     }
@@ -213,9 +213,9 @@ impl<'a> Evaluation<'a> {
     /// `scatter` does, `cv` zero, then the linear part subtracted by `Shifted`'s own code;
     /// the trial variables, the counters and the state seen).
     #[inline(always)]
-    fn bilinear(
+    fn scalar_law(
         &mut self,
-        (b, shifted): (&Bilinear, Option<&Shifted>),
+        (b, shifted): (&impl ScalarLaw, Option<&Shifted>),
         t: f64,
         tangent: bool,
     ) -> Result<(), CoreError> {

@@ -252,3 +252,22 @@ impl Defined {
         }
     }
 }
+
+/// A scalar two-node law whose force and tangent on the deformation `u` follow from the
+/// committed `(u_c, F_c)` alone (what [`Element::eval_path`] computes): the element space
+/// evaluates such an element directly on its deformation (`Evaluation::evaluate_deformation`).
+pub(crate) trait ScalarLaw {
+    /// `(F, dF/du)` at deformation `u` from the committed `(u_c, F_c)`.
+    fn path_response(&self, committed: (f64, f64), u: f64) -> (f64, f64);
+}
+
+impl Runtime {
+    /// The element's [`ScalarLaw`], where it has one (the `Bilinear`), else None.
+    #[inline(always)]
+    pub(crate) fn scalar_law(&self) -> Option<&(impl ScalarLaw + '_)> {
+        match self {
+            Runtime::Bilinear(b) => Some(b),
+            _ => None,
+        }
+    }
+}

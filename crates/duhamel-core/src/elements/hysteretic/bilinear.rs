@@ -313,6 +313,13 @@ impl Bilinear {
     }
 }
 
+impl crate::elements::registry::ScalarLaw for Bilinear {
+    #[inline(always)]
+    fn path_response(&self, committed: (f64, f64), u: f64) -> (f64, f64) {
+        Bilinear::path_response(self, committed, u)
+    }
+}
+
 impl Element for Bilinear {
     fn path_reads(&self) -> Option<(bool, bool)> {
         Some((false, false))

@@ -27,7 +27,7 @@ pub(super) struct Deformations {
 fn scalar(element: &dyn Element) -> bool {
     let bilinear = |e: &dyn Element| {
         let runtime = e.as_any().and_then(|a| a.downcast_ref::<Runtime>());
-        matches!(runtime, Some(Runtime::Bilinear(_)))
+        runtime.is_some_and(|r| r.scalar_law().is_some())
     };
     let shifted = element.as_any().and_then(|a| a.downcast_ref::<Shifted>());
     bilinear(element) || shifted.is_some_and(|s| s.relative() && bilinear(s.inner()))
