@@ -166,13 +166,7 @@ impl<'a> Evaluation<'a> {
                 &mut self.cv,
             )?;
         }
-        self.with_tangent = tangent;
-        if self.reads.is_some() {
-            copy(&mut self.seen_x, &self.x);
-            copy(&mut self.seen_v, &self.v);
-            self.seen_t = t;
-            self.seen = true;
-        }
+        self.finished(t, tangent);
         Ok(())
     }
 
@@ -256,6 +250,14 @@ impl<'a> Evaluation<'a> {
             });
             s.subtract(&self.x, &self.v, &mut self.r, tan);
         }
+        self.finished(t, tangent);
+        Ok(())
+    }
+
+    /// What an evaluation at time `t` leaves besides its buffers: whether it holds a
+    /// tangent, and the state seen (for an element that reads its path).
+    #[inline(always)]
+    fn finished(&mut self, t: f64, tangent: bool) {
         self.with_tangent = tangent;
         if self.reads.is_some() {
             copy(&mut self.seen_x, &self.x);
@@ -263,7 +265,6 @@ impl<'a> Evaluation<'a> {
             self.seen_t = t;
             self.seen = true;
         }
-        Ok(())
     }
 
     /// Whether the force at the committed state is that of the evaluation committed there,
