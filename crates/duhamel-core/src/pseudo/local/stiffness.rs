@@ -58,19 +58,14 @@ impl ElementSpace<'_> {
             if fresh {
                 m.measured = None;
             }
-            let outcome = match (&e.kx[..], m.measured) {
-                // a two-dof element whose tangent is bit for bit the one last measured with
-                // these modal stiffnesses: the same arithmetic on the same numbers
-                ([a, b, c, d], Some((key, out)))
-                    if key == [a.to_bits(), b.to_bits(), c.to_bits(), d.to_bits()] =>
-                {
-                    out
-                }
-                (kx, _) => {
-                    let key = match kx {
-                        [a, b, c, d] => Some([a.to_bits(), b.to_bits(), c.to_bits(), d.to_bits()]),
-                        _ => None,
-                    };
+            // a two-dof element whose tangent is bit for bit the one last measured with
+            // these modal stiffnesses: the same arithmetic on the same numbers
+            let key = <[f64; 4]>::try_from(&e.kx[..])
+                .ok()
+                .map(|k| k.map(f64::to_bits));
+            let outcome = match (key, m.measured) {
+                (Some(key), Some((kept, out))) if key == kept => out,
+                _ => {
                     let out = measure(m, (phi, n, modal_k, fresh), diag);
                     m.measured = key.map(|key| (key, out));
                     out
