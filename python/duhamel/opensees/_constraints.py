@@ -10,15 +10,13 @@ import contextlib
 import io
 import itertools
 import math
-import os
 import re
-import tempfile
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from duhamel.opensees._read import Constraint, components, listed, quiet
+from duhamel.opensees._read import Constraint, components, listed, printed, quiet
 
 __all__ = ["check_model", "constraints"]
 
@@ -52,12 +50,7 @@ def _text(ops: Any) -> str:
     text = buf.getvalue()
     if "Node Constrained" in text:
         return text
-    with tempfile.TemporaryDirectory(prefix="duhamel-opensees-") as tmp:
-        path = os.path.join(tmp, "model.txt")
-        with quiet():
-            ops.printModel("-file", path)
-        with open(path, encoding="utf-8", errors="replace") as f:
-            return f.read()
+    return printed(ops)
 
 
 #: openseespy's queries of the multi-point constraints (an older openseespy lacks them).

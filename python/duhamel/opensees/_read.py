@@ -27,6 +27,7 @@ __all__ = [
     "dof_map",
     "listed",
     "matrices",
+    "printed",
     "printout",
 ]
 
@@ -220,6 +221,16 @@ def _section(text: str, name: str) -> str:
     return text[start : end.start() if end else len(text)]
 
 
+def printed(ops: Any, *flags: str) -> str:
+    """OpenSees' ``printModel(*flags)`` written to a temporary file, read back and deleted."""
+    with tempfile.TemporaryDirectory(prefix="duhamel-opensees-") as tmp:
+        path = os.path.join(tmp, "model")
+        with quiet():
+            ops.printModel(*flags, "-file", path)
+        with open(path, encoding="utf-8", errors="replace") as f:
+            return f.read()
+
+
 def _json_memfd(ops: Any) -> str | None:
     """The JSON printout written to an anonymous file in memory (Linux' ``memfd``, opened
     by OpenSees through ``/proc/self/fd``: 1.4 against 1.8 ms on the 6-storey frame to a
@@ -246,12 +257,7 @@ def printout(ops: Any) -> Printout:
     (:func:`duhamel.opensees._constraints.constraints`)."""
     jtext = _json_memfd(ops)
     if jtext is None:
-        with tempfile.TemporaryDirectory(prefix="duhamel-opensees-") as tmp:
-            js = os.path.join(tmp, "model.json")
-            with quiet():
-                ops.printModel("-JSON", "-file", js)
-            with open(js, encoding="utf-8", errors="replace") as f:
-                jtext = f.read()
+        jtext = printed(ops, "-JSON")
     out = Printout()
     for entry in _entries(_section(jtext, "uniaxialMaterials")):
         if "name" in entry:
